@@ -1,0 +1,69 @@
+"""rollcontact: fast, accurate 2D rolling contact of quasi-identical elastic bodies.
+
+Conventions (used by every module; physics.md section 1)
+---------------------------------------------------------
+* 2D plane strain, half-space theory, quasi-identical bodies: the normal problem is solved first, the
+  tangential one on top of it.  Contact modulus ``E* = E / (2 (1 - nu^2))``.
+* SI units.  Quantities of the 2D core are per unit length and named so: ``normal_load_per_length`` N' [N/m],
+  ``tangential_force_per_length`` T' [N/m].
+* ``X`` is the surface-fixed coordinate [m]; the cylinder axis stands above ``X = x_c`` (``axis_position``).
+  Distributions are evaluated at ``x = X - x_c`` [m].  The contact centre is at ``x = Delta``
+  (``contact_offset``), the half-width is ``a``.
+* Material flows through the contact in +x (the cylinder rolls towards -x): the leading edge is
+  ``x = Delta - a`` and the stick zone of steady rolling touches it.
+* ``q`` is the traction the cylinder exerts on the counter-surface; the tangential displacement difference
+  obeys ``du/dx = (2 / (pi E*)) PV-int q(z) / (x - z) dz``; the slip is ``s = xi + du/dx + (1/V) du/dt``
+  and in slip ``q = mu p sign(s)``.  Hence creep xi > 0 gives T' > 0, and Carter's ``a* = a - R xi / mu``.
+* Surface height ``Z(X)`` points towards the cylinder; the undeformed gap is ``(X - x_c)^2 / (2R) - Z(X)``.
+
+Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`ContactResult`.
+"""
+
+from rollcontact import closed_form as closed_form_module
+from rollcontact.api import METHODS, choose_method, register_method, solve
+from rollcontact.closed_form import carter, hertz
+from rollcontact.friction import (
+    Coulomb,
+    ExponentialFalling,
+    FrictionLaw,
+    LinearFalling,
+    RationalFalling,
+    TabulatedFriction,
+)
+from rollcontact.result import ContactResult
+from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, load_scene
+
+__version__ = "0.1.0"
+
+
+def closed_form_inapplicable(scene: Scene) -> str | None:
+    if not scene.surface.is_flat:
+        return "the gap is not parabolic (harmonics or polynomial terms of degree >= 2)"
+    if not scene.friction.is_constant:
+        return "friction depends on slip velocity"
+    return None
+
+
+register_method("closed_form", closed_form_module.solve_closed_form, closed_form_inapplicable, cost=0)
+
+__all__ = [
+    "METHODS",
+    "ContactResult",
+    "Coulomb",
+    "ExponentialFalling",
+    "FrictionLaw",
+    "Harmonic",
+    "LinearFalling",
+    "Material",
+    "RationalFalling",
+    "Scene",
+    "SceneError",
+    "Surface",
+    "TabulatedFriction",
+    "carter",
+    "choose_method",
+    "hertz",
+    "load_scene",
+    "register_method",
+    "solve",
+]

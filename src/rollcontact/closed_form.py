@@ -1,0 +1,181 @@
+"""Closed forms: Hertz line contact (paper eqs 9-11) and Carter/Fromm steady rolling (eqs 12-17).
+
+The functions here are small, pure and scalar (plain ``math``), because the FMU's closed-form step calls them
+directly.  Conventions are those of the package docstring: material flows in +x, the stick zone is at the
+leading edge, xi > 0 gives T' > 0.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from rollcontact.result import ContactResult, Distributions, NoContact
+
+__all__ = ["CarterDistributions", "carter", "cattaneo_traction", "hertz", "mindlin_unloading_traction",
+           "solve_closed_form"]
+
+
+def hertz(normal_load_per_length: float, radius: float, contact_modulus: float) -> tuple[float, float]:
+    """Hertz line contact: half-width and peak pressure.
+
+    Implements ``a = sqrt(4 N' R / (pi E*))`` and ``p0 = 2 N' / (pi a)`` (paper eqs 10-11 with
+    ``E* = E / (2 (1 - nu^2))``; physics.md section 2); ``p(x) = p0 sqrt(1 - x^2/a^2)`` (eq 9).
+
+    Parameters
+    ----------
+    normal_load_per_length : float
+        N' [N/m] >= 0.
+    radius : float
+        Effective radius R [m] > 0.
+    contact_modulus : float
+        E* [Pa] > 0.
+
+    Returns
+    -------
+    a : float
+        Contact half-width [m].
+    p0 : float
+        Peak pressure [Pa] (0 when N' = 0).
+    """
+    a = math.sqrt(4.0 * normal_load_per_length * radius / (math.pi * contact_modulus))
+    # p0 = E* a / (2R) equals 2N'/(pi a) and stays finite at N' = 0
+    return a, contact_modulus * a / (2.0 * radius)
+
+
+def carter(normal_load_per_length: float, creep: float, radius: float, contact_modulus: float,
+           mu: float) -> tuple[float, float, float]:
+    """Carter/Fromm steady rolling with Coulomb friction.
+
+    Implements ``a* = a - R |xi| / mu`` (eq 17) and ``T' = sign(xi) mu N' (1 - (a*/a)^2)``, full slip
+    (``a* = 0``, ``|T'| = mu N'``) for ``|xi| >= mu a / R``.  The creep stiffness is
+    ``dT'/dxi = 2 N' R a* / a^2`` (``pi E* a / 2`` at xi = 0, 0 in full slip).
+
+    Parameters
+    ----------
+    normal_load_per_length : float
+        N' [N/m] >= 0.
+    creep : float
+        xi [1], either sign.
+    radius : float
+        R [m] > 0.
+    contact_modulus : float
+        E* [Pa] > 0.
+    mu : float
+        Friction coefficient [1] > 0.
+
+    Returns
+    -------
+    tangential_force_per_length : float
+        T' [N/m].
+    stick_half_width : float
+        a* [m].
+    creep_stiffness_per_length : float
+        dT'/dxi [N/m].
+    """
+    a = math.sqrt(4.0 * normal_load_per_length * radius / (math.pi * contact_modulus))
+    if a == 0.0:
+        return 0.0, 0.0, 0.0
+    a_star = a - radius * abs(creep) / mu
+    if a_star <= 0.0:
+        return math.copysign(mu * normal_load_per_length, creep), 0.0, 0.0
+    r = a_star / a
+    return (math.copysign(mu * normal_load_per_length * (1.0 - r * r), creep), a_star,
+            2.0 * normal_load_per_length * radius * a_star / (a * a))
+
+
+def cattaneo_traction(x, a: float, p0: float, mu: float, force_ratio: float):
+    """Cattaneo's static shift (loading), physics.md section 2.
+
+    ``q = mu p0 [sqrt(1 - x^2/a^2) - (c/a) sqrt(1 - x^2/c^2)]``, ``c/a = sqrt(1 - Q'/(mu N'))`` with
+    ``force_ratio = Q'/(mu N')`` in [0, 1]; each root only inside its own zone.  x [m] from the centre.
+    """
+    x = np.asarray(x, dtype=float)
+    c = a * math.sqrt(max(0.0, 1.0 - force_ratio))
+    return mu * p0 * (ellipse(x, a) - (c / a) * ellipse(x, c)) if a > 0 else np.zeros_like(x)
+
+
+def mindlin_unloading_traction(x, a: float, p0: float, mu: float, peak_ratio: float, force_ratio: float):
+    """Mindlin-Deresiewicz unloading from Q* to Q (physics.md section 2), ratios to mu N'.
+
+    ``q = -mu p0 [sqrt(1-x^2/a^2) - 2 (b/a) sqrt(1-x^2/b^2) + (c/a) sqrt(1-x^2/c^2)]`` with
+    ``b/a = sqrt(1 - (Q* - Q)/(2 mu N'))`` and ``c/a = sqrt(1 - Q*/(mu N'))``.
+    """
+    x = np.asarray(x, dtype=float)
+    b = a * math.sqrt(max(0.0, 1.0 - 0.5 * (peak_ratio - force_ratio)))
+    c = a * math.sqrt(max(0.0, 1.0 - peak_ratio))
+    return -mu * p0 * (ellipse(x, a) - 2.0 * (b / a) * ellipse(x, b) + (c / a) * ellipse(x, c))
+
+
+def ellipse(x, half_width):
+    """sqrt(1 - x^2/c^2) inside |x| < c, 0 outside (and 0 for c = 0)."""
+    if half_width <= 0.0:
+        return np.zeros_like(x)
+    return np.sqrt(np.clip(1.0 - (x / half_width) ** 2, 0.0, None))
+
+
+@dataclass(frozen=True)
+class CarterDistributions(Distributions):
+    """Hertz pressure and Carter traction/slip, centred at ``offset`` (x from the axis projection)."""
+
+    a: float
+    p0: float
+    a_star: float
+    offset: float
+    mu: float
+    creep: float
+    radius: float
+
+    def pressure(self, x):
+        return self.p0 * ellipse(np.asarray(x, dtype=float) - self.offset, self.a)
+
+    def traction(self, x):
+        # eqs 13-15: q = mu p0 [ellipse(a) - (a*/a) ellipse(a*) about the stick centre -a + a*]
+        xr = np.asarray(x, dtype=float) - self.offset
+        q = ellipse(xr, self.a) - (self.a_star / self.a) * ellipse(xr + self.a - self.a_star, self.a_star)
+        return math.copysign(self.mu * self.p0, self.creep) * q
+
+    def slip(self, x):
+        # eq 16 generalised to full slip: s = sign(xi) [|xi| - mu (a - a*)/R + (mu/R) sqrt(x*^2 - a*^2)]
+        xs = np.asarray(x, dtype=float) - self.offset + self.a - self.a_star
+        inside = np.abs(np.asarray(x, dtype=float) - self.offset) <= self.a
+        mag = (abs(self.creep) - self.mu * (self.a - self.a_star) / self.radius
+               + self.mu / self.radius * np.sqrt(np.clip(xs * xs - self.a_star**2, 0.0, None)))
+        s = np.where(xs <= self.a_star, 0.0, math.copysign(1.0, self.creep) * mag)
+        return np.where(inside, s, np.nan)
+
+
+def solve_closed_form(scene, **options) -> ContactResult:
+    """Hertz + Carter for a scene whose gap is parabolic (a linear surface tilt only moves the patch).
+
+    A surface slope ``Z' = alpha`` moves the contact uphill by ``Delta = R alpha`` (physics.md section 4
+    check).  Raises ValueError when the scene is not Hertzian or the friction is not constant.
+    """
+    if options:
+        raise TypeError(f"closed_form takes no options, got {sorted(options)}")
+    if not scene.surface.is_flat:
+        raise ValueError("closed_form needs a parabolic gap (no harmonics, surface polynomial of degree <= 1); "
+                         "use method='polynomial' or 'auto'")
+    if not scene.friction.is_constant:
+        raise ValueError(f"closed_form needs constant (Coulomb) friction, got {scene.friction!r}; "
+                         "use method='polynomial' or 'auto'")
+    n = scene.normal_load_per_length
+    R = scene.radius
+    mu = scene.friction_coefficient
+    estar = scene.material.contact_modulus
+    a, p0 = hertz(n, R, estar)
+    t, a_star, stiffness = carter(n, scene.creep, R, estar, mu)
+    poly = scene.surface.polynomial
+    offset = R * poly[1] if len(poly) > 1 else 0.0
+    if n == 0.0:
+        dist = NoContact()
+        message = "no load: no contact"
+    else:
+        dist = CarterDistributions(a, p0, a_star, offset, mu, scene.creep, R)
+        message = "full slip (saturated)" if a_star == 0.0 and scene.creep != 0.0 else "Hertz + Carter"
+    return ContactResult(method="closed_form", success=True, message=message, normal_load_per_length=n,
+                         tangential_force_per_length=t, creep=scene.creep, contact_half_width=a,
+                         contact_offset=offset, stick_half_width=a_star, max_pressure=p0,
+                         creep_stiffness_per_length=stiffness, distributions=dist)

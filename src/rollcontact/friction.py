@@ -1,0 +1,210 @@
+"""Friction laws mu(v) of the slip velocity v = V |s| [m/s] (physics.md section 5).
+
+Every law is a small frozen dataclass with ``coefficient(slip_velocity)`` (vectorised) and
+``static_coefficient`` (mu at v = 0).  ``is_constant`` tells solvers when the Coulomb closed forms apply.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Coulomb", "ExponentialFalling", "FrictionLaw", "LinearFalling", "RationalFalling", "TabulatedFriction",
+           "friction_from_dict"]
+
+
+def positive(name, value, *, allow_zero=False):
+    from rollcontact.scene import check_real  # late import: scene imports this module
+
+    return check_real(name, value, lower=0.0, lower_open=not allow_zero)
+
+
+class FrictionLaw:
+    """Interface: mu as a function of slip velocity v [m/s] >= 0."""
+
+    is_constant = False
+
+    @property
+    def static_coefficient(self) -> float:
+        """mu(0) [1]."""
+        return float(self.coefficient(0.0))
+
+    def coefficient(self, slip_velocity):  # pragma: no cover - interface
+        raise NotImplementedError
+
+    def derivative(self, slip_velocity):
+        """dmu/dv [s/m], by central differences unless a law overrides it."""
+        v = np.asarray(slip_velocity, dtype=float)
+        h = 1e-7 * np.maximum(1.0, v)
+        return (self.coefficient(v + h) - self.coefficient(np.maximum(v - h, 0.0))) / (h + np.minimum(v, h))
+
+
+@dataclass(frozen=True)
+class Coulomb(FrictionLaw):
+    """Constant friction coefficient mu [1] (Coulomb's law)."""
+
+    mu: float
+    is_constant = True
+
+    def __post_init__(self):
+        object.__setattr__(self, "mu", positive("friction coefficient mu", self.mu))
+
+    @property
+    def static_coefficient(self) -> float:
+        return self.mu
+
+    def coefficient(self, slip_velocity):
+        return self.mu + 0.0 * np.asarray(slip_velocity, dtype=float)
+
+    def derivative(self, slip_velocity):
+        return 0.0 * np.asarray(slip_velocity, dtype=float)
+
+
+@dataclass(frozen=True)
+class ExponentialFalling(FrictionLaw):
+    """Exponential falling friction mu(v) = mu_s [(1 - A) exp(-B v) + A] (Polach).
+
+    Parameters
+    ----------
+    mu_static : float
+        mu_s = mu(0) [1].
+    kinetic_ratio : float
+        A = mu(inf)/mu_s [1], 0 < A <= 1.
+    decay : float
+        B [s/m] >= 0.
+    """
+
+    mu_static: float
+    kinetic_ratio: float = 0.4
+    decay: float = 0.6
+
+    def __post_init__(self):
+        from rollcontact.scene import check_real
+
+        object.__setattr__(self, "mu_static", positive("friction mu_static", self.mu_static))
+        object.__setattr__(self, "kinetic_ratio",
+                           check_real("friction kinetic_ratio", self.kinetic_ratio, lower=0.0, upper=1.0,
+                                      lower_open=True))
+        object.__setattr__(self, "decay", positive("friction decay", self.decay, allow_zero=True))
+
+    @property
+    def is_constant(self) -> bool:
+        return self.kinetic_ratio == 1.0 or self.decay == 0.0
+
+    @property
+    def static_coefficient(self) -> float:
+        return self.mu_static
+
+    def coefficient(self, slip_velocity):
+        v = np.asarray(slip_velocity, dtype=float)
+        return self.mu_static * ((1.0 - self.kinetic_ratio) * np.exp(-self.decay * v) + self.kinetic_ratio)
+
+    def derivative(self, slip_velocity):
+        v = np.asarray(slip_velocity, dtype=float)
+        return -self.mu_static * (1.0 - self.kinetic_ratio) * self.decay * np.exp(-self.decay * v)
+
+
+@dataclass(frozen=True)
+class RationalFalling(FrictionLaw):
+    """Rational falling friction mu(v) = mu_k + (mu_s - mu_k) / (1 + v / v_ref)."""
+
+    mu_static: float
+    mu_kinetic: float
+    reference_velocity: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "mu_static", positive("friction mu_static", self.mu_static))
+        object.__setattr__(self, "mu_kinetic", positive("friction mu_kinetic", self.mu_kinetic))
+        object.__setattr__(self, "reference_velocity",
+                           positive("friction reference_velocity", self.reference_velocity))
+
+    @property
+    def is_constant(self) -> bool:
+        return self.mu_static == self.mu_kinetic
+
+    @property
+    def static_coefficient(self) -> float:
+        return self.mu_static
+
+    def coefficient(self, slip_velocity):
+        v = np.asarray(slip_velocity, dtype=float)
+        return self.mu_kinetic + (self.mu_static - self.mu_kinetic) / (1.0 + v / self.reference_velocity)
+
+    def derivative(self, slip_velocity):
+        v = np.asarray(slip_velocity, dtype=float)
+        return -(self.mu_static - self.mu_kinetic) / self.reference_velocity / (1.0 + v / self.reference_velocity) ** 2
+
+
+@dataclass(frozen=True)
+class LinearFalling(FrictionLaw):
+    """Linear falling friction mu(v) = max(mu_k, mu_s - slope v), slope [s/m] >= 0."""
+
+    mu_static: float
+    mu_kinetic: float
+    slope: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "mu_static", positive("friction mu_static", self.mu_static))
+        object.__setattr__(self, "mu_kinetic", positive("friction mu_kinetic", self.mu_kinetic))
+        object.__setattr__(self, "slope", positive("friction slope", self.slope, allow_zero=True))
+
+    @property
+    def is_constant(self) -> bool:
+        return self.slope == 0.0 or self.mu_static == self.mu_kinetic
+
+    @property
+    def static_coefficient(self) -> float:
+        return self.mu_static
+
+    def coefficient(self, slip_velocity):
+        v = np.asarray(slip_velocity, dtype=float)
+        return np.maximum(self.mu_kinetic, self.mu_static - self.slope * v)
+
+
+@dataclass(frozen=True)
+class TabulatedFriction(FrictionLaw):
+    """User table mu(v): piecewise-linear through (velocities, coefficients), constant beyond the ends."""
+
+    velocities: tuple[float, ...]
+    coefficients: tuple[float, ...]
+
+    def __post_init__(self):
+        v = tuple(positive("friction table velocity", x, allow_zero=True) for x in self.velocities)
+        m = tuple(positive("friction table coefficient", x) for x in self.coefficients)
+        if len(v) != len(m) or len(v) < 1:
+            raise ValueError(f"friction table needs equally many velocities and coefficients (>= 1), "
+                             f"got {len(v)} and {len(m)}")
+        if any(b <= a for a, b in zip(v, v[1:], strict=False)):
+            raise ValueError(f"friction table velocities must increase strictly, got {v}")
+        object.__setattr__(self, "velocities", v)
+        object.__setattr__(self, "coefficients", m)
+
+    @property
+    def is_constant(self) -> bool:
+        return len(set(self.coefficients)) == 1
+
+    def coefficient(self, slip_velocity):
+        return np.interp(np.asarray(slip_velocity, dtype=float), self.velocities, self.coefficients)
+
+
+LAWS = {
+    "coulomb": Coulomb,
+    "exponential": ExponentialFalling,
+    "rational": RationalFalling,
+    "linear": LinearFalling,
+    "table": TabulatedFriction,
+}
+
+
+def friction_from_dict(data: dict) -> FrictionLaw:
+    """Build a law from a TOML table: ``law = "<name>"`` plus the law's fields (e.g. ``mu = 0.3``)."""
+    data = dict(data)
+    law = str(data.pop("law", "coulomb")).lower()
+    if law not in LAWS:
+        raise ValueError(f"unknown friction law {law!r}; valid laws are {sorted(LAWS)}")
+    try:
+        return LAWS[law](**data)
+    except TypeError as exc:
+        raise ValueError(f"friction law {law!r}: {exc}") from None
+

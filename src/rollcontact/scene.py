@@ -1,0 +1,276 @@
+"""Typed, validated description of one 2D rolling-contact case (a *scene*).
+
+A scene holds everything a solver needs: material, geometry (cylinder radius, surface profile, axis position),
+normal load per unit length, creep, friction and rolling speed.  Every value is checked when the scene is built;
+an invalid one raises :class:`SceneError` naming the field, the value and the limit.
+
+Scenes are loaded from TOML files (``models/*.toml``) by :func:`load_scene`; see ``models/README.md`` for the
+format.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from rollcontact.friction import Coulomb, FrictionLaw, friction_from_dict
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - exercised on Python 3.10 only
+    import tomli as tomllib
+
+__all__ = ["Harmonic", "Material", "Scene", "SceneError", "Surface", "load_scene"]
+
+
+class SceneError(ValueError):
+    """An invalid scene value: the message names the field, the value and the limit."""
+
+
+def check_real(name: str, value, *, lower=None, upper=None, lower_open=False, upper_open=False) -> float:
+    """Return ``value`` as float after checking it is finite and within bounds, else raise SceneError."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise SceneError(f"{name} must be a real number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise SceneError(f"{name} must be finite, got {x!r}")
+    if lower is not None and (x < lower or (lower_open and x == lower)):
+        op = ">" if lower_open else ">="
+        raise SceneError(f"{name} = {x!r} is out of range: it must be {op} {lower!r}")
+    if upper is not None and (x > upper or (upper_open and x == upper)):
+        op = "<" if upper_open else "<="
+        raise SceneError(f"{name} = {x!r} is out of range: it must be {op} {upper!r}")
+    return x
+
+
+@dataclass(frozen=True)
+class Material:
+    """Elastic constants of two quasi-identical bodies.
+
+    Parameters
+    ----------
+    youngs_modulus : float
+        Young's modulus E [Pa] of both bodies.
+    poisson_ratio : float
+        Poisson's ratio nu [1] of both bodies, 0 <= nu < 0.5.
+
+    Notes
+    -----
+    The plane-strain contact modulus of two identical bodies is ``E* = E / (2 (1 - nu^2))``
+    (``1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2``), so the paper's prefactor ``4 (1-nu^2)/(pi E) = 2/(pi E*)``.
+    """
+
+    youngs_modulus: float = 210e9
+    poisson_ratio: float = 0.28
+
+    def __post_init__(self):
+        object.__setattr__(self, "youngs_modulus",
+                           check_real("youngs_modulus", self.youngs_modulus, lower=0.0, lower_open=True))
+        object.__setattr__(self, "poisson_ratio",
+                           check_real("poisson_ratio", self.poisson_ratio, lower=0.0, upper=0.5,
+                                      upper_open=True))
+
+    @property
+    def contact_modulus(self) -> float:
+        """Plane-strain contact modulus E* = E / (2 (1 - nu^2)) [Pa] of the pair."""
+        return self.youngs_modulus / (2.0 * (1.0 - self.poisson_ratio**2))
+
+
+@dataclass(frozen=True)
+class Harmonic:
+    """One harmonic of the surface height: ``cos_amplitude cos(k X) + sin_amplitude sin(k X)``.
+
+    Parameters
+    ----------
+    wavenumber : float
+        k = 2 pi / wavelength [1/m], > 0.
+    cos_amplitude, sin_amplitude : float
+        Phi and Psi of the paper's eq 27 [m].
+    """
+
+    wavenumber: float
+    cos_amplitude: float = 0.0
+    sin_amplitude: float = 0.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "wavenumber",
+                           check_real("harmonic wavenumber", self.wavenumber, lower=0.0, lower_open=True))
+        object.__setattr__(self, "cos_amplitude", check_real("harmonic cos_amplitude", self.cos_amplitude))
+        object.__setattr__(self, "sin_amplitude", check_real("harmonic sin_amplitude", self.sin_amplitude))
+
+    @classmethod
+    def from_wavelength(cls, wavelength: float, amplitude: float, phase: float = 0.0) -> Harmonic:
+        """``amplitude cos(2 pi X / wavelength + phase)`` as a Harmonic (wavelength, amplitude in m)."""
+        wavelength = check_real("corrugation wavelength", wavelength, lower=0.0, lower_open=True)
+        amplitude = check_real("corrugation amplitude", amplitude)
+        phase = check_real("corrugation phase", phase)
+        return cls(2.0 * math.pi / wavelength, amplitude * math.cos(phase), -amplitude * math.sin(phase))
+
+    @property
+    def amplitude(self) -> float:
+        """Peak height sqrt(Phi^2 + Psi^2) [m]."""
+        return math.hypot(self.cos_amplitude, self.sin_amplitude)
+
+
+@dataclass(frozen=True)
+class Surface:
+    """Height Z(X) [m] of the (flat-on-average) counter-surface towards the cylinder, X surface-fixed [m].
+
+    ``Z(X) = sum_j polynomial[j] X^j + sum_m Phi_m cos(k_m X) + Psi_m sin(k_m X)``  (paper eq 27 plus a
+    polynomial part).  The undeformed gap to a cylinder of radius R whose axis stands above ``X = x_c`` is
+    ``h0(X) = (X - x_c)^2 / (2R) - Z(X)``.  The constant term of the polynomial shifts both bodies alike and
+    is irrelevant.
+    """
+
+    polynomial: tuple[float, ...] = ()
+    harmonics: tuple[Harmonic, ...] = ()
+
+    def __post_init__(self):
+        poly = tuple(check_real(f"surface polynomial[{j}]", c) for j, c in enumerate(self.polynomial))
+        object.__setattr__(self, "polynomial", poly)
+        harm = tuple(h if isinstance(h, Harmonic) else Harmonic(**h) for h in self.harmonics)
+        object.__setattr__(self, "harmonics", harm)
+
+    @property
+    def is_flat(self) -> bool:
+        """True when Z is at most linear with no harmonics; a tilt only moves the patch, see hertzian."""
+        return all(c == 0.0 for c in self.polynomial[2:]) and all(h.amplitude == 0.0 for h in self.harmonics)
+
+    @property
+    def is_hertzian(self) -> bool:
+        """True when the gap is exactly parabolic and symmetric about the axis (Hertz and Carter hold)."""
+        return self.is_flat and (len(self.polynomial) < 2 or self.polynomial[1] == 0.0)
+
+    def height(self, X):
+        """Z(X) [m] at surface positions X [m]."""
+        X = np.asarray(X, dtype=float)
+        z = np.polynomial.polynomial.polyval(X, self.polynomial) if self.polynomial else np.zeros_like(X)
+        for h in self.harmonics:
+            z = z + h.cos_amplitude * np.cos(h.wavenumber * X) + h.sin_amplitude * np.sin(h.wavenumber * X)
+        return z
+
+    def slope(self, X):
+        """dZ/dX [1] at surface positions X [m]."""
+        X = np.asarray(X, dtype=float)
+        if len(self.polynomial) > 1:
+            z = np.polynomial.polynomial.polyval(X, np.polynomial.polynomial.polyder(self.polynomial))
+        else:
+            z = np.zeros_like(X)
+        for h in self.harmonics:
+            k = h.wavenumber
+            z = z + k * (h.sin_amplitude * np.cos(k * X) - h.cos_amplitude * np.sin(k * X))
+        return z
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One steady 2D rolling-contact case; all quantities SI, per unit length where named so.
+
+    Parameters
+    ----------
+    normal_load_per_length : float
+        N' [N/m] >= 0 (0 means no contact).
+    creep : float
+        Longitudinal creep xi [1] (both signs); xi > 0 gives T' > 0 (see the package conventions).
+    radius : float
+        Effective cylinder radius R [m] > 0, 1/R = 1/R1 + 1/R2.
+    material : Material
+        Elastic constants of the quasi-identical bodies.
+    friction : FrictionLaw
+        Friction law; a float is taken as a Coulomb coefficient mu.
+    surface : Surface
+        Counter-surface height Z(X) (smooth and flat by default).
+    axis_position : float
+        x_c [m], surface coordinate below the cylinder axis.
+    rolling_speed : float
+        V [m/s] >= 0; enters velocity-dependent friction and instationary rolling.
+    name : str
+        Free text identifying the scene.
+    """
+
+    normal_load_per_length: float
+    creep: float = 0.0
+    radius: float = 0.46
+    material: Material = field(default_factory=Material)
+    friction: FrictionLaw = field(default_factory=lambda: Coulomb(0.3))
+    surface: Surface = field(default_factory=Surface)
+    axis_position: float = 0.0
+    rolling_speed: float = 1.0
+    name: str = ""
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        set_(self, "normal_load_per_length",
+             check_real("normal_load_per_length", self.normal_load_per_length, lower=0.0))
+        set_(self, "creep", check_real("creep", self.creep))
+        set_(self, "radius", check_real("radius", self.radius, lower=0.0, lower_open=True))
+        set_(self, "axis_position", check_real("axis_position", self.axis_position))
+        set_(self, "rolling_speed", check_real("rolling_speed", self.rolling_speed, lower=0.0))
+        if not isinstance(self.material, Material):
+            raise SceneError(f"material must be a Material, got {type(self.material).__name__}")
+        if not isinstance(self.surface, Surface):
+            raise SceneError(f"surface must be a Surface, got {type(self.surface).__name__}")
+        if isinstance(self.friction, (int, float)) and not isinstance(self.friction, bool):
+            set_(self, "friction", Coulomb(self.friction))
+        if not isinstance(self.friction, FrictionLaw):
+            raise SceneError(f"friction must be a FrictionLaw or a number, got {self.friction!r}")
+
+    @property
+    def friction_coefficient(self) -> float:
+        """mu at zero slip velocity [1] (the Coulomb value for a Coulomb law)."""
+        return self.friction.static_coefficient
+
+    def replace(self, **changes) -> Scene:
+        """A copy with some fields changed (validated again)."""
+        return replace(self, **changes)
+
+
+def scene_from_dict(data: dict, *, name: str = "") -> Scene:
+    """Build a Scene from the nested dict of a TOML scene file (see ``models/README.md``)."""
+    data = dict(data)
+    known = {"scene", "material", "geometry", "surface", "load", "friction", "rolling"}
+    unknown = set(data) - known
+    if unknown:
+        raise SceneError(f"unknown table(s) {sorted(unknown)} in scene; valid tables are {sorted(known)}")
+    material = Material(**data.get("material", {}))
+    geometry = dict(data.get("geometry", {}))
+    surf = dict(data.get("surface", {}))
+    harmonics = [Harmonic(**h) for h in surf.pop("harmonics", [])]
+    for c in surf.pop("corrugations", []):
+        harmonics.append(Harmonic.from_wavelength(**c))
+    surface = Surface(polynomial=tuple(surf.pop("polynomial", ())), harmonics=tuple(harmonics))
+    if surf:
+        raise SceneError(f"unknown key(s) {sorted(surf)} in [surface]")
+    load = dict(data.get("load", {}))
+    rolling = dict(data.get("rolling", {}))
+    kwargs = {}
+    for table, keys in ((geometry, ("radius", "axis_position")),
+                        (load, ("normal_load_per_length", "creep")),
+                        (rolling, ("rolling_speed",))):
+        for k in list(table):
+            if k not in keys:
+                raise SceneError(f"unknown key {k!r}; valid keys here are {list(keys)}")
+            kwargs[k] = table[k]
+    friction = friction_from_dict(data["friction"]) if "friction" in data else Coulomb(0.3)
+    meta = data.get("scene", {})
+    return Scene(material=material, surface=surface, friction=friction,
+                 name=str(meta.get("name", name)), **kwargs)
+
+
+def load_scene(path) -> Scene:
+    """Read a Scene from a TOML file; errors name the file and the offending field."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        raise SceneError(f"cannot read scene file {str(path)!r}: {exc}") from exc
+    try:
+        return scene_from_dict(data, name=path.stem)
+    except (SceneError, TypeError) as exc:
+        raise SceneError(f"{path.name}: {exc}") from exc
