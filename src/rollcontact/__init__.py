@@ -19,7 +19,8 @@ Conventions (used by every module; physics.md section 1)
 Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`ContactResult`.
 """
 
-from rollcontact import closed_form as closed_form_module
+# method modules register themselves in the registry on import
+from rollcontact import closed_form, polynomial  # noqa: F401
 from rollcontact.api import METHODS, choose_method, register_method, solve
 from rollcontact.closed_form import carter, hertz
 from rollcontact.friction import (
@@ -34,17 +35,6 @@ from rollcontact.result import ContactResult
 from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, load_scene
 
 __version__ = "0.1.0"
-
-
-def closed_form_inapplicable(scene: Scene) -> str | None:
-    if not scene.surface.is_flat:
-        return "the gap is not parabolic (harmonics or polynomial terms of degree >= 2)"
-    if not scene.friction.is_constant:
-        return "friction depends on slip velocity"
-    return None
-
-
-register_method("closed_form", closed_form_module.solve_closed_form, closed_form_inapplicable, cost=0)
 
 __all__ = [
     "METHODS",

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rollcontact.api import register_method
 from rollcontact.result import ContactResult, Distributions, NoContact
 
 __all__ = ["CarterDistributions", "carter", "cattaneo_traction", "hertz", "mindlin_unloading_traction",
@@ -179,3 +180,14 @@ def solve_closed_form(scene, **options) -> ContactResult:
                          tangential_force_per_length=t, creep=scene.creep, contact_half_width=a,
                          contact_offset=offset, stick_half_width=a_star, max_pressure=p0,
                          creep_stiffness_per_length=stiffness, distributions=dist)
+
+
+def inapplicable(scene) -> str | None:
+    if not scene.surface.is_flat:
+        return "the gap is not parabolic (harmonics or polynomial terms of degree >= 2)"
+    if not scene.friction.is_constant:
+        return "friction depends on slip velocity"
+    return None
+
+
+register_method("closed_form", solve_closed_form, inapplicable, cost=0)

@@ -1,0 +1,480 @@
+"""The polynomial approximation method (paper sections 3-4.1) in a stable Chebyshev basis.
+
+Normal problem.  On the patch ``X = X0 + a t`` (``X0 = x_c + Delta``) the pressure is the bounded density
+``p = sum_{n>=1} c_n sin(n theta)``, ``t = cos(theta)``, which answers ``(2/(pi E*)) PV-int p/(x-z) dz =
+(2/E*) sum c_n T_n(t)`` (chebyshev.py).  Matching the gap slope ``h0'`` gives ``c_n = (E*/2) g_n`` with ``g_n``
+the Chebyshev coefficients of ``h0'(X0 + a t)``; a bounded solution needs ``g_0 = 0`` (fixes Delta) and the
+load is ``N' = (pi a / 2) c_1`` (fixes a).  For harmonics ``g_0`` and ``g_1`` are the exact Bessel forms of
+physics.md eqs 28-29 (corrected), so a and Delta carry no truncation error; the order only limits p(x).
+
+Tangential problem (Coulomb).  ``q = mu p + q2`` with ``q2 = sum d_n sin(n theta*)`` on the stick zone
+``[X0 - a, X0 - a + 2 a*]`` (centre ``Xs``).  No slip there, ``xi + du/dx = 0``, gives
+``d_n = -(E*/2) mu G_n`` (``G_n``: coefficients of ``h0'(Xs + a* t)``) and the creep
+``xi = -mu G_0`` (eq 31 corrected), ``T' = mu N' + (pi a*/2) d_1`` (eq 30).  Negative creep mirrors q.
+
+Validity (one patch, one stick zone at the leading edge) is checked on the returned fields: ``p >= 0``; the
+deformed gap stays open outside the patch; ``|q| <= mu p`` in the stick zone; slip has the sign of the traction
+in the slip zone.  A failed check gives ``success = False`` and a message naming it.
+
+The paper's monomial formulation (eqs 21-26; note eq 26 needs ``A_n^-1 = +(1/pi) a^(2n-2)/(2n-3) prod...``
+for n >= 2, the printed minus sign is wrong: ``A = -pi (1 - a^2 S)^(-1/2)`` so ``A^-1 = -(1/pi)(1 - a^2 S)^(1/2)``)
+is available as ``basis="monomial"`` to measure its conditioning.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import linalg
+
+from rollcontact.api import register_method
+from rollcontact.chebyshev import SlopeExpansion, outer_transform, sine_series, theta_grid, unit_grid
+from rollcontact.closed_form import hertz
+from rollcontact.result import ContactResult, Distributions, NoContact
+
+__all__ = ["PolynomialDistributions", "monomial_density", "solve_polynomial"]
+
+BASES = ("chebyshev", "monomial")
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# monomial backend (paper eqs 19-26)
+def monomial_matrix(h: float, order: int) -> np.ndarray:
+    """The paper's matrix of eq 21: ``beta_k = sum_n A_n B_{k+2n-1}``, ``A_n = -pi h^(2n-2) prod (2i-3)/(2i-2)``
+    (eqs 22-23, verified: the PV integral of ``zeta^m / ((x-zeta) sqrt(h^2-zeta^2))`` is
+    ``-pi sum_{j even} h^j (j-1)!!/j!! x^(m-1-j)``)."""
+    coef = np.empty(order)
+    coef[0] = -math.pi
+    prod = 1.0
+    for n in range(2, order + 1):
+        prod *= (2 * n - 3) / (2 * n - 2)
+        coef[n - 1] = -math.pi * h ** (2 * n - 2) * prod
+    m = np.zeros((order, order))
+    for k in range(order):
+        for n in range(1, order + 1):
+            j = k + 2 * n - 1  # index of B_j, column j-1
+            if j <= order:
+                m[k, j - 1] = coef[n - 1]
+    return m
+
+
+def monomial_density(taylor: np.ndarray, h: float):
+    """Solve ``(1/pi) PV-int f(z)/(x - z) dz = sum_k e_k x^k`` on |x| < h in the paper's monomial form.
+
+    ``f = B(x)/sqrt(h^2 - x^2)`` with ``B(+h) = 0``.  Returns ``(B, r0, r1, cond)``: the power coefficients of
+    B, the T0 and T1 Chebyshev coefficients of the right-hand side recovered from B (``r0 = -(1/h) sum_odd B_n
+    h^n``, ``r1 = (2/(pi h)) int f - 2 r0``), and the matrix condition number.
+    """
+    order = taylor.size
+    m = monomial_matrix(h, order)
+    with np.errstate(all="ignore"):
+        b_tail = linalg.solve_triangular(m, math.pi * taylor, check_finite=False)
+        powers = h ** np.arange(1, order + 1)
+        b0 = -np.dot(b_tail, powers)
+        b = np.concatenate(([b0], b_tail))
+        odd = b[1::2] @ powers[0::2]
+        r0 = -odd / h
+        even_idx = np.arange(0, order + 1, 2)
+        weights = np.array([math.pi * h**n * dfr(n) for n in even_idx])
+        integral = b[0::2] @ weights
+        r1 = 2.0 * integral / (math.pi * h) - 2.0 * r0
+        cond = np.linalg.cond(m)
+    return b, r0, r1, cond
+
+
+def dfr(n: int) -> float:
+    r = 1.0
+    for i in range(2, n + 1, 2):
+        r *= (i - 1) / i
+    return r
+
+
+# ---------------------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class PolynomialDistributions(Distributions):
+    """Fields of a polynomial-method solution (x [m] from the axis projection)."""
+
+    half_width: float
+    offset: float
+    pressure_coefficients: np.ndarray  # c_n [Pa], sine series on the patch
+    slope_coefficients: np.ndarray  # g_n [1] of h0' on the patch
+    stick_half_width: float
+    stick_offset: float  # centre of the stick zone, x [m]
+    stick_coefficients: np.ndarray  # d_n [Pa] of q2 (for the creep's sign taken positive)
+    stick_slope_coefficients: np.ndarray  # G_n [1] of h0' on the stick zone
+    mu: float
+    creep: float
+    monomial_pressure: np.ndarray | None = None  # B_n when the monomial basis was used
+
+    def t(self, x):
+        return (np.asarray(x, dtype=float) - self.offset) / self.half_width
+
+    def pressure(self, x):
+        t = self.t(x)
+        if self.monomial_pressure is not None:
+            xr = t * self.half_width
+            inside = np.abs(t) < 1.0
+            with np.errstate(all="ignore"):
+                val = np.polynomial.polynomial.polyval(xr, self.monomial_pressure) / np.sqrt(
+                    np.where(inside, self.half_width**2 - xr * xr, 1.0))
+            return np.where(inside, val, 0.0)
+        return sine_series(self.pressure_coefficients, t)
+
+    def stick_correction(self, x):
+        if self.stick_half_width <= 0.0:
+            return np.zeros_like(np.asarray(x, dtype=float))
+        sigma = (np.asarray(x, dtype=float) - self.stick_offset) / self.stick_half_width
+        return sine_series(self.stick_coefficients, sigma)
+
+    def traction(self, x):
+        sign = math.copysign(1.0, self.creep)
+        return sign * (self.mu * self.pressure(x) + self.stick_correction(x))
+
+    def slip(self, x):
+        # s = |xi| + du/dx with du/dx = mu sum g_n T_n(t) - mu sum G_n F_n(sigma) (chebyshev.outer_transform)
+        x = np.asarray(x, dtype=float)
+        t = self.t(x)
+        du = self.mu * outer_transform(self.slope_coefficients, t)
+        if self.stick_half_width > 0.0:
+            sigma = (x - self.stick_offset) / self.stick_half_width
+            du = du - self.mu * outer_transform(self.stick_slope_coefficients, sigma)
+            in_stick = np.abs(sigma) <= 1.0
+        else:
+            in_stick = np.zeros(x.shape, dtype=bool)
+        s = np.where(in_stick, 0.0, abs(self.creep) + du)
+        return np.where(np.abs(t) <= 1.0, math.copysign(1.0, self.creep) * s, np.nan)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+class NormalProblem:
+    """T0/T1 moments G0, G1 of ``h0'(c + h t)`` with derivatives, in either basis."""
+
+    def __init__(self, expansion: SlopeExpansion, basis: str, order: int | None):
+        self.e = expansion
+        self.basis = basis
+        self.order = order
+        self.cond = 1.0
+
+    def moments(self, h, c):
+        e = self.e
+        if self.basis == "chebyshev":
+            m0, m1, d0h, d0c, d1h, d1c = e.moments(h, c)
+            return ((c - e.axis_position) / e.radius - m0, h / e.radius - m1,
+                    -d0h, 1.0 / e.radius - d0c, 1.0 / e.radius - d1h, -d1c)
+        g0, g1 = self.monomial_moments(h, c)
+        dh = 1e-7 * h
+        g0h, g1h = self.monomial_moments(h + dh, c)
+        g0c, g1c = self.monomial_moments(h, c + dh)
+        return g0, g1, (g0h - g0) / dh, (g0c - g0) / dh, (g1h - g1) / dh, (g1c - g1) / dh
+
+    def monomial_moments(self, h, c):
+        _, r0, r1, self.cond = monomial_density(self.e.gap_slope_taylor(c, self.order), h)
+        return r0, r1
+
+
+def solve_normal(problem: NormalProblem, load: float, estar: float, a0: float, max_iterations: int):
+    """Newton on (a, X0): ``G0(a, X0) = 0`` and ``(pi E* a / 4) G1(a, X0) = N'`` (eqs 28-29)."""
+    e = problem.e
+    # start from Hertz's a and one fixed-point step for the offset, Delta = R m0 (eq 29)
+    a = a0
+    g0 = problem.moments(a, float(e.axis_position))[0]
+    c = e.axis_position - e.radius * (g0 if math.isfinite(g0) else 0.0)
+    k = math.pi * estar / 4.0
+    scale_f1 = a0 / e.radius
+    for it in range(1, max_iterations + 1):
+        g0, g1, g0h, g0c, g1h, g1c = problem.moments(a, c)
+        f1 = g0
+        f2 = k * a * g1 - load
+        j11, j12 = g0h, g0c
+        j21, j22 = k * (g1 + a * g1h), k * a * g1c
+        det = j11 * j22 - j12 * j21
+        if not math.isfinite(det) or det == 0.0:
+            return a, c, it, f"normal problem: singular Newton matrix at a = {a:.6g} m"
+        da = (f1 * j22 - j12 * f2) / det
+        dc = (j11 * f2 - f1 * j21) / det
+        lim = 0.5 * a
+        if abs(da) > lim or abs(dc) > lim:  # damping keeps a > 0 and the patch near its start
+            s = lim / max(abs(da), abs(dc))
+            da, dc = da * s, dc * s
+        a -= da
+        c -= dc
+        if abs(da) <= 1e-14 * a0 and abs(dc) <= 1e-14 * a0 or (abs(f1) <= 1e-15 * scale_f1 and
+                                                                 abs(f2) <= 1e-15 * load):
+            return a, c, it, ""
+    return a, c, max_iterations, (f"normal problem: Newton did not converge in {max_iterations} iterations "
+                                  f"(a = {a:.6g} m, residuals {f1:.3g}, {f2:.3g} N/m)")
+
+
+def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-10, basis: str = "chebyshev",
+                     max_iterations: int = 60, check: bool = True) -> ContactResult:
+    """Polynomial method for a steady scene with Coulomb friction (paper sections 3 and 4.1).
+
+    Parameters
+    ----------
+    scene : Scene
+        Any surface: polynomial part and/or harmonics.
+    order : int, optional
+        Number of Chebyshev terms (or monomial degree) of the distributions; by default the smallest order
+        whose neglected coefficients are below ``tolerance`` (relative to the Hertz slope a/R).
+    tolerance : float
+        Target relative truncation error of the distributions, > 0.
+    basis : {"chebyshev", "monomial"}
+        The stable basis, or the paper's monomial matrices (eqs 21-26) whose conditioning degrades as a^(2n).
+    max_iterations : int
+        Newton iterations for the normal problem.
+    check : bool
+        Run the validity checks (one patch, stick at the leading edge).  Only switch off when the caller has
+        established validity otherwise.
+
+    Returns
+    -------
+    ContactResult
+        ``residual`` is the truncation estimate of the distributions (size of the first neglected coefficients
+        relative to the leading one); ``info`` holds the order, basis, coefficients and, for the monomial basis,
+        the condition number of the paper's matrix.
+    """
+    if basis not in BASES:
+        raise ValueError(f"unknown basis {basis!r}; valid bases are {list(BASES)}")
+    if order is not None and (int(order) != order or not 1 <= order <= 2000):
+        raise ValueError(f"order = {order!r} is out of range: it must be an integer in [1, 2000]")
+    if not (math.isfinite(tolerance) and tolerance > 0.0):
+        raise ValueError(f"tolerance = {tolerance!r} must be finite and > 0")
+    if not scene.friction.is_constant:
+        raise ValueError("the Coulomb polynomial solver needs constant friction; velocity-dependent friction is "
+                         "handled by method='polynomial_friction'")
+    load = scene.normal_load_per_length
+    estar = scene.material.contact_modulus
+    mu = scene.friction_coefficient
+    xi = scene.creep
+    R = scene.radius
+    xc = scene.axis_position
+    if load == 0.0:
+        return ContactResult(method="polynomial", success=True, message="no load: no contact",
+                             normal_load_per_length=0.0, tangential_force_per_length=0.0, creep=xi,
+                             contact_half_width=0.0, contact_offset=0.0, stick_half_width=0.0, max_pressure=0.0,
+                             creep_stiffness_per_length=0.0, distributions=NoContact())
+    expansion = SlopeExpansion(R, xc, scene.surface)
+    a_hertz, _ = hertz(load, R, estar)
+    monomial_order = order if order is not None else max(4, expansion.slope_poly.size + 2)
+    problem = NormalProblem(expansion, basis, monomial_order)
+    a, x0, iterations, failure = solve_normal(problem, load, estar, a_hertz, max_iterations)
+    info = {"basis": basis}
+    if failure or not (a > 0.0 and math.isfinite(a) and math.isfinite(x0)):
+        return failed(scene, failure or f"normal problem: no positive root for a (a = {a!r} m)", a, x0 - xc,
+                      iterations, info)
+
+    n_order = order if order is not None else expansion.required_order(a, tolerance)
+    g = expansion.gap_slope_coefficients(a, x0, n_order + 4)
+    residual = float(np.max(np.abs(g[n_order + 1:])) / abs(g[1])) if g[1] != 0 else math.inf
+    g = g[: n_order + 1]
+    c_n = 0.5 * estar * g
+    monomial_b = None
+    if basis == "monomial":
+        b, _, _, cond = monomial_density(expansion.gap_slope_taylor(x0, monomial_order), a)
+        monomial_b = 0.5 * estar * b
+        info["condition_number"] = float(cond)
+        residual = float(cond * np.finfo(float).eps)
+    info.update(order=n_order, pressure_coefficients=c_n)
+
+    # tangential problem
+    stick, d_n, G, t_force, stiffness, tang_failure = solve_tangential(expansion, a, x0, load, estar, mu, xi,
+                                                                       order, tolerance)
+    dist = PolynomialDistributions(a, x0 - xc, c_n, g, stick, x0 - a + stick - xc, d_n, G, mu, xi, monomial_b)
+    messages = []
+    if tang_failure:
+        messages.append(tang_failure)
+    if check:
+        messages += validity_failures(dist, expansion, scene, a, x0)
+    p_max = max_pressure(c_n) if monomial_b is None else float(np.max(dist.pressure(
+        x0 - xc + a * (1.998 * unit_grid(401) - 0.999))))
+    success = not messages
+    if success:
+        message = "full slip (saturated)" if stick == 0.0 and xi != 0.0 else "converged"
+    else:
+        message = "; ".join(messages) + "; use method='discretised'"
+    info["stick_coefficients"] = d_n
+    return ContactResult(method="polynomial", success=success, message=message, normal_load_per_length=load,
+                         tangential_force_per_length=t_force, creep=xi, contact_half_width=a,
+                         contact_offset=x0 - xc, stick_half_width=stick, max_pressure=p_max,
+                         creep_stiffness_per_length=stiffness, iterations=iterations, residual=residual,
+                         distributions=dist, info=info)
+
+
+solve_polynomial.options = ("order", "tolerance", "basis", "max_iterations")
+
+
+def failed(scene, message, a, offset, iterations, info):
+    return ContactResult(method="polynomial", success=False, message=message + "; use method='discretised'",
+                         normal_load_per_length=scene.normal_load_per_length, tangential_force_per_length=math.nan,
+                         creep=scene.creep, contact_half_width=a, contact_offset=offset, stick_half_width=math.nan,
+                         max_pressure=math.nan, iterations=iterations, residual=math.inf, info=info)
+
+
+def solve_tangential(e: SlopeExpansion, a, x0, load, estar, mu, xi, order, tolerance):
+    """Stick-zone half-width a* from ``xi = -mu G0(a*, Xs)`` (eq 31), then q2 and T' (eq 30).
+
+    Returns ``(a*, d_n, G_n, T', dT'/dxi, failure message)``.
+    """
+    if xi == 0.0:
+        return a, np.zeros(2), np.zeros(2), 0.0, math.nan, ""
+    target = abs(xi)
+    R = e.radius
+    xc = e.axis_position
+
+    def creep_of(h):
+        xs = x0 - a + h
+        m = e.moments(h, xs)
+        return mu * ((xc - xs) / R + m[0]), mu * (-1.0 / R + m[2] + m[3]), m
+
+    grid = a * unit_grid(25)
+    f = creep_of(grid)[0] - target
+    candidates = []
+    if f[0] <= 0.0:
+        candidates.append(0.0)
+    for i in np.nonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)[0]:
+        candidates.append(refine_root(creep_of, target, float(grid[i]), float(grid[i + 1]), float(f[i])))
+    if not candidates:
+        return 0.0, np.zeros(2), np.zeros(2), math.nan, math.nan, (
+            f"tangential problem: no stick zone satisfies xi(a*) = {target:.6g} for a* in [0, {a:.6g}] m")
+    best = None
+    for h in candidates:
+        sol = tangential_solution(e, a, x0, load, estar, mu, xi, h, order, tolerance, creep_of)
+        if best is None or abs(sol[3]) < abs(best[3]):
+            best = sol
+    return (*best, "")
+
+
+def refine_root(creep_of, target, lo, hi, f_lo):
+    """Safeguarded Newton on the bracket [lo, hi] of ``creep_of(h) - target``."""
+    h = 0.5 * (lo + hi)
+    for _ in range(60):
+        val, der, _ = creep_of(h)
+        fv = float(val) - target
+        if (fv < 0) == (f_lo < 0):
+            lo = h
+        else:
+            hi = h
+        step = fv / float(der) if der != 0 else math.inf
+        h_new = h - step
+        if not lo < h_new < hi:
+            h_new = 0.5 * (lo + hi)
+        if abs(h_new - h) <= 1e-15 * hi:
+            return h_new
+        h = h_new
+    return h
+
+
+def tangential_solution(e, a, x0, load, estar, mu, xi, h, order, tolerance, creep_of):
+    sign = math.copysign(1.0, xi)
+    if h == 0.0:
+        return 0.0, np.zeros(2), np.zeros(2), sign * mu * load, 0.0
+    xs = x0 - a + h
+    n_order = order if order is not None else e.required_order(h, tolerance)
+    G = e.gap_slope_coefficients(h, xs, n_order)
+    d = -0.5 * estar * mu * G
+    t_force = mu * load + 0.5 * math.pi * h * float(d[1])
+    # dT'/dxi = (dT'/da*)/(dxi/da*) along the stick zone's leading-edge-fixed family
+    _, dxi, m = creep_of(h)
+    dt = -mu * 0.25 * math.pi * estar * (2.0 * h / e.radius - m[1] - h * (m[4] + m[5]))
+    stiffness = float(dt / dxi) if dxi != 0 else math.nan
+    return h, d, G, sign * t_force, stiffness
+
+
+def max_pressure(c_n: np.ndarray) -> float:
+    """max of ``p(theta) = sum c_n sin(n theta)``: a cached grid, then Newton on theta."""
+    m = max(64, 8 * c_n.size)
+    theta, table = theta_grid(m, c_n.size - 1)
+    vals = table @ c_n[1:]
+    i = int(np.argmax(vals))
+    th = float(theta[i])
+    coefs = list(enumerate(c_n[1:].tolist(), start=1))
+    best = float(vals[i])
+    for _ in range(4):
+        d1 = sum(n * c * math.cos(n * th) for n, c in coefs)
+        d2 = -sum(n * n * c * math.sin(n * th) for n, c in coefs)
+        if d2 >= 0.0:
+            break
+        th = min(max(th - d1 / d2, 0.0), math.pi)
+    return max(best, sum(c * math.sin(n * th) for n, c in coefs))
+
+
+def validity_failures(dist: PolynomialDistributions, e: SlopeExpansion, scene, a, x0) -> list[str]:
+    """The assumptions of the method, checked on the returned fields; each failure named."""
+    out = []
+    c_n = dist.pressure_coefficients
+    n = np.arange(1, c_n.size)
+    theta, table = theta_grid(max(128, 8 * n.size), n.size)
+    t = np.cos(theta)
+    x = dist.offset + a * t
+    p = table @ c_n[1:] if dist.monomial_pressure is None else dist.pressure(x)
+    p_scale = max(float(np.max(np.abs(p))), 1e-300)
+    tol = 1e-9
+    # p = sin(theta) * sum n c_n near the edges: edge slopes must be >= 0
+    edge_trail = float(np.dot(n, c_n[1:]))
+    edge_lead = float(np.dot(n * (-1.0) ** (n - 1), c_n[1:]))
+    if np.min(p) < -tol * p_scale or min(edge_trail, edge_lead) < -tol * p_scale:
+        i = int(np.argmin(p))
+        out.append(f"contact splits: the pressure turns negative (p = {p[i]:.4g} Pa at x = {x[i]:.6g} m), "
+                   "more than one contact patch")
+    gap = outside_gap(dist, e, scene, a, x0)
+    if gap is not None:
+        xg, hg = gap
+        out.append(f"the deformed gap closes outside the patch (gap = {hg:.3g} m at x = {xg:.6g} m): "
+                   "a second contact patch")
+    mu = dist.mu
+    if dist.stick_half_width > 0.0:
+        xs = dist.stick_offset + dist.stick_half_width * t
+        q2 = dist.stick_correction(xs)
+        ps = dist.pressure(xs)
+        bad = (q2 > tol * mu * p_scale) | (q2 < -2.0 * mu * ps - tol * mu * p_scale)
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            out.append(f"traction bound |q| <= mu p violated in the stick zone at x = {xs[i]:.6g} m "
+                       "(the stick zone is not a single zone at the leading edge)")
+    slip_lo = dist.stick_offset + dist.stick_half_width if dist.stick_half_width > 0.0 else dist.offset - a
+    xs = slip_lo + (dist.offset + a - slip_lo) * 0.5 * (1.0 - t)
+    s = dist.slip(xs) * math.copysign(1.0, dist.creep)
+    s_scale = mu * a / scene.radius
+    if dist.creep != 0.0 and np.any(s < -tol * s_scale):
+        i = int(np.argmin(s))
+        out.append(f"slip opposes the traction in the slip zone (s = {s[i]:.3g} at x = {xs[i]:.6g} m): "
+                   "a second stick zone")
+    return out
+
+
+def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, scene, a, x0):
+    """First point outside the patch where the deformed gap ``h(X) = int h0' - (2/E*) p-induced slope`` closes.
+
+    Returns ``(x, gap)`` or None.  The range reaches as far as the surface could touch again: where the
+    parabola ``(X - x_c)^2/2R`` exceeds twice the total harmonic amplitude, and at least 2a past each edge.
+    """
+    amp = float(np.sum(np.hypot(e.phi, e.psi))) if e.has_harmonics else 0.0
+    reach = max(2.0 * a, math.sqrt(2.0 * scene.radius * 4.0 * amp) + abs(x0 - e.axis_position))
+    spacing = a / 16.0
+    if e.has_harmonics:
+        spacing = min(spacing, 2.0 * math.pi / float(np.max(e.k)) / 12.0)
+    m = int(min(2000, max(48, reach / spacing)))
+    # geometric refinement near the edge resolves the sqrt behaviour of the gap
+    u = unit_grid(m + 1) ** 2 * reach
+    g = dist.slope_coefficients
+    scale = a * a / scene.radius
+    for side in (1.0, -1.0):
+        X = x0 + side * (a + u)
+        t = (X - x0) / a
+        slope = (X - e.axis_position) / e.radius - scene.surface.slope(X) - outer_transform(g, t)
+        hx = np.concatenate(([0.0], np.cumsum(0.5 * (slope[1:] + slope[:-1]) * np.diff(X))))
+        if np.min(hx) < -1e-9 * scale:
+            i = int(np.argmin(hx))
+            return float(X[i] - e.axis_position), float(hx[i])
+    return None
+
+
+def inapplicable(scene) -> str | None:
+    if not scene.friction.is_constant:
+        return "friction depends on slip velocity (the Coulomb polynomial solver needs constant mu)"
+    return None
+
+
+register_method("polynomial", solve_polynomial, inapplicable, cost=10)
