@@ -71,13 +71,16 @@ class SlopeExpansion:
         self.radius = radius
         self.axis_position = axis_position
         # surface slope Z'(X) as a polynomial (power basis in X) plus harmonics
-        poly = np.asarray(surface.polynomial, dtype=float)
-        self.slope_poly = nppoly.polyder(poly) if poly.size > 1 else np.zeros(1)
-        self.slope_derivs = [self.slope_poly]
-        for _ in range(self.slope_poly.size + 1):
-            self.slope_derivs.append(nppoly.polyder(self.slope_derivs[-1]) if self.slope_derivs[-1].size > 1
-                                     else np.zeros(1))
-        self.has_poly = bool(np.any(self.slope_poly != 0.0))
+        self.has_poly = any(c != 0.0 for c in surface.polynomial[1:])
+        if self.has_poly:
+            self.slope_poly = nppoly.polyder(np.asarray(surface.polynomial, dtype=float))
+            self.slope_derivs = [self.slope_poly]
+            for _ in range(self.slope_poly.size + 1):
+                d = self.slope_derivs[-1]
+                self.slope_derivs.append(nppoly.polyder(d) if d.size > 1 else np.zeros(1))
+        else:
+            self.slope_poly = np.zeros(1)
+            self.slope_derivs = [self.slope_poly, self.slope_poly]
         h = [hm for hm in surface.harmonics if hm.amplitude != 0.0]
         self.k = np.array([hm.wavenumber for hm in h])
         self.phi = np.array([hm.cos_amplitude for hm in h])

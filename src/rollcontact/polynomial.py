@@ -328,13 +328,15 @@ def solve_tangential(e: SlopeExpansion, a, x0, load, estar, mu, xi, order, toler
         m = e.moments(h, xs)
         return mu * ((xc - xs) / R + m[0]), mu * (-1.0 / R + m[2] + m[3]), m
 
-    grid = a * unit_grid(25)
-    f = creep_of(grid)[0] - target
+    # scan a* in [0, a] for every root of xi(a*) = |xi| (plain floats: 9 scalar calls beat one array call)
+    grid = [a * i / 8.0 for i in range(9)]
+    f = [creep_of(h)[0] - target for h in grid]
     candidates = []
     if f[0] <= 0.0:
         candidates.append(0.0)
-    for i in np.nonzero(np.sign(f[:-1]) * np.sign(f[1:]) < 0)[0]:
-        candidates.append(refine_root(creep_of, target, float(grid[i]), float(grid[i + 1]), float(f[i])))
+    for i in range(8):
+        if (f[i] < 0.0) != (f[i + 1] < 0.0) and f[i] != 0.0:
+            candidates.append(refine_root(creep_of, target, grid[i], grid[i + 1], f[i]))
     if not candidates:
         return 0.0, np.zeros(2), np.zeros(2), math.nan, math.nan, (
             f"tangential problem: no stick zone satisfies xi(a*) = {target:.6g} for a* in [0, {a:.6g}] m")
@@ -351,18 +353,16 @@ def refine_root(creep_of, target, lo, hi, f_lo):
     h = 0.5 * (lo + hi)
     for _ in range(60):
         val, der, _ = creep_of(h)
-        fv = float(val) - target
+        fv = val - target
+        step = fv / der if der != 0 else math.inf
+        if abs(step) <= 1e-14 * hi:
+            return h - step
         if (fv < 0) == (f_lo < 0):
             lo = h
         else:
             hi = h
-        step = fv / float(der) if der != 0 else math.inf
         h_new = h - step
-        if not lo < h_new < hi:
-            h_new = 0.5 * (lo + hi)
-        if abs(h_new - h) <= 1e-15 * hi:
-            return h_new
-        h = h_new
+        h = h_new if lo < h_new < hi else 0.5 * (lo + hi)
     return h
 
 
@@ -384,60 +384,72 @@ def tangential_solution(e, a, x0, load, estar, mu, xi, h, order, tolerance, cree
 
 def max_pressure(c_n: np.ndarray) -> float:
     """max of ``p(theta) = sum c_n sin(n theta)``: a cached grid, then Newton on theta."""
-    m = max(64, 8 * c_n.size)
-    theta, table = theta_grid(m, c_n.size - 1)
+    theta, table = theta_grid(max(64, 8 * c_n.size), c_n.size - 1)
     vals = table @ c_n[1:]
     i = int(np.argmax(vals))
+    n = np.arange(1, c_n.size)
+    nc = n * c_n[1:]
+    nnc = n * nc
     th = float(theta[i])
-    coefs = list(enumerate(c_n[1:].tolist(), start=1))
-    best = float(vals[i])
     for _ in range(4):
-        d1 = sum(n * c * math.cos(n * th) for n, c in coefs)
-        d2 = -sum(n * n * c * math.sin(n * th) for n, c in coefs)
+        d2 = -float(nnc @ np.sin(n * th))
         if d2 >= 0.0:
             break
-        th = min(max(th - d1 / d2, 0.0), math.pi)
-    return max(best, sum(c * math.sin(n * th) for n, c in coefs))
+        step = float(nc @ np.cos(n * th)) / d2
+        th = min(max(th - step, 0.0), math.pi)
+        if abs(step) < 1e-13:
+            break
+    return max(float(vals[i]), float(c_n[1:] @ np.sin(n * th)))
 
 
 def validity_failures(dist: PolynomialDistributions, e: SlopeExpansion, scene, a, x0) -> list[str]:
-    """The assumptions of the method, checked on the returned fields; each failure named."""
+    """The assumptions of the method, checked on the returned fields; each failure named.
+
+    Grids: 4 points per Chebyshev term (at least 64) on the patch and the stick zone, 48 in the slip zone;
+    the outside gap as in :func:`outside_gap`.
+    """
     out = []
-    c_n = dist.pressure_coefficients
-    n = np.arange(1, c_n.size)
-    theta, table = theta_grid(max(128, 8 * n.size), n.size)
-    t = np.cos(theta)
-    x = dist.offset + a * t
-    p = table @ c_n[1:] if dist.monomial_pressure is None else dist.pressure(x)
-    p_scale = max(float(np.max(np.abs(p))), 1e-300)
     tol = 1e-9
-    # p = sin(theta) * sum n c_n near the edges: edge slopes must be >= 0
-    edge_trail = float(np.dot(n, c_n[1:]))
-    edge_lead = float(np.dot(n * (-1.0) ** (n - 1), c_n[1:]))
-    if np.min(p) < -tol * p_scale or min(edge_trail, edge_lead) < -tol * p_scale:
+    c_n = dist.pressure_coefficients
+    m = max(64, 4 * c_n.size)
+    theta, table = theta_grid(m, c_n.size - 1)
+    if dist.monomial_pressure is None:
+        p = table @ c_n[1:]
+        # p = sin(theta) * sum n c_n near the edges: both edge slopes must be >= 0
+        edges = (sum(n * c for n, c in enumerate(c_n[1:].tolist(), start=1)),
+                 sum(n * c * (-1) ** (n - 1) for n, c in enumerate(c_n[1:].tolist(), start=1)))
+    else:
+        p = dist.pressure(dist.offset + a * np.cos(theta))
+        edges = (0.0, 0.0)
+    p_scale = max(float(np.max(np.abs(p))), 1e-300)
+    if float(np.min(p)) < -tol * p_scale or min(edges) < -tol * p_scale:
         i = int(np.argmin(p))
-        out.append(f"contact splits: the pressure turns negative (p = {p[i]:.4g} Pa at x = {x[i]:.6g} m), "
+        out.append(f"contact splits: the pressure turns negative (min p = {p[i]:.4g} Pa near x = "
+                   f"{dist.offset + a * math.cos(theta[i]):.6g} m, edge slopes {edges[0]:.3g}, {edges[1]:.3g} Pa), "
                    "more than one contact patch")
     gap = outside_gap(dist, e, scene, a, x0)
     if gap is not None:
-        xg, hg = gap
-        out.append(f"the deformed gap closes outside the patch (gap = {hg:.3g} m at x = {xg:.6g} m): "
+        out.append(f"the deformed gap closes outside the patch (gap = {gap[1]:.3g} m at x = {gap[0]:.6g} m): "
                    "a second contact patch")
+    if dist.creep == 0.0:
+        return out
     mu = dist.mu
-    if dist.stick_half_width > 0.0:
-        xs = dist.stick_offset + dist.stick_half_width * t
-        q2 = dist.stick_correction(xs)
+    h = dist.stick_half_width
+    if h > 0.0:
+        d = dist.stick_coefficients
+        _, table_s = theta_grid(m, d.size - 1)
+        xs = dist.stick_offset + h * np.cos(theta)
+        q2 = table_s @ d[1:]
         ps = dist.pressure(xs)
         bad = (q2 > tol * mu * p_scale) | (q2 < -2.0 * mu * ps - tol * mu * p_scale)
-        if np.any(bad):
+        if bad.any():
             i = int(np.argmax(bad))
             out.append(f"traction bound |q| <= mu p violated in the stick zone at x = {xs[i]:.6g} m "
                        "(the stick zone is not a single zone at the leading edge)")
-    slip_lo = dist.stick_offset + dist.stick_half_width if dist.stick_half_width > 0.0 else dist.offset - a
-    xs = slip_lo + (dist.offset + a - slip_lo) * 0.5 * (1.0 - t)
+    slip_lo = dist.stick_offset + h if h > 0.0 else dist.offset - a
+    xs = slip_lo + (dist.offset + a - slip_lo) * unit_grid(48)[1:]
     s = dist.slip(xs) * math.copysign(1.0, dist.creep)
-    s_scale = mu * a / scene.radius
-    if dist.creep != 0.0 and np.any(s < -tol * s_scale):
+    if (s < -tol * mu * a / scene.radius).any():
         i = int(np.argmin(s))
         out.append(f"slip opposes the traction in the slip zone (s = {s[i]:.3g} at x = {xs[i]:.6g} m): "
                    "a second stick zone")
@@ -447,27 +459,28 @@ def validity_failures(dist: PolynomialDistributions, e: SlopeExpansion, scene, a
 def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, scene, a, x0):
     """First point outside the patch where the deformed gap ``h(X) = int h0' - (2/E*) p-induced slope`` closes.
 
-    Returns ``(x, gap)`` or None.  The range reaches as far as the surface could touch again: where the
-    parabola ``(X - x_c)^2/2R`` exceeds twice the total harmonic amplitude, and at least 2a past each edge.
+    Returns ``(x, gap)`` or None.  Without harmonics the gap is checked to 2a past each edge; with harmonics
+    as far as the surface could touch again (where the parabola ``(X - x_c)^2/2R`` exceeds four times the
+    total amplitude), at 10 points per shortest wavelength.
     """
-    amp = float(np.sum(np.hypot(e.phi, e.psi))) if e.has_harmonics else 0.0
-    reach = max(2.0 * a, math.sqrt(2.0 * scene.radius * 4.0 * amp) + abs(x0 - e.axis_position))
-    spacing = a / 16.0
+    reach = 2.0 * a
+    spacing = a / 8.0
     if e.has_harmonics:
-        spacing = min(spacing, 2.0 * math.pi / float(np.max(e.k)) / 12.0)
-    m = int(min(2000, max(48, reach / spacing)))
-    # geometric refinement near the edge resolves the sqrt behaviour of the gap
+        amp = float(np.sum(np.hypot(e.phi, e.psi)))
+        reach = max(reach, math.sqrt(8.0 * scene.radius * amp) + abs(x0 - e.axis_position))
+        spacing = min(spacing, 0.2 * math.pi / float(np.max(e.k)))
+    m = int(min(2000, max(32, reach / spacing)))
+    # quadratic spacing refines near the edges, where the gap opens like (x - a)^1.5
     u = unit_grid(m + 1) ** 2 * reach
-    g = dist.slope_coefficients
-    scale = a * a / scene.radius
-    for side in (1.0, -1.0):
-        X = x0 + side * (a + u)
-        t = (X - x0) / a
-        slope = (X - e.axis_position) / e.radius - scene.surface.slope(X) - outer_transform(g, t)
-        hx = np.concatenate(([0.0], np.cumsum(0.5 * (slope[1:] + slope[:-1]) * np.diff(X))))
-        if np.min(hx) < -1e-9 * scale:
-            i = int(np.argmin(hx))
-            return float(X[i] - e.axis_position), float(hx[i])
+    X = np.concatenate((x0 + a + u, x0 - a - u))
+    slope = (X - e.axis_position) / e.radius - scene.surface.slope(X) - outer_transform(dist.slope_coefficients,
+                                                                                        (X - x0) / a)
+    slope = slope.reshape(2, m + 1)
+    X = X.reshape(2, m + 1)
+    hx = np.cumsum(0.5 * (slope[:, 1:] + slope[:, :-1]) * np.diff(X, axis=1), axis=1)
+    i = int(np.argmin(hx))
+    if hx.flat[i] < -1e-9 * a * a / scene.radius:
+        return float(X[:, 1:].flat[i] - e.axis_position), float(hx.flat[i])
     return None
 
 
