@@ -33,6 +33,7 @@ from rollcontact.api import register_method
 from rollcontact.chebyshev import SlopeExpansion, outer_transform, sine_series, theta_grid, unit_grid
 from rollcontact.closed_form import hertz
 from rollcontact.result import ContactResult, Distributions, NoContact
+from rollcontact.velocity_friction import solve_velocity_dependent
 
 __all__ = ["PolynomialDistributions", "monomial_density", "solve_polynomial"]
 
@@ -208,8 +209,8 @@ def solve_normal(problem: NormalProblem, load: float, estar: float, a0: float, m
 
 
 def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-10, basis: str = "chebyshev",
-                     max_iterations: int = 60, check: bool = True) -> ContactResult:
-    """Polynomial method for a steady scene with Coulomb friction (paper sections 3 and 4.1).
+                     max_iterations: int = 60, check: bool = True, nodes: int = 128) -> ContactResult:
+    """Polynomial method for a steady scene (paper sections 3, 4.1 and, for velocity-dependent friction, 4.2).
 
     Parameters
     ----------
@@ -224,6 +225,8 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         The stable basis, or the paper's monomial matrices (eqs 21-26) whose conditioning degrades as a^(2n).
     max_iterations : int
         Newton iterations for the normal problem.
+    nodes : int
+        Chebyshev nodes of the slip iteration for velocity-dependent friction (paper section 4.2).
     check : bool
         Run the validity checks (one patch, stick at the leading edge).  Only switch off when the caller has
         established validity otherwise.
@@ -241,9 +244,8 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         raise ValueError(f"order = {order!r} is out of range: it must be an integer in [1, 2000]")
     if not (math.isfinite(tolerance) and tolerance > 0.0):
         raise ValueError(f"tolerance = {tolerance!r} must be finite and > 0")
-    if not scene.friction.is_constant:
-        raise ValueError("the Coulomb polynomial solver needs constant friction; velocity-dependent friction is "
-                         "handled by method='polynomial_friction'")
+    if not scene.friction.is_constant and basis != "chebyshev":
+        raise ValueError("velocity-dependent friction needs basis='chebyshev'")
     load = scene.normal_load_per_length
     estar = scene.material.contact_modulus
     mu = scene.friction_coefficient
@@ -278,6 +280,9 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         residual = float(cond * np.finfo(float).eps)
     info.update(order=n_order, pressure_coefficients=c_n)
 
+    if not scene.friction.is_constant:
+        return solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check,
+                                            nodes)
     # tangential problem
     stick, d_n, G, t_force, stiffness, tang_failure = solve_tangential(expansion, a, x0, load, estar, mu, xi,
                                                                        order, tolerance)
@@ -302,7 +307,39 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
                          distributions=dist, info=info)
 
 
-solve_polynomial.options = ("order", "tolerance", "basis", "max_iterations")
+solve_polynomial.options = ("order", "tolerance", "basis", "max_iterations", "nodes")
+
+
+def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check, nodes):
+    """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.velocity_friction`."""
+    xc = scene.axis_position
+    estar = scene.material.contact_modulus
+    xi = scene.creep
+    messages = []
+    if check:  # the normal-problem checks (a zero-creep field has no tangential checks)
+        zero = PolynomialDistributions(a, x0 - xc, c_n, g, a, x0 - xc, np.zeros(2), np.zeros(2),
+                                       scene.friction_coefficient, 0.0)
+        messages += validity_failures(zero, expansion, scene, a, x0)
+    if xi == 0.0:
+        stick, t_force, dist, it = a, 0.0, zero if check else None, 0
+    else:
+        out = solve_velocity_dependent(c_n, a, x0 - xc, estar, scene.friction, scene.rolling_speed, xi,
+                                       nodes=nodes)
+        stick, t_force, dist, it = (out["stick_half_width"], out["tangential_force_per_length"],
+                                    out["distributions"], out["iterations"])
+        info["slip_iteration_history"] = out["history"]
+        if out["message"]:
+            messages.append(out["message"])
+    if dist is None:
+        dist = PolynomialDistributions(a, x0 - xc, c_n, g, a, x0 - xc, np.zeros(2), np.zeros(2),
+                                       scene.friction_coefficient, 0.0)
+    success = not messages
+    message = ("converged" if success else "; ".join(messages) + "; use method='discretised'")
+    return ContactResult(method="polynomial", success=success, message=message,
+                         normal_load_per_length=scene.normal_load_per_length, tangential_force_per_length=t_force,
+                         creep=xi, contact_half_width=a, contact_offset=x0 - xc, stick_half_width=stick,
+                         max_pressure=max_pressure(c_n), iterations=iterations + it, residual=residual,
+                         distributions=dist, info=info)
 
 
 def failed(scene, message, a, offset, iterations, info):
@@ -485,8 +522,6 @@ def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, scene, a, x0):
 
 
 def inapplicable(scene) -> str | None:
-    if not scene.friction.is_constant:
-        return "friction depends on slip velocity (the Coulomb polynomial solver needs constant mu)"
     return None
 
 
