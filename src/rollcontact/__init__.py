@@ -20,7 +20,7 @@ Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`Co
 """
 
 # method modules register themselves in the registry on import
-from rollcontact import closed_form, polynomial  # noqa: F401
+from rollcontact import closed_form, discretised, polynomial  # noqa: F401
 from rollcontact.api import METHODS, choose_method, register_method, solve
 from rollcontact.closed_form import carter, hertz
 from rollcontact.friction import (

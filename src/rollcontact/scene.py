@@ -257,7 +257,10 @@ def scene_from_dict(data: dict, *, name: str = "") -> Scene:
                 raise SceneError(f"unknown key {k!r}; valid keys here are {list(keys)}")
             kwargs[k] = table[k]
     friction = friction_from_dict(data["friction"]) if "friction" in data else Coulomb(0.3)
-    meta = data.get("scene", {})
+    meta = dict(data.get("scene", {}))
+    if set(meta) - {"name", "description"}:
+        raise SceneError(f"unknown key(s) {sorted(set(meta) - {'name', 'description'})} in [scene]; "
+                         "valid keys are ['description', 'name']")
     return Scene(material=material, surface=surface, friction=friction,
                  name=str(meta.get("name", name)), **kwargs)
 
@@ -272,5 +275,5 @@ def load_scene(path) -> Scene:
         raise SceneError(f"cannot read scene file {str(path)!r}: {exc}") from exc
     try:
         return scene_from_dict(data, name=path.stem)
-    except (SceneError, TypeError) as exc:
+    except (ValueError, TypeError) as exc:  # SceneError and the friction laws' ValueErrors
         raise SceneError(f"{path.name}: {exc}") from exc
