@@ -241,10 +241,14 @@ class SlopeExpansion:
             for j in range(min(order, self.slope_poly.size)):
                 e[j] -= nppoly.polyval(c, self.slope_derivs[j]) / math.factorial(j)
         if self.has_harmonics:
-            for j in range(order):
-                ang = c * self.k + 0.5 * np.pi * j
-                e[j] -= np.sum(self.k ** (j + 1) * (self.psi * np.cos(ang) - self.phi * np.sin(ang))) \
-                    / math.factorial(j)
+            # k^(j+1)/j! by recurrence: overflows to inf (a reported failure) instead of raising at j > 170
+            scale = self.k.copy()
+            with np.errstate(over="ignore", invalid="ignore"):
+                for j in range(order):
+                    if j > 0:
+                        scale = scale * self.k / j
+                    ang = c * self.k + 0.5 * np.pi * j
+                    e[j] -= np.sum(scale * (self.psi * np.cos(ang) - self.phi * np.sin(ang)))
         return e
 
 

@@ -64,9 +64,12 @@ def monomial_matrix(h: float, order: int) -> np.ndarray:
 def monomial_density(taylor: np.ndarray, h: float):
     """Solve ``(1/pi) PV-int f(z)/(x - z) dz = sum_k e_k x^k`` on |x| < h in the paper's monomial form.
 
-    ``f = B(x)/sqrt(h^2 - x^2)`` with ``B(+h) = 0``.  Returns ``(B, r0, r1, cond)``: the power coefficients of
-    B, the T0 and T1 Chebyshev coefficients of the right-hand side recovered from B (``r0 = -(1/h) sum_odd B_n
-    h^n``, ``r1 = (2/(pi h)) int f - 2 r0``), and the matrix condition number.
+    ``f = B(x)/sqrt(h^2 - x^2)`` with ``B(+h) = 0``.  Returns ``(B, r0, r1, cancellation)``: the power
+    coefficients of B, the T0 and T1 Chebyshev coefficients of the right-hand side recovered from B
+    (``r0 = -(1/h) sum_odd B_n h^n``, ``r1 = (2/(pi h)) int f - 2 r0``), and the cancellation factor
+    ``sum |B_n| h^n / max |B(x)|`` (|x| <= h): how much round-off the power basis amplifies.  The triangular
+    matrix itself stays well conditioned (its diagonal is -pi); the precision is lost in the power-basis sums,
+    whose terms grow like (k h)^n / n! for harmonics and whose coefficients scale like h^(-n).
     """
     order = taylor.size
     m = monomial_matrix(h, order)
@@ -81,8 +84,10 @@ def monomial_density(taylor: np.ndarray, h: float):
         weights = np.array([math.pi * h**n * dfr(n) for n in even_idx])
         integral = b[0::2] @ weights
         r1 = 2.0 * integral / (math.pi * h) - 2.0 * r0
-        cond = np.linalg.cond(m)
-    return b, r0, r1, cond
+        xs = h * np.cos(np.pi * np.arange(33) / 32)
+        peak = float(np.max(np.abs(np.polynomial.polynomial.polyval(xs, b))))
+        cancellation = float(np.sum(np.abs(b) * h ** np.arange(order + 1))) / peak if peak > 0 else math.inf
+    return b, r0, r1, cancellation if math.isfinite(cancellation) else math.inf
 
 
 def dfr(n: int) -> float:
@@ -156,7 +161,7 @@ class NormalProblem:
         self.e = expansion
         self.basis = basis
         self.order = order
-        self.cond = 1.0
+        self.cancellation = 1.0
 
     def moments(self, h, c):
         e = self.e
@@ -171,7 +176,7 @@ class NormalProblem:
         return g0, g1, (g0h - g0) / dh, (g0c - g0) / dh, (g1h - g1) / dh, (g1c - g1) / dh
 
     def monomial_moments(self, h, c):
-        _, r0, r1, self.cond = monomial_density(self.e.gap_slope_taylor(c, self.order), h)
+        _, r0, r1, self.cancellation = monomial_density(self.e.gap_slope_taylor(c, self.order), h)
         return r0, r1
 
 
@@ -201,9 +206,12 @@ def solve_normal(problem: NormalProblem, load: float, estar: float, a0: float, m
             da, dc = da * s, dc * s
         a -= da
         c -= dc
-        if abs(da) <= 1e-14 * a0 and abs(dc) <= 1e-14 * a0 or (abs(f1) <= 1e-15 * scale_f1 and
-                                                                 abs(f2) <= 1e-15 * load):
+        # round-off floor: steps of ~1e-13 a and residuals of ~1e-14 of their scales are as good as it gets
+        if abs(da) <= 1e-13 * a0 and abs(dc) <= 1e-13 * a0 or (abs(f1) <= 1e-13 * scale_f1 and
+                                                                 abs(f2) <= 1e-13 * load):
             return a, c, it, ""
+    if abs(f1) <= 1e-10 * scale_f1 and abs(f2) <= 1e-10 * load:
+        return a, c, max_iterations, ""
     return a, c, max_iterations, (f"normal problem: Newton did not converge in {max_iterations} iterations "
                                   f"(a = {a:.6g} m, residuals {f1:.3g}, {f2:.3g} N/m)")
 
@@ -236,7 +244,7 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     ContactResult
         ``residual`` is the truncation estimate of the distributions (size of the first neglected coefficients
         relative to the leading one); ``info`` holds the order, basis, coefficients and, for the monomial basis,
-        the condition number of the paper's matrix.
+        the cancellation factor of the paper's power basis (``info["cancellation_factor"]``).
     """
     if basis not in BASES:
         raise ValueError(f"unknown basis {basis!r}; valid bases are {list(BASES)}")
@@ -274,10 +282,10 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     c_n = 0.5 * estar * g
     monomial_b = None
     if basis == "monomial":
-        b, _, _, cond = monomial_density(expansion.gap_slope_taylor(x0, monomial_order), a)
+        b, _, _, cancellation = monomial_density(expansion.gap_slope_taylor(x0, monomial_order), a)
         monomial_b = 0.5 * estar * b
-        info["condition_number"] = float(cond)
-        residual = float(cond * np.finfo(float).eps)
+        info["cancellation_factor"] = cancellation
+        residual = cancellation * float(np.finfo(float).eps)
     info.update(order=n_order, pressure_coefficients=c_n)
 
     if not scene.friction.is_constant:
@@ -316,12 +324,13 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
     estar = scene.material.contact_modulus
     xi = scene.creep
     messages = []
-    if check:  # the normal-problem checks (a zero-creep field has no tangential checks)
-        zero = PolynomialDistributions(a, x0 - xc, c_n, g, a, x0 - xc, np.zeros(2), np.zeros(2),
-                                       scene.friction_coefficient, 0.0)
+    mu_s = scene.friction_coefficient
+    # zero creep: the whole patch sticks and q2 = -mu_s p cancels q1 (no tangential checks needed)
+    zero = PolynomialDistributions(a, x0 - xc, c_n, g, a, x0 - xc, -mu_s * c_n, g, mu_s, 0.0)
+    if check:
         messages += validity_failures(zero, expansion, scene, a, x0)
     if xi == 0.0:
-        stick, t_force, dist, it = a, 0.0, zero if check else None, 0
+        stick, t_force, dist, it = a, 0.0, zero, 0
     else:
         out = solve_velocity_dependent(c_n, a, x0 - xc, estar, scene.friction, scene.rolling_speed, xi,
                                        nodes=nodes)
@@ -330,9 +339,6 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
         info["slip_iteration_history"] = out["history"]
         if out["message"]:
             messages.append(out["message"])
-    if dist is None:
-        dist = PolynomialDistributions(a, x0 - xc, c_n, g, a, x0 - xc, np.zeros(2), np.zeros(2),
-                                       scene.friction_coefficient, 0.0)
     success = not messages
     message = ("converged" if success else "; ".join(messages) + "; use method='discretised'")
     return ContactResult(method="polynomial", success=success, message=message,
@@ -354,8 +360,6 @@ def solve_tangential(e: SlopeExpansion, a, x0, load, estar, mu, xi, order, toler
 
     Returns ``(a*, d_n, G_n, T', dT'/dxi, failure message)``.
     """
-    if xi == 0.0:
-        return a, np.zeros(2), np.zeros(2), 0.0, math.nan, ""
     target = abs(xi)
     R = e.radius
     xc = e.axis_position
@@ -364,6 +368,10 @@ def solve_tangential(e: SlopeExpansion, a, x0, load, estar, mu, xi, order, toler
         xs = x0 - a + h
         m = e.moments(h, xs)
         return mu * ((xc - xs) / R + m[0]), mu * (-1.0 / R + m[2] + m[3]), m
+
+    if xi == 0.0:  # the whole patch sticks: q2 = -mu p cancels q1 exactly
+        h, d, G, _, stiffness = tangential_solution(e, a, x0, load, estar, mu, xi, a, order, tolerance, creep_of)
+        return h, d, G, 0.0, stiffness, ""
 
     # scan a* in [0, a] for every root of xi(a*) = |xi| (plain floats: 9 scalar calls beat one array call)
     grid = [a * i / 8.0 for i in range(9)]

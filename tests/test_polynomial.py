@@ -1,0 +1,658 @@
+"""Polynomial method (Chebyshev and monomial bases) against closed forms and independent quadrature.
+
+Oracles: Hertz/Carter for a parabolic gap; for other gaps the integral equations themselves by QUADPACK
+(``(2/(pi E*)) PV-int p/(x - z) dz = h0'(x)`` in the patch, ``(2/(pi E*)) PV-int q/(x - z) dz = -xi`` in the stick
+zone), load/force balance, the friction bound, the slip sign, the deformed gap outside the patch, and the
+corrected closed formulas of physics.md section 4 (eqs 28-31) evaluated here with scipy.special.j0/j1.
+Tolerances: parabolic identities 1e-12; quadrature of the integral equations 1e-8 of a/R (pressure) and 1e-7
+of xi (stick zone); truncation 1e-10 at the default order.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from scipy.integrate import IntegrationWarning, quad
+from scipy.special import j0, j1
+
+from rollcontact import Harmonic, Material, Scene, Surface, solve
+
+MATERIAL = Material(210e9, 0.28)
+E_STAR = MATERIAL.contact_modulus
+RADIUS = 0.46
+MU = 0.3
+LOAD = 1.0e6
+A_HERTZ = math.sqrt(4 * LOAD * RADIUS / (math.pi * E_STAR))
+XI_SAT = MU * A_HERTZ / RADIUS
+
+
+def edge_quad(f, breakpoints, epsrel=1e-13):
+    """``int f dx`` over consecutive intervals whose ends may carry square-root behaviour.
+
+    Each interval ``[l, r]`` is mapped by ``x = l + (r - l)(1 - cos theta)/2``, which makes sqrt end behaviour
+    smooth in theta, so QUADPACK converges to round-off.
+
+    Parameters
+    ----------
+    f : callable
+        Vectorised integrand of x.
+    breakpoints : sequence of float
+        Increasing interval ends.
+    epsrel : float
+        Requested relative accuracy per interval.
+
+    Returns
+    -------
+    float
+        The integral.
+    """
+    total = 0.0
+    for lo, hi in zip(breakpoints[:-1], breakpoints[1:], strict=True):
+        if hi <= lo:
+            continue
+        half = 0.5 * (hi - lo)
+
+        def g(theta, lo=lo, half=half):
+            return float(f(np.array([lo + half * (1.0 - math.cos(theta))]))[0]) * half * math.sin(theta)
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", IntegrationWarning)
+            total += quad(g, 0.0, math.pi, epsabs=0.0, epsrel=epsrel, limit=200)[0]
+    return total
+
+
+def pv_hilbert(f, breakpoints, x, *, epsrel=1e-12):
+    """Principal value ``(1/pi) PV-int f(z) / (x - z) dz`` over ``[breakpoints[0], breakpoints[-1]]``.
+
+    The piece holding ``x`` goes to QUADPACK's QAWC (``quad(weight='cauchy')`` computes ``PV-int f/(z - x)``,
+    hence the sign flip); the other pieces are regular and go through :func:`edge_quad`.
+
+    Parameters
+    ----------
+    f : callable
+        Vectorised density.
+    breakpoints : sequence of float
+        Increasing ends of the pieces on which ``f`` is smooth.
+    x : float
+        Singular point, strictly inside one piece.
+    epsrel : float
+        Requested relative accuracy of the singular piece.
+
+    Returns
+    -------
+    float
+        The principal value divided by pi.
+    """
+    total = 0.0
+    for lo, hi in zip(breakpoints[:-1], breakpoints[1:], strict=True):
+        if hi <= lo:
+            continue
+        if lo < x < hi:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", IntegrationWarning)
+                val, _ = quad(lambda z: float(f(np.array([z]))[0]), lo, hi, weight="cauchy", wvar=x, epsabs=0.0,
+                              epsrel=epsrel, limit=500)
+            total -= val
+        else:
+            total += edge_quad(lambda z: f(z) / (x - z), [lo, hi])
+    return total / math.pi
+
+
+def pressure_integral(result, nodes=400):
+    """``int p dx`` by Gauss-Chebyshev quadrature of the second kind (interior nodes only).
+
+    Parameters
+    ----------
+    result : ContactResult
+        Single-patch solution.
+    nodes : int
+        Number of nodes.
+
+    Returns
+    -------
+    float
+        N' recomputed from ``result.pressure``.
+    """
+    theta = np.pi * np.arange(1, nodes + 1) / (nodes + 1)
+    a = result.contact_half_width
+    return float(a * np.pi / (nodes + 1) * np.sum(np.sin(theta) * result.pressure(result.contact_offset
+                                                                                   + a * np.cos(theta))))
+
+
+def gap_slope(scene, x):
+    """Undeformed gap slope ``h0'(X) = (X - x_c)/R - Z'(X)`` at ``x = X - x_c`` (from Surface.slope)."""
+    return x / scene.radius - scene.surface.slope(x + scene.axis_position)
+
+
+def normal_residual(result, scene, points):
+    """Largest ``|(2/(pi E*)) PV-int p/(x - z) dz - h0'(x)|`` over ``points``, by quadrature.
+
+    Parameters
+    ----------
+    result : ContactResult
+        Solution.
+    scene : Scene
+        Its scene.
+    points : ndarray
+        x inside the patch.
+
+    Returns
+    -------
+    float
+        The largest residual [1].
+    """
+    estar = scene.material.contact_modulus
+    edges = [result.leading_edge, result.trailing_edge]
+    return max(abs((2.0 / estar) * pv_hilbert(result.pressure, edges, x) - gap_slope(scene, x)) for x in points)
+
+
+def stick_residual(result, scene, points):
+    """Largest ``|(2/(pi E*)) PV-int q/(x - z) dz + xi|`` over stick-zone ``points``, by quadrature."""
+    estar = scene.material.contact_modulus
+    pieces = [result.leading_edge, result.leading_edge + 2 * result.stick_half_width, result.trailing_edge]
+    return max(abs((2.0 / estar) * pv_hilbert(result.traction, pieces, x) + scene.creep) for x in points)
+
+
+def interior_grid(result, n=2001):
+    """x on Chebyshev points of the first kind across the patch (never exactly on an edge)."""
+    theta = np.pi * (np.arange(n) + 0.5) / n
+    return result.contact_offset + result.contact_half_width * np.cos(theta)[::-1]
+
+
+def field_violations(result, mu, n=2001):
+    """Worst violations of ``p >= 0``, ``|q| <= mu p`` and ``s xi >= 0`` (slip zone) on an interior grid.
+
+    Returns
+    -------
+    tuple of float
+        ``(min p / p0, max (|q| - mu p (1 + 1e-9)) / (mu p0), max (-s sign(xi)) / (mu a / R))``.
+    """
+    x = interior_grid(result, n)
+    p, q = result.pressure(x), result.traction(x)
+    p0 = result.max_pressure
+    bound = float(np.max(np.abs(q) - mu * p * (1 + 1e-9))) / (mu * p0)
+    slip_zone = x > result.leading_edge + 2 * result.stick_half_width
+    s = result.slip(x[slip_zone]) * math.copysign(1.0, result.creep) if result.creep else np.zeros(1)
+    s_scale = mu * result.contact_half_width / RADIUS
+    return float(np.min(p)) / p0, bound, float(np.max(-s, initial=0.0)) / s_scale
+
+
+def deformed_gap_minimum(result, scene, reach, m=120, nodes=800):
+    """Smallest deformed gap outside the patch, relative to a^2/R, integrating its slope.
+
+    Outside the patch the gap slope is ``h0'(x) - (2/(pi E*)) int p(z)/(x - z) dz`` (a regular integral, here by
+    Gauss-Chebyshev quadrature of the second kind on ``result.pressure``); the gap is its integral from the edge
+    (where it is zero) by the trapezoidal rule on a grid graded towards the edge.
+
+    Parameters
+    ----------
+    result : ContactResult
+        Solution.
+    scene : Scene
+        Its scene.
+    reach : float
+        How far beyond each edge to look [m].
+    m : int
+        Grid points per side.
+    nodes : int
+        Quadrature nodes across the patch.
+
+    Returns
+    -------
+    float
+        ``min gap / (a^2 / R)`` over both sides (0 when the gap stays open).
+    """
+    estar = scene.material.contact_modulus
+    a, c = result.contact_half_width, result.contact_offset
+    theta = np.pi * np.arange(1, nodes + 1) / (nodes + 1)
+    z = c + a * np.cos(theta)
+    weights = a * np.pi / (nodes + 1) * np.sin(theta) * result.pressure(z)  # int p g dz ~ sum weights g(z_i)
+    worst = 0.0
+    for side, edge in ((1.0, result.trailing_edge), (-1.0, result.leading_edge)):
+        x = edge + side * reach * (np.arange(1, m + 1) / m) ** 2
+        hilbert = (weights[None, :] / (x[:, None] - z[None, :])).sum(axis=1)
+        slope = gap_slope(scene, x) - (2.0 / (math.pi * estar)) * hilbert
+        xs = np.concatenate(([edge], x))
+        ss = np.concatenate(([0.0], slope))
+        gap = np.cumsum(0.5 * (ss[1:] + ss[:-1]) * np.diff(xs))
+        worst = min(worst, float(np.min(gap)))
+    return worst / (a * a / scene.radius)
+
+
+def corrugation_closed_forms(scene, a, delta, a_star):
+    """Corrected eqs 28-31 of physics.md section 4 for the scene's harmonics (no polynomial part).
+
+    Parameters
+    ----------
+    scene : Scene
+        Harmonic surface.
+    a, delta, a_star : float
+        Half-width, offset (contact centre minus axis) and stick half-width [m].
+
+    Returns
+    -------
+    tuple of float
+        ``(N', Delta, |T'|, |xi|)`` from eqs 28, 29, 30, 31 with ``X0 = x_c + Delta``, ``Xs = X0 - a + a*``.
+    """
+    R, estar = scene.radius, scene.material.contact_modulus
+    x0 = scene.axis_position + delta
+    xs = x0 - a + a_star
+    n_sum = d_sum = t_sum = xi_sum = 0.0
+    for h in scene.surface.harmonics:
+        k, phi, psi = h.wavenumber, h.cos_amplitude, h.sin_amplitude
+        n_sum += a * k * j1(k * a) * (phi * math.cos(k * x0) + psi * math.sin(k * x0))
+        d_sum += k * j0(k * a) * (psi * math.cos(k * x0) - phi * math.sin(k * x0))
+        t_sum += a_star * k * j1(k * a_star) * (phi * math.cos(k * xs) + psi * math.sin(k * xs))
+        xi_sum += k * j0(k * a_star) * (psi * math.cos(k * xs) - phi * math.sin(k * xs))
+    mu = scene.friction_coefficient
+    load = 0.5 * math.pi * estar * (a * a / (2 * R) + n_sum)
+    offset = R * d_sum
+    force = mu * load - mu * 0.5 * math.pi * estar * (a_star**2 / (2 * R) + t_sum)
+    creep = mu * (a - a_star - delta) / R + mu * xi_sum
+    return load, offset, force, creep
+
+
+def corrugated_scene(ka, position, creep_fraction=0.4, amplitude_fraction=0.3, load=LOAD):
+    """A one-harmonic scene with ``k a_Hertz = ka`` and amplitude ``amplitude_fraction / (R k^2)``.
+
+    Parameters
+    ----------
+    ka : float
+        k times the Hertz half-width.
+    position : float
+        Axis position as a fraction of the wavelength.
+    creep_fraction : float
+        xi as a fraction of the Hertz saturation creep mu a / R.
+    amplitude_fraction : float
+        Surface curvature amplitude A k^2 relative to 1/R (< 1 keeps the gap convex: one patch).
+    load : float
+        N' [N/m].
+
+    Returns
+    -------
+    Scene
+    """
+    a = math.sqrt(4 * load * RADIUS / (math.pi * E_STAR))
+    k = ka / a
+    lam = 2 * math.pi / k
+    harmonic = Harmonic.from_wavelength(lam, amplitude_fraction / (RADIUS * k * k), 0.3)
+    return Scene(load, creep=creep_fraction * MU * a / RADIUS, radius=RADIUS, material=MATERIAL, friction=MU,
+                 surface=Surface(harmonics=(harmonic,)), axis_position=position * lam)
+
+
+def quartic_c4(a=A_HERTZ):
+    """c4 with ``c4 a^4 = a^2 / (2R)``: the quartic term as large as the parabola at the Hertz edge."""
+    return 1.0 / (2.0 * RADIUS * a * a)
+
+
+POLY_SCENES = {
+    "quartic": Scene(LOAD, creep=0.4 * XI_SAT, radius=RADIUS, material=MATERIAL, friction=MU,
+                     surface=Surface(polynomial=(0.0, 0.0, 0.0, 0.0, -quartic_c4()))),
+    "cubic+quartic": Scene(LOAD, creep=0.3 * XI_SAT, radius=RADIUS, material=MATERIAL, friction=MU,
+                           surface=Surface(polynomial=(0.0, 0.0, 0.0, 0.5 * quartic_c4() * A_HERTZ, -quartic_c4()))),
+    "cubic+quartic off-axis, negative creep": Scene(
+        LOAD, creep=-0.6 * XI_SAT, radius=RADIUS, material=MATERIAL, friction=MU, axis_position=0.7 * A_HERTZ,
+        surface=Surface(polynomial=(0.0, 0.0, 0.0, -0.8 * quartic_c4() * A_HERTZ, -quartic_c4()))),
+}
+
+KA_VALUES = [0.1, 0.3, 1.0, 3.0, 10.0]
+POSITIONS = [0.0, 0.23, 0.61]
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# parabolic gap: Hertz and Carter to round-off
+@pytest.mark.parametrize("creep_fraction", [0.0, 0.35, -0.8, 1.7, -3.0])
+def test_parabolic_gap_reproduces_hertz_carter_at_every_order(creep_fraction):
+    scene = Scene(LOAD, creep=creep_fraction * XI_SAT, radius=RADIUS, material=MATERIAL, friction=MU,
+                  surface=Surface(polynomial=(0.0, 1.3e-3)))
+    exact = solve(scene, method="closed_form")
+    a, p0 = exact.contact_half_width, exact.max_pressure
+    x = exact.contact_offset + np.linspace(-1.1 * a, 1.1 * a, 200)  # no point exactly on an edge
+    for order in range(1, 61):
+        r = solve(scene, method="polynomial", order=order)
+        tag = f"order {order}, xi = {scene.creep:.3e}"
+        assert r.success and r.method == "polynomial", f"{tag}: {r.message}"
+        for name in ("contact_half_width", "stick_half_width", "max_pressure", "contact_offset"):
+            np.testing.assert_allclose(getattr(r, name), getattr(exact, name), rtol=1e-12, atol=1e-15 * a,
+                                       err_msg=f"{tag}: {name}")
+        np.testing.assert_allclose(r.tangential_force_per_length, exact.tangential_force_per_length, rtol=1e-12,
+                                   atol=1e-12 * MU * LOAD, err_msg=f"{tag}: T'")
+        np.testing.assert_allclose(r.pressure(x), exact.pressure(x), rtol=0, atol=1e-12 * p0,
+                                   err_msg=f"{tag}: p(x)")
+        np.testing.assert_allclose(r.traction(x), exact.traction(x), rtol=0, atol=1e-12 * p0,
+                                   err_msg=f"{tag}: q(x)")
+    inside = x[np.abs(x - exact.contact_offset) < a * (1 - 1e-9)]
+    np.testing.assert_allclose(r.slip(inside), exact.slip(inside), rtol=0, atol=1e-12 * XI_SAT,
+                               err_msg=f"xi = {scene.creep:.3e}: slip s(x) at order 60")
+    if 0 < abs(creep_fraction) < 1:
+        np.testing.assert_allclose(r.creep_stiffness_per_length, exact.creep_stiffness_per_length, rtol=1e-10,
+                                   err_msg="creep stiffness")
+
+
+@pytest.mark.parametrize("surface", [Surface(), Surface(harmonics=(Harmonic.from_wavelength(0.03, 1e-5, 0.4),))],
+                         ids=["flat", "corrugated"])
+def test_zero_creep_gives_zero_traction(surface):
+    """At xi = 0 the whole patch sticks with T' = 0, so q must integrate to zero (Carter: q = 0 for a flat gap)."""
+    scene = Scene(LOAD, creep=0.0, radius=RADIUS, material=MATERIAL, friction=MU, surface=surface)
+    r = solve(scene, method="polynomial")
+    assert r.success, r.message
+    assert r.tangential_force_per_length == 0.0, f"T' = {r.tangential_force_per_length} at xi = 0"
+    t = edge_quad(r.traction, [r.leading_edge, r.trailing_edge])
+    assert abs(t) <= 1e-12 * MU * LOAD, f"int q dx = {t:.6e} N/m at xi = 0 but T' = 0 (mu N' = {MU * LOAD:.3e})"
+
+
+def test_zero_load_polynomial_gives_no_contact():
+    r = solve(corrugated_scene(1.0, 0.2, load=LOAD).replace(normal_load_per_length=0.0), method="polynomial")
+    assert r.success, f"N' = 0 must succeed: {r.message}"
+    assert r.tangential_force_per_length == 0.0 and r.contact_half_width == 0.0, f"no contact expected: {r}"
+    assert np.all(r.pressure(np.linspace(-1e-3, 1e-3, 5)) == 0.0), "p must vanish at N' = 0"
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# non-Hertzian polynomial gaps
+@pytest.mark.parametrize("name", sorted(POLY_SCENES))
+def test_polynomial_gap_solves_integral_equations(name):
+    scene = POLY_SCENES[name]
+    r = solve(scene, method="polynomial")
+    assert r.success, f"{name}: {r.message}"
+    a = r.contact_half_width
+    if "cubic" in name:
+        assert abs(r.contact_offset) > 1e-3 * a, f"{name}: an odd term must shift the contact: {r.contact_offset}"
+    assert a < 0.95 * A_HERTZ, f"{name}: the quartic stiffens the gap, a = {a:.4e} vs Hertz {A_HERTZ:.4e}"
+    np.testing.assert_allclose(pressure_integral(r), LOAD, rtol=1e-12, err_msg=f"{name}: int p dx = N'")
+    pts = r.contact_offset + a * np.cos(np.linspace(0.07, math.pi - 0.07, 7))
+    res = normal_residual(r, scene, pts)
+    assert res <= 1e-8 * a / RADIUS, f"{name}: normal residual {res:.3e} > 1e-8 a/R = {1e-8 * a / RADIUS:.3e}"
+    lead, a_star = r.leading_edge, r.stick_half_width
+    assert 0 < a_star < a, f"{name}: expected partial slip, a* = {a_star}"
+    stick_pts = lead + a_star * (1 + np.cos(np.linspace(0.2, math.pi - 0.2, 4)))
+    res_t = stick_residual(r, scene, stick_pts)
+    assert res_t <= 1e-7 * abs(scene.creep), f"{name}: stick residual {res_t:.3e} vs xi = {scene.creep:.3e}"
+    t = edge_quad(r.traction, [lead, lead + 2 * a_star, r.trailing_edge])
+    np.testing.assert_allclose(t, r.tangential_force_per_length, rtol=1e-10, err_msg=f"{name}: int q dx = T'")
+    assert t * scene.creep > 0, f"{name}: T' must have the sign of xi"
+    p_min, bound, slip_sign = field_violations(r, MU)
+    assert p_min >= -1e-9, f"{name}: p < 0: min p/p0 = {p_min:.3e}"
+    assert bound <= 0.0, f"{name}: |q| > mu p by {bound:.3e} mu p0"
+    assert slip_sign <= 1e-9, f"{name}: slip opposes the creep in the slip zone ({slip_sign:.3e} mu a/R)"
+    assert deformed_gap_minimum(r, scene, reach=3 * a) >= -1e-9, f"{name}: the gap closes outside the patch"
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# corrugation
+@pytest.mark.parametrize("position", POSITIONS)
+@pytest.mark.parametrize("ka", KA_VALUES)
+def test_corrugation_matches_integral_equation_and_closed_formulas(ka, position):
+    scene = corrugated_scene(ka, position)
+    r = solve(scene, method="polynomial")
+    tag = f"k a = {ka}, x_c = {position} wavelength"
+    assert r.success, f"{tag}: {r.message}"
+    a, delta, a_star = r.contact_half_width, r.contact_offset, r.stick_half_width
+    np.testing.assert_allclose(pressure_integral(r), LOAD, rtol=1e-11, err_msg=f"{tag}: int p dx = N'")
+    pts = delta + a * np.cos(np.linspace(0.1, math.pi - 0.1, 5))
+    res = normal_residual(r, scene, pts)
+    assert res <= 1e-8 * a / RADIUS, f"{tag}: normal residual {res:.3e} > 1e-8 a/R"
+    load, offset, force, creep = corrugation_closed_forms(scene, a, delta, a_star)
+    np.testing.assert_allclose(load, LOAD, rtol=1e-12, err_msg=f"{tag}: eq 28 (N')")
+    np.testing.assert_allclose(offset, delta, rtol=0, atol=1e-12 * a, err_msg=f"{tag}: eq 29 (Delta)")
+    np.testing.assert_allclose(force, r.tangential_force_per_length, rtol=1e-11, atol=1e-12 * MU * LOAD,
+                               err_msg=f"{tag}: eq 30 (T')")
+    np.testing.assert_allclose(creep, scene.creep, rtol=1e-10, err_msg=f"{tag}: eq 31 (xi)")
+    p_min, bound, slip_sign = field_violations(r, MU)
+    assert p_min >= -1e-9 and bound <= 0.0 and slip_sign <= 1e-9, \
+        f"{tag}: fields inadmissible: min p/p0 {p_min:.2e}, |q|-mu p {bound:.2e}, slip sign {slip_sign:.2e}"
+
+
+@pytest.mark.parametrize("ka, position", [(0.3, 0.23), (3.0, 0.61), (10.0, 0.0)])
+def test_corrugation_tangential_problem_by_quadrature(ka, position):
+    scene = corrugated_scene(ka, position)
+    r = solve(scene, method="polynomial")
+    assert r.success, r.message
+    lead, a_star = r.leading_edge, r.stick_half_width
+    assert 0 < a_star < r.contact_half_width, f"expected partial slip, a* = {a_star}"
+    res = stick_residual(r, scene, lead + a_star * (1 + np.cos(np.linspace(0.2, math.pi - 0.2, 4))))
+    assert res <= 1e-7 * abs(scene.creep), f"stick residual {res:.3e} vs xi = {scene.creep:.3e}"
+    t = edge_quad(r.traction, [lead, lead + 2 * a_star, r.trailing_edge])
+    np.testing.assert_allclose(t, r.tangential_force_per_length, rtol=1e-10, err_msg="int q dx = T'")
+
+
+@pytest.mark.parametrize("ka", [1.0, 10.0])
+def test_corrugation_opposite_creep_mirrors(ka):
+    plus = solve(corrugated_scene(ka, 0.23, creep_fraction=0.5), method="polynomial")
+    minus = solve(corrugated_scene(ka, 0.23, creep_fraction=-0.5), method="polynomial")
+    assert plus.success and minus.success, f"{plus.message} / {minus.message}"
+    np.testing.assert_allclose(minus.tangential_force_per_length, -plus.tangential_force_per_length, rtol=1e-13,
+                               err_msg="T'(-xi) = -T'(xi)")
+    np.testing.assert_allclose(minus.stick_half_width, plus.stick_half_width, rtol=1e-13, err_msg="a*(-xi)")
+    x = interior_grid(plus, 301)
+    np.testing.assert_allclose(minus.traction(x), -plus.traction(x), rtol=0, atol=1e-12 * plus.max_pressure,
+                               err_msg="q(-xi) = -q(xi)")
+
+
+@pytest.mark.parametrize("ka", [1.0, 3.0])
+def test_corrugation_creep_stiffness_equals_finite_difference(ka):
+    scene = corrugated_scene(ka, 0.61)
+    h = 1e-6 * scene.creep
+    t_plus = solve(scene.replace(creep=scene.creep + h), method="polynomial").tangential_force_per_length
+    t_minus = solve(scene.replace(creep=scene.creep - h), method="polynomial").tangential_force_per_length
+    k = solve(scene, method="polynomial").creep_stiffness_per_length
+    np.testing.assert_allclose(k, (t_plus - t_minus) / (2 * h), rtol=1e-6, err_msg="dT'/dxi vs central difference")
+
+
+@pytest.mark.parametrize("ka", [3.0, 10.0])
+def test_convergence_in_number_of_terms(ka):
+    scene = corrugated_scene(ka, 0.23)
+    ref = solve(scene, method="polynomial", order=80)
+    x = interior_grid(ref, 401)
+    p0 = ref.max_pressure
+    orders = list(range(2, 41, 3))
+    errors = []
+    for order in orders:
+        r = solve(scene, method="polynomial", order=order)
+        errors.append(float(np.max(np.abs(r.pressure(x) - ref.pressure(x)))) / p0)
+    report = ", ".join(f"{n}: {e:.1e}" for n, e in zip(orders, errors, strict=True))
+    above_floor = [e for e in errors if e > 1e-13]
+    assert len(above_floor) >= 4, f"too few orders above round-off to see convergence: {report}"
+    ratios = [e2 / e1 for e1, e2 in zip(above_floor[:-1], above_floor[1:], strict=True)]
+    assert all(q < 1.0 for q in ratios), f"error must decrease with the order: {report}"
+    assert min(ratios) < 0.05, f"expected faster-than-geometric decay at high order: {report}"
+    assert errors[-1] < 1e-12, f"order {orders[-1]} must reach round-off: {report}"
+    default = solve(scene, method="polynomial")
+    err = float(np.max(np.abs(default.pressure(x) - ref.pressure(x)))) / p0
+    assert err <= 1e-10, f"default order {default.info.get('order')} error {err:.2e} > 1e-10 ({report})"
+    err_q = float(np.max(np.abs(default.traction(x) - ref.traction(x)))) / p0
+    assert err_q <= 1e-10, f"default order traction error {err_q:.2e} > 1e-10"
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# conditioning
+HALF_WIDTHS = [1e-4, 1e-3, 1e-2, 1e-1]
+
+
+def scaled_scene(a, shape):
+    """A scene whose Hertz half-width is ``a`` with a quartic/cubic or a corrugated profile scaled with a."""
+    load = math.pi * E_STAR * a * a / (4 * RADIUS)
+    if shape == "quartic":
+        c4 = quartic_c4(a)
+        surface = Surface(polynomial=(0.0, 0.0, 0.0, 0.5 * c4 * a, -c4))
+    else:
+        k = 3.0 / a
+        surface = Surface(harmonics=(Harmonic.from_wavelength(2 * math.pi / k, 0.3 / (RADIUS * k * k), 0.4),))
+    return Scene(load, creep=0.4 * MU * a / RADIUS, radius=RADIUS, material=MATERIAL, friction=MU, surface=surface,
+                 axis_position=0.1 * a)
+
+
+def compare(r, ref):
+    """Largest relative difference of a, T' and the fields (relative to p0) between two results."""
+    x = interior_grid(ref, 301)
+    p0 = ref.max_pressure
+    with np.errstate(all="ignore"):
+        diffs = [abs(r.contact_half_width / ref.contact_half_width - 1),
+                 abs(r.tangential_force_per_length / ref.tangential_force_per_length - 1),
+                 float(np.max(np.abs(r.pressure(x) - ref.pressure(x)))) / p0,
+                 float(np.max(np.abs(r.traction(x) - ref.traction(x)))) / p0]
+    return max(diffs) if all(np.isfinite(diffs)) else math.inf
+
+
+@pytest.mark.parametrize("shape", ["quartic", "corrugated"])
+@pytest.mark.parametrize("a", HALF_WIDTHS)
+def test_chebyshev_basis_holds_to_high_order(a, shape):
+    scene = scaled_scene(a, shape)
+    moderate = solve(scene, method="polynomial", order=30)
+    assert moderate.success, f"a = {a}: {moderate.message}"
+    for order in (60, 120):
+        r = solve(scene, method="polynomial", order=order)
+        assert r.success, f"a = {a}, order {order}: {r.message}"
+        d = compare(r, moderate)
+        assert d <= 1e-9, f"{shape}, a = {a:.0e} m: order {order} differs from order 30 by {d:.2e}"
+
+
+def ka_scene(a, ka):
+    """Hertz half-width ``a``, one harmonic with k a = ``ka`` and amplitude 0.3/(R k^2) (one patch)."""
+    load = math.pi * E_STAR * a * a / (4 * RADIUS)
+    k = ka / a
+    surface = Surface(harmonics=(Harmonic.from_wavelength(2 * math.pi / k, 0.3 / (RADIUS * k * k), 0.4),))
+    return Scene(load, creep=0.4 * MU * a / RADIUS, radius=RADIUS, material=MATERIAL, friction=MU, surface=surface,
+                 axis_position=0.1 * a)
+
+
+def test_monomial_basis_breaks_with_k_a_where_chebyshev_holds():
+    """Where the paper's monomial form (eqs 21-26) breaks: measured, not asserted from theory.
+
+    With the Taylor coefficients k^(j+1)/j! formed without overflow, the a^(2n) scaling of the matrix is harmless
+    (a from 1e-4 to 1e-2 m behaves alike); what breaks the power basis is cancellation, which grows like
+    (k a)^n / n!: exact to round-off for k a <= 3, a 5e-3 error at order 30 for k a = 10, and no solution at all
+    (Newton fails on the noisy moments) for k a >= 20.  The Chebyshev basis is exact everywhere.
+    """
+    report, broken = [], set()
+    for a in (1e-4, 1e-2):
+        for ka in (1, 3, 10, 20, 40):
+            scene = ka_scene(a, ka)
+            ref = solve(scene, method="polynomial", order=int(1.5 * ka) + 40)
+            assert ref.success, ref.message
+            for order in (30, 60):
+                with np.errstate(all="ignore"):
+                    r = solve(scene, method="polynomial", order=order, basis="monomial")
+                d = compare(r, ref) if r.success else math.inf
+                cancel = r.info.get("cancellation_factor", math.nan)
+                line = (f"a={a:.0e} m, k a={ka}, order {order}: success={r.success} error={d:.1e} "
+                        f"cancellation_factor={cancel:.2e}")
+                report.append(line)
+                if ka <= 3:
+                    assert r.success and d <= 1e-10, f"the monomial form holds for k a <= 3: {line}"
+                if not (r.success and d <= 1e-3):
+                    broken.add(ka)
+            cheb = solve(scene, method="polynomial", order=60 + int(1.5 * ka))
+            assert cheb.success and compare(cheb, ref) <= 1e-9, f"Chebyshev must hold: a={a}, k a={ka}"
+    text = "\n".join(report)
+    assert {20, 40} <= broken, f"the monomial form should break for k a >= 20:\n{text}"
+    assert not broken & {1, 3}, f"and hold for k a <= 3:\n{text}"
+
+
+def test_monomial_basis_is_exact_for_a_polynomial_gap():
+    """A quartic gap has a finite Taylor series: the monomial form agrees with Chebyshev for every a."""
+    for a in HALF_WIDTHS:
+        scene = scaled_scene(a, "quartic")
+        ref = solve(scene, method="polynomial", order=30)
+        for order in (6, 40):
+            r = solve(scene, method="polynomial", order=order, basis="monomial")
+            d = compare(r, ref)
+            cond = r.info.get("cancellation_factor", math.nan)
+            assert r.success and d <= 1e-10, f"quartic, a = {a:.0e}, order {order}: error {d:.1e} (cond {cond:.3e})"
+
+
+@pytest.mark.parametrize("order", [200, 400])
+def test_monomial_basis_at_very_high_order_fails_gracefully(order):
+    """Beyond order 170 the monomial Taylor coefficients need (order)! > 1.8e308: report, never crash."""
+    scene = scaled_scene(1e-2, "corrugated")
+    try:
+        with np.errstate(all="ignore"):
+            r = solve(scene, method="polynomial", order=order, basis="monomial")
+    except ValueError as exc:
+        assert "order" in str(exc), f"a ValueError must name the order: {exc}"
+        return
+    d = compare(r, solve(scene, method="polynomial", order=60)) if r.success else math.inf
+    assert not r.success or d <= 1e-6, f"order {order}: success=True with error {d:.2e}"
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# validity detection
+SPLIT = dict(radius=0.46, material=Material(210e9, 0.28), friction=0.3)
+
+
+def sweep(wavelength, creep, n=24):
+    """Solve the 20 um corrugation of physics.md section 4 at ``n`` axis positions over one wavelength."""
+    harmonic = Harmonic.from_wavelength(wavelength, 20e-6)
+    out = []
+    for xc in wavelength * np.arange(n) / n + 1e-4 * wavelength:
+        scene = Scene(1e6, creep=creep, surface=Surface(harmonics=(harmonic,)), axis_position=float(xc), **SPLIT)
+        out.append((scene, solve(scene, method="polynomial")))
+    return out
+
+
+@pytest.fixture(scope="module")
+def split_sweeps():
+    """Sweeps at 10 mm (splits), 15 mm (borderline) and 40 mm (valid) for two creeps."""
+    return {(lam, creep): sweep(lam, creep) for lam in (0.010, 0.015, 0.040) for creep in (2e-4, -1e-3)}
+
+
+def test_split_contact_is_reported(split_sweeps):
+    for creep in (2e-4, -1e-3):
+        results = split_sweeps[(0.010, creep)]
+        failed = [r for _, r in results if not r.success]
+        assert failed, f"10 mm / 20 um must split the contact at some axis position (xi = {creep})"
+        for r in failed:
+            assert any(w in r.message.lower() for w in ("split", "second contact patch", "more than one")), \
+                f"failure message must name the split: {r.message!r}"
+    assert all(r.success for _, r in split_sweeps[(0.040, 2e-4)]), "40 mm / 20 um: one patch everywhere"
+
+
+@pytest.mark.parametrize("wavelength", [0.010, 0.015, 0.040])
+def test_accepted_results_are_admissible(split_sweeps, wavelength):
+    for creep in (2e-4, -1e-3):
+        for scene, r in split_sweeps[(wavelength, creep)]:
+            if not r.success:
+                continue
+            tag = f"lambda = {wavelength}, x_c = {scene.axis_position:.5f}, xi = {creep}"
+            p_min, bound, slip_sign = field_violations(r, 0.3)
+            assert p_min >= -1e-9, f"{tag}: accepted with p < 0 (min p/p0 = {p_min:.3e})"
+            assert bound <= 0.0, f"{tag}: accepted with |q| > mu p by {bound:.3e} mu p0"
+            assert slip_sign <= 1e-9, f"{tag}: accepted with slip against the creep ({slip_sign:.3e})"
+            np.testing.assert_allclose(pressure_integral(r), 1e6, rtol=1e-9, err_msg=f"{tag}: int p dx = N'")
+
+
+def test_gap_oracle_detects_a_second_contact():
+    """Self-check of deformed_gap_minimum: a Hertz patch placed in a 10 mm / 20 um trough touches the crests."""
+    hertz_result = solve(Scene(1e6, **SPLIT), method="closed_form")
+    trough = Scene(1e6, surface=Surface(harmonics=(Harmonic.from_wavelength(0.010, 20e-6),)), axis_position=0.005,
+                   **SPLIT)
+    assert deformed_gap_minimum(hertz_result, trough, reach=0.01) < -1.0, "the oracle must see the crests touch"
+    assert deformed_gap_minimum(hertz_result, Scene(1e6, **SPLIT), reach=0.01) >= -1e-9, "Hertz gap stays open"
+
+
+@pytest.mark.parametrize("wavelength", [0.010, 0.015])
+def test_accepted_results_keep_the_gap_open(split_sweeps, wavelength):
+    reach = max(wavelength, math.sqrt(8 * 0.46 * 20e-6))
+    for scene, r in split_sweeps[(wavelength, 2e-4)]:
+        if r.success:
+            g = deformed_gap_minimum(r, scene, reach)
+            assert g >= -1e-9, f"x_c = {scene.axis_position:.5f}: accepted but the gap closes ({g:.3e} a^2/R)"
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# options
+@pytest.mark.parametrize("options, pattern", [
+    (dict(basis="legendre"), "basis"),
+    (dict(order=0), "order"),
+    (dict(order=5000), "order"),
+    (dict(order=2.5), "order"),
+    (dict(tolerance=0.0), "tolerance"),
+    (dict(tolerance=-1e-8), "tolerance"),
+    (dict(tolerance=float("nan")), "tolerance"),
+])
+def test_bad_options_raise_value_error_naming_them(options, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        solve(corrugated_scene(1.0, 0.2), method="polynomial", **options)
