@@ -1,0 +1,243 @@
+"""PythonFMU slave of the RollingContact2D FMU (FMI 2.0 co-simulation): maps FMU variables to rollcontact.
+
+No physics here: the parameters become a :class:`rollcontact.model.ContactParameters`, each ``do_step`` is one
+:meth:`rollcontact.model.ContactModel.step`, and the output variables read the step's
+:class:`rollcontact.model.StepOutputs` by position.  The variables are declared in the single table
+:data:`VARIABLES` (value references follow its order: append, never reorder; outputs in StepOutputs' order).
+
+* Bad inputs or parameters, and scenes no allowed method solves, are logged (status Discard) and answered with
+  ``do_step`` returning False (fmi2Discard); no exception reaches pythonfmu (it would become fmi2Fatal).
+* The FMU state (``canGetAndSetFMUstate``, ``canSerializeFMUstate``) holds every variable plus the model's
+  :class:`rollcontact.model.ModelState` as a JSON-compatible dict, so pythonfmu's JSON byte converters serialise it.
+* The ``rollcontact`` package is bundled in ``resources/``; a host process that imported ``rollcontact`` before
+  loading the FMU uses its own copy instead (Python caches modules per process).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from xml.etree.ElementTree import Element, SubElement
+
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
+from pythonfmu.default_experiment import DefaultExperiment
+from pythonfmu.enums import Fmi2Initial, Fmi2Status
+
+from rollcontact import __version__ as ROLLCONTACT_VERSION
+from rollcontact.model import STATIONARY, ContactModel, ContactParameters, ModelState
+
+INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
+CONTINUOUS, DISCRETE, FIXED = Fmi2Variability.continuous, Fmi2Variability.discrete, Fmi2Variability.fixed
+DEFAULT = ContactParameters()
+
+# name, type, causality, variability, unit, start, min, max, description.  Append only: the value reference of a
+# variable is its row number (from 0).
+VARIABLES = (
+    ("normal_load", Real, INPUT, CONTINUOUS, "N", 0.0, 0.0, None,
+     "Normal load N pressing the wheel onto the surface (0: no contact)"),
+    ("creep", Real, INPUT, CONTINUOUS, "1", 0.0, None, None,
+     "Longitudinal creep xi (rigid slip velocity over V); xi > 0 gives a positive tangential force"),
+    ("velocity", Real, INPUT, CONTINUOUS, "m/s", 0.0, 0.0, None,
+     "Rolling speed V; the wheel axis advances by the integral of V"),
+    ("tangential_force", Real, OUTPUT, CONTINUOUS, "N", 0.0, None, None,
+     "Tangential (creep) force T over the contact width, the sign of the creep in steady rolling"),
+    ("traction_coefficient", Real, OUTPUT, CONTINUOUS, "1", 0.0, None, None,
+     "Traction coefficient T/N (0 without load)"),
+    ("contact_half_width", Real, OUTPUT, CONTINUOUS, "m", 0.0, 0.0, None,
+     "Half-width a of the contact patch in the rolling direction"),
+    ("stick_half_width", Real, OUTPUT, CONTINUOUS, "m", 0.0, 0.0, None,
+     "Half-width a* of the stick zone at the leading edge (0 in full slip)"),
+    ("contact_offset", Real, OUTPUT, CONTINUOUS, "m", 0.0, None, None,
+     "Contact centre minus wheel axis position, positive ahead of the axis"),
+    ("max_pressure", Real, OUTPUT, CONTINUOUS, "Pa", 0.0, 0.0, None,
+     "Peak contact pressure"),
+    ("frictional_power", Real, OUTPUT, CONTINUOUS, "W", 0.0, 0.0, None,
+     "Power dissipated by slip, V xi T (the integral of q V s over the patch)"),
+    ("creep_stiffness", Real, OUTPUT, CONTINUOUS, "N", 0.0, 0.0, None,
+     "Creep stiffness dT/dxi at the current state"),
+    ("stationarity", Real, OUTPUT, CONTINUOUS, "1", STATIONARY, 0.0, STATIONARY,
+     "Wavelength of the fastest input variation over a (1e9: inputs constant or no contact)"),
+    ("method_used", Integer, OUTPUT, DISCRETE, None, 0, 0, 3,
+     "Method of the last step: 1 closed form, 2 polynomial, 3 discretised, 0 none (no contact)"),
+    ("axis_position", Real, OUTPUT, CONTINUOUS, "m", DEFAULT.initial_position, None, None,
+     "Wheel axis position X at which the contact was evaluated"),
+    ("youngs_modulus", Real, PARAMETER, FIXED, "Pa", DEFAULT.youngs_modulus, 0.0, None,
+     "Young's modulus E of wheel and surface (quasi-identical bodies), > 0"),
+    ("poisson_ratio", Real, PARAMETER, FIXED, "1", DEFAULT.poisson_ratio, 0.0, 0.5,
+     "Poisson's ratio nu of wheel and surface, 0 <= nu < 0.5"),
+    ("radius", Real, PARAMETER, FIXED, "m", DEFAULT.radius, 0.0, None,
+     "Effective wheel radius R (1/R = 1/R1 + 1/R2), > 0"),
+    ("contact_width", Real, PARAMETER, FIXED, "m", DEFAULT.contact_width, 0.0, None,
+     "Lateral length b of the line contact, > 0; per-length quantities are force / b"),
+    ("friction_coefficient", Real, PARAMETER, FIXED, "1", DEFAULT.friction_coefficient, 0.0, None,
+     "Friction coefficient mu at zero slip velocity, > 0"),
+    ("friction_law", Integer, PARAMETER, FIXED, None, DEFAULT.friction_law, 0, 1,
+     "Friction law: 0 Coulomb, 1 exponential falling mu [(1 - A) exp(-B v) + A]"),
+    ("friction_kinetic_ratio", Real, PARAMETER, FIXED, "1", DEFAULT.friction_kinetic_ratio, 0.0, 1.0,
+     "A of the exponential falling law: mu(infinity)/mu, 0 < A <= 1"),
+    ("friction_decay", Real, PARAMETER, FIXED, "s/m", DEFAULT.friction_decay, 0.0, None,
+     "B of the exponential falling law (slip velocity v in m/s), >= 0"),
+    ("corrugation_wavelength", Real, PARAMETER, FIXED, "m", DEFAULT.corrugation_wavelength, 0.0, None,
+     "Wavelength of the surface corrugation Z = amplitude cos(2 pi X / wavelength + phase), > 0"),
+    ("corrugation_amplitude", Real, PARAMETER, FIXED, "m", DEFAULT.corrugation_amplitude, 0.0, None,
+     "Amplitude of the surface corrugation (0: smooth surface)"),
+    ("corrugation_phase", Real, PARAMETER, FIXED, "rad", DEFAULT.corrugation_phase, None, None,
+     "Phase of the surface corrugation at X = 0"),
+    ("initial_position", Real, PARAMETER, FIXED, "m", DEFAULT.initial_position, None, None,
+     "Wheel axis position X at the start time"),
+    ("scene_file", String, PARAMETER, FIXED, None, DEFAULT.scene_file, None, None,
+     "TOML scene (rollcontact.load_scene) whose material, radius, friction and surface replace the scalar "
+     "parameters; relative paths are taken from the FMU's resources folder; empty: unused"),
+    ("method", Integer, PARAMETER, FIXED, None, DEFAULT.method, 0, 3,
+     "Method: 0 auto (cheapest the scene needs), 1 closed form, 2 polynomial, 3 discretised"),
+    ("tolerance", Real, PARAMETER, FIXED, "1", DEFAULT.tolerance, 0.0, None,
+     "Relative solver tolerance of methods that accept one (0: the method's default)"),
+    ("polynomial_order", Integer, PARAMETER, FIXED, None, DEFAULT.polynomial_order, 0, None,
+     "Order of the polynomial method (0: chosen from the tolerance)"),
+    ("elements", Integer, PARAMETER, FIXED, None, DEFAULT.elements, 0, None,
+     "Number of elements of the discretised method (0: the method's default)"),
+    ("transient", Integer, PARAMETER, FIXED, None, DEFAULT.transient, 0, 2,
+     "Transient rolling: 0 quasi-static, 1 auto, 2 always (1 and 2 currently behave as quasi-static)"),
+    ("datum", Real, PARAMETER, FIXED, "m", DEFAULT.datum, 0.0, None,
+     "Datum distance L of instationary rolling for methods that accept it (0: the method's default)"),
+)
+
+PARAMETER_NAMES = tuple(row[0] for row in VARIABLES if row[2] is PARAMETER)
+
+UNITS = {  # SI base-unit exponents
+    "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "s/m": {"m": -1, "s": 1}, "rad": {"rad": 1},
+    "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2}, "W": {"kg": 1, "m": 2, "s": -3},
+}
+
+
+def printf_safe(message: str) -> str:
+    """The message as a literal printf format (pythonfmu's C side formats log messages)."""
+    return message.replace("%", "%%")
+
+
+class RollingContact2D(Fmi2Slave):
+    """2D wheel/rail rolling contact (Hertz/Carter, polynomial and discretised methods of rollcontact)."""
+
+    author = "rollcontact"
+    description = ("Quasi-steady 2D rolling contact of a wheel on a smooth or corrugated surface: tangential force, "
+                   "contact geometry and frictional power from normal load, creep and rolling speed")
+    license = "MIT"
+    version = ROLLCONTACT_VERSION
+    default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        outputs = []
+        for name, kind, causality, variability, _unit, start, _lo, _hi, description in VARIABLES:
+            if causality is OUTPUT:
+                getter = self.output_reader(len(outputs))
+                outputs.append(start)
+                initial = Fmi2Initial.approx
+            else:
+                setattr(self, name, start)
+                getter = initial = None
+            self.register_variable(kind(name, causality=causality, variability=variability, initial=initial,
+                                        description=description, getter=getter))
+        self.outputs = tuple(outputs)
+        self.start_time = 0.0
+        self.model: ContactModel | None = None
+        self.problem: str | None = "the FMU is not initialised: exit initialisation mode before stepping"
+
+    # FMI calls --------------------------------------------------------------------------------------------------
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self.start_time = float(start_time)
+
+    def exit_initialization_mode(self):
+        self.build_model(fresh=True)
+
+    def do_step(self, current_time, step_size):
+        if self.problem is not None:
+            self.log(printf_safe(f"do_step at t = {current_time!r} s discarded: {self.problem}"), Fmi2Status.discard)
+            return False
+        try:
+            outputs = self.model.step(current_time, step_size, self.normal_load, self.creep, self.velocity)
+        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
+            self.log(printf_safe(f"do_step at t = {current_time!r} s, h = {step_size!r} s discarded: {exc}"),
+                     Fmi2Status.discard)
+            return False
+        self.outputs = outputs
+        return True
+
+    def output_reader(self, index):
+        """Getter of output ``index`` of the last step (the outputs follow the table, as StepOutputs does)."""
+        return lambda: self.outputs[index]
+
+    def _get_fmu_state(self):
+        return {"variables": {row[0]: getattr(self, row[0]) for row in VARIABLES if row[2] is not OUTPUT},
+                "outputs": list(self.outputs), "start_time": self.start_time, "problem": self.problem,
+                "model": None if self.model is None else self.model.state.to_dict()}
+
+    def _set_fmu_state(self, state):
+        try:
+            for name, value in state["variables"].items():
+                setattr(self, name, value)
+            self.outputs = tuple(state["outputs"])
+            self.start_time = state["start_time"]
+            if state["model"] is None:  # saved before initialisation or with invalid parameters
+                self.model = None
+                self.problem = state["problem"]
+                return
+            self.build_model(fresh=False)
+            if self.model is not None:
+                self.model.set_state(ModelState.from_dict(state["model"]))
+        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
+            self.problem = f"the FMU state could not be restored: {exc}"
+            self.log(printf_safe(self.problem), Fmi2Status.error)
+
+    # helpers ----------------------------------------------------------------------------------------------------
+    def build_model(self, fresh: bool) -> None:
+        """(Re)build the model from the parameter variables; keep the problem for do_step when they are invalid.
+
+        ``fresh`` starts from the initial state and logs the model's notices; otherwise an existing model with the
+        same parameters is kept (restoring a state sets its ModelState afterwards).
+        """
+        try:
+            values = {name: getattr(self, name) for name in PARAMETER_NAMES}
+            if values["scene_file"] and self.resources:
+                values["scene_file"] = str(Path(self.resources, values["scene_file"]))
+            parameters = ContactParameters(**values)
+            if fresh or self.model is None or self.model.parameters != parameters:
+                self.model = ContactModel(parameters, start_time=self.start_time)
+                fresh = True
+        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
+            self.model = None
+            self.problem = f"invalid parameters: {exc}"
+            self.log(printf_safe(f"{self.problem}; every do_step will be discarded"), Fmi2Status.warning)
+            return
+        self.problem = None
+        if fresh:
+            for notice in self.model.notices:
+                self.log(printf_safe(notice), Fmi2Status.ok)
+
+    def to_xml(self, model_options=None) -> Element:
+        """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure."""
+        root = super().to_xml({} if model_options is None else model_options)
+        rows = {row[0]: row for row in VARIABLES}
+        for variable in root.iter("ScalarVariable"):
+            _, kind, _, _, unit, _, lower, upper, _ = rows[variable.get("name")]
+            element = variable[0]
+            if unit is not None:
+                element.set("unit", unit)
+            for attribute, bound in (("min", lower), ("max", upper)):
+                if bound is not None:
+                    element.set(attribute, f"{bound:.16g}" if kind is Real else str(bound))
+        units = Element("UnitDefinitions")
+        for name, exponents in UNITS.items():
+            unit = SubElement(units, "Unit", name=name)
+            if exponents:
+                SubElement(unit, "BaseUnit", {k: str(v) for k, v in exponents.items()})
+        root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
+        root.remove(root.find("ModelStructure"))
+        structure = SubElement(root, "ModelStructure")
+        outputs = SubElement(structure, "Outputs")
+        initial_unknowns = SubElement(structure, "InitialUnknowns")
+        for index, row in enumerate(VARIABLES, start=1):
+            if row[2] is OUTPUT:  # computed in do_step only: no direct dependency on inputs
+                SubElement(outputs, "Unknown", index=str(index), dependencies="")
+                SubElement(initial_unknowns, "Unknown", index=str(index), dependencies="")
+        return root
+

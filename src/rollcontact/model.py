@@ -1,0 +1,648 @@
+"""Stepping contact model for co-simulation: parameters -> (state, inputs, step) -> outputs.
+
+This is the library half of the ``RollingContact2D`` FMU: the FMU's slave only maps its variables to a
+:class:`ContactModel` and back, so everything here can be used and tested without any FMI tool.
+
+* :class:`ContactParameters` holds the fixed parameters (FMU parameters of the same names) and checks them.
+* :class:`ContactModel` precomputes what does not change between steps and evaluates one communication step
+  with :meth:`ContactModel.step` (inputs in N, 1 and m/s; outputs in SI units, see :class:`StepOutputs`).
+* :class:`ModelState` is everything the model remembers between steps: axis position, the input history of the
+  stationarity measure and the last outputs.  It is a plain dataclass that can be copied, turned into a JSON
+  dict or bytes and restored; restore -> step -> restore -> step gives identical outputs.
+
+Frames and signs
+----------------
+The model's axis position ``X`` [m] runs in the rolling direction: ``X(t) = initial_position + int V dt`` with
+the rolling speed ``V >= 0``.  The package's scene frame runs the other way (its cylinder rolls towards -x, see
+:mod:`rollcontact`), so a surface ``Z(X)`` given to the model is solved as the mirrored scene
+``Z_scene(x') = Z(-x')`` with the axis at ``x' = -X`` (:meth:`ContactModel.scene`): the corrugation is met in the
+right order and the stick zone stays at the leading edge.  ``contact_offset`` is reported in the model's frame
+(positive ahead of the axis, e.g. ``+R alpha`` uphill on a surface rising with slope ``alpha``).  Creep and
+tangential force keep the package's meaning (xi > 0 gives T > 0).
+
+Time stepping
+-------------
+Inputs are sampled at the communication points.  ``step(t_n, h, N_n, xi_n, V_n)`` first advances the axis to
+``X(t_n)`` with the trapezoid of the velocity samples at ``t_(n-1)`` and ``t_n`` (accumulated as a compensated
+sum, so there is no drift over long runs), then evaluates the quasi-steady contact for the inputs sampled at
+``t_n`` at ``X(t_n)``.  Those are the outputs a host reads at ``t_n + h``.  Transient rolling is not implemented
+yet: ``transient`` = 1 (auto) and 2 (always) are accepted and behave as quasi-steady (:attr:`ContactModel.notices`
+says so); :class:`ModelState` has a ``version`` so that history can be added without breaking saved states.
+
+Frictional power
+----------------
+For every quasi-steady solution the power dissipated by slip per unit length is
+``V int q(x) s(x) dx = V xi T'``: with ``s = xi + du/dx`` and ``du/dx = (2/(pi E*)) PV-int q(z)/(x - z) dz``
+the double integral ``int int q(x) q(z)/(x - z) dz dx`` vanishes by antisymmetry.  Hence
+``frictional_power = V xi T`` [W], the rigid-body creep power; the tests check it against quadrature of the
+Carter distributions.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from rollcontact.api import METHODS, solve
+from rollcontact.closed_form import carter, hertz
+from rollcontact.friction import Coulomb, ExponentialFalling
+from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, check_real, load_scene
+
+__all__ = ["AUTO", "METHOD_NAMES", "OPTION_NAMES", "STATIONARY", "ContactModel", "ContactParameters",
+           "ModelError", "ModelState", "StepOutputs"]
+
+AUTO = 0
+"""``method`` code of the automatic choice."""
+
+METHOD_NAMES = {1: "closed_form", 2: "polynomial", 3: "discretised"}
+"""``method`` / ``method_used`` codes and the method families they stand for (0 is auto, resp. no contact).
+
+A registered method belongs to a family when its registry name starts with the family's name (e.g.
+``"polynomial_friction"`` is a polynomial method, code 2); methods of no family are not used by the model.
+"""
+
+STATIONARY = 1e9
+"""``stationarity`` reported when nothing varies (constant inputs or no contact); also its upper bound."""
+
+TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
+FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
+
+OPTION_NAMES = {"tolerance": ("tolerance",), "polynomial_order": ("order", "polynomial_order"),
+                "elements": ("elements",), "datum": ("datum_length", "datum")}
+"""Parameter -> option names under which it is passed to a method that lists them in its ``options``.
+
+A parameter equal to 0 is not passed (the method's default applies).
+"""
+
+STATE_VERSION = 1
+INF = math.inf
+new_tuple = tuple.__new__  # StepOutputs without NamedTuple.__new__'s extra Python frame, on the closed-form path
+
+
+class ModelError(ValueError):
+    """An input or parameter the model cannot use, or a scene no allowed method solves; the message says why."""
+
+
+class StepOutputs(NamedTuple):
+    """Outputs of one step (SI units; forces over the whole contact width).
+
+    Attributes
+    ----------
+    tangential_force : float
+        T [N], the sign of the creep in steady rolling.
+    traction_coefficient : float
+        T/N [1] (0 without load).
+    contact_half_width : float
+        a [m].
+    stick_half_width : float
+        a* [m], stick zone at the leading edge (0 in full slip).
+    contact_offset : float
+        Contact centre minus axis position [m] in the model's frame (positive ahead of the axis).
+    max_pressure : float
+        Peak pressure [Pa].
+    frictional_power : float
+        Power dissipated by slip, ``V xi T`` [W] (module docstring).
+    creep_stiffness : float
+        dT/dxi [N] at this state.
+    stationarity : float
+        Wavelength of the fastest input variation over a [1] (:meth:`ContactModel.stationarity`).
+    method_used : int
+        1 closed form, 2 polynomial, 3 discretised, 0 no contact.
+    axis_position : float
+        X [m] at which the contact was evaluated.
+    """
+
+    tangential_force: float
+    traction_coefficient: float
+    contact_half_width: float
+    stick_half_width: float
+    contact_offset: float
+    max_pressure: float
+    frictional_power: float
+    creep_stiffness: float
+    stationarity: float
+    method_used: int
+    axis_position: float
+
+
+@dataclass(frozen=True)
+class ContactParameters:
+    """Fixed parameters of a :class:`ContactModel` (the FMU parameters of the same names), checked on creation.
+
+    Parameters
+    ----------
+    youngs_modulus : float
+        E [Pa] > 0 of both bodies.
+    poisson_ratio : float
+        nu [1], 0 <= nu < 0.5.
+    radius : float
+        Effective wheel radius R [m] > 0.
+    contact_width : float
+        Lateral length b [m] > 0 of the line contact; per-length quantities are force / b.
+    friction_coefficient : float
+        mu at zero slip velocity [1] > 0.
+    friction_law : int
+        0 Coulomb (mu constant), 1 exponential falling ``mu(v) = mu [(1 - A) exp(-B v) + A]``.
+    friction_kinetic_ratio : float
+        A [1] in (0, 1] of the exponential law.
+    friction_decay : float
+        B [s/m] >= 0 of the exponential law.
+    corrugation_wavelength : float
+        Wavelength [m] > 0 of ``Z(X) = amplitude cos(2 pi X / wavelength + phase)``.
+    corrugation_amplitude : float
+        Amplitude [m] >= 0; 0 means a smooth surface.
+    corrugation_phase : float
+        Phase [rad].
+    initial_position : float
+        Axis position X [m] at the start time.
+    scene_file : str
+        TOML scene (:func:`rollcontact.load_scene`, so it must be a complete scene including ``[load]``); when
+        given, its material, radius, friction and surface replace the scalar parameters above (the surface is
+        read in the model's frame), while its load, creep, axis position and speed are replaced by the inputs.
+        Empty: unused.
+    method : int
+        0 auto, 1 closed form, 2 polynomial, 3 discretised.
+    tolerance : float
+        Solver tolerance [1] >= 0 passed to methods that accept it (0: the method's default).
+    polynomial_order : int
+        Polynomial order >= 0 for methods that accept it (0: the method's default).
+    elements : int
+        Element count >= 0 for methods that accept it (0: the method's default).
+    transient : int
+        0 quasi-static, 1 auto, 2 always; 1 and 2 currently behave as quasi-static.
+    datum : float
+        Datum distance L [m] >= 0 of instationary rolling, for methods that accept it (0: the method's default).
+    """
+
+    youngs_modulus: float = 210e9
+    poisson_ratio: float = 0.28
+    radius: float = 0.46
+    contact_width: float = 0.02
+    friction_coefficient: float = 0.3
+    friction_law: int = 0
+    friction_kinetic_ratio: float = 0.4
+    friction_decay: float = 0.6
+    corrugation_wavelength: float = 0.04
+    corrugation_amplitude: float = 0.0
+    corrugation_phase: float = 0.0
+    initial_position: float = 0.0
+    scene_file: str = ""
+    method: int = AUTO
+    tolerance: float = 0.0
+    polynomial_order: int = 0
+    elements: int = 0
+    transient: int = 0
+    datum: float = 0.0
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        for name, lower, upper, lower_open, upper_open in (
+                ("youngs_modulus", 0.0, None, True, False),
+                ("poisson_ratio", 0.0, 0.5, False, True),
+                ("radius", 0.0, None, True, False),
+                ("contact_width", 0.0, None, True, False),
+                ("friction_coefficient", 0.0, None, True, False),
+                ("friction_kinetic_ratio", 0.0, 1.0, True, False),
+                ("friction_decay", 0.0, None, False, False),
+                ("corrugation_wavelength", 0.0, None, True, False),
+                ("corrugation_amplitude", 0.0, None, False, False),
+                ("corrugation_phase", None, None, False, False),
+                ("initial_position", None, None, False, False),
+                ("tolerance", 0.0, None, False, False),
+                ("datum", 0.0, None, False, False)):
+            try:
+                value = check_real(name, getattr(self, name), lower=lower, upper=upper, lower_open=lower_open,
+                                   upper_open=upper_open)
+            except SceneError as exc:
+                raise ModelError(str(exc)) from None
+            set_(self, name, value)
+        for name, allowed in (("friction_law", FRICTION_LAWS), ("method", {AUTO: "auto", **METHOD_NAMES}),
+                              ("transient", TRANSIENT_MODES)):
+            value = getattr(self, name)
+            if value not in allowed:
+                choices = ", ".join(f"{k} {v}" for k, v in allowed.items())
+                raise ModelError(f"{name} = {value!r} is out of range: it must be one of {choices}")
+            set_(self, name, int(value))
+        for name in ("polynomial_order", "elements"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+                raise ModelError(f"{name} = {value!r} is out of range: it must be an integer >= 0 "
+                                 "(0: the method's default)")
+            set_(self, name, int(value))
+        if not isinstance(self.scene_file, str):
+            raise ModelError(f"scene_file must be a string (a path or empty), got {self.scene_file!r}")
+
+
+@dataclass(slots=True)
+class ModelState:
+    """Everything a :class:`ContactModel` remembers between steps (plain, copyable, JSON-serialisable).
+
+    Attributes
+    ----------
+    time : float
+        Last communication point t_n [s] (the start time before the first step).
+    position : float
+        Axis position X(t_n) [m], high part of a compensated sum.
+    position_error : float
+        Low part [m] of the compensated sum; ``X = position + position_error``.
+    previous : tuple or None
+        ``(X, normal_load, creep, velocity)`` sampled at t_n; None before the first step.
+    older : tuple or None
+        The same one communication point earlier (second differences of the stationarity measure).
+    steps : int
+        Successful steps taken.
+    outputs : StepOutputs
+        Outputs of the last successful step (start values before the first).
+    version : int
+        Layout version of this state; states of another version are refused by :meth:`from_dict`.
+    """
+
+    time: float
+    position: float
+    position_error: float
+    previous: tuple[float, float, float, float] | None
+    older: tuple[float, float, float, float] | None
+    steps: int
+    outputs: StepOutputs
+    version: int = STATE_VERSION
+
+    @classmethod
+    def initial(cls, start_time: float, initial_position: float) -> ModelState:
+        """State at ``start_time`` [s] with the axis at ``initial_position`` [m] and no history."""
+        outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, float(initial_position))
+        return cls(float(start_time), float(initial_position), 0.0, None, None, 0, outputs)
+
+    def copy(self) -> ModelState:
+        """An independent copy (all fields are immutable values)."""
+        return dataclasses.replace(self)
+
+    def to_dict(self) -> dict:
+        """JSON-compatible dict; floats survive ``json`` exactly (``repr`` round trip)."""
+        return {"version": self.version, "time": self.time, "position": self.position,
+                "position_error": self.position_error,
+                "previous": None if self.previous is None else list(self.previous),
+                "older": None if self.older is None else list(self.older),
+                "steps": self.steps, "outputs": list(self.outputs)}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> ModelState:
+        """Inverse of :meth:`to_dict`; raises ModelError for another layout version or missing fields."""
+        if data.get("version") != STATE_VERSION:
+            raise ModelError(f"model state version {data.get('version')!r} is not supported "
+                             f"(this rollcontact reads version {STATE_VERSION})")
+        try:
+            previous = data["previous"]
+            older = data["older"]
+            return cls(float(data["time"]), float(data["position"]), float(data["position_error"]),
+                       None if previous is None else tuple(float(v) for v in previous),
+                       None if older is None else tuple(float(v) for v in older),
+                       int(data["steps"]), StepOutputs(*data["outputs"]), STATE_VERSION)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ModelError(f"invalid model state: {exc!r}") from None
+
+    def to_bytes(self) -> bytes:
+        """UTF-8 JSON of :meth:`to_dict`."""
+        return json.dumps(self.to_dict()).encode("utf-8")
+
+    @classmethod
+    def from_bytes(cls, data: bytes) -> ModelState:
+        """Inverse of :meth:`to_bytes`."""
+        return cls.from_dict(json.loads(data.decode("utf-8")))
+
+
+def mirrored(surface: Surface) -> Surface:
+    """The surface ``Z(-X)``: odd polynomial terms and sine amplitudes change sign."""
+    return Surface(polynomial=tuple(c if j % 2 == 0 else -c for j, c in enumerate(surface.polynomial)),
+                   harmonics=tuple(Harmonic(h.wavenumber, h.cos_amplitude, -h.sin_amplitude)
+                                   for h in surface.harmonics))
+
+
+class ContactModel:
+    """Quasi-steady 2D rolling contact of a wheel on a (corrugated) surface, advanced one step at a time.
+
+    Parameters
+    ----------
+    parameters : ContactParameters, optional
+        Fixed parameters (defaults when omitted).
+    start_time : float
+        Time [s] of the initial state.
+
+    Raises
+    ------
+    ModelError
+        A parameter is out of range, the scene file cannot be read, or the requested method cannot treat the
+        scene (e.g. ``method`` = 1 on a corrugated surface, or a method that is not registered).
+
+    Notes
+    -----
+    With ``method`` = 0 (auto) each step uses the cheapest model the scene needs: the closed forms
+    (:func:`rollcontact.closed_form.hertz`, :func:`rollcontact.closed_form.carter`, called with precomputed
+    constants) for a flat surface with constant friction; otherwise ``"polynomial"`` and then ``"discretised"``,
+    whichever are registered in :data:`rollcontact.METHODS`, the first that accepts the scene and succeeds.
+    An explicit method is used as it is or the step fails with a :class:`ModelError`.
+    """
+
+    def __init__(self, parameters: ContactParameters | None = None, *, start_time: float = 0.0):
+        p = ContactParameters() if parameters is None else parameters
+        if not isinstance(p, ContactParameters):
+            raise TypeError(f"parameters must be ContactParameters, got {type(p).__name__}")
+        self.parameters = p
+        notices = []
+        if p.scene_file:
+            try:
+                base = load_scene(p.scene_file)
+            except SceneError as exc:
+                raise ModelError(f"scene_file: {exc}") from None
+            material, radius, friction, surface = base.material, base.radius, base.friction, base.surface
+            notices.append(f"scene_file {p.scene_file!r} sets material, radius, friction and surface; the scalar "
+                           "parameters for them are ignored, and the inputs replace its load, creep and speed")
+        else:
+            try:
+                material = Material(p.youngs_modulus, p.poisson_ratio)
+                radius = p.radius
+                if p.friction_law == 0:
+                    friction = Coulomb(p.friction_coefficient)
+                else:
+                    friction = ExponentialFalling(p.friction_coefficient, p.friction_kinetic_ratio, p.friction_decay)
+                harmonics = ()
+                if p.corrugation_amplitude != 0.0:
+                    harmonics = (Harmonic.from_wavelength(p.corrugation_wavelength, p.corrugation_amplitude,
+                                                          p.corrugation_phase),)
+                surface = Surface(harmonics=harmonics)
+            except ValueError as exc:
+                raise ModelError(str(exc)) from None
+        if p.transient != 0:
+            notices.append(f"transient = {p.transient} ({TRANSIENT_MODES[p.transient]}): transient rolling is not "
+                           "implemented yet, every step is solved quasi-steady")
+        self.notices: tuple[str, ...] = tuple(notices)
+        """Messages worth showing once (e.g. in an FMU log): ignored parameters, modes not implemented."""
+        self.material = material
+        self.radius = float(radius)
+        self.friction = friction
+        self.surface = surface
+        self.scene_surface = mirrored(surface)
+        self.velocity_dependent = not friction.is_constant
+
+        flat_reason = None
+        if not surface.is_flat:
+            flat_reason = "the surface is not flat (corrugation, harmonics or polynomial terms of degree >= 2)"
+        elif not friction.is_constant:
+            flat_reason = "friction depends on slip velocity"
+        if p.method == 1 and flat_reason is not None:
+            raise ModelError(f"method = 1 (closed form) cannot solve this scene: {flat_reason}; "
+                             "use method = 0 (auto), 2 (polynomial) or 3 (discretised)")
+        self.closed_form = p.method == 1 or (p.method == AUTO and flat_reason is None)
+        if self.closed_form:
+            self.candidates: tuple[str, ...] = ()
+        else:
+            codes = (2, 3) if p.method == AUTO else (p.method,)
+            self.candidates = registered_methods(codes)
+            if not self.candidates:
+                wanted = " or ".join(f"{c} ({METHOD_NAMES[c]})" for c in codes)
+                why = f"{flat_reason}, which needs" if p.method == AUTO else "it needs"
+                raise ModelError(f"method = {p.method}: {why} method {wanted}, but no such method is registered "
+                                 f"in rollcontact.METHODS (registered: {sorted(METHODS)})")
+        self.options = {name: self.method_options(name) for name in self.candidates}
+
+        # constants of the closed-form path (no Scene is built there)
+        self.contact_modulus = material.contact_modulus
+        self.mu = friction.static_coefficient
+        self.width = p.contact_width
+        self.per_width = 1.0 / p.contact_width
+        slope = surface.polynomial[1] if len(surface.polynomial) > 1 else 0.0
+        self.flat_offset = self.radius * slope  # uphill by R alpha (physics.md section 4)
+        self.saturation_per_half_width = self.mu / self.radius  # Carter saturation creep over a
+        self.state = ModelState.initial(start_time, p.initial_position)
+
+    def method_options(self, name: str) -> dict:
+        """Options for method ``name``: the nonzero parameters of :data:`OPTION_NAMES` that it accepts."""
+        accepted = getattr(METHODS[name].function, "options", ())
+        options = {}
+        for parameter, names in OPTION_NAMES.items():
+            value = getattr(self.parameters, parameter)
+            option = next((n for n in names if n in accepted), None)
+            if value != 0 and option is not None:
+                options[option] = value
+        return options
+
+    def reset(self, start_time: float = 0.0) -> None:
+        """Back to the initial state at ``start_time`` [s]."""
+        self.state = ModelState.initial(start_time, self.parameters.initial_position)
+
+    def get_state(self) -> ModelState:
+        """A copy of the current state."""
+        return self.state.copy()
+
+    def set_state(self, state: ModelState) -> None:
+        """Continue from (a copy of) ``state``."""
+        if not isinstance(state, ModelState):
+            raise TypeError(f"state must be a ModelState, got {type(state).__name__}")
+        self.state = state.copy()
+
+    def scene(self, axis_position: float, normal_load: float, creep: float, velocity: float) -> Scene:
+        """The scene solved for axis position X [m], load N [N], creep [1] and speed V [m/s].
+
+        It is in the package's frame (mirrored surface, axis at ``-X``, see the module docstring) with the load
+        per unit length ``N / contact_width``.
+        """
+        return Scene(normal_load_per_length=normal_load * self.per_width, creep=creep, radius=self.radius,
+                     material=self.material, friction=self.friction, surface=self.scene_surface,
+                     axis_position=-axis_position, rolling_speed=velocity, name="RollingContact2D")
+
+    def step(self, current_time: float, step_size: float, normal_load: float, creep: float,
+             velocity: float) -> StepOutputs:
+        """Advance to ``current_time`` and evaluate the contact for the inputs sampled there.
+
+        Parameters
+        ----------
+        current_time : float
+            Communication point t_n [s], not before the previous one.
+        step_size : float
+            h [s] > 0 (the host reads the outputs at t_n + h).
+        normal_load : float
+            N [N] >= 0 (0: no contact, all outputs 0).
+        creep : float
+            xi [1], any finite value (beyond saturation: full slip).
+        velocity : float
+            Rolling speed V [m/s] >= 0.
+
+        Returns
+        -------
+        StepOutputs
+            Also kept in ``state.outputs``.
+
+        Raises
+        ------
+        ModelError
+            Non-finite or out-of-range input, time going backwards, or no allowed method solves the scene.  The
+            state is left unchanged, so the model stays usable.
+        """
+        if not (0.0 <= normal_load < INF and -INF < creep < INF and 0.0 <= velocity < INF
+                and 0.0 < step_size < INF and -INF < current_time < INF):
+            raise ModelError(input_problem(current_time, step_size, normal_load, creep, velocity))
+        state = self.state
+        dt = current_time - state.time
+        if dt < 0.0:
+            raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
+                             f"{state.time!r} s; restore a saved state to step from an earlier time")
+        previous = state.previous
+        # trapezoid of V between the communication points, Neumaier-compensated accumulation of X
+        increment = 0.5 * ((velocity if previous is None else previous[3]) + velocity) * dt
+        high = state.position + increment
+        if abs(state.position) >= abs(increment):
+            low = state.position_error + ((state.position - high) + increment)
+        else:
+            low = state.position_error + ((increment - high) + state.position)
+        x = high + low
+
+        if normal_load == 0.0:
+            outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
+        elif self.closed_form:
+            n = normal_load * self.per_width
+            a, p0 = hertz(n, self.radius, self.contact_modulus)
+            t, a_star, stiffness = carter(n, creep, self.radius, self.contact_modulus, self.mu)
+            force = t * self.width
+            outputs = new_tuple(StepOutputs, (force, t / n, a, a_star, self.flat_offset, p0, velocity * creep * force,
+                                              stiffness * self.width,
+                                              self.stationarity(x, normal_load, creep, velocity, a), 1, x))
+        else:
+            outputs = self.solve_step(x, normal_load, creep, velocity)
+
+        state.time = current_time
+        state.position = high
+        state.position_error = low
+        state.older = previous
+        state.previous = (x, normal_load, creep, velocity)
+        state.steps += 1
+        state.outputs = outputs
+        return outputs
+
+    def solve_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
+        """Outputs from the registered methods (auto: polynomial, then discretised) at axis position x [m]."""
+        scene = self.scene(x, normal_load, creep, velocity)
+        reasons = []
+        for name in self.candidates:
+            spec = METHODS[name]
+            why = spec.inapplicable(scene)
+            if why is not None:
+                reasons.append(f"{name} cannot treat the scene: {why}")
+                continue
+            try:
+                result = solve(scene, method=name, **self.options[name])
+            except (ValueError, ArithmeticError) as exc:
+                reasons.append(f"{name} raised {type(exc).__name__}: {exc}")
+                continue
+            if not result.success:
+                reasons.append(f"{name} failed: {result.message}")
+                continue
+            stiffness = float(result.creep_stiffness_per_length)
+            if not math.isfinite(stiffness):
+                stiffness = self.creep_stiffness_by_difference(scene, name, result)
+            force = float(result.tangential_force_per_length) * self.width
+            a = float(result.contact_half_width)
+            return StepOutputs(force, float(result.traction_coefficient), a, float(result.stick_half_width),
+                               0.0 - float(result.contact_offset), float(result.max_pressure),
+                               velocity * creep * force, stiffness * self.width,
+                               self.stationarity(x, normal_load, creep, velocity, a), method_code(name), x)
+        raise ModelError(f"no method solved the scene at X = {x!r} m (N = {normal_load!r} N, creep = {creep!r}, "
+                         f"V = {velocity!r} m/s): " + "; ".join(reasons))
+
+    def creep_stiffness_by_difference(self, scene: Scene, name: str, result) -> float:
+        """dT'/dxi [N/m] by a one-sided difference, for methods that do not return it.
+
+        The step is 1e-6 of the Carter saturation creep ``mu a / R``, taken towards zero creep so that it does
+        not cross into full slip.
+        """
+        delta = 1e-6 * self.saturation_per_half_width * max(result.contact_half_width, 1e-12)
+        delta = -math.copysign(delta, scene.creep) if scene.creep != 0.0 else delta
+        other = solve(scene.replace(creep=scene.creep + delta), method=name, **self.options[name])
+        if not other.success:
+            raise ModelError(f"{name} failed at the creep {scene.creep + delta!r} of the creep-stiffness "
+                             f"difference: {other.message}")
+        return float(other.tangential_force_per_length - result.tangential_force_per_length) / delta
+
+    def stationarity(self, x: float, normal_load: float, creep: float, velocity: float,
+                     half_width: float) -> float:
+        """Wavelength of the fastest input variation over the contact half-width [1].
+
+        For each input u with a scale S, the local wavenumber along the rolled distance X is
+        ``k = max(|u'| / S, sqrt(|u''| / S))``, with u' and u'' divided differences over the current and the two
+        previous communication points.  For ``u = S sin(2 pi X / lambda)`` sampled finely, k lies between 0.78
+        and 1 times 2 pi / lambda at every phase; smaller variations count as longer wavelengths.  Scales: the
+        load (relative change, ``max(N_n, N_(n-1))``) for ``normal_load``, the Carter saturation creep
+        ``mu a / R`` for ``creep`` and, with velocity-dependent friction only, the largest of the three speeds
+        for ``velocity``.  The result is
+        ``min(2 pi / (k_max a), STATIONARY)``: STATIONARY (1e9) for constant inputs, 0 when an input changes
+        while the wheel does not roll.  The corrugation is geometry, not an input, and does not enter.
+        """
+        state = self.state
+        previous = state.previous
+        if previous is None or half_width <= 0.0:
+            return STATIONARY
+        x1, n1, xi1, v1 = previous
+        older = state.older
+        x2, n2, xi2, v2 = previous if older is None else older
+        varies = self.velocity_dependent and not velocity == v1 == v2
+        if normal_load == n1 == n2 and creep == xi1 == xi2 and not varies:
+            return STATIONARY
+        ds = x - x1
+        if ds <= 0.0:
+            changed = normal_load != n1 or creep != xi1 or (varies and velocity != v1)
+            return 0.0 if changed else STATIONARY
+        ds_older = x1 - x2
+        # input changes divided by their scales, over the last step (e_) and the one before (f_)
+        load_scale = normal_load if normal_load > n1 else n1
+        creep_scale = self.saturation_per_half_width * half_width
+        e_n, f_n = (normal_load - n1) / load_scale, (n1 - n2) / load_scale
+        e_xi, f_xi = (creep - xi1) / creep_scale, (xi1 - xi2) / creep_scale
+        e_v = f_v = 0.0
+        if varies:
+            speed_scale = max(velocity, v1, v2)
+            e_v, f_v = (velocity - v1) / speed_scale, (v1 - v2) / speed_scale
+        k = max(abs(e_n), abs(e_xi), abs(e_v)) / ds
+        if ds_older > 0.0:
+            curvature = max(abs(e_n / ds - f_n / ds_older), abs(e_xi / ds - f_xi / ds_older),
+                            abs(e_v / ds - f_v / ds_older)) * 2.0 / (ds + ds_older)
+            if curvature > k * k:
+                k = math.sqrt(curvature)
+        if k == 0.0:
+            return STATIONARY
+        return min(2.0 * math.pi / (k * half_width), STATIONARY)
+
+
+def method_code(name: str) -> int:
+    """``method_used`` code of a registry name (0 when it belongs to no family of :data:`METHOD_NAMES`)."""
+    return next((code for code, family in METHOD_NAMES.items() if name.startswith(family)), 0)
+
+
+def registered_methods(codes: tuple[int, ...]) -> tuple[str, ...]:
+    """Registered methods of the families ``codes``, in that family order and by cost within a family."""
+    specs = sorted((s for s in METHODS.values() if method_code(s.name) in codes),
+                   key=lambda s: (codes.index(method_code(s.name)), s.cost))
+    return tuple(s.name for s in specs)
+
+
+def input_problem(current_time, step_size, normal_load, creep, velocity) -> str:
+    """The message for the first invalid step argument (what, which value, which limit)."""
+    checks = (
+        ("current_time", current_time, "s", None),
+        ("step_size", step_size, "s", "> 0"),
+        ("normal_load", normal_load, "N", ">= 0"),
+        ("creep", creep, "1", None),
+        ("velocity", velocity, "m/s", ">= 0"),
+    )
+    for name, value, unit, bound in checks:
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            return f"{name} must be a real number, got {value!r}"
+        if not math.isfinite(v):
+            return f"{name} = {v!r} is not finite"
+        if (bound == "> 0" and not v > 0.0) or (bound == ">= 0" and not v >= 0.0):
+            return f"{name} = {v!r} {unit} is out of range: it must be {bound}"
+    return "invalid step arguments"

@@ -1,0 +1,506 @@
+"""The RollingContact2D FMU, built once by ``python build_fmu.py`` and driven through fmpy (and a small C host).
+
+The test process imports ``rollcontact`` itself, so the FMU instances in this process run that copy rather than
+the one bundled in ``resources/`` (Python caches modules per process); the C host runs the bundled copy.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+import subprocess
+import sys
+import sysconfig
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import extract, read_model_description, simulate_fmu
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
+from fmpy.validation import validate_fmu
+from numpy.testing import assert_allclose
+
+import rollcontact
+from rollcontact.model import STATIONARY, ContactModel, ContactParameters, StepOutputs
+
+ROOT = Path(__file__).resolve().parents[1]
+DISCARD = 2
+H = 1e-3
+OUTPUTS = StepOutputs._fields
+
+
+@pytest.fixture(scope="session")
+def fmu_path(tmp_path_factory) -> Path:
+    """``python build_fmu.py --dest <tmp>``, once per session."""
+    dest = tmp_path_factory.mktemp("fmu")
+    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, f"build_fmu.py failed:\n{done.stdout}\n{done.stderr}"
+    path = dest / "RollingContact2D.fmu"
+    assert path.is_file(), f"build_fmu.py did not write {path}: {done.stdout}"
+    return path
+
+
+@pytest.fixture(scope="session")
+def unzipped(fmu_path, tmp_path_factory) -> Path:
+    return Path(extract(fmu_path, unzipdir=tmp_path_factory.mktemp("unzipped")))
+
+
+@pytest.fixture(scope="session")
+def description(unzipped):
+    return read_model_description(str(unzipped))
+
+
+class Instance:
+    """One FMU2Slave instance, initialised, with its log messages captured."""
+
+    def __init__(self, unzipped: Path, description, name="rc", start_time=0.0, **parameters):
+        self.description = description
+        self.variables = {v.name: v for v in description.modelVariables}
+        self.log: list[tuple[int, str, str]] = []
+        self.callbacks = fmi2CallbackFunctions()
+        self.callbacks.logger = fmi2CallbackLoggerTYPE(self.logger)
+        self.callbacks.allocateMemory = defaultCallbacks.allocateMemory
+        self.callbacks.freeMemory = defaultCallbacks.freeMemory
+        self.fmu = FMU2Slave(guid=description.guid, unzipDirectory=str(unzipped),
+                             modelIdentifier=description.coSimulation.modelIdentifier, instanceName=name)
+        self.fmu.instantiate(callbacks=self.callbacks, loggingOn=True)
+        self.set(**parameters)
+        self.fmu.setupExperiment(startTime=start_time)
+        self.fmu.enterInitializationMode()
+        self.fmu.exitInitializationMode()
+        self.inputs = [self.variables[n].valueReference for n in ("normal_load", "creep", "velocity")]
+        self.reals = [self.variables[n].valueReference for n in OUTPUTS if n != "method_used"]
+        self.integer = [self.variables["method_used"].valueReference]
+
+    def logger(self, environment, instance_name, status, category, message):
+        self.log.append((status, category.decode(), message.decode()))
+
+    def set(self, **values):
+        for name, value in values.items():
+            v = self.variables[name]
+            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger, "String": self.fmu.setString}[v.type]
+            setter([v.valueReference], [value])
+
+    def step(self, t, h, normal_load, creep, velocity) -> StepOutputs:
+        """Set the inputs, do the step and read every output (raises FMICallException on Discard)."""
+        self.fmu.setReal(self.inputs, [normal_load, creep, velocity])
+        self.fmu.doStep(t, h)
+        return self.outputs()
+
+    def outputs(self) -> StepOutputs:
+        reals = iter(self.fmu.getReal(self.reals))
+        method = self.fmu.getInteger(self.integer)[0]
+        return StepOutputs(*(method if n == "method_used" else next(reals) for n in OUTPUTS))
+
+    def free(self):
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
+@pytest.fixture
+def instance(unzipped, description):
+    """A factory of initialised instances, freed after the test."""
+    made = []
+
+    def make(**kwargs) -> Instance:
+        made.append(Instance(unzipped, description, name=f"rc{len(made)}", **kwargs))
+        return made[-1]
+
+    yield make
+    for inst in made:
+        inst.free()
+
+
+def model_outputs(parameters: dict, rows, start=0.0, h=H) -> list[StepOutputs]:
+    """The library's ContactModel over the same rows (normal_load, creep, velocity)."""
+    model = ContactModel(ContactParameters(**parameters), start_time=start)
+    return [model.step(start + n * h, h, *row) for n, row in enumerate(rows)]
+
+
+# ----------------------------------------------------------------------------------------------------------------
+def test_fmu_validates_and_declares_units_bounds_and_starts(fmu_path, description):
+    assert validate_fmu(str(fmu_path)) == [], "fmpy.validation.validate_fmu must report no problems"
+    units = {u.name for u in description.unitDefinitions}
+    for v in description.modelVariables:
+        assert v.description, f"{v.name} has no description"
+        assert v.start is not None, f"{v.name} has no start value"
+        if v.type == "Real":
+            assert v.unit in units, f"{v.name} has no declared unit"
+    outputs = [v.name for v in description.modelVariables if v.causality == "output"]
+    assert tuple(outputs) == OUTPUTS, "the FMU's outputs must follow StepOutputs"
+    assert [v.valueReference for v in description.modelVariables] == list(range(len(description.modelVariables))), \
+        "value references follow the order of the variable table"
+    assert all(u.dependencies == [] for u in description.outputs), "outputs are computed in do_step only"
+    caps = description.coSimulation
+    assert caps.canGetAndSetFMUstate and caps.canSerializeFMUstate, "state handling must be declared"
+    params = {v.name: v for v in description.modelVariables if v.causality == "parameter"}
+    assert set(params) == set(ContactParameters.__dataclass_fields__), "one FMU parameter per ContactParameters field"
+    for name, v in params.items():
+        default = getattr(ContactParameters(), name)
+        start = {"Real": float, "Integer": int, "String": str}[v.type](v.start)
+        assert start == default, f"start of {name} ({v.start}) differs from the library default {default}"
+
+
+def test_closed_form_outputs_equal_the_library_solve(instance):
+    p = {"radius": 0.5, "contact_width": 0.015, "friction_coefficient": 0.25}
+    fmu = instance(**p)
+    rows = [(8e4, 0.0, 10.0), (8e4, 3e-4, 10.0), (1.2e5, -6e-4, 12.0), (5e4, 0.02, 12.0), (0.0, 1e-3, 12.0)]
+    b = p["contact_width"]
+    for n, (load, creep, speed) in enumerate(rows):
+        out = fmu.step(n * H, H, load, creep, speed)
+        scene = rollcontact.Scene(normal_load_per_length=load / b, creep=creep, radius=p["radius"],
+                                  friction=rollcontact.Coulomb(p["friction_coefficient"]))
+        ref = rollcontact.solve(scene)
+        expected = [ref.tangential_force_per_length * b, ref.traction_coefficient, ref.contact_half_width,
+                    ref.stick_half_width, ref.contact_offset, ref.max_pressure,
+                    speed * creep * ref.tangential_force_per_length * b, ref.creep_stiffness_per_length * b]
+        assert_allclose(out[:8], expected, rtol=1e-13, atol=0.0, err_msg=f"step {n}: FMU against rollcontact.solve")
+        assert out.method_used == (1 if load > 0 else 0), f"step {n}: method_used {out.method_used}"
+
+
+def test_carter_creep_curve_through_the_fmu(instance):
+    fmu = instance()
+    load, p = 1e5, ContactParameters()
+    n_prime = load / p.contact_width
+    a, _ = rollcontact.hertz(n_prime, p.radius, rollcontact.Material().contact_modulus)
+    saturation = p.friction_coefficient * a / p.radius
+    creeps = np.linspace(-2.0, 2.0, 41) * saturation
+    forces = np.array([fmu.step(n * H, H, load, xi, 20.0).tangential_force for n, xi in enumerate(creeps)])
+    r = np.clip(np.abs(creeps) / saturation, 0.0, 1.0)
+    expected = np.sign(creeps) * p.friction_coefficient * load * (1.0 - (1.0 - r) ** 2)
+    assert_allclose(forces, expected, rtol=1e-12, atol=1e-9 * load, err_msg="Carter: T = mu N (1 - (a*/a)^2)")
+    assert_allclose(forces, -forces[::-1], rtol=1e-14, err_msg="the creep curve is odd")
+    slope = fmu.step(len(creeps) * H, H, load, 0.0, 20.0).creep_stiffness
+    estar = rollcontact.Material().contact_modulus
+    assert_allclose(slope, math.pi * estar * a / 2 * p.contact_width, rtol=1e-13,
+                    err_msg="initial slope pi E* a / 2 over the width")
+
+
+def test_simulate_fmu_with_input_signals(unzipped):
+    t = np.linspace(0.0, 0.05, 6)
+    signals = np.array(list(zip(t, 1e5 + 4e5 * t, 1e-3 - 0.02 * t, 10.0 + 100.0 * t, strict=True)),
+                       dtype=[("time", float), ("normal_load", float), ("creep", float), ("velocity", float)])
+    result = simulate_fmu(str(unzipped), validate=False, start_time=0.0, stop_time=0.05, output_interval=H,
+                          input=signals, output=list(OUTPUTS), start_values={"initial_position": 0.25})
+    times = result["time"]
+    assert_allclose(np.diff(times), H, rtol=1e-9, err_msg="one row per communication step")
+    # row k holds the outputs of the step from t_(k-1): the inputs sampled there, the axis at X(t_(k-1))
+    sample_times = times[1:] - H
+    rows = [(1e5 + 4e5 * s, 1e-3 - 0.02 * s, 10.0 + 100.0 * s) for s in sample_times]
+    expected = model_outputs({"initial_position": 0.25}, rows)
+    for name in ("tangential_force", "contact_half_width", "frictional_power", "creep_stiffness"):
+        assert_allclose(result[name][1:], [getattr(o, name) for o in expected], rtol=1e-9,
+                        err_msg=f"simulate_fmu {name} against ContactModel")
+    exact_position = 0.25 + 10.0 * sample_times + 50.0 * sample_times**2  # V is linear: the trapezoid is exact
+    assert_allclose(result["axis_position"][1:], exact_position, rtol=1e-13, err_msg="X = X0 + int V dt")
+    assert np.all(result["stationarity"][3:] < STATIONARY), "ramped inputs are not stationary"
+
+
+@pytest.mark.skipif("polynomial" not in rollcontact.METHODS, reason="the polynomial method is not registered")
+def test_corrugated_surface_uses_the_polynomial_method(instance):
+    p = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04, "corrugation_phase": 0.3}
+    fmu = instance(**p)
+    b = ContactParameters().contact_width
+    for n in range(4):
+        out = fmu.step(n * H, H, 2e4, 1e-3, 5.0)
+        x = out.axis_position
+        # independent scene in the package frame: the mirror image, axis at -X
+        scene = rollcontact.Scene(normal_load_per_length=2e4 / b, creep=1e-3, rolling_speed=5.0, axis_position=-x,
+                                  surface=rollcontact.Surface(harmonics=(rollcontact.Harmonic.from_wavelength(
+                                      0.04, 20e-6, -0.3),)))
+        ref = rollcontact.solve(scene, method="polynomial")
+        assert ref.success, ref.message
+        assert out.method_used == 2, f"X = {x}: a corrugated surface needs the polynomial method"
+        assert_allclose(out[:8], [ref.tangential_force_per_length * b, ref.traction_coefficient,
+                                  ref.contact_half_width, ref.stick_half_width, -ref.contact_offset,
+                                  ref.max_pressure, 5.0 * 1e-3 * ref.tangential_force_per_length * b,
+                                  ref.creep_stiffness_per_length * b], rtol=1e-11, atol=1e-15,
+                        err_msg=f"X = {x}: FMU against rollcontact.solve(method='polynomial')")
+    assert_allclose(x, 3 * H * 5.0, rtol=1e-14, err_msg="the corrugation phase moves with X")
+
+
+@pytest.mark.skipif("discretised" not in rollcontact.METHODS, reason="the discretised method is not registered")
+def test_explicit_discretised_method_through_the_fmu(instance):
+    fmu = instance(method=3, corrugation_amplitude=20e-6, elements=100)
+    out = fmu.step(0.0, H, 2e4, 1e-3, 5.0)
+    assert out.method_used == 3, f"method = 3 must report 3, got {out.method_used}"
+    expected = model_outputs({"method": 3, "corrugation_amplitude": 20e-6, "elements": 100}, [(2e4, 1e-3, 5.0)])
+    assert out == expected[0], "the FMU's discretised step equals ContactModel's"
+
+
+TILTED_SCENE = "[surface]\npolynomial = [0.0, 1e-3]\n[load]\nnormal_load_per_length = 1.0\n"
+
+
+def test_tilted_scene_file_moves_the_contact_uphill(instance, tmp_path):
+    path = tmp_path / "tilted.toml"
+    path.write_text(TILTED_SCENE)
+    fmu = instance(scene_file=str(path))
+    out = fmu.step(0.0, H, 1e5, 1e-3, 20.0)
+    assert_allclose(out.contact_offset, 0.46e-3, rtol=1e-13, err_msg="uphill (ahead) by R alpha")
+    assert any("scene_file" in m for _, _, m in fmu.log), "the scene file's overrides are logged"
+
+
+def test_relative_scene_file_is_read_from_the_resources_folder(instance, unzipped, monkeypatch, tmp_path):
+    folder = unzipped / "resources" / "test_scenes"
+    folder.mkdir()
+    try:
+        (folder / "tilted.toml").write_text(TILTED_SCENE)
+        monkeypatch.chdir(tmp_path)  # not the resources folder
+        out = instance(scene_file="test_scenes/tilted.toml").step(0.0, H, 1e5, 1e-3, 20.0)
+    finally:
+        shutil.rmtree(folder)
+    assert_allclose(out.contact_offset, 0.46e-3, rtol=1e-13, err_msg="the bundled tilted scene was used")
+
+
+def discarded(fmu: Instance, *args) -> str:
+    """Step expecting a Discard; the logged message (printf-unescaped)."""
+    before = len(fmu.log)
+    with pytest.raises(FMICallException) as caught:
+        fmu.step(*args)
+    assert caught.value.status == DISCARD, f"{args}: expected fmi2Discard, got status {caught.value.status}"
+    new = [(status, message) for status, _, message in fmu.log[before:]]
+    assert new and new[-1][0] == DISCARD, f"{args}: the reason must be logged with status Discard: {new}"
+    raw = new[-1][1]
+    assert "%" not in raw.replace("%%", ""), f"log messages must be printf-safe: {raw!r}"
+    return raw.replace("%%", "%")
+
+
+@pytest.mark.parametrize("args, reason", [
+    ((0.0, H, math.nan, 1e-3, 20.0), "normal_load = nan is not finite"),
+    ((0.0, H, math.inf, 1e-3, 20.0), "normal_load = inf is not finite"),
+    ((0.0, H, -1.0, 1e-3, 20.0), "normal_load = -1.0 N is out of range: it must be >= 0"),
+    ((0.0, H, 1e5, math.nan, 20.0), "creep = nan is not finite"),
+    ((0.0, H, 1e5, -math.inf, 20.0), "creep = -inf is not finite"),
+    ((0.0, H, 1e5, 1e-3, -0.5), "velocity = -0.5 m/s is out of range: it must be >= 0"),
+    ((0.0, H, 1e5, 1e-3, math.nan), "velocity = nan is not finite"),
+    ((0.0, 0.0, 1e5, 1e-3, 20.0), "step_size = 0.0 s is out of range: it must be > 0"),
+    ((0.0, -H, 1e5, 1e-3, 20.0), "step_size = -0.001 s is out of range: it must be > 0"),
+])
+def test_bad_inputs_are_discarded_with_the_reason_and_restoring_a_state_recovers(instance, args, reason):
+    fmu = instance()
+    state = fmu.fmu.getFMUstate()
+    message = discarded(fmu, *args)
+    assert reason in message, f"logged {message!r}, expected it to say {reason!r}"
+    fmu.fmu.setFMUstate(state)
+    fmu.fmu.freeFMUstate(state)
+    out = fmu.step(0.0, H, 1e5, 1e-3, 20.0)
+    assert out == model_outputs({}, [(1e5, 1e-3, 20.0)])[0], "after a Discard a restored instance steps normally"
+
+
+@pytest.mark.parametrize("parameters, reason", [
+    ({"poisson_ratio": 0.6}, "poisson_ratio = 0.6 is out of range"),
+    ({"contact_width": 0.0}, "contact_width = 0.0 is out of range"),
+    ({"friction_law": 7}, "friction_law = 7 is out of range"),
+    ({"method": 1, "corrugation_amplitude": 1e-5}, "method = 1 (closed form) cannot solve this scene"),
+    ({"scene_file": "/nonexistent/100%.toml"}, "cannot read scene file '/nonexistent/100%.toml'"),
+])
+def test_bad_parameters_are_discarded_with_the_reason(instance, parameters, reason):
+    fmu = instance(**parameters)
+    state = fmu.fmu.getFMUstate()
+    message = discarded(fmu, 0.0, H, 1e5, 1e-3, 20.0)
+    assert reason in message, f"logged {message!r}, expected it to say {reason!r}"
+    fmu.fmu.setFMUstate(state)
+    fmu.fmu.freeFMUstate(state)
+    assert reason in discarded(fmu, 0.0, H, 1e5, 1e-3, 20.0), "a restored state keeps its parameter problem"
+
+
+def test_a_scene_the_method_cannot_solve_is_discarded(instance, monkeypatch):
+    def failing(scene, **options):
+        return rollcontact.ContactResult(method="polynomial", success=False, message="contact splits (test)",
+                                         normal_load_per_length=0.0, tangential_force_per_length=0.0, creep=0.0,
+                                         contact_half_width=0.0, contact_offset=0.0, stick_half_width=0.0,
+                                         max_pressure=0.0)
+
+    spec = rollcontact.METHODS.get("polynomial")
+    monkeypatch.setitem(rollcontact.METHODS, "polynomial",
+                        rollcontact.api.MethodSpec("polynomial", failing, lambda s: None, 10))
+    fmu = instance(method=2, corrugation_amplitude=1e-5)
+    message = discarded(fmu, 0.0, H, 1e5, 1e-3, 20.0)
+    assert "polynomial failed: contact splits (test)" in message, f"logged {message!r}"
+    assert spec is None or rollcontact.METHODS["polynomial"] is not spec, "the failing method was in use"
+
+
+def test_state_get_set_and_serialise(instance, unzipped, description):
+    fmu = instance(initial_position=0.1)
+    warmup = [(1e5, 1e-3, 20.0), (1.2e5, 2e-3, 21.0), (1.1e5, -1e-3, 22.0)]
+    later = [(9e4, 5e-4, 20.0), (1e5, 1e-3, 19.0), (1e5, 1e-3, 19.0)]
+    for n, row in enumerate(warmup):
+        fmu.step(n * H, H, *row)
+    state = fmu.fmu.getFMUstate()
+    saved_outputs = fmu.outputs()
+    first = [fmu.step((3 + n) * H, H, *row) for n, row in enumerate(later)]
+    fmu.fmu.setFMUstate(state)
+    assert fmu.outputs() == saved_outputs, "restoring a state restores the outputs"
+    second = [fmu.step((3 + n) * H, H, *row) for n, row in enumerate(later)]
+    assert first == second, "restore -> step -> restore -> step must give identical outputs"
+    serialized = fmu.fmu.serializeFMUstate(state)
+    fmu.fmu.freeFMUstate(state)
+    other = instance(radius=0.3)  # other parameters: the state brings its own
+    restored = other.fmu.deSerializeFMUstate(serialized)
+    other.fmu.setFMUstate(restored)
+    other.fmu.freeFMUstate(restored)
+    third = [other.step((3 + n) * H, H, *row) for n, row in enumerate(later)]
+    assert third == first, "a serialised state continues identically in another instance"
+    assert first == model_outputs({"initial_position": 0.1}, warmup + later)[3:], "and equals ContactModel"
+
+
+def test_two_instances_are_independent(instance):
+    a = instance()
+    b = instance(radius=0.3, friction_coefficient=0.2, contact_width=0.01)
+    rows = [(1e5, 1e-3, 20.0), (1.1e5, 2e-3, 10.0), (9e4, -1e-3, 15.0)]
+    out_a = [a.step(n * H, H, *row) for n, row in enumerate(rows)]
+    out_b = [b.step(n * H, H, *row) for n, row in enumerate(rows)]
+    assert out_a == model_outputs({}, rows), "instance a keeps its own parameters and state"
+    assert out_b == model_outputs({"radius": 0.3, "friction_coefficient": 0.2, "contact_width": 0.01}, rows), \
+        "instance b keeps its own parameters and state"
+
+
+def test_load_free_load_and_independence_of_the_current_directory(unzipped, description, monkeypatch, tmp_path):
+    rows = [(1e5, 1e-3, 20.0), (1.1e5, 2e-3, 10.0)]
+    expected = model_outputs({}, rows)
+    for attempt in range(2):
+        monkeypatch.chdir(tmp_path if attempt else ROOT)
+        fmu = Instance(unzipped, description, name=f"again{attempt}")
+        got = [fmu.step(n * H, H, *row) for n, row in enumerate(rows)]
+        fmu.free()
+        assert got == expected, f"load {attempt + 1} (cwd {Path.cwd()}) must give the same outputs"
+
+
+def test_transient_modes_are_reported_once(instance):
+    fmu = instance(transient=1)
+    for n in range(3):
+        fmu.step(n * H, H, 1e5, 1e-3, 20.0)
+    notices = [m for _, _, m in fmu.log if "transient rolling is not implemented" in m]
+    assert len(notices) == 1, f"the transient notice must be logged once, got {notices}"
+
+
+C_HOST = r"""
+#include <dlfcn.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+typedef void *fmi2Component;
+typedef unsigned int fmi2ValueReference;
+typedef struct {
+    void (*logger)(void *, const char *, int, const char *, const char *, ...);
+    void *(*allocateMemory)(size_t, size_t);
+    void (*freeMemory)(void *);
+    void (*stepFinished)(void *, int);
+    void *componentEnvironment;
+} fmi2CallbackFunctions;
+typedef fmi2Component (*Instantiate)(const char *, int, const char *, const char *, const fmi2CallbackFunctions *,
+                                     int, int);
+typedef int (*SetupExperiment)(fmi2Component, int, double, double, int, double);
+typedef int (*Mode)(fmi2Component);
+typedef int (*SetReal)(fmi2Component, const fmi2ValueReference *, size_t, const double *);
+typedef int (*GetReal)(fmi2Component, const fmi2ValueReference *, size_t, double *);
+typedef int (*GetInteger)(fmi2Component, const fmi2ValueReference *, size_t, int *);
+typedef int (*DoStep)(fmi2Component, double, double, int);
+typedef void (*FreeInstance)(fmi2Component);
+
+static void logger(void *env, const char *name, int status, const char *category, const char *message, ...) {
+    va_list args;
+    va_start(args, message);
+    fprintf(stderr, "[%s|%d|%s] ", name, status, category);
+    vfprintf(stderr, message, args);
+    fputc('\n', stderr);
+    va_end(args);
+}
+
+static void *load(void *lib, const char *name) {
+    void *f = dlsym(lib, name);
+    if (!f) { fprintf(stderr, "missing %s\n", name); exit(3); }
+    return f;
+}
+
+/* host <binary> <guid> <resource-uri> <h> <3 input vrs> <integer output vr> <real output vrs...>
+   stdin: "normal_load creep velocity" per step; stdout: "status reals... integer" per step */
+int main(int argc, char **argv) {
+    if (argc < 10 || argc > 9 + 64) { fprintf(stderr, "usage: see source\n"); return 2; }
+    void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+    if (!lib) { fprintf(stderr, "dlopen: %s\n", dlerror()); return 3; }
+    Instantiate instantiate = (Instantiate)load(lib, "fmi2Instantiate");
+    SetupExperiment setup = (SetupExperiment)load(lib, "fmi2SetupExperiment");
+    Mode enter = (Mode)load(lib, "fmi2EnterInitializationMode"), leave = (Mode)load(lib, "fmi2ExitInitializationMode");
+    Mode terminate = (Mode)load(lib, "fmi2Terminate");
+    SetReal set_real = (SetReal)load(lib, "fmi2SetReal");
+    GetReal get_real = (GetReal)load(lib, "fmi2GetReal");
+    GetInteger get_integer = (GetInteger)load(lib, "fmi2GetInteger");
+    DoStep do_step = (DoStep)load(lib, "fmi2DoStep");
+    FreeInstance free_instance = (FreeInstance)load(lib, "fmi2FreeInstance");
+    double h = atof(argv[4]), u[3], y[64];
+    fmi2ValueReference in[3], integer_vr = (fmi2ValueReference)atoi(argv[8]), out[64];
+    size_t n_out = (size_t)(argc - 9);
+    for (int i = 0; i < 3; i++) in[i] = (fmi2ValueReference)atoi(argv[5 + i]);
+    for (size_t i = 0; i < n_out; i++) out[i] = (fmi2ValueReference)atoi(argv[9 + i]);
+    fmi2CallbackFunctions callbacks = {logger, calloc, free, NULL, NULL};
+    fmi2Component c = instantiate("c_host", 1, argv[2], argv[3], &callbacks, 0, 1);
+    if (!c) { fprintf(stderr, "fmi2Instantiate failed\n"); return 4; }
+    if (setup(c, 0, 0.0, 0.0, 0, 0.0) || enter(c) || leave(c)) { fprintf(stderr, "initialisation failed\n"); return 5; }
+    int method, n = 0;
+    while (scanf("%lf %lf %lf", &u[0], &u[1], &u[2]) == 3) {
+        set_real(c, in, 3, u);
+        int status = do_step(c, n * h, h, 1);
+        get_real(c, out, n_out, y);
+        get_integer(c, &integer_vr, 1, &method);
+        printf("%d", status);
+        for (size_t i = 0; i < n_out; i++) printf(" %.17g", y[i]);
+        printf(" %d\n", method);
+        n++;
+    }
+    terminate(c);
+    free_instance(c);
+    dlclose(lib);
+    return 0;
+}
+"""
+
+
+def shared_libpython() -> Path | None:
+    if not sysconfig.get_config_var("Py_ENABLE_SHARED"):
+        return None
+    path = Path(sysconfig.get_config_var("LIBDIR"), sysconfig.get_config_var("LDLIBRARY"))
+    return path if path.is_file() else None
+
+
+def test_a_c_host_gets_the_same_numbers_as_fmpy(unzipped, description, instance, tmp_path):
+    gcc = shutil.which("gcc")
+    if gcc is None:
+        pytest.skip("gcc is not installed: the C host cannot be compiled")
+    libpython = shared_libpython()
+    if libpython is None:
+        pytest.skip("this Python has no shared libpython (built without --enable-shared): a non-Python host "
+                    "cannot load the pythonfmu binary, which needs LD_PRELOAD=<libpython3.x.so>")
+    source, host = tmp_path / "host.c", tmp_path / "host"
+    source.write_text(C_HOST)
+    built = subprocess.run([gcc, "-std=c99", "-Wall", "-Werror", "-o", str(host), str(source), "-ldl"],
+                           capture_output=True, text=True)
+    assert built.returncode == 0, f"C host does not compile:\n{built.stderr}"
+    fmu = instance()
+    binary = next((unzipped / "binaries" / "linux64").glob("*.so"))
+    rows = [(1e5, 1e-3, 20.0), (2e5, -1e-3, 20.0), (-1.0, 0.0, 0.0), (1.5e5, 3e-3, 25.0), (0.0, 0.0, 25.0)]
+    args = [str(host), str(binary), description.guid, (unzipped / "resources").as_uri(), repr(H),
+            *map(str, fmu.inputs), str(fmu.integer[0]), *map(str, fmu.reals)]
+    # PYTHONHOME: the embedded interpreter would otherwise locate its library through the first python3 on PATH
+    env = {"PATH": "/usr/bin:/bin", "LD_PRELOAD": str(libpython), "PYTHONHOME": sys.base_prefix,
+           "PYTHONPATH": sysconfig.get_paths()["purelib"]}
+    ran = subprocess.run(args, input="".join(f"{n!r} {c!r} {v!r}\n" for n, c, v in rows), capture_output=True,
+                         text=True, env=env, cwd=tmp_path, timeout=120)
+    assert ran.returncode == 0, f"C host failed ({ran.returncode}):\n{ran.stderr}"
+    lines = [line.split() for line in ran.stdout.splitlines()]
+    assert len(lines) == len(rows), f"one line per step expected:\n{ran.stdout}\n{ran.stderr}"
+    assert "normal_load = -1.0 N is out of range" in ran.stderr, \
+        f"the Discard reason must reach the C host's logger:\n{ran.stderr}"
+    for n, (row, line) in enumerate(zip(rows, lines, strict=True)):
+        try:
+            expected, status = fmu.step(n * H, H, *row), 0
+        except FMICallException as exc:
+            expected, status = fmu.outputs(), exc.status
+        reals = iter(float(v) for v in line[1:-1])
+        got = StepOutputs(*(int(line[-1]) if name == "method_used" else next(reals) for name in OUTPUTS))
+        assert int(line[0]) == status, f"step {n}: C host status {line[0]}, fmpy {status}"
+        assert got == expected, f"step {n}: the C host and fmpy must agree exactly:\n{got}\n{expected}"

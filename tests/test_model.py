@@ -1,0 +1,352 @@
+"""ContactModel / ModelState: the stepping logic behind the RollingContact2D FMU, tested without any FMI tool."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from scipy import integrate
+
+import rollcontact
+from rollcontact.api import MethodSpec
+from rollcontact.model import (
+    STATIONARY,
+    ContactModel,
+    ContactParameters,
+    ModelError,
+    ModelState,
+    StepOutputs,
+)
+from rollcontact.result import ContactResult
+
+H = 1e-3  # communication step [s]
+
+
+def closed_form_reference(parameters: ContactParameters, normal_load, creep):
+    """The library's own answer (rollcontact.solve) for the model's flat, Coulomb scene."""
+    scene = rollcontact.Scene(normal_load_per_length=normal_load / parameters.contact_width, creep=creep,
+                              radius=parameters.radius,
+                              material=rollcontact.Material(parameters.youngs_modulus, parameters.poisson_ratio),
+                              friction=rollcontact.Coulomb(parameters.friction_coefficient))
+    return rollcontact.solve(scene, method="closed_form")
+
+
+def run(model: ContactModel, inputs, start=0.0, h=H):
+    """Step through rows (normal_load, creep, velocity) at t = start + n h; the outputs as a list."""
+    return [model.step(start + n * h, h, *row) for n, row in enumerate(inputs)]
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# parameters
+@pytest.mark.parametrize("field, value", [
+    ("youngs_modulus", 0.0), ("poisson_ratio", 0.5), ("radius", -0.1), ("contact_width", 0.0),
+    ("friction_coefficient", 0.0), ("friction_law", 2), ("friction_kinetic_ratio", 1.5), ("friction_decay", -1.0),
+    ("corrugation_wavelength", 0.0), ("corrugation_amplitude", -1e-6), ("corrugation_phase", math.nan),
+    ("initial_position", math.inf), ("method", 4), ("tolerance", -1e-9), ("polynomial_order", -1),
+    ("elements", 2.5), ("transient", 3), ("datum", -1.0), ("scene_file", 3),
+])
+def test_parameters_out_of_range_are_refused_by_name(field, value):
+    with pytest.raises(ModelError, match=field):
+        ContactParameters(**{field: value})
+
+
+def test_unreadable_scene_file_is_a_model_error(tmp_path):
+    with pytest.raises(ModelError, match="scene_file"):
+        ContactModel(ContactParameters(scene_file=str(tmp_path / "missing.toml")))
+
+
+def test_closed_form_method_refuses_a_corrugated_surface():
+    with pytest.raises(ModelError, match="closed form"):
+        ContactModel(ContactParameters(method=1, corrugation_amplitude=20e-6))
+
+
+def test_unregistered_method_is_named_with_the_registered_ones(monkeypatch):
+    monkeypatch.delitem(rollcontact.METHODS, "discretised", raising=False)
+    with pytest.raises(ModelError, match=r"method = 3: it needs method 3 \(discretised\), but no such method is "
+                                         r"registered in rollcontact.METHODS \(registered: \["):
+        ContactModel(ContactParameters(method=3))
+
+
+def test_transient_modes_are_accepted_with_a_notice():
+    assert ContactModel().notices == (), "the defaults need no notice"
+    for mode in (1, 2):
+        model = ContactModel(ContactParameters(transient=mode))
+        assert any("not implemented" in n for n in model.notices), f"transient = {mode} must be reported"
+        quasi = ContactModel()
+        assert run(model, [(1e5, 1e-3, 20.0)] * 3) == run(quasi, [(1e5, 1e-3, 20.0)] * 3), \
+            f"transient = {mode} must currently behave as quasi-static"
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# closed form
+@pytest.mark.parametrize("creep", [0.0, 2e-4, -2e-4, 1e-3, -1e-3, 0.05, -0.05])
+def test_closed_form_step_equals_the_library_solve(creep):
+    p = ContactParameters(radius=0.5, contact_width=0.015, friction_coefficient=0.25)
+    model = ContactModel(p)
+    out = model.step(0.0, H, 8e4, creep, 15.0)
+    ref = closed_form_reference(p, 8e4, creep)
+    b = p.contact_width
+    expected = [ref.tangential_force_per_length * b, ref.traction_coefficient, ref.contact_half_width,
+                ref.stick_half_width, ref.contact_offset, ref.max_pressure,
+                15.0 * creep * ref.tangential_force_per_length * b, ref.creep_stiffness_per_length * b]
+    assert_allclose(out[:8], expected, rtol=1e-13, atol=0.0, err_msg=f"closed form at creep {creep}")
+    assert out.method_used == 1, "a flat Coulomb scene uses the closed form"
+
+
+def test_no_load_is_no_contact():
+    out = ContactModel().step(0.0, H, 0.0, 1e-3, 20.0)
+    assert out[:8] == (0.0,) * 8, f"zero load must give zero outputs, got {out}"
+    assert out.method_used == 0 and out.stationarity == STATIONARY, "no contact: method 0, stationary"
+
+
+def frictional_power_by_quadrature(result: ContactResult, velocity: float) -> float:
+    """V int q(x) s(x) dx over the patch [W/m], with the stick/slip boundary as a breakpoint."""
+    a, d = result.contact_half_width, result.contact_offset
+    boundary = d - a + 2.0 * result.stick_half_width
+    def integrand(x):
+        return float(result.traction(x) * result.slip(x))
+    pieces = [(d - a, boundary), (boundary, d + a)] if result.stick_half_width > 0 else [(d - a, d + a)]
+    return velocity * sum(integrate.quad(integrand, lo, hi, epsabs=0.0, epsrel=1e-10, limit=200)[0]
+                          for lo, hi in pieces if hi > lo)
+
+
+@pytest.mark.parametrize("creep", [1e-4, -3e-4, 6e-4, 2e-3, -5e-3])
+def test_frictional_power_is_v_xi_t_as_the_integral_of_q_v_s(creep):
+    p = ContactParameters()
+    velocity = 20.0
+    out = ContactModel(p).step(0.0, H, 1e5, creep, velocity)
+    ref = closed_form_reference(p, 1e5, creep)
+    quadrature = frictional_power_by_quadrature(ref, velocity) * p.contact_width
+    assert_allclose(out.frictional_power, quadrature, rtol=1e-7,
+                    err_msg=f"V xi T against the quadrature of q V s at creep {creep}")
+    assert out.frictional_power >= 0.0, "slip dissipates power"
+
+
+def test_creep_stiffness_is_the_derivative_of_the_force():
+    model = ContactModel()
+    for creep in (0.0, 2e-4, -4e-4):
+        d = 1e-9
+        up = ContactModel().step(0.0, H, 1e5, creep + d, 20.0).tangential_force
+        down = ContactModel().step(0.0, H, 1e5, creep - d, 20.0).tangential_force
+        stiffness = model.step(0.0, H, 1e5, creep, 20.0).creep_stiffness
+        model.reset()
+        assert_allclose(stiffness, (up - down) / (2 * d), rtol=1e-5, err_msg=f"dT/dxi at creep {creep}")
+
+
+def test_tilted_scene_file_moves_the_contact_uphill(tmp_path):
+    slope = 2e-3  # Z = slope X rises in the rolling direction
+    path = tmp_path / "tilted.toml"
+    path.write_text(f"[surface]\npolynomial = [0.0, {slope}]\n[geometry]\nradius = 0.4\n"
+                    "[load]\nnormal_load_per_length = 1.0  # replaced by the input\n")
+    model = ContactModel(ContactParameters(scene_file=str(path)))
+    out = model.step(0.0, H, 1e5, 1e-3, 20.0)
+    assert out.method_used == 1, "a tilted plane keeps the closed form"
+    assert_allclose(out.contact_offset, 0.4 * slope, rtol=1e-14, err_msg="contact moves uphill by R alpha")
+    assert any("scene_file" in n for n in model.notices), "ignored scalar parameters must be reported"
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# axis position and stationarity
+def test_axis_position_is_the_trapezoid_of_the_velocity_without_drift():
+    p = ContactParameters(initial_position=-0.3)
+    model = ContactModel(p, start_time=2.0)
+    h, n = 1e-4, 50_000
+    rate = 3.0  # V = 5 + rate (t - 2): the trapezoid is exact for a linear V
+    for k in range(n):
+        t = 2.0 + k * h
+        out = model.step(t, h, 1e5, 1e-3, 5.0 + rate * (t - 2.0))
+    t_last = (n - 1) * h
+    exact = -0.3 + 5.0 * t_last + 0.5 * rate * t_last**2
+    assert abs(out.axis_position - exact) <= 4 * np.finfo(float).eps * abs(exact), \
+        f"X drifted: {out.axis_position!r} vs {exact!r}"
+
+
+def test_step_after_an_error_continues_from_the_unchanged_state():
+    model = ContactModel()
+    run(model, [(1e5, 1e-3, 20.0)] * 2)
+    before = model.get_state()
+    for args in [(0.002, H, -1.0, 0.0, 1.0), (0.002, H, 1e5, math.nan, 1.0), (0.002, H, 1e5, 0.0, -1.0),
+                 (0.002, 0.0, 1e5, 0.0, 1.0), (0.002, H, math.inf, 0.0, 1.0), (0.0005, H, 1e5, 0.0, 1.0)]:
+        with pytest.raises(ModelError):
+            model.step(*args)
+        assert model.state == before, f"a refused step {args} must not change the state"
+
+
+@pytest.mark.parametrize("args, words", [
+    ((0.0, H, -1.0, 0.0, 1.0), "normal_load = -1.0 N is out of range"),
+    ((0.0, H, 1e5, math.nan, 1.0), "creep = nan is not finite"),
+    ((0.0, H, 1e5, 0.0, -2.0), "velocity = -2.0 m/s is out of range"),
+    ((0.0, -H, 1e5, 0.0, 1.0), "step_size = -0.001 s is out of range"),
+])
+def test_error_messages_say_what_which_value_and_which_limit(args, words):
+    with pytest.raises(ModelError, match=words):
+        ContactModel().step(*args)
+
+
+def test_stationarity_of_constant_inputs_and_of_a_wheel_at_rest():
+    model = ContactModel()
+    outs = run(model, [(1e5, 1e-3, 20.0)] * 4)
+    assert all(o.stationarity == STATIONARY for o in outs), "constant inputs are stationary"
+    at_rest = ContactModel()
+    outs = run(at_rest, [(1e5, 1e-3, 0.0), (1e5, 2e-3, 0.0)])
+    assert outs[1].stationarity == 0.0, "an input changing while the wheel does not roll is not stationary"
+
+
+@pytest.mark.parametrize("wavelength", [0.01, 0.05])
+def test_stationarity_recovers_the_wavelength_of_a_creep_oscillation(wavelength):
+    p = ContactParameters()
+    model = ContactModel(p)
+    a = model.step(0.0, H, 1e5, 0.0, 0.0).contact_half_width
+    model.reset()
+    scale = p.friction_coefficient * a / p.radius  # the creep scale of the measure
+    velocity, h = 1.0, 2e-5
+    inputs = [(1e5, scale * math.sin(2 * math.pi * velocity * k * h / wavelength), velocity) for k in range(1200)]
+    values = np.array([o.stationarity for o in run(model, inputs, h=h)[2:]])
+    expected = wavelength / a
+    assert values.min() >= 0.97 * expected, f"stationarity {values.min():.4g} below lambda/a = {expected:.4g}"
+    assert values.max() <= expected / 0.78 * 1.03, f"stationarity {values.max():.4g} above (lambda/a)/0.78"
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# state
+def test_restore_step_restore_step_gives_identical_outputs():
+    model = ContactModel(ContactParameters(initial_position=0.1))
+    run(model, [(1e5, 1e-3, 20.0), (1.2e5, 2e-3, 21.0), (1.1e5, -1e-3, 22.0)])
+    saved = model.get_state()
+    later = [(9e4, 5e-4, 20.0), (1e5, 1e-3, 19.0)]
+    first = run(model, later, start=3 * H)
+    model.set_state(saved)
+    second = run(model, later, start=3 * H)
+    assert first == second, "restore -> step must repeat the outputs exactly"
+    model.set_state(ModelState.from_bytes(saved.to_bytes()))
+    assert run(model, later, start=3 * H) == first, "a state through bytes must repeat the outputs exactly"
+
+
+def test_state_serialisation_round_trips_exactly():
+    model = ContactModel()
+    run(model, [(1e5, 1e-3, 20.0), (1e5 / 3, 1e-3 / 7, 20.0 / 3)])
+    state = model.get_state()
+    assert ModelState.from_bytes(state.to_bytes()) == state, "bytes round trip"
+    assert ModelState.from_dict(state.to_dict()) == state, "dict round trip"
+    assert isinstance(ModelState.from_dict(state.to_dict()).outputs, StepOutputs), "outputs keep their type"
+    copy = state.copy()
+    model.step(2 * H, H, 1e5, 1e-3, 20.0)
+    assert copy == state and model.state != state, "get_state() is a copy the model does not change"
+
+
+def test_foreign_state_versions_are_refused():
+    data = ContactModel().get_state().to_dict()
+    with pytest.raises(ModelError, match="version"):
+        ModelState.from_dict(dict(data, version=99))
+    with pytest.raises(ModelError, match="invalid model state"):
+        ModelState.from_dict({k: v for k, v in data.items() if k != "outputs"})
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# scenes of the non-closed-form methods
+def test_scene_is_the_mirror_image_in_the_package_frame():
+    p = ContactParameters(corrugation_amplitude=20e-6, corrugation_wavelength=0.04, corrugation_phase=0.7)
+    model = ContactModel(p) if model_can_be_built(p) else None
+    if model is None:
+        pytest.skip("no method for corrugated surfaces is registered")
+    x_axis = 0.013
+    scene = model.scene(x_axis, 2e4, 1e-3, 20.0)
+    X = np.linspace(-0.05, 0.05, 101)
+    z_model = p.corrugation_amplitude * np.cos(2 * np.pi * X / p.corrugation_wavelength + p.corrugation_phase)
+    assert_allclose(scene.surface.height(-X), z_model, rtol=0, atol=1e-18, err_msg="Z_scene(-X) = Z(X)")
+    assert scene.axis_position == -x_axis, "the axis stands at -X in the package frame"
+    assert_allclose(scene.normal_load_per_length, 2e4 / p.contact_width, rtol=1e-15, err_msg="N' = N / b")
+
+
+def model_can_be_built(p: ContactParameters) -> bool:
+    try:
+        ContactModel(p)
+    except ModelError:
+        return False
+    return True
+
+
+@pytest.mark.skipif("polynomial" not in rollcontact.METHODS, reason="the polynomial method is not registered")
+def test_corrugated_steps_equal_the_polynomial_solve():
+    p = ContactParameters(corrugation_amplitude=20e-6, corrugation_wavelength=0.04, corrugation_phase=0.3)
+    model = ContactModel(p)
+    for k in range(3):
+        out = model.step(k * H, H, 2e4, 1e-3, 5.0)
+        ref = rollcontact.solve(model.scene(out.axis_position, 2e4, 1e-3, 5.0), method="polynomial")
+        assert ref.success, ref.message
+        b = p.contact_width
+        assert_allclose(out[:8], [ref.tangential_force_per_length * b, ref.traction_coefficient,
+                                  ref.contact_half_width, ref.stick_half_width, -ref.contact_offset,
+                                  ref.max_pressure, 5.0 * 1e-3 * ref.tangential_force_per_length * b,
+                                  ref.creep_stiffness_per_length * b],
+                        rtol=1e-12, atol=1e-15, err_msg=f"polynomial outputs at X = {out.axis_position}")
+        assert out.method_used == 2, "a corrugated surface uses the polynomial method"
+    assert p.polynomial_order == 0 and model.options["polynomial"] == {}, "0 means the method's default"
+    assert ContactModel(dataclasses.replace(p, polynomial_order=12)).options["polynomial"] == {"order": 12}, \
+        "polynomial_order is passed as the polynomial method's 'order'"
+
+
+def fake_result(name: str, success: bool) -> ContactResult:
+    return ContactResult(method=name, success=success, message=f"{name} says {'ok' if success else 'no'}",
+                         normal_load_per_length=1e6, tangential_force_per_length=2e5, creep=1e-3,
+                         contact_half_width=2e-3, contact_offset=1e-4, stick_half_width=1e-3, max_pressure=3e8,
+                         creep_stiffness_per_length=1e9)
+
+
+def test_auto_falls_back_to_the_discretised_family_and_reports_it(monkeypatch):
+    calls = []
+
+    def polynomial(scene, **options):
+        calls.append("polynomial")
+        return fake_result("polynomial", False)
+
+    def discretised(scene, elements=None):
+        calls.append(("discretised", elements))
+        return fake_result("discretised", True)
+
+    discretised.options = ("elements",)
+    monkeypatch.setitem(rollcontact.METHODS, "polynomial", MethodSpec("polynomial", polynomial, lambda s: None, 10))
+    monkeypatch.setitem(rollcontact.METHODS, "discretised",
+                        MethodSpec("discretised", discretised, lambda s: None, 100, True))
+    model = ContactModel(ContactParameters(corrugation_amplitude=1e-5, elements=64))
+    out = model.step(0.0, H, 2e4, 1e-3, 10.0)
+    assert calls == ["polynomial", ("discretised", 64)], f"auto must try polynomial, then discretised: {calls}"
+    assert out.method_used == 3, "method_used reports the fallback"
+    assert_allclose([out.tangential_force, out.contact_offset], [2e5 * 0.02, -1e-4], rtol=1e-15,
+                    err_msg="force over the width; offset back in the model's frame")
+
+    strict = ContactModel(ContactParameters(corrugation_amplitude=1e-5, method=2))
+    with pytest.raises(ModelError, match="polynomial failed: polynomial says no"):
+        strict.step(0.0, H, 2e4, 1e-3, 10.0)
+    assert strict.state.steps == 0, "a failed solve must not advance the state"
+
+
+@pytest.mark.skipif("discretised" not in rollcontact.METHODS, reason="the discretised method is not registered")
+def test_explicit_discretised_method_with_its_creep_stiffness_by_difference():
+    p = ContactParameters(corrugation_amplitude=20e-6, method=3, elements=120)
+    model = ContactModel(p)
+    out = model.step(0.0, H, 2e4, 5e-4, 5.0)
+    scene = model.scene(out.axis_position, 2e4, 5e-4, 5.0)
+    ref = rollcontact.solve(scene, method="discretised", elements=120)
+    assert out.method_used == 3, "method = 3 uses the discretised method"
+    assert_allclose(out.tangential_force, ref.tangential_force_per_length * p.contact_width, rtol=1e-12,
+                    err_msg="discretised force over the width")
+    d = 2e-6
+    up, down = (rollcontact.solve(scene.replace(creep=5e-4 + s), method="discretised", elements=120)
+                for s in (d, -d))
+    central = (up.tangential_force_per_length - down.tangential_force_per_length) / (2 * d) * p.contact_width
+    assert_allclose(out.creep_stiffness, central, rtol=1e-3, err_msg="one-sided difference against central")
+
+
+def test_falling_friction_needs_more_than_the_closed_form():
+    falling = ContactParameters(friction_law=1, friction_kinetic_ratio=0.4, friction_decay=0.6)
+    if not model_can_be_built(falling):
+        pytest.skip("no method for velocity-dependent friction is registered")
+    out = ContactModel(falling).step(0.0, H, 1e5, 1e-3, 5.0)
+    assert out.method_used in (2, 3), f"falling friction must not use the closed form, used {out.method_used}"
+    coulomb = ContactModel(dataclasses.replace(falling, friction_kinetic_ratio=1.0)).step(0.0, H, 1e5, 1e-3, 5.0)
+    assert coulomb.method_used == 1, "A = 1 is constant friction: closed form"
+    assert out.tangential_force < coulomb.tangential_force, "falling friction lowers the force at the same creep"
