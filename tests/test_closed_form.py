@@ -10,11 +10,10 @@ differences 1e-6.
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import pytest
-from scipy.integrate import IntegrationWarning, quad
+from quadrature import edge_quad, pressure_integral, pv_hilbert
 
 from rollcontact import Material, Scene, Surface, carter, hertz, solve
 from rollcontact.closed_form import cattaneo_traction, mindlin_unloading_traction
@@ -23,99 +22,6 @@ E_STAR = Material(210e9, 0.28).contact_modulus
 RADIUS = 0.46
 MU = 0.3
 LOAD = 1.0e6
-
-
-def pv_hilbert(f, breakpoints, x, *, epsrel=1e-12):
-    """Principal value ``(1/pi) PV-int f(z) / (x - z) dz`` over ``[breakpoints[0], breakpoints[-1]]``.
-
-    The piece holding ``x`` goes to QUADPACK's QAWC (which computes ``PV-int f/(z - x)``, hence the sign flip);
-    the other pieces are regular and go through :func:`edge_quad`, so kinks and square-root ends of ``f`` at the
-    breakpoints cost nothing.
-
-    Parameters
-    ----------
-    f : callable
-        Vectorised density.
-    breakpoints : sequence of float
-        Increasing ends of the pieces on which ``f`` is smooth.
-    x : float
-        Singular point, strictly inside one piece.
-    epsrel : float
-        Requested relative accuracy of the singular piece.
-
-    Returns
-    -------
-    float
-        The principal value divided by pi.
-    """
-    total = 0.0
-    for lo, hi in zip(breakpoints[:-1], breakpoints[1:], strict=True):
-        if hi <= lo:
-            continue
-        if lo < x < hi:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", IntegrationWarning)
-                val, _ = quad(lambda z: float(f(np.array([z]))[0]), lo, hi, weight="cauchy", wvar=x, epsabs=0.0,
-                              epsrel=epsrel, limit=500)
-            total -= val
-        else:
-            total += edge_quad(lambda z: f(z) / (x - z), [lo, hi])
-    return total / math.pi
-
-
-def edge_quad(f, breakpoints):
-    """``int f dx`` over consecutive intervals whose ends may carry square-root behaviour.
-
-    Each interval ``[l, r]`` is mapped by ``x = l + (r - l)(1 - cos theta)/2``, which turns sqrt end behaviour
-    into a smooth integrand in theta (Clenshaw-Curtis-like), so QUADPACK converges to round-off.
-
-    Parameters
-    ----------
-    f : callable
-        Vectorised integrand of x.
-    breakpoints : sequence of float
-        Increasing interval ends.
-
-    Returns
-    -------
-    float
-        The integral.
-    """
-    total = 0.0
-    for lo, hi in zip(breakpoints[:-1], breakpoints[1:], strict=True):
-        if hi <= lo:
-            continue
-        half = 0.5 * (hi - lo)
-
-        def g(theta, lo=lo, half=half):
-            return float(f(np.array([lo + half * (1.0 - math.cos(theta))]))[0]) * half * math.sin(theta)
-
-        total += quad(g, 0.0, math.pi, epsabs=0.0, epsrel=1e-13, limit=200)[0]
-    return total
-
-
-def pressure_integral(result, nodes=400):
-    """``int p dx`` over the patch by Gauss-Chebyshev quadrature of the second kind (interior nodes only).
-
-    ``int p dx = a int_{-1}^{1} [p / sqrt(1 - t^2)] sqrt(1 - t^2) dt``: the weight carries the square-root edges
-    exactly and ``p / sqrt(1 - t^2)`` is smooth for a single patch.
-
-    Parameters
-    ----------
-    result : ContactResult
-        A solution with a single patch ``[offset - a, offset + a]``.
-    nodes : int
-        Number of nodes.
-
-    Returns
-    -------
-    float
-        N' recomputed from ``result.pressure``.
-    """
-    theta = np.pi * np.arange(1, nodes + 1) / (nodes + 1)
-    a = result.contact_half_width
-    x = result.contact_offset + a * np.cos(theta)
-    return float(a * np.pi / (nodes + 1) * np.sum(np.sin(theta) * result.pressure(x)))
 
 
 def carter_scene(creep, load=LOAD, tilt=0.0, mu=MU):
