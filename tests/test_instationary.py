@@ -1,0 +1,268 @@
+"""Instationary rolling (paper section 4.3, physics.md section 6): limits, the 2.5 a/lambda rule, the paper's route
+against the discretised transient, the relaxation model against creep-controlled transients, stationarity and
+state round trips.
+
+Tolerances are tiered: identities (closed-form inverses, mirror symmetry, restore/step, datum-free energy) ~1e-9;
+the paper's route vs the discretised transient at the discretisation level of steady Carter with 200 elements
+(RMS ~0.007 mu p0, band 0.012); the relaxation model vs the transient 2 % of mu N' (measured <= 0.9 %); the
+2.5 a/lambda rule within 30 %.  The datum relation of force control is tested in
+``tests/test_discretised.py::test_datum_relation_for_force_controlled_transient`` (not duplicated here).
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import rollcontact as rc
+from rollcontact.closed_form import CarterDistributions, carter, cattaneo_traction, hertz, mindlin_unloading_traction
+from rollcontact.instationary import (
+    STATIONARITY_THRESHOLD,
+    STATIONARY,
+    InputHistory,
+    InstationaryModel,
+    InstationaryState,
+    OscillatingForce,
+    carter_creep,
+    oscillating_force_chebyshev,
+    oscillating_force_discretised,
+    quasi_steady_deviation,
+    relaxation_length,
+    stationarity,
+)
+
+LOAD = 1e7  # N' [N/m]
+MU = 0.3
+R = 0.46
+ESTAR = rc.Material().contact_modulus
+A, P0 = hertz(LOAD, R, ESTAR)
+SATURATION = MU * A / R  # Carter's full-slip creep
+LIMIT = MU * LOAD
+X = np.linspace(-A, A, 801)
+KW = {"radius": R, "contact_modulus": ESTAR, "mu": MU}
+
+
+def rms(results_1, results_2):
+    """RMS of q_1 - q_2 over the patch and the phases, over mu p0."""
+    return math.sqrt(np.mean([np.mean((r1.traction(X) - r2.traction(X)) ** 2)
+                              for r1, r2 in zip(results_1, results_2, strict=True)])) / (MU * P0)
+
+
+# ------------------------------------------------------------------------------------------ closed-form pieces
+@pytest.mark.parametrize("creep", [-0.7 * SATURATION, -1e-5, 0.0, 0.3 * SATURATION, 0.99 * SATURATION])
+def test_carter_creep_inverts_carter(creep):
+    force = carter(LOAD, creep, R, ESTAR, MU)[0]
+    assert abs(carter_creep(force, LOAD, R, ESTAR, MU) - creep) < 1e-9 * SATURATION, \
+        f"carter_creep(carter(xi)) = {carter_creep(force, LOAD, R, ESTAR, MU)} for xi = {creep}"
+
+
+def test_relaxation_length_at_zero_force_is_a_log_of_the_datum():
+    for datum in (0.05, R, 5.0):
+        expected = A * math.log(2 * datum / (math.sqrt(math.e) * A))
+        got = relaxation_length(0.0, LOAD, R, ESTAR, MU, datum)
+        assert abs(got / expected - 1) < 1e-12, f"L = {datum}: relaxation length {got} vs a ln(2L/(sqrt(e) a))"
+
+
+# ---------------------------------------------------------------------------------------------- force control
+def test_long_wavelength_gives_carter_at_every_instant():
+    steady = oscillating_force_chebyshev(LOAD, OscillatingForce(0.5 * LIMIT, 0.3 * LIMIT, math.inf), **KW, phases=4)
+    carter_q = CarterDistributions(A, P0, A * math.sqrt(0.5), 0.0, MU, 1.0, R).traction(X)
+    for r in steady:
+        assert r.success, r.message
+        assert np.abs(r.traction(X) - carter_q).max() < 1e-9 * MU * P0, "lambda = inf must be Carter exactly"
+    force = OscillatingForce(0.4 * LIMIT, 0.2 * LIMIT, 2000 * A)
+    slow = oscillating_force_chebyshev(LOAD, force, **KW, phases=8)
+    for r in slow:
+        a_star = A * math.sqrt(1 - r.tangential_force_per_length / LIMIT)
+        carter_now = CarterDistributions(A, P0, a_star, 0.0, MU, 1.0, R).traction(X)
+        err = np.abs(r.traction(X) - carter_now).max() / (MU * P0)
+        assert r.success and err < 5e-3, f"lambda/a = 2000, phase {r.info['phase']}: q off Carter by {err} mu p0"
+
+
+def test_paper_route_agrees_with_discretised_transient_and_mirrors():
+    force = OscillatingForce(0.4 * LIMIT, 0.2 * LIMIT, 5 * A)
+    paper = oscillating_force_chebyshev(LOAD, force, **KW)
+    discretised = oscillating_force_discretised(LOAD, force, **KW, elements=200)
+    assert all(r.success for r in paper + discretised), [r.message for r in paper + discretised if not r.success]
+    assert max(r.residual for r in paper) < 1e-6, "force misfit of 8 harmonics"
+    err = rms(paper, discretised)
+    assert err < 0.012, f"paper's route vs discretised transient, lambda/a = 5: RMS {err} mu p0"
+    mirrored = oscillating_force_chebyshev(LOAD, OscillatingForce(-0.4 * LIMIT, -0.2 * LIMIT, 5 * A), **KW)
+    for r, m in zip(paper, mirrored, strict=True):
+        assert np.abs(r.traction(X) + m.traction(X)).max() < 1e-9 * MU * P0, "negative force mirrors q"
+
+
+@pytest.mark.parametrize("wavelength", [10, 20, 50])
+def test_oscillating_part_deviates_from_quasi_steady_by_2_5_a_over_lambda(wavelength):
+    force = OscillatingForce(0.4 * LIMIT, 0.2 * LIMIT, wavelength * A)
+    paper = oscillating_force_chebyshev(LOAD, force, **KW)
+    ratio = quasi_steady_deviation(paper, force.mean, **KW) / (2.5 / wavelength)
+    assert 0.7 < ratio < 1.3, f"lambda/a = {wavelength}: deviation / (2.5 a/lambda) = {ratio} (paper's route)"
+    if wavelength <= 20:
+        discretised = oscillating_force_discretised(LOAD, force, **KW, elements=200)
+        ratio = quasi_steady_deviation(discretised, force.mean, **KW) / (2.5 / wavelength)
+        assert 0.7 < ratio < 1.3, f"lambda/a = {wavelength}: deviation / (2.5 a/lambda) = {ratio} (discretised)"
+
+
+def test_paper_route_reports_where_it_is_ill_defined():
+    near_saturation = oscillating_force_chebyshev(LOAD, OscillatingForce(0.6 * LIMIT, 0.35 * LIMIT, 2 * A), **KW)
+    assert not any(r.success for r in near_saturation), "stick zone vanishing within the cycle must be reported"
+    assert "stick zone" in near_saturation[0].message, near_saturation[0].message
+    reversing = oscillating_force_chebyshev(LOAD, OscillatingForce(0.2 * LIMIT, 0.3 * LIMIT, 10 * A), **KW)
+    assert not reversing[0].success and "changes sign" in reversing[0].message, reversing[0].message
+
+
+def mindlin_cycle_dissipation(peak):
+    """2D Mindlin-Deresiewicz loop area [J/m] for cycling between +-peak (as in test_discretised.py): loading shift
+    ``kappa mu p0 pi/(2a) [a^2 (ln(a/2) - 1/2) - c^2 (ln(c/2) - 1/2)]`` and the Masing branches."""
+    kappa = 2 / (math.pi * ESTAR)
+
+    def log_term(w):
+        return w * w * (math.log(w / 2) - 0.5) if w > 0 else 0.0
+
+    def shift(force):
+        c = A * math.sqrt(max(0.0, 1 - abs(force) / LIMIT))
+        return math.copysign(kappa * MU * P0 * math.pi / (2 * A) * (log_term(A) - log_term(c)), force)
+
+    forces = np.linspace(-peak, peak, 4001)
+    top = shift(peak)
+    gap = [(top - 2 * shift((peak - f) / 2)) - (-top + 2 * shift((peak + f) / 2)) for f in forces]
+    return float(np.sum(0.5 * (np.array(gap[1:]) + np.array(gap[:-1])) * np.diff(forces)))
+
+
+def test_static_limit_is_cattaneo_mindlin_with_datum_free_hysteresis():
+    force = OscillatingForce(0.0, 0.6 * LIMIT, 0.0)
+    energies = []
+    for datum in (0.05, 5.0):
+        static = oscillating_force_discretised(LOAD, force, **KW, phases=4, elements=200, datum_length=datum)
+        energies.append(static[0].info["dissipation_per_cycle"])
+    peak, unloaded = static[1], static[2]  # phases 1/4 (T' = +T1) and 1/2 (T' = 0 on the way down)
+    x = peak.info["grid"].centres  # piecewise-constant q: compare at the element centres
+    err = np.abs(peak.traction(x) - cattaneo_traction(x, A, P0, MU, 0.6)).max() / (MU * P0)
+    assert err < 0.03, f"static peak: Cattaneo off by {err} mu p0"
+    err = np.abs(unloaded.traction(x) - mindlin_unloading_traction(x, A, P0, MU, 0.6, 0.0)).max() / (MU * P0)
+    assert err < 0.03, f"static unloading to 0: Mindlin-Deresiewicz off by {err} mu p0"
+    assert abs(energies[1] / energies[0] - 1) < 1e-9, f"energy per cycle depends on the datum: {energies}"
+    exact = mindlin_cycle_dissipation(0.6 * LIMIT)
+    assert abs(energies[0] / exact - 1) < 5e-3, f"energy per cycle {energies[0]} J/m vs Mindlin {exact} J/m"
+    # V -> 0 at a fixed frequency is lambda -> 0: the rolling loop tends to the static one (its traction converges
+    # only like sqrt(lambda/a) in the max norm, the pattern being convected by lambda/2 per half cycle)
+    slow = oscillating_force_discretised(LOAD, OscillatingForce(0.0, 0.6 * LIMIT, 0.1 * A), **KW, phases=4,
+                                         elements=200)
+    ratio = slow[0].info["dissipation_per_cycle"] / energies[0]
+    assert abs(ratio - 1) < 5e-3, f"lambda/a = 0.1: energy per cycle {ratio} times the static one"
+
+
+# ------------------------------------------------------------------------------------------------ creep control
+def run_creep(model, mean, amplitude, wavelength, cycles=3):
+    """Rolls ``cycles`` cycles of xi = (mean + amplitude sin) * saturation at ds ~ one element of 100 over 2.5 a;
+    returns the last cycle's T' and the creep."""
+    speed = 10.0
+    steps = max(8, round(wavelength / (2.5 / 100)))
+    dt = wavelength * A / steps / speed
+    state = model.initial_state()
+    state, _ = model.step(state, LOAD, mean * SATURATION, speed, dt)
+    forces, creeps = [], []
+    for k in range(cycles * steps):
+        xi = SATURATION * (mean + amplitude * math.sin(2 * math.pi * (k + 1) / steps))
+        state, res = model.step(state, LOAD, xi, speed, dt)
+        assert res.success, res.message
+        if k >= (cycles - 1) * steps:
+            forces.append(res.tangential_force_per_length)
+            creeps.append(xi)
+    return np.array(forces), np.array(creeps)
+
+
+@pytest.mark.parametrize(("wavelength", "mean", "amplitude", "datum"),
+                         [(5, 0.5, 0.3, R), (20, 0.6, 0.6, R), (20, -0.3, 0.2, 10 * A)])
+def test_relaxation_model_tracks_creep_controlled_transient(wavelength, mean, amplitude, datum):
+    kwargs = {"datum_length": datum, "max_normal_load_per_length": LOAD}
+    transient, creeps = run_creep(InstationaryModel(R, ESTAR, MU, mode="transient", **kwargs), mean, amplitude,
+                                  wavelength)
+    relaxed, _ = run_creep(InstationaryModel(R, ESTAR, MU, mode="relaxation", **kwargs), mean, amplitude, wavelength)
+    quasi_static = np.array([carter(LOAD, xi, R, ESTAR, MU)[0] for xi in creeps])
+    err = np.abs(relaxed - transient).max() / LIMIT
+    assert err < 0.02, f"lambda/a = {wavelength}, xi = ({mean} +- {amplitude}) sat, L = {datum}: relaxation off " \
+                       f"the transient by {err} mu N'"
+    assert np.abs(quasi_static - transient).max() / LIMIT > 5 * err, "the test must tell the lag from no lag"
+
+
+# ------------------------------------------------------------------------------------------------- stationarity
+def test_stationarity_measure():
+    history = InputHistory()
+    assert stationarity(history, A, SATURATION) == STATIONARY, "no samples: stationary"
+    for s in (0.0, 1e-3, 2e-3):
+        history = history.append(s, LOAD, 1e-3)
+    assert stationarity(history, A, SATURATION) == STATIONARY, "constant inputs"
+    for wavelength in (5.0, 20.0, 100.0):
+        lam, ds = wavelength * A, wavelength * A / 200
+        values = []
+        for k in range(200):
+            h = InputHistory()
+            for j in (k - 2, k - 1, k):
+                h = h.append(j * ds, LOAD, SATURATION * (0.5 + math.sin(2 * math.pi * j * ds / lam)))
+            values.append(stationarity(h, A, SATURATION))
+        assert wavelength * 0.99 < min(values) and max(values) < 1.3 * wavelength, \
+            f"full-scale sinusoid at lambda/a = {wavelength}: measure in [{min(values)}, {max(values)}]"
+    static = InputHistory().append(0.0, LOAD, 0.0).append(0.0, LOAD, 1e-3)
+    assert stationarity(static, A, SATURATION) == 0.0, "creep changes while nothing rolls"
+    assert STATIONARITY_THRESHOLD == 20.0, "the paper's rule"
+
+
+# -------------------------------------------------------------------------------------------- state and stepping
+@pytest.mark.parametrize("mode", ["relaxation", "transient"])
+def test_restore_step_restore_step_is_identical(mode):
+    model = InstationaryModel(R, ESTAR, MU, mode=mode, max_normal_load_per_length=LOAD, elements=60)
+    state = model.initial_state()
+    for k in range(25):
+        state, _ = model.step(state, LOAD * (1 - 0.01 * k), SATURATION * 0.5 * math.sin(0.3 * k), 5.0, 1e-4)
+    blob = state.to_bytes()
+    first, res_1 = model.step(InstationaryState.from_bytes(blob), 0.8 * LOAD, 0.2 * SATURATION, 5.0, 1e-4)
+    second, res_2 = model.step(InstationaryState.from_bytes(blob), 0.8 * LOAD, 0.2 * SATURATION, 5.0, 1e-4)
+    assert res_1.tangential_force_per_length == res_2.tangential_force_per_length, "restore -> step must repeat"
+    assert first.to_bytes() == second.to_bytes(), "states after restore -> step must be identical"
+    copy = state.copy()
+    assert copy is not state and copy.to_bytes() == blob, "copy is equal and independent"
+    with pytest.raises(ValueError, match="not a serialised InstationaryState"):
+        InstationaryState.from_bytes(b"garbage")
+
+
+@pytest.mark.parametrize("mode", ["relaxation", "transient"])
+def test_static_limit_no_load_and_outputs(mode):
+    model = InstationaryModel(R, ESTAR, MU, mode=mode, max_normal_load_per_length=LOAD, elements=60)
+    state = model.initial_state()
+    for _ in range(40):
+        state, res = model.step(state, LOAD, 0.4 * SATURATION, 5.0, 1e-4)
+    held = res.tangential_force_per_length
+    assert held > 0.2 * LIMIT, f"rolling with creep builds up T' = {held}"
+    assert abs(res.contact_half_width / A - 1) < 0.03 and abs(res.max_pressure / P0 - 1) < 0.01, \
+        f"a = {res.contact_half_width} vs {A}, max p = {res.max_pressure} vs {P0}"
+    state, res = model.step(state, LOAD, 0.9 * SATURATION, 0.0, 1e-3)
+    assert abs(res.tangential_force_per_length / held - 1) < 1e-6, "V = 0: nothing rolls, T' is held"
+    state, res = model.step(state, 0.0, 0.4 * SATURATION, 5.0, 1e-4)
+    assert res.tangential_force_per_length == 0.0 and res.contact_half_width == 0.0, "N' = 0: no contact"
+
+
+def test_bad_inputs_raise_naming_the_value():
+    model = InstationaryModel(R, ESTAR, MU)
+    state = model.initial_state()
+    for args, match in [((LOAD, 0.0, 1.0, 0.0), "dt = 0.0 s is out of range"),
+                        ((LOAD, 0.0, 1.0, -1e-3), "dt = -0.001 s"),
+                        ((LOAD, 0.0, -1.0, 1e-3), "rolling_speed = -1.0 m/s"),
+                        ((-1.0, 0.0, 1.0, 1e-3), "normal_load_per_length = -1.0 N/m"),
+                        ((LOAD, math.nan, 1.0, 1e-3), "creep = nan")]:
+        with pytest.raises(ValueError, match=match):
+            model.step(state, *args)
+    with pytest.raises(ValueError, match="unknown mode"):
+        InstationaryModel(R, ESTAR, MU, mode="quasi")
+    with pytest.raises(ValueError, match="quarter of the grid length"):
+        InstationaryModel(R, ESTAR, MU, mode="transient", datum_length=0.5 * A, max_normal_load_per_length=LOAD)
+    transient = InstationaryModel(R, ESTAR, MU, mode="transient", max_normal_load_per_length=LOAD, elements=40)
+    with pytest.raises(ValueError, match="max_normal_load_per_length"):
+        transient.step(transient.initial_state(), 2 * LOAD, 0.0, 1.0, 1e-3)
+    with pytest.raises(ValueError, match="mode 'relaxation' given to a model of mode 'transient'"):
+        transient.step(state, LOAD, 0.0, 1.0, 1e-3)
+    with pytest.raises(ValueError, match="must stay below mu N'"):
+        oscillating_force_discretised(LOAD, OscillatingForce(0.8 * LIMIT, 0.3 * LIMIT, A), **KW)
+    with pytest.raises(ValueError, match="wavelength = -1.0 m"):
+        OscillatingForce(0.0, 0.0, -1.0)
