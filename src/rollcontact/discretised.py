@@ -379,16 +379,9 @@ class TransientSolver:
         sol = solve_stick_slip(ops.M, ops.m_factors, b, bound, contact, control, h, stick0, sign0,
                                self.tolerance * scale, self.max_iterations)
         q = sol.traction
-        t_new = h * q.sum()
+        t_new, slip_distance, certificate, converged, message = self.certify(sol, bound, contact, scale, mode,
+                                                                              value)
         shift = sol.constant + lam * (t_new - told)
-        slip_distance = np.where(contact, sol.slip, 0.0)
-        certificate = tangential_certificate(q, slip_distance, sol.stick, bound, contact, scale)
-        if mode == "force":
-            certificate["force_balance"] = abs(t_new - value) / max(h * bound.sum(), 1e-300)
-        converged = sol.converged and max(certificate.values()) <= 100.0 * self.tolerance
-        message = sol.message if not sol.converged or converged else f"certificate fails: {certificate}"
-        # stick means S = 0 by definition; the certificate above holds the round-off actually found
-        slip_distance[sol.stick] = 0.0
         new_state = TransientState(q, sol.stick & contact, slip_distance / ds if ds > 0 else np.zeros_like(q),
                                    t_new, state.steps + 1)
         result = StepResult(t_new, shift / ds if ds > 0 else math.nan, shift, slip_distance,
@@ -430,19 +423,29 @@ class TransientSolver:
         sol = solve_stick_slip(ops.K, ops.k_factors, np.zeros(p.size), bound, contact, control, h, stick0, sign0,
                                self.tolerance * scale, self.max_iterations)
         q = sol.traction
-        t_new = h * q.sum()
-        slip = np.where(contact, sol.slip, 0.0)
-        certificate = tangential_certificate(q, slip, sol.stick, bound, contact, scale)
-        if mode == "force":
-            certificate["force_balance"] = abs(t_new - value) / max(h * bound.sum(), 1e-300)
-        converged = sol.converged and max(certificate.values()) <= 100.0 * self.tolerance
-        message = sol.message if not sol.converged or converged else f"certificate fails: {certificate}"
-        slip[sol.stick] = 0.0
+        t_new, slip, certificate, converged, message = self.certify(sol, bound, contact, scale, mode, value)
         steps = 0 if state is None else state.steps
         new_state = TransientState(q, sol.stick & contact, slip, t_new, steps)
         result = StepResult(t_new, sol.constant, sol.constant * h, slip, float(h * np.dot(q, slip)),
                             int((sol.stick & contact).sum()), sol.iterations, converged, message, certificate)
         return new_state, result
+
+    def certify(self, sol, bound, contact, scale, mode, value):
+        """T', slip (zero in stick), certificate, converged flag and message of a stick/slip solution.
+
+        Shared by :meth:`step` and :meth:`steady_state`: the certificate is taken on the raw slip (it holds the
+        round-off actually found in the stick set) before stick elements are set to S = 0 by definition.
+        """
+        h = self.grid.element_width
+        t_new = h * sol.traction.sum()
+        slip = np.where(contact, sol.slip, 0.0)
+        certificate = tangential_certificate(sol.traction, slip, sol.stick, bound, contact, scale)
+        if mode == "force":
+            certificate["force_balance"] = abs(t_new - value) / max(h * bound.sum(), 1e-300)
+        converged = sol.converged and max(certificate.values()) <= 100.0 * self.tolerance
+        message = sol.message if not sol.converged or converged else f"certificate fails: {certificate}"
+        slip[sol.stick] = 0.0
+        return t_new, slip, certificate, converged, message
 
 
 # ------------------------------------------------------------------------------ velocity-dependent friction

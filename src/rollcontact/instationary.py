@@ -63,6 +63,7 @@ from scipy import optimize, special
 from rollcontact.closed_form import CarterDistributions, carter, ellipse, hertz
 from rollcontact.discretised import Grid, TransientSolver, TransientState, patch_geometry
 from rollcontact.result import ContactResult, Distributions, NoContact, TabulatedDistributions
+from rollcontact.scene import check_real
 
 __all__ = ["MODES", "RELAXATION_DATUM_RATIO", "STATIONARITY_THRESHOLD", "STATIONARY", "InputHistory",
            "InstationaryModel", "InstationaryState", "OscillatingForce", "carter_creep", "oscillating_force_chebyshev",
@@ -85,19 +86,6 @@ MODES = ("relaxation", "transient")
 HISTORY_SAMPLES = 3
 WINDOW_FACTOR = 1.25  # transient grid: +-1.25 a_max
 FORCE_MARGIN = 1.0 - 1e-9  # static steps hold |T'| just below the friction limit
-
-
-def real(name: str, value, unit: str, *, lower=None, strict=False) -> float:
-    """``value`` as a finite float, else ValueError naming it (and the bound when ``lower`` is given)."""
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number in {unit}, got {value!r}") from None
-    if not math.isfinite(x):
-        raise ValueError(f"{name} = {x!r} {unit} is not finite")
-    if lower is not None and (x < lower or (strict and x == lower)):
-        raise ValueError(f"{name} = {x!r} {unit} is out of range: it must be {'>' if strict else '>='} {lower!r}")
-    return x
 
 
 # --------------------------------------------------------------------------------------------- closed-form pieces
@@ -225,7 +213,7 @@ def stationarity(history: InputHistory, half_width: float, creep_scale: float) -
     s = history.distance.tolist()  # plain floats: this runs every FMU step
     if len(s) < 2 or half_width <= 0.0:
         return STATIONARY
-    creep_scale = real("creep_scale", creep_scale, "1", lower=0.0, strict=True)
+    creep_scale = check_real("creep_scale", creep_scale, lower=0.0, lower_open=True, unit="1")
     load_scale = max(max(abs(v) for v in history.normal_load_per_length.tolist()), 1e-300)
     # inputs over their scales, oldest first
     inputs = [[v / load_scale for v in history.normal_load_per_length.tolist()],
@@ -348,12 +336,12 @@ class InstationaryModel:
         if mode not in MODES:
             raise ValueError(f"unknown mode {mode!r}; valid modes are {list(MODES)}")
         self.mode = mode
-        self.radius = real("radius", radius, "m", lower=0.0, strict=True)
-        self.contact_modulus = real("contact_modulus", contact_modulus, "Pa", lower=0.0, strict=True)
-        self.mu = real("friction_coefficient", friction_coefficient, "1", lower=0.0, strict=True)
+        self.radius = check_real("radius", radius, lower=0.0, lower_open=True, unit="m")
+        self.contact_modulus = check_real("contact_modulus", contact_modulus, lower=0.0, lower_open=True, unit="Pa")
+        self.mu = check_real("friction_coefficient", friction_coefficient, lower=0.0, lower_open=True, unit="1")
         self.datum_length = (self.radius if datum_length is None
-                             else real("datum_length", datum_length, "m", lower=0.0, strict=True))
-        self.max_load = real("max_normal_load_per_length", max_normal_load_per_length, "N/m", lower=0.0)
+                             else check_real("datum_length", datum_length, lower=0.0, lower_open=True, unit="m"))
+        self.max_load = check_real("max_normal_load_per_length", max_normal_load_per_length, lower=0.0, unit="N/m")
         self.elements = elements
         self.solver: TransientSolver | None = None
         self.pressure_cache: dict[float, np.ndarray] = {}
@@ -421,10 +409,10 @@ class InstationaryModel:
             raise TypeError(f"state must be an InstationaryState, got {type(state).__name__}")
         if state.mode != self.mode:
             raise ValueError(f"state of mode {state.mode!r} given to a model of mode {self.mode!r}")
-        load = real("normal_load_per_length", normal_load_per_length, "N/m", lower=0.0)
-        xi = real("creep", creep, "1")
-        speed = real("rolling_speed", rolling_speed, "m/s", lower=0.0)
-        dt = real("dt", dt, "s", lower=0.0, strict=True)
+        load = check_real("normal_load_per_length", normal_load_per_length, lower=0.0, unit="N/m")
+        xi = check_real("creep", creep, unit="1")
+        speed = check_real("rolling_speed", rolling_speed, lower=0.0, unit="m/s")
+        dt = check_real("dt", dt, lower=0.0, lower_open=True, unit="s")
         distance = state.distance + speed * dt
         history = state.history.append(distance, load, xi)
         a, p0 = hertz(load, self.radius, self.contact_modulus)
@@ -522,7 +510,7 @@ class OscillatingForce:
 
     def __post_init__(self):
         for name in ("mean", "amplitude"):
-            object.__setattr__(self, name, real(name, getattr(self, name), "N/m"))
+            object.__setattr__(self, name, check_real(name, getattr(self, name), unit="N/m"))
         try:
             w = float(self.wavelength)
         except (TypeError, ValueError):
@@ -563,7 +551,7 @@ def oscillating_force_discretised(normal_load_per_length: float, force: Oscillat
         (default R; NaN for static steps); ``info`` holds ``phase``, ``distance`` and ``dissipation_per_cycle``
         [J/m] (frictional work of the last cycle, datum-free).
     """
-    load = real("normal_load_per_length", normal_load_per_length, "N/m", lower=0.0, strict=True)
+    load = check_real("normal_load_per_length", normal_load_per_length, lower=0.0, lower_open=True, unit="N/m")
     check_force(force, load, mu)
     a, _ = hertz(load, radius, contact_modulus)
     grid = Grid(-WINDOW_FACTOR * a, WINDOW_FACTOR * a, elements)
@@ -730,7 +718,7 @@ def oscillating_force_chebyshev(normal_load_per_length: float, force: Oscillatin
         paper eq 33-34, physics.md section 6); ``info``: ``phase``, ``distance``, ``xi_bar`` (mean stick strain,
         over mu a/R), ``wave`` (C_m), ``rear_boundary_speed`` (max 2 db/dsigma).
     """
-    load = real("normal_load_per_length", normal_load_per_length, "N/m", lower=0.0, strict=True)
+    load = check_real("normal_load_per_length", normal_load_per_length, lower=0.0, lower_open=True, unit="N/m")
     check_force(force, load, mu)
     if not 0.0 < force.wavelength:
         raise ValueError(f"wavelength = {force.wavelength!r} m is out of range: the paper's route needs rolling, "
