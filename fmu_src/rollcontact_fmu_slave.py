@@ -56,8 +56,9 @@ VARIABLES = (
      "Creep stiffness dT/dxi at the current state"),
     ("stationarity", Real, OUTPUT, CONTINUOUS, "1", STATIONARY, 0.0, STATIONARY,
      "Wavelength of the fastest input variation over a (1e9: inputs constant or no contact)"),
-    ("method_used", Integer, OUTPUT, DISCRETE, None, 0, 0, 3,
-     "Method of the last step: 1 closed form, 2 polynomial, 3 discretised, 0 none (no contact)"),
+    ("method_used", Integer, OUTPUT, DISCRETE, None, 0, 0, 5,
+     "Method of the last step: 1 closed form, 2 polynomial, 3 discretised, 4 instationary relaxation (lag around "
+     "Carter), 5 instationary discretised transient, 0 none (no contact)"),
     ("axis_position", Real, OUTPUT, CONTINUOUS, "m", DEFAULT.initial_position, None, None,
      "Wheel axis position X at which the contact was evaluated"),
     ("youngs_modulus", Real, PARAMETER, FIXED, "Pa", DEFAULT.youngs_modulus, 0.0, None,
@@ -90,15 +91,17 @@ VARIABLES = (
     ("method", Integer, PARAMETER, FIXED, None, DEFAULT.method, 0, 3,
      "Method: 0 auto (cheapest the scene needs), 1 closed form, 2 polynomial, 3 discretised"),
     ("tolerance", Real, PARAMETER, FIXED, "1", DEFAULT.tolerance, 0.0, None,
-     "Relative solver tolerance of methods that accept one (0: the method's default)"),
+     "Relative solver tolerance of methods that accept one, and the lag error (of mu N) transient = 1 tolerates "
+     "(0: the methods' defaults, 1e-2 for the lag)"),
     ("polynomial_order", Integer, PARAMETER, FIXED, None, DEFAULT.polynomial_order, 0, None,
      "Order of the polynomial method (0: chosen from the tolerance)"),
     ("elements", Integer, PARAMETER, FIXED, None, DEFAULT.elements, 0, None,
      "Number of elements of the discretised method (0: the method's default)"),
     ("transient", Integer, PARAMETER, FIXED, None, DEFAULT.transient, 0, 2,
-     "Transient rolling: 0 quasi-static, 1 auto, 2 always (1 and 2 currently behave as quasi-static)"),
+     "Transient rolling (flat surface, Coulomb friction): 0 quasi-static, 1 auto (the relaxation model while the "
+     "stationarity measure is below its threshold), 2 always (relaxation; discretised transient with method 3)"),
     ("datum", Real, PARAMETER, FIXED, "m", DEFAULT.datum, 0.0, None,
-     "Datum distance L of instationary rolling for methods that accept it (0: the method's default)"),
+     "Datum distance L of instationary rolling (creep control depends on it; 0: the effective radius)"),
 )
 
 PARAMETER_NAMES = tuple(row[0] for row in VARIABLES if row[2] is PARAMETER)

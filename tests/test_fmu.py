@@ -368,12 +368,42 @@ def test_load_free_load_and_independence_of_the_current_directory(unzipped, desc
         assert got == expected, f"load {attempt + 1} (cwd {Path.cwd()}) must give the same outputs"
 
 
-def test_transient_modes_are_reported_once(instance):
-    fmu = instance(transient=1)
+def oscillating_creep(steps: int, wavelength=0.02, velocity=10.0, h=2e-5):
+    """Rows (normal_load, creep, velocity) of a creep oscillation fast enough for the lag (lambda/a ~ 4)."""
+    return [(1e5, 4e-4 + 3e-3 * math.sin(2 * math.pi * velocity * k * h / wavelength), velocity) for k in range(steps)]
+
+
+@pytest.mark.parametrize("parameters, code", [({"transient": 1}, 4), ({"transient": 2}, 4),
+                                              ({"transient": 2, "method": 3, "elements": 40}, 5)])
+def test_instationary_steps_equal_the_model_and_their_state_round_trips(instance, parameters, code):
+    h = 2e-5
+    rows = oscillating_creep(24, h=h)
+    fmu = instance(**parameters)
+    got = [fmu.step(n * h, h, *row) for n, row in enumerate(rows[:12])]
+    state = fmu.fmu.getFMUstate()
+    got += [fmu.step((12 + n) * h, h, *row) for n, row in enumerate(rows[12:])]
+    expected = model_outputs(parameters, rows, h=h)
+    assert got == expected, "the FMU's instationary steps equal ContactModel's"
+    assert got[-1].method_used == code, f"method_used {code} for {parameters}"
+    serialized = fmu.fmu.serializeFMUstate(state)
+    fmu.fmu.freeFMUstate(state)
+    other = instance(**parameters)
+    restored = other.fmu.deSerializeFMUstate(serialized)
+    other.fmu.setFMUstate(restored)
+    other.fmu.freeFMUstate(restored)
+    again = [other.step((12 + n) * h, h, *row) for n, row in enumerate(rows[12:])]
+    assert again == got[12:], "a serialised state carries the instationary history into another instance"
+
+
+def test_transient_on_a_scene_the_instationary_models_do_not_treat(instance):
+    fmu = instance(transient=1, corrugation_amplitude=5e-6)
     for n in range(3):
         fmu.step(n * H, H, 1e5, 1e-3, 20.0)
-    notices = [m for _, _, m in fmu.log if "transient rolling is not implemented" in m]
-    assert len(notices) == 1, f"the transient notice must be logged once, got {notices}"
+    notices = [m for _, _, m in fmu.log if "solved quasi-steady" in m]
+    assert len(notices) == 1, f"transient = 1 on a corrugated rail is logged once, got {notices}"
+    always = instance(transient=2, corrugation_amplitude=5e-6)
+    message = discarded(always, 0.0, H, 1e5, 1e-3, 20.0)
+    assert "transient = 2 (always) cannot treat this scene" in message, f"logged {message!r}"
 
 
 C_HOST = r"""

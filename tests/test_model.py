@@ -12,6 +12,8 @@ from scipy import integrate
 
 import rollcontact
 from rollcontact.api import MethodSpec
+from rollcontact.closed_form import hertz
+from rollcontact.instationary import InstationaryModel
 from rollcontact.model import (
     STATIONARY,
     ContactModel,
@@ -68,16 +70,6 @@ def test_unregistered_method_is_named_with_the_registered_ones(monkeypatch):
     with pytest.raises(ModelError, match=r"method = 3: it needs method 3 \(discretised\), but no such method is "
                                          r"registered in rollcontact.METHODS \(registered: \["):
         ContactModel(ContactParameters(method=3))
-
-
-def test_transient_modes_are_accepted_with_a_notice():
-    assert ContactModel().notices == (), "the defaults need no notice"
-    for mode in (1, 2):
-        model = ContactModel(ContactParameters(transient=mode))
-        assert any("not implemented" in n for n in model.notices), f"transient = {mode} must be reported"
-        quasi = ContactModel()
-        assert run(model, [(1e5, 1e-3, 20.0)] * 3) == run(quasi, [(1e5, 1e-3, 20.0)] * 3), \
-            f"transient = {mode} must currently behave as quasi-static"
 
 
 # ----------------------------------------------------------------------------------------------------------------
@@ -350,3 +342,157 @@ def test_falling_friction_needs_more_than_the_closed_form():
     coulomb = ContactModel(dataclasses.replace(falling, friction_kinetic_ratio=1.0)).step(0.0, H, 1e5, 1e-3, 5.0)
     assert coulomb.method_used == 1, "A = 1 is constant friction: closed form"
     assert out.tangential_force < coulomb.tangential_force, "falling friction lowers the force at the same creep"
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# instationary rolling (transient = 1 auto, 2 always)
+def creep_oscillation(model: ContactModel, wavelength: float, amplitude: float, steps: int, *, load=1e5,
+                      velocity=10.0, h=2e-5, mean=0.0):
+    """Inputs rows of a creep oscillation ``mean + amplitude * saturation creep * sin(2 pi X / wavelength)``."""
+    a = hertz(load / model.parameters.contact_width, model.radius, model.contact_modulus)[0]
+    saturation = model.mu * a / model.radius
+    return [(load, saturation * (mean + amplitude * math.sin(2 * math.pi * velocity * k * h / wavelength)), velocity)
+            for k in range(steps)], a
+
+
+def test_transient_always_is_the_relaxation_model_rolled_over_each_step():
+    p = ContactParameters(transient=2)
+    model = ContactModel(p)
+    inputs, a = creep_oscillation(model, 0.02, 0.8, 200)
+    outs = run(model, inputs, h=2e-5)
+    reference = InstationaryModel(p.radius, model.contact_modulus, p.friction_coefficient, mode="relaxation")
+    state = reference.initial_state()
+    for k, (load, creep, velocity) in enumerate(inputs):
+        state, res = reference.step(state, load / p.contact_width, creep, velocity, 2e-5)
+        assert outs[k].tangential_force == pytest.approx(res.tangential_force_per_length * p.contact_width,
+                                                         rel=1e-14, abs=1e-9), f"step {k}: the lag's force"
+        assert outs[k].method_used == 4, f"step {k}: method_used 4 (relaxation)"
+    assert model.notices == (), "a flat Coulomb scene needs no notice"
+
+
+def test_transient_auto_is_quasi_steady_for_constant_and_slow_inputs():
+    auto, quasi = ContactModel(ContactParameters(transient=1)), ContactModel()
+    constant = [(1e5, 1e-3, 20.0)] * 5
+    assert run(auto, constant) == run(quasi, constant), "constant inputs: auto = quasi-static, bit for bit"
+    auto.reset(), quasi.reset()
+    slow, _ = creep_oscillation(auto, 50.0, 0.5, 300, h=1e-3)  # lambda/a ~ 7000 > threshold ~ 5500
+    outs = run(auto, slow)
+    assert outs == run(quasi, slow), "slowly varying creep: auto stays quasi-static"
+    threshold = auto.transient_threshold(outs[-1].contact_half_width, 1e5 / auto.width)
+    assert min(o.stationarity for o in outs[2:]) > threshold, "the slow case lies above the threshold"
+
+
+@pytest.mark.parametrize("wavelength_over_a", [5.0, 50.0])
+def test_transient_auto_follows_the_lag_where_quasi_static_errs(wavelength_over_a):
+    """A fast creep oscillation: auto switches the lag in and matches transient = 2, quasi-static does not."""
+    auto, always, quasi = (ContactModel(ContactParameters(transient=t)) for t in (1, 2, 0))
+    _, a = creep_oscillation(auto, 1.0, 0.0, 1)
+    inputs, _ = creep_oscillation(auto, wavelength_over_a * a, 0.6, 1500, mean=0.2, h=a / 10.0 / 10.0)
+    outs = {name: run(m, inputs, h=a / 100.0) for name, m in (("auto", auto), ("always", always),
+                                                               ("quasi", quasi))}
+    limit = auto.mu * 1e5
+    tail = slice(1000, None)  # after several relaxation lengths and wavelengths
+    force = {k: np.array([o.tangential_force for o in v])[tail] for k, v in outs.items()}
+    assert np.all(np.array([o.method_used for o in outs["auto"]])[tail] == 4), "auto uses the lag (code 4)"
+    assert_allclose(force["auto"], force["always"], atol=1e-3 * limit,
+                    err_msg="auto must follow the lag once it is switched in")
+    assert np.max(np.abs(force["quasi"] - force["always"])) > 0.05 * limit, \
+        "the case must be one where quasi-static errs (else the test shows nothing)"
+
+
+def test_transient_auto_switches_back_without_a_jump_once_the_lag_has_decayed():
+    model = ContactModel(ContactParameters(transient=1, tolerance=1e-3))
+    _, a = creep_oscillation(model, 1.0, 0.0, 1)
+    h = a / 100.0  # V = 10 m/s: a/10 rolled per step
+    fast, _ = creep_oscillation(model, 10 * a, 0.5, 400, h=h, mean=0.3)
+    settle = [fast[-1]] * 3000  # constant creep: 300 a rolled
+    outs = run(model, fast + settle, h=h)
+    codes = np.array([o.method_used for o in outs])
+    force = np.array([o.tangential_force for o in outs])
+    assert np.any(codes[:400] == 4), "the fast part switches the lag in"
+    back = int(np.argmax(codes[400:] == 1)) + 400
+    assert codes[-1] == 1 and back > 400, "constant inputs eventually return to the closed form"
+    jump = abs(force[back] - force[back - 1])
+    # the lag was above the tolerance one step earlier: allow one step's relaxation, a/10 over l ~ 4 a
+    assert jump <= 1e-3 * model.mu * 1e5 * 1.05, f"switching back jumps by {jump:.3g} N (tolerance 1e-3 mu N)"
+    assert model.state.instationary is None, "no lag state is kept once quasi-steady"
+
+
+def test_transient_discretised_mode_is_the_creep_controlled_transient():
+    p = ContactParameters(transient=1, method=3, elements=60)  # method 3: auto behaves as always
+    model = ContactModel(p)
+    inputs, a = creep_oscillation(model, 0.02, 0.5, 30, mean=0.3)
+    outs = run(model, inputs, h=2e-5)
+    reference = InstationaryModel(p.radius, model.contact_modulus, p.friction_coefficient, mode="transient",
+                                  max_normal_load_per_length=2e5 / p.contact_width, elements=60)
+    state = reference.initial_state()
+    for k, (load, creep, velocity) in enumerate(inputs):
+        state, res = reference.step(state, load / p.contact_width, creep, velocity, 2e-5)
+        assert outs[k].tangential_force == pytest.approx(res.tangential_force_per_length * p.contact_width,
+                                                         rel=1e-12, abs=1e-9), f"step {k}"
+    assert {o.method_used for o in outs} == {5}, "method_used 5 (discretised transient)"
+    with pytest.raises(ModelError, match="transient grid holds loads up to"):
+        model.step(30 * 2e-5, 2e-5, 2.5e5, 1e-3, 10.0)
+
+
+@pytest.mark.parametrize("parameters", [dict(transient=1), dict(transient=2), dict(transient=2, method=3, elements=50)])
+def test_instationary_history_survives_restore_and_serialisation(parameters):
+    model = ContactModel(ContactParameters(**parameters))
+    inputs, a = creep_oscillation(model, 0.01, 0.7, 40, mean=0.1)
+    run(model, inputs[:20], h=2e-5)
+    saved = model.get_state()
+    assert saved.instationary is not None, "the state mid-oscillation carries the instationary history"
+    first = run(model, inputs[20:], start=20 * 2e-5, h=2e-5)
+    model.set_state(saved)
+    assert run(model, inputs[20:], start=20 * 2e-5, h=2e-5) == first, "restore -> step repeats exactly"
+    fresh = ContactModel(ContactParameters(**parameters))
+    fresh.set_state(ModelState.from_bytes(saved.to_bytes()))
+    assert run(fresh, inputs[20:], start=20 * 2e-5, h=2e-5) == first, \
+        "a state through bytes into a fresh model repeats exactly (grid rebuilt from the state)"
+
+
+def test_lag_stiffness_is_the_derivative_of_the_step_force():
+    model = ContactModel(ContactParameters(transient=2))
+    inputs, a = creep_oscillation(model, 0.02, 0.5, 30, mean=0.3)
+    run(model, inputs, h=2e-5)
+    saved = model.get_state()
+    t, (load, creep, velocity) = 30 * 2e-5, inputs[-1]
+    out = model.step(t, 2e-5, load, creep, velocity)
+    delta = 1e-6 * model.mu * a / model.radius
+    forces = []
+    for sign in (1, -1):
+        model.set_state(saved)
+        forces.append(model.step(t, 2e-5, load, creep + sign * delta, velocity).tangential_force)
+    difference = (forces[0] - forces[1]) / (2 * delta)
+    assert out.creep_stiffness == pytest.approx(difference, rel=2e-2), \
+        "creep_stiffness must be dT/dxi of the step (the host's linearly implicit coupling uses it)"
+    assert out.creep_stiffness < 0.5 * 2 * 1e5 * model.radius / a, "far below the steady Carter slope for a short step"
+
+
+def test_wheel_at_rest_holds_the_lag_force():
+    model = ContactModel(ContactParameters(transient=2))
+    run(model, [(1e5, 1e-3, 10.0)] * 50, h=1e-4)
+    held = model.state.outputs.tangential_force
+    out = model.step(50e-4, 1e-4, 1e5, 5e-3, 0.0)
+    assert out.tangential_force == held, "V = 0: nothing rolls, the force is held"
+
+
+def test_instationary_models_refuse_scenes_they_do_not_treat():
+    with pytest.raises(ModelError, match="transient = 2 .* flat surface"):
+        ContactModel(ContactParameters(transient=2, corrugation_amplitude=5e-6))
+    with pytest.raises(ModelError, match="transient = 2 .* Coulomb friction"):
+        ContactModel(ContactParameters(transient=2, friction_law=1))
+    model = ContactModel(ContactParameters(transient=1, corrugation_amplitude=5e-6))
+    assert any("quasi-steady" in n for n in model.notices), "transient = 1 on a corrugated rail is reported"
+    quasi = ContactModel(ContactParameters(corrugation_amplitude=5e-6))
+    rows = [(1e5, 1e-3 * (1 + k), 10.0) for k in range(3)]
+    assert run(model, rows) == run(quasi, rows), "... and solved quasi-steady"
+
+
+def test_version_1_states_are_read_as_quasi_steady_history():
+    model = ContactModel()
+    run(model, [(1e5, 1e-3, 20.0)] * 2)
+    data = model.get_state().to_dict()
+    del data["instationary"], data["grid_load"]
+    state = ModelState.from_dict(dict(data, version=1))
+    assert state.instationary is None and state.version == 2, "version 1 reads as version 2 without a lag"

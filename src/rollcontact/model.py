@@ -25,9 +25,21 @@ Time stepping
 Inputs are sampled at the communication points.  ``step(t_n, h, N_n, xi_n, V_n)`` first advances the axis to
 ``X(t_n)`` with the trapezoid of the velocity samples at ``t_(n-1)`` and ``t_n`` (accumulated as a compensated
 sum, so there is no drift over long runs), then evaluates the quasi-steady contact for the inputs sampled at
-``t_n`` at ``X(t_n)``.  Those are the outputs a host reads at ``t_n + h``.  Transient rolling is not implemented
-yet: ``transient`` = 1 (auto) and 2 (always) are accepted and behave as quasi-steady (:attr:`ContactModel.notices`
-says so); :class:`ModelState` has a ``version`` so that history can be added without breaking saved states.
+``t_n`` at ``X(t_n)``.  Those are the outputs a host reads at ``t_n + h``.
+
+Instationary rolling
+--------------------
+``transient`` = 2 (always) evaluates every loaded step with :class:`rollcontact.instationary.InstationaryModel`,
+which rolls the distance ``V_n h`` with the inputs sampled at ``t_n`` held (zero-order hold, the host's view of
+the step): the relaxation model (the lag (R1) around Carter, ``method_used`` 4) or, with ``method`` = 3, the
+discretised transient in creep control (``method_used`` 5).  ``transient`` = 1 (auto) stays quasi-steady while
+the inputs vary slowly and switches the relaxation model in when the stationarity measure
+(:func:`rollcontact.instationary.stationarity_of_samples`) falls below :meth:`ContactModel.transient_threshold`;
+it seeds the lag with the last quasi-steady force and switches back once the inputs are slow again and the lag
+has decayed to the tolerance.  Both models assume a flat surface and Coulomb friction: on other scenes
+``transient`` = 2 is refused and ``transient`` = 1 stays quasi-steady (:attr:`ContactModel.notices` says so).
+With ``method`` = 3, ``transient`` = 1 behaves as 2: the discretised transient is exact in steady rolling too,
+and seeding it from a quasi-steady solution would cost a steady solve per switch.
 
 Frictional power
 ----------------
@@ -35,11 +47,13 @@ For every quasi-steady solution the power dissipated by slip per unit length is
 ``V int q(x) s(x) dx = V xi T'``: with ``s = xi + du/dx`` and ``du/dx = (2/(pi E*)) PV-int q(z)/(x - z) dz``
 the double integral ``int int q(x) q(z)/(x - z) dz dx`` vanishes by antisymmetry.  Hence
 ``frictional_power = V xi T`` [W], the rigid-body creep power; the tests check it against quadrature of the
-Carter distributions.
+Carter distributions.  In instationary rolling ``V xi T`` is reported too: it is the power the creep puts into the
+contact, which there also includes the rate of change of the stored elastic energy.
 """
 
 from __future__ import annotations
 
+import base64
 import dataclasses
 import json
 import math
@@ -51,6 +65,13 @@ import numpy as np
 from rollcontact.api import METHODS, solve
 from rollcontact.closed_form import carter, hertz
 from rollcontact.friction import Coulomb, ExponentialFalling
+from rollcontact.instationary import (
+    STATIONARITY_THRESHOLD,
+    InstationaryModel,
+    InstationaryState,
+    relaxation_length,
+    stationarity_of_samples,
+)
 from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, check_real, load_scene
 
 __all__ = ["AUTO", "METHOD_NAMES", "OPTION_NAMES", "STATIONARY", "ContactModel", "ContactParameters",
@@ -60,7 +81,8 @@ AUTO = 0
 """``method`` code of the automatic choice."""
 
 METHOD_NAMES = {1: "closed_form", 2: "polynomial", 3: "discretised"}
-"""``method`` / ``method_used`` codes and the method families they stand for (0 is auto, resp. no contact).
+"""``method`` / ``method_used`` codes and the method families they stand for (0 is auto, resp. no contact);
+``method_used`` adds :data:`INSTATIONARY_CODES`.
 
 A registered method belongs to a family when its registry name starts with the family's name (e.g.
 ``"polynomial_friction"`` is a polynomial method, code 2); methods of no family are not used by the model.
@@ -68,6 +90,12 @@ A registered method belongs to a family when its registry name starts with the f
 
 STATIONARY = 1e9
 """``stationarity`` reported when nothing varies (constant inputs or no contact); also its upper bound."""
+
+INSTATIONARY_CODES = {"relaxation": 4, "transient": 5}
+"""``method_used`` of the instationary models: 4 relaxation (lag around Carter), 5 discretised transient."""
+
+DEFAULT_TRANSIENT_TOLERANCE = 1e-2
+"""Lag error [1 of mu N] that ``transient`` = 1 tolerates when the ``tolerance`` parameter is 0."""
 
 TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
 FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
@@ -79,7 +107,8 @@ OPTION_NAMES = {"tolerance": ("tolerance",), "polynomial_order": ("order", "poly
 A parameter equal to 0 is not passed (the method's default applies).
 """
 
-STATE_VERSION = 1
+STATE_VERSION = 2
+READABLE_STATE_VERSIONS = (1, 2)  # version 1 had no instationary state: it reads as quasi-steady history
 INF = math.inf
 new_tuple = tuple.__new__  # StepOutputs without NamedTuple.__new__'s extra Python frame, on the closed-form path
 
@@ -112,7 +141,8 @@ class StepOutputs(NamedTuple):
     stationarity : float
         Wavelength of the fastest input variation over a [1] (:meth:`ContactModel.stationarity`).
     method_used : int
-        1 closed form, 2 polynomial, 3 discretised, 0 no contact.
+        1 closed form, 2 polynomial, 3 discretised, 4 instationary relaxation, 5 instationary discretised
+        transient, 0 no contact.
     axis_position : float
         X [m] at which the contact was evaluated.
     """
@@ -174,7 +204,8 @@ class ContactParameters:
     elements : int
         Element count >= 0 for methods that accept it (0: the method's default).
     transient : int
-        0 quasi-static, 1 auto, 2 always; 1 and 2 currently behave as quasi-static.
+        0 quasi-static, 1 auto (instationary model only while the stationarity measure calls for it), 2 always
+        (module docstring, "Instationary rolling").
     datum : float
         Datum distance L [m] >= 0 of instationary rolling, for methods that accept it (0: the method's default).
     """
@@ -258,6 +289,11 @@ class ModelState:
         Successful steps taken.
     outputs : StepOutputs
         Outputs of the last successful step (start values before the first).
+    instationary : InstationaryState or None
+        State of the instationary model while it is in use (None: quasi-steady).  Never modified in place.
+    grid_load : float
+        N' [N/m] the discretised transient's grid was built for (0: none yet); part of the state because the
+        traction history lives on that grid.
     version : int
         Layout version of this state; states of another version are refused by :meth:`from_dict`.
     """
@@ -269,6 +305,8 @@ class ModelState:
     older: tuple[float, float, float, float] | None
     steps: int
     outputs: StepOutputs
+    instationary: InstationaryState | None = None
+    grid_load: float = 0.0
     version: int = STATE_VERSION
 
     @classmethod
@@ -282,26 +320,33 @@ class ModelState:
         return dataclasses.replace(self)
 
     def to_dict(self) -> dict:
-        """JSON-compatible dict; floats survive ``json`` exactly (``repr`` round trip)."""
+        """JSON-compatible dict; floats survive ``json`` exactly (``repr`` round trip), the instationary state as
+        base64 of its exact bytes."""
         return {"version": self.version, "time": self.time, "position": self.position,
                 "position_error": self.position_error,
                 "previous": None if self.previous is None else list(self.previous),
                 "older": None if self.older is None else list(self.older),
-                "steps": self.steps, "outputs": list(self.outputs)}
+                "steps": self.steps, "outputs": list(self.outputs),
+                "instationary": None if self.instationary is None
+                else base64.b64encode(self.instationary.to_bytes()).decode("ascii"),
+                "grid_load": self.grid_load}
 
     @classmethod
     def from_dict(cls, data: dict) -> ModelState:
-        """Inverse of :meth:`to_dict`; raises ModelError for another layout version or missing fields."""
-        if data.get("version") != STATE_VERSION:
+        """Inverse of :meth:`to_dict`; raises ModelError for an unknown layout version or missing fields."""
+        if data.get("version") not in READABLE_STATE_VERSIONS:
             raise ModelError(f"model state version {data.get('version')!r} is not supported "
-                             f"(this rollcontact reads version {STATE_VERSION})")
+                             f"(this rollcontact reads versions {READABLE_STATE_VERSIONS})")
         try:
             previous = data["previous"]
             older = data["older"]
+            packed = data.get("instationary")
+            instationary = None if packed is None else InstationaryState.from_bytes(base64.b64decode(packed))
             return cls(float(data["time"]), float(data["position"]), float(data["position_error"]),
                        None if previous is None else tuple(float(v) for v in previous),
                        None if older is None else tuple(float(v) for v in older),
-                       int(data["steps"]), StepOutputs(*data["outputs"]), STATE_VERSION)
+                       int(data["steps"]), StepOutputs(*data["outputs"]), instationary,
+                       float(data.get("grid_load", 0.0)), STATE_VERSION)
         except (KeyError, TypeError, ValueError) as exc:
             raise ModelError(f"invalid model state: {exc!r}") from None
 
@@ -376,9 +421,23 @@ class ContactModel:
                 surface = Surface(harmonics=harmonics)
             except ValueError as exc:
                 raise ModelError(str(exc)) from None
+        self.instationary: InstationaryModel | None = None
+        """The instationary model of ``transient`` = 1/2 (None: every step quasi-steady)."""
+        self.transient_auto = p.transient == 1 and p.method != 3
         if p.transient != 0:
-            notices.append(f"transient = {p.transient} ({TRANSIENT_MODES[p.transient]}): transient rolling is not "
-                           "implemented yet, every step is solved quasi-steady")
+            unavailable = instationary_unavailable(surface, friction)
+            if unavailable is not None and p.transient == 2:
+                raise ModelError(f"transient = 2 (always) cannot treat this scene: {unavailable}; use transient = 0 "
+                                 "or 1 (1 solves it quasi-steady)")
+            if unavailable is not None:
+                notices.append(f"transient = 1 (auto): {unavailable}, so every step is solved quasi-steady and the "
+                               "stationarity output shows how far that holds")
+            else:
+                self.instationary = InstationaryModel(
+                    radius, material.contact_modulus, friction.static_coefficient,
+                    mode="transient" if p.method == 3 else "relaxation", datum_length=p.datum or None,
+                    elements=p.elements or 100)
+        self.transient_tolerance = p.tolerance or DEFAULT_TRANSIENT_TOLERANCE
         self.notices: tuple[str, ...] = tuple(notices)
         """Messages worth showing once (e.g. in an FMU log): ignored parameters, modes not implemented."""
         self.material = material
@@ -500,19 +559,17 @@ class ContactModel:
             low = state.position_error + ((increment - high) + state.position)
         x = high + low
 
+        lag = None
         if normal_load == 0.0:
             outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
+        elif self.instationary is not None:
+            outputs, lag = self.instationary_step(x, normal_load, creep, velocity, step_size)
         elif self.closed_form:
-            n = normal_load * self.per_width
-            a, p0 = hertz(n, self.radius, self.contact_modulus)
-            t, a_star, stiffness = carter(n, creep, self.radius, self.contact_modulus, self.mu)
-            force = t * self.width
-            outputs = new_tuple(StepOutputs, (force, t / n, a, a_star, self.flat_offset, p0, velocity * creep * force,
-                                              stiffness * self.width,
-                                              self.stationarity(x, normal_load, creep, velocity, a), 1, x))
+            outputs = self.closed_form_step(x, normal_load, creep, velocity)
         else:
             outputs = self.solve_step(x, normal_load, creep, velocity)
 
+        state.instationary = lag
         state.time = current_time
         state.position = high
         state.position_error = low
@@ -521,6 +578,97 @@ class ContactModel:
         state.steps += 1
         state.outputs = outputs
         return outputs
+
+    def closed_form_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
+        """Outputs of Hertz and Carter (closed forms, no Scene built) at axis position x [m]."""
+        n = normal_load * self.per_width
+        a, p0 = hertz(n, self.radius, self.contact_modulus)
+        t, a_star, stiffness = carter(n, creep, self.radius, self.contact_modulus, self.mu)
+        force = t * self.width
+        return new_tuple(StepOutputs, (force, t / n, a, a_star, self.flat_offset, p0, velocity * creep * force,
+                                       stiffness * self.width, self.stationarity(x, normal_load, creep, velocity, a),
+                                       1, x))
+
+    def instationary_step(self, x: float, normal_load: float, creep: float, velocity: float,
+                          step_size: float) -> tuple[StepOutputs, InstationaryState | None]:
+        """Outputs and new instationary state (None: quasi-steady) of a loaded step with ``transient`` = 1 or 2.
+
+        The instationary model rolls ``V h`` with the inputs held.  In auto mode the step is quasi-steady while
+        the stationarity measure stays at or above :meth:`transient_threshold` and no lag is pending; the lag
+        starts from the previous step's quasi-steady force and ends once the measure is back above the threshold
+        and the lag is within ``tolerance`` mu N of the quasi-steady force.
+        """
+        state = self.state
+        model = self.instationary
+        load = normal_load * self.per_width
+        lag = state.instationary
+        quasi = None
+        if self.transient_auto:
+            quasi = (self.closed_form_step if self.closed_form else self.solve_step)(x, normal_load, creep, velocity)
+            if lag is None:
+                if not quasi.stationarity < self.transient_threshold(quasi.contact_half_width, load):
+                    return quasi, None
+                lag = InstationaryState("relaxation", state.outputs.tangential_force * self.per_width)
+        elif model.mode == "transient" and (model.solver is None or state.grid_load != model.max_load):
+            # the grid holds loads up to twice the first loaded step's (a up to sqrt(2) times): restored states
+            # carry the load their traction history was computed on
+            model.build_solver(state.grid_load or 2.0 * load)
+            state.grid_load = model.max_load
+        if lag is None:
+            lag = model.initial_state()
+        try:
+            lag, result = model.step(lag, load, creep, velocity, step_size)
+        except ValueError as exc:
+            raise ModelError(f"instationary {model.mode} model at X = {x!r} m (N = {normal_load!r} N, creep = "
+                             f"{creep!r}, V = {velocity!r} m/s): {exc}") from None
+        if not result.success:
+            raise ModelError(f"instationary {model.mode} model failed at X = {x!r} m: {result.message}")
+        force_per_length = float(result.tangential_force_per_length)
+        a = float(result.contact_half_width)
+        if quasi is not None:
+            settled = abs(force_per_length - quasi.tangential_force * self.per_width) <= (
+                self.transient_tolerance * self.mu * load)
+            if settled and not quasi.stationarity < self.transient_threshold(a, load):
+                return quasi, None
+            measure = quasi.stationarity
+        else:
+            measure = self.stationarity(x, normal_load, creep, velocity, a)
+        force = force_per_length * self.width
+        stiffness = self.lag_stiffness(force_per_length, load, a, velocity * step_size)
+        return new_tuple(StepOutputs, (force, force_per_length / load, a, float(result.stick_half_width),
+                                       self.flat_offset, float(result.max_pressure), velocity * creep * force,
+                                       stiffness * self.width, measure, INSTATIONARY_CODES[model.mode], x)), lag
+
+    def transient_threshold(self, half_width: float, load: float) -> float:
+        """Stationarity below which ``transient`` = 1 switches the lag in [1].
+
+        Under creep control the contact lags by the relaxation length l (``a ln(2L/(sqrt(e) a))`` at zero force,
+        about 4.4 a for a railway wheel, :func:`rollcontact.instationary.relaxation_length`).  For a creep
+        oscillation over Carter's saturation creep and wavelength lambda = stationarity * a, the quasi-steady force
+        then errs by about ``2 (2 pi l / lambda)`` mu N' (the Carter slope at zero force is 2 mu N' per saturation
+        creep), so the threshold is ``4 pi (l / a) / tolerance``, at least :data:`STATIONARITY_THRESHOLD` (the
+        paper's 20, a rule for force control that creep control would miss: quasi-static Carter was measured
+        12-37 % off for lambda/a = 5..50, ``benchmarks/bench_instationary.py``).
+        """
+        length = relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
+                                   self.instationary.datum_length)
+        return max(STATIONARITY_THRESHOLD, 4.0 * math.pi * length / (half_width * self.transient_tolerance))
+
+    def lag_stiffness(self, force: float, load: float, half_width: float, distance: float) -> float:
+        """dT'/dxi [N/m] of one instationary step of rolled distance ``distance`` [m]: ``(1 - exp(-ds/l)) k``.
+
+        The derivative of the step's end force with respect to the creep held over it, for the lag linearised at
+        the current force: Carter's slope ``k = 2 N' R a*/a^2`` times the fraction of the step's lag that relaxes
+        (l the relaxation length, :func:`rollcontact.instationary.relaxation_length`).  Exact for the relaxation
+        model to first order in the force change; for the discretised transient the same linearisation.
+        """
+        a_star = half_width * math.sqrt(max(0.0, 1.0 - abs(force) / (self.mu * load)))
+        steady = 2.0 * load * self.radius * a_star / (half_width * half_width)
+        length = relaxation_length(force, load, self.radius, self.contact_modulus, self.mu,
+                                   self.instationary.datum_length)
+        if length <= 0.0:
+            return steady
+        return -math.expm1(-distance / length) * steady
 
     def solve_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
         """Outputs from the registered methods (auto: polynomial, then discretised) at axis position x [m]."""
@@ -570,49 +718,28 @@ class ContactModel:
                      half_width: float) -> float:
         """Wavelength of the fastest input variation over the contact half-width [1].
 
-        For each input u with a scale S, the local wavenumber along the rolled distance X is
-        ``k = max(|u'| / S, sqrt(|u''| / S))``, with u' and u'' divided differences over the current and the two
-        previous communication points.  For ``u = S sin(2 pi X / lambda)`` sampled finely, k lies between 0.78
-        and 1 times 2 pi / lambda at every phase; smaller variations count as longer wavelengths.  Scales: the
-        load (relative change, ``max(N_n, N_(n-1))``) for ``normal_load``, the Carter saturation creep
-        ``mu a / R`` for ``creep`` and, with velocity-dependent friction only, the largest of the three speeds
-        for ``velocity``.  The result is
-        ``min(2 pi / (k_max a), STATIONARY)``: STATIONARY (1e9) for constant inputs, 0 when an input changes
-        while the wheel does not roll.  The corrugation is geometry, not an input, and does not enter.
+        :func:`rollcontact.instationary.stationarity_of_samples` along the axis position X of the current and the
+        two previous communication points, with Carter's saturation creep ``mu a / R`` as the creep scale and the
+        speed counted only with velocity-dependent friction.  The corrugation is geometry, not an input, and does
+        not enter.
         """
         state = self.state
         previous = state.previous
-        if previous is None or half_width <= 0.0:
+        if previous is None:
             return STATIONARY
-        x1, n1, xi1, v1 = previous
-        older = state.older
-        x2, n2, xi2, v2 = previous if older is None else older
-        varies = self.velocity_dependent and not velocity == v1 == v2
-        if normal_load == n1 == n2 and creep == xi1 == xi2 and not varies:
-            return STATIONARY
-        ds = x - x1
-        if ds <= 0.0:
-            changed = normal_load != n1 or creep != xi1 or (varies and velocity != v1)
-            return 0.0 if changed else STATIONARY
-        ds_older = x1 - x2
-        # input changes divided by their scales, over the last step (e_) and the one before (f_)
-        load_scale = normal_load if normal_load > n1 else n1
-        creep_scale = self.saturation_per_half_width * half_width
-        e_n, f_n = (normal_load - n1) / load_scale, (n1 - n2) / load_scale
-        e_xi, f_xi = (creep - xi1) / creep_scale, (xi1 - xi2) / creep_scale
-        e_v = f_v = 0.0
-        if varies:
-            speed_scale = max(velocity, v1, v2)
-            e_v, f_v = (velocity - v1) / speed_scale, (v1 - v2) / speed_scale
-        k = max(abs(e_n), abs(e_xi), abs(e_v)) / ds
-        if ds_older > 0.0:
-            curvature = max(abs(e_n / ds - f_n / ds_older), abs(e_xi / ds - f_xi / ds_older),
-                            abs(e_v / ds - f_v / ds_older)) * 2.0 / (ds + ds_older)
-            if curvature > k * k:
-                k = math.sqrt(curvature)
-        if k == 0.0:
-            return STATIONARY
-        return min(2.0 * math.pi / (k * half_width), STATIONARY)
+        current = (x, normal_load, creep, velocity)
+        return stationarity_of_samples((previous, current) if state.older is None else (state.older, previous, current),
+                                       half_width, self.saturation_per_half_width * half_width,
+                                       self.velocity_dependent)
+
+
+def instationary_unavailable(surface: Surface, friction) -> str | None:
+    """Why the instationary models cannot treat a scene (they assume a flat surface and Coulomb friction)."""
+    if not surface.is_flat:
+        return "the instationary models assume a flat surface, and this one is corrugated or curved"
+    if not friction.is_constant:
+        return "the instationary models assume Coulomb friction, and this friction depends on slip velocity"
+    return None
 
 
 def method_code(name: str) -> int:
