@@ -16,11 +16,12 @@ No physics here: the parameters become a :class:`rollcontact.model.ContactParame
 from __future__ import annotations
 
 from pathlib import Path
-from xml.etree.ElementTree import Element, SubElement
+from xml.etree.ElementTree import Element
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Initial, Fmi2Status
+from rollcontact_fmu_xml import complete_model_description
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.model import STATIONARY, ContactModel, ContactParameters, ModelState
@@ -105,11 +106,6 @@ VARIABLES = (
 )
 
 PARAMETER_NAMES = tuple(row[0] for row in VARIABLES if row[2] is PARAMETER)
-
-UNITS = {  # SI base-unit exponents
-    "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "s/m": {"m": -1, "s": 1}, "rad": {"rad": 1},
-    "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2}, "W": {"kg": 1, "m": 2, "s": -3},
-}
 
 
 def printf_safe(message: str) -> str:
@@ -219,28 +215,5 @@ class RollingContact2D(Fmi2Slave):
     def to_xml(self, model_options=None) -> Element:
         """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure."""
         root = super().to_xml({} if model_options is None else model_options)
-        rows = {row[0]: row for row in VARIABLES}
-        for variable in root.iter("ScalarVariable"):
-            _, kind, _, _, unit, _, lower, upper, _ = rows[variable.get("name")]
-            element = variable[0]
-            if unit is not None:
-                element.set("unit", unit)
-            for attribute, bound in (("min", lower), ("max", upper)):
-                if bound is not None:
-                    element.set(attribute, f"{bound:.16g}" if kind is Real else str(bound))
-        units = Element("UnitDefinitions")
-        for name, exponents in UNITS.items():
-            unit = SubElement(units, "Unit", name=name)
-            if exponents:
-                SubElement(unit, "BaseUnit", {k: str(v) for k, v in exponents.items()})
-        root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
-        root.remove(root.find("ModelStructure"))
-        structure = SubElement(root, "ModelStructure")
-        outputs = SubElement(structure, "Outputs")
-        initial_unknowns = SubElement(structure, "InitialUnknowns")
-        for index, row in enumerate(VARIABLES, start=1):
-            if row[2] is OUTPUT:  # computed in do_step only: no direct dependency on inputs
-                SubElement(outputs, "Unknown", index=str(index), dependencies="")
-                SubElement(initial_unknowns, "Unknown", index=str(index), dependencies="")
-        return root
+        return complete_model_description(root, VARIABLES)
 

@@ -690,7 +690,11 @@ class ContactModel:
                 continue
             stiffness = float(result.creep_stiffness_per_length)
             if not math.isfinite(stiffness):
-                stiffness = self.creep_stiffness_by_difference(scene, name, result)
+                try:
+                    stiffness = self.creep_stiffness_by_difference(scene, name, result)
+                except ModelError as exc:  # the next method may still give both force and stiffness
+                    reasons.append(str(exc))
+                    continue
             force = float(result.tangential_force_per_length) * self.width
             a = float(result.contact_half_width)
             return StepOutputs(force, float(result.traction_coefficient), a, float(result.stick_half_width),

@@ -1,0 +1,328 @@
+"""Fixed-step co-simulation master on fmpy's ``FMU2Slave``: WheelRig host + RollingContact2D contact.
+
+:func:`run_cosimulation` runs a scene (:mod:`rollcontact_cosim.scenes`) with macro step H from t_0 to
+t_end = t_0 + N H (communication points ``t_n = t_0 + n H``, never accumulated) and returns a
+:class:`CosimResult`.  Algorithms (``[run] algorithm``):
+
+* ``"gauss-seidel"`` (default): per macro step the contact is stepped first with the host's outputs at t_n, then
+  the host with the contact's fresh force and creep stiffness, i.e. the host integrates with ``T(xi(t_n))``.  For
+  the quasi-static contact this is the explicit Euler coupling without extra delay: the most accurate ordering,
+  and for explicit coupling stable up to twice the step of Jacobi.
+* ``"jacobi"``: both FMUs step from the outputs of t_n; the host's force is then the one the contact computed in
+  the previous macro step, ``T(xi(t_(n-1)))`` (and the contact's start values in the first step).  This is
+  libcosim's fixed-step algorithm, used to compare the two masters.
+
+The host's ``force_lag`` follows the algorithm (:meth:`~rollcontact_cosim.scenes.CosimScene.host_parameters`).
+Result rows: row k holds ``t_k``, the host's outputs at t_k and the contact's outputs of its step started at t_k
+(evaluated with the host's outputs at t_k); the contact is stepped once more at t_N to complete the last row.
+
+The FMUs are taken from ``models/`` (or ``fmu_dir``) and built first by ``build_fmu.py --all --if-stale`` (in a
+subprocess: the builder imports the slaves) when missing or older than their sources.
+"""
+
+from __future__ import annotations
+
+import atexit
+import importlib.util
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
+
+from rollcontact_cosim.scenes import (
+    CONNECTIONS,
+    CONTACT,
+    HOST,
+    CosimScene,
+    check_algorithm,
+    load_cosim_scene,
+    macro_steps,
+)
+
+__all__ = ["FMU_DIR", "MASTERS", "CosimResult", "ensure_fmus", "run_cosimulation", "summarise"]
+
+ROOT = Path(__file__).resolve().parents[2]
+FMU_DIR = ROOT / "models"
+"""Default folder of ``RollingContact2D.fmu`` and ``WheelRig.fmu``."""
+MASTERS = ("fmpy", "libcosim")
+STATUS = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
+
+
+@dataclass
+class CosimResult:
+    """Time histories and bookkeeping of one co-simulation run.
+
+    Attributes
+    ----------
+    scene : str
+        Scene name.
+    master : str
+        ``"fmpy"`` or ``"libcosim"``.
+    algorithm : str
+        ``"gauss-seidel"`` or ``"jacobi"``.
+    step_size : float
+        Macro step H [s].
+    values : numpy.ndarray
+        Structured array: ``time`` [s] and the recorded variables (``"Instance.output"``, SI units), one row per
+        communication point reached (module docstring).
+    steps : int
+        Macro steps completed.
+    wall_time : float
+        Wall-clock time [s] of the stepping loop (without loading and initialising the FMUs).
+    success : bool
+        False when an FMU refused a step; ``values`` then ends at the last complete row.
+    message : str
+        Why the run stopped early (with the FMU's log message), or ``"completed"``.
+    """
+
+    scene: str
+    master: str
+    algorithm: str
+    step_size: float
+    values: np.ndarray
+    steps: int
+    wall_time: float
+    success: bool
+    message: str
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.values[name]
+
+    @property
+    def wall_time_per_step(self) -> float:
+        """Wall-clock time per macro step [s]."""
+        return self.wall_time / max(self.steps, 1)
+
+
+def summarise(result: CosimResult) -> dict[str, float]:
+    """Peak adhesion and cost of a run.
+
+    Returns
+    -------
+    dict
+        ``peak_traction_coefficient`` (largest |T/N|, with its sign), ``creep_at_peak`` and ``time_at_peak``
+        (the host's creep at that row) when ``RollingContact2D.traction_coefficient`` and ``WheelRig.creep`` are
+        recorded; ``steps``, ``wall_time`` [s] and ``wall_time_per_step_us`` [us] always.
+    """
+    out: dict[str, float] = {}
+    names = result.values.dtype.names
+    traction, creep = f"{CONTACT}.traction_coefficient", f"{HOST}.creep"
+    if traction in names and creep in names and result.values.size:
+        k = int(np.argmax(np.abs(result.values[traction])))
+        out.update(peak_traction_coefficient=float(result.values[traction][k]),
+                   creep_at_peak=float(result.values[creep][k]), time_at_peak=float(result.values["time"][k]))
+    out.update(steps=result.steps, wall_time=result.wall_time, wall_time_per_step_us=1e6 * result.wall_time_per_step)
+    return out
+
+
+def ensure_fmus(fmu_dir: Path | str = FMU_DIR) -> dict[str, Path]:
+    """Paths of both FMUs in ``fmu_dir``, built by ``build_fmu.py --all --if-stale`` when missing or stale."""
+    fmu_dir = Path(fmu_dir)
+    spec = importlib.util.spec_from_file_location("rollcontact_build_fmu", ROOT / "build_fmu.py")
+    builder = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(builder)  # only for is_stale: the build itself runs in a subprocess
+    if any(builder.is_stale(name, fmu_dir) for name in builder.FMUS):
+        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--all", "--if-stale", "--dest",
+                               str(fmu_dir)], capture_output=True, text=True, timeout=600)
+        if done.returncode != 0:
+            raise RuntimeError(f"build_fmu.py --all failed:\n{done.stdout}\n{done.stderr}")
+    return {name: fmu_dir / f"{name}.fmu" for name in (HOST, CONTACT)}
+
+
+_extracted: dict[tuple[str, float], str] = {}
+
+
+def extracted(fmu: Path) -> str:
+    """The FMU unzipped in a temporary folder, once per file version and process (removed at exit)."""
+    key = (str(fmu.resolve()), fmu.stat().st_mtime)
+    if key not in _extracted:
+        folder = tempfile.mkdtemp(prefix=f"rollcontact_cosim_{fmu.stem}_")
+        atexit.register(shutil.rmtree, folder, ignore_errors=True)
+        _extracted[key] = extract(str(fmu), unzipdir=folder)
+    return _extracted[key]
+
+
+class Slave:
+    """One instantiated FMU with name lookup and its log kept (the last messages explain a Discard)."""
+
+    def __init__(self, fmu: Path, instance_name: str):
+        unzipped = extracted(fmu)
+        self.description = read_model_description(unzipped)
+        self.variables = {v.name: v for v in self.description.modelVariables}
+        self.name = instance_name
+        self.log: list[str] = []
+        self.callbacks = fmi2CallbackFunctions()
+        self.callbacks.logger = fmi2CallbackLoggerTYPE(self.logger)  # referenced here so ctypes keeps it alive
+        self.callbacks.allocateMemory = defaultCallbacks.allocateMemory
+        self.callbacks.freeMemory = defaultCallbacks.freeMemory
+        self.fmu = FMU2Slave(guid=self.description.guid, unzipDirectory=unzipped,
+                             modelIdentifier=self.description.coSimulation.modelIdentifier, instanceName=instance_name)
+        self.fmu.instantiate(callbacks=self.callbacks, loggingOn=True)
+
+    def logger(self, environment, instance_name, status, category, message):
+        self.log.append(f"{STATUS.get(status, status)}: {message.decode(errors='replace').replace('%%', '%')}")
+        del self.log[:-20]
+
+    def reference(self, name: str, causality: str | None = None) -> int:
+        """Value reference of variable ``name`` (with the given causality); KeyError naming the choices."""
+        v = self.variables.get(name)
+        if v is None or (causality is not None and v.causality != causality):
+            choices = [n for n, w in self.variables.items() if causality is None or w.causality == causality]
+            raise KeyError(f"{self.name} has no {causality or 'variable'} {name!r} (choices: {', '.join(choices)})")
+        return v.valueReference
+
+    def set_start_values(self, values: dict) -> None:
+        """Set parameters by name (KeyError naming the parameters for an unknown one)."""
+        for name, value in values.items():
+            vr = self.reference(name, "parameter")
+            kind = self.variables[name].type
+            if kind == "Real":
+                self.fmu.setReal([vr], [float(value)])
+            elif kind == "Integer":
+                if isinstance(value, bool) or value != int(value):
+                    raise ValueError(f"{self.name}.{name} is an Integer parameter, got {value!r}")
+                self.fmu.setInteger([vr], [int(value)])
+            else:
+                self.fmu.setString([vr], [str(value)])
+
+    def free(self) -> None:
+        try:
+            self.fmu.terminate()
+        except FMICallException:  # a Discarded instance may refuse; it is freed anyway
+            pass
+        self.fmu.freeInstance()
+
+
+def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algorithm: str | None = None,
+                     step_size: float | None = None, stop_time: float | None = None, host: dict | None = None,
+                     contact: dict | None = None, fmu_dir: Path | str | None = None) -> CosimResult:
+    """Co-simulate a scene with a fixed macro step.
+
+    Parameters
+    ----------
+    scene : str, Path or CosimScene
+        Scene name (``"traction_ramp"``), TOML path or loaded scene.
+    master : str
+        ``"fmpy"`` (this module) or ``"libcosim"`` (``rollcontact_cosim.osp.run_cosimulation``, same arguments;
+        Jacobi only, so ``algorithm`` None means Jacobi there).
+    algorithm : str, optional
+        ``"gauss-seidel"`` or ``"jacobi"``; the scene's when None.
+    step_size, stop_time : float, optional
+        Macro step H [s] and end time [s] replacing the scene's; ``(stop_time - start_time) / H`` must be whole.
+    host, contact : dict, optional
+        Parameter values applied over the scene's ``[host]`` / ``[contact]`` tables (e.g. ``{"coupling": 0}``).
+    fmu_dir : Path, optional
+        Folder with (or for) the FMUs; ``models/`` when None.  Missing or stale FMUs are built first.
+
+    Returns
+    -------
+    CosimResult
+        ``success`` is False when an FMU answered a step with Discard (the log message is in ``message``).
+    """
+    scene = load_cosim_scene(scene)
+    if master not in MASTERS:
+        raise ValueError(f"master = {master!r} is unknown: use one of {', '.join(MASTERS)}")
+    if master == "libcosim":  # Jacobi only, whatever the scene says
+        from rollcontact_cosim import osp
+
+        return osp.run_cosimulation(scene, algorithm=algorithm, step_size=step_size, stop_time=stop_time, host=host,
+                                    contact=contact, fmu_dir=fmu_dir)
+    algorithm = scene.algorithm if algorithm is None else check_algorithm(algorithm)
+    step = scene.step_size if step_size is None else float(step_size)
+    stop = scene.stop_time if stop_time is None else float(stop_time)
+    steps = macro_steps(scene.start_time, stop, step)
+    host_values = {**scene.host_parameters(algorithm), **(host or {})}
+    contact_values = {**scene.contact_parameters(), **(contact or {})}
+    paths = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir)
+    slaves = {}
+    try:
+        for name in (HOST, CONTACT):
+            slaves[name] = Slave(paths[name], name)
+        slaves[HOST].set_start_values(host_values)
+        slaves[CONTACT].set_start_values(contact_values)
+        for slave in slaves.values():
+            slave.fmu.setupExperiment(startTime=scene.start_time)
+            slave.fmu.enterInitializationMode()
+            slave.fmu.exitInitializationMode()
+        return step_loop(scene, slaves, algorithm, step, steps)
+    finally:
+        for slave in slaves.values():
+            slave.free()
+
+
+def step_loop(scene: CosimScene, slaves: dict[str, Slave], algorithm: str, step: float, steps: int) -> CosimResult:
+    """The macro-step loop of :func:`run_cosimulation` on initialised slaves."""
+    host, contact = slaves[HOST], slaves[CONTACT]
+    # per FMU one getReal of [connection sources..., recorded reals...] and one getInteger of recorded integers
+    wiring = {HOST: ([], []), CONTACT: ([], [])}  # instance -> (source vrs, target vrs of the other instance)
+    for source, target in CONNECTIONS:
+        s_instance, s_name = source.split(".", 1)
+        t_instance, t_name = target.split(".", 1)
+        wiring[s_instance][0].append(slaves[s_instance].reference(s_name, "output"))
+        wiring[s_instance][1].append(slaves[t_instance].reference(t_name, "input"))
+    reals = {HOST: list(wiring[HOST][0]), CONTACT: list(wiring[CONTACT][0])}
+    integers: dict[str, list[int]] = {HOST: [], CONTACT: []}
+    columns = []  # (instance, is_integer, position in that read)
+    for name in scene.outputs:
+        instance, variable = name.split(".", 1)
+        vr = slaves[instance].reference(variable, "output")
+        kind = slaves[instance].variables[variable].type
+        target = integers[instance] if kind == "Integer" else reals[instance]
+        columns.append((instance, kind == "Integer", len(target)))
+        target.append(vr)
+    n_host = len(wiring[HOST][0])
+    n_contact = len(wiring[CONTACT][0])
+    rows = np.empty((steps + 1, 1 + len(columns)))
+    t0 = scene.start_time
+    jacobi = algorithm == "jacobi"
+    host_reals = host.fmu.getReal(reals[HOST])
+    host_integers = host.fmu.getInteger(integers[HOST]) if integers[HOST] else []
+    contact_sources = contact.fmu.getReal(wiring[CONTACT][0])  # start values: Jacobi's first host step
+    message, success, n, stepping, complete = "completed", True, 0, contact, 0
+    start = time.perf_counter()
+    try:
+        for n in range(steps + 1):
+            t = t0 + n * step
+            contact.fmu.setReal(wiring[HOST][1], host_reals[:n_host])
+            if jacobi:
+                host.fmu.setReal(wiring[CONTACT][1], contact_sources)
+            stepping = contact
+            contact.fmu.doStep(t, step)
+            contact_reals = contact.fmu.getReal(reals[CONTACT])
+            contact_integers = contact.fmu.getInteger(integers[CONTACT]) if integers[CONTACT] else []
+            record(rows[n], t, columns, {HOST: (host_reals, host_integers), CONTACT: (contact_reals, contact_integers)})
+            complete = n + 1
+            if n == steps:
+                break
+            contact_sources = contact_reals[:n_contact]
+            if not jacobi:
+                host.fmu.setReal(wiring[CONTACT][1], contact_sources)
+            stepping = host
+            host.fmu.doStep(t, step)
+            host_reals = host.fmu.getReal(reals[HOST])
+            if integers[HOST]:
+                host_integers = host.fmu.getInteger(integers[HOST])
+    except FMICallException as exc:
+        success = False
+        message = (f"{stepping.name}: {exc.function} failed with status {STATUS.get(exc.status, exc.status)} at "
+                   f"t = {t0 + n * step!r} s; its last log message: {stepping.log[-1] if stepping.log else '(none)'}")
+    wall = time.perf_counter() - start
+    dtype = [("time", float)] + [(name, float) for name in scene.outputs]
+    values = np.rec.fromarrays(rows[:complete].T, dtype=dtype).view(np.ndarray) if complete else np.empty(0, dtype)
+    return CosimResult(scene.name, "fmpy", algorithm, step, values, n if not success else steps, wall, success,
+                       message)
+
+
+def record(row: np.ndarray, t: float, columns, reads) -> None:
+    """Fill ``row`` with t and the recorded values (columns: instance, is_integer, position in that read)."""
+    row[0] = t
+    for j, (instance, is_integer, position) in enumerate(columns, start=1):
+        row[j] = reads[instance][1 if is_integer else 0][position]

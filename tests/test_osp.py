@@ -1,0 +1,110 @@
+"""The libcosim master (rollcontact_cosim.osp) against the fmpy master and the reference results, every scene.
+
+Both masters run the same FMUs in this process with the same Jacobi algorithm and macro step and record the same
+rows (libcosim's observer samples the contact one step later; osp shifts it back).  They make the same FMU calls
+with the same values except for the time: libcosim counts integer nanoseconds, so the FMUs see
+``(t0_ns + k H_ns) / 1e9``, which can differ from fmpy's ``t_0 + k H`` in the last bit.  The time-dependent motor
+torque then differs by ~1e-16 relative, which the iterative contact solvers amplify to at most ~3e-9 of a
+variable's range (measured: ~2e-10 in traction_ramp around the adhesion maximum, ~2e-13 elsewhere; 3e-9 with an
+earlier, slower slip iteration).  :data:`MASTER_RTOL` = 1e-7 keeps a margin of 30 over that, while rows shifted by
+one step differ by at least 9e-3 of some variable's range in every scene.  Against the references (made by the
+fmpy master with Gauss-Seidel) libcosim's Jacobi differs mainly in the first macro step, where the host integrates
+with the contact's start values; the scenes' bands allow 1 % outliers.
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+pytest.importorskip("libcosimpy", reason="libcosimpy is not installed (pip install -e '.[test]' installs it)")
+
+from rollcontact_cosim.master import FMU_DIR, ensure_fmus, run_cosimulation  # noqa: E402
+from rollcontact_cosim.osp import NAMESPACE, OSP_CONFIG, run_osp  # noqa: E402
+from rollcontact_cosim.reference import compare, read_reference  # noqa: E402
+from rollcontact_cosim.scenes import CONNECTIONS, CONTACT, HOST, SCENE_NAMES, load_cosim_scene  # noqa: E402
+
+MASTER_RTOL = 1e-7
+"""Largest libcosim - fmpy difference of a recorded variable over its range (module docstring)."""
+
+
+@pytest.fixture(scope="module")
+def fmus():
+    """Both FMUs in models/, built when missing or stale (where OspSystemStructure.xml points)."""
+    return ensure_fmus()
+
+
+@pytest.fixture(scope="module", params=SCENE_NAMES)
+def runs(request, fmus):
+    """(scene, libcosim result, fmpy Jacobi result) of one scene, run once for the module."""
+    scene = load_cosim_scene(request.param)
+    return scene, run_osp(scene), run_cosimulation(scene, algorithm="jacobi")
+
+
+def test_config_is_the_scenes_system():
+    """OspSystemStructure.xml: both FMUs of models/ under their instance names, CONNECTIONS, force_lag = 1."""
+    ns = {"osp": NAMESPACE}
+    root = ET.parse(OSP_CONFIG).getroot()
+    sources = {s.get("name"): (OSP_CONFIG.parent / s.get("source")).resolve()
+               for s in root.findall("osp:Simulators/osp:Simulator", ns)}
+    assert sources == {name: (FMU_DIR / f"{name}.fmu").resolve() for name in (HOST, CONTACT)}, sources
+    connections = {tuple(f"{v.get('simulator')}.{v.get('name')}" for v in c.findall("osp:Variable", ns))
+                   for c in root.findall("osp:Connections/osp:VariableConnection", ns)}
+    assert connections == set(CONNECTIONS), connections ^ set(CONNECTIONS)
+    lag = root.findall(f"osp:Simulators/osp:Simulator[@name='{HOST}']/osp:InitialValues/"
+                       "osp:InitialValue[@variable='force_lag']/osp:Integer", ns)
+    assert [e.get("value") for e in lag] == ["1"], "the host needs force_lag = 1 under libcosim's Jacobi stepping"
+
+
+def test_libcosim_equals_fmpy_jacobi(runs):
+    scene, osp, fmpy = runs
+    assert osp.success and fmpy.success, (osp.message, fmpy.message)
+    assert (osp.master, osp.algorithm, osp.steps) == ("libcosim", "jacobi", scene.steps)
+    assert osp.values.dtype == fmpy.values.dtype
+    assert osp.values.shape == fmpy.values.shape == (scene.steps + 1,)
+    np.testing.assert_array_equal(osp.values["time"], fmpy.values["time"])
+    for name in scene.outputs:
+        expected, got = fmpy.values[name], osp.values[name]
+        scale = max(np.ptp(expected), np.max(np.abs(expected)))
+        assert scale > 0.0, f"{scene.name}: {name} is 0 throughout, the comparison would prove nothing"
+        error = np.max(np.abs(got - expected)) / scale
+        assert error <= MASTER_RTOL, f"{scene.name}: {name} differs by {error:.3g} of its range (row " \
+                                     f"{np.argmax(np.abs(got - expected))})"
+
+
+def test_libcosim_within_reference_band(runs):
+    scene, osp, _ = runs
+    reference, header = read_reference(scene.reference_path)
+    problems = compare(osp.values, reference, scene.band)
+    assert not problems, f"{scene.name} (reference by the {header.get('master')} master, " \
+                         f"{header.get('algorithm')}): {problems}"
+
+
+def test_parameter_overrides_reach_the_fmus(fmus):
+    """``host``/``contact`` override the scene's parameters in both masters alike (short run, through the
+    dispatcher of rollcontact_cosim.master)."""
+    options = dict(stop_time=0.02, host={"static_load": 50e3}, contact={"friction_coefficient": 0.25})
+    osp = run_cosimulation("carter_sanity", master="libcosim", **options)
+    fmpy = run_cosimulation("carter_sanity", algorithm="jacobi", **options)
+    assert osp.success and osp.master == "libcosim", osp.message
+    np.testing.assert_array_equal(osp.values[f"{HOST}.normal_load"], 50e3)
+    np.testing.assert_allclose(osp.values[f"{CONTACT}.tangential_force"], fmpy.values[f"{CONTACT}.tangential_force"],
+                               rtol=MASTER_RTOL)
+
+
+def test_refused_step_is_reported(fmus):
+    """A Discard ends the run with success False, the instance named and only complete rows."""
+    result = run_osp("carter_sanity", stop_time=0.01, contact={"friction_coefficient": -1.0})
+    assert not result.success
+    assert f"{CONTACT}: Step not complete" in result.message, result.message
+    assert result.steps == 0 and result.values.size == 0, (result.steps, result.values)
+
+
+def test_bad_requests_are_refused():
+    with pytest.raises(ValueError, match="Jacobi"):
+        run_osp("carter_sanity", algorithm="gauss-seidel")
+    with pytest.raises(ValueError, match="nanoseconds"):
+        run_osp("carter_sanity", step_size=1.5e-9, stop_time=3e-9)
+
