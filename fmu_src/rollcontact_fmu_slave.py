@@ -92,8 +92,8 @@ VARIABLES = (
     ("method", Integer, PARAMETER, FIXED, None, DEFAULT.method, 0, 3,
      "Method: 0 auto (cheapest the scene needs), 1 closed form, 2 polynomial, 3 discretised"),
     ("tolerance", Real, PARAMETER, FIXED, "1", DEFAULT.tolerance, 0.0, None,
-     "Relative solver tolerance of methods that accept one, and the lag error (of mu N) transient = 1 tolerates "
-     "(0: the methods' defaults, 1e-2 for the lag)"),
+     "Requested relative error of T and p0: each method runs with its cheapest setting that meets it; with "
+     "transient = 1 also the lag error (of mu N) tolerated before the relaxation model takes over (0: defaults)"),
     ("polynomial_order", Integer, PARAMETER, FIXED, None, DEFAULT.polynomial_order, 0, None,
      "Order of the polynomial method (0: chosen from the tolerance)"),
     ("elements", Integer, PARAMETER, FIXED, None, DEFAULT.elements, 0, None,

@@ -140,3 +140,197 @@ def test_auto_reports_a_split_contact_instead_of_a_wrong_answer():
         assert "split" in result.message.lower(), f"the message must say why: {result.message!r}"
     else:  # a registered fallback (e.g. discretised) took over and says so
         assert "fallback" in result.message and result.info.get("fallback_from") == "polynomial", result.message
+
+
+# ------------------------------------------------------------------------------------------ tolerance-aware auto
+# One case per benchmark family (benchmarks/pareto.py has more).  Error: the larger relative error of T' and p0
+# against a reference independent of the setting under test.
+SATURATION = 0.3 * rollcontact.hertz(1e6, 0.46, HERTZIAN.material.contact_modulus)[0] / 0.46  # Carter mu a / R
+FAMILY_CASES = {
+    "hertz/carter": HERTZIAN,
+    "polynomial profile": QUARTIC,
+    "corrugation 40 mm / 20 um": CORRUGATED,
+    "corrugation 20 mm / 5 um": CORRUGATED.replace(
+        surface=Surface(harmonics=(Harmonic.from_wavelength(0.02, 5e-6),))),
+    "split contact 10 mm / 20 um": Scene(1e6, creep=1e-3, axis_position=0.0045,
+                                         surface=Surface(harmonics=(Harmonic.from_wavelength(0.010, 20e-6),))),
+    "velocity-dependent friction": Scene(1e6, creep=0.3 * SATURATION, rolling_speed=20.0,
+                                         friction=ExponentialFalling(0.3, 0.4, 3.0)),
+}
+TOLERANCES = {name: (1e-2, 1e-3, 1e-4) for name in FAMILY_CASES}
+TOLERANCES["split contact 10 mm / 20 um"] = (1e-2,)  # the discretised bound needs n > 1600 below
+# How pessimistic each method's error bound may be (bound / error, measured by benchmarks/pareto.py): auto pays
+# at most for that much accuracy it did not need.  The polynomial truncation tolerance costs nothing (flat cost
+# model), so its slack only concerns the slip iteration's nodes.
+SLACK = {"closed_form": 1.0, "polynomial": 20.0, "discretised": 6.0}
+
+
+def reference(scene):
+    """Converged reference: the closed form; the polynomial method at tolerance 1e-12 (nodes 512 for
+    velocity-dependent friction), itself checked against the extrapolated discretised solver in
+    test_cross_methods.py; for a split contact (no polynomial solution) the discretised solver at n = 1600,
+    within ~1e-3 of n = 3200."""
+    if scene.surface.is_flat and scene.friction.is_constant:
+        return solve(scene, method="closed_form")
+    poly = solve(scene, method="polynomial", tolerance=1e-12, nodes=512)
+    return poly if poly.success else solve(scene, method="discretised", elements=1600)
+
+
+def relative_error(result, ref) -> float:
+    return max(abs(result.tangential_force_per_length / ref.tangential_force_per_length - 1.0),
+               abs(result.max_pressure / ref.max_pressure - 1.0))
+
+
+def measured_settings(scene):
+    """Every setting of every applicable method's ladder (nodes <= 128, elements <= 800 to keep the test short):
+    ``[(setting, error, envelope)]``, the envelope being the largest error of this and the finer settings of the
+    same method (a setting has converged to t when its envelope is <= t; the discretised error is not monotone
+    in n)."""
+    ref = reference(scene)
+    rows = []
+    for spec in METHODS.values():
+        if spec.accuracy is None or spec.inapplicable(scene) is not None:
+            continue
+        method_rows = []
+        for options in spec.accuracy.ladder(scene):
+            if options.get("nodes", 0) > 128 or options.get("elements", 0) > 800:
+                continue
+            result = solve(scene, method=spec.name, **options)
+            if result.success:
+                setting = rollcontact.api.Setting(spec.name, options, spec.accuracy.error(scene, options),
+                                                  spec.accuracy.cost(scene, options))
+                method_rows.append((setting, relative_error(result, ref)))
+        for i, (setting, error) in enumerate(method_rows):
+            rows.append((setting, error, max(e for _, e in method_rows[i:])))
+    return ref, rows
+
+
+@pytest.mark.parametrize("name", list(FAMILY_CASES))
+def test_auto_meets_the_tolerance_at_the_lowest_cost(name):
+    """auto's result errs by at most t against the reference, and no measured setting that converged to
+    t / SLACK (the documented pessimism of its method's bound) is cheaper by the deterministic cost model: auto is
+    the cheapest setting up to what an a-priori error bound can know."""
+    scene = FAMILY_CASES[name]
+    ref, rows = measured_settings(scene)
+    assert rows, f"{name}: no measured setting"
+    for tolerance in TOLERANCES[name]:
+        auto = solve(scene, tolerance=tolerance)
+        assert auto.success and auto.info["tolerance_met"], f"{name}, t = {tolerance}: {auto.message}"
+        error = relative_error(auto, ref)
+        assert error <= tolerance, \
+            f"{name}: auto ({auto.method}, {auto.info['setting']}) error {error:.3g} > {tolerance}"
+        assert auto.info["error_estimate"] <= tolerance, f"{name}: estimate {auto.info['error_estimate']}"
+        cost = METHODS[auto.method].accuracy.cost(scene, auto.info["setting"])
+        # every measured setting that converged to t with room for its model's slack costs at least as much
+        enough = [(s, e) for s, e, envelope in rows if envelope <= tolerance / SLACK[s.method]]
+        assert enough, f"{name}, t = {tolerance}: no measured setting converged to t / slack"
+        cheapest = min(enough, key=lambda row: row[0].cost)[0]
+        assert cost <= cheapest.cost * (1 + 1e-12), \
+            f"{name}, t = {tolerance}: auto took {auto.method} {auto.info['setting']} (model cost {cost:.3g} s), " \
+            f"but {cheapest.method} {cheapest.options} converged (model cost {cheapest.cost:.3g} s)"
+
+
+@pytest.mark.parametrize("name", ["corrugation 40 mm / 20 um", "split contact 10 mm / 20 um",
+                                  "velocity-dependent friction"])
+def test_predicted_errors_bound_the_measured_errors(name):
+    """What makes auto safe: no measured setting errs by more than its prediction (how pessimistic the bounds are
+    varies with the case, benchmarks/results/pareto.md lists the ratios)."""
+    scene = FAMILY_CASES[name]
+    _, rows = measured_settings(scene)
+    for setting, error, _ in rows:
+        assert error <= setting.error_estimate, f"{name}: {setting} has error {error:.3g} above its bound"
+
+
+def test_cost_model_ranks_the_methods_and_settings():
+    """Deterministic cost model (no timing): closed form < polynomial < discretised, cost grows with n and nodes."""
+    cost = {name: METHODS[name].accuracy.cost for name in ("closed_form", "polynomial", "discretised")}
+    assert cost["closed_form"](CORRUGATED, {}) < cost["polynomial"](CORRUGATED, {"tolerance": 1e-12}), "closed < poly"
+    assert cost["polynomial"](CORRUGATED, {"tolerance": 1e-12}) < cost["discretised"](CORRUGATED, {"elements": 50}), \
+        "polynomial < coarsest discretised"
+    falling = FAMILY_CASES["velocity-dependent friction"]
+    poly = [cost["polynomial"](falling, {"nodes": n}) for n in (8, 16, 32, 64)]
+    disc = [cost["discretised"](falling, {"elements": n}) for n in (50, 100, 200, 400)]
+    assert poly == sorted(poly) and disc == sorted(disc), f"costs must grow with the resolution: {poly}, {disc}"
+
+
+def test_auto_reports_a_tolerance_it_cannot_reach():
+    scene = FAMILY_CASES["split contact 10 mm / 20 um"]
+    result = solve(scene, tolerance=1e-4)
+    assert result.success and result.method == "discretised", result.message
+    assert not result.info["tolerance_met"] and result.info["error_estimate"] > 1e-4, result.info
+    assert "not reached" in result.message, f"the message must say so: {result.message!r}"
+    assert result.info["setting"] == {"elements": max(rollcontact.api.DISCRETISED_ELEMENTS)}, \
+        f"the most accurate setting should be used: {result.info['setting']}"
+
+
+def test_without_tolerance_auto_keeps_the_method_defaults():
+    result = solve(CORRUGATED)
+    assert "tolerance" not in result.info and result.info["order"] == solve(CORRUGATED, method="polynomial").info[
+        "order"], "no tolerance: the polynomial's own default order"
+    assert 0 < result.info["error_estimate"] <= 1e-9, f"default estimate {result.info['error_estimate']}"
+
+
+@pytest.mark.parametrize("method", ["closed_form", "polynomial", "discretised"])
+def test_every_method_reports_an_error_estimate(method):
+    result = solve(HERTZIAN, method=method)
+    estimate = result.info["error_estimate"]
+    assert math.isfinite(estimate) and estimate > 0.0, f"{method}: {estimate}"
+    error = abs(result.tangential_force_per_length / solve(HERTZIAN, method="closed_form").tangential_force_per_length
+                - 1.0)
+    assert error <= estimate, f"{method}: error {error:.3g} above its estimate {estimate:.3g}"
+
+
+def test_explicit_options_override_the_chosen_setting():
+    result = solve(CORRUGATED, tolerance=1e-2, order=12)
+    assert result.info["order"] == 12 and result.info["setting"]["order"] == 12, result.info["setting"]
+    assert result.info["error_estimate"] == max(result.residual, rollcontact.api.ROUND_OFF), \
+        "with an explicit order the estimate is the truncation residual"
+
+
+@pytest.mark.parametrize("tolerance", [0.0, -1e-3, math.nan, math.inf, "tight"])
+def test_a_bad_tolerance_is_refused(tolerance):
+    with pytest.raises(ValueError, match="tolerance"):
+        solve(CORRUGATED, tolerance=tolerance)
+
+
+def test_an_explicit_method_still_takes_its_own_tolerance():
+    result = solve(CORRUGATED, method="polynomial", tolerance=1e-3)
+    assert result.info["order"] < solve(CORRUGATED, method="polynomial").info["order"], \
+        "method='polynomial' passes tolerance on as its truncation tolerance"
+    assert "tolerance_met" not in result.info, "only auto judges a tolerance"
+
+
+def test_a_registered_method_with_its_own_accuracy_model_competes(monkeypatch):
+    class Cheap(rollcontact.api.AccuracyModel):
+        def ladder(self, scene):
+            return ({"level": 1}, {"level": 2})
+
+        def cost(self, scene, options):
+            return 1e-9 * options["level"]
+
+        def error(self, scene, options):
+            return 10.0 ** -options["level"]
+
+    def surrogate(scene, level=1):
+        exact = solve(scene, method="polynomial", tolerance=1e-12)
+        return ContactResult(**{**exact.__dict__, "method": "surrogate", "info": {"level": level}})
+
+    surrogate.options = ("level",)
+    monkeypatch.setitem(METHODS, "surrogate", rollcontact.api.MethodSpec("surrogate", surrogate, lambda s: None, 5,
+                                                                         accuracy=Cheap()))
+    assert solve(CORRUGATED, tolerance=0.5).info["level"] == 1, "cheapest setting meeting 0.5"
+    assert solve(CORRUGATED, tolerance=0.05).info["level"] == 2, "0.1 does not meet 0.05"
+    assert solve(CORRUGATED, tolerance=1e-3).method == "polynomial", "the surrogate cannot reach 1e-3"
+    assert choose_method(CORRUGATED, tolerance=0.05) == "surrogate", "choose_method with a tolerance"
+
+
+def test_a_method_without_accuracy_model_is_used_only_when_nothing_else_applies(monkeypatch):
+    only = rollcontact.closed_form.solve_closed_form
+
+    for name in list(METHODS):
+        monkeypatch.delitem(METHODS, name)
+    monkeypatch.setitem(METHODS, "plain", rollcontact.api.MethodSpec("plain", only, lambda s: None, 0))
+    result = solve(HERTZIAN, tolerance=1e-3)
+    assert result.success and math.isnan(rollcontact.api.choose_setting(HERTZIAN, 1e-3).error_estimate), \
+        "an unmodelled method gives no estimate"
+    assert result.info["tolerance_met"] is False, "an unknown error cannot be said to meet the tolerance"

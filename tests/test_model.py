@@ -496,3 +496,18 @@ def test_version_1_states_are_read_as_quasi_steady_history():
     del data["instationary"], data["grid_load"]
     state = ModelState.from_dict(dict(data, version=1))
     assert state.instationary is None and state.version == 2, "version 1 reads as version 2 without a lag"
+
+
+@pytest.mark.parametrize("tolerance", [1e-2, 1e-3])
+def test_tolerance_selects_a_setting_that_meets_it(tolerance):
+    """The FMU's ``tolerance`` is the requested accuracy of T (as ``rollcontact.solve(scene, tolerance=...)``)."""
+    rows = [(1e5, 2e-3, 20.0)]
+    coarse = run(ContactModel(ContactParameters(friction_law=1, friction_decay=5.0, tolerance=tolerance)), rows)[0]
+    fine = run(ContactModel(ContactParameters(friction_law=1, friction_decay=5.0, tolerance=1e-7)), rows)[0]
+    error = abs(coarse.tangential_force - fine.tangential_force) / abs(fine.tangential_force)
+    assert error <= tolerance, f"tolerance {tolerance}: T off by {error:.2e}"
+
+
+def test_a_tolerance_below_the_lag_accuracy_is_reported():
+    model = ContactModel(ContactParameters(transient=1, tolerance=1e-4))
+    assert any("relaxation lag" in n and "method = 3" in n for n in model.notices), model.notices

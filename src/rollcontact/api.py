@@ -1,14 +1,103 @@
-"""One dispatcher, a registry of methods and the automatic choice (in the manner of scipy's root_scalar)."""
+"""One dispatcher, a registry of methods and the automatic choice (in the manner of scipy's root_scalar).
+
+Tolerance-aware choice
+----------------------
+``solve(scene, tolerance=t)`` (method ``"auto"``) takes, over every method that can treat the scene, the cheapest
+*setting* whose error estimate is at most t.  Each registered method may carry an :class:`AccuracyModel` that
+lists its settings for a scene (option sets such as a polynomial tolerance, a node count or an element count) and
+gives, for each, the predicted error and a modelled cost:
+
+* error: the larger of the relative errors of T' and of the peak pressure p0, from measured convergence
+  (the discretised T' is first order in the elements across the contact, the polynomial method's truncation is
+  controlled by its coefficient decay, its slip iteration converges as the square of the node count);
+* cost: modelled seconds per solve from operation counts (n^3 for a dense factorisation, nodes^2 per slip
+  iteration, iteration counts growing with the friction law's sharpness), with constants measured by
+  ``benchmarks/pareto.py``, which also checks the model against measured times.  Only the ranking matters.
+
+The result reports ``info["error_estimate"]`` (the method's estimate for the options actually used, a posteriori
+where the method returns one, e.g. the polynomial truncation residual or the discretised grid), and with a
+tolerance also ``info["tolerance"]``, ``info["tolerance_met"]`` and ``info["setting"]``.  When no setting meets
+the tolerance, the most accurate one is used and the message says so.  Without a tolerance ``auto`` behaves as
+before: the cheapest exact method with its defaults.
+"""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
 
 from rollcontact.result import ContactResult
 from rollcontact.scene import Scene
 
-__all__ = ["METHODS", "MethodSpec", "choose_method", "register_method", "solve"]
+__all__ = ["METHODS", "AccuracyModel", "MethodSpec", "Setting", "choose_method", "choose_setting", "register_method",
+           "setting_for", "solve"]
+
+ROUND_OFF = 1e-14
+"""Relative error reported for results exact up to floating-point round-off."""
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One way to run a method on a scene, with what it is predicted to achieve and to cost.
+
+    Attributes
+    ----------
+    method : str
+        Registry name.
+    options : dict
+        Keyword options for the method.
+    error_estimate : float
+        Predicted relative error [1] of T' and p0 (the larger); NaN when the method has no accuracy model.
+    cost : float
+        Modelled time per solve [s]; NaN when the method has no accuracy model.
+    """
+
+    method: str
+    options: dict
+    error_estimate: float
+    cost: float
+
+
+class AccuracyModel:
+    """How the error and the cost of a method depend on its options; what the tolerance-aware ``auto`` needs.
+
+    Subclasses give :meth:`ladder` (option sets, cheapest first), :meth:`cost` and :meth:`error`;
+    :meth:`achieved` may refine the error from a result.
+    """
+
+    def ladder(self, scene: Scene) -> tuple[dict, ...]:  # pragma: no cover - interface
+        """Option sets worth considering for the scene, from the cheapest to the most accurate."""
+        raise NotImplementedError
+
+    def cost(self, scene: Scene, options: dict) -> float:  # pragma: no cover - interface
+        """Modelled time per solve [s] with these options."""
+        raise NotImplementedError
+
+    def error(self, scene: Scene, options: dict) -> float:  # pragma: no cover - interface
+        """Predicted relative error [1] of T' and p0 with these options (before solving)."""
+        raise NotImplementedError
+
+    def achieved(self, scene: Scene, options: dict, result: ContactResult) -> float:
+        """Error estimate [1] of a result obtained with these options; by default the prediction."""
+        return self.error(scene, options)
+
+    def minimum_cost(self, scene: Scene) -> float:
+        """Cost of the cheapest setting [s] (lets ``auto`` skip a method that cannot beat its best so far); the
+        first of the ladder unless a subclass knows better without building it."""
+        return self.cost(scene, self.ladder(scene)[0])
+
+    def setting_for(self, name: str, scene: Scene, tolerance: float) -> Setting:
+        """The cheapest setting whose predicted error is at most ``tolerance``, else the most accurate one."""
+        settings = [Setting(name, options, self.error(scene, options), self.cost(scene, options))
+                    for options in self.ladder(scene)]
+        meeting = [s for s in settings if s.error_estimate <= tolerance]
+        if meeting:
+            return min(meeting, key=lambda s: (s.cost, -s.error_estimate))
+        return min(settings, key=lambda s: (nan_last(s.error_estimate), s.cost))
 
 
 @dataclass(frozen=True)
@@ -25,9 +114,12 @@ class MethodSpec:
         ``inapplicable(scene) -> str | None``: why the method cannot give the exact answer for the scene, or
         None when it can (up to its own discretisation error).
     cost : int
-        Rank for the automatic choice: lower is cheaper.
+        Rank for the automatic choice without a tolerance: lower is cheaper.
     fallback : bool
         Whether ``auto`` may use it when a cheaper method reports that its assumptions failed.
+    accuracy : AccuracyModel or None
+        Settings, error and cost model for the tolerance-aware choice; None: the method is used by ``auto``
+        with a tolerance only when no modelled method applies.
     """
 
     name: str
@@ -35,18 +127,29 @@ class MethodSpec:
     inapplicable: Callable[[Scene], str | None]
     cost: int
     fallback: bool = False
+    accuracy: AccuracyModel | None = None
 
 
 METHODS: dict[str, MethodSpec] = {}
 
 
-def register_method(name: str, function, inapplicable, cost: int, *, fallback: bool = False) -> None:
-    """Add (or replace) a method in the registry; one module and one call per fidelity level."""
-    METHODS[name] = MethodSpec(name, function, inapplicable, cost, fallback)
+def register_method(name: str, function, inapplicable, cost: int, *, fallback: bool = False,
+                    accuracy: AccuracyModel | None = None) -> None:
+    """Add (or replace) a method in the registry; one module and one call per fidelity level.
+
+    ``accuracy`` defaults to this module's model for the built-in methods of the same name
+    (:data:`BUILTIN_ACCURACY`).
+    """
+    if accuracy is None:
+        accuracy = BUILTIN_ACCURACY.get(name)
+    METHODS[name] = MethodSpec(name, function, inapplicable, cost, fallback, accuracy)
 
 
-def choose_method(scene: Scene) -> str:
-    """Name of the cheapest registered method that is exact for the scene."""
+def choose_method(scene: Scene, tolerance: float | None = None) -> str:
+    """Name of the cheapest registered method that is exact for the scene (or, with a tolerance, of the method
+    of :func:`choose_setting`)."""
+    if tolerance is not None:
+        return choose_setting(scene, tolerance).method
     reasons = []
     for spec in sorted(METHODS.values(), key=lambda s: s.cost):
         why = spec.inapplicable(scene)
@@ -54,6 +157,73 @@ def choose_method(scene: Scene) -> str:
             return spec.name
         reasons.append(f"{spec.name}: {why}")
     raise ValueError("no registered method can solve this scene (" + "; ".join(reasons) + ")")
+
+
+def choose_setting(scene: Scene, tolerance: float, names=None) -> Setting:
+    """The cheapest setting, over the applicable methods, whose error estimate is at most ``tolerance``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case.
+    tolerance : float
+        Requested relative error of T' and p0, > 0.
+    names : iterable of str, optional
+        Consider only these methods (default: all registered).
+
+    Returns
+    -------
+    Setting
+        When no setting meets the tolerance, the most accurate one (``error_estimate > tolerance``); when no
+        method with an accuracy model applies, the cheapest exact method by rank with its defaults (NaN
+        estimates).
+
+    Raises
+    ------
+    ValueError
+        Invalid tolerance, or no considered method can treat the scene.
+    """
+    tolerance = check_tolerance(tolerance)
+    allowed = None if names is None else set(names)
+    best = closest = None
+    unmodelled = []
+    for spec in sorted(METHODS.values(), key=lambda s: s.cost):
+        if allowed is not None and spec.name not in allowed:
+            continue
+        model = spec.accuracy
+        # a method whose cheapest setting costs more than the best found cannot win: skip its checks
+        if best is not None and (model is None or model.minimum_cost(scene) >= best.cost):
+            continue
+        if spec.inapplicable(scene) is not None:
+            continue
+        if model is None:
+            unmodelled.append(spec.name)
+            continue
+        setting = model.setting_for(spec.name, scene, tolerance)
+        if setting.error_estimate <= tolerance:
+            if best is None or setting.cost < best.cost:
+                best = setting
+        elif closest is None or nan_last(setting.error_estimate) < nan_last(closest.error_estimate):
+            closest = setting
+    if best is not None or closest is not None:
+        return best if best is not None else closest
+    if unmodelled:
+        return Setting(unmodelled[0], {}, math.nan, math.nan)
+    raise ValueError("no registered method can solve this scene"
+                     + (f" among {sorted(allowed)}" if allowed is not None else ""))
+
+
+def setting_for(name: str, scene: Scene, tolerance: float) -> Setting:
+    """The cheapest setting of method ``name`` whose error estimate meets ``tolerance`` (else its most accurate).
+
+    For callers that run a fixed list of methods themselves (the FMU's stepping model); a method without an
+    accuracy model gets its defaults (NaN estimates).
+    """
+    tolerance = check_tolerance(tolerance)
+    model = METHODS[name].accuracy
+    if model is None:
+        return Setting(name, {}, math.nan, math.nan)
+    return model.setting_for(name, scene, tolerance)
 
 
 def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
@@ -64,41 +234,287 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
     scene : Scene
         The case.
     method : str
-        ``"auto"`` (the cheapest method exact for the scene; when its validity checks fail it falls back to a
-        registered fallback method such as ``"discretised"``) or a name in :data:`METHODS`.
+        ``"auto"`` or a name in :data:`METHODS`.  ``"auto"`` without a tolerance takes the cheapest method exact
+        for the scene with its defaults; with ``tolerance`` the cheapest setting of any applicable method whose
+        error estimate meets it (module docstring).  When the chosen method's validity checks fail, ``auto``
+        falls back to a registered fallback method such as ``"discretised"``.
     **options
-        Passed to the method (see each method's docstring); with ``"auto"`` only options the chosen method
-        accepts are passed.
+        Passed to the method (see each method's docstring).  With ``"auto"``: ``tolerance`` [1] is the requested
+        relative error of T' and p0 (not passed on as such); other options override the chosen setting's and
+        only those the chosen method accepts are passed.
 
     Returns
     -------
     ContactResult
         ``success`` is False, with a message, when the method's assumptions failed or it did not converge.
+        ``info["error_estimate"]`` holds the estimated relative error of T' and p0 when the method has an
+        accuracy model; with a tolerance also ``tolerance``, ``tolerance_met`` and ``setting`` (options used).
 
     Raises
     ------
     ValueError
-        Unknown method name (the message lists the valid ones), or a method that cannot treat the scene.
+        Unknown method name (the message lists the valid ones), a method that cannot treat the scene, or an
+        invalid tolerance.
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a rollcontact.Scene, got {type(scene).__name__}")
     if method != "auto":
         if method not in METHODS:
             raise ValueError(f"unknown method {method!r}; valid methods are {['auto', *sorted(METHODS)]}")
-        return METHODS[method].function(scene, **options)
-    name = choose_method(scene)
-    result = call_with_known_options(METHODS[name], scene, options)
+        spec = METHODS[method]
+        return annotate(spec, scene, options, spec.function(scene, **options))
+    tolerance = options.pop("tolerance", None)
+    if tolerance is None:
+        spec = METHODS[choose_method(scene)]
+        result = call_with_known_options(spec, scene, options)
+    else:
+        tolerance = check_tolerance(tolerance)
+        spec, result = run_setting(choose_setting(scene, tolerance), scene, options, tolerance)
     if result.success:
         return result
-    for spec in sorted(METHODS.values(), key=lambda s: s.cost):
-        if spec.fallback and spec.cost > METHODS[name].cost and spec.inapplicable(scene) is None:
-            backup = call_with_known_options(spec, scene, options)
-            info = dict(backup.info, fallback_from=name, fallback_reason=result.message)
-            return type(backup)(**{**backup.__dict__, "info": info,
-                                   "message": f"{backup.message} (fallback: {name} failed: {result.message})"})
-    return result
+    name = spec.name
+    backups = [s for s in METHODS.values()
+               if s.fallback and s.cost > spec.cost and (tolerance is not None or s.inapplicable(scene) is None)]
+    if not backups:
+        return result
+    if tolerance is None:
+        backup_spec = min(backups, key=lambda s: s.cost)
+        backup = call_with_known_options(backup_spec, scene, options)
+    else:
+        try:
+            setting = choose_setting(scene, tolerance, names=[s.name for s in backups])
+        except ValueError:  # no fallback method can treat the scene either
+            return result
+        backup_spec, backup = run_setting(setting, scene, options, tolerance)
+    info = dict(backup.info, fallback_from=name, fallback_reason=result.message)
+    return type(backup)(**{**backup.__dict__, "info": info,
+                           "message": f"{backup.message} (fallback: {name} failed: {result.message})"})
+
+
+def run_setting(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec, ContactResult]:
+    """Run a chosen setting (user options override it) and record the tolerance outcome in the result."""
+    spec = METHODS[setting.method]
+    result = call_with_known_options(spec, scene, {**setting.options, **options})
+    estimate = result.info.get("error_estimate", math.nan)
+    met = bool(estimate <= tolerance)
+    result.info.update(tolerance=tolerance, tolerance_met=met, setting=used_options(spec, {**setting.options,
+                                                                                           **options}))
+    if met or not result.success:
+        return spec, result
+    note = (f" (tolerance {tolerance:.3g} not reached: error estimate {estimate:.3g})" if math.isfinite(estimate)
+            else f" (tolerance {tolerance:.3g} not checked: the method gives no error estimate)")
+    return spec, type(result)(**{**result.__dict__, "message": result.message + note})
 
 
 def call_with_known_options(spec: MethodSpec, scene: Scene, options: dict) -> ContactResult:
+    """Call the method with the options it accepts, and annotate the result with its error estimate."""
+    used = used_options(spec, options)
+    return annotate(spec, scene, used, spec.function(scene, **used))
+
+
+def used_options(spec: MethodSpec, options: dict) -> dict:
     accepted = getattr(spec.function, "options", ())
-    return spec.function(scene, **{k: v for k, v in options.items() if k in accepted})
+    return {k: v for k, v in options.items() if k in accepted}
+
+
+def annotate(spec: MethodSpec, scene: Scene, options: dict, result: ContactResult) -> ContactResult:
+    """Put the method's error estimate for the options used into ``result.info`` (a fresh dict per result)."""
+    if spec.accuracy is not None and isinstance(result, ContactResult):
+        result.info["error_estimate"] = spec.accuracy.achieved(scene, options, result)
+    return result
+
+
+def check_tolerance(tolerance) -> float:
+    try:
+        value = float(tolerance)
+    except (TypeError, ValueError):
+        raise ValueError(f"tolerance must be a real number, got {tolerance!r}") from None
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"tolerance = {value!r} is out of range: it must be finite and > 0")
+    return value
+
+
+def nan_last(value: float) -> float:
+    return math.inf if math.isnan(value) else value
+
+
+# ----------------------------------------------------------------------------- accuracy models of the methods
+# Constants measured by benchmarks/pareto.py (which prints fitted values and checks model against measurement):
+# times on one core of the 2.5 GHz Xeon of benchmarks/results/pareto.md; errors as bounds over its cases.
+CLOSED_FORM_COST = 8.8e-6  # s, Hertz + Carter through solve()
+POLYNOMIAL_COST = 1.8e-4  # s, normal Newton, tangential root and validity checks (order-independent to ~10 %)
+POLYNOMIAL_HARMONIC_COST = 4.6e-5  # s per surface harmonic
+SLIP_ITERATIONS = (7.0, 30.0)  # slip iterations ~ 7 + 30 beta (beta: friction_sharpness)
+SLIP_COST = (7e-5, 3e-8, 3.2e-10)  # s per slip iteration with N nodes, a + b N^2 + c N^3 (dense node tables)
+DIRECT_COST = (1.6e-3, 2e-8, 2.3e-11)  # s: discretised Coulomb, a + b n^2 + c n^3 (influence matrices, LU)
+STRUCTURED_ITERATIONS = (20.0, 85.0)  # Newton iterations of the discretised velocity-dependent solve ~ 20 + 85 beta
+STRUCTURED_COST = (2.2e-4, 1.26e-8, 1.37e-11)  # s per such Newton iteration, a + b n^2 + c n^3
+
+POLYNOMIAL_TOLERANCES = tuple(10.0**-k for k in range(2, 13))
+SLIP_NODES = (8, 16, 32, 64, 128, 256, 512)
+SLIP_NODE_ERROR = 1.0  # relative T' error <= SLIP_NODE_ERROR * sharpness / nodes^2 (bound over the measured cases)
+DISCRETISED_ELEMENTS = (50, 100, 200, 400, 800, 1600)
+DISCRETISED_FORCE_ERROR = 1.4  # relative T' error <= 1.4 w/n (w = window over the Hertz width 2a)
+DISCRETISED_PRESSURE_ERROR = 3.0  # relative p0 error <= 3 (w/n)^2
+
+
+class ClosedFormAccuracy(AccuracyModel):
+    """Hertz + Carter: exact (round-off) wherever applicable, one setting."""
+
+    def ladder(self, scene):
+        return ({},)
+
+    def cost(self, scene, options):
+        return CLOSED_FORM_COST
+
+    def error(self, scene, options):
+        return ROUND_OFF
+
+
+class PolynomialAccuracy(AccuracyModel):
+    """Polynomial method: T', a, Delta and a* are exact (Bessel moments); the order limits p(x) and p0.
+
+    Settings: the truncation ``tolerance`` (the method picks the order whose neglected coefficients stay below
+    it relative to the Hertz slope; the p0 error follows) and, for velocity-dependent friction, the slip
+    iteration's ``nodes``, whose T' error was measured below ``SLIP_NODE_ERROR * beta / nodes^2`` with the
+    friction law's sharpness ``beta`` (:func:`friction_sharpness`).  An explicit ``order`` has no prediction
+    (NaN); the result's truncation residual then gives the estimate.
+    """
+
+    def ladder(self, scene):
+        if scene.friction.is_constant:
+            return tuple({"tolerance": t} for t in POLYNOMIAL_TOLERANCES)
+        return tuple({"nodes": n} for n in SLIP_NODES)
+
+    def cost(self, scene, options):
+        base = POLYNOMIAL_COST + POLYNOMIAL_HARMONIC_COST * len(scene.surface.harmonics)
+        if scene.friction.is_constant:
+            return base
+        nodes = options.get("nodes", default_option("polynomial", "nodes"))
+        iterations = SLIP_ITERATIONS[0] + SLIP_ITERATIONS[1] * friction_sharpness(scene)
+        a, b, c = SLIP_COST
+        return base + iterations * (a + b * nodes * nodes + c * nodes**3)
+
+    def error(self, scene, options):
+        if options.get("order") is not None:
+            return math.nan
+        truncation = options.get("tolerance", default_option("polynomial", "tolerance"))
+        return max(truncation, self.slip_error(scene, options))
+
+    def achieved(self, scene, options, result):
+        # residual: the first neglected coefficients relative to the leading one (inf when the solve failed)
+        if not math.isfinite(result.residual):
+            return math.nan
+        return max(result.residual, ROUND_OFF, self.slip_error(scene, options))
+
+    @staticmethod
+    def slip_error(scene, options) -> float:
+        if scene.friction.is_constant or scene.creep == 0.0:
+            return 0.0
+        nodes = options.get("nodes", default_option("polynomial", "nodes"))
+        return SLIP_NODE_ERROR * friction_sharpness(scene) / (nodes * nodes)
+
+
+class DiscretisedAccuracy(AccuracyModel):
+    """Discretised method: T' first order and p0 second order in the elements across the contact.
+
+    The bound ``max(1.4 w/n, 3 (w/n)^2)`` (w the grid length over the Hertz width 2a, n the elements) holds
+    for every measured case; the first-order coefficient varies 0.2-1.4 with where the patch edges fall on the
+    grid, so the bound can be ~5 times pessimistic for a particular n.  Element counts below the automatic
+    grid's resolution of the shortest surface wavelength are not offered.
+    """
+
+    def ladder(self, scene):
+        needed = self.resolution(scene)
+        rungs = tuple({"elements": n} for n in DISCRETISED_ELEMENTS if n >= needed)
+        return rungs or ({},)  # the automatic grid resolves the shortest wavelength
+
+    def cost(self, scene, options):
+        n = options.get("elements") or automatic_grid(scene).elements
+        if scene.friction.is_constant:
+            a, b, c = DIRECT_COST
+            return a + b * n * n + c * n**3
+        a, b, c = STRUCTURED_COST
+        iterations = STRUCTURED_ITERATIONS[0] + STRUCTURED_ITERATIONS[1] * friction_sharpness(scene)
+        return iterations * (a + b * n * n + c * n**3)
+
+    def minimum_cost(self, scene):
+        return self.cost(scene, {"elements": DISCRETISED_ELEMENTS[0]})
+
+    def error(self, scene, options):
+        if scene.normal_load_per_length == 0.0:
+            return 0.0
+        window = options.get("window")
+        length = automatic_length(scene) if window is None else float(window[1]) - float(window[0])
+        elements = options.get("elements") or automatic_grid(scene, None, window).elements
+        return self.bound(scene, length, elements)
+
+    def achieved(self, scene, options, result):
+        grid = result.info.get("grid")
+        if grid is None:  # no load: no grid, nothing to get wrong
+            return 0.0
+        return self.bound(scene, grid.length, grid.elements)
+
+    @staticmethod
+    def resolution(scene) -> int:
+        """Elements the automatic grid needs for the shortest surface wavelength (0 without harmonics)."""
+        from rollcontact.discretised import ELEMENTS_PER_WAVELENGTH
+
+        waves = [2.0 * math.pi / h.wavenumber for h in scene.surface.harmonics if h.amplitude > 0.0]
+        if not waves or scene.normal_load_per_length == 0.0:
+            return 0
+        return math.ceil(ELEMENTS_PER_WAVELENGTH * automatic_length(scene) / min(waves))
+
+    @staticmethod
+    def bound(scene, length: float, elements: int) -> float:
+        ratio = length / (2.0 * hertz_half_width(scene) * elements)
+        return max(DISCRETISED_FORCE_ERROR * ratio, DISCRETISED_PRESSURE_ERROR * ratio * ratio)
+
+
+def default_option(name: str, option: str):
+    """Default of the keyword-only ``option`` of registered method ``name`` (one source of truth: the method)."""
+    return METHODS[name].function.__kwdefaults__[option]
+
+
+# the method modules import this one, so theirs are imported when first needed
+def automatic_grid(scene, elements=None, window=None):
+    """:func:`rollcontact.discretised.automatic_grid`."""
+    from rollcontact.discretised import automatic_grid as grid_for
+
+    return grid_for(scene, elements, window)
+
+
+@lru_cache(maxsize=32)
+def automatic_length(scene) -> float:
+    """Length [m] of the automatic grid's window (cached: each setting of the ladder asks for it)."""
+    return automatic_grid(scene).length
+
+
+def hertz_half_width(scene) -> float:
+    """Hertz half-width a [m] of the scene's load and radius."""
+    from rollcontact.closed_form import hertz
+
+    return hertz(scene.normal_load_per_length, scene.radius, scene.material.contact_modulus)[0]
+
+
+def friction_sharpness(scene: Scene) -> float:
+    """``beta = max|dmu/dv| v_max / mu_s`` [1] over slip velocities ``0..v_max``, ``v_max = V max(|xi|, mu a/R)``.
+
+    How much mu changes across the slip velocities of the patch: it sets the error of the slip iteration.
+    """
+    mu = scene.friction_coefficient
+    return sharpness(scene.friction, scene.rolling_speed * max(abs(scene.creep), mu * hertz_half_width(scene)
+                                                               / scene.radius))
+
+
+@lru_cache(maxsize=64)
+def sharpness(friction, v_max: float) -> float:
+    # cached: every setting of a ladder asks for the same scene's value
+    slopes = np.abs(friction.derivative(np.linspace(0.0, v_max, 9)))
+    return float(np.max(slopes)) * v_max / friction.static_coefficient
+
+
+BUILTIN_ACCURACY: dict[str, AccuracyModel] = {"closed_form": ClosedFormAccuracy(),
+                                              "polynomial": PolynomialAccuracy(),
+                                              "discretised": DiscretisedAccuracy()}
+"""Accuracy models of the methods shipped with the package, by registry name (see :func:`register_method`)."""

@@ -62,7 +62,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rollcontact.api import METHODS, solve
+from rollcontact.api import METHODS, setting_for, solve
 from rollcontact.closed_form import carter, hertz
 from rollcontact.friction import Coulomb, ExponentialFalling
 from rollcontact.instationary import (
@@ -97,14 +97,20 @@ INSTATIONARY_CODES = {"relaxation": 4, "transient": 5}
 DEFAULT_TRANSIENT_TOLERANCE = 1e-2
 """Lag error [1 of mu N] that ``transient`` = 1 tolerates when the ``tolerance`` parameter is 0."""
 
+RELAXATION_ACCURACY = 4e-3
+"""Error [1 of mu N] of the relaxation lag against the discretised transient (n = 800), measured 2.8-3.6e-3 for
+lambda/a = 5..40 by ``benchmarks/pareto.py``; the discretised transient's is about 0.4/n."""
+
 TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
 FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
 
-OPTION_NAMES = {"tolerance": ("tolerance",), "polynomial_order": ("order", "polynomial_order"),
-                "elements": ("elements",), "datum": ("datum_length", "datum")}
+OPTION_NAMES = {"polynomial_order": ("order", "polynomial_order"), "elements": ("elements",),
+                "datum": ("datum_length", "datum")}
 """Parameter -> option names under which it is passed to a method that lists them in its ``options``.
 
-A parameter equal to 0 is not passed (the method's default applies).
+A parameter equal to 0 is not passed (the method's default applies).  ``tolerance`` is not passed as such: it
+selects each method's cheapest setting that meets it (:func:`rollcontact.api.setting_for`), which these explicit
+parameters then override.
 """
 
 STATE_VERSION = 2
@@ -198,7 +204,10 @@ class ContactParameters:
     method : int
         0 auto, 1 closed form, 2 polynomial, 3 discretised.
     tolerance : float
-        Solver tolerance [1] >= 0 passed to methods that accept it (0: the method's default).
+        Requested relative error [1] >= 0 of T' and p0: each step's method runs with its cheapest setting whose
+        error estimate meets it (:func:`rollcontact.api.setting_for`, as ``rollcontact.solve(scene,
+        tolerance=...)``); with ``transient`` = 1 also the lag error (of mu N) it tolerates before the relaxation
+        model takes over.  0: the methods' defaults and :data:`DEFAULT_TRANSIENT_TOLERANCE`.
     polynomial_order : int
         Polynomial order >= 0 for methods that accept it (0: the method's default).
     elements : int
@@ -433,6 +442,10 @@ class ContactModel:
                 notices.append(f"transient = 1 (auto): {unavailable}, so every step is solved quasi-steady and the "
                                "stationarity output shows how far that holds")
             else:
+                if p.tolerance and p.tolerance < RELAXATION_ACCURACY and p.method != 3:
+                    notices.append(f"tolerance = {p.tolerance!r}: the relaxation lag of transient = {p.transient} is "
+                                   f"accurate to about {RELAXATION_ACCURACY!r} mu N (benchmarks/pareto.py); for less "
+                                   f"use method = 3 with elements >= 0.4 / tolerance (the discretised transient)")
                 self.instationary = InstationaryModel(
                     radius, material.contact_modulus, friction.static_coefficient,
                     mode="transient" if p.method == 3 else "relaxation", datum_length=p.datum or None,
@@ -671,7 +684,11 @@ class ContactModel:
         return -math.expm1(-distance / length) * steady
 
     def solve_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
-        """Outputs from the registered methods (auto: polynomial, then discretised) at axis position x [m]."""
+        """Outputs from the registered methods (auto: polynomial, then discretised) at axis position x [m].
+
+        With ``tolerance`` > 0 each method runs with its cheapest setting whose error estimate (relative error of
+        T' and p0) meets it, the same choice as ``rollcontact.solve(scene, tolerance=...)``.
+        """
         scene = self.scene(x, normal_load, creep, velocity)
         reasons = []
         for name in self.candidates:
@@ -681,7 +698,10 @@ class ContactModel:
                 reasons.append(f"{name} cannot treat the scene: {why}")
                 continue
             try:
-                result = solve(scene, method=name, **self.options[name])
+                options = self.options[name]
+                if self.parameters.tolerance > 0.0:
+                    options = {**setting_for(name, scene, self.parameters.tolerance).options, **options}
+                result = solve(scene, method=name, **options)
             except (ValueError, ArithmeticError) as exc:
                 reasons.append(f"{name} raised {type(exc).__name__}: {exc}")
                 continue
@@ -691,7 +711,7 @@ class ContactModel:
             stiffness = float(result.creep_stiffness_per_length)
             if not math.isfinite(stiffness):
                 try:
-                    stiffness = self.creep_stiffness_by_difference(scene, name, result)
+                    stiffness = self.creep_stiffness_by_difference(scene, name, result, options)
                 except ModelError as exc:  # the next method may still give both force and stiffness
                     reasons.append(str(exc))
                     continue
@@ -704,7 +724,7 @@ class ContactModel:
         raise ModelError(f"no method solved the scene at X = {x!r} m (N = {normal_load!r} N, creep = {creep!r}, "
                          f"V = {velocity!r} m/s): " + "; ".join(reasons))
 
-    def creep_stiffness_by_difference(self, scene: Scene, name: str, result) -> float:
+    def creep_stiffness_by_difference(self, scene: Scene, name: str, result, options: dict) -> float:
         """dT'/dxi [N/m] by a one-sided difference, for methods that do not return it.
 
         The step is 1e-6 of the Carter saturation creep ``mu a / R``, taken towards zero creep so that it does
@@ -712,7 +732,7 @@ class ContactModel:
         """
         delta = 1e-6 * self.saturation_per_half_width * max(result.contact_half_width, 1e-12)
         delta = -math.copysign(delta, scene.creep) if scene.creep != 0.0 else delta
-        other = solve(scene.replace(creep=scene.creep + delta), method=name, **self.options[name])
+        other = solve(scene.replace(creep=scene.creep + delta), method=name, **options)
         if not other.success:
             raise ModelError(f"{name} failed at the creep {scene.creep + delta!r} of the creep-stiffness "
                              f"difference: {other.message}")

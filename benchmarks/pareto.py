@@ -1,0 +1,739 @@
+"""Speed-accuracy Pareto study: every method and setting on every scene family, error vs time, and auto's choices.
+
+Run ``.venv/bin/python benchmarks/pareto.py [--quick]``: writes ``benchmarks/results/pareto.md`` (tables, headline
+ratios, machine) and ``benchmarks/results/pareto.png`` (error vs time per family, the Pareto front of each case,
+auto's choice at each requested tolerance).  ``--quick`` is a smoke test (< 60 s: one case per family, few
+settings, small references); the full study takes several minutes.  One BLAS thread.
+
+Error.  Steady scenes: the larger relative error of T' and of the peak pressure p0 against a converged
+reference (the contract of ``solve(scene, tolerance=t)``).  References: the closed form where exact (Hertz/Carter);
+otherwise the polynomial method at truncation tolerance 1e-12 (1024 slip nodes for velocity-dependent friction),
+cross-checked against the Richardson-extrapolated discretised solver (n = 800/1600 on a window of +-1.25 a about
+the patch, whose edges then fall on element boundaries, as in ``tests/test_cross_methods.py``); for a split
+contact, which only the discretised solver treats, the discretised solver at n = 3200, its uncertainty shown as
+the change from n = 1600.  Instationary rolling (creep control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``,
+64 host steps per cycle): max |T' - T'_ref| over the last cycle in units of mu N', reference the discretised
+transient with n = 800 (the change from n = 400 shown).
+
+Time.  Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the cache of
+influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per
+host step.  FMU: microseconds per fmpy step (set inputs, doStep, get outputs) against an empty pythonfmu FMU
+built in the same run (``_fmu_timing.py``).  The machine is shared and noisy: compare ratios measured in the same
+run, not absolute times across runs.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import argparse  # noqa: E402  (after the thread limits)
+import datetime  # noqa: E402
+import math  # noqa: E402
+import platform  # noqa: E402
+import statistics  # noqa: E402
+import sys  # noqa: E402
+import tempfile  # noqa: E402
+import time  # noqa: E402
+from dataclasses import dataclass, field  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+import scipy  # noqa: E402
+from scipy import optimize, stats  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "src"))
+
+from _fmu_timing import Case, build_and_extract, run_interleaved  # noqa: E402
+
+import rollcontact as rc  # noqa: E402
+from rollcontact import api  # noqa: E402
+from rollcontact._bem import operators_for  # noqa: E402
+from rollcontact.closed_form import carter, hertz  # noqa: E402
+from rollcontact.instationary import InstationaryModel  # noqa: E402
+from rollcontact.model import ContactModel, ContactParameters  # noqa: E402
+
+RESULTS = ROOT / "benchmarks" / "results"
+TOLERANCES = (1e-2, 1e-3, 1e-4)
+ERROR_FLOOR = 1e-16  # plotted instead of an exact 0
+ESTAR = rc.Material().contact_modulus
+LOAD = 1e6  # N' [N/m] of the steady cases
+A_HERTZ = hertz(LOAD, 0.46, ESTAR)[0]
+SATURATION = 0.3 * A_HERTZ / 0.46  # Carter's saturation creep mu a / R
+
+
+# ------------------------------------------------------------------------------------------------ configuration
+@dataclass(frozen=True)
+class Config:
+    """What a run measures: the full study or the quick smoke test."""
+
+    quick: bool
+    budget: float  # s of timing per setting
+    poly_orders: tuple[int, ...]
+    poly_tolerances: tuple[float, ...]
+    nodes: tuple[int, ...]
+    elements: tuple[int, ...]
+    structured_elements: tuple[int, ...]
+    reference_nodes: int
+    richardson: tuple[int, int] | None
+    split_reference: tuple[int, int]
+    wavelengths: tuple[float, ...]  # instationary lambda / a
+    transient_elements: tuple[int, ...]
+    transient_reference: tuple[int, int]
+    fmu_rounds: int
+
+
+FULL = Config(False, 0.3, (1, 2, 4, 8, 16, 32), api.POLYNOMIAL_TOLERANCES, api.SLIP_NODES,
+              api.DISCRETISED_ELEMENTS, (50, 100, 200, 400, 800), 1024, (800, 1600), (1600, 3200),
+              (5.0, 10.0, 20.0, 40.0), (50, 100, 200, 400), (400, 800), 30)
+QUICK = Config(True, 0.02, (2, 8), (1e-2, 1e-4, 1e-6, 1e-10), (8, 16, 32), (50, 100, 200, 400), (50, 100),
+               128, (100, 200), (400, 800), (10.0,), (50, 100), (100, 200), 4)
+
+
+def steady_cases(config: Config) -> dict[str, list[tuple[str, rc.Scene]]]:
+    """Scene families (N' = 1 MN/m, R = 0.46 m, steel, mu = 0.3)."""
+
+    def corrugated(wavelength, amplitude, axis=0.003, creep=1e-3):
+        return rc.Scene(LOAD, creep=creep, axis_position=axis,
+                        surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(wavelength, amplitude),)))
+
+    def ka(wavelength):
+        return f"k a = {2 * math.pi * A_HERTZ / wavelength:.2f}"
+
+    families = {
+        "Hertz/Carter": [("xi = 0.3 mu a/R", rc.Scene(LOAD, creep=0.3 * SATURATION)),
+                         ("xi = 0.8 mu a/R", rc.Scene(LOAD, creep=0.8 * SATURATION))],
+        "polynomial profile": [("quartic", rc.Scene(LOAD, creep=1e-3,
+                                                    surface=rc.Surface(polynomial=(0, 0, 0, 0, -2e4)))),
+                               ("cubic", rc.Scene(LOAD, creep=-8e-4, surface=rc.Surface(polynomial=(0, 0, 0, 30.0))))],
+        "corrugation": [(f"100 mm / 50 um, {ka(0.1)}", corrugated(0.1, 50e-6)),
+                        (f"40 mm / 20 um, {ka(0.04)}", corrugated(0.04, 20e-6)),
+                        (f"20 mm / 5 um, {ka(0.02)}", corrugated(0.02, 5e-6)),
+                        (f"10 mm / 20 um split, {ka(0.01)}", corrugated(0.01, 20e-6, axis=0.0045))],
+        "velocity-dependent friction": [
+            ("exponential B = 30 s/m, V = 20 m/s", rc.Scene(LOAD, creep=1e-3, rolling_speed=20.0,
+                                                             friction=rc.ExponentialFalling(0.3, 0.4, 30.0))),
+            ("exponential B = 3 s/m, V = 20 m/s", rc.Scene(LOAD, creep=0.3 * SATURATION, rolling_speed=20.0,
+                                                            friction=rc.ExponentialFalling(0.3, 0.4, 3.0))),
+            ("rational, V = 10 m/s", rc.Scene(LOAD, creep=0.7 * SATURATION, rolling_speed=10.0,
+                                              friction=rc.RationalFalling(0.3, 0.2, 0.5)))],
+    }
+    if config.quick:
+        families = {"Hertz/Carter": families["Hertz/Carter"][:1],
+                    "polynomial profile": families["polynomial profile"][:1],
+                    "corrugation": families["corrugation"][1::2],
+                    "velocity-dependent friction": families["velocity-dependent friction"][1:2]}
+    return families
+
+
+# ------------------------------------------------------------------------------------------------------ timing
+def median_time(fn, budget: float, min_samples: int = 3) -> float:
+    """Median time per call [s]: timeit-style samples of ``number`` calls (>= ~2 ms each) within ``budget``."""
+    t0 = time.perf_counter()
+    fn()  # warm-up (imports, caches) and a first estimate
+    single = max(time.perf_counter() - t0, 1e-7)
+    number = max(1, int(2e-3 / single))
+    samples = []
+    start = time.perf_counter()
+    while len(samples) < min_samples or (time.perf_counter() - start < budget and len(samples) < 200):
+        t0 = time.perf_counter()
+        for _ in range(number):
+            fn()
+        samples.append((time.perf_counter() - t0) / number)
+    return statistics.median(samples)
+
+
+def cold(method: str, fn):
+    """The discretised solver timed as a first solve on its grid (influence matrices rebuilt)."""
+    if method != "discretised":
+        return fn
+
+    def run():
+        operators_for.cache_clear()
+        return fn()
+    return run
+
+
+# --------------------------------------------------------------------------------------------------- records
+@dataclass
+class Row:
+    """One measured setting (or auto's choice) on one case."""
+
+    family: str
+    case: str
+    method: str
+    label: str
+    options: dict
+    error_force: float
+    error_pressure: float
+    time: float
+    model_cost: float = math.nan
+    bound: float = math.nan
+    auto: tuple[float, ...] = ()  # tolerances at which auto chose exactly this setting
+    note: str = ""
+    harmonics: int = 0  # surface harmonics of the scene (a term of the polynomial cost model)
+    sharpness: float = 0.0  # api.friction_sharpness of the scene (sets the iteration counts of the cost model)
+
+    @property
+    def error(self) -> float:
+        return max(self.error_force, self.error_pressure)
+
+
+@dataclass
+class Reference:
+    """Converged reference of a case and how it was obtained."""
+
+    result: object
+    how: str
+    check: str = ""
+
+
+@dataclass
+class AutoChoice:
+    family: str
+    case: str
+    tolerance: float
+    method: str
+    label: str
+    error: float
+    time: float
+    estimate: float
+    met: bool
+    cheapest: str = ""
+    extra: dict = field(default_factory=dict)
+
+
+def relative_errors(result, ref) -> tuple[float, float]:
+    return (abs(result.tangential_force_per_length / ref.tangential_force_per_length - 1.0),
+            abs(result.max_pressure / ref.max_pressure - 1.0))
+
+
+def setting_label(method: str, options: dict) -> str:
+    if not options:
+        return method.replace("_", " ")
+    return method.replace("_", " ") + " " + ", ".join(f"{k} {v:g}" for k, v in options.items())
+
+
+# ----------------------------------------------------------------------------------------------- references
+def steady_reference(scene: rc.Scene, config: Config) -> Reference:
+    if scene.surface.is_flat and scene.friction.is_constant:
+        return Reference(rc.solve(scene, method="closed_form"), "closed form (exact)")
+    poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=config.reference_nodes)
+    if not poly.success:
+        coarse, fine = (rc.solve(scene, method="discretised", elements=n) for n in config.split_reference)
+        change = abs(coarse.tangential_force_per_length / fine.tangential_force_per_length - 1.0)
+        return Reference(fine, f"discretised n = {config.split_reference[1]} (polynomial invalid: {poly.message[:40]}"
+                               "...)", f"n = {config.split_reference[0]} differs by {change:.1e} in T'")
+    how = (f"polynomial, tolerance 1e-12, {config.reference_nodes} slip nodes" if not scene.friction.is_constant
+           else "polynomial, tolerance 1e-12")
+    if config.richardson is None:
+        return Reference(poly, how)
+    a, offset = poly.contact_half_width, poly.contact_offset
+    forces = [rc.solve(scene, method="discretised", elements=n,
+                       window=(offset - 1.25 * a, offset + 1.25 * a)).tangential_force_per_length
+              for n in config.richardson]
+    extrapolated = 2.0 * forces[1] - forces[0]
+    diff = abs(extrapolated / poly.tangential_force_per_length - 1.0)
+    return Reference(poly, how, f"Richardson discretised n = {config.richardson[0]}/{config.richardson[1]}: "
+                                f"T' within {diff:.1e}")
+
+
+# --------------------------------------------------------------------------------------------- steady study
+def steady_settings(scene: rc.Scene, config: Config) -> list[tuple[str, dict]]:
+    """(method, options) to measure: every ladder setting of the applicable methods plus explicit orders."""
+    out = []
+    if rc.METHODS["closed_form"].inapplicable(scene) is None:
+        out.append(("closed_form", {}))
+    if scene.friction.is_constant:
+        out += [("polynomial", {"tolerance": t}) for t in config.poly_tolerances]
+        out += [("polynomial", {"order": n}) for n in config.poly_orders]
+    else:
+        out += [("polynomial", {"nodes": n}) for n in config.nodes]
+    sizes = config.elements if scene.friction.is_constant else config.structured_elements
+    needed = api.DiscretisedAccuracy.resolution(scene)
+    out += [("discretised", {"elements": n}) for n in sizes if n >= needed]
+    return out
+
+
+def measure_case(family: str, label: str, scene: rc.Scene, config: Config) -> tuple[list[Row], list[AutoChoice],
+                                                                                        Reference]:
+    ref = steady_reference(scene, config)
+    rows = []
+    for method, options in steady_settings(scene, config):
+        result = rc.solve(scene, method=method, **options)
+        if not result.success:
+            rows.append(Row(family, label, method, setting_label(method, options), options, math.nan, math.nan,
+                            math.nan, note=f"fails: {result.message[:60]}"))
+            continue
+        ef, ep = relative_errors(result, ref.result)
+        model = rc.METHODS[method].accuracy
+        t = median_time(cold(method, lambda m=method, o=options: rc.solve(scene, method=m, **o)), config.budget)
+        rows.append(Row(family, label, method, setting_label(method, options), options, ef, ep, t,
+                        model.cost(scene, options), model.error(scene, options),
+                        harmonics=len(scene.surface.harmonics),
+                        sharpness=0.0 if scene.friction.is_constant else api.friction_sharpness(scene)))
+    choices = []
+    for tolerance in TOLERANCES:
+        auto = rc.solve(scene, tolerance=tolerance)
+        ef, ep = relative_errors(auto, ref.result)
+        options = auto.info["setting"]
+        t = median_time(cold(auto.method, lambda tol=tolerance: rc.solve(scene, tolerance=tol)), config.budget)
+        choice = AutoChoice(family, label, tolerance, auto.method, setting_label(auto.method, options), max(ef, ep),
+                            t, auto.info["error_estimate"], auto.info["tolerance_met"])
+        for row in rows:
+            if row.method == auto.method and row.options == options:
+                row.auto += (tolerance,)
+        passing = [r for r in rows if r.error <= tolerance]
+        if passing:
+            best = min(passing, key=lambda r: r.time)
+            choice.cheapest = f"{best.label} ({best.time * 1e3:.3g} ms)"
+        choices.append(choice)
+    return rows, choices, ref
+
+
+# --------------------------------------------------------------------------------------- instationary study
+LOAD_I = 1e7  # N' [N/m], as bench_instationary.py
+MU_I, R_I, SPEED = 0.3, 0.46, 10.0
+A_I = hertz(LOAD_I, R_I, ESTAR)[0]
+SATURATION_I = MU_I * A_I / R_I
+STEPS_PER_CYCLE = 64
+CONTACT_WIDTH = 0.02  # m, the FMU's default lateral width
+
+
+def creep_signal(wavelength: float) -> tuple[np.ndarray, float, int]:
+    """Creep per host step, the step [s] and the index of the first step of the measured (last) cycle."""
+    cycles = max(1, math.ceil(40.0 / wavelength)) + 1  # >= 40 a of settling: the lag (~5 a) has decayed
+    k = np.arange(1, cycles * STEPS_PER_CYCLE + 1)
+    xi = SATURATION_I * (0.5 + 0.3 * np.sin(2.0 * np.pi * k / STEPS_PER_CYCLE))
+    dt = wavelength * A_I / STEPS_PER_CYCLE / SPEED
+    return xi, dt, (cycles - 1) * STEPS_PER_CYCLE
+
+
+def run_instationary(step, wavelength: float) -> tuple[np.ndarray, float]:
+    """T' [N/m] over the measured cycle and the median time per host step [s] of ``step(xi, dt) -> T'``."""
+    xi, dt, first = creep_signal(wavelength)
+    forces, times = [], []
+    for i, value in enumerate(xi):
+        t0 = time.perf_counter()
+        force = step(value, dt)
+        times.append(time.perf_counter() - t0)
+        if i >= first:
+            forces.append(force)
+    return np.array(forces), statistics.median(times)
+
+
+def instationary_stepper(kind: str, elements: int = 0, tolerance: float = 0.0):
+    """``step(xi, dt) -> T'`` for quasi-static Carter, the relaxation or transient model, or the FMU's model."""
+    if kind == "quasi-static":
+        return lambda xi, dt: carter(LOAD_I, xi, R_I, ESTAR, MU_I)[0]
+    if kind == "auto":  # the FMU's stepping model with transient = 1 (auto) and the requested tolerance
+        model = ContactModel(ContactParameters(radius=R_I, contact_width=CONTACT_WIDTH, friction_coefficient=MU_I,
+                                               transient=1, tolerance=tolerance))
+        clock = [0.0]
+
+        def auto_step(xi, dt):
+            out = model.step(clock[0], dt, LOAD_I * CONTACT_WIDTH, xi, SPEED)
+            clock[0] += dt
+            auto_step.used.append(out.method_used)
+            return out.tangential_force / CONTACT_WIDTH
+        auto_step.used = []
+        return auto_step
+    model = InstationaryModel(R_I, ESTAR, MU_I, mode=kind, max_normal_load_per_length=LOAD_I,
+                              elements=elements or 100)
+    state = [model.initial_state()]
+
+    def step(xi, dt):
+        state[0], result = model.step(state[0], LOAD_I, xi, SPEED, dt)
+        return result.tangential_force_per_length
+    return step
+
+
+def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], list[tuple[str, str, str]]]:
+    rows, choices, references = [], [], []
+    limit = MU_I * LOAD_I
+    for wavelength in config.wavelengths:
+        case = f"lambda/a = {wavelength:g}"
+        coarse_ref, _ = run_instationary(instationary_stepper("transient", config.transient_reference[0]),
+                                         wavelength)
+        ref, _ = run_instationary(instationary_stepper("transient", config.transient_reference[1]), wavelength)
+        references.append((case, f"discretised transient n = {config.transient_reference[1]}",
+                           f"n = {config.transient_reference[0]} differs by "
+                           f"{np.abs(coarse_ref - ref).max() / limit:.1e} mu N'"))
+        settings = [("quasi-static", {}), ("relaxation", {})]
+        settings += [("transient", {"elements": n}) for n in config.transient_elements]
+        for kind, options in settings:
+            forces, t = run_instationary(instationary_stepper(kind, options.get("elements", 0)), wavelength)
+            rows.append(Row("instationary", case, kind, setting_label(kind, options), options,
+                            float(np.abs(forces - ref).max() / limit), 0.0, t))
+        for tolerance in TOLERANCES:
+            stepper = instationary_stepper("auto", tolerance=tolerance)
+            forces, t = run_instationary(stepper, wavelength)
+            measured = stepper.used[-STEPS_PER_CYCLE:]
+            relaxed = sum(code == 4 for code in measured) / len(measured)
+            label = f"FMU auto ({relaxed:.0%} of steps relaxation)"
+            error = float(np.abs(forces - ref).max() / limit)
+            choice = AutoChoice("instationary", case, tolerance, "auto", label, error, t, math.nan, error <= tolerance)
+            passing = [r for r in rows if r.case == case and r.error <= tolerance]
+            if passing:
+                best = min(passing, key=lambda r: r.time)
+                choice.cheapest = f"{best.label} ({best.time * 1e6:.3g} us)"
+            choices.append(choice)
+    return rows, choices, references
+
+
+# ---------------------------------------------------------------------------------------------------- FMU steps
+def fmu_study(config: Config) -> list[tuple[str, float, float, int, set]]:
+    """(label, median us/step, ratio to the empty FMU, discarded steps, method_used codes) per case."""
+    from build_fmu import build
+
+    corrugation = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04}
+    with tempfile.TemporaryDirectory(prefix="pareto_fmu_") as tmp:
+        empty, contact = build_and_extract(Path(tmp), build)
+        cases = [Case("empty pythonfmu FMU", empty, {}, 200, 1.0),
+                 Case("closed form (method 1)", contact, {"method": 1}, 200, 20.0),
+                 Case("polynomial, corrugation 40 mm / 20 um (method 2)", contact, {"method": 2, **corrugation},
+                      10, 1.0),
+                 Case("auto, corrugation, tolerance 1e-3 (method 0)", contact,
+                      {"method": 0, "tolerance": 1e-3, **corrugation}, 10, 1.0),
+                 Case("falling friction, auto (method 0)", contact, {"method": 0, "friction_law": 1}, 2, 20.0),
+                 Case("falling friction, auto, tolerance 1e-3 (method 0)", contact,
+                      {"method": 0, "friction_law": 1, "tolerance": 1e-3}, 2, 20.0),
+                 Case("discretised, corrugation (method 3)", contact, {"method": 3, **corrugation}, 2, 1.0),
+                 Case("relaxation lag (transient 2)", contact, {"transient": 2}, 50, 20.0),
+                 Case("discretised transient n = 100 (method 3, transient 2)", contact,
+                      {"method": 3, "transient": 2}, 5, 20.0)]
+        run_interleaved(cases, config.fmu_rounds)
+        floor = statistics.median(cases[0].times)
+        out = [(c.label, statistics.median(c.times), statistics.median(c.times) / floor, c.discards,
+                c.methods_used) for c in cases]
+        for case in cases:
+            case.free()
+    return out
+
+
+# ------------------------------------------------------------------------------------------------- analysis
+def pareto_front(rows: list[Row]) -> list[Row]:
+    """Rows not dominated in (time, error), by time."""
+    front, best = [], math.inf
+    for row in sorted((r for r in rows if math.isfinite(r.time) and math.isfinite(r.error)),
+                      key=lambda r: (r.time, r.error)):
+        if row.error < best:
+            front.append(row)
+            best = row.error
+    return front
+
+
+def envelope(rows: list[Row], row: Row) -> float:
+    """Largest error of this and the finer settings of the same method on the same case (listed after it)."""
+    same = [r for r in rows if r.case == row.case and r.method == row.method and r.family == row.family
+            and r.options.keys() == row.options.keys()]
+    return max(r.error for r in same[same.index(row):])
+
+
+def equal_accuracy_ratios(rows: list[Row], level: float) -> list[tuple[str, float, float, str]]:
+    """Per case: time of the cheapest discretised setting converged to ``level`` over the cheapest polynomial
+    setting meeting it; (case, ratio, polynomial time, note)."""
+    out = []
+    for case in dict.fromkeys(r.case for r in rows):
+        poly = [r for r in rows if r.case == case and r.method == "polynomial" and r.error <= level]
+        disc = [r for r in rows if r.case == case and r.method == "discretised" and math.isfinite(r.error)]
+        if not poly or not disc:
+            continue
+        t_poly = min(r.time for r in poly)
+        converged = [r for r in disc if envelope(rows, r) <= level]
+        if converged:
+            best = min(converged, key=lambda r: r.time)
+            out.append((case, best.time / t_poly, t_poly, best.label))
+        else:
+            finest = max(disc, key=lambda r: r.time)
+            out.append((case, finest.time / t_poly, t_poly, f"> ({finest.label} errs {finest.error:.1e})"))
+    return out
+
+
+def fit_costs(rows: list[Row]) -> list[tuple[str, str, str]]:
+    """Least-squares constants of the cost model (relative residuals) next to the ones in api.py."""
+
+    def fit(columns, times):
+        a = np.column_stack(columns) / times[:, None]
+        return optimize.nnls(a, np.ones(times.size))[0]
+
+    out = []
+    rows = [r for r in rows if math.isfinite(r.time)]
+    closed = [r.time for r in rows if r.method == "closed_form"]
+    if closed:
+        out.append(("CLOSED_FORM_COST", f"{api.CLOSED_FORM_COST:.3g}", f"{statistics.median(closed):.3g}"))
+    coulomb = [r for r in rows if r.method == "polynomial" and "nodes" not in r.options]
+    if len(coulomb) > 2:
+        harmonics = np.array([r.harmonics for r in coulomb], dtype=float)
+        base, per = fit([np.ones(len(coulomb)), harmonics], np.array([r.time for r in coulomb]))
+        out.append(("POLYNOMIAL_COST, POLYNOMIAL_HARMONIC_COST",
+                    f"{api.POLYNOMIAL_COST:.3g}, {api.POLYNOMIAL_HARMONIC_COST:.3g}", f"{base:.3g}, {per:.3g}"))
+    direct = [r for r in rows if r.method == "discretised" and r.sharpness == 0.0]
+    if len(direct) > 3:
+        n = np.array([r.options["elements"] for r in direct], dtype=float)
+        fitted = fit([np.ones(n.size), n**2, n**3], np.array([r.time for r in direct]))
+        out.append(("DIRECT_COST (a, b, c)", ", ".join(f"{c:.3g}" for c in api.DIRECT_COST),
+                    ", ".join(f"{c:.3g}" for c in fitted)))
+    # velocity-dependent friction: times per modelled iteration (the iteration counts are part of the model)
+    structured = [r for r in rows if r.method == "discretised" and r.sharpness > 0.0]
+    if len(structured) > 3:
+        n = np.array([r.options["elements"] for r in structured], dtype=float)
+        iterations = np.array([api.STRUCTURED_ITERATIONS[0] + api.STRUCTURED_ITERATIONS[1] * r.sharpness
+                               for r in structured])
+        fitted = fit([np.ones(n.size), n**2, n**3], np.array([r.time for r in structured]) / iterations)
+        out.append(("STRUCTURED_COST (a, b, c) per iteration", ", ".join(f"{c:.3g}" for c in api.STRUCTURED_COST),
+                    ", ".join(f"{c:.3g}" for c in fitted)))
+    velocity = [r for r in rows if r.method == "polynomial" and "nodes" in r.options]
+    if len(velocity) > 3:
+        nodes = np.array([r.options["nodes"] for r in velocity], dtype=float)
+        iterations = np.array([api.SLIP_ITERATIONS[0] + api.SLIP_ITERATIONS[1] * r.sharpness for r in velocity])
+        extra = (np.array([r.time for r in velocity]) - api.POLYNOMIAL_COST) / iterations
+        fitted = fit([np.ones(nodes.size), nodes**2, nodes**3], np.maximum(extra, 1e-7))
+        out.append(("SLIP_COST (a, b, c) per iteration", ", ".join(f"{c:.3g}" for c in api.SLIP_COST),
+                    ", ".join(f"{c:.3g}" for c in fitted)))
+    return out
+
+
+def rank_agreement(rows: list[Row]) -> tuple[float, float, int]:
+    """Spearman correlation of model cost and measured time over all settings, and the fraction of same-case
+    pairs whose measured times differ by more than 30 % that the model orders the same way."""
+    good = [r for r in rows if math.isfinite(r.model_cost) and math.isfinite(r.time)]
+    rho = stats.spearmanr([r.model_cost for r in good], [r.time for r in good])[0]
+    agree = total = 0
+    for i, r in enumerate(good):
+        for s in good[i + 1:]:
+            if r.case != s.case or max(r.time, s.time) < 1.3 * min(r.time, s.time):
+                continue
+            total += 1
+            agree += (r.model_cost < s.model_cost) == (r.time < s.time)
+    return float(rho), agree / total if total else math.nan, total
+
+
+# ------------------------------------------------------------------------------------------------- reporting
+def machine() -> list[str]:
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            cpu = next(line.split(":", 1)[1].strip() for line in fh if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    blas = np.show_config(mode="dicts")["Build Dependencies"]["blas"]
+    load = os.getloadavg() if hasattr(os, "getloadavg") else ("?",) * 3
+    return [f"- CPU: {cpu}, {os.cpu_count()} logical cores (shared with other jobs; load average at start "
+            f"{load[0]:.2f})",
+            f"- Python {platform.python_version()} ({platform.python_implementation()}), numpy {np.__version__}, "
+            f"scipy {scipy.__version__}, {blas.get('name', '?')} {blas.get('version', '')}",
+            f"- BLAS threads: OPENBLAS_NUM_THREADS = {os.environ.get('OPENBLAS_NUM_THREADS')}, "
+            f"OMP_NUM_THREADS = {os.environ.get('OMP_NUM_THREADS')}",
+            f"- {platform.platform()}"]
+
+
+def fmt_time(seconds: float) -> str:
+    if not math.isfinite(seconds):
+        return "-"
+    return f"{seconds * 1e3:.3g} ms" if seconds >= 1e-3 else f"{seconds * 1e6:.3g} us"
+
+
+def fmt_error(value: float) -> str:
+    return "-" if not math.isfinite(value) else ("0" if value == 0.0 else f"{value:.1e}")
+
+
+def plot(rows: list[Row], choices: list[AutoChoice], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    families = list(dict.fromkeys(r.family for r in rows))
+    fig, axes = plt.subplots(2, 3, figsize=(17, 10.5))
+    colours = {"closed_form": "black", "polynomial": "tab:blue", "discretised": "tab:orange",
+               "quasi-static": "tab:gray", "relaxation": "tab:green", "transient": "tab:orange"}
+    markers = "osD^vP*X"
+    for ax, family in zip(axes.flat, families, strict=False):
+        cases = list(dict.fromkeys(r.case for r in rows if r.family == family))
+        for ci, case in enumerate(cases):
+            case_rows = [r for r in rows if r.family == family and r.case == case and math.isfinite(r.error)]
+            groups = {}
+            for r in case_rows:
+                groups.setdefault((r.method, tuple(r.options)), []).append(r)
+            for (method, keys), group in groups.items():
+                hollow = "order" in keys
+                ax.plot([r.time for r in group], [max(r.error, ERROR_FLOOR) for r in group],
+                        marker=markers[ci % len(markers)], ls=":" if hollow else "-", lw=0.8,
+                        color=colours.get(method, "tab:purple"), mfc="none" if hollow else colours.get(method),
+                        alpha=0.8, ms=5)
+            front = pareto_front(case_rows)
+            ax.step([r.time for r in front], [max(r.error, ERROR_FLOOR) for r in front], where="post", color="0.6",
+                    lw=2.5, alpha=0.35, zorder=0)
+            for choice in (c for c in choices if c.family == family and c.case == case):
+                ax.plot(choice.time, max(choice.error, ERROR_FLOOR), marker="*", color="red", ms=13, mec="darkred",
+                        zorder=5)
+                ax.annotate(f"{choice.tolerance:.0e}", (choice.time, max(choice.error, ERROR_FLOOR)), fontsize=7,
+                            color="darkred", xytext=(4, 2 + 7 * TOLERANCES.index(choice.tolerance)),
+                            textcoords="offset points")
+        for tolerance in TOLERANCES:
+            ax.axhline(tolerance, color="red", lw=0.5, ls="--", alpha=0.4)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(f"{family} ({len(cases)} case{'s' if len(cases) > 1 else ''})", fontsize=10)
+        ax.set_xlabel("time per step [s]" if family == "instationary" else "time per solve [s]")
+        ax.set_ylabel("max |T' - T'_ref| / (mu N')" if family == "instationary" else "relative error of T' and p0")
+        ax.grid(True, which="major", alpha=0.3)
+        legend = [plt.Line2D([], [], color=colours.get(m, "tab:purple"), marker="o", ls="-", label=m.replace("_", " "))
+                  for m in dict.fromkeys(r.method for r in rows if r.family == family)]
+        legend += [plt.Line2D([], [], color="k", marker=markers[i % len(markers)], ls="none", mfc="none",
+                              label=c[:38]) for i, c in enumerate(cases)]
+        legend += [plt.Line2D([], [], color="red", marker="*", ls="none", ms=11, label="auto at tolerance"),
+                   plt.Line2D([], [], color="0.6", lw=2.5, alpha=0.4, label="Pareto front (per case)")]
+        ax.legend(handles=legend, fontsize=6.5, loc="best")
+    for ax in list(axes.flat)[len(families):]:
+        ax.axis("off")
+    fig.suptitle("rollcontact: error vs time per setting (log-log); dotted/hollow: explicit polynomial orders",
+                 fontsize=12)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Path) -> None:
+    lines = ["# Speed-accuracy Pareto study" + (" (quick smoke test)" if config.quick else ""), "",
+             f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by "
+             f"`.venv/bin/python benchmarks/pareto.py{' --quick' if config.quick else ''}` in {elapsed:.0f} s "
+             "(figure: `pareto.png`).  Method and definitions: the docstring of `benchmarks/pareto.py`.", "",
+             "## Machine", "", *machine(), "",
+             "Timings on this shared machine are noisy (other jobs run alongside): ratios measured in the same run "
+             "are meaningful, absolute times only roughly.", ""]
+    # headline ratios
+    lines += ["## Headline ratios (same run)", ""]
+    closed = statistics.median([r.time for r in rows if r.method == "closed_form"])
+    for level in (1e-2, 1e-3):
+        ratios = equal_accuracy_ratios([r for r in rows if r.family != "instationary"], level)
+        if ratios:
+            values = [v for _, v, _, _ in ratios]
+            lines.append(f"- Discretised vs polynomial at equal accuracy {level:.0e} (time of the cheapest "
+                         f"discretised setting converged to it over the polynomial's): median "
+                         f"{statistics.median(values):.3g}x, range {min(values):.3g}-{max(values):.3g}x over "
+                         f"{len(values)} cases")
+    if fmu:
+        for label, _, ratio, _, _ in fmu[1:]:
+            lines.append(f"- FMU step / empty pythonfmu FMU step, {label}: {ratio:.3g}x")
+    lines.append(f"- Each method vs the closed form (solve() on Hertz/Carter, {fmt_time(closed)}):")
+    for title, selector in (
+            ("polynomial, corrugation (auto at 1e-3)",
+             lambda r: r.family == "corrugation" and r.method == "polynomial" and 1e-3 in r.auto),
+            ("polynomial, velocity-dependent friction (auto at 1e-3)",
+             lambda r: r.family.startswith("velocity") and r.method == "polynomial" and 1e-3 in r.auto),
+            ("discretised n = 200, Coulomb", lambda r: r.method == "discretised" and r.options == {"elements": 200}
+             and r.family != "velocity-dependent friction"),
+            ("discretised n = 200, velocity-dependent", lambda r: r.method == "discretised"
+             and r.options == {"elements": 200} and r.family == "velocity-dependent friction"),
+            ("quasi-static step", lambda r: r.method == "quasi-static"),
+            ("relaxation step", lambda r: r.method == "relaxation"),
+            ("transient step, n = 100", lambda r: r.method == "transient" and r.options == {"elements": 100})):
+        times = [r.time for r in rows if selector(r)]
+        if times:
+            median = statistics.median(times)
+            lines.append(f"  - {title}: {median / closed:.3g}x (median {fmt_time(median)} over {len(times)} "
+                         "case(s))")
+    lines.append("")
+    # references
+    lines += ["## References", "", "| family | case | reference | cross-check |", "|---|---|---|---|"]
+    for (family, case), ref in references.items():
+        lines.append(f"| {family} | {case} | {ref.how} | {ref.check or '-'} |")
+    for case, how, check in inst_refs:
+        lines.append(f"| instationary | {case} | {how} | {check} |")
+    lines.append("")
+    # auto
+    lines += ["## auto at each requested tolerance", "",
+              "auto takes the cheapest setting (by the cost model of `api.py`) whose predicted error bound meets t.  "
+              "Steady: `solve(scene, tolerance=t)`; instationary: the FMU's stepping model with `transient = 1` "
+              "(auto) and `tolerance = t` (it switches between quasi-static Carter and the relaxation lag).  "
+              "'cheapest measured' is the fastest measured setting whose error is <= t (by measured time, so "
+              "noise and lucky cancellations count).", "",
+              "| family | case | t | auto's choice | error | estimate | meets t | time | cheapest measured meeting t |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for c in choices:
+        meets = "yes" if c.error <= c.tolerance else "**no**"
+        lines.append(f"| {c.family} | {c.case} | {c.tolerance:.0e} | {c.label} | {fmt_error(c.error)} | "
+                     f"{fmt_error(c.estimate)} | {meets} | {fmt_time(c.time)} | {c.cheapest or 'none'} |")
+    lines.append("")
+    # per family tables
+    lines += ["## Every setting", "",
+              "error: the larger of the T' and p0 errors (instationary: T' in units of mu N').  model: the cost "
+              "model of `api.py` [s] and the predicted error bound; 'front': on the case's Pareto front; 'auto': "
+              "the tolerances at which auto chose this setting.", ""]
+    for family in dict.fromkeys(r.family for r in rows):
+        lines += [f"### {family}", "",
+                  "| case | setting | error T' | error p0 | error | time | model cost | bound | front | auto |",
+                  "|---|---|---|---|---|---|---|---|---|---|"]
+        for case in dict.fromkeys(r.case for r in rows if r.family == family):
+            case_rows = [r for r in rows if r.family == family and r.case == case]
+            front = {id(r) for r in pareto_front(case_rows)}
+            for r in case_rows:
+                lines.append(f"| {case} | {r.label}{' (' + r.note + ')' if r.note else ''} | "
+                             f"{fmt_error(r.error_force)} | {fmt_error(r.error_pressure)} | {fmt_error(r.error)} | "
+                             f"{fmt_time(r.time)} | {fmt_time(r.model_cost)} | {fmt_error(r.bound)} | "
+                             f"{'x' if id(r) in front else ''} | {', '.join(f'{t:.0e}' for t in r.auto)} |")
+        lines.append("")
+    # model checks
+    steady = [r for r in rows if r.family != "instationary"]
+    rho, agree, pairs = rank_agreement(steady)
+    lines += ["## Cost and error models of auto (`src/rollcontact/api.py`) against this run", "",
+              f"- Cost model vs measured time: Spearman rank correlation {rho:.3f} over {len(steady)} settings; "
+              f"same-case pairs whose times differ by > 30 % ordered alike: {agree:.0%} of {pairs}.",
+              "- Fitted constants (least squares on relative residuals; update `api.py` when the ranking drifts):",
+              "", "| constant | api.py | fitted here |", "|---|---|---|"]
+    lines += [f"| {name} | {now} | {fitted} |" for name, now, fitted in fit_costs(steady)]
+    violations = [r for r in steady if math.isfinite(r.bound) and math.isfinite(r.error) and r.error > r.bound]
+    ratios = [r.bound / max(envelope(steady, r), 1e-15) for r in steady
+              if math.isfinite(r.bound) and math.isfinite(r.error) and r.method != "closed_form"
+              and "tolerance" not in r.options]
+    lines += ["", f"- Error bounds violated (error > bound): {len(violations)}"
+              + "".join(f"; {r.case}, {r.label}: {r.error:.2e} > {r.bound:.2e}" for r in violations),
+              f"- How pessimistic (bound over the converged error, discretised and slip-node settings): median "
+              f"{statistics.median(ratios):.3g}, max {max(ratios):.3g}" if ratios else "", ""]
+    if fmu:
+        lines += ["## FMU step (fmpy, one step = setReal(3) + doStep + getReal(10) + getInteger(1))", "",
+                  "| case | median us/step | x empty FMU | discarded | method_used |", "|---|---|---|---|---|"]
+        lines += [f"| {label} | {us:.1f} | {ratio:.2f} | {discards} | {sorted(used)} |"
+                  for label, us, ratio, discards, used in fmu]
+        lines.append("")
+    path.write_text("\n".join(lines))
+
+
+# ------------------------------------------------------------------------------------------------------- main
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="smoke test (< 60 s)")
+    parser.add_argument("--no-fmu", action="store_true", help="skip the FMU step timing")
+    args = parser.parse_args(argv)
+    config = QUICK if args.quick else FULL
+    start = time.perf_counter()
+    rows, choices, references = [], [], {}
+    for family, cases in steady_cases(config).items():
+        for label, scene in cases:
+            print(f"{family}: {label}", flush=True)
+            case_rows, case_choices, ref = measure_case(family, label, scene, config)
+            rows += case_rows
+            choices += case_choices
+            references[(family, label)] = ref
+    print("instationary", flush=True)
+    inst_rows, inst_choices, inst_refs = instationary_study(config)
+    rows += inst_rows
+    choices += inst_choices
+    fmu = []
+    if not args.no_fmu:
+        print("FMU steps", flush=True)
+        fmu = fmu_study(config)
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    plot(rows, choices, RESULTS / "pareto.png")
+    report(config, rows, choices, references, inst_refs, fmu, time.perf_counter() - start, RESULTS / "pareto.md")
+    print(f"wrote {RESULTS / 'pareto.md'} and {RESULTS / 'pareto.png'} in {time.perf_counter() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
