@@ -15,9 +15,20 @@ import math
 import numpy as np
 import pytest
 from quadrature import edge_quad, pressure_integral, pv_hilbert
-from scipy.special import j0, j1
+from scipy.optimize import minimize_scalar
+from scipy.special import j0, j1, jv
 
-from rollcontact import Harmonic, Material, Scene, Surface, solve
+from rollcontact import (
+    ExponentialFalling,
+    Harmonic,
+    Material,
+    Scene,
+    Surface,
+    chebyshev,
+    polynomial,
+    solve,
+    velocity_friction,
+)
 
 MATERIAL = Material(210e9, 0.28)
 E_STAR = MATERIAL.contact_modulus
@@ -562,3 +573,206 @@ def test_accepted_results_keep_the_gap_open(split_sweeps, wavelength):
 def test_bad_options_raise_value_error_naming_them(options, pattern):
     with pytest.raises(ValueError, match=pattern):
         solve(corrugated_scene(1.0, 0.2), method="polynomial", **options)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# fast paths: the previous implementation, caches, the shortcuts that replace checks by theorems
+PREVIOUS_SCENES = {
+    "corrugated 40 mm": Scene(1e6, creep=1e-3, axis_position=0.003,
+                              surface=Surface(harmonics=(Harmonic.from_wavelength(0.04, 20e-6),))),
+    "two harmonics": Scene(1e6, creep=-6e-4, axis_position=0.011,
+                           surface=Surface(harmonics=(Harmonic.from_wavelength(0.04, 10e-6, 0.3),
+                                                      Harmonic.from_wavelength(0.07, 8e-6, 1.1)))),
+    "cubic+quartic": Scene(1e6, creep=5e-4, axis_position=0.001,
+                           surface=Surface(polynomial=(0.0, 0.0, 0.0, 20.0, -2e4))),
+    "full slip": Scene(1e6, creep=3e-3, axis_position=0.002,
+                       surface=Surface(harmonics=(Harmonic.from_wavelength(0.04, 20e-6),))),
+}
+# (a, Delta, a*, T', p0, dT'/dxi) of the implementation before the speed-up (commit 640c1e1), default options
+PREVIOUS_VALUES = {
+    "corrugated 40 mm": (0.002063400091450822, -0.0005320467951720801, 0.0007929307995578276, 255141.72437529702,
+                         308783461.6212997, 141906404.80852595),
+    "two harmonics": (0.002321201428049882, -0.0009633243905912067, 0.0013484211203810851, -196771.3753344649,
+                      274278446.1451541, 241319410.80844525),
+    "cubic+quartic": (0.002109127259210186, -0.00014999248855371273, 0.0014952223650899507, 162376.47345164118,
+                      294246969.0788317, 267591611.19424003),
+    "full slip": (0.0020555468340162143, -0.0003588827013954296, 0.0, 300000.0, 309958676.3273164, 0.0),
+}
+FIELDS = ("contact_half_width", "contact_offset", "stick_half_width", "tangential_force_per_length", "max_pressure",
+          "creep_stiffness_per_length")
+
+
+@pytest.mark.parametrize("name", sorted(PREVIOUS_SCENES))
+def test_results_equal_the_previous_implementation(name):
+    """Same equations, fewer operations: every scalar output equal to round-off (1e-12)."""
+    r = solve(PREVIOUS_SCENES[name], method="polynomial")
+    assert r.success, r.message
+    for field, before in zip(FIELDS, PREVIOUS_VALUES[name], strict=True):
+        np.testing.assert_allclose(getattr(r, field), before, rtol=1e-12, atol=1e-15 * abs(PREVIOUS_VALUES[name][0]),
+                                   err_msg=f"{name}: {field}")
+
+
+def fingerprint(result):
+    """Every number of a result, arrays as bytes: equal fingerprints mean bit-identical results."""
+    info = tuple((k, v.tobytes() if isinstance(v, np.ndarray) else repr(v)) for k, v in sorted(result.info.items()))
+    x = result.contact_offset + result.contact_half_width * np.linspace(-0.99, 0.99, 37)
+    fields = (result.pressure(x).tobytes(), result.traction(x).tobytes(), np.nan_to_num(result.slip(x)).tobytes())
+    return tuple(repr(getattr(result, f)) for f in FIELDS) + (result.message, result.iterations) + info + fields
+
+
+def test_same_inputs_give_bit_identical_results_in_any_call_order():
+    """The module-level caches (keyed by sizes) must not carry state from one call into another."""
+    corrugated = PREVIOUS_SCENES["corrugated 40 mm"]
+    falling = corrugated.replace(friction=ExponentialFalling(0.3, 0.4, 30.0), rolling_speed=20.0)
+    calls = [(corrugated, {}), (corrugated, {"order": 7}), (corrugated, {"order": 40}),
+             (PREVIOUS_SCENES["two harmonics"], {}), (PREVIOUS_SCENES["cubic+quartic"], {"basis": "monomial"}),
+             (corrugated, {"check": False}), (falling, {}), (falling, {"nodes": 24}), (falling, {"nodes": 16})]
+    first = [fingerprint(solve(s, method="polynomial", **o)) for s, o in calls]
+    for cached in (chebyshev.unit_grid, chebyshev.theta_grid, chebyshev.pressure_table, chebyshev.orders,
+                   chebyshev.surface_data, velocity_friction.slip_operators):
+        cached.cache_clear()
+    order = [8, 2, 6, 0, 4, 7, 1, 5, 3]
+    again = {i: fingerprint(solve(calls[i][0], method="polynomial", **calls[i][1])) for i in order}
+    for i, (_, options) in enumerate(calls):
+        assert again[i] == first[i], f"call {i} ({options}) differs when made in another order"
+
+
+def test_cached_tables_are_read_only():
+    tables = [chebyshev.unit_grid(11), *chebyshev.theta_grid(16, 5), *chebyshev.pressure_table(16, 5),
+              *chebyshev.orders(5), *vars(velocity_friction.slip_operators(8)).values(),
+              chebyshev.surface_data(PREVIOUS_SCENES["cubic+quartic"].surface)[1]]
+    for table in tables:
+        with pytest.raises(ValueError, match="read-only"):
+            table[..., 0] = 1.0
+
+
+@pytest.mark.parametrize("name", ["corrugated 40 mm", "two harmonics", "cubic+quartic"])
+def test_monotone_creep_shortcut_finds_the_scanned_root(name, monkeypatch):
+    """With Z'' < 1/R on the patch xi(a*) decreases, so Newton from the Carter guess must find the one root that
+    the 9-point scan (taken when the curvature bound does not hold) brackets."""
+    scene = PREVIOUS_SCENES[name]
+    fast = solve(scene, method="polynomial")
+    monkeypatch.setattr(chebyshev.SlopeExpansion, "curvature_bound", lambda self, lo, hi: math.inf)
+    scanned = solve(scene, method="polynomial")
+    assert fast.success and scanned.success, (fast.message, scanned.message)
+    np.testing.assert_allclose(fast.stick_half_width, scanned.stick_half_width, rtol=1e-12, err_msg="a*")
+    np.testing.assert_allclose(fast.tangential_force_per_length, scanned.tangential_force_per_length, rtol=1e-12,
+                               err_msg="T'")
+
+
+@pytest.mark.parametrize("ka, position", [(0.3, 0.23), (3.0, 0.61), (10.0, 0.0)])
+def test_convex_gap_needs_no_sampling_and_sampling_agrees(ka, position, monkeypatch):
+    """A convex gap with p >= 0 cannot close outside the patch: the sampled check, forced, must agree."""
+    scene = corrugated_scene(ka, position)
+    r = solve(scene, method="polynomial")
+    e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
+    assert e.curvature_bound(-math.inf, math.inf) < 0.99 / scene.radius, "the test scene must be convex"
+    x0 = scene.axis_position + r.contact_offset
+    assert polynomial.outside_gap(r.distributions, e, scene, r.contact_half_width, x0) is None
+    monkeypatch.setattr(chebyshev.SlopeExpansion, "curvature_bound", lambda self, lo, hi: math.inf)
+    assert polynomial.outside_gap(r.distributions, e, scene, r.contact_half_width, x0) is None, \
+        "sampling finds a closing gap where the convexity theorem says there is none"
+
+
+@pytest.mark.parametrize("axis_position", [0.002, 0.005])
+def test_closed_form_deformed_gap_equals_quadrature(axis_position):
+    """deformed_gap (antiderivative of the outer transform) against the quadrature oracle, 10 mm / 20 um."""
+    scene = Scene(1e6, creep=1e-3, axis_position=axis_position,
+                  surface=Surface(harmonics=(Harmonic.from_wavelength(0.010, 20e-6),)), **SPLIT)
+    r = solve(scene, method="polynomial", order=30)
+    a, x0 = r.contact_half_width, scene.axis_position + r.contact_offset
+    estar = scene.material.contact_modulus
+    theta = np.pi * np.arange(1, 801) / 801
+    z = r.contact_offset + a * np.cos(theta)
+    weights = a * np.pi / 801 * np.sin(theta) * r.pressure(z)  # Gauss-Chebyshev: int p g dz ~ sum weights g(z_i)
+    for side, edge in ((1.0, r.trailing_edge), (-1.0, r.leading_edge)):
+        # the slope of deformed_gap_minimum integrated by the trapezoidal rule on a cubically graded grid of 3000
+        # points (gap ~ distance^1.5 at the edge), compared at every 100th
+        x = edge + side * 0.01 * (np.arange(1, 3001) / 3000) ** 3
+        slope = gap_slope(scene, x) - (2.0 / (math.pi * estar)) * (weights[None, :] / (x[:, None] - z[None, :])).sum(1)
+        xs, ss = np.concatenate(([edge], x)), np.concatenate(([0.0], slope))
+        oracle = np.cumsum(0.5 * (ss[1:] + ss[:-1]) * np.diff(xs))[99::100]
+        closed = polynomial.deformed_gap(r.distributions, scene, a, x0, (x[99::100] - r.contact_offset) / a)
+        np.testing.assert_allclose(closed, oracle, rtol=1e-5, atol=1e-6 * a * a / scene.radius,
+                                   err_msg=f"deformed gap, side {side:+.0f}")
+
+
+@pytest.mark.parametrize("ka, position", [(1.0, 0.23), (3.0, 0.61), (10.0, 0.0)])
+def test_max_pressure_is_the_maximum(ka, position):
+    r = solve(corrugated_scene(ka, position), method="polynomial")
+    x = interior_grid(r, 4001)
+    i = int(np.argmax(r.pressure(x)))
+    best = minimize_scalar(lambda v: -float(r.pressure(np.array([v]))[0]), bracket=(x[i - 1], x[i], x[i + 1]),
+                           tol=1e-12)
+    np.testing.assert_allclose(r.max_pressure, -best.fun, rtol=1e-13, err_msg="max p")
+    assert r.max_pressure >= -best.fun * (1 - 1e-15), "the maximum must not be below a sampled value"
+
+
+@pytest.mark.parametrize("tolerance", [1e-3, 1e-10, 1e-14])
+def test_required_order_matches_its_definition(tolerance):
+    """Smallest n >= max(poly degree, kh/2 + 1) with sum 2 k |Z| (kh/2)^n / n! <= tolerance h/R (by lgamma)."""
+    for harmonics in ([(0.04, 20e-6)], [(0.04, 10e-6), (0.007, 1e-6), (0.15, 3e-5)]):
+        surface = Surface(harmonics=tuple(Harmonic.from_wavelength(lam, amp, 0.2) for lam, amp in harmonics))
+        e = chebyshev.SlopeExpansion(RADIUS, 0.0, surface)
+        for h in (1e-5, 1e-3, 5e-3, 0.05):
+            terms = [(0.5 * k * h, 2.0 * k * math.hypot(p, s)) for k, p, s in e.harmonic_list]
+            n = max(1, int(max(z for z, _ in terms)) + 1)
+            while n < 400 and sum(amp * math.exp(n * math.log(z) - math.lgamma(n + 1)) for z, amp in terms) > \
+                    tolerance * h / RADIUS * (1 + 1e-12):
+                n += 1
+            assert abs(e.required_order(h, tolerance) - n) <= 1, f"h = {h}, {harmonics}"
+
+
+def test_gap_slope_coefficients_are_jacobi_anger():
+    """Against the Jacobi-Anger series written out with scipy.special.jv and cos(kc + n pi/2) per term."""
+    scene = PREVIOUS_SCENES["two harmonics"]
+    e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
+    h, c, order = 2.3e-3, 0.0107, 25
+    n = np.arange(order + 1)
+    expected = np.zeros(order + 1)
+    expected[0] = (c - scene.axis_position) / scene.radius
+    expected[1] = h / scene.radius
+    for hm in scene.surface.harmonics:
+        k, phi, psi = hm.wavenumber, hm.cos_amplitude, hm.sin_amplitude
+        ang = c * k + 0.5 * np.pi * n
+        expected -= np.where(n == 0, 1.0, 2.0) * k * jv(n, k * h) * (psi * np.cos(ang) - phi * np.sin(ang))
+    np.testing.assert_allclose(e.gap_slope_coefficients(h, c, order), expected, rtol=0,
+                               atol=1e-14 * np.abs(expected).max())
+
+
+def test_what_convexity_proves_the_sampled_checks_confirm(monkeypatch):
+    """Where the curvature bound proves a check (validity_failures' docstring), the sampled check passes too.
+
+    Random one- and two-harmonic surfaces (k a 0.1..20, curvature amplitude up to 1.2/R, some with cubic and
+    quartic terms), creeps from 1e-3 to 2 times saturation, both signs; the sampled checks forced by setting the
+    margins below any bound.
+    """
+    rng = np.random.default_rng(7)
+    proven = {"traction bound": 0, "slip opposes": 0, "gap closes": 0}
+    for _ in range(150):
+        ka, curvature = 10 ** rng.uniform(-1, 1.3), rng.uniform(0.0, 1.2)
+        freqs = rng.uniform(0.5, 2.0, rng.integers(1, 3))
+        harmonics = tuple(Harmonic.from_wavelength(2 * math.pi * A_HERTZ / (ka * f),
+                                                   curvature * (A_HERTZ / (ka * f)) ** 2 / (RADIUS * freqs.size),
+                                                   rng.uniform(0, 2 * math.pi)) for f in freqs)
+        polynomial_part = (0.0, 0.0, 0.0, rng.uniform(-30, 30), rng.uniform(-3e4, 0)) if rng.random() < 0.3 else ()
+        scene = Scene(LOAD, creep=rng.choice([-1, 1]) * XI_SAT * 10 ** rng.uniform(-3, 0.3), radius=RADIUS,
+                      material=MATERIAL, friction=MU, axis_position=rng.uniform(-0.02, 0.02),
+                      surface=Surface(polynomial=polynomial_part, harmonics=harmonics))
+        with monkeypatch.context() as patch:
+            patch.setattr(polynomial, "CONVEX", -1.0)
+            patch.setattr(polynomial, "STICK_PROVEN", -1.0)
+            sampled = solve(scene, method="polynomial")
+        if not math.isfinite(sampled.contact_half_width):
+            continue
+        e = chebyshev.SlopeExpansion(RADIUS, scene.axis_position, scene.surface)
+        x0, a = scene.axis_position + sampled.contact_offset, sampled.contact_half_width
+        bound = e.curvature_bound(x0 - a, x0 + a) * RADIUS
+        conditions = {"traction bound": bound <= polynomial.STICK_PROVEN and sampled.stick_half_width > 0,
+                      "slip opposes": bound < polynomial.CONVEX,
+                      "gap closes": e.curvature_bound(-math.inf, math.inf) * RADIUS < polynomial.CONVEX}
+        for failure, holds in conditions.items():
+            if holds:
+                proven[failure] += 1
+                assert failure not in sampled.message, f"proven, yet sampled: {sampled.message} (bound {bound:.3f}/R)"
+    assert min(proven.values()) >= 20, f"too few scenes exercise each proof: {proven}"

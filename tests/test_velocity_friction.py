@@ -97,3 +97,133 @@ def test_corrugated_surface_with_falling_friction_reduces_with_flat_surface():
     tiny = rc.solve(scene(1e-3, surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.04, 1e-12),))))
     np.testing.assert_allclose(tiny.tangential_force_per_length, flat.tangential_force_per_length, rtol=1e-6,
                                err_msg="a vanishing corrugation leaves the falling-friction solution unchanged")
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the Newton solution of the discrete equations
+CORRUGATION = rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.04, 20e-6, 0.7),))
+LAWS = {"polach": rc.ExponentialFalling(0.3, 0.4, 0.6), "steep": rc.ExponentialFalling(0.3, 0.4, 30.0),
+        "rational": rc.RationalFalling(0.3, 0.15, 0.02), "linear": rc.LinearFalling(0.3, 0.2, 2.0)}
+# (a*, T') of the fixed-point implementation before the speed-up (commit 640c1e1) at nodes = 48, corrugated scene
+PREVIOUS = {("polach", 3e-4): (0.001706437014525037, 102559.177461051),
+            ("polach", 1e-3): (0.0007713495874827801, 256879.71063316375),
+            ("steep", 3e-4): (0.0016298002713876474, 99375.2166362892),
+            ("steep", 1e-3): (0.0004294222059206191, 206783.9215560846),
+            ("rational", 3e-4): (0.0016304617804024277, 99561.15589750459),
+            ("rational", 1e-3): (0.00046154009957652793, 215328.71401851912)}
+
+
+def corrugated(creep, law):
+    return scene(creep, law, surface=CORRUGATION, axis_position=0.002)
+
+
+@pytest.mark.parametrize("law, creep", sorted(PREVIOUS))
+def test_same_discrete_solution_as_the_previous_fixed_point(law, creep):
+    """Newton solves the equations the fixed point solved (to its 1e-9 tolerance), at equal nodes."""
+    r = rc.solve(corrugated(creep, LAWS[law]), method="polynomial", nodes=48)
+    assert r.success, r.message
+    np.testing.assert_allclose((r.stick_half_width, r.tangential_force_per_length), PREVIOUS[(law, creep)],
+                               rtol=1e-8, err_msg=f"{law}, xi = {creep}: (a*, T')")
+
+
+@pytest.mark.parametrize("law", sorted(LAWS))
+@pytest.mark.parametrize("creep", [3e-4, 1e-3, -1.4e-3, 5e-3])
+def test_returned_fields_satisfy_the_discrete_equations(law, creep):
+    """At the patch nodes q1 = mu(V s) p with s and q1 read from the returned fields, and xi = -F_0(a*).
+
+    The fields are series (q1: sine series of the nodal values, s: xi + H1 - sum F_n w^n), so this checks the
+    converged state of the solver independently of how it was reached.
+    """
+    law_ = LAWS[law]
+    r = rc.solve(corrugated(creep, law_), method="polynomial")
+    assert r.success, r.message
+    dist = r.distributions
+    m = dist.q1_coefficients.size - 1
+    t = np.cos(np.pi * (np.arange(m) + 0.5) / m)
+    x = dist.offset + dist.half_width * t
+    slipping = x > r.leading_edge + 2 * r.stick_half_width
+    s = np.abs(r.slip(x[slipping]))
+    q = np.abs(r.traction(x[slipping]))
+    mu_p = law_.coefficient(V * s) * r.pressure(x[slipping])
+    np.testing.assert_allclose(q, mu_p, rtol=1e-8, atol=1e-8 * r.max_pressure, err_msg="q1 = mu(V s) p at the nodes")
+    if r.stick_half_width > 0:
+        f0 = dist.stick_coefficients[0]
+        np.testing.assert_allclose(-f0, abs(creep), rtol=1e-8, err_msg="xi = -F_0(a*)")
+
+
+def test_jacobian_equals_finite_differences():
+    """The analytic Jacobian of the slip equations (mu_j and a*/a) against central differences."""
+    from rollcontact.velocity_friction import SlipEquations, slip_operators
+
+    r = rc.solve(corrugated(1e-3, LAWS["steep"]), method="polynomial", nodes=12)
+    c_n = r.info["pressure_coefficients"]
+    ops = slip_operators(12)
+    p = np.clip(np.sin(ops.theta[:, None] * np.arange(1, c_n.size)) @ c_n[1:], 0.0, None)
+    eq = SlipEquations(ops, p, rc.Material().contact_modulus, LAWS["steep"], V, 1e-3)
+    mu = np.linspace(0.3, 0.17, 12)  # a state away from the solution, with slip behind a stick zone
+    eta = 0.31
+    st = eq.evaluate(mu, eta)
+    assert st.maps is not None and st.maps.slipping.any() and not st.maps.slipping.all()
+    jac = eq.jacobian(st)
+
+    def residual(v):
+        other = eq.evaluate(v[:-1], v[-1])
+        assert np.array_equal(other.maps.slipping, st.maps.slipping), "finite difference crossed a node"
+        return np.append(other.r_mu, other.r_h)
+
+    x = np.append(mu, eta)
+    for j in range(x.size):
+        h = 1e-7 * max(abs(x[j]), 1e-3)
+        up, down = x.copy(), x.copy()
+        up[j] += h
+        down[j] -= h
+        np.testing.assert_allclose(jac[:, j], (residual(up) - residual(down)) / (2 * h), rtol=1e-5,
+                                   atol=1e-6 * np.abs(jac).max(), err_msg=f"column {j}")
+
+
+@pytest.mark.parametrize("law", ["polach", "steep", "rational"])
+def test_relaxed_fixed_point_reaches_the_newton_solution(law):
+    """The fallback (the paper's under-relaxed fixed point) and Newton converge to the same state."""
+    from rollcontact.velocity_friction import SlipEquations, slip_operators
+
+    r = rc.solve(corrugated(1e-3, LAWS[law]), method="polynomial")
+    c_n = r.info["pressure_coefficients"]
+    ops = slip_operators(r.distributions.q1_coefficients.size - 1)  # the nodes the solver chose
+    p = np.clip(np.sin(ops.theta[:, None] * np.arange(1, c_n.size)) @ c_n[1:], 0.0, None)
+    eq = SlipEquations(ops, p, rc.Material().contact_modulus, LAWS[law], V, 1e-3)
+    st, it = eq.relaxed_iteration(1e-10, 400, [])
+    assert st.norm <= 1e-10, f"fixed point did not converge in {it} iterations"
+    np.testing.assert_allclose(st.eta * r.contact_half_width, r.stick_half_width, rtol=1e-7, err_msg="a*")
+    np.testing.assert_allclose(0.5 * np.pi * r.contact_half_width * (ops.dst @ st.q)[0]
+                               - 0.25 * np.pi * st.eta * r.contact_half_width * rc.Material().contact_modulus
+                               * st.f[1], r.tangential_force_per_length, rtol=1e-7, err_msg="T'")
+
+
+@pytest.mark.parametrize("law, most", [("polach", 4), ("rational", 10), ("linear", 6), ("steep", 8)])
+def test_newton_needs_few_iterations(law, most):
+    """The cost claim: a handful of Newton steps (the fixed point needed 7-25 iterations with inner root searches)."""
+    for creep in (3e-4, 1e-3, 1.4e-3, 5e-3):
+        r = rc.solve(corrugated(creep, LAWS[law]), method="polynomial")
+        steps = len(r.info["slip_iteration_history"]) - 1
+        assert r.success and steps <= most, f"{law}, xi = {creep}: {steps} Newton steps ({r.message})"
+
+
+def test_nodes_follow_the_pressure_order():
+    """A short corrugation needs many pressure terms; the slip iteration must not alias mu(V s) p on few nodes."""
+    short = rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.004, 0.5e-6, 0.3),))
+    r = rc.solve(scene(1e-3, surface=short), method="polynomial")
+    assert r.success, r.message
+    terms = r.info["pressure_coefficients"].size - 1
+    assert terms > 16, f"the test needs a pressure with more terms than the default nodes, got {terms}"
+    assert r.distributions.q1_coefficients.size - 1 >= 2 * terms, "nodes below twice the pressure terms"
+    assert abs(r.tangential_force_per_length) <= FALLING.mu_static * LOAD, "T' <= mu_s N'"
+    more = rc.solve(scene(1e-3, surface=short), method="polynomial", nodes=4 * terms)
+    np.testing.assert_allclose(r.tangential_force_per_length, more.tangential_force_per_length, rtol=2e-3)
+
+
+def test_tiny_creep_converges():
+    """xi = 1e-8 of saturation: the creep equation is resolved to round-off of F_0, not of xi (Newton stops)."""
+    r = rc.solve(scene(1e-11), method="polynomial")
+    assert r.success, r.message
+    carter = rc.solve(scene(1e-11, rc.Coulomb(0.3)), method="closed_form")
+    np.testing.assert_allclose(r.tangential_force_per_length, carter.tangential_force_per_length, rtol=1e-3)

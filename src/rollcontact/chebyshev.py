@@ -13,6 +13,11 @@ its T_0 coefficient vanishes, and ``int f dx = (pi h / 2) c_1``.
 A right-hand side ``r(x)`` is handled through its Chebyshev coefficients on the interval.  Harmonics expand
 exactly with Jacobi-Anger, ``cos(phi + z t) = sum eps_n J_n(z) cos(phi + n pi/2) T_n(t)`` (``eps_0 = 1``,
 ``eps_n = 2``), which is where the paper's Bessel functions come from.
+
+Speed.  A solve calls these functions a few dozen times on tiny data, so the cost is per-call overhead, not
+arithmetic: the scalar paths use plain floats (``math`` and scalar ``scipy.special.j0/j1``), and every table that
+depends only on sizes (angle grids, sine/cosine tables, their index vectors) is built once in a bounded
+module-level cache keyed by those sizes and returned read-only, so no call can alter what another call sees.
 """
 
 from __future__ import annotations
@@ -27,23 +32,64 @@ from scipy import special
 
 __all__ = ["SlopeExpansion", "outer_transform", "sine_series", "theta_grid", "unit_grid"]
 
+_j0 = special.j0
+_j1 = special.j1
+_jv = special.jv
+
+
+def read_only(*arrays: np.ndarray):
+    """Freeze cached arrays: a caller that tried to modify one would change every later result."""
+    for a in arrays:
+        a.flags.writeable = False
+    return arrays if len(arrays) > 1 else arrays[0]
+
 
 @lru_cache(maxsize=64)
 def unit_grid(m: int) -> np.ndarray:
     """m equally spaced points on [0, 1] (cached: numpy's linspace costs ~15 us per call)."""
-    g = np.arange(m, dtype=float) / (m - 1)
-    g.flags.writeable = False
-    return g
+    return read_only(np.arange(m, dtype=float) / (m - 1))
 
 
 @lru_cache(maxsize=64)
 def theta_grid(m: int, n_max: int) -> tuple[np.ndarray, np.ndarray]:
     """Interior angles theta_i = pi i/m (i = 1..m-1) and the table sin(n theta_i), n = 1..n_max (cached)."""
     theta = np.pi * np.arange(1, m, dtype=float) / m
-    table = np.sin(np.multiply.outer(theta, np.arange(1, n_max + 1)))
-    theta.flags.writeable = False
-    table.flags.writeable = False
-    return theta, table
+    return read_only(theta, np.sin(theta[:, None] * np.arange(1, n_max + 1)))
+
+
+@lru_cache(maxsize=64)
+def pressure_table(m: int, n_max: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Tables on the angles ``theta_i = pi i/m`` (i = 1..m-1) for series of n = 1..n_max terms (cached).
+
+    Returns
+    -------
+    values : ndarray
+        ``theta_grid(m, n_max)``'s sine table with two more rows, ``n`` and ``n (-1)^(n-1)``: one product with
+        ``c_1..c_n`` gives ``p(theta_i) = sum c_n sin(n theta_i)`` and both edge slopes ``dp/dtheta = sum n c_n``
+        (theta = 0, trailing edge) and ``sum n c_n (-1)^(n-1)`` (theta = pi, leading edge).
+    cosines : ndarray
+        ``n cos(n theta_i)`` (derivative rows, for Newton on the maximum).
+    cos_theta : ndarray
+        ``cos(theta_i)``.
+    """
+    theta, sines = theta_grid(m, n_max)
+    n = np.arange(1, n_max + 1, dtype=float)
+    return read_only(np.vstack((sines, n, n * (-1.0) ** (n - 1))), n * np.cos(theta[:, None] * n), np.cos(theta))
+
+
+@lru_cache(maxsize=64)
+def orders(n_max: int) -> tuple[np.ndarray, np.ndarray]:
+    """``n = 0..n_max`` as floats and ``eps_n (1, 0, -1, 0)[n mod 4]``-style selectors (cached).
+
+    Returns ``n`` and the (n_max + 1, 4) matrix ``E`` with ``E[n, n mod 4] = eps_n`` (Jacobi-Anger weights
+    ``eps_0 = 1``, ``eps_n = 2``): ``E @ (b_0, b_1, b_2, b_3)`` is ``eps_n b_(n mod 4)``, the period-4 pattern of
+    ``cos(phi + n pi/2)``.
+    """
+    n = np.arange(n_max + 1, dtype=float)
+    quarter = np.zeros((n_max + 1, 4))
+    quarter[np.arange(n_max + 1), np.arange(n_max + 1) % 4] = 2.0
+    quarter[0, 0] = 1.0
+    return read_only(n, quarter)
 
 
 def double_factorial_ratio(j: int) -> float:
@@ -52,6 +98,35 @@ def double_factorial_ratio(j: int) -> float:
     for i in range(2, j + 1, 2):
         r *= (i - 1) / i
     return r
+
+
+@lru_cache(maxsize=32)
+def surface_data(surface) -> tuple:
+    """What :class:`SlopeExpansion` needs from a surface, cached by value (Surface is frozen and hashable).
+
+    Returns ``(has_poly, slope_poly, slope_derivs, deriv_lists, poly_weights, harmonic_list, harmonic_curvature)``:
+    Z'(X) as power coefficients with its derivatives (arrays, read-only, and lists), the moment weights of
+    :meth:`SlopeExpansion.moments`, the non-zero harmonics as plain ``(k, Phi, Psi)`` tuples (the scalar paths run
+    in Newton loops, where numpy scalars cost more than the maths) and ``sum k^2 |Z_m| >= |Z''|`` of the harmonics.
+    """
+    has_poly = any(c != 0.0 for c in surface.polynomial[1:])
+    if has_poly:
+        slope_poly = nppoly.polyder(np.asarray(surface.polynomial, dtype=float))
+        slope_derivs = [slope_poly]
+        for _ in range(slope_poly.size + 1):
+            d = slope_derivs[-1]
+            slope_derivs.append(nppoly.polyder(d) if d.size > 1 else np.zeros(1))
+    else:
+        slope_poly = np.zeros(1)
+        slope_derivs = [slope_poly, slope_poly]
+    for d in slope_derivs:
+        d.flags.writeable = False
+    harmonic_list = tuple((hm.wavenumber, hm.cos_amplitude, hm.sin_amplitude) for hm in surface.harmonics
+                          if hm.amplitude != 0.0)
+    return (has_poly, slope_poly, tuple(slope_derivs), tuple(tuple(d.tolist()) for d in slope_derivs),
+            tuple((j, double_factorial_ratio(j) if j % 2 == 0 else first_moment_weight(j), 1.0 / math.factorial(j))
+                  for j in range(slope_poly.size)),
+            harmonic_list, sum(k * k * math.hypot(phi, psi) for k, phi, psi in harmonic_list))
 
 
 class SlopeExpansion:
@@ -68,92 +143,29 @@ class SlopeExpansion:
     """
 
     def __init__(self, radius, axis_position, surface):
-        self.radius = radius
-        self.axis_position = axis_position
-        # surface slope Z'(X) as a polynomial (power basis in X) plus harmonics
-        self.has_poly = any(c != 0.0 for c in surface.polynomial[1:])
-        if self.has_poly:
-            self.slope_poly = nppoly.polyder(np.asarray(surface.polynomial, dtype=float))
-            self.slope_derivs = [self.slope_poly]
-            for _ in range(self.slope_poly.size + 1):
-                d = self.slope_derivs[-1]
-                self.slope_derivs.append(nppoly.polyder(d) if d.size > 1 else np.zeros(1))
-        else:
-            self.slope_poly = np.zeros(1)
-            self.slope_derivs = [self.slope_poly, self.slope_poly]
-        h = [hm for hm in surface.harmonics if hm.amplitude != 0.0]
-        self.k = np.array([hm.wavenumber for hm in h])
-        self.phi = np.array([hm.cos_amplitude for hm in h])
-        self.psi = np.array([hm.sin_amplitude for hm in h])
-        self.has_harmonics = self.k.size > 0
-        # plain-float copies for the scalar path (numpy calls on scalars dominate otherwise)
-        self.harmonic_list = list(zip(self.k.tolist(), self.phi.tolist(), self.psi.tolist(), strict=True))
-        self.deriv_lists = [d.tolist() for d in self.slope_derivs]
-        self.poly_weights = [(j, double_factorial_ratio(j) if j % 2 == 0 else first_moment_weight(j),
-                              1.0 / math.factorial(j)) for j in range(self.slope_poly.size)]
+        self.radius = float(radius)
+        self.axis_position = float(axis_position)
+        (self.has_poly, self.slope_poly, self.slope_derivs, self.deriv_lists, self.poly_weights, self.harmonic_list,
+         self.harmonic_curvature) = surface_data(surface)
+        self.has_harmonics = bool(self.harmonic_list)
+
+    @property
+    def k(self) -> np.ndarray:
+        """Wavenumbers k_m [1/m] of the non-zero harmonics."""
+        return np.array([k for k, _, _ in self.harmonic_list])
 
     # ---- T0/T1 moments with derivatives (the exact scalar equations 28-31) -------------------------------
-    def moments(self, h, c):
-        """T_0 and T_1 Chebyshev coefficients of ``Z'(c + h t)`` and their derivatives.
+    def moments(self, h: float, c: float):
+        """T_0 and T_1 Chebyshev coefficients of ``Z'(c + h t)`` and their derivatives (plain floats).
 
         Returns
         -------
-        m0, m1, dm0_dh, dm0_dc, dm1_dh, dm1_dc : float or ndarray
-            Broadcast over ``h`` and ``c``.  For a harmonic (physics.md eqs 28-31):
-            ``m0 = k J0(kh) (Psi cos kc - Phi sin kc)``, ``m1 = -2 k J1(kh) (Phi cos kc + Psi sin kc)``.
+        m0, m1, dm0_dh, dm0_dc, dm1_dh, dm1_dc : float
+            For a harmonic (physics.md eqs 28-31): ``m0 = k J0(kh) (Psi cos kc - Phi sin kc)``,
+            ``m1 = -2 k J1(kh) (Phi cos kc + Psi sin kc)``; for the polynomial part the Taylor coefficients
+            ``e_j = h^j Q^(j)(c)/j!`` of ``Q = Z'`` about c weighted by the means of t^j, ``(j-1)!!/j!!`` (even j),
+            and the first moments ``2 j!!/(j+1)!!`` (odd j).
         """
-        if isinstance(h, float) and isinstance(c, float):
-            return self.moments_scalar(h, c)
-        h = np.asarray(h, dtype=float)
-        c = np.asarray(c, dtype=float)
-        shape = np.broadcast(h, c).shape
-        m0 = np.zeros(shape)
-        m1 = np.zeros(shape)
-        d0h = np.zeros(shape)
-        d0c = np.zeros(shape)
-        d1h = np.zeros(shape)
-        d1c = np.zeros(shape)
-        if self.has_poly:
-            # Taylor coefficients e_j = h^j Q^(j)(c)/j! of Q = Z' about c; means of t^j: (j-1)!!/j!! (even j),
-            # first moment 2 j!!/(j+1)!! (odd j)
-            nd = self.slope_poly.size
-            for j in range(nd):
-                qj = nppoly.polyval(c, self.slope_derivs[j]) / math.factorial(j)
-                qj1 = nppoly.polyval(c, self.slope_derivs[j + 1]) / math.factorial(j)
-                hj = h**j
-                dhj = j * h ** (j - 1) if j > 0 else 0.0 * h
-                if j % 2 == 0:
-                    w = double_factorial_ratio(j)
-                    m0 = m0 + w * hj * qj
-                    d0h = d0h + w * dhj * qj
-                    d0c = d0c + w * hj * qj1
-                else:
-                    w = first_moment_weight(j)
-                    m1 = m1 + w * hj * qj
-                    d1h = d1h + w * dhj * qj
-                    d1c = d1c + w * hj * qj1
-        if self.has_harmonics:
-            k = self.k
-            z = h[..., None] * k
-            kc = c[..., None] * k
-            cs, sn = np.cos(kc), np.sin(kc)
-            j0 = special.j0(z)
-            j1 = special.j1(z)
-            # J1'(z) = J0 - J1/z, -> 1/2 as z -> 0
-            with np.errstate(divide="ignore", invalid="ignore"):
-                j1p = np.where(z > 1e-8, j0 - j1 / np.where(z > 1e-8, z, 1.0), 0.5 - z * z * 3.0 / 16.0)
-            a0 = self.psi * cs - self.phi * sn
-            a1 = self.phi * cs + self.psi * sn
-            m0 = m0 + np.sum(k * j0 * a0, axis=-1)
-            m1 = m1 + np.sum(-2.0 * k * j1 * a1, axis=-1)
-            d0h = d0h + np.sum(-k * k * j1 * a0, axis=-1)
-            d0c = d0c + np.sum(-k * k * j0 * a1, axis=-1)
-            d1h = d1h + np.sum(-2.0 * k * k * j1p * a1, axis=-1)
-            d1c = d1c + np.sum(-2.0 * k * k * j1 * a0, axis=-1)
-        return m0, m1, d0h, d0c, d1h, d1c
-
-    def moments_scalar(self, h: float, c: float):
-        """:meth:`moments` for plain floats (same formulas, no array overhead)."""
         m0 = m1 = d0h = d0c = d1h = d1c = 0.0
         if self.has_poly:
             for j, w, inv_fact in self.poly_weights:
@@ -173,8 +185,9 @@ class SlopeExpansion:
             z = k * h
             kc = k * c
             cs, sn = math.cos(kc), math.sin(kc)
-            j0 = float(special.j0(z))
-            j1 = float(special.j1(z))
+            j0 = float(_j0(z))
+            j1 = float(_j1(z))
+            # J1'(z) = J0 - J1/z, -> 1/2 as z -> 0
             j1p = j0 - j1 / z if z > 1e-8 else 0.5 - z * z * 3.0 / 16.0
             a0 = psi * cs - phi * sn
             a1 = phi * cs + psi * sn
@@ -187,27 +200,61 @@ class SlopeExpansion:
             d1c -= 2.0 * kk * j1 * a0
         return m0, m1, d0h, d0c, d1h, d1c
 
+    # ---- curvature bounds (what makes a check provably unnecessary) ----------------------------------------
+    def curvature_bound(self, lo: float, hi: float) -> float:
+        """A bound of ``Z''(X)`` for X in [lo, hi]: of ``|Z''|`` on a finite interval, of ``Z''`` from above on
+        the whole line (``lo = -inf``, ``hi = inf``).
+
+        Harmonics contribute ``sum k^2 |Z_m|``.  The polynomial part is bounded by ``sum |q_j| max(|lo|, |hi|)^j``
+        on a finite interval (q_j: power coefficients of Z''); on the whole line it is bounded only for Z'' of
+        degree 0, or of degree 2 opening downwards (vertex value), and is ``inf`` otherwise.
+        """
+        bound = self.harmonic_curvature
+        if not self.has_poly:
+            return bound
+        q = list(self.deriv_lists[1])
+        while len(q) > 1 and q[-1] == 0.0:
+            q.pop()
+        if math.isfinite(lo) and math.isfinite(hi):
+            r = max(abs(lo), abs(hi))
+            return bound + sum(abs(c) * r**j for j, c in enumerate(q))
+        if len(q) == 1:
+            return bound + q[0]
+        if len(q) == 3 and q[2] < 0.0:
+            return bound + q[0] - q[1] * q[1] / (4.0 * q[2])
+        return math.inf
+
     # ---- full Chebyshev series ------------------------------------------------------------------------------
     def gap_slope_coefficients(self, h: float, c: float, order: int) -> np.ndarray:
         """Chebyshev coefficients ``[g_0 .. g_order]`` of ``h0'(c + h t)`` (exact for the polynomial part,
-        Jacobi-Anger for harmonics, truncated at ``order``)."""
-        g = np.zeros(order + 1)
-        g[0] = (c - self.axis_position) / self.radius
+        Jacobi-Anger for harmonics, truncated at ``order``).
+
+        Harmonic m contributes ``-eps_n k J_n(k h) [Psi cos(k c + n pi/2) - Phi sin(k c + n pi/2)]``, whose bracket
+        repeats with period 4 in n: ``a0, -a1, -a0, a1`` (``a0 = Psi cos kc - Phi sin kc``,
+        ``a1 = Phi cos kc + Psi sin kc``), so one Bessel table per harmonic is all the work (the pattern comes from
+        the cached :func:`orders`).
+        """
+        if self.has_harmonics:
+            n, quarter = orders(order)
+            g = np.zeros(order + 1)
+            for k, phi, psi in self.harmonic_list:
+                kc = k * c
+                cs, sn = math.cos(kc), math.sin(kc)
+                a0 = k * (psi * cs - phi * sn)
+                a1 = k * (phi * cs + psi * sn)
+                g += _jv(n, k * h) * (quarter @ np.array((-a0, a1, a0, -a1)))
+        else:
+            g = np.zeros(order + 1)
+        g[0] += (c - self.axis_position) / self.radius
         if order >= 1:
-            g[1] = h / self.radius
+            g[1] += h / self.radius
         if self.has_poly:
             # Taylor polynomial of Z'(c + h t) in t, then to the Chebyshev basis
-            taylor = np.array([nppoly.polyval(c, self.slope_derivs[j]) * h**j / math.factorial(j)
+            taylor = np.array([horner(self.deriv_lists[j], c) * h**j / math.factorial(j)
                                for j in range(self.slope_poly.size)])
             cheb = npcheb.poly2cheb(taylor)
             m = min(cheb.size, order + 1)
             g[:m] -= cheb[:m]
-        if self.has_harmonics:
-            n = np.arange(order + 1)
-            eps = np.where(n == 0, 1.0, 2.0)
-            jn = special.jv(n[:, None], h * self.k[None, :])
-            ang = c * self.k[None, :] + 0.5 * np.pi * n[:, None]
-            g -= eps * np.sum(self.k * jn * (self.psi * np.cos(ang) - self.phi * np.sin(ang)), axis=1)
         return g
 
     def required_order(self, h: float, tolerance: float, max_order: int = 400) -> int:
@@ -222,13 +269,23 @@ class SlopeExpansion:
             return order
         target = tolerance * h / self.radius
         terms = [(0.5 * k * h, 2.0 * k * math.hypot(phi, psi)) for k, phi, psi in self.harmonic_list]
-        n_start = max(order, int(max(z for z, _ in terms)) + 1)
-        for n in range(n_start, max_order + 1):
-            lg = math.lgamma(n + 1)
-            bound = sum(amp * math.exp(n * math.log(z) - lg) if z > 0 else 0.0 for z, amp in terms)
-            if bound <= target:
-                return n
-        return max_order
+        n = max(order, int(max(z for z, _ in terms)) + 1)
+        if n >= max_order:
+            return max_order
+        # bounds at the start by logarithms (no overflow for any kh), then b_(n+1) = b_n z/(n+1) in floats:
+        # from n > z on they only decrease
+        zs = [z for z, _ in terms if z > 0.0]
+        bounds = [math.exp(math.log(amp) + n * math.log(z) - math.lgamma(n + 1)) for z, amp in terms if z > 0.0]
+        if len(zs) == 1:  # the usual single harmonic, in plain floats
+            b, z = bounds[0], zs[0]
+            while n < max_order and b > target:
+                n += 1
+                b *= z / n
+            return n
+        while n < max_order and sum(bounds) > target:
+            n += 1
+            bounds = [b * z / n for b, z in zip(bounds, zs, strict=True)]
+        return n
 
     # ---- monomial (paper eqs 21-26) -------------------------------------------------------------------------
     def gap_slope_taylor(self, c: float, order: int) -> np.ndarray:
@@ -241,18 +298,21 @@ class SlopeExpansion:
             for j in range(min(order, self.slope_poly.size)):
                 e[j] -= nppoly.polyval(c, self.slope_derivs[j]) / math.factorial(j)
         if self.has_harmonics:
+            k = self.k
+            phi = np.array([p for _, p, _ in self.harmonic_list])
+            psi = np.array([s for _, _, s in self.harmonic_list])
             # k^(j+1)/j! by recurrence: overflows to inf (a reported failure) instead of raising at j > 170
-            scale = self.k.copy()
+            scale = k.copy()
             with np.errstate(over="ignore", invalid="ignore"):
                 for j in range(order):
                     if j > 0:
-                        scale = scale * self.k / j
-                    ang = c * self.k + 0.5 * np.pi * j
-                    e[j] -= np.sum(scale * (self.psi * np.cos(ang) - self.phi * np.sin(ang)))
+                        scale = scale * k / j
+                    ang = c * k + 0.5 * np.pi * j
+                    e[j] -= np.sum(scale * (psi * np.cos(ang) - phi * np.sin(ang)))
         return e
 
 
-def horner(coefficients: list[float], x: float) -> float:
+def horner(coefficients, x: float) -> float:
     """Power-series value sum c_j x^j for plain floats."""
     v = 0.0
     for coef in reversed(coefficients):
@@ -274,7 +334,7 @@ def sine_series(coefficients: np.ndarray, t) -> np.ndarray:
     inside = np.abs(t) <= 1.0
     theta = np.arccos(np.clip(t, -1.0, 1.0))
     n = np.arange(1, coefficients.size)
-    val = np.sin(np.multiply.outer(theta, n)) @ coefficients[1:] if n.size else np.zeros_like(t)
+    val = np.sin(theta[..., None] * n) @ coefficients[1:] if n.size else np.zeros_like(t)
     return np.where(inside, val, 0.0)
 
 

@@ -4,43 +4,118 @@ Structure (as the paper's, physics.md section 5): one stick zone at the leading 
 traction is ``q = q1 + q2`` with ``q1 = mu(V s(x)) p(x)`` over the whole patch (``mu_s p`` in the stick zone,
 where s = 0) and ``q2`` a bounded correction on the stick zone that cancels the slip there.
 
-Iteration: guess s(x) (Carter), evaluate ``mu(V s)`` at the patch's Chebyshev nodes and expand ``q1`` as a sine
-series (``q1 = sum e_n sin(n theta)``, a DST of the nodal values: the Chebyshev fit of the paper); its
-displacement gradient is ``H1 = (2/E*) sum e_n T_n(t)``.  On the stick zone ``X = Xs + a* sigma`` the
-Chebyshev coefficients ``F_n`` of ``H1`` give the creep ``xi = -F_0(a*)`` (solved for a* in creep control) and
-``q2 = -(E*/2) sum_{n>=1} F_n sin(n phi)``; the new slip is ``s = xi + H1 - sum F_n w^n``,
-``w = sigma - sqrt(sigma^2 - 1)``, behind the stick zone.  Repeat until s settles (under-relaxed when the
-iteration oscillates).  With dmu/dv < 0 the creep curve has a maximum and q a spike at the stick/slip boundary.
+Discrete equations.  On the patch ``t = cos(theta_j)``, ``theta_j = pi (j + 1/2)/M``, the nodal values
+``Q_j = mu(V s_j) p_j`` define the sine series ``q1 = sum e_n sin(n theta)`` (a DST of ``Q``: the Chebyshev fit of
+the paper), whose displacement gradient is ``H1 = (2/E*) sum e_n T_n(t)``.  On the stick zone
+``X = Xs + a* sigma`` (``t = -1 + (a*/a)(1 + sigma)``) the Chebyshev coefficients ``F_0..F_M`` of ``H1``, exact
+from ``M + 1`` nodes since H1 has degree M, give the creep ``xi = -F_0(a*)`` and
+``q2 = -(E*/2) sum_{n>=1} F_n sin(n phi)``; the slip behind the stick zone is
+``s = xi + H1 - sum F_n w^n``, ``w = sigma - sqrt(sigma^2 - 1)``.  Every map ``Q -> (e, H1, F, s)`` is a matrix:
+those that depend only on M are cached (:func:`slip_operators`), those that depend on a* are built once per
+iteration (:func:`stick_maps`).
+
+Solution.  Newton on the ``M + 1`` unknowns ``(mu_j, a*/a)`` of ``mu_j = mu(V s_j)``, ``s = S(mu p, a*)`` and
+``F_0(a*) + xi = 0``, with the exact Jacobian (``dmu/dv`` from the law; the a*-derivatives of the stick-zone
+re-expansion, ``d T_n(t)/dt = n sin(n psi)/sin(psi)``, and of ``w^n``, ``-n w^n / sqrt(sigma^2 - 1) d sigma``),
+from the Carter state (``mu = mu_s``, ``a* = a (1 - xi/xi_sat)``); in full slip (``xi >= -H1(-1)``) the unknowns
+are the ``mu_j`` alone.  The nodal friction coefficients, not the slips, are the unknowns because q1 is linear in
+them and they stay bounded where a steep law saturates.  Steps are halved until the residual decreases; if Newton
+stalls (a node next to the stick/slip boundary, where the slip goes like the square root of the distance, makes
+the equations kinked) the paper's under-relaxed fixed point takes over.  Typically 3 (Polach-type laws) to 6
+(steep laws) Newton steps replace the fixed point's 7-25 iterations, each of which needed an inner root search.
+With dmu/dv < 0 the creep curve has a maximum and q a spike at the stick/slip boundary.
+
+Accuracy.  T' converges like M^-1.5 and erratically (it depends on where the stick/slip boundary falls between
+nodes), the slower the steeper the law: ``kappa = |dmu/dv(0)| V xi_sat / mu_s``, the fall of mu over the Carter
+saturation slip relative to mu_s, decides.  Measured against M = 256 (random exponential, rational and linear
+laws, creeps 0.01-3 saturation, flat and corrugated; ``benchmarks/bench_steady.py`` table C): M = 16 is within
+2e-4 for kappa < 0.3 (Polach's B = 0.6 s/m at 20 m/s has kappa = 0.01), M = 32 within 4e-4 for kappa < 1; for
+kappa >= 1 (e.g. B = 100 s/m at 20 m/s) M = 64 leaves ~3e-3 and small M can have several discrete solutions.
+:data:`NODES_BY_STEEPNESS` encodes this default.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
-from scipy import fft, optimize
+from scipy.linalg import lapack
 
-from rollcontact.chebyshev import sine_series
+from rollcontact.chebyshev import read_only, sine_series
 from rollcontact.result import Distributions
 
-__all__ = ["VelocityFrictionDistributions", "solve_velocity_dependent"]
+__all__ = ["DEFAULT_NODES", "VelocityFrictionDistributions", "default_nodes", "slip_operators",
+           "solve_velocity_dependent"]
+
+DEFAULT_NODES = 16
+"""Patch nodes M of the slip iteration unless the law is steep (:func:`default_nodes`)."""
+
+NODES_BY_STEEPNESS = ((0.3, DEFAULT_NODES), (1.0, 32), (math.inf, 64))
+"""Patch nodes M by the law's steepness ``kappa`` (:func:`default_nodes`): the first M whose bound exceeds kappa.
+Measured against M = 256 on random laws, creeps and surfaces (module docstring, Accuracy)."""
+
+NEWTON_PATIENCE = 8
+"""Newton iterations after which the residual must have halved, else the relaxed fixed point takes over."""
 
 
-def dst_coefficients(values: np.ndarray) -> np.ndarray:
-    """Sine coefficients ``e_1..e_M`` with ``values_j = sum e_n sin(n theta_j)``, theta_j = pi (j + 1/2)/M."""
-    m = values.size
-    e = fft.dst(values, type=2) / m
-    e[-1] *= 0.5
-    return np.concatenate(([0.0], e))
+@dataclass(frozen=True)
+class SlipOperators:
+    """Matrices of the slip iteration that depend only on the number of patch nodes M (see module docstring).
+
+    Attributes
+    ----------
+    t_plus_one : ndarray
+        ``1 + t_j`` at the patch nodes ``t_j = cos(theta_j)``.
+    theta : ndarray
+        ``theta_j = pi (j + 1/2)/M``.
+    n : ndarray
+        ``1..M`` as floats.
+    dst : ndarray
+        (M, M): ``e_1..e_M = dst @ Q`` (sine coefficients of nodal values).
+    cosines : ndarray
+        (M, M): ``T_n(t_j) = cos(n theta_j)``, so ``H1 = (2/E*) cosines @ e``.
+    gradient : ndarray
+        (M, M): ``cosines @ dst``, so ``H1 = (2/E*) gradient @ Q``.
+    alternating : ndarray
+        (M,): ``(-1)^n``, so ``H1(-1) = (2/E*) alternating @ e``.
+    sigma, sigma_plus_one : ndarray
+        Stick-zone nodes ``cos(phi_k)``, ``phi_k = pi (k + 1/2)/(M + 1)``, and ``1 + sigma``.
+    dct : ndarray
+        (M + 1, M + 1): Chebyshev coefficients ``F_0..F_M = dct @ values`` at ``sigma_k``.
+    stick_sines : ndarray
+        (M + 1, M): ``sin(n phi_k)``, n = 1..M.
+    """
+
+    t_plus_one: np.ndarray
+    theta: np.ndarray
+    n: np.ndarray
+    dst: np.ndarray
+    cosines: np.ndarray
+    gradient: np.ndarray
+    alternating: np.ndarray
+    sigma: np.ndarray
+    sigma_plus_one: np.ndarray
+    dct: np.ndarray
+    stick_sines: np.ndarray
 
 
-def cheb_coefficients(values: np.ndarray) -> np.ndarray:
-    """Chebyshev coefficients ``F_0..F_{K-1}`` interpolating values at sigma_k = cos(pi (k + 1/2)/K)."""
-    k = values.size
-    f = fft.dct(values, type=2) / k
-    f[0] *= 0.5
-    return f
+@lru_cache(maxsize=16)
+def slip_operators(m: int) -> SlipOperators:
+    """The cached :class:`SlipOperators` for M = ``m`` patch nodes (arrays read-only)."""
+    theta = np.pi * (np.arange(m) + 0.5) / m
+    n = np.arange(1, m + 1, dtype=float)
+    dst = (2.0 / m) * np.sin(np.multiply.outer(n, theta))
+    dst[-1] *= 0.5
+    cosines = np.cos(np.multiply.outer(theta, n))
+    k = m + 1
+    phi = np.pi * (np.arange(k) + 0.5) / k
+    dct = (2.0 / k) * np.cos(np.multiply.outer(np.arange(k), phi))
+    dct[0] *= 0.5
+    sigma = np.cos(phi)
+    return SlipOperators(*read_only(1.0 + np.cos(theta), theta, n, dst, cosines, cosines @ dst, (-1.0) ** n, sigma,
+                                    1.0 + sigma, dct, np.sin(np.multiply.outer(phi, n))))
 
 
 @dataclass(frozen=True)
@@ -92,9 +167,207 @@ def outer_powers(f: np.ndarray, sigma) -> np.ndarray:
     return powers @ f[1:]
 
 
+@dataclass
+class StickMaps:
+    """The a*-dependent quantities at one stick half-width ``a* = eta a`` (see :func:`stick_maps`)."""
+
+    eta: float
+    psi: np.ndarray  # arccos of the stick nodes t_k = eta (1 + sigma_k) - 1
+    cosines: np.ndarray  # (M+1, M): T_n(t_k) = cos(n psi_k)
+    slipping: np.ndarray  # bool (M,): patch nodes behind the stick zone
+    sigma: np.ndarray  # their stick-zone coordinate (1 + t_j)/eta - 1 (> 1 where slipping)
+    root: np.ndarray  # sqrt(sigma^2 - 1) where slipping, 1 inside the zone
+    powers: np.ndarray  # (M, M): w_j^n, w = 1/(sigma + root), zero rows inside the zone
+
+
+def stick_maps(ops: SlipOperators, eta: float) -> StickMaps:
+    """Stick-zone nodes ``t_k = eta (1 + sigma_k) - 1`` with ``T_n(t_k)``, and the outer powers ``w_j^n`` behind it.
+
+    ``F = (2/E*) dct @ cosines @ e`` re-expands ``H1`` on the zone; behind it ``sigma_j = (1 + t_j)/eta - 1 > 1``
+    and ``w_j = 1/(sigma_j + sqrt(sigma_j^2 - 1))`` (the cancellation-free form of ``sigma - sqrt(sigma^2 - 1)``);
+    inside it the powers are zero.  ``root`` is 1 inside (``sqrt(sigma^2 - 1)`` behind), so that the divisions here
+    and in the eta-derivative stay finite without branches.
+    """
+    psi = np.arccos(eta * ops.sigma_plus_one - 1.0)
+    sig = ops.t_plus_one / eta - 1.0
+    slipping = sig > 1.0
+    root = np.sqrt(np.maximum(sig * sig - 1.0, 0.0)) + ~slipping
+    w = slipping / (sig + root)  # inside: 0/(sigma + 1) with sigma > -1
+    return StickMaps(eta, psi, np.cos(psi[:, None] * ops.n), slipping, sig, root, w[:, None] ** ops.n)
+
+
+def gradient_deta(ops: SlipOperators, psi: np.ndarray, e: np.ndarray) -> np.ndarray:
+    """``d/deta sum_n e_n T_n(t_k)`` at the stick nodes ``t_k = cos(psi_k) = eta (1 + sigma_k) - 1``.
+
+    ``dT_n/dt = n sin(n psi)/sin(psi)`` and ``dt_k/deta = 1 + sigma_k``; ``sin(psi_k) > 0`` since every node is
+    interior.
+    """
+    return (ops.sigma_plus_one / np.sin(psi)) * (np.sin(psi[:, None] * ops.n) @ (ops.n * e))
+
+
+@dataclass
+class SlipState:
+    """One evaluation of the discrete equations at ``(mu_j, eta)`` (see :class:`SlipEquations`)."""
+
+    mu: np.ndarray  # friction coefficient at the patch nodes
+    eta: float  # a*/a (0: full slip)
+    q: np.ndarray  # q1 = mu p at the nodes
+    e: np.ndarray  # its sine coefficients e_1..e_M
+    s: np.ndarray  # slip S(q, a*) at the nodes (0 in the stick zone)
+    f: np.ndarray | None  # F_0..F_M (partial slip)
+    maps: StickMaps | None
+    r_mu: np.ndarray  # mu - mu(V max(s, 0))
+    r_h: float  # (F_0 + xi)/xi_scale (partial slip), else 0
+    norm: float  # max(|r_mu|/mu_s, |r_h|)
+
+
+class SlipEquations:
+    """The discrete equations for one patch and law, in the nodal friction coefficients ``mu_j`` and ``eta = a*/a``.
+
+    ``mu_j - mu(V max(s_j, 0)) = 0`` with ``s = S(mu p, a*)`` and ``F_0(a*) + xi = 0``.  The unknowns are the
+    ``mu_j``, not the slips: q1 is linear in them, and where the law saturates (``dmu/dv ~ 0``, steep laws far into
+    slip) the equations become linear instead of losing the slip's sensitivity, which is what makes Newton on the
+    slips bounce.
+    """
+
+    def __init__(self, ops: SlipOperators, p: np.ndarray, estar: float, friction, rolling_speed: float, xi: float):
+        self.ops, self.p, self.friction, self.speed, self.xi = ops, p, friction, rolling_speed, xi
+        self.k2 = 2.0 / estar
+        self.mu_s = float(friction.static_coefficient)
+        # creep scale of the creep equation: |xi|, but at least 1e-5 of the Carter saturation creep, since F_0 sums
+        # M terms of that size and cannot be resolved below ~M eps xi_sat (Newton would never meet the tolerance)
+        self.xi_scale = max(xi, -1e-5 * self.k2 * self.mu_s * float(ops.alternating @ (ops.dst @ p)))
+
+    def evaluate(self, mu: np.ndarray, eta: float) -> SlipState:
+        """Residuals at ``(mu, eta)``; the branch follows ``xi < -H1(-1)`` (partial slip) or not (full slip)."""
+        ops, xi, k2 = self.ops, self.xi, self.k2
+        q = mu * self.p
+        e = ops.dst @ q
+        xi_full = -k2 * float(ops.alternating @ e)  # creep of a vanishing stick zone, -H1(-1)
+        if xi >= xi_full:
+            eta = 0.0
+        elif eta == 0.0:
+            eta = 1.0 - xi / xi_full  # Carter: xi(a*) = xi_full (1 - a*/a)
+        k2e = k2 * e
+        h1 = ops.cosines @ k2e
+        if eta > 0.0:
+            maps = stick_maps(ops, eta)
+            f = ops.dct @ (maps.cosines @ k2e)
+            s = np.where(maps.slipping, xi + h1 - maps.powers @ f[1:], 0.0)
+            r_h = (float(f[0]) + xi) / self.xi_scale
+        else:
+            maps = f = None
+            s = xi + h1
+            r_h = 0.0
+        r_mu = mu - self.friction.coefficient(self.speed * np.maximum(s, 0.0))
+        return SlipState(mu, eta, q, e, s, f, maps, r_mu, r_h, max(float(np.abs(r_mu).max()) / self.mu_s, abs(r_h)))
+
+    def jacobian(self, st: SlipState) -> np.ndarray:
+        """Exact Jacobian of ``(r_mu, r_h)`` in ``(mu, eta)`` at ``st`` (of ``r_mu`` in ``mu`` in full slip).
+
+        In eta: the stick-zone re-expansion through :func:`gradient_deta` and, behind the zone,
+        ``d w^n/deta = n w^n (sigma + 1)/(eta sqrt(sigma^2 - 1))``; the jump of a node from slip to stick is not
+        differentiated (s is continuous there).
+        """
+        ops, k2, p = self.ops, self.k2, self.p
+        m = ops.n.size
+        # d mu(V s+)/ds, zero in the stick zone and where s < 0
+        dlaw = self.speed * self.friction.derivative(self.speed * np.maximum(st.s, 0.0)) * (st.s > 0.0)
+        if st.maps is None:
+            jac = (dlaw[:, None] * (-k2 * ops.gradient)) * p
+            jac.flat[:: m + 1] += 1.0
+            return jac
+        mp, f = st.maps, st.f
+        # F = (2/E*) re @ q, and its eta-derivative applied to q
+        re = ops.dct @ (mp.cosines @ ops.dst)
+        df = ops.dct @ (k2 * gradient_deta(ops, mp.psi, st.e))
+        # zero rows of the powers inside the zone make the (finite) factor irrelevant there
+        factor = (mp.sigma + 1.0) / (mp.eta * mp.root)
+        ds_deta = -((mp.powers @ (ops.n * f[1:])) * factor + mp.powers @ df[1:])
+        jac = np.empty((m + 1, m + 1))
+        jac[:m, :m] = (dlaw[:, None] * (-k2 * (ops.gradient - mp.powers @ re[1:]))) * p
+        jac[:m, m] = -dlaw * ds_deta
+        jac[m, :m] = (k2 / self.xi_scale) * re[0] * p
+        jac[m, m] = float(df[0]) / self.xi_scale
+        jac.flat[: m * (m + 1) : m + 2] += 1.0  # identity on the mu block only
+        return jac
+
+    def newton_step(self, st: SlipState) -> tuple[np.ndarray, float]:
+        """``(dmu, deta)`` of Newton's method at ``st`` (``deta = 0`` in full slip)."""
+        m = self.ops.n.size
+        if st.maps is None:
+            return solve_linear(self.jacobian(st), -st.r_mu), 0.0
+        rhs = np.empty(m + 1)
+        rhs[:m] = -st.r_mu
+        rhs[m] = -st.r_h
+        step = solve_linear(self.jacobian(st), rhs)
+        return step[:m], float(step[m])
+
+    def exact_stick(self, mu: np.ndarray, eta: float) -> SlipState:
+        """:meth:`evaluate` at the root a* of ``F_0(a*) + xi = 0`` for fixed ``mu`` (safeguarded Newton in eta).
+
+        ``F_0 + xi`` is negative as a* -> 0 (partial slip: ``xi < xi_full``) and ``xi > 0`` at a* = a (the mean
+        of H1 over the patch is ``(2/E*) e_0 = 0``), so the root is bracketed by (0, 1].
+        """
+        st = self.evaluate(mu, eta)
+        lo, hi = 0.0, 1.0
+        ops = self.ops
+        for _ in range(60):
+            if st.maps is None or abs(st.r_h) <= 1e-13:
+                return st
+            if st.r_h < 0.0:
+                lo = st.eta
+            else:
+                hi = st.eta
+            slope = float(ops.dct[0] @ gradient_deta(ops, st.maps.psi, st.e)) * self.k2 / self.xi_scale
+            eta = st.eta - st.r_h / slope if slope > 0.0 else 0.5 * (lo + hi)
+            if not lo < eta < hi:
+                eta = 0.5 * (lo + hi)
+            if abs(eta - st.eta) <= 1e-15:
+                return st
+            st = self.evaluate(mu, eta)
+        return st
+
+    def relaxed_iteration(self, tolerance: float, max_iterations: int, history: list[float]):
+        """The paper's fixed point, under-relaxed: ``s <- s + omega (S(mu(V s) p, a*) - s)``, a* exact at every step.
+
+        From the Carter state (s = 0); ``omega`` halves (down to 0.05) whenever the largest change of s grows: slow,
+        but it converges where Newton stalls on a kink of the discrete equations (a node next to the stick/slip
+        boundary, whose slip goes like the square root of its distance).  Returns ``(state, iterations)``.
+        """
+        s = np.zeros(self.ops.n.size)
+        st = self.evaluate(np.full(s.size, self.mu_s), 0.0)
+        omega = 1.0
+        last = math.inf
+        for it in range(1, max_iterations + 1):
+            st = self.exact_stick(self.friction.coefficient(self.speed * np.maximum(s, 0.0)), st.eta)
+            history.append(st.norm)
+            if st.norm <= tolerance:
+                return st, it
+            change = float(np.abs(st.s - s).max())
+            if change > last:
+                omega = max(0.05, 0.5 * omega)
+            last = change
+            s = s + omega * (st.s - s)
+        return st, max_iterations
+
+
+def default_nodes(pressure_coefficients: np.ndarray, estar: float, friction, rolling_speed: float) -> int:
+    """Patch nodes for 1e-3 in T': :data:`NODES_BY_STEEPNESS` at ``kappa = |dmu/dv(0)| V xi_sat / mu_s``.
+
+    ``xi_sat = -(2/E*) mu_s sum c_n (-1)^n`` is the creep at which the stick zone of Coulomb friction with mu_s
+    vanishes (Carter's ``mu a / R`` for a parabolic gap).
+    """
+    mu_s = float(friction.static_coefficient)
+    c = pressure_coefficients
+    xi_sat = -(2.0 / estar) * mu_s * float(c[1:] @ (-1.0) ** np.arange(1, c.size))
+    kappa = abs(float(friction.derivative(0.0))) * rolling_speed * abs(xi_sat) / mu_s
+    return next(m for bound, m in NODES_BY_STEEPNESS if kappa < bound)
+
+
 def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset: float, estar: float, friction,
-                             rolling_speed: float, creep: float, *, nodes: int = 192, tolerance: float = 1e-9,
-                             max_iterations: int = 200):
+                             rolling_speed: float, creep: float, *, nodes: int = DEFAULT_NODES,
+                             tolerance: float = 1e-9, max_iterations: int = 200):
     """Creep-controlled steady rolling with ``mu = friction.coefficient(V |s|)`` (paper section 4.2).
 
     Parameters
@@ -106,114 +379,107 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     estar : float
         Contact modulus E* [Pa].
     friction : FrictionLaw
-        mu(v), v [m/s].
+        mu(v), v [m/s], with ``derivative(v)``.
     rolling_speed : float
         V [m/s] > 0.
     creep : float
         xi [1].
     nodes : int
-        Chebyshev nodes on the patch (and on the stick zone) for the fit of mu(V s) p.
+        Chebyshev nodes M on the patch (M + 1 on the stick zone) for the fit of mu(V s) p, raised to twice the
+        number of pressure terms when p has more (no aliasing of mu p).  :func:`default_nodes` gives the count
+        for 1e-3 in T' (``solve_polynomial`` applies it).
     tolerance : float
-        Convergence of the slip field, relative to mu_s a / R-like scale max|s|.
+        Convergence: largest Newton residual, ``|mu_j - mu(V s_j)| / mu_s`` and ``|F_0 + xi| / max(|xi|, 1e-5
+        xi_sat)``.
     max_iterations : int
-        Fixed-point iterations.
+        Newton iterations, and as many again for the relaxed fixed point if Newton stalls.
 
     Returns
     -------
     dict
         ``stick_half_width``, ``tangential_force_per_length``, ``distributions``, ``iterations``, ``converged``,
-        ``message``, ``history`` (max change of s per iteration).
+        ``message``, ``history`` (residual norm per iteration).
     """
     sign = math.copysign(1.0, creep)
     xi = abs(creep)
-    m = nodes
-    theta = np.pi * (np.arange(m) + 0.5) / m
-    t = np.cos(theta)
-    p = np.sin(np.multiply.outer(theta, np.arange(1, pressure_coefficients.size))) @ pressure_coefficients[1:]
-    p = np.clip(p, 0.0, None)
+    c = pressure_coefficients
+    # at least two nodes per pressure term: fewer would alias mu(V s) p (short corrugation, high order)
+    ops = slip_operators(max(int(nodes), 2 * (c.size - 1)))
+    p = np.clip(np.sin(ops.theta[:, None] * np.arange(1, c.size)) @ c[1:], 0.0, None)
     mu_s = float(friction.static_coefficient)
-    k_nodes = m
-    phi = np.pi * (np.arange(k_nodes) + 0.5) / k_nodes
-    sigma_nodes = np.cos(phi)
-    n_idx = np.arange(1, m + 1)
-
-    def stick_coefficients(e, h):
-        """F_n of H1 on the stick zone [-1, -1 + 2h/a] (in t)."""
-        ts = -1.0 + (h / a) * (1.0 + sigma_nodes)
-        h1 = (2.0 / estar) * (np.cos(np.multiply.outer(np.arccos(np.clip(ts, -1, 1)), n_idx)) @ e[1:])
-        return cheb_coefficients(h1)
-
-    # start from Coulomb with mu_s (Carter-like): s = 0 everywhere gives q1 = mu_s p
-    s = np.zeros(m)
-    history = []
-    omega = 1.0
-    h = a
-    e = None
-    f_coef = None
-    converged = False
-    message = ""
-    last_change = math.inf
+    eq = SlipEquations(ops, p, estar, friction, rolling_speed, xi)
+    # Carter state: mu = mu_s everywhere (evaluate() sets a* = a (1 - xi/xi_sat))
+    st = eq.evaluate(np.full(ops.n.size, mu_s), 0.0)
+    history = [st.norm]
     it = 0
-    while it < max_iterations:
+    best = st.norm
+    while st.norm > tolerance and it < max_iterations:
         it += 1
-        mu_nodes = friction.coefficient(rolling_speed * s)
-        e = dst_coefficients(mu_nodes * p)
-        h1_patch = (2.0 / estar) * (np.cos(np.multiply.outer(theta, n_idx)) @ e[1:])
-
-        def residual(hh, e=e):
-            return -stick_coefficients(e, hh)[0] - xi
-
-        lo = a * 1e-9
-        r_lo, r_hi = residual(lo), residual(a)
-        if r_lo <= 0.0:
-            h = 0.0
-            f_coef = np.zeros(2)
-            s_new = xi + h1_patch
-        else:
-            if r_hi >= 0.0:
-                h = a
-            else:
-                h = optimize.brentq(residual, lo, a, xtol=1e-15 * a, rtol=1e-14)
-            f_coef = stick_coefficients(e, h)
-            sigma = (t + 1.0) * a / h - 1.0
-            s_new = np.where(sigma <= 1.0, 0.0, xi + h1_patch - outer_powers(f_coef, sigma))
-        scale = max(float(np.max(np.abs(s_new))), xi, 1e-300)
-        change = float(np.max(np.abs(s_new - s))) / scale
-        history.append(change)
-        if change > last_change:
-            omega = max(0.05, 0.5 * omega)
-        last_change = change
-        s = s + omega * (s_new - s)
-        if change <= tolerance:
-            converged = True
-            s = s_new
+        try:
+            dmu, deta = eq.newton_step(st)
+        except np.linalg.LinAlgError:  # singular Jacobian (e.g. a law with a kink): the fixed point needs none
+            st, extra = eq.relaxed_iteration(tolerance, max_iterations, history)
+            it += extra
             break
-    if not converged:
-        message = (f"velocity-dependent friction: the slip iteration did not converge in {max_iterations} "
-                   f"iterations (last relative change {history[-1]:.3g})")
-    # final consistent fields from the last slip field
-    mu_nodes = friction.coefficient(rolling_speed * np.clip(s, 0.0, None))
-    e = dst_coefficients(mu_nodes * p)
+        # backtracking within a branch (a* kept inside (0, a]; a zone that wants to vanish is halved, the branch
+        # test then decides).  A step that moves the stick/slip boundary across a node is taken as it is: the node
+        # changes equation there (its slip goes like sqrt(a*_node - a*)), so the residuals of the two sides do not
+        # compare, and backtracking would keep Newton on the wrong side of the kink
+        lam = 1.0
+        for _ in range(6):
+            eta = st.eta + lam * deta
+            trial = eq.evaluate(st.mu + lam * dmu, min(eta, 1.0) if eta > 0.0 else 0.5 * st.eta)
+            if trial.norm < st.norm or not same_branch(st, trial):
+                break
+            lam *= 0.5
+        st = trial
+        history.append(st.norm)
+        if it % NEWTON_PATIENCE == 0:
+            if st.norm > 0.5 * best:  # stalled: a kink of the discrete equations, leave it to the fixed point
+                st, extra = eq.relaxed_iteration(tolerance, max_iterations, history)
+                it += extra
+                break
+            best = st.norm
+    converged = st.norm <= tolerance
+    message = "" if converged else (f"velocity-dependent friction: the slip iteration did not converge in {it} "
+                                    f"iterations (last residual {history[-1]:.3g})")
+    h = st.eta * a
+    e = np.concatenate(([0.0], st.e))
+    f_coef = st.f if h > 0.0 else np.zeros(2)
     t_force = 0.5 * math.pi * a * e[1] - (0.5 * math.pi * h * 0.5 * estar * f_coef[1] if h > 0.0 else 0.0)
-    dist = VelocityFrictionDistributions(a, offset, pressure_coefficients, e, h, offset - a + h,
-                                         f_coef if h > 0.0 else np.zeros(2), estar, creep)
+    dist = VelocityFrictionDistributions(a, offset, pressure_coefficients, e, h, offset - a + h, f_coef, estar, creep)
     failures = []
-    if np.any(s < -tolerance * max(xi, 1e-300) * 10):
+    if np.any(st.s < -tolerance * max(xi, 1e-300) * 10):
         failures.append("slip opposes the traction in the slip zone (a second stick zone)")
     if h > 0.0:
-        q2 = -0.5 * estar * (np.sin(np.multiply.outer(phi, np.arange(1, f_coef.size))) @ f_coef[1:])
-        ps = dist.pressure(offset - a + h + h * sigma_nodes)
+        q2 = -0.5 * estar * (ops.stick_sines @ f_coef[1:])
+        ps = np.sin(st.maps.psi[:, None] * np.arange(1, c.size)) @ c[1:]
         pmax = float(np.max(p))
-        if np.any(q2 > 1e-6 * mu_s * pmax) or np.any(q2 < -2.0 * mu_s * ps - 1e-6 * mu_s * pmax):
+        if float(np.maximum(q2, -2.0 * mu_s * ps - q2).max()) > 1e-6 * mu_s * pmax:
             failures.append("traction bound |q| <= mu_s p violated in the stick zone")
     if failures:
         message = "; ".join(([message] if message else []) + failures)
     return {
         "stick_half_width": h,
-        "tangential_force_per_length": sign * t_force,
+        "tangential_force_per_length": sign * float(t_force),
         "distributions": dist,
         "iterations": it,
         "converged": converged and not failures,
         "message": message,
         "history": history,
     }
+
+
+def same_branch(one: SlipState, other: SlipState) -> bool:
+    """Whether two states have the same slipping nodes (full slip: all of them)."""
+    if one.maps is None or other.maps is None:
+        return one.maps is None and other.maps is None
+    return bool(np.array_equal(one.maps.slipping, other.maps.slipping))
+
+
+def solve_linear(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``matrix^-1 rhs`` by LAPACK's gesv directly (numpy.linalg.solve costs ~2x more in call overhead)."""
+    _, _, x, info = lapack.dgesv(matrix, rhs)
+    if info != 0:
+        raise np.linalg.LinAlgError("singular Newton matrix in the slip iteration")
+    return x
