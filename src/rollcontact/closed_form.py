@@ -79,11 +79,14 @@ def carter(normal_load_per_length: float, creep: float, radius: float, contact_m
     a = math.sqrt(4.0 * normal_load_per_length * radius / (math.pi * contact_modulus))
     if a == 0.0:
         return 0.0, 0.0, 0.0
-    a_star = a - radius * abs(creep) / mu
-    if a_star <= 0.0:
+    slip_length = radius * abs(creep) / mu  # a - a*
+    if slip_length >= a:
         return math.copysign(mu * normal_load_per_length, creep), 0.0, 0.0
-    r = a_star / a
-    return (math.copysign(mu * normal_load_per_length * (1.0 - r * r), creep), a_star,
+    a_star = a - slip_length
+    # 1 - (a*/a)^2 = u (2 - u) with u = (a - a*)/a: no cancellation at small creep, where 1 - r^2 would keep
+    # only eps/u of relative accuracy (and lose the sign of T' once u < eps); u (2 - u) <= 1 in floating point
+    u = slip_length / a
+    return (math.copysign(mu * normal_load_per_length * (u * (2.0 - u)), creep), a_star,
             2.0 * normal_load_per_length * radius * a_star / (a * a))
 
 
@@ -111,15 +114,24 @@ def mindlin_unloading_traction(x, a: float, p0: float, mu: float, peak_ratio: fl
 
 
 def ellipse(x, half_width):
-    """sqrt(1 - x^2/c^2) inside |x| < c, 0 outside (and 0 for c = 0)."""
+    """sqrt(1 - x^2/c^2) inside |x| < c, 0 outside (and 0 for c = 0).
+
+    Evaluated as ``sqrt((c - x)(c + x)) / c``: ``1 - (x/c)^2`` cancels near the edges, where the root then
+    magnifies its rounding, up to sqrt(eps) ~ 1.5e-8 within a few eps c of an edge.
+    """
     if half_width <= 0.0:
         return np.zeros_like(x)
-    return np.sqrt(np.clip(1.0 - (x / half_width) ** 2, 0.0, None))
+    return np.sqrt(np.clip((half_width - x) * (half_width + x), 0.0, None)) / half_width
 
 
 @dataclass(frozen=True)
 class CarterDistributions(Distributions):
-    """Hertz pressure and Carter traction/slip, centred at ``offset`` (x from the axis projection)."""
+    """Hertz pressure and Carter traction/slip, centred at ``offset`` (x from the axis projection).
+
+    Traction and slip are evaluated in factored forms (see :meth:`zones`) that keep their relative accuracy when
+    the stick zone fills nearly the whole patch (small creep) and next to the stick/slip boundary, where the
+    textbook differences of square roots cancel (and then break q >= 0, |q| <= mu p by round-off).
+    """
 
     a: float
     p0: float
@@ -132,19 +144,35 @@ class CarterDistributions(Distributions):
     def pressure(self, x):
         return self.p0 * ellipse(np.asarray(x, dtype=float) - self.offset, self.a)
 
-    def traction(self, x):
-        # eqs 13-15: q = mu p0 [ellipse(a) - (a*/a) ellipse(a*) about the stick centre -a + a*]
+    def zones(self, x):
+        """``(a + x', a - x', a - x' - 2w)`` with x' = x - offset and w = a - a* (clipped to the patch).
+
+        The third is >= 0 exactly in the stick zone ``[-a, -a + 2a*]`` and equals ``-(x*^2 - a*^2)/(a + x')``
+        with the eq 16 coordinate ``x* = x' + a - a*``.
+        """
         xr = np.asarray(x, dtype=float) - self.offset
-        q = ellipse(xr, self.a) - (self.a_star / self.a) * ellipse(xr + self.a - self.a_star, self.a_star)
+        minus = np.clip(self.a - xr, 0.0, None)
+        return np.clip(self.a + xr, 0.0, None), minus, minus - 2.0 * (self.a - self.a_star)
+
+    def traction(self, x):
+        # eqs 13-15: q = mu p0 [sqrt(1 - x^2/a^2) - (a*/a) sqrt(1 - (x + a - a*)^2/a*^2)] in the stick zone; with
+        # the zones that is (mu p0 / a) sqrt(a + x) [sqrt(a - x) - sqrt(a - x - 2w)], and the difference of roots
+        # is 2w / (sqrt(a - x) + sqrt(a - x - 2w)): no cancellation, 0 <= q <= mu p by construction
+        plus, minus, stick = self.zones(x)
+        root = np.sqrt(minus)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            in_stick = 2.0 * (self.a - self.a_star) / (root + np.sqrt(np.clip(stick, 0.0, None)))
+        q = np.sqrt(plus) * np.where(stick > 0.0, in_stick, root) / self.a
         return math.copysign(self.mu * self.p0, self.creep) * q
 
     def slip(self, x):
-        # eq 16 generalised to full slip: s = sign(xi) [|xi| - mu (a - a*)/R + (mu/R) sqrt(x*^2 - a*^2)]
-        xs = np.asarray(x, dtype=float) - self.offset + self.a - self.a_star
+        # eq 16 generalised to full slip: s = sign(xi) [|xi| - mu (a - a*)/R + (mu/R) sqrt(x*^2 - a*^2)] behind
+        # the stick zone, x*^2 - a*^2 = -(a + x) (a - x - 2w) from the zones
+        plus, _, stick = self.zones(x)
         inside = np.abs(np.asarray(x, dtype=float) - self.offset) <= self.a
         mag = (abs(self.creep) - self.mu * (self.a - self.a_star) / self.radius
-               + self.mu / self.radius * np.sqrt(np.clip(xs * xs - self.a_star**2, 0.0, None)))
-        s = np.where(xs <= self.a_star, 0.0, math.copysign(1.0, self.creep) * mag)
+               + self.mu / self.radius * np.sqrt(np.clip(-stick * plus, 0.0, None)))
+        s = np.where(stick >= 0.0, 0.0, math.copysign(1.0, self.creep) * mag)
         return np.where(inside, s, np.nan)
 
 

@@ -608,11 +608,13 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
 def patch_geometry(grid: Grid, contact: np.ndarray) -> tuple[float, float, list[tuple[float, float]]]:
     """Half-width a and offset Delta from the outer patch edges (element boundaries), and the patch list [m]."""
     h = grid.element_width
-    patches = [(grid.x_min + start * h, grid.x_min + stop * h) for start, stop in runs(contact)]
-    if not patches:
+    spans = runs(contact)
+    if not spans:
         return 0.0, 0.0, []
+    patches = [(grid.x_min + start * h, grid.x_min + stop * h) for start, stop in spans]
     lead, trail = patches[0][0], patches[-1][1]
-    return 0.5 * (trail - lead), 0.5 * (trail + lead), patches
+    # a from the element count, like the stick half-width (0.5 h n_stick): a* <= a holds exactly
+    return 0.5 * h * (spans[-1][1] - spans[0][0]), 0.5 * (trail + lead), patches
 
 
 def no_contact_result(scene: Scene) -> ContactResult:
