@@ -21,7 +21,7 @@ from xml.etree.ElementTree import Element
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Initial, Fmi2Status
-from rollcontact_fmu_xml import complete_model_description
+from rollcontact_fmu_xml import complete_model_description, printf_safe
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.model import STATIONARY, ContactModel, ContactParameters, ModelState
@@ -106,11 +106,6 @@ VARIABLES = (
 )
 
 PARAMETER_NAMES = tuple(row[0] for row in VARIABLES if row[2] is PARAMETER)
-
-
-def printf_safe(message: str) -> str:
-    """The message as a literal printf format (pythonfmu's C side formats log messages)."""
-    return message.replace("%", "%%")
 
 
 class RollingContact2D(Fmi2Slave):

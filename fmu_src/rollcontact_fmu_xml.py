@@ -1,4 +1,5 @@
-"""modelDescription completion shared by the project's pythonfmu slaves (bundled in each FMU's resources).
+"""What the project's pythonfmu slaves share (bundled in each FMU's resources): modelDescription completion and
+printf-safe log messages.
 
 pythonfmu 0.7 writes no units, bounds, UnitDefinitions or InitialUnknowns (``fmpy validate`` then fails).  A
 slave that declares its variables in one table of rows ``(name, type, causality, variability, unit, start, min,
@@ -19,6 +20,11 @@ UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
     "s": {"s": 1}, "Hz": {"s": -1}, "kg": {"kg": 1}, "kg.m2": {"kg": 1, "m": 2}, "rad/s": {"rad": 1, "s": -1},
     "N.m": {"kg": 1, "m": 2, "s": -2}, "N.s/m": {"kg": 1, "s": -1}, "N.s2/m2": {"kg": 1, "m": -1},
 }
+
+
+def printf_safe(message: str) -> str:
+    """The message as a literal printf format (pythonfmu's C side formats log messages)."""
+    return message.replace("%", "%%")
 
 
 def complete_model_description(root: Element, variables, initial_dependencies: str | None = "") -> Element:

@@ -22,7 +22,7 @@ from xml.etree.ElementTree import Element
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
 from pythonfmu.enums import Fmi2Initial, Fmi2Status
-from rollcontact_fmu_xml import complete_model_description
+from rollcontact_fmu_xml import complete_model_description, printf_safe
 
 from rollcontact_cosim.wheel_rig import WheelRigModel, WheelRigParameters, WheelRigState
 
@@ -103,11 +103,6 @@ VARIABLES = (
 
 PARAMETER_NAMES = tuple(row[0] for row in VARIABLES if row[2] is PARAMETER)
 INPUTS = tuple(row[0] for row in VARIABLES if row[2] is INPUT)
-
-
-def printf_safe(message: str) -> str:
-    """The message as a literal printf format (pythonfmu's C side formats log messages)."""
-    return message.replace("%", "%%")
 
 
 class WheelRig(Fmi2Slave):

@@ -1,9 +1,42 @@
-"""Shared test configuration.
+"""Shared test configuration and the session's FMU build.
 
 One BLAS thread: the discretised solver's small dense solves are 10-100x slower with OpenBLAS threads on the
 2-core machines here (it must be set before numpy is imported).
 """
 
 import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="session")
+def fmu_path(tmp_path_factory) -> Path:
+    """``python build_fmu.py --dest <tmp>``, once per session (the FMU tests of every module share it)."""
+    dest = tmp_path_factory.mktemp("fmu")
+    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, f"build_fmu.py failed:\n{done.stdout}\n{done.stderr}"
+    path = dest / "RollingContact2D.fmu"
+    assert path.is_file(), f"build_fmu.py did not write {path}: {done.stdout}"
+    return path
+
+
+@pytest.fixture(scope="session")
+def unzipped(fmu_path, tmp_path_factory) -> Path:
+    from fmpy import extract
+
+    return Path(extract(fmu_path, unzipdir=tmp_path_factory.mktemp("unzipped")))
+
+
+@pytest.fixture(scope="session")
+def description(unzipped):
+    from fmpy import read_model_description
+
+    return read_model_description(str(unzipped))

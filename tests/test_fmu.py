@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description, simulate_fmu
+from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
 from fmpy.validation import validate_fmu
@@ -28,28 +28,6 @@ ROOT = Path(__file__).resolve().parents[1]
 DISCARD = 2
 H = 1e-3
 OUTPUTS = StepOutputs._fields
-
-
-@pytest.fixture(scope="session")
-def fmu_path(tmp_path_factory) -> Path:
-    """``python build_fmu.py --dest <tmp>``, once per session."""
-    dest = tmp_path_factory.mktemp("fmu")
-    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)], capture_output=True,
-                          text=True, timeout=120)
-    assert done.returncode == 0, f"build_fmu.py failed:\n{done.stdout}\n{done.stderr}"
-    path = dest / "RollingContact2D.fmu"
-    assert path.is_file(), f"build_fmu.py did not write {path}: {done.stdout}"
-    return path
-
-
-@pytest.fixture(scope="session")
-def unzipped(fmu_path, tmp_path_factory) -> Path:
-    return Path(extract(fmu_path, unzipdir=tmp_path_factory.mktemp("unzipped")))
-
-
-@pytest.fixture(scope="session")
-def description(unzipped):
-    return read_model_description(str(unzipped))
 
 
 class Instance:

@@ -1,6 +1,6 @@
 """Numerical stability at the extremes through the built FMU (issue 7): property-based tests driven by fmpy.
 
-The FMU is built once per session by ``build_fmu.py`` (the fixture pattern of ``test_fmu.py``) and stepped through
+The FMU is built once per session by ``build_fmu.py`` (the session fixtures of ``conftest.py``) and stepped through
 fmpy's ``FMU2Slave`` with its logger captured (``test_fmu.Instance``).  Parameters and inputs come from the domain
 of ``extremes.py`` (E, R, mu, friction law, corrugation, method, order; load, creep, speed and step size at their
 extremes, with one draw in ten made invalid: NaN, inf, negative or zero where the model forbids it).
@@ -24,42 +24,13 @@ Budget: derandomised hypothesis (``extremes.PROFILE``), 60 instances of 3 steps;
 
 from __future__ import annotations
 
-import subprocess
-import sys
-from pathlib import Path
-
-import pytest
 from extremes import PROFILE, check_outputs, model_inputs, model_parameters
-from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from test_fmu import DISCARD, Instance
 
-ROOT = Path(__file__).resolve().parents[1]
 OK = 0
-
-
-@pytest.fixture(scope="session")
-def fmu_path(tmp_path_factory) -> Path:
-    """``python build_fmu.py --dest <tmp>``, once per session."""
-    dest = tmp_path_factory.mktemp("fmu_properties")
-    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)], capture_output=True,
-                          text=True, timeout=120)
-    assert done.returncode == 0, f"build_fmu.py failed:\n{done.stdout}\n{done.stderr}"
-    path = dest / "RollingContact2D.fmu"
-    assert path.is_file(), f"build_fmu.py did not write {path}: {done.stdout}"
-    return path
-
-
-@pytest.fixture(scope="session")
-def unzipped(fmu_path, tmp_path_factory) -> Path:
-    return Path(extract(fmu_path, unzipdir=tmp_path_factory.mktemp("unzipped_properties")))
-
-
-@pytest.fixture(scope="session")
-def description(unzipped):
-    return read_model_description(str(unzipped))
 
 
 def step_or_discard(fmu: Instance, t: float, h: float, row) -> tuple[int, object]:
