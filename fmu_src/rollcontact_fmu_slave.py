@@ -16,12 +16,10 @@ No physics here: the parameters become a :class:`rollcontact.model.ContactParame
 from __future__ import annotations
 
 from pathlib import Path
-from xml.etree.ElementTree import Element
 
-from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
+from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
-from pythonfmu.enums import Fmi2Initial, Fmi2Status
-from rollcontact_fmu_xml import complete_model_description, printf_safe
+from rollcontact_fmu_xml import TableSlave
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.model import STATIONARY, ContactModel, ContactParameters, ModelState
@@ -105,10 +103,9 @@ VARIABLES = (
      "Datum distance L of instationary rolling (creep control depends on it; 0: the effective radius)"),
 )
 
-PARAMETER_NAMES = tuple(row[0] for row in VARIABLES if row[2] is PARAMETER)
 
 
-class RollingContact2D(Fmi2Slave):
+class RollingContact2D(TableSlave):
     """2D wheel/rail rolling contact (Hertz/Carter, polynomial and discretised methods of rollcontact)."""
 
     author = "rollcontact"
@@ -117,98 +114,20 @@ class RollingContact2D(Fmi2Slave):
     license = "MIT"
     version = ROLLCONTACT_VERSION
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
+    VARIABLES = VARIABLES
 
-    def __init__(self, **kwargs):
-        super().__init__(**kwargs)
-        outputs = []
-        for name, kind, causality, variability, _unit, start, _lo, _hi, description in VARIABLES:
-            if causality is OUTPUT:
-                getter = self.output_reader(len(outputs))
-                outputs.append(start)
-                initial = Fmi2Initial.approx
-            else:
-                setattr(self, name, start)
-                getter = initial = None
-            self.register_variable(kind(name, causality=causality, variability=variability, initial=initial,
-                                        description=description, getter=getter))
-        self.outputs = tuple(outputs)
-        self.start_time = 0.0
-        self.model: ContactModel | None = None
-        self.problem: str | None = "the FMU is not initialised: exit initialisation mode before stepping"
+    def new_model(self, values: dict, fresh: bool):
+        """A ContactModel (kept when not ``fresh`` and its parameters are unchanged); its notices when new."""
+        if values["scene_file"] and self.resources:
+            values["scene_file"] = str(Path(self.resources, values["scene_file"]))
+        parameters = ContactParameters(**values)
+        if not fresh and self.model is not None and self.model.parameters == parameters:
+            return self.model, ()
+        model = ContactModel(parameters, start_time=self.start_time)
+        return model, model.notices
 
-    # FMI calls --------------------------------------------------------------------------------------------------
-    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
-        self.start_time = float(start_time)
+    def step_model(self, current_time, step_size):
+        return self.model.step(current_time, step_size, self.normal_load, self.creep, self.velocity)
 
-    def exit_initialization_mode(self):
-        self.build_model(fresh=True)
-
-    def do_step(self, current_time, step_size):
-        if self.problem is not None:
-            self.log(printf_safe(f"do_step at t = {current_time!r} s discarded: {self.problem}"), Fmi2Status.discard)
-            return False
-        try:
-            outputs = self.model.step(current_time, step_size, self.normal_load, self.creep, self.velocity)
-        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.log(printf_safe(f"do_step at t = {current_time!r} s, h = {step_size!r} s discarded: {exc}"),
-                     Fmi2Status.discard)
-            return False
-        self.outputs = outputs
-        return True
-
-    def output_reader(self, index):
-        """Getter of output ``index`` of the last step (the outputs follow the table, as StepOutputs does)."""
-        return lambda: self.outputs[index]
-
-    def _get_fmu_state(self):
-        return {"variables": {row[0]: getattr(self, row[0]) for row in VARIABLES if row[2] is not OUTPUT},
-                "outputs": list(self.outputs), "start_time": self.start_time, "problem": self.problem,
-                "model": None if self.model is None else self.model.state.to_dict()}
-
-    def _set_fmu_state(self, state):
-        try:
-            for name, value in state["variables"].items():
-                setattr(self, name, value)
-            self.outputs = tuple(state["outputs"])
-            self.start_time = state["start_time"]
-            if state["model"] is None:  # saved before initialisation or with invalid parameters
-                self.model = None
-                self.problem = state["problem"]
-                return
-            self.build_model(fresh=False)
-            if self.model is not None:
-                self.model.set_state(ModelState.from_dict(state["model"]))
-        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.problem = f"the FMU state could not be restored: {exc}"
-            self.log(printf_safe(self.problem), Fmi2Status.error)
-
-    # helpers ----------------------------------------------------------------------------------------------------
-    def build_model(self, fresh: bool) -> None:
-        """(Re)build the model from the parameter variables; keep the problem for do_step when they are invalid.
-
-        ``fresh`` starts from the initial state and logs the model's notices; otherwise an existing model with the
-        same parameters is kept (restoring a state sets its ModelState afterwards).
-        """
-        try:
-            values = {name: getattr(self, name) for name in PARAMETER_NAMES}
-            if values["scene_file"] and self.resources:
-                values["scene_file"] = str(Path(self.resources, values["scene_file"]))
-            parameters = ContactParameters(**values)
-            if fresh or self.model is None or self.model.parameters != parameters:
-                self.model = ContactModel(parameters, start_time=self.start_time)
-                fresh = True
-        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.model = None
-            self.problem = f"invalid parameters: {exc}"
-            self.log(printf_safe(f"{self.problem}; every do_step will be discarded"), Fmi2Status.warning)
-            return
-        self.problem = None
-        if fresh:
-            for notice in self.model.notices:
-                self.log(printf_safe(notice), Fmi2Status.ok)
-
-    def to_xml(self, model_options=None) -> Element:
-        """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure."""
-        root = super().to_xml({} if model_options is None else model_options)
-        return complete_model_description(root, VARIABLES)
-
+    def restore_model(self, data):
+        self.model.set_state(ModelState.from_dict(data))

@@ -1,5 +1,5 @@
-"""What the project's pythonfmu slaves share (bundled in each FMU's resources): modelDescription completion and
-printf-safe log messages.
+"""What the project's pythonfmu slaves share (bundled in each FMU's resources): the :class:`TableSlave` base
+(variables from one table, do_step, state), modelDescription completion and printf-safe log messages.
 
 pythonfmu 0.7 writes no units, bounds, UnitDefinitions or InitialUnknowns (``fmpy validate`` then fails).  A
 slave that declares its variables in one table of rows ``(name, type, causality, variability, unit, start, min,
@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import Real
-from pythonfmu.enums import Fmi2Causality
+from pythonfmu import Fmi2Slave, Real
+from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status
 
 UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
     "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "s/m": {"m": -1, "s": 1}, "rad": {"rad": 1},
@@ -71,3 +71,115 @@ def complete_model_description(root: Element, variables, initial_dependencies: s
             if initial_dependencies is not None:
                 unknown.set("dependencies", initial_dependencies)
     return root
+
+
+class TableSlave(Fmi2Slave):
+    """What both slaves do around their library model: variables from one table, do_step, state, XML.
+
+    A subclass sets :attr:`VARIABLES` (rows as in the module docstring) and :attr:`INITIAL_DEPENDENCIES`, and gives
+    :meth:`new_model` (parameter values -> model and notices to log), :meth:`step_model` and
+    :meth:`restore_model`.  Bad parameters leave ``problem`` set: every ``do_step`` is then discarded with it; any
+    exception of the model becomes a logged Discard, never an escaping exception (pythonfmu would turn it into
+    fmi2Fatal).  The FMU state holds the non-output variables, the outputs and the model's state dict.
+    """
+
+    VARIABLES: tuple = ()
+    INITIAL_DEPENDENCIES: str | None = ""
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        outputs = []
+        for name, kind, causality, variability, _unit, start, _lo, _hi, description in self.VARIABLES:
+            if causality is Fmi2Causality.output:
+                getter = self.output_reader(len(outputs))
+                outputs.append(start)
+                initial = Fmi2Initial.approx
+            else:
+                setattr(self, name, start)
+                getter = initial = None
+            self.register_variable(kind(name, causality=causality, variability=variability, initial=initial,
+                                        description=description, getter=getter))
+        self.outputs = tuple(outputs)
+        self.start_time = 0.0
+        self.model = None
+        self.problem: str | None = "the FMU is not initialised: exit initialisation mode before stepping"
+
+    # hooks ------------------------------------------------------------------------------------------------------
+    def new_model(self, values: dict, fresh: bool):
+        """``(model, notices)`` for the parameter values; may keep ``self.model`` when not ``fresh``."""
+        raise NotImplementedError
+
+    def step_model(self, current_time: float, step_size: float) -> tuple:
+        """The model's outputs after one step (table order); may raise."""
+        raise NotImplementedError
+
+    def restore_model(self, data: dict) -> None:
+        """Set the model's state from its dict."""
+        raise NotImplementedError
+
+    # FMI calls --------------------------------------------------------------------------------------------------
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self.start_time = float(start_time)
+
+    def exit_initialization_mode(self):
+        self.build_model(fresh=True)
+
+    def do_step(self, current_time, step_size):
+        if self.problem is not None:
+            self.log(printf_safe(f"do_step at t = {current_time!r} s discarded: {self.problem}"), Fmi2Status.discard)
+            return False
+        try:
+            outputs = self.step_model(current_time, step_size)
+        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
+            self.log(printf_safe(f"do_step at t = {current_time!r} s, h = {step_size!r} s discarded: {exc}"),
+                     Fmi2Status.discard)
+            return False
+        self.outputs = outputs
+        return True
+
+    def output_reader(self, index):
+        """Getter of output ``index`` of the last step (the outputs follow the table)."""
+        return lambda: self.outputs[index]
+
+    def _get_fmu_state(self):
+        return {"variables": {row[0]: getattr(self, row[0]) for row in self.VARIABLES
+                              if row[2] is not Fmi2Causality.output},
+                "outputs": list(self.outputs), "start_time": self.start_time, "problem": self.problem,
+                "model": None if self.model is None else self.model.state.to_dict()}
+
+    def _set_fmu_state(self, state):
+        try:
+            for name, value in state["variables"].items():
+                setattr(self, name, value)
+            self.outputs = tuple(state["outputs"])
+            self.start_time = state["start_time"]
+            if state["model"] is None:  # saved before initialisation or with invalid parameters
+                self.model = None
+                self.problem = state["problem"]
+                return
+            self.build_model(fresh=False)
+            if self.model is not None:
+                self.restore_model(state["model"])
+        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
+            self.problem = f"the FMU state could not be restored: {exc}"
+            self.log(printf_safe(self.problem), Fmi2Status.error)
+
+    # helpers ----------------------------------------------------------------------------------------------------
+    def build_model(self, fresh: bool) -> None:
+        """(Re)build the model from the parameter variables; keep the problem for do_step when they are invalid."""
+        values = {row[0]: getattr(self, row[0]) for row in self.VARIABLES if row[2] is Fmi2Causality.parameter}
+        try:
+            self.model, notices = self.new_model(values, fresh)
+        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
+            self.model = None
+            self.problem = f"invalid parameters: {exc}"
+            self.log(printf_safe(f"{self.problem}; every do_step will be discarded"), Fmi2Status.warning)
+            return
+        self.problem = None
+        for notice in notices:
+            self.log(printf_safe(notice), Fmi2Status.ok)
+
+    def to_xml(self, model_options=None) -> Element:
+        """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure."""
+        root = super().to_xml({} if model_options is None else model_options)
+        return complete_model_description(root, self.VARIABLES, self.INITIAL_DEPENDENCIES)

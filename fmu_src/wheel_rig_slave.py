@@ -17,12 +17,9 @@ single table :data:`VARIABLES` (value references follow its order: append, never
 
 from __future__ import annotations
 
-from xml.etree.ElementTree import Element
-
-from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
+from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from pythonfmu.enums import Fmi2Initial, Fmi2Status
-from rollcontact_fmu_xml import complete_model_description, printf_safe
+from rollcontact_fmu_xml import TableSlave
 
 from rollcontact_cosim.wheel_rig import WheelRigModel, WheelRigParameters, WheelRigState
 
@@ -101,11 +98,10 @@ VARIABLES = (
      "Integration steps per macro step, >= 1"),
 )
 
-PARAMETER_NAMES = tuple(row[0] for row in VARIABLES if row[2] is PARAMETER)
 INPUTS = tuple(row[0] for row in VARIABLES if row[2] is INPUT)
 
 
-class WheelRig(Fmi2Slave):
+class WheelRig(TableSlave):
     """Driven wheel on a rail (or roller rig) with longitudinal vehicle dynamics, host of RollingContact2D."""
 
     author = "rollcontact"
@@ -116,90 +112,18 @@ class WheelRig(Fmi2Slave):
     version = "0.1.0"
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
 
-    def __init__(self, **kwargs):
-        super().__init__(**kwargs)
-        outputs = []
-        for name, kind, causality, variability, _unit, start, _lo, _hi, description in VARIABLES:
-            if causality is OUTPUT:
-                getter = self.output_reader(len(outputs))
-                outputs.append(start)
-                initial = Fmi2Initial.approx
-            else:
-                setattr(self, name, start)
-                getter = initial = None
-            self.register_variable(kind(name, causality=causality, variability=variability, initial=initial,
-                                        description=description, getter=getter))
-        self.outputs = tuple(outputs)
-        self.start_time = 0.0
-        self.model: WheelRigModel | None = None
-        self.problem: str | None = "the FMU is not initialised: exit initialisation mode before stepping"
+    VARIABLES = VARIABLES
+    INITIAL_DEPENDENCIES = None  # the initial outputs are computed from the parameters
 
-    # FMI calls --------------------------------------------------------------------------------------------------
-    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
-        self.start_time = float(start_time)
+    def new_model(self, values: dict, fresh: bool):
+        """A WheelRigModel at the start time; its initial outputs become the FMU's."""
+        model = WheelRigModel(WheelRigParameters(**values), start_time=self.start_time)
+        self.outputs = tuple(model.outputs())
+        return model, ()
 
-    def exit_initialization_mode(self):
-        self.build_model()
+    def step_model(self, current_time, step_size):
+        return self.model.step(current_time, step_size, *(getattr(self, name) for name in INPUTS))
 
-    def do_step(self, current_time, step_size):
-        if self.problem is not None:
-            self.log(printf_safe(f"do_step at t = {current_time!r} s discarded: {self.problem}"), Fmi2Status.discard)
-            return False
-        try:
-            outputs = self.model.step(current_time, step_size, *(getattr(self, name) for name in INPUTS))
-        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.log(printf_safe(f"do_step at t = {current_time!r} s, h = {step_size!r} s discarded: {exc}"),
-                     Fmi2Status.discard)
-            return False
-        self.outputs = outputs
-        return True
-
-    def output_reader(self, index):
-        """Getter of output ``index`` (the outputs follow the table, as WheelRigOutputs does)."""
-        return lambda: self.outputs[index]
-
-    def _get_fmu_state(self):
-        return {"variables": {row[0]: getattr(self, row[0]) for row in VARIABLES if row[2] is not OUTPUT},
-                "outputs": list(self.outputs), "start_time": self.start_time, "problem": self.problem,
-                "model": None if self.model is None else self.model.state.to_dict()}
-
-    def _set_fmu_state(self, state):
-        try:
-            for name, value in state["variables"].items():
-                setattr(self, name, value)
-            self.outputs = tuple(state["outputs"])
-            self.start_time = state["start_time"]
-            if state["model"] is None:  # saved before initialisation or with invalid parameters
-                self.model = None
-                self.problem = state["problem"]
-                return
-            self.build_model()
-            if self.model is not None:
-                self.model.set_state(WheelRigState.from_dict(state["model"]))
-                self.outputs = tuple(self.model.outputs())
-        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.problem = f"the FMU state could not be restored: {exc}"
-            self.log(printf_safe(self.problem), Fmi2Status.error)
-
-    # helpers ----------------------------------------------------------------------------------------------------
-    def build_model(self) -> None:
-        """Build the model at the start time from the parameter variables; keep the problem if they are invalid."""
-        try:
-            parameters = WheelRigParameters(**{name: getattr(self, name) for name in PARAMETER_NAMES})
-            self.model = WheelRigModel(parameters, start_time=self.start_time)
-        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.model = None
-            self.problem = f"invalid parameters: {exc}"
-            self.log(printf_safe(f"{self.problem}; every do_step will be discarded"), Fmi2Status.warning)
-            return
-        self.problem = None
+    def restore_model(self, data):
+        self.model.set_state(WheelRigState.from_dict(data))
         self.outputs = tuple(self.model.outputs())
-
-    def to_xml(self, model_options=None) -> Element:
-        """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure.
-
-        The initial outputs are computed from the parameters, so InitialUnknowns lists them without
-        ``dependencies`` (they depend on every known).
-        """
-        root = super().to_xml({} if model_options is None else model_options)
-        return complete_model_description(root, VARIABLES, initial_dependencies=None)
