@@ -12,8 +12,8 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 import math  # noqa: E402  (after the thread limits)
-import statistics  # noqa: E402
-import time  # noqa: E402
+
+from _timing import median_time  # noqa: E402
 
 import rollcontact as rc  # noqa: E402
 from rollcontact._bem import operators_for  # noqa: E402
@@ -35,18 +35,6 @@ def contact_time_ms(n):
     """CONTACT's Carter time, interpolated as a power law through its two published points."""
     exponent = math.log(CONTACT_MS[800] / CONTACT_MS[100]) / math.log(8.0)
     return CONTACT_MS[100] * (n / 100) ** exponent
-
-
-def median_time(function, min_repeats=5, min_seconds=0.3):
-    """Median wall time [s] of ``function()`` over at least ``min_repeats`` calls and ``min_seconds``."""
-    function()  # warm-up: imports, caches of numpy/scipy
-    times = []
-    start = time.perf_counter()
-    while len(times) < min_repeats or time.perf_counter() - start < min_seconds:
-        t0 = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def cold(function):

@@ -29,14 +29,16 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 import argparse  # noqa: E402  (after the thread limits)
 import math  # noqa: E402
 import platform  # noqa: E402
-import statistics  # noqa: E402
-import time  # noqa: E402
+from functools import partial  # noqa: E402
 
+import _timing  # noqa: E402
 import numpy as np  # noqa: E402
 
 import rollcontact as rc  # noqa: E402
 from rollcontact import polynomial  # noqa: E402
 from rollcontact.velocity_friction import solve_velocity_dependent  # noqa: E402
+
+median_time = partial(_timing.median_time, warmups=3)  # the polynomial paths fill size-keyed caches
 
 LOAD = 1e6  # N' [N/m]
 MU = 0.3
@@ -45,19 +47,6 @@ SIZES = (100, 200, 400, 800)
 BASE = rc.Scene(normal_load_per_length=LOAD, creep=1e-3, friction=MU)
 A_HERTZ = rc.hertz(LOAD, BASE.radius, BASE.material.contact_modulus)[0]
 SATURATION = MU * A_HERTZ / BASE.radius
-
-
-def median_time(function, min_repeats: int, min_seconds: float) -> float:
-    """Median wall time [s] of ``function()`` over at least ``min_repeats`` calls and ``min_seconds``."""
-    for _ in range(3):  # warm-up: imports and size-keyed caches
-        function()
-    times = []
-    start = time.perf_counter()
-    while len(times) < min_repeats or time.perf_counter() - start < min_seconds:
-        t0 = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def corrugation(ka: float, position: float = 0.23, creep_fraction: float = 0.4, curvature: float = 0.3) -> rc.Scene:

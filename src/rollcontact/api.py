@@ -31,7 +31,7 @@ from functools import lru_cache
 import numpy as np
 
 from rollcontact.result import ContactResult
-from rollcontact.scene import Scene
+from rollcontact.scene import Scene, check_real
 
 __all__ = ["METHODS", "AccuracyModel", "MethodSpec", "Setting", "choose_method", "choose_setting", "register_method",
            "setting_for", "solve"]
@@ -325,13 +325,8 @@ def annotate(spec: MethodSpec, scene: Scene, options: dict, result: ContactResul
 
 
 def check_tolerance(tolerance) -> float:
-    try:
-        value = float(tolerance)
-    except (TypeError, ValueError):
-        raise ValueError(f"tolerance must be a real number, got {tolerance!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"tolerance = {value!r} is out of range: it must be finite and > 0")
-    return value
+    """A requested relative error: finite and > 0 (a ValueError naming the value otherwise)."""
+    return check_real("tolerance", tolerance, lower=0.0, lower_open=True, unit="1")
 
 
 def nan_last(value: float) -> float:

@@ -56,7 +56,7 @@ from rollcontact.api import register_method
 from rollcontact.closed_form import hertz
 from rollcontact.friction import Coulomb, FrictionLaw
 from rollcontact.result import ContactResult, NoContact, TabulatedDistributions
-from rollcontact.scene import Scene, Surface
+from rollcontact.scene import Scene, Surface, check_real
 
 __all__ = ["Grid", "NormalSolution", "RollingHistory", "StepResult", "TransientSolver", "TransientState",
            "automatic_grid", "inapplicable", "roll_over_surface", "solve_discretised"]
@@ -86,14 +86,9 @@ def check_window(window) -> tuple[float, float]:
     return x_min, x_max
 
 
-def positive_length(name: str, value) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number in m, got {value!r}") from None
-    if not (math.isfinite(x) and x > 0.0):
-        raise ValueError(f"{name} = {x!r} m is out of range: it must be finite and > 0")
-    return x
+def positive_length(name: str, value, unit: str = "m") -> float:
+    """A finite quantity > 0 (a ValueError naming the value and the limit otherwise)."""
+    return check_real(name, value, lower=0.0, lower_open=True, unit=unit)
 
 
 # --------------------------------------------------------------------------------------------------- grid choice
@@ -258,7 +253,7 @@ class TransientSolver:
         if not isinstance(grid, Grid):
             raise TypeError(f"grid must be a rollcontact.discretised.Grid, got {type(grid).__name__}")
         self.grid = grid
-        self.contact_modulus = positive_length("contact_modulus (Pa)", contact_modulus)
+        self.contact_modulus = positive_length("contact_modulus", contact_modulus, "Pa")
         self.radius = positive_length("radius", radius)
         self.surface = Surface() if surface is None else surface
         self.friction = Coulomb(0.3) if friction is None else friction
