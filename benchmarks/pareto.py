@@ -12,8 +12,9 @@ cross-checked against the Richardson-extrapolated discretised solver (n = 800/16
 the patch, whose edges then fall on element boundaries, as in ``tests/test_cross_methods.py``); for a split
 contact, which only the discretised solver treats, the discretised solver at n = 3200, its uncertainty shown as
 the change from n = 1600.  Instationary rolling (creep control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``,
-64 host steps per cycle): max |T' - T'_ref| over the last cycle in units of mu N', reference the discretised
-transient with n = 800 (the change from n = 400 shown).
+64 host steps per cycle): max |T' - T'_ref| over the last cycle in units of mu N', reference the Richardson
+extrapolation of the discretised transient at n = 400/800 with the order observed from n = 200/400/800 (the
+change of n = 800 from it shown).
 
 Time.  Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the cache of
 influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per
@@ -37,7 +38,7 @@ import statistics  # noqa: E402
 import sys  # noqa: E402
 import tempfile  # noqa: E402
 import time  # noqa: E402
-from dataclasses import dataclass, field  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import numpy as np  # noqa: E402
@@ -60,6 +61,7 @@ from rollcontact.model import ContactModel, ContactParameters  # noqa: E402
 RESULTS = ROOT / "benchmarks" / "results"
 TOLERANCES = (1e-2, 1e-3, 1e-4)
 ERROR_FLOOR = 1e-16  # plotted instead of an exact 0
+LOWEST_COST_SLACK = 1.5  # auto's time within this factor of the cheapest measured setting counts as the lowest cost
 ESTAR = rc.Material().contact_modulus
 LOAD = 1e6  # N' [N/m] of the steady cases
 A_HERTZ = hertz(LOAD, 0.46, ESTAR)[0]
@@ -204,7 +206,8 @@ class AutoChoice:
     estimate: float
     met: bool
     cheapest: str = ""
-    extra: dict = field(default_factory=dict)
+    cheapest_time: float = math.nan  # of the fastest measured setting whose error is <= t
+    chosen_time: float = math.nan  # of auto's setting run directly (steady cases: auto's time less the choice)
 
 
 def relative_errors(result, ref) -> tuple[float, float]:
@@ -287,10 +290,12 @@ def measure_case(family: str, label: str, scene: rc.Scene, config: Config) -> tu
         for row in rows:
             if row.method == auto.method and row.options == options:
                 row.auto += (tolerance,)
+                choice.chosen_time = row.time
         passing = [r for r in rows if r.error <= tolerance]
         if passing:
             best = min(passing, key=lambda r: r.time)
             choice.cheapest = f"{best.label} ({best.time * 1e3:.3g} ms)"
+            choice.cheapest_time = best.time
         choices.append(choice)
     return rows, choices, ref
 
@@ -355,34 +360,51 @@ def instationary_stepper(kind: str, elements: int = 0, tolerance: float = 0.0):
 def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], list[tuple[str, str, str]]]:
     rows, choices, references = [], [], []
     limit = MU_I * LOAD_I
+    coarse, fine = config.transient_reference
     for wavelength in config.wavelengths:
         case = f"lambda/a = {wavelength:g}"
-        coarse_ref, _ = run_instationary(instationary_stepper("transient", config.transient_reference[0]),
-                                         wavelength)
-        ref, _ = run_instationary(instationary_stepper("transient", config.transient_reference[1]), wavelength)
-        references.append((case, f"discretised transient n = {config.transient_reference[1]}",
-                           f"n = {config.transient_reference[0]} differs by "
-                           f"{np.abs(coarse_ref - ref).max() / limit:.1e} mu N'"))
+        runs = {n: run_instationary(instationary_stepper("transient", n), wavelength)
+                for n in (coarse // 2, coarse, fine)}
+        ref, order = richardson({n: forces for n, (forces, _) in runs.items()})
+        references.append((case, f"Richardson extrapolation of the discretised transient n = {coarse}/{fine} "
+                                 f"(observed order {order:.2f} from n = {coarse // 2}/{coarse}/{fine})",
+                           f"n = {fine} differs from it by {np.abs(runs[fine][0] - ref).max() / limit:.1e} mu N'"))
         settings = [("quasi-static", {}), ("relaxation", {})]
-        settings += [("transient", {"elements": n}) for n in config.transient_elements]
+        settings += [("transient", {"elements": n}) for n in sorted({*config.transient_elements, fine})]
         for kind, options in settings:
-            forces, t = run_instationary(instationary_stepper(kind, options.get("elements", 0)), wavelength)
+            n = options.get("elements", 0)
+            forces, t = runs[n] if kind == "transient" and n in runs else run_instationary(
+                instationary_stepper(kind, n), wavelength)
             rows.append(Row("instationary", case, kind, setting_label(kind, options), options,
                             float(np.abs(forces - ref).max() / limit), 0.0, t))
         for tolerance in TOLERANCES:
             stepper = instationary_stepper("auto", tolerance=tolerance)
             forces, t = run_instationary(stepper, wavelength)
             measured = stepper.used[-STEPS_PER_CYCLE:]
-            relaxed = sum(code == 4 for code in measured) / len(measured)
-            label = f"FMU auto ({relaxed:.0%} of steps relaxation)"
+            shares = ", ".join(f"{sum(code == c for code in measured) / len(measured):.0%} {name}"
+                               for c, name in ((4, "relaxation"), (5, "transient")) if c in measured)
+            label = f"FMU auto ({shares or 'quasi-static'})"
             error = float(np.abs(forces - ref).max() / limit)
             choice = AutoChoice("instationary", case, tolerance, "auto", label, error, t, math.nan, error <= tolerance)
             passing = [r for r in rows if r.case == case and r.error <= tolerance]
             if passing:
                 best = min(passing, key=lambda r: r.time)
                 choice.cheapest = f"{best.label} ({best.time * 1e6:.3g} us)"
+                choice.cheapest_time = best.time
             choices.append(choice)
     return rows, choices, references
+
+
+def richardson(forces: dict[int, np.ndarray]) -> tuple[np.ndarray, float]:
+    """Extrapolate the finest two of three grids n/2, n, 2n to zero element size; returns (T', observed order).
+
+    The order comes from the ratio of successive max-norm changes, clipped to [0.5, 2] (the transient's error is
+    about first order in the element size, ``benchmarks/bench_transient_auto.py``).
+    """
+    n1, n2, n3 = sorted(forces)
+    ratio = np.abs(forces[n2] - forces[n1]).max() / max(np.abs(forces[n3] - forces[n2]).max(), 1e-300)
+    order = float(np.clip(math.log(ratio) / math.log(n3 / n2), 0.5, 2.0))
+    return forces[n3] + (forces[n3] - forces[n2]) / ((n3 / n2) ** order - 1.0), order
 
 
 # ---------------------------------------------------------------------------------------------------- FMU steps
@@ -599,6 +621,21 @@ def plot(rows: list[Row], choices: list[AutoChoice], path: Path) -> None:
     plt.close(fig)
 
 
+def auto_summary(choices: list[AutoChoice]) -> list[str]:
+    """Headline lines: how often auto met t, and its cost over the cheapest measured setting that met t."""
+    met = [c for c in choices if c.error <= c.tolerance]
+    reachable = [c for c in choices if not math.isnan(c.cheapest_time)]
+    ratios = [c.time / c.cheapest_time for c in reachable if c.error <= c.tolerance]
+    lines = [f"- auto met the requested tolerance in {len(met)} of {len(choices)} cases (t = "
+             f"{', '.join(f'{t:.0e}' for t in TOLERANCES)}); some setting measured met it in {len(reachable)}"]
+    if ratios:
+        within = sum(r <= LOWEST_COST_SLACK for r in ratios)
+        lines.append(f"- auto's time over the cheapest measured setting meeting t, where auto met t: median "
+                     f"{statistics.median(ratios):.2f}x, max {max(ratios):.2f}x; within {LOWEST_COST_SLACK}x "
+                     f"(timing noise and the choice itself) in {within} of {len(ratios)}")
+    return lines
+
+
 def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Path) -> None:
     lines = ["# Speed-accuracy Pareto study" + (" (quick smoke test)" if config.quick else ""), "",
              f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by "
@@ -621,6 +658,7 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Pat
     if fmu:
         for label, _, ratio, _, _ in fmu[1:]:
             lines.append(f"- FMU step / empty pythonfmu FMU step, {label}: {ratio:.3g}x")
+    lines += auto_summary(choices)
     lines.append(f"- Each method vs the closed form (solve() on Hertz/Carter, {fmt_time(closed)}):")
     for title, selector in (
             ("polynomial, corrugation (auto at 1e-3)",
@@ -651,15 +689,20 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Pat
     lines += ["## auto at each requested tolerance", "",
               "auto takes the cheapest setting (by the cost model of `api.py`) whose predicted error bound meets t.  "
               "Steady: `solve(scene, tolerance=t)`; instationary: the FMU's stepping model with `transient = 1` "
-              "(auto) and `tolerance = t` (it switches between quasi-static Carter and the relaxation lag).  "
+              "(auto) and `tolerance = t` (it switches between quasi-static Carter and the relaxation lag, or the "
+              "discretised transient when t is below the lag's accuracy).  "
               "'cheapest measured' is the fastest measured setting whose error is <= t (by measured time, so "
-              "noise and lucky cancellations count).", "",
-              "| family | case | t | auto's choice | error | estimate | meets t | time | cheapest measured meeting t |",
-              "|---|---|---|---|---|---|---|---|---|"]
+              "noise and lucky cancellations count).  'x cheapest': auto's time over it, with, for steady cases, "
+              "the time of auto's setting run directly over it in brackets (the rest is the choice itself).", "",
+              "| family | case | t | auto's choice | error | estimate | meets t | time | cheapest measured meeting t "
+              "| x cheapest |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
     for c in choices:
         meets = "yes" if c.error <= c.tolerance else "**no**"
+        ratio = "-" if math.isnan(c.cheapest_time) else f"{c.time / c.cheapest_time:.2f}" + (
+            "" if math.isnan(c.chosen_time) else f" ({c.chosen_time / c.cheapest_time:.2f})")
         lines.append(f"| {c.family} | {c.case} | {c.tolerance:.0e} | {c.label} | {fmt_error(c.error)} | "
-                     f"{fmt_error(c.estimate)} | {meets} | {fmt_time(c.time)} | {c.cheapest or 'none'} |")
+                     f"{fmt_error(c.estimate)} | {meets} | {fmt_time(c.time)} | {c.cheapest or 'none'} | {ratio} |")
     lines.append("")
     # per family tables
     lines += ["## Every setting", "",
