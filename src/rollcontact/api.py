@@ -92,12 +92,23 @@ class AccuracyModel:
 
     def setting_for(self, name: str, scene: Scene, tolerance: float) -> Setting:
         """The cheapest setting whose predicted error is at most ``tolerance``, else the most accurate one."""
-        settings = [Setting(name, options, self.error(scene, options), self.cost(scene, options))
-                    for options in self.ladder(scene)]
-        meeting = [s for s in settings if s.error_estimate <= tolerance]
-        if meeting:
-            return min(meeting, key=lambda s: (s.cost, -s.error_estimate))
-        return min(settings, key=lambda s: (nan_last(s.error_estimate), s.cost))
+        # plain tuples, one Setting at the end: auto runs this per solve, for every applicable method
+        best = closest = None
+        for options in self.ladder(scene):
+            error = self.error(scene, options)
+            if error <= tolerance:
+                key = (self.cost(scene, options), -error)
+                if best is None or key < best[0]:
+                    best = (key, options)
+            elif best is None:
+                key = (nan_last(error), self.cost(scene, options))
+                if closest is None or key < closest[0]:
+                    closest = (key, options, error)
+        if best is not None:
+            (cost, error), options = best
+            return Setting(name, options, -error, cost)
+        (_, cost), options, error = closest
+        return Setting(name, options, error, cost)
 
 
 @dataclass(frozen=True)
@@ -145,13 +156,24 @@ def register_method(name: str, function, inapplicable, cost: int, *, fallback: b
     METHODS[name] = MethodSpec(name, function, inapplicable, cost, fallback, accuracy)
 
 
+def by_rank() -> list[MethodSpec]:
+    """The registered methods, cheapest rank first (sorted once per registry content: auto asks per solve)."""
+    specs = tuple(METHODS.values())
+    if RANKED[0] != specs:
+        RANKED[:] = [specs, sorted(specs, key=lambda s: s.cost)]
+    return RANKED[1]
+
+
+RANKED: list = [None, []]  # (registry content it was sorted from, sorted specs)
+
+
 def choose_method(scene: Scene, tolerance: float | None = None) -> str:
     """Name of the cheapest registered method that is exact for the scene (or, with a tolerance, of the method
     of :func:`choose_setting`)."""
     if tolerance is not None:
         return choose_setting(scene, tolerance).method
     reasons = []
-    for spec in sorted(METHODS.values(), key=lambda s: s.cost):
+    for spec in by_rank():
         why = spec.inapplicable(scene)
         if why is None:
             return spec.name
@@ -187,7 +209,7 @@ def choose_setting(scene: Scene, tolerance: float, names=None) -> Setting:
     allowed = None if names is None else set(names)
     best = closest = None
     unmodelled = []
-    for spec in sorted(METHODS.values(), key=lambda s: s.cost):
+    for spec in by_rank():
         if allowed is not None and spec.name not in allowed:
             continue
         model = spec.accuracy
