@@ -629,7 +629,7 @@ def test_same_inputs_give_bit_identical_results_in_any_call_order():
              (corrugated, {"check": False}), (falling, {}), (falling, {"nodes": 24}), (falling, {"nodes": 16})]
     first = [fingerprint(solve(s, method="polynomial", **o)) for s, o in calls]
     for cached in (chebyshev.unit_grid, chebyshev.theta_grid, chebyshev.pressure_table, chebyshev.orders,
-                   chebyshev.surface_data, velocity_friction.slip_operators):
+                   chebyshev.surface_data, chebyshev.slope_tables, velocity_friction.slip_operators):
         cached.cache_clear()
     order = [8, 2, 6, 0, 4, 7, 1, 5, 3]
     again = {i: fingerprint(solve(calls[i][0], method="polynomial", **calls[i][1])) for i in order}
@@ -667,10 +667,10 @@ def test_convex_gap_needs_no_sampling_and_sampling_agrees(ka, position, monkeypa
     r = solve(scene, method="polynomial")
     e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
     assert e.curvature_bound(-math.inf, math.inf) < 0.99 / scene.radius, "the test scene must be convex"
-    x0 = scene.axis_position + r.contact_offset
-    assert polynomial.outside_gap(r.distributions, e, scene, r.contact_half_width, x0) is None
+    x0 = r.contact_offset  # axis coordinates
+    assert polynomial.outside_gap(r.distributions, e, r.contact_half_width, x0) is None
     monkeypatch.setattr(chebyshev.SlopeExpansion, "curvature_bound", lambda self, lo, hi: math.inf)
-    assert polynomial.outside_gap(r.distributions, e, scene, r.contact_half_width, x0) is None, \
+    assert polynomial.outside_gap(r.distributions, e, r.contact_half_width, x0) is None, \
         "sampling finds a closing gap where the convexity theorem says there is none"
 
 
@@ -680,7 +680,8 @@ def test_closed_form_deformed_gap_equals_quadrature(axis_position):
     scene = Scene(1e6, creep=1e-3, axis_position=axis_position,
                   surface=Surface(harmonics=(Harmonic.from_wavelength(0.010, 20e-6),)), **SPLIT)
     r = solve(scene, method="polynomial", order=30)
-    a, x0 = r.contact_half_width, scene.axis_position + r.contact_offset
+    a, x0 = r.contact_half_width, r.contact_offset  # axis coordinates
+    e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
     estar = scene.material.contact_modulus
     theta = np.pi * np.arange(1, 801) / 801
     z = r.contact_offset + a * np.cos(theta)
@@ -692,7 +693,7 @@ def test_closed_form_deformed_gap_equals_quadrature(axis_position):
         slope = gap_slope(scene, x) - (2.0 / (math.pi * estar)) * (weights[None, :] / (x[:, None] - z[None, :])).sum(1)
         xs, ss = np.concatenate(([edge], x)), np.concatenate(([0.0], slope))
         oracle = np.cumsum(0.5 * (ss[1:] + ss[:-1]) * np.diff(xs))[99::100]
-        closed = polynomial.deformed_gap(r.distributions, scene, a, x0, (x[99::100] - r.contact_offset) / a)
+        closed = polynomial.deformed_gap(r.distributions, e, a, x0, (x[99::100] - r.contact_offset) / a)
         np.testing.assert_allclose(closed, oracle, rtol=1e-5, atol=1e-6 * a * a / scene.radius,
                                    err_msg=f"deformed gap, side {side:+.0f}")
 
@@ -724,7 +725,8 @@ def test_required_order_matches_its_definition(tolerance):
 
 
 def test_gap_slope_coefficients_are_jacobi_anger():
-    """Against the Jacobi-Anger series written out with scipy.special.jv and cos(kc + n pi/2) per term."""
+    """Against the Jacobi-Anger series written out with scipy.special.jv and cos(kc + n pi/2) per term (c in
+    surface coordinates here, in axis coordinates for the expansion: the phase shift by k x_c is checked too)."""
     scene = PREVIOUS_SCENES["two harmonics"]
     e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
     h, c, order = 2.3e-3, 0.0107, 25
@@ -736,7 +738,7 @@ def test_gap_slope_coefficients_are_jacobi_anger():
         k, phi, psi = hm.wavenumber, hm.cos_amplitude, hm.sin_amplitude
         ang = c * k + 0.5 * np.pi * n
         expected -= np.where(n == 0, 1.0, 2.0) * k * jv(n, k * h) * (psi * np.cos(ang) - phi * np.sin(ang))
-    np.testing.assert_allclose(e.gap_slope_coefficients(h, c, order), expected, rtol=0,
+    np.testing.assert_allclose(e.gap_slope_coefficients(h, c - scene.axis_position, order), expected, rtol=0,
                                atol=1e-14 * np.abs(expected).max())
 
 
@@ -766,7 +768,7 @@ def test_what_convexity_proves_the_sampled_checks_confirm(monkeypatch):
         if not math.isfinite(sampled.contact_half_width):
             continue
         e = chebyshev.SlopeExpansion(RADIUS, scene.axis_position, scene.surface)
-        x0, a = scene.axis_position + sampled.contact_offset, sampled.contact_half_width
+        x0, a = sampled.contact_offset, sampled.contact_half_width  # axis coordinates
         bound = e.curvature_bound(x0 - a, x0 + a) * RADIUS
         conditions = {"traction bound": bound <= polynomial.STICK_PROVEN and sampled.stick_half_width > 0,
                       "slip opposes": bound < polynomial.CONVEX,
@@ -776,3 +778,103 @@ def test_what_convexity_proves_the_sampled_checks_confirm(monkeypatch):
                 proven[failure] += 1
                 assert failure not in sampled.message, f"proven, yet sampled: {sampled.message} (bound {bound:.3f}/R)"
     assert min(proven.values()) >= 20, f"too few scenes exercise each proof: {proven}"
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# small creep: the slip width a - a* and the difference form from the zeros at a* = a
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+@pytest.mark.parametrize("fraction", [1e-14, 1e-9, 5e-4, 2e-3])
+def test_small_creep_force_is_carter_to_round_off(fraction, sign):
+    """T' = mu N' u (2 - u), u = R |xi| / (mu a), to 1e-12 of itself at any creep: the difference form below
+    w = 1e-3 a and the direct eqs 30-31 above it.  Regression: at 1e-14 saturation T' was 1 % off."""
+    scene = Scene(LOAD, creep=sign * fraction * XI_SAT, radius=RADIUS, material=MATERIAL, friction=MU)
+    r = solve(scene, method="polynomial")
+    assert r.success, r.message
+    np.testing.assert_allclose(r.tangential_force_per_length,
+                               solve(scene, method="closed_form").tangential_force_per_length, rtol=1e-12,
+                               err_msg=f"T' at xi = {fraction} saturation")
+
+
+@pytest.mark.parametrize("scan", [False, True])
+@pytest.mark.parametrize("name", ["corrugated 40 mm", "two harmonics", "cubic+quartic"])
+def test_small_creep_force_is_linear_on_any_surface(name, scan, monkeypatch):
+    """T'(xi) = k0 xi (1 + O(xi / xi_sat)) with k0 = dT'/dxi at xi = 0, both signs, at 1e-14 saturation to 1e-12;
+    by Newton (convex patch) and by the 9-point scan (the curvature bound switched off)."""
+    scene = PREVIOUS_SCENES[name]
+    if scan:
+        monkeypatch.setattr(chebyshev.SlopeExpansion, "curvature_bound", lambda self, lo, hi: math.inf)
+    k0 = solve(scene.replace(creep=0.0), method="polynomial").creep_stiffness_per_length
+    for xi in (1e-14 * XI_SAT, -1e-14 * XI_SAT):
+        r = solve(scene.replace(creep=xi), method="polynomial")
+        assert r.success, r.message
+        np.testing.assert_allclose(r.tangential_force_per_length / xi, k0, rtol=1e-12, err_msg=f"T'/xi, xi = {xi}")
+
+
+@pytest.mark.parametrize("name", ["corrugated 40 mm", "two harmonics", "cubic+quartic"])
+def test_difference_form_equals_eqs_30_31_where_both_hold(name, monkeypatch):
+    """At w = a - a* of 1-20 % of a both are exact to round-off: the difference form (the rates integrated from
+    a* = a by the 5-point rule), forced there, must give eqs 30-31's a* and T'."""
+    scene = PREVIOUS_SCENES[name]
+    for fraction in (0.01, 0.2):
+        s = scene.replace(creep=math.copysign(fraction * XI_SAT, scene.creep))
+        direct = solve(s, method="polynomial")
+        with monkeypatch.context() as patch:
+            patch.setattr(polynomial, "DIFFERENCE_WIDTH", 1.0)
+            difference = solve(s, method="polynomial")
+        assert direct.success and difference.success, (direct.message, difference.message)
+        w = (direct.contact_half_width - direct.stick_half_width) / direct.contact_half_width
+        assert 5e-3 < w < 0.3, f"the test needs w/a in the range of both forms, got {w:.3g}"
+        np.testing.assert_allclose(difference.tangential_force_per_length, direct.tangential_force_per_length,
+                                   rtol=1e-12, err_msg=f"T' at w/a = {w:.3g}")
+        np.testing.assert_allclose(difference.stick_half_width, direct.stick_half_width, rtol=1e-13,
+                                   err_msg=f"a* at w/a = {w:.3g}")
+
+
+def test_barely_falling_friction_is_solved_as_coulomb():
+    """A law within COULOMB_REDUCTION of mu_s over the patch's slip velocities gives the Coulomb answer (said in
+    info); one that falls by more over them goes through the slip iteration."""
+    xi = 0.3 * XI_SAT
+    coulomb = solve(Scene(LOAD, creep=xi, radius=RADIUS, material=MATERIAL, friction=MU), method="polynomial")
+    flat = ExponentialFalling(MU, 0.5, 2e-11 / (xi + 2.0 * XI_SAT))  # falls by <= 1e-11 mu_s over V s < V (xi + 2 sat)
+    r = solve(Scene(LOAD, creep=xi, radius=RADIUS, material=MATERIAL, friction=flat), method="polynomial")
+    assert r.success and "coulomb_reduction" in r.info and "slip_iteration_history" not in r.info, r.info.keys()
+    for field in FIELDS:
+        assert getattr(r, field) == getattr(coulomb, field), field
+    falling = ExponentialFalling(MU, 0.5, 2e-8 / xi)  # falls by ~1e-8 mu_s at V xi already
+    r = solve(Scene(LOAD, creep=xi, radius=RADIUS, material=MATERIAL, friction=falling), method="polynomial")
+    assert r.success and "coulomb_reduction" not in r.info and "slip_iteration_history" in r.info, r.info.keys()
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# axis coordinates
+def test_axis_a_kilometre_along_changes_nothing():
+    """Regression: in surface coordinates a 48 nm patch 1 km along lost eps |x_c| / a ~ 5e-6 (T' 1e-9 mu N' off);
+    relative to the axis a flat surface gives identical outputs wherever the axis stands."""
+    here = Scene(1.0, creep=1e-14, radius=1e-3, material=Material(1e12, 0.3), friction=MU)
+    reference = solve(here, method="polynomial")
+    for axis_position in (1e3, -1e3, 0.7):
+        there = solve(here.replace(axis_position=axis_position), method="polynomial")
+        assert reference.success and there.success, (reference.message, there.message)
+        for field in FIELDS:
+            assert getattr(there, field) == getattr(reference, field), f"{field} at x_c = {axis_position}"
+
+
+@pytest.mark.parametrize("name", ["corrugated 40 mm", "two harmonics", "cubic+quartic"])
+def test_surface_moved_with_the_axis_gives_the_same_contact(name):
+    """Z(X) -> Z(X - s) and x_c -> x_c + s leave the gap h0(X - x_c) as it was: harmonic phases and the polynomial
+    re-expanded (numpy's composition here), to the rounding of the moved surface data."""
+    scene = PREVIOUS_SCENES[name]
+    shift = 0.05
+    poly = np.polynomial.Polynomial(scene.surface.polynomial or (0.0,))(np.polynomial.Polynomial((-shift, 1.0)))
+    harmonics = []
+    for h in scene.surface.harmonics:  # Phi cos k(X - s) + Psi sin k(X - s)
+        cs, sn = math.cos(h.wavenumber * shift), math.sin(h.wavenumber * shift)
+        harmonics.append(Harmonic(h.wavenumber, h.cos_amplitude * cs - h.sin_amplitude * sn,
+                                  h.sin_amplitude * cs + h.cos_amplitude * sn))
+    moved = scene.replace(axis_position=scene.axis_position + shift,
+                          surface=Surface(polynomial=tuple(poly.coef) if scene.surface.polynomial else (),
+                                          harmonics=tuple(harmonics)))
+    r, m = solve(scene, method="polynomial"), solve(moved, method="polynomial")
+    assert r.success and m.success, (r.message, m.message)
+    for field in FIELDS:
+        np.testing.assert_allclose(getattr(m, field), getattr(r, field), rtol=1e-11, err_msg=field)

@@ -39,9 +39,9 @@ Velocity-dependent friction (exponential, rational, linear falling laws):
     leaves the model's state unchanged.
 Invalid values:
     every scene, material, friction and solver value out of its range raises an error naming the field and value.
-Known bugs (``xfail(strict=True)``, explicit ``@example`` reproducers; owned outside this test's remit):
-    relative accuracy of T' at small creep in the polynomial method and its slip iteration; translation
-    invariance (absolute coordinates).  Fixed bugs keep their reproducers as explicit examples.
+Fixed bugs keep their reproducers as explicit ``@example`` s: Carter's force cancelling at small creep, Carter
+    distributions beyond mu p at the edges, the discretised a* > a, the polynomial method's relative accuracy of
+    T' at small creep (it now solves for the slip width) and its translation invariance (axis coordinates).
 
 Tolerances
 ----------
@@ -50,8 +50,7 @@ against the 40-digit reference, ``CONVERGED`` (1e-12) for the polynomial method 
 (1e-9) after iterations and checks with a 1e-9 tolerance; each assertion names its scale.
 
 Budgets: the profile ``"rollcontact-properties"`` (``extremes.py``) is derandomised, so CI runs the same examples
-every time, and every test has a small ``max_examples``.  An xfail test XPASSes, and so fails, once its bug is
-fixed: the mark must then go.
+every time, and every test has a small ``max_examples``.
 """
 
 from __future__ import annotations
@@ -411,20 +410,21 @@ def test_polynomial_finds_stick_zones_on_its_scan_grid(contact, i, sign):
     assert abs(stick - i / 8.0) <= SOLVER, f"a*/a = {stick!r}, Carter {i / 8.0}"
 
 
-@pytest.mark.xfail(strict=True, reason="polynomial.py, velocity_friction.py: T' = mu N' + (pi a*/2) d_1 (and its "
-                                       "slip-iteration twin) and a root tolerance of 1e-14 a on a* lose the relative "
-                                       "accuracy of T' at small creep")
 @settings(PROFILE, max_examples=40)
 @given(contacts, signs, st.floats(-16.0, -3.0), st.booleans())
-@example(Contact(1e9, 1e6, 0.3, 1e-3, 2.0), 1.0, -15.5, False)  # T' 10-25 % off, wrong sign at smaller creep
-@example(Contact(1e6, 210e9, 0.28, 0.46, 0.3), 1.0, -9.0, False)  # reference contact, xi = 1.5e-12: ~1e-7 off
-@example(Contact(1e9, 1e6, 0.3, 1e-3, 2.0), 1.0, -15.8, True)  # through the slip iteration
+@example(Contact(1e9, 1e6, 0.3, 1e-3, 2.0), 1.0, -15.5, False)  # was 10-25 % off, wrong sign at smaller creep
+@example(Contact(1e6, 210e9, 0.28, 0.46, 0.3), 1.0, -9.0, False)  # reference contact, xi = 1.5e-12: was ~1e-7 off
+@example(Contact(1e9, 1e6, 0.3, 1e-3, 2.0), 1.0, -15.8, True)  # was 13 % off through the slip iteration
 def test_polynomial_small_creep_is_relatively_accurate(contact, sign, log_u, falling):
     """In the linear range the answer is (pi E* a / 2) xi: T' must keep its relative accuracy and sign.
 
+    Regression: T' = mu N' + (pi a*/2) d_1 and a root on a* with an absolute tolerance lost it (the polynomial
+    method now solves for the slip width a - a* and takes xi and T' from their zeros at a* = a).
+
     ``falling``: an exponential law whose mu drops by at most 1e-12 of mu_s over the slip velocities that occur,
-    which moves T' by at most 1e-12 of itself (the slip zone carries the force difference), through the slip
-    iteration of section 4.2.
+    which moves T' by at most 1e-12 of itself (the slip zone carries the force difference); the polynomial method
+    then solves the Coulomb problem with mu_s (its documented reduction) instead of the slip iteration of
+    section 4.2.
     """
     creep = sign * contact.saturation * 10.0**log_u
     friction = contact.mu
@@ -438,12 +438,12 @@ def test_polynomial_small_creep_is_relatively_accurate(contact, sign, log_u, fal
         f"T' = {result.tangential_force_per_length!r}, Carter {t_ref!r} at xi / saturation = {10.0**log_u:.3g}"
 
 
-@pytest.mark.xfail(strict=True, reason="polynomial.py works in absolute surface coordinates: a* and T' lose "
-                                       "eps |x_c| / a of accuracy far from X = 0 or on a steep tilt")
 @settings(PROFILE, max_examples=30)
 @given(contact_and_creep(), st.floats(-1e3, 1e3))
-@example((Contact(1.0, 1e12, 0.3, 1e-3, 0.3), 1e-14), 1e3)  # a = 48 nm, 1 km along: 1e-9..1e-6 mu N'
+@example((Contact(1.0, 1e12, 0.3, 1e-3, 0.3), 1e-14), 1e3)  # a = 48 nm, 1 km along: was 1e-9..1e-6 mu N' off
 def test_polynomial_is_translation_invariant(case, axis_position):
+    """Regression: the polynomial method worked in surface coordinates, where every X - x_c loses eps |x_c|; it
+    now works relative to the axis."""
     contact, creep = case
     here = solve(contact.scene(creep), method="polynomial")
     there = solve(contact.scene(creep, axis_position=axis_position), method="polynomial")

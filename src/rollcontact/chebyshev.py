@@ -30,6 +30,8 @@ from numpy.polynomial import chebyshev as npcheb
 from numpy.polynomial import polynomial as nppoly
 from scipy import special
 
+from rollcontact.scene import Harmonic, Surface
+
 __all__ = ["SlopeExpansion", "outer_transform", "sine_series", "theta_grid", "unit_grid"]
 
 _j0 = special.j0
@@ -101,53 +103,102 @@ def double_factorial_ratio(j: int) -> float:
 
 
 @lru_cache(maxsize=32)
+def slope_tables(polynomial: tuple, origin: float = 0.0) -> tuple:
+    """``(slope_poly, slope_derivs, deriv_lists)`` of ``Z(origin + u)`` in u, ``Z(X) = sum polynomial[j] X^j``
+    (:func:`taylor_shift`; cached by value).
+
+    ``Z'`` as power coefficients with all its derivatives, as read-only arrays and as lists (the scalar paths run
+    in Newton loops, where numpy scalars cost more than the maths).
+    """
+    slope_poly = nppoly.polyder(np.asarray(taylor_shift(polynomial, origin), dtype=float))
+    slope_derivs = [slope_poly]
+    for _ in range(slope_poly.size + 1):
+        d = slope_derivs[-1]
+        slope_derivs.append(nppoly.polyder(d) if d.size > 1 else np.zeros(1))
+    for d in slope_derivs:
+        d.flags.writeable = False
+    return slope_poly, tuple(slope_derivs), tuple(tuple(d.tolist()) for d in slope_derivs)
+
+
+@lru_cache(maxsize=32)
 def surface_data(surface) -> tuple:
     """What :class:`SlopeExpansion` needs from a surface, cached by value (Surface is frozen and hashable).
 
-    Returns ``(has_poly, slope_poly, slope_derivs, deriv_lists, poly_weights, harmonic_list, harmonic_curvature)``:
-    Z'(X) as power coefficients with its derivatives (arrays, read-only, and lists), the moment weights of
-    :meth:`SlopeExpansion.moments`, the non-zero harmonics as plain ``(k, Phi, Psi)`` tuples (the scalar paths run
-    in Newton loops, where numpy scalars cost more than the maths) and ``sum k^2 |Z_m| >= |Z''|`` of the harmonics.
+    Returns ``(has_poly, slope_poly, slope_derivs, deriv_lists, poly_weights, harmonic_list, harmonic_curvature,
+    max_wavenumber)``: the :func:`slope_tables` of the polynomial part, the moment weights of
+    :meth:`SlopeExpansion.moments`, the non-zero harmonics as plain ``(k, Phi, Psi)`` tuples, ``sum k^2 |Z_m| >=
+    |Z''|`` of the harmonics and their largest k (0 without harmonics).
     """
     has_poly = any(c != 0.0 for c in surface.polynomial[1:])
     if has_poly:
-        slope_poly = nppoly.polyder(np.asarray(surface.polynomial, dtype=float))
-        slope_derivs = [slope_poly]
-        for _ in range(slope_poly.size + 1):
-            d = slope_derivs[-1]
-            slope_derivs.append(nppoly.polyder(d) if d.size > 1 else np.zeros(1))
+        slope_poly, slope_derivs, deriv_lists = slope_tables(surface.polynomial)
     else:
-        slope_poly = np.zeros(1)
-        slope_derivs = [slope_poly, slope_poly]
-    for d in slope_derivs:
-        d.flags.writeable = False
+        slope_poly = read_only(np.zeros(1))
+        slope_derivs = (slope_poly, slope_poly)
+        deriv_lists = ((0.0,), (0.0,))
     harmonic_list = tuple((hm.wavenumber, hm.cos_amplitude, hm.sin_amplitude) for hm in surface.harmonics
                           if hm.amplitude != 0.0)
-    return (has_poly, slope_poly, tuple(slope_derivs), tuple(tuple(d.tolist()) for d in slope_derivs),
+    return (has_poly, slope_poly, slope_derivs, deriv_lists,
             tuple((j, double_factorial_ratio(j) if j % 2 == 0 else first_moment_weight(j), 1.0 / math.factorial(j))
                   for j in range(slope_poly.size)),
-            harmonic_list, sum(k * k * math.hypot(phi, psi) for k, phi, psi in harmonic_list))
+            harmonic_list, sum(k * k * math.hypot(phi, psi) for k, phi, psi in harmonic_list),
+            max((k for k, _, _ in harmonic_list), default=0.0))
+
+
+def taylor_shift(coefficients: tuple, origin: float) -> tuple:
+    """Power coefficients of ``P(origin + u)`` in u, ``P = sum coefficients[j] X^j`` (repeated Horner division).
+
+    The rounding is that of evaluating P near ``origin``, i.e. the accuracy to which the surface is given there.
+    """
+    b = list(coefficients)
+    for i in range(len(b) - 1):
+        for j in range(len(b) - 2, i - 1, -1):
+            b[j] += origin * b[j + 1]
+    return tuple(b)
 
 
 class SlopeExpansion:
-    """Expansions of the gap slope ``h0'(X) = (X - x_c)/R - Z'(X)`` on intervals ``X = c + h t``.
+    """Expansions of the gap slope ``h0'(u) = u/R - Z'(x_c + u)`` on intervals ``u = c + h t``.
+
+    All positions (``c``, interval ends) are axis coordinates ``u = X - x_c``: the gap is a function of the
+    distance to the axis, so a contact a kilometre along the surface is solved as accurately as one at X = 0 (in
+    surface coordinates every ``X - x_c`` would lose ``eps |x_c|``, which exceeds a nanometre-wide patch).  The
+    surface is moved to the axis once, exactly up to the rounding of its own data at ``x_c``: each harmonic
+    ``Phi cos kX + Psi sin kX`` becomes ``Phi' cos ku + Psi' sin ku`` with the phase ``k x_c`` reduced once,
+    ``Phi' = Phi cos kx_c + Psi sin kx_c``, ``Psi' = Psi cos kx_c - Phi sin kx_c``; the polynomial part is
+    re-expanded about x_c (:func:`taylor_shift`).
 
     Parameters
     ----------
     radius : float
         R [m].
     axis_position : float
-        x_c [m].
+        x_c [m] (surface coordinate).
     surface : rollcontact.Surface
-        Z(X): polynomial part and harmonics.
+        Z(X): polynomial part and harmonics, in surface coordinates.
     """
 
     def __init__(self, radius, axis_position, surface):
         self.radius = float(radius)
-        self.axis_position = float(axis_position)
-        (self.has_poly, self.slope_poly, self.slope_derivs, self.deriv_lists, self.poly_weights, self.harmonic_list,
-         self.harmonic_curvature) = surface_data(surface)
-        self.has_harmonics = bool(self.harmonic_list)
+        self.axis_position = x_c = float(axis_position)
+        (self.has_poly, self.slope_poly, self.slope_derivs, self.deriv_lists, self.poly_weights, harmonics,
+         self.harmonic_curvature, self.max_wavenumber) = surface_data(surface)
+        self.surface_polynomial = surface.polynomial
+        if x_c != 0.0:
+            if self.has_poly:
+                self.slope_poly, self.slope_derivs, self.deriv_lists = slope_tables(surface.polynomial, x_c)
+            rotated = []
+            for k, phi, psi in harmonics:
+                cs, sn = math.cos(k * x_c), math.sin(k * x_c)
+                rotated.append((k, phi * cs + psi * sn, psi * cs - phi * sn))
+            harmonics = tuple(rotated)
+        self.harmonic_list = harmonics
+        self.has_harmonics = bool(harmonics)
+
+    def axis_surface(self) -> Surface:
+        """The surface in axis coordinates: ``Z(x_c + u)`` as a :class:`~rollcontact.Surface` in u."""
+        return Surface(taylor_shift(self.surface_polynomial, self.axis_position),
+                       tuple(Harmonic(k, phi, psi) for k, phi, psi in self.harmonic_list))
 
     @property
     def k(self) -> np.ndarray:
@@ -156,7 +207,9 @@ class SlopeExpansion:
 
     # ---- T0/T1 moments with derivatives (the exact scalar equations 28-31) -------------------------------
     def moments(self, h: float, c: float):
-        """T_0 and T_1 Chebyshev coefficients of ``Z'(c + h t)`` and their derivatives (plain floats).
+        """T_0 and T_1 Chebyshev coefficients of ``Z'(x_c + c + h t)`` and their derivatives (plain floats).
+
+        ``c`` and, below, Phi, Psi and Q are in axis coordinates (class docstring).
 
         Returns
         -------
@@ -202,11 +255,11 @@ class SlopeExpansion:
 
     # ---- curvature bounds (what makes a check provably unnecessary) ----------------------------------------
     def curvature_bound(self, lo: float, hi: float) -> float:
-        """A bound of ``Z''(X)`` for X in [lo, hi]: of ``|Z''|`` on a finite interval, of ``Z''`` from above on
-        the whole line (``lo = -inf``, ``hi = inf``).
+        """A bound of ``Z''(x_c + u)`` for u in [lo, hi] (axis coordinates): of ``|Z''|`` on a finite interval, of
+        ``Z''`` from above on the whole line (``lo = -inf``, ``hi = inf``).
 
         Harmonics contribute ``sum k^2 |Z_m|``.  The polynomial part is bounded by ``sum |q_j| max(|lo|, |hi|)^j``
-        on a finite interval (q_j: power coefficients of Z''); on the whole line it is bounded only for Z'' of
+        on a finite interval (q_j: power coefficients of Z'' in u); on the whole line it is bounded only for Z'' of
         degree 0, or of degree 2 opening downwards (vertex value), and is ``inf`` otherwise.
         """
         bound = self.harmonic_curvature
@@ -226,8 +279,8 @@ class SlopeExpansion:
 
     # ---- full Chebyshev series ------------------------------------------------------------------------------
     def gap_slope_coefficients(self, h: float, c: float, order: int) -> np.ndarray:
-        """Chebyshev coefficients ``[g_0 .. g_order]`` of ``h0'(c + h t)`` (exact for the polynomial part,
-        Jacobi-Anger for harmonics, truncated at ``order``).
+        """Chebyshev coefficients ``[g_0 .. g_order]`` of ``h0'(c + h t)`` (c in axis coordinates; exact for the
+        polynomial part, Jacobi-Anger for harmonics, truncated at ``order``).
 
         Harmonic m contributes ``-eps_n k J_n(k h) [Psi cos(k c + n pi/2) - Phi sin(k c + n pi/2)]``, whose bracket
         repeats with period 4 in n: ``a0, -a1, -a0, a1`` (``a0 = Psi cos kc - Phi sin kc``,
@@ -245,7 +298,7 @@ class SlopeExpansion:
                 g += _jv(n, k * h) * (quarter @ np.array((-a0, a1, a0, -a1)))
         else:
             g = np.zeros(order + 1)
-        g[0] += (c - self.axis_position) / self.radius
+        g[0] += c / self.radius
         if order >= 1:
             g[1] += h / self.radius
         if self.has_poly:
@@ -289,9 +342,10 @@ class SlopeExpansion:
 
     # ---- monomial (paper eqs 21-26) -------------------------------------------------------------------------
     def gap_slope_taylor(self, c: float, order: int) -> np.ndarray:
-        """Taylor coefficients ``[e_0 .. e_{order-1}]`` of ``h0'(c + x)`` in x [m] (power basis, physical)."""
+        """Taylor coefficients ``[e_0 .. e_{order-1}]`` of ``h0'(c + x)`` in x [m] (power basis, physical; c in
+        axis coordinates)."""
         e = np.zeros(order)
-        e[0] = (c - self.axis_position) / self.radius
+        e[0] = c / self.radius
         if order > 1:
             e[1] = 1.0 / self.radius
         if self.has_poly:

@@ -6,11 +6,18 @@ Normal problem.  On the patch ``X = X0 + a t`` (``X0 = x_c + Delta``) the pressu
 the Chebyshev coefficients of ``h0'(X0 + a t)``; a bounded solution needs ``g_0 = 0`` (fixes Delta) and the
 load is ``N' = (pi a / 2) c_1`` (fixes a).  For harmonics ``g_0`` and ``g_1`` are the exact Bessel forms of
 physics.md eqs 28-29 (corrected), so a and Delta carry no truncation error; the order only limits p(x).
+Every position is computed in axis coordinates ``u = X - x_c`` (the patch is ``u = Delta + a t``;
+:class:`~rollcontact.chebyshev.SlopeExpansion`), so the answer does not depend on how far along the surface the
+axis stands (surface coordinates would lose ``eps |x_c|`` in every ``X - x_c``).
 
 Tangential problem (Coulomb).  ``q = mu p + q2`` with ``q2 = sum d_n sin(n theta*)`` on the stick zone
 ``[X0 - a, X0 - a + 2 a*]`` (centre ``Xs``).  No slip there, ``xi + du/dx = 0``, gives
 ``d_n = -(E*/2) mu G_n`` (``G_n``: coefficients of ``h0'(Xs + a* t)``) and the creep
-``xi = -mu G_0`` (eq 31 corrected), ``T' = mu N' + (pi a*/2) d_1`` (eq 30).  Negative creep mirrors q.
+``xi = -mu G_0`` (eq 31 corrected), ``T' = mu N' + (pi a*/2) d_1`` (eq 30).  Negative creep mirrors q.  Both
+vanish at ``a* = a``; the unknown is the slip width ``a - a*``, and at small creep xi and T' are integrated from
+those zeros (:func:`solve_tangential`), so T' keeps its relative accuracy down to any creep.  A velocity-dependent
+law that stays within :data:`COULOMB_REDUCTION` of mu_s over the slip velocities of the patch is solved as
+Coulomb friction (:func:`coulomb_reduction`), otherwise by the slip iteration of section 4.2.
 
 Validity (one patch, one stick zone at the leading edge) is checked on the returned fields: ``p >= 0``; the
 deformed gap stays open outside the patch; ``|q| <= mu p`` in the stick zone; slip has the sign of the traction
@@ -171,7 +178,7 @@ class PolynomialDistributions(Distributions):
 
 # ---------------------------------------------------------------------------------------------------------------
 class NormalProblem:
-    """T0/T1 moments G0, G1 of ``h0'(c + h t)`` with derivatives, in either basis."""
+    """T0/T1 moments G0, G1 of ``h0'(c + h t)`` (c in axis coordinates) with derivatives, in either basis."""
 
     def __init__(self, expansion: SlopeExpansion, basis: str, order: int | None):
         self.e = expansion
@@ -184,7 +191,7 @@ class NormalProblem:
         if self.basis == "chebyshev":
             m0, m1, d0h, d0c, d1h, d1c = e.moments(h, c)
             inv_r = 1.0 / e.radius
-            return ((c - e.axis_position) * inv_r - m0, h * inv_r - m1, -d0h, inv_r - d0c, inv_r - d1h, -d1c)
+            return (c * inv_r - m0, h * inv_r - m1, -d0h, inv_r - d0c, inv_r - d1h, -d1c)
         g0, g1 = self.monomial_moments(h, c)
         dh = 1e-7 * h
         g0h, g1h = self.monomial_moments(h + dh, c)
@@ -197,18 +204,17 @@ class NormalProblem:
 
 
 def solve_normal(problem: NormalProblem, load: float, estar: float, a0: float, max_iterations: int):
-    """Newton on (a, X0): ``G0(a, X0) = 0`` and ``(pi E* a / 4) G1(a, X0) = N'`` (eqs 28-29).
+    """Newton on (a, Delta): ``G0(a, Delta) = 0`` and ``(pi E* a / 4) G1(a, Delta) = N'`` (eqs 28-29), with the
+    patch centre ``Delta = X0 - x_c`` in axis coordinates.
 
     The start is one fixed-point step of both equations from Hertz with the surface moments frozen at
-    ``(a_H, x_c)``: ``X0 = x_c + R m0`` (eq 29) and the positive root of ``a^2/R - a m1 = a_H^2/R`` (eq 28,
+    ``(a_H, 0)``: ``Delta = R m0`` (eq 29) and the positive root of ``a^2/R - a m1 = a_H^2/R`` (eq 28,
     ``G1 = a/R - m1``).  It removes the first-order effect of the surface, which saves one or two Newton steps.
     """
-    e = problem.e
-    R = e.radius
-    xc = e.axis_position
+    R = problem.e.radius
     a = a0
-    g0, g1 = problem.moments(a, xc)[:2]
-    c = xc - R * g0 if math.isfinite(g0) else xc
+    g0, g1 = problem.moments(a, 0.0)[:2]
+    c = -R * g0 if math.isfinite(g0) else 0.0
     rm1 = R * (a0 / R - g1)
     if math.isfinite(rm1):
         a = 0.5 * (rm1 + math.sqrt(rm1 * rm1 + 4.0 * a0 * a0))
@@ -274,7 +280,9 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     ContactResult
         ``residual`` is the truncation estimate of the distributions (size of the first neglected coefficients
         relative to the leading one); ``info`` holds the order, basis, coefficients and, for the monomial basis,
-        the cancellation factor of the paper's power basis (``info["cancellation_factor"]``).
+        the cancellation factor of the paper's power basis (``info["cancellation_factor"]``); for a
+        velocity-dependent law solved as Coulomb friction, ``info["coulomb_reduction"]`` says why
+        (:func:`coulomb_reduction`).
     """
     if basis not in BASES:
         raise ValueError(f"unknown basis {basis!r}; valid bases are {list(BASES)}")
@@ -290,20 +298,19 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     mu = friction.static_coefficient
     xi = scene.creep
     R = scene.radius
-    xc = scene.axis_position
     if load == 0.0:
         return ContactResult(method="polynomial", success=True, message="no load: no contact",
                              normal_load_per_length=0.0, tangential_force_per_length=0.0, creep=xi,
                              contact_half_width=0.0, contact_offset=0.0, stick_half_width=0.0, max_pressure=0.0,
                              creep_stiffness_per_length=0.0, distributions=NoContact())
-    expansion = SlopeExpansion(R, xc, scene.surface)
+    expansion = SlopeExpansion(R, scene.axis_position, scene.surface)
     a_hertz, _ = hertz(load, R, estar)
     monomial_order = order if order is not None else max(4, expansion.slope_poly.size + 2)
     problem = NormalProblem(expansion, basis, monomial_order)
     a, x0, iterations, failure = solve_normal(problem, load, estar, a_hertz, max_iterations)
     info = {"basis": basis}
     if failure or not (a > 0.0 and math.isfinite(a) and math.isfinite(x0)):
-        return failed(scene, failure or f"normal problem: no positive root for a (a = {a!r} m)", a, x0 - xc,
+        return failed(scene, failure or f"normal problem: no positive root for a (a = {a!r} m)", a, x0,
                       iterations, info)
 
     n_order = order if order is not None else expansion.required_order(a, tolerance)
@@ -321,13 +328,15 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     info.update(order=n_order, pressure_coefficients=c_n)
     m, samples = pressure_samples(c_n)
 
-    if not friction.is_constant:
-        return solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check,
-                                            nodes, (m, samples))
-    # tangential problem
-    stick, d_n, G, t_force, stiffness, tang_failure = solve_tangential(expansion, a, x0, load, estar, mu, xi,
-                                                                       order, tolerance)
-    dist = PolynomialDistributions(a, x0 - xc, c_n, g, stick, x0 - a + stick - xc, d_n, G, mu, xi, monomial_b)
+    if friction.is_constant:
+        tangential = solve_tangential(expansion, a, x0, load, estar, mu, xi, order, tolerance)
+    else:
+        tangential = coulomb_reduction(scene, expansion, a, x0, g, info, order, tolerance)
+        if tangential is None:
+            return solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check,
+                                                nodes, (m, samples))
+    stick, d_n, G, t_force, stiffness, tang_failure = tangential
+    dist = PolynomialDistributions(a, x0, c_n, g, stick, x0 - a + stick, d_n, G, mu, xi, monomial_b)
     messages = []
     if tang_failure:
         messages.append(tang_failure)
@@ -336,7 +345,7 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     if monomial_b is None:
         p_max = max_pressure(c_n, m, samples)
     else:
-        p_max = float(np.max(dist.pressure(x0 - xc + a * (1.998 * unit_grid(401) - 0.999))))
+        p_max = float(np.max(dist.pressure(x0 + a * (1.998 * unit_grid(401) - 0.999))))
     success = not messages
     if success:
         message = "full slip (saturated)" if stick == 0.0 and xi != 0.0 else "converged"
@@ -345,7 +354,7 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     info["stick_coefficients"] = d_n
     return ContactResult(method="polynomial", success=success, message=message, normal_load_per_length=load,
                          tangential_force_per_length=t_force, creep=xi, contact_half_width=a,
-                         contact_offset=x0 - xc, stick_half_width=stick, max_pressure=p_max,
+                         contact_offset=x0, stick_half_width=stick, max_pressure=p_max,
                          creep_stiffness_per_length=stiffness, iterations=iterations, residual=residual,
                          distributions=dist, info=info)
 
@@ -353,24 +362,66 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
 solve_polynomial.options = ("order", "tolerance", "basis", "max_iterations", "nodes")
 
 
+COULOMB_REDUCTION = 1e-10
+"""Largest relative change ``|mu(v)/mu_s - 1|`` over the slip velocities of the patch for which a
+velocity-dependent law is solved as Coulomb friction with mu_s (:func:`coulomb_reduction`): a tenth of the slip
+iteration's tolerance."""
+
+
+def friction_change(friction, slip_velocity: float) -> float:
+    """``|mu(v)/mu_s - 1|`` at ``v``: the largest change over [0, v] for a law monotone there (every law of
+    :mod:`rollcontact.friction`; a user table if its coefficients are monotone up to v)."""
+    return abs(float(friction.coefficient(slip_velocity)) / friction.static_coefficient - 1.0)
+
+
+def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, tolerance):
+    """:func:`solve_tangential` with ``mu = mu_s`` if a velocity-dependent law cannot tell it from Coulomb's, else
+    None (then :func:`solve_with_velocity_friction` solves the problem).
+
+    The Coulomb solution with mu_s slips, by its series (:meth:`PolynomialDistributions.slip`: ``|T_n| <= 1`` on
+    the patch, ``|w^n| <= 1`` off the stick zone), at most ``S = |xi| + mu_s (sum_{n>=1} |g_n| + sum_{n>=1} |G_n|)``
+    (Carter: ``|xi| + mu_s (a + a*)/R``).  If ``|mu(v)/mu_s - 1| <= COULOMB_REDUCTION`` for ``v <= V S``
+    (:func:`friction_change`), it satisfies the velocity-dependent problem, ``q = mu(V |s|) p`` in the slip zone, to
+    that relative residual, ten times below what the slip iteration accepts (1e-9), and T' is within about that
+    fraction of the exact answer (only the slip zone's traction changes).  It is then the answer, exact in a* and
+    T' at any creep (the slip iteration's creep equation cannot resolve xi below ~M eps xi_sat), and
+    ``info["coulomb_reduction"]`` says so.  The law is first tested at the smaller ``V (|xi| + mu_s sum |g_n|)``,
+    which needs no tangential solution: where it fails there the reduction cannot apply.  Zero creep is left to
+    the slip iteration's own shortcut.
+    """
+    xi = scene.creep
+    friction, speed = scene.friction, scene.rolling_speed
+    mu_s = friction.static_coefficient
+    patch_slip = abs(xi) + mu_s * float(np.abs(g[1:]).sum())
+    if xi == 0.0 or friction_change(friction, speed * patch_slip) > COULOMB_REDUCTION:
+        return None
+    tangential = solve_tangential(e, a, x0, scene.normal_load_per_length, scene.material.contact_modulus, mu_s, xi,
+                                  order, tolerance)
+    fastest = speed * (patch_slip + mu_s * float(np.abs(tangential[2][1:]).sum()))
+    change = friction_change(friction, fastest)
+    if change > COULOMB_REDUCTION:
+        return None
+    info["coulomb_reduction"] = (f"solved as Coulomb friction with mu_s = {mu_s!r}: mu(v) changes by {change:.3g} of "
+                                 f"mu_s <= {COULOMB_REDUCTION} for slip velocities up to {fastest:.3g} m/s")
+    return tangential
+
+
 def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check, nodes,
                                  samples):
     """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.velocity_friction`."""
-    xc = scene.axis_position
     estar = scene.material.contact_modulus
     xi = scene.creep
     messages = []
     mu_s = scene.friction_coefficient
     # zero creep: the whole patch sticks and q2 = -mu_s p cancels q1 (no tangential checks needed)
-    zero = PolynomialDistributions(a, x0 - xc, c_n, g, a, x0 - xc, -mu_s * c_n, g, mu_s, 0.0)
+    zero = PolynomialDistributions(a, x0, c_n, g, a, x0, -mu_s * c_n, g, mu_s, 0.0)
     if check:
         messages += validity_failures(zero, expansion, scene, a, x0, *samples)
     if xi == 0.0:
         stick, t_force, dist, it = a, 0.0, zero, 0
     else:
         nodes = max(nodes, default_nodes(c_n, estar, scene.friction, scene.rolling_speed))
-        out = solve_velocity_dependent(c_n, a, x0 - xc, estar, scene.friction, scene.rolling_speed, xi,
-                                       nodes=nodes)
+        out = solve_velocity_dependent(c_n, a, x0, estar, scene.friction, scene.rolling_speed, xi, nodes=nodes)
         stick, t_force, dist, it = (out["stick_half_width"], out["tangential_force_per_length"],
                                     out["distributions"], out["iterations"])
         info["slip_iteration_history"] = out["history"]
@@ -380,7 +431,7 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
     message = ("converged" if success else "; ".join(messages) + "; use method='discretised'")
     return ContactResult(method="polynomial", success=success, message=message,
                          normal_load_per_length=scene.normal_load_per_length, tangential_force_per_length=t_force,
-                         creep=xi, contact_half_width=a, contact_offset=x0 - xc, stick_half_width=stick,
+                         creep=xi, contact_half_width=a, contact_offset=x0, stick_half_width=stick,
                          max_pressure=max_pressure(c_n, *samples), iterations=iterations + it, residual=residual,
                          distributions=dist, info=info)
 
@@ -392,93 +443,151 @@ def failed(scene, message, a, offset, iterations, info):
                          max_pressure=math.nan, iterations=iterations, residual=math.inf, info=info)
 
 
+DIFFERENCE_WIDTH = 1e-3
+"""Slip widths ``w = a - a*`` below this fraction of a (and below ``DIFFERENCE_PHASE / k_max``) have xi and T'
+evaluated from their zeros at ``a* = a`` (:func:`solve_tangential`); above it the direct forms lose at most
+``eps / DIFFERENCE_WIDTH ~ 2e-13`` of relative accuracy."""
+DIFFERENCE_PHASE = 0.3
+"""Largest ``k w`` of the difference form: the 5-point rule's error is then ``~4e-13 (k w)^10 < 3e-18``."""
+
+
+def unit_gauss_rule(n: int) -> tuple:
+    """The n-point Gauss-Legendre rule on [0, 1] as ``((node, weight), ...)`` in plain floats (weights sum to 1)."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    return tuple(zip((0.5 * (1.0 + x)).tolist(), (0.5 * w).tolist(), strict=True))
+
+
+DIFFERENCE_RULE = unit_gauss_rule(5)
+"""The difference form's rule: (fraction of w, weight)."""
+
+
 def solve_tangential(e: SlopeExpansion, a, x0, load, estar, mu, xi, order, tolerance):
     """Stick-zone half-width a* from ``xi = -mu G0(a*, Xs)`` (eq 31), then q2 and T' (eq 30).
 
-    ``xi(a*)`` runs from its full-slip value at ``a* = 0`` to 0 at ``a* = a`` (the normal solution makes
-    ``G0(a, X0) = 0``).  Along the family of leading-edge stick zones ``d xi / d a* = mu (-1/R + <Z''(X)(1 + t)>)``
-    (mean over the zone with the Chebyshev weight), so ``Z'' < 1/R`` on the patch makes xi strictly decreasing:
-    then the root is unique, and safeguarded Newton from the Carter interpolation
-    ``a* = a (xi(0) - |xi|)/xi(0)`` (exact for a parabolic gap) finds it in a few steps.  Otherwise every root is
-    bracketed on a 9-point scan and the one with the smallest |T'| is kept.
+    The unknown is the slip width ``w = a - a*``.  ``xi(a*)`` runs from its full-slip value at ``a* = 0`` (w = a) to
+    0 at ``a* = a`` (the normal solution makes ``G0(a, X0) = 0``).  Along the family of leading-edge stick zones
+    (``Xs = X0 - a + a*``) ``d xi / d a* = mu (-1/R + dm0/dh + dm0/dc) = mu (-1/R + <Z''(X)(1 + t)>)`` (mean over
+    the zone with the Chebyshev weight), so ``Z'' < 1/R`` on the patch makes xi strictly decreasing: then the root
+    is unique, and safeguarded Newton from the Carter interpolation ``w = a |xi| / xi(0)`` (exact for a parabolic
+    gap) finds it in a few steps.  Otherwise every root is bracketed on a 9-point scan and the one with the
+    smallest |T'| is kept.
+
+    Small creep.  xi and ``T' = mu N' - (pi E* mu / 4) a* G1(a*, Xs)`` (eq 30) both vanish at ``a* = a`` (the normal
+    problem: ``G0 = 0``, ``N' = (pi E* a / 4) G1``).  Eq 31 is taken less ``mu G0(a, X0) = 0``,
+    ``xi = mu (w/R + m0(a*, Xs) - m0(a, X0))``, which leaves out ``Delta/R`` (large on a steep tilt, where it
+    cancels against m0), but this and eq 30 are still differences of terms of size ``mu a/R`` and ``mu N'`` that
+    keep only ``eps a / w`` of relative accuracy.  For ``w <= min(DIFFERENCE_WIDTH a,
+    DIFFERENCE_PHASE / k_max)`` they are taken from their exact zeros instead,
+    ``xi(a - w) = -int_{a-w}^{a} dxi/da*(s) ds`` and ``T'(a - w) = -int_{a-w}^{a} dT'/da*(s) ds`` with
+    the rates of :func:`stick_rates`, by the 5-point Gauss-Legendre rule :data:`DIFFERENCE_RULE`
+    (:func:`from_full_stick`): the integrands are analytic on the scale 1/k_max (harmonics) and polynomials of degree
+    at most ``deg Z - 1`` (exact to degree 9), so the rule is exact to round-off and T' keeps the relative
+    accuracy of w at any creep (Carter: ``xi = mu w / R``).
 
     Returns ``(a*, d_n, G_n, T', dT'/dxi, failure message)``.
     """
     target = abs(xi)
-    R = e.radius
-    xc = e.axis_position
+    sign = math.copysign(1.0, xi)
+    inv_r = 1.0 / e.radius
     lead = x0 - a
+    quarter = 0.25 * math.pi * estar * mu
+    near = DIFFERENCE_WIDTH * a
+    if e.max_wavenumber > 0.0:
+        near = min(near, DIFFERENCE_PHASE / e.max_wavenumber)
 
-    def creep_of(h):
-        xs = lead + h
-        m = e.moments(h, xs)
-        return mu * ((xc - xs) / R + m[0]), mu * (-1.0 / R + m[2] + m[3]), m
+    # eq 31 less mu G0(a, X0) = 0 (eq 29): Delta/R, large on a steep tilt, cancels without rounding
+    m0_patch = e.moments(a, x0)[0]
+
+    def creep_of(w):
+        """``(xi, dxi/da*)`` at the slip width w: the Newton loop's function, without T' and with the moments
+        and the rate of :func:`stick_rates` inlined (a call less per iteration)."""
+        h = a - w
+        m = e.moments(h, lead + h)
+        xi_w = mu * (w * inv_r + (m[0] - m0_patch)) if w > near else from_full_stick(e, a, lead, mu, quarter, w)[0]
+        return xi_w, mu * (m[2] + m[3] - inv_r)
 
     if xi == 0.0:  # the whole patch sticks: q2 = -mu p cancels q1 exactly
-        h, d, G, _, stiffness = tangential_solution(e, a, x0, load, estar, mu, xi, a, order, tolerance, creep_of)
-        return h, d, G, 0.0, stiffness, ""
-
-    if e.curvature_bound(lead, x0 + a) * R < CONVEX:
-        f0 = creep_of(0.0)[0] - target
-        candidates = [0.0] if f0 <= 0.0 else [refine_root(creep_of, target, 0.0, a, f0, a * f0 / (f0 + target))]
+        candidates = [0.0]
+    elif e.curvature_bound(lead, x0 + a) * e.radius < CONVEX:
+        f_full = creep_of(a)[0] - target
+        candidates = [a] if f_full <= 0.0 else [refine_root(creep_of, target, 0.0, a, -target,
+                                                            a * target / (f_full + target))]
     else:
-        # scan a* in [0, a] for every root of xi(a*) = |xi| (plain floats: 9 scalar calls beat one array call)
+        # scan w in [0, a] for every root of xi(a - w) = |xi| (plain floats: 9 scalar calls beat one array call);
+        # f[0] = -|xi| < 0, and f[8] <= 0 (no stick zone) makes full slip a candidate
         grid = [a * i / 8.0 for i in range(9)]
-        f = [creep_of(h)[0] - target for h in grid]
-        candidates = []
-        if f[0] <= 0.0:
-            candidates.append(0.0)
+        f = [creep_of(w)[0] - target for w in grid]
+        candidates = [a] if f[8] <= 0.0 else []
         for i in range(8):
-            if f[i + 1] == 0.0:  # a root on the grid itself
-                candidates.append(grid[i + 1])
-            elif (f[i] < 0.0) != (f[i + 1] < 0.0) and f[i] != 0.0:
-                candidates.append(refine_root(creep_of, target, grid[i], grid[i + 1], f[i], 0.5 * (grid[i] +
-                                                                                                   grid[i + 1])))
+            if f[i] == 0.0:  # a root on the grid itself
+                candidates.append(grid[i])
+            elif (f[i] < 0.0) != (f[i + 1] < 0.0) and f[i + 1] != 0.0:
+                candidates.append(refine_root(creep_of, target, grid[i], grid[i + 1], f[i],
+                                              0.5 * (grid[i] + grid[i + 1])))
         if not candidates:
             return 0.0, np.zeros(2), np.zeros(2), math.nan, math.nan, (
                 f"tangential problem: no stick zone satisfies xi(a*) = {target:.6g} for a* in [0, {a:.6g}] m")
     best = None
-    for h in candidates:
-        sol = tangential_solution(e, a, x0, load, estar, mu, xi, h, order, tolerance, creep_of)
+    for w in candidates:  # (a*, d_n, G_n, T', dT'/dxi) at each, keep the smallest |T'|
+        h = a - w
+        if h == 0.0:
+            sol = 0.0, np.zeros(2), np.zeros(2), sign * mu * load, 0.0
+        else:
+            G = e.gap_slope_coefficients(h, lead + h, order if order is not None else e.required_order(h, tolerance))
+            t_force = (mu * load - quarter * h * float(G[1]) if w > near else
+                       from_full_stick(e, a, lead, mu, quarter, w)[1])
+            # dT'/dxi = (dT'/da*)/(dxi/da*) along the stick zone's leading-edge-fixed family
+            dxi, dt = stick_rates(e, lead, mu, quarter, h)
+            sol = h, -0.5 * estar * mu * G, G, sign * t_force, dt / dxi if dxi != 0 else math.nan
         if best is None or abs(sol[3]) < abs(best[3]):
             best = sol
     return (*best, "")
 
 
-def refine_root(creep_of, target, lo, hi, f_lo, h):
-    """Safeguarded Newton from ``h`` on the bracket [lo, hi] of ``creep_of(h) - target``.
+def stick_rates(e: SlopeExpansion, lead, mu, quarter, h):
+    """``(dxi/da*, dT'/da*)`` along the family of stick zones at the leading edge ``lead``, at ``a* = h``.
 
-    Quadratic convergence: a step below 1e-9 of the bracket leaves an error ~1e-18 of it after the update.
+    ``dxi/da* = mu (dm0/dh + dm0/dc - 1/R)``, ``dT'/da* = -(pi E* mu / 4)(2 a*/R - m1 - a* (dm1/dh + dm1/dc))``
+    (``quarter = pi E* mu / 4``; moments of :meth:`SlopeExpansion.moments` on the zone, centre ``lead + h``).
+    """
+    m = e.moments(h, lead + h)
+    inv_r = 1.0 / e.radius
+    return mu * (m[2] + m[3] - inv_r), -quarter * (2.0 * h * inv_r - m[1] - h * (m[4] + m[5]))
+
+
+def from_full_stick(e: SlopeExpansion, a, lead, mu, quarter, w):
+    """``(xi, T')`` (for xi > 0) at the slip width ``w = a - a*`` from their zeros at ``a* = a``:
+    ``-int_{a-w}^{a} (dxi/da*, dT'/da*) ds`` (:func:`stick_rates`) by :data:`DIFFERENCE_RULE`."""
+    if w == 0.0:  # the whole patch sticks
+        return 0.0, 0.0
+    xi_w = t_w = 0.0
+    for fraction, weight in DIFFERENCE_RULE:
+        dxi, dt = stick_rates(e, lead, mu, quarter, a - fraction * w)
+        xi_w -= weight * dxi
+        t_w -= weight * dt
+    return w * xi_w, w * t_w
+
+
+def refine_root(creep_of, target, lo, hi, f_lo, w):
+    """Safeguarded Newton from ``w`` on the bracket [lo, hi] of ``f(w) = xi(a - w) - target`` (``creep_of``: see
+    :func:`solve_tangential`); ``df/dw = -dxi/da*``.
+
+    Quadratic convergence: a step below 1e-9 of w leaves an error ~1e-18 of w after the update, so the slip width
+    keeps its relative accuracy however small it is.
     """
     for _ in range(60):
-        val, der, _ = creep_of(h)
+        val, der = creep_of(w)
         fv = val - target
         step = fv / der if der != 0 else math.inf
-        if abs(step) <= 1e-9 * hi:
-            return h - step
+        if abs(step) <= 1e-9 * w:
+            return min(max(w + step, lo), hi)
         if (fv < 0) == (f_lo < 0):
-            lo = h
+            lo = w
         else:
-            hi = h
-        h_new = h - step
-        h = h_new if lo < h_new < hi else 0.5 * (lo + hi)
-    return h
-
-
-def tangential_solution(e, a, x0, load, estar, mu, xi, h, order, tolerance, creep_of):
-    sign = math.copysign(1.0, xi)
-    if h == 0.0:
-        return 0.0, np.zeros(2), np.zeros(2), sign * mu * load, 0.0
-    xs = x0 - a + h
-    n_order = order if order is not None else e.required_order(h, tolerance)
-    G = e.gap_slope_coefficients(h, xs, n_order)
-    d = -0.5 * estar * mu * G
-    t_force = mu * load + 0.5 * math.pi * h * float(d[1])
-    # dT'/dxi = (dT'/da*)/(dxi/da*) along the stick zone's leading-edge-fixed family
-    _, dxi, m = creep_of(h)
-    dt = -mu * 0.25 * math.pi * estar * (2.0 * h / e.radius - m[1] - h * (m[4] + m[5]))
-    stiffness = float(dt / dxi) if dxi != 0 else math.nan
-    return h, d, G, sign * t_force, stiffness
+            hi = w
+        w_new = w + step
+        w = w_new if lo < w_new < hi else 0.5 * (lo + hi)
+    return w
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -572,7 +681,7 @@ def validity_failures(dist: PolynomialDistributions, e: SlopeExpansion, scene, a
         out.append(f"contact splits: the pressure turns negative (min p = {p[i]:.4g} Pa near x = "
                    f"{dist.offset + a * math.cos(math.pi * (i + 1) / m):.6g} m, edge slopes {edges[0]:.3g}, "
                    f"{edges[1]:.3g} Pa), more than one contact patch")
-    gap = outside_gap(dist, e, scene, a, x0)
+    gap = outside_gap(dist, e, a, x0)
     if gap is not None:
         out.append(f"the deformed gap closes outside the patch (gap = {gap[1]:.3g} m at x = {gap[0]:.6g} m): "
                    "a second contact patch")
@@ -622,8 +731,8 @@ def slip_zone_samples(dist: PolynomialDistributions, a: float) -> tuple[np.ndarr
     return abs(dist.creep) + dist.mu * s, t
 
 
-def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, scene, a, x0):
-    """First point outside the patch where the deformed gap closes; ``(x, gap)`` or None.
+def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, a, x0):
+    """First point outside the patch where the deformed gap closes; ``(x, gap)`` or None (axis coordinates).
 
     Convex gap (``Z'' < CONVEX/R`` everywhere, :meth:`SlopeExpansion.curvature_bound`): the gap cannot close,
     no sampling needed.  Outside the patch the deformed gap is ``h(X) = h0(X) - int_edge^X v``, with
@@ -640,24 +749,25 @@ def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, scene, a, x0):
     spacing = a / 8.0
     if e.has_harmonics:
         amp = sum(math.hypot(phi, psi) for _, phi, psi in e.harmonic_list)
-        reach = max(reach, math.sqrt(8.0 * scene.radius * amp) + abs(x0 - e.axis_position))
-        spacing = min(spacing, 0.2 * math.pi / max(k for k, _, _ in e.harmonic_list))
+        reach = max(reach, math.sqrt(8.0 * e.radius * amp) + abs(x0))
+        spacing = min(spacing, 0.2 * math.pi / e.max_wavenumber)
     m = int(min(2000, max(32, reach / spacing)))
     u = unit_grid(m + 1)[1:] ** 2 * (reach / a)
     t = np.concatenate((1.0 + u, -1.0 - u))
-    gap = deformed_gap(dist, scene, a, x0, t)
+    gap = deformed_gap(dist, e, a, x0, t)
     i = int(np.argmin(gap))
-    if gap[i] < -1e-9 * a * a / scene.radius:
-        return float(x0 + a * t[i] - e.axis_position), float(gap[i])
+    if gap[i] < -1e-9 * a * a / e.radius:
+        return float(x0 + a * t[i]), float(gap[i])
     return None
 
 
-def deformed_gap(dist: PolynomialDistributions, scene, a: float, x0: float, t: np.ndarray) -> np.ndarray:
-    """Deformed gap [m] at ``X = X0 + a t`` outside the patch (``|t| > 1``), in closed form.
+def deformed_gap(dist: PolynomialDistributions, e: SlopeExpansion, a: float, x0: float, t: np.ndarray) -> np.ndarray:
+    """Deformed gap [m] at ``u = Delta + a t`` (axis coordinates, ``x0 = Delta``) outside the patch (``|t| > 1``),
+    in closed form, with the surface of :meth:`SlopeExpansion.axis_surface`.
 
     With ``t = (w + 1/w)/2`` (``|w| < 1``) the elastic slope is ``v = sum g_n w^n`` and
     ``int w^n dt = (w^(n+1)/(n+1) - w^(n-1)/(n-1))/2`` (``(w^2/2 - ln|w|)/2`` for n = 1), so
-    ``h(X) = h0(X) - h0(X_edge) - a sum g_n [I_n(w) - I_n(w_edge)]`` with ``w_edge = sign(t)``: exact at every
+    ``h(u) = h0(u) - h0(u_edge) - a sum g_n [I_n(w) - I_n(w_edge)]`` with ``w_edge = sign(t)``: exact at every
     point, no quadrature.
     """
     g = dist.slope_coefficients
@@ -672,11 +782,12 @@ def deformed_gap(dist: PolynomialDistributions, scene, a: float, x0: float, t: n
     antiderivative = (w[:, None] ** np.arange(1, n_max + 2)) @ beta[1:] - 0.5 * g[1] * np.log(np.abs(w))
     # at the edges w = +-1: ln|w| = 0
     at_edge = np.where(sign > 0.0, beta[1:].sum(), beta[1:] @ (-1.0) ** np.arange(1, n_max + 2))
-    xc, R = scene.axis_position, scene.radius
-    X = x0 + a * t
+    R = e.radius
+    surface = e.axis_surface()
+    u = x0 + a * t
     edge = x0 + a * sign
-    h0 = (X - xc) ** 2 / (2.0 * R) - scene.surface.height(X)
-    h0_edge = (edge - xc) ** 2 / (2.0 * R) - scene.surface.height(edge)
+    h0 = u**2 / (2.0 * R) - surface.height(u)
+    h0_edge = edge**2 / (2.0 * R) - surface.height(edge)
     return h0 - h0_edge - a * (antiderivative - at_edge)
 
 
