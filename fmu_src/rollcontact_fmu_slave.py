@@ -91,14 +91,16 @@ VARIABLES = (
      "Method: 0 auto (cheapest the scene needs), 1 closed form, 2 polynomial, 3 discretised"),
     ("tolerance", Real, PARAMETER, FIXED, "1", DEFAULT.tolerance, 0.0, None,
      "Requested relative error of T and p0: each method runs with its cheapest setting that meets it; with "
-     "transient = 1 also the lag error (of mu N) tolerated before the relaxation model takes over (0: defaults)"),
+     "transient = 1 also the error of T (of mu N) tolerated before the instationary model takes over, below 4e-3 "
+     "with the discretised transient and its element count (0: defaults)"),
     ("polynomial_order", Integer, PARAMETER, FIXED, None, DEFAULT.polynomial_order, 0, None,
      "Order of the polynomial method (0: chosen from the tolerance)"),
     ("elements", Integer, PARAMETER, FIXED, None, DEFAULT.elements, 0, None,
      "Number of elements of the discretised method (0: the method's default)"),
     ("transient", Integer, PARAMETER, FIXED, None, DEFAULT.transient, 0, 2,
-     "Transient rolling (flat surface, Coulomb friction): 0 quasi-static, 1 auto (the relaxation model while the "
-     "stationarity measure is below its threshold), 2 always (relaxation; discretised transient with method 3)"),
+     "Transient rolling (flat surface, Coulomb friction): 0 quasi-static, 1 auto (while the stationarity measure "
+     "is below its threshold: the relaxation model, or the discretised transient for tolerance < 4e-3 or method "
+     "3), 2 always (relaxation; discretised transient with method 3)"),
     ("datum", Real, PARAMETER, FIXED, "m", DEFAULT.datum, 0.0, None,
      "Datum distance L of instationary rolling (creep control depends on it; 0: the effective radius)"),
 )

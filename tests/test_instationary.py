@@ -23,6 +23,7 @@ from rollcontact.instationary import (
     InstationaryModel,
     InstationaryState,
     OscillatingForce,
+    aligned_grid_load,
     carter_creep,
     oscillating_force_chebyshev,
     oscillating_force_discretised,
@@ -185,6 +186,75 @@ def test_relaxation_model_tracks_creep_controlled_transient(wavelength, mean, am
     assert err < 0.02, f"lambda/a = {wavelength}, xi = ({mean} +- {amplitude}) sat, L = {datum}: relaxation off " \
                        f"the transient by {err} mu N'"
     assert np.abs(quasi_static - transient).max() / LIMIT > 5 * err, "the test must tell the lag from no lag"
+
+
+@pytest.mark.parametrize("host_step", [0.3, 2.0, 7.4])
+def test_steady_state_is_a_fixed_point_of_the_held_step(host_step):
+    """Steady rolling on the grid for the substep a held step takes: the step leaves T' unchanged (to round-off),
+    where the steady state of whole-element substeps (K_h) would relax by the O(h) difference."""
+    model = InstationaryModel(R, ESTAR, MU, mode="transient", max_normal_load_per_length=2 * LOAD, elements=80)
+    h = model.solver.grid.element_width
+    xi, speed = 0.5 * SATURATION, 10.0
+    state = model.steady_state(LOAD, xi, host_step * h)
+    _, res = model.step(state, LOAD, xi, speed, host_step * h / speed)
+    change = abs(res.tangential_force_per_length - state.tangential_force_per_length) / LIMIT
+    assert change < 1e-12, f"{host_step} elements per step: holding the inputs changed T' by {change:.1e} mu N'"
+    whole = model.steady_state(LOAD, xi, 0.0)  # K_h: what a step of whole elements keeps
+    assert abs(whole.tangential_force_per_length - carter(LOAD, xi, R, ESTAR, MU)[0]) < 0.02 * LIMIT, \
+        "steady rolling on 80 elements is Carter to the discretisation error"
+    if host_step != 2.0:
+        _, drift = model.step(whole, LOAD, xi, speed, host_step * h / speed)
+        assert abs(drift.tangential_force_per_length - whole.tangential_force_per_length) > 1e3 * change * LIMIT, \
+            "the K_h state is not the fixed point of a fractional substep (else the test shows nothing)"
+
+
+def test_transient_grid_aligned_to_the_load_and_friction_coefficient():
+    """The aligned grid puts the Hertz patch edges on element boundaries; the transient uses the model's mu."""
+    for elements in (40, 100, 333):
+        grid_load = aligned_grid_load(LOAD, elements, 2.0)
+        assert 1.8 < grid_load / LOAD < 2.2, f"n = {elements}: grid load {grid_load / LOAD} N' (about twice)"
+        model = InstationaryModel(R, ESTAR, MU, mode="transient", max_normal_load_per_length=grid_load,
+                                  elements=elements)
+        grid = model.solver.grid
+        edges = (np.array([-A, A]) - grid.centres[0] + 0.5 * grid.element_width) / grid.element_width
+        assert np.abs(edges - np.round(edges)).max() < 1e-9, f"n = {elements}: patch edges at {edges} elements"
+    assert aligned_grid_load(LOAD, 2, 2.0) == 2 * LOAD, "two elements cannot be aligned"
+    mu = 0.2
+    model = InstationaryModel(R, ESTAR, mu, mode="transient", max_normal_load_per_length=2 * LOAD, elements=60)
+    steady = model.steady_state(LOAD, 0.5 * mu * A / R, 0.0).tangential_force_per_length
+    assert abs(steady / (mu * LOAD) - 0.75) < 0.03, f"mu = 0.2 at half saturation: T'/(mu N') = {steady / (mu * LOAD)}"
+
+
+def test_regrid_keeps_the_force_and_the_traction_integral():
+    model = InstationaryModel(R, ESTAR, MU, mode="transient", max_normal_load_per_length=LOAD, elements=60)
+    state = model.initial_state()
+    for k in range(30):
+        state, _ = model.step(state, LOAD, SATURATION * (0.4 + 0.3 * math.sin(0.4 * k)), 5.0, 1e-4)
+    old = model.solver.grid
+    moved = model.regrid(state, 3 * LOAD)
+    new = model.solver.grid
+    assert new.length > old.length and model.max_load == 3 * LOAD, "the grid grows"
+    assert abs(new.element_width * moved.traction.sum() - state.tangential_force_per_length) < 1e-12 * LIMIT, \
+        "T' is kept"
+    for x in np.linspace(old.x_min, old.x_max, 7):  # the integral of q from the window start, at any x
+        before = np.sum(np.clip((x - old.centres) / old.element_width + 0.5, 0, 1) * state.traction) * old.element_width
+        after = np.sum(np.clip((x - new.centres) / new.element_width + 0.5, 0, 1) * moved.traction) * new.element_width
+        assert abs(after - before) <= 0.5 * P0 * MU * old.element_width, f"integral of q at x = {x}"
+    _, res = model.step(moved, 2 * LOAD, 0.5 * SATURATION, 5.0, 1e-4)
+    assert res.success, res.message
+
+
+def test_static_step_after_full_slip_holds_the_saturated_force():
+    model = InstationaryModel(R, ESTAR, MU, mode="transient", max_normal_load_per_length=2 * LOAD, elements=40)
+    state = model.initial_state()
+    for creep in (2 * SATURATION, 1e300):  # 2 mm rolled per step: T' saturates within a few steps
+        for _ in range(10):
+            state, res = model.step(state, LOAD, creep, 2.0, 1e-3)
+        assert res.tangential_force_per_length == pytest.approx(LIMIT, rel=1e-9), f"creep {creep}: full slip"
+    for load in (LOAD, 0.5 * LOAD):
+        state, res = model.step(state, load, 0.0, 0.0, 1e-3)
+        assert res.success and res.tangential_force_per_length == pytest.approx(MU * load, rel=1e-9), \
+            f"V = 0 at N' = {load}: the saturated force is held at the (new) limit"
 
 
 # ------------------------------------------------------------------------------------------------- stationarity

@@ -38,9 +38,10 @@ Models
 * :class:`InstationaryModel` with ``mode="transient"``: the discretised :class:`TransientSolver` in creep
   control (the reference; ~0.4 ms per step of one element width with n = 100-200, longer steps are split into
   substeps of at most one element), ``mode="relaxation"``: the lag (R1) around Carter (~50 us per step, mostly
-  bookkeeping).  Measured against each other (``tests/test_instationary.py``,
-  ``benchmarks/bench_instationary.py``): T' within 0.7 % of mu N' for lambda/a >= 5 with the default datum
-  (2 % with L = 10 a), where quasi-static Carter is off by 12-78 %.
+  bookkeeping).  :meth:`InstationaryModel.steady_state` gives steady rolling on the transient's grid as the exact
+  fixed point of a held step, to switch the transient in mid-run without a jump.  Measured against each other
+  (``tests/test_instationary.py``, ``benchmarks/bench_instationary.py``): T' within 0.7 % of mu N' for
+  lambda/a >= 5 with the default datum (2 % with L = 10 a), where quasi-static Carter is off by 12-78 %.
 * Force control, oscillating force ``T' = T0 + T1 sin(2 pi sigma / lambda)``:
   :func:`oscillating_force_chebyshev` (the paper's route: the stick-zone strain is a travelling wave,
   eqs 32-35, solved with the Chebyshev/Jacobi-Anger machinery of the corrugation) and
@@ -60,8 +61,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize, special
 
+from rollcontact._bem import Control, FactorCache, solve_stick_slip
 from rollcontact.closed_form import CarterDistributions, carter, ellipse, hertz
 from rollcontact.discretised import Grid, TransientSolver, TransientState, patch_geometry
+from rollcontact.friction import Coulomb
 from rollcontact.result import ContactResult, Distributions, NoContact, TabulatedDistributions
 from rollcontact.scene import check_real
 
@@ -87,6 +90,10 @@ MODES = ("relaxation", "transient")
 HISTORY_SAMPLES = 3
 WINDOW_FACTOR = 1.25  # transient grid: +-1.25 a_max
 FORCE_MARGIN = 1.0 - 1e-9  # static steps hold |T'| just below the friction limit
+STEADY_AFTER = 30.0
+"""Transient mode: a step that rolls more than this many relaxation lengths (at T' = 0, the longest) with the
+inputs held ends in steady rolling (:meth:`InstationaryModel.steady_state`): from any start, the force was measured
+within 2e-13 mu N' of it after 25 lengths (n = 100, datum R and 100 m, xi from -0.9 to 0.5 of saturation)."""
 
 
 # --------------------------------------------------------------------------------------------- closed-form pieces
@@ -404,7 +411,7 @@ class InstationaryModel:
                              f"exceed a quarter of the grid length ({0.25 * grid.length!r} m)")
         self.max_load = load
         self.solver = TransientSolver(grid, contact_modulus=self.contact_modulus, radius=self.radius,
-                                      datum_length=self.datum_length)
+                                      friction=Coulomb(self.mu), datum_length=self.datum_length)
         self.pressure_cache = {}
 
     def initial_state(self) -> InstationaryState:
@@ -414,6 +421,69 @@ class InstationaryModel:
             return InstationaryState("transient", traction=np.zeros(n), stick=np.ones(n, dtype=bool),
                                      slip=np.zeros(n))
         return InstationaryState(self.mode)
+
+    def steady_state(self, normal_load_per_length: float, creep: float, distance: float) -> InstationaryState:
+        """Transient mode: steady rolling on the grid, the state that a step rolling ``distance`` keeps unchanged.
+
+        A step is split into substeps of length d (:func:`substep_count`); with q and T' unchanged,
+        :meth:`TransientSolver.step` gives the slip ``S = xi d - (M - M_d) q`` (the datum term drops out), i.e. the
+        steady slip ``s = xi - K_d q`` with ``K_d = (M - M_d) / d``.  :meth:`TransientSolver.steady_state` solves
+        it for ``K_h`` (d = one element h); for d != h its solution starts the same active set on ``K_d``.  So the
+        state is the fixed point of the step actually taken: holding the inputs changes T' only by the solver's
+        tolerance, where the K_h solution alone would relax by the O(h) difference of the two discretisations
+        (``tests/test_instationary.py::test_steady_state_is_a_fixed_point_of_the_held_step``).  ``distance`` = 0
+        (a static step) uses ``K_h``.
+
+        Raises
+        ------
+        ValueError
+            No grid built yet, the load does not fit it, or the active set fails.
+        """
+        if self.mode != "transient" or self.solver is None:
+            raise ValueError("steady_state needs the transient mode with its grid built (build_solver)")
+        load = check_real("normal_load_per_length", normal_load_per_length, lower=0.0, lower_open=True, unit="N/m")
+        xi = check_real("creep", creep, unit="1")
+        ds = check_real("distance", distance, lower=0.0, unit="m")
+        solver = self.solver
+        p = self.pressure(load)
+        h = solver.grid.element_width
+        state, result = solver.steady_state(p, creep=xi)
+        converged, message = result.converged, result.message
+        substep = ds / substep_count(ds, h) if ds > 0.0 else h
+        if converged and substep != h:
+            ops = solver.ops
+            matrix = (ops.M - ops.convected(substep)) / substep
+            bound, contact = self.mu * p, p > 0.0
+            scale = ops.kappa * bound.max()
+            sign = np.where(state.traction != 0.0, np.sign(state.traction), math.copysign(1.0, xi))
+            sol = solve_stick_slip(matrix, FactorCache(matrix, symmetric=False), np.zeros(p.size), bound, contact,
+                                   Control(1.0, 0.0, xi), h, state.stick, sign, solver.tolerance * scale,
+                                   solver.max_iterations)
+            force, slip, _, converged, message = solver.certify(sol, bound, contact, scale, "creep", xi)
+            state = TransientState(sol.traction, sol.stick & contact, slip, force)
+        if not converged:
+            raise ValueError(f"steady rolling on the transient grid failed: {message}")
+        return InstationaryState("transient", state.tangential_force_per_length, traction=state.traction,
+                                 stick=state.stick, slip=state.slip)
+
+    def regrid(self, state: InstationaryState, grid_load: float) -> InstationaryState:
+        """Transient mode: build the grid for ``grid_load`` (larger than the current one's) and carry ``state`` over.
+
+        q is piecewise constant, so its integral from the window's start is piecewise linear: the new elements take
+        the averages of q over them (a conservative remap: T' is kept, q is smeared over at most one old element).
+        The stick mask is taken at the nearest old element (it only warm-starts the active set); the slip is reset
+        (Coulomb friction does not use it).
+        """
+        old = self.solver.grid
+        self.build_solver(grid_load)
+        new = self.solver.grid
+        integral = np.concatenate(([0.0], np.cumsum(state.traction) * old.element_width))
+        old_edges = np.linspace(old.x_min, old.x_max, old.elements + 1)
+        new_edges = np.linspace(new.x_min, new.x_max, new.elements + 1)
+        traction = np.diff(np.interp(new_edges, old_edges, integral)) / new.element_width
+        stick = np.interp(new.centres, old.centres, state.stick.astype(float)) >= 0.5
+        return InstationaryState("transient", state.tangential_force_per_length, state.distance, state.steps,
+                                 traction, stick, np.zeros(new.elements), state.history)
 
     def pressure(self, load: float) -> np.ndarray:
         """Discretised normal pressure for N' (cached: constant loads are the common case)."""
@@ -450,7 +520,8 @@ class InstationaryModel:
         state : InstationaryState
         result : ContactResult
             T', a, a*, max p, the creep given; ``info`` has ``distance``, ``stationarity``, ``datum_length``,
-            ``relaxation_length`` (relaxation mode) and ``substeps``.
+            ``relaxation_length`` (relaxation mode) and ``substeps`` (transient mode: 0 when the step rolls more
+            than :data:`STEADY_AFTER` relaxation lengths and ends in steady rolling).
         """
         if not isinstance(state, InstationaryState):
             raise TypeError(f"state must be an InstationaryState, got {type(state).__name__}")
@@ -511,14 +582,29 @@ class InstationaryModel:
         p = self.pressure(load)
         h = solver.grid.element_width
         current = state.transient()
-        substeps = max(1, math.ceil(ds / h * (1.0 - 1e-12))) if ds > 0.0 else 1
+        # beyond 1e6 saturation creeps every element slips whatever the elastic slip (~ mu a/R ln n): the same
+        # step, without overflow in xi ds
+        cap = 1e6 * self.mu * hertz(self.max_load, self.radius, self.contact_modulus)[0] / self.radius
+        creep = max(-cap, min(cap, xi))
+        substeps = substep_count(ds, h)
         iterations, dissipation, messages, converged = 0, 0.0, [], True
+        if ds > STEADY_AFTER * relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
+                                                 self.datum_length):
+            # the step ends in steady rolling: marching would cost ds/h substeps for nothing
+            current = self.steady_state(load, creep, ds).transient()
+            dissipation = ds * h * float(np.dot(current.traction, current.slip))
+            substeps = 0
         for _ in range(substeps):
             if ds > 0.0:
-                current, res = solver.step(current, p, ds / substeps, creep=xi)
+                current, res = solver.step(current, p, ds / substeps, creep=creep)
             else:
-                limit = FORCE_MARGIN * h * self.mu * p.sum()
-                held = max(-limit, min(limit, current.tangential_force_per_length))
+                held = current.tangential_force_per_length
+                if abs(held) >= FORCE_MARGIN * h * self.mu * p.sum():
+                    # saturated: full slip, which force control (it needs a stick element) cannot represent
+                    q = math.copysign(self.mu, held) * p
+                    current = TransientState(q, np.zeros(q.size, dtype=bool), np.zeros(q.size), h * q.sum(),
+                                             current.steps + 1)
+                    continue
                 current, res = solver.step(current, p, 0.0, tangential_force=held)
             iterations += res.iterations
             dissipation += res.dissipation
@@ -532,6 +618,8 @@ class InstationaryModel:
                                 current.slip, history)
         message = ("discretised transient, creep control" if ds > 0.0 else
                    "discretised transient, static step (force held)") if converged else "; ".join(messages)
+        if substeps == 0:
+            message += " (rolled into steady rolling)"
         slip = np.where(p > 0, current.slip, np.nan)
         return new, ContactResult(method="instationary_transient", success=converged, message=message,
                                   normal_load_per_length=load, tangential_force_per_length=force, creep=xi,
@@ -540,6 +628,29 @@ class InstationaryModel:
                                   max_pressure=float(p.max()), iterations=iterations,
                                   distributions=TabulatedDistributions(solver.grid.centres, p, current.traction,
                                                                        slip), info=info)
+
+
+def aligned_grid_load(load: float, elements: int, factor: float) -> float:
+    """Grid load [N/m] near ``factor * load`` whose window puts the edges of the Hertz patch of ``load`` on element
+    boundaries.
+
+    The window ``+-W = +-1.25 a(grid load)`` of n elements ``h = 2W/n`` has the patch edges ``+-a`` on element
+    boundaries when ``(W - a)/h = m`` is an integer, i.e. ``W = a / (1 - 2m/n)``; m is rounded from
+    ``W = 1.25 sqrt(factor) a`` and ``a ~ sqrt(N')`` gives the load.  Then the discretised patch covers whole elements
+    and the steady force converges regularly, ``|T'_n - T'_Carter| = 0.57/n mu N'`` for factor 2; with the edges
+    inside elements it scatters up to 4e-3 mu N' for n = 50..400 (``benchmarks/bench_transient_auto.py``).  Grids
+    of fewer than three elements cannot be aligned: ``factor * load``.
+    """
+    ratio = WINDOW_FACTOR * math.sqrt(factor)  # W / a wanted
+    m = round(0.5 * elements * (1.0 - 1.0 / ratio))
+    if not 0 < 2 * m < elements:
+        return factor * load
+    return load * (1.0 / (WINDOW_FACTOR * (1.0 - 2.0 * m / elements))) ** 2
+
+
+def substep_count(distance: float, element_width: float) -> int:
+    """Substeps of a transient step: the fewest of at most one element each (1 for a static step)."""
+    return max(1, math.ceil(distance / element_width * (1.0 - 1e-12))) if distance > 0.0 else 1
 
 
 # ---------------------------------------------------------------------------------------- force control

@@ -33,13 +33,17 @@ Instationary rolling
 which rolls the distance ``V_n h`` with the inputs sampled at ``t_n`` held (zero-order hold, the host's view of
 the step): the relaxation model (the lag (R1) around Carter, ``method_used`` 4) or, with ``method`` = 3, the
 discretised transient in creep control (``method_used`` 5).  ``transient`` = 1 (auto) stays quasi-steady while
-the inputs vary slowly and switches the relaxation model in when the stationarity measure
-(:func:`rollcontact.instationary.stationarity_of_samples`) falls below :meth:`ContactModel.transient_threshold`;
-it seeds the lag with the last quasi-steady force and switches back once the inputs are slow again and the lag
-has decayed to the tolerance.  Both models assume a flat surface and Coulomb friction: on other scenes
-``transient`` = 2 is refused and ``transient`` = 1 stays quasi-steady (:attr:`ContactModel.notices` says so).
-With ``method`` = 3, ``transient`` = 1 behaves as 2: the discretised transient is exact in steady rolling too,
-and seeding it from a quasi-steady solution would cost a steady solve per switch.
+the inputs vary slowly and switches the instationary model in when the stationarity measure
+(:func:`rollcontact.instationary.stationarity_of_samples`) falls below :meth:`ContactModel.transient_threshold`,
+starting from the previous step's quasi-steady state (:meth:`ContactModel.switch_in`), and switches back once the
+inputs are slow again and its force is back within the tolerance of the quasi-steady one.  The relaxation lag is
+accurate to about :data:`RELAXATION_ACCURACY` mu N; for a tighter ``tolerance`` with ``method`` = 0, ``transient``
+= 1 runs the discretised transient instead, with the fewest elements whose modelled error meets the tolerance
+(:func:`transient_elements`, at most :data:`TRANSIENT_MAX_ELEMENTS`; ``elements`` > 0 overrides) and switched in
+from steady rolling on its grid, so stationary inputs stay on the cheap closed form.  Both models assume a flat
+surface and Coulomb friction: on other scenes ``transient`` = 2 is refused and ``transient`` = 1 stays quasi-steady
+(:attr:`ContactModel.notices` says so).  With ``method`` = 3, ``transient`` = 1 behaves as 2: the discretised
+method was asked for on every step, and its transient is exact in steady rolling too.
 
 Frictional power
 ----------------
@@ -69,6 +73,7 @@ from rollcontact.instationary import (
     STATIONARITY_THRESHOLD,
     InstationaryModel,
     InstationaryState,
+    aligned_grid_load,
     relaxation_length,
     stationarity_of_samples,
 )
@@ -98,8 +103,28 @@ DEFAULT_TRANSIENT_TOLERANCE = 1e-2
 """Lag error [1 of mu N] that ``transient`` = 1 tolerates when the ``tolerance`` parameter is 0."""
 
 RELAXATION_ACCURACY = 4e-3
-"""Error [1 of mu N] of the relaxation lag against the discretised transient (n = 800), measured 2.8-3.6e-3 for
-lambda/a = 5..40 by ``benchmarks/pareto.py``; the discretised transient's is about 0.4/n."""
+"""Error [1 of mu N] of the relaxation lag against the discretised transient, measured 2.8-3.6e-3 for
+lambda/a = 5..40 by ``benchmarks/pareto.py``.  ``transient`` = 1 with ``method`` = 0 and a tighter ``tolerance``
+runs the discretised transient instead (:func:`transient_elements`)."""
+
+GRID_LOAD_FACTOR = 2.0
+"""The discretised transient's grid holds loads up to about this factor times the load it is aligned to (a up to
+sqrt(2) times; :func:`rollcontact.instationary.aligned_grid_load`)."""
+
+TRANSIENT_ERROR_ORDER = 1.0
+"""p of the discretised transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
+(:func:`transient_error`; n elements on the model's grid): the order observed in
+``benchmarks/bench_transient_auto.py`` is 0.93-1.11 (least squares over n = 50..600: 0.98)."""
+
+TRANSIENT_ERROR_CONSTANT = 0.8
+"""C of that error model: 1.4 times the largest ``error n`` measured by ``benchmarks/bench_transient_auto.py``
+(0.565: creep oscillation ``(0.5 + 0.3 sin) mu a/R``, lambda/a = 5..40, 64 host steps per cycle, n = 50..600,
+against the Richardson extrapolation of n = 400/800).  Steady rolling on the grid is off Carter by 0.57/n (same
+script), so the switch-in and hand-back jumps stay within the model too."""
+
+TRANSIENT_MAX_ELEMENTS = 800
+"""Most elements :func:`transient_elements` chooses: the finest grid measured (its error model is not extrapolated)
+and already 30-320 ms per host step in that benchmark (lambda/a = 5..40; the cost grows about as n^2.5)."""
 
 TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
 FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
@@ -206,12 +231,16 @@ class ContactParameters:
     tolerance : float
         Requested relative error [1] >= 0 of T' and p0: each step's method runs with its cheapest setting whose
         error estimate meets it (:func:`rollcontact.api.setting_for`, as ``rollcontact.solve(scene,
-        tolerance=...)``); with ``transient`` = 1 also the lag error (of mu N) it tolerates before the relaxation
-        model takes over.  0: the methods' defaults and :data:`DEFAULT_TRANSIENT_TOLERANCE`.
+        tolerance=...)``); with ``transient`` = 1 also the error of T' (of mu N) it tolerates before the
+        instationary model takes over.  It sets the element count of the discretised transient
+        (:func:`transient_elements`) with ``method`` = 3, and with ``method`` = 0 below
+        :data:`RELAXATION_ACCURACY`, where ``transient`` = 1 uses that transient.  0: the methods' defaults and
+        :data:`DEFAULT_TRANSIENT_TOLERANCE`.
     polynomial_order : int
         Polynomial order >= 0 for methods that accept it (0: the method's default).
     elements : int
-        Element count >= 0 for methods that accept it (0: the method's default).
+        Element count >= 0 for methods that accept it and for the discretised transient (0: the method's
+        default; the transient's is chosen from ``tolerance``, else 100).
     transient : int
         0 quasi-static, 1 auto (instationary model only while the stationarity measure calls for it), 2 always
         (module docstring, "Instationary rolling").
@@ -301,8 +330,9 @@ class ModelState:
     instationary : InstationaryState or None
         State of the instationary model while it is in use (None: quasi-steady).  Never modified in place.
     grid_load : float
-        N' [N/m] the discretised transient's grid was built for (0: none yet); part of the state because the
-        traction history lives on that grid.
+        N' [N/m] the discretised transient's grid was built for (0: none yet; about twice the load it was
+        aligned to, :meth:`ContactModel.prepare_grid`); part of the state because the traction history lives on
+        that grid.
     version : int
         Layout version of this state; states of another version are refused by :meth:`from_dict`.
     """
@@ -433,6 +463,9 @@ class ContactModel:
         self.instationary: InstationaryModel | None = None
         """The instationary model of ``transient`` = 1/2 (None: every step quasi-steady)."""
         self.transient_auto = p.transient == 1 and p.method != 3
+        self.transient_tolerance = p.tolerance or DEFAULT_TRANSIENT_TOLERANCE
+        self.settle_tolerance = self.transient_tolerance
+        """Distance [1 of mu N] from the quasi-steady force within which ``transient`` = 1 hands back."""
         if p.transient != 0:
             unavailable = instationary_unavailable(surface, friction)
             if unavailable is not None and p.transient == 2:
@@ -442,15 +475,22 @@ class ContactModel:
                 notices.append(f"transient = 1 (auto): {unavailable}, so every step is solved quasi-steady and the "
                                "stationarity output shows how far that holds")
             else:
-                if p.tolerance and p.tolerance < RELAXATION_ACCURACY and p.method != 3:
+                tight = 0.0 < p.tolerance < RELAXATION_ACCURACY
+                discretised = p.method == 3 or (tight and self.transient_auto and p.method == AUTO)
+                elements = p.elements or (transient_elements(p.tolerance) if discretised and p.tolerance else 100)
+                if discretised and p.tolerance:
+                    notices.append(transient_notice(p.tolerance, elements, given=p.elements > 0))
+                    # the transient settles on its own steady force, which is within its error of Carter's
+                    self.settle_tolerance = max(self.transient_tolerance, transient_error(elements))
+                elif tight:
                     notices.append(f"tolerance = {p.tolerance!r}: the relaxation lag of transient = {p.transient} is "
                                    f"accurate to about {RELAXATION_ACCURACY!r} mu N (benchmarks/pareto.py); for less "
-                                   f"use method = 3 with elements >= 0.4 / tolerance (the discretised transient)")
+                                   "use transient = 1 with method = 0, which then runs the discretised transient "
+                                   "with as many elements as the tolerance needs")
                 self.instationary = InstationaryModel(
                     radius, material.contact_modulus, friction.static_coefficient,
-                    mode="transient" if p.method == 3 else "relaxation", datum_length=p.datum or None,
-                    elements=p.elements or 100)
-        self.transient_tolerance = p.tolerance or DEFAULT_TRANSIENT_TOLERANCE
+                    mode="transient" if discretised else "relaxation", datum_length=p.datum or None,
+                    elements=elements)
         self.notices: tuple[str, ...] = tuple(notices)
         """Messages worth showing once (e.g. in an FMU log): ignored parameters, modes not implemented."""
         self.material = material
@@ -607,9 +647,10 @@ class ContactModel:
         """Outputs and new instationary state (None: quasi-steady) of a loaded step with ``transient`` = 1 or 2.
 
         The instationary model rolls ``V h`` with the inputs held.  In auto mode the step is quasi-steady while
-        the stationarity measure stays at or above :meth:`transient_threshold` and no lag is pending; the lag
-        starts from the previous step's quasi-steady force and ends once the measure is back above the threshold
-        and the lag is within ``tolerance`` mu N of the quasi-steady force.
+        the stationarity measure stays at or above :meth:`transient_threshold` and no lag is pending; the
+        instationary model then starts from the previous step's quasi-steady state (:meth:`switch_in`) and hands
+        back once the measure is back above the threshold and its force is within ``settle_tolerance`` mu N of the
+        quasi-steady force.
         """
         state = self.state
         model = self.instationary
@@ -618,20 +659,14 @@ class ContactModel:
         quasi = None
         if self.transient_auto:
             quasi = (self.closed_form_step if self.closed_form else self.solve_step)(x, normal_load, creep, velocity)
-            if lag is None:
-                if not quasi.stationarity < self.transient_threshold(quasi.contact_half_width, load):
-                    return quasi, None
-                lag = InstationaryState("relaxation", state.outputs.tangential_force * self.per_width)
-        elif model.mode == "transient" and (model.solver is None or state.grid_load != model.max_load):
-            # the grid holds loads up to twice the first loaded step's (a up to sqrt(2) times): restored states
-            # carry the load their traction history was computed on
-            model.build_solver(state.grid_load or 2.0 * load)
-            state.grid_load = model.max_load
-        if lag is None:
-            lag = model.initial_state()
+            if lag is None and not quasi.stationarity < self.transient_threshold(quasi.contact_half_width, load):
+                return quasi, None
         try:
+            grid_load, lag = self.prepare_grid(load, lag) if model.mode == "transient" else (0.0, lag)
+            if lag is None:
+                lag = self.switch_in(load, velocity * step_size) if quasi is not None else model.initial_state()
             lag, result = model.step(lag, load, creep, velocity, step_size)
-        except ValueError as exc:
+        except (ValueError, ArithmeticError) as exc:
             raise ModelError(f"instationary {model.mode} model at X = {x!r} m (N = {normal_load!r} N, creep = "
                              f"{creep!r}, V = {velocity!r} m/s): {exc}") from None
         if not result.success:
@@ -640,17 +675,62 @@ class ContactModel:
         a = float(result.contact_half_width)
         if quasi is not None:
             settled = abs(force_per_length - quasi.tangential_force * self.per_width) <= (
-                self.transient_tolerance * self.mu * load)
+                self.settle_tolerance * self.mu * load)
             if settled and not quasi.stationarity < self.transient_threshold(a, load):
                 return quasi, None
             measure = quasi.stationarity
         else:
             measure = self.stationarity(x, normal_load, creep, velocity, a)
+        state.grid_load = grid_load  # last: a refused step leaves the state as it was
         force = force_per_length * self.width
         stiffness = self.lag_stiffness(force_per_length, load, a, velocity * step_size)
         return new_tuple(StepOutputs, (force, force_per_length / load, a, float(result.stick_half_width),
                                        self.flat_offset, float(result.max_pressure), velocity * creep * force,
                                        stiffness * self.width, measure, INSTATIONARY_CODES[model.mode], x)), lag
+
+    def prepare_grid(self, load: float, lag: InstationaryState | None) -> tuple[float, InstationaryState | None]:
+        """Build the discretised transient's grid for this step; returns its load (for ``state.grid_load``) and
+        ``lag`` on it.
+
+        A running transient keeps the grid its traction history lives on (``state.grid_load``, also after a
+        restore into a fresh model) until the load outgrows it; then the history moves to a larger grid
+        (:meth:`InstationaryModel.regrid`).  One that starts gets a new grid.  New grids hold about
+        :data:`GRID_LOAD_FACTOR` times the load (when starting: the larger of this and the previous step's) and are
+        aligned to it (:func:`rollcontact.instationary.aligned_grid_load`), so the grid is a function of the state
+        and the inputs.
+        """
+        state = self.state
+        model = self.instationary
+        if lag is not None:
+            grid_load = state.grid_load
+            if not grid_load > 0.0:
+                raise ValueError(f"the state carries a transient traction history but grid_load = {grid_load!r}")
+        else:
+            previous = 0.0 if state.previous is None else state.previous[1] * self.per_width
+            grid_load = aligned_grid_load(max(load, previous), model.elements, GRID_LOAD_FACTOR)
+        if model.solver is None or model.max_load != grid_load:
+            model.build_solver(grid_load)
+        if lag is not None and load > grid_load:
+            grid_load = aligned_grid_load(load, model.elements, GRID_LOAD_FACTOR)
+            lag = model.regrid(lag, grid_load)
+        return grid_load, lag
+
+    def switch_in(self, load: float, distance: float) -> InstationaryState:
+        """Instationary state that continues the quasi-steady steps of ``transient`` = 1 without a jump.
+
+        Relaxation: the lag starts at the previous step's force.  Discretised transient: steady rolling at the
+        previous step's load and creep on the grid (:meth:`InstationaryModel.steady_state`, the exact fixed point of
+        a step rolling ``distance`` = V h, so holding the inputs changes nothing); its force differs from the
+        quasi-steady one by the discretisation error, at most :func:`transient_error`.  No traction after an
+        unloaded step.
+        """
+        model = self.instationary
+        if model.mode == "relaxation":
+            return InstationaryState("relaxation", self.state.outputs.tangential_force * self.per_width)
+        previous = self.state.previous
+        if previous is None or previous[1] == 0.0:
+            return model.initial_state()
+        return model.steady_state(previous[1] * self.per_width, previous[2], distance)
 
     def transient_threshold(self, half_width: float, load: float) -> float:
         """Stationarity below which ``transient`` = 1 switches the lag in [1].
@@ -755,6 +835,35 @@ class ContactModel:
         return stationarity_of_samples((previous, current) if state.older is None else (state.older, previous, current),
                                        half_width, self.saturation_per_half_width * half_width,
                                        self.velocity_dependent)
+
+
+def transient_error(elements: int) -> float:
+    """Modelled error [1 of mu N] of the discretised transient with n elements: ``C / n^p``.
+
+    :data:`TRANSIENT_ERROR_CONSTANT` and :data:`TRANSIENT_ERROR_ORDER` bound max |T' - T'_converged| / (mu N') of
+    ``benchmarks/bench_transient_auto.py`` on the model's grid (:func:`rollcontact.instationary.aligned_grid_load`).
+    """
+    return TRANSIENT_ERROR_CONSTANT / elements ** TRANSIENT_ERROR_ORDER
+
+
+def transient_elements(tolerance: float) -> int:
+    """Fewest elements whose :func:`transient_error` meets ``tolerance`` > 0, at most :data:`TRANSIENT_MAX_ELEMENTS`.
+
+    ``n = ceil((C / tolerance)^(1/p))``; the cost per step grows with n (about n^2.5), so the fewest is the cheapest.
+    """
+    needed = (TRANSIENT_ERROR_CONSTANT / tolerance) ** (1.0 / TRANSIENT_ERROR_ORDER)
+    return min(TRANSIENT_MAX_ELEMENTS, math.ceil(needed * (1.0 - 1e-12)))  # C/t = 400.0000001 asks for 400
+
+
+def transient_notice(tolerance: float, elements: int, given: bool) -> str:
+    """What the discretised transient chosen for ``tolerance`` reaches, and whether that meets it."""
+    reached = transient_error(elements)
+    how = "as given" if given else f"chosen for the tolerance, at most {TRANSIENT_MAX_ELEMENTS}"
+    text = (f"tolerance = {tolerance!r}: instationary steps run the discretised transient (method_used 5) with "
+            f"elements = {elements} ({how}), modelled error {reached:.2g} mu N (benchmarks/bench_transient_auto.py)")
+    if reached > tolerance:
+        return text + f"; the tolerance is NOT met, {reached:.2g} mu N is reached"
+    return text
 
 
 def instationary_unavailable(surface: Surface, friction) -> str | None:
