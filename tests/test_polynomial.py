@@ -878,3 +878,14 @@ def test_surface_moved_with_the_axis_gives_the_same_contact(name):
     assert r.success and m.success, (r.message, m.message)
     for field in FIELDS:
         np.testing.assert_allclose(getattr(m, field), getattr(r, field), rtol=1e-11, err_msg=field)
+
+
+@pytest.mark.parametrize("size", [1, 2, 5, 9, 14])
+def test_cached_power_to_chebyshev_matrix_equals_poly2cheb(size):
+    """The cached conversion matrix of gap_slope_coefficients against numpy's poly2cheb, and it is frozen."""
+    matrix = chebyshev.power_to_chebyshev(size)
+    coefficients = np.random.default_rng(size).standard_normal(size)
+    np.testing.assert_allclose(matrix @ coefficients, np.polynomial.chebyshev.poly2cheb(coefficients),
+                               rtol=0.0, atol=1e-14 * np.abs(coefficients).sum())
+    with pytest.raises(ValueError):
+        matrix[0, 0] = 2.0

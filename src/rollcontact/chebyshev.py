@@ -94,6 +94,19 @@ def orders(n_max: int) -> tuple[np.ndarray, np.ndarray]:
     return read_only(n, quarter)
 
 
+@lru_cache(maxsize=32)
+def power_to_chebyshev(size: int) -> np.ndarray:
+    """The (size, size) matrix taking power coefficients in t to Chebyshev coefficients (cached).
+
+    Its entries are dyadic rationals, exact in floats; one product replaces ``npcheb.poly2cheb``, whose argument
+    checks and series arithmetic cost ~100 us per call for a quartic.
+    """
+    m = np.zeros((size, size))
+    for j in range(size):
+        m[: j + 1, j] = npcheb.poly2cheb(np.eye(1, size, j)[0])
+    return read_only(m)
+
+
 def double_factorial_ratio(j: int) -> float:
     """(j-1)!! / j!! for even j >= 0 (the Chebyshev-weighted mean of t^j)."""
     r = 1.0
@@ -197,8 +210,7 @@ class SlopeExpansion:
 
     def axis_surface(self) -> Surface:
         """The surface in axis coordinates: ``Z(x_c + u)`` as a :class:`~rollcontact.Surface` in u."""
-        return Surface(taylor_shift(self.surface_polynomial, self.axis_position),
-                       tuple(Harmonic(k, phi, psi) for k, phi, psi in self.harmonic_list))
+        return axis_surface(self.surface_polynomial, self.axis_position, self.harmonic_list)
 
     @property
     def k(self) -> np.ndarray:
@@ -221,19 +233,27 @@ class SlopeExpansion:
         """
         m0 = m1 = d0h = d0c = d1h = d1c = 0.0
         if self.has_poly:
+            # Z^(j+1)(c), each needed twice below, by :func:`horner` written out (this runs in every Newton step,
+            # where a call per derivative costs more than its sums)
+            q = []
+            for coefficients in self.deriv_lists:
+                v = 0.0
+                for coef in reversed(coefficients):
+                    v = v * c + coef
+                q.append(v)
             for j, w, inv_fact in self.poly_weights:
-                qj = horner(self.deriv_lists[j], c) * inv_fact
-                qj1 = horner(self.deriv_lists[j + 1], c) * inv_fact
-                hj = h**j
-                dhj = j * h ** (j - 1) if j > 0 else 0.0
+                qj = q[j] * inv_fact
+                qj1 = q[j + 1] * inv_fact
+                whj = w * h**j
+                wdhj = w * (j * h ** (j - 1)) if j > 0 else 0.0
                 if j % 2 == 0:
-                    m0 += w * hj * qj
-                    d0h += w * dhj * qj
-                    d0c += w * hj * qj1
+                    m0 += whj * qj
+                    d0h += wdhj * qj
+                    d0c += whj * qj1
                 else:
-                    m1 += w * hj * qj
-                    d1h += w * dhj * qj
-                    d1c += w * hj * qj1
+                    m1 += whj * qj
+                    d1h += wdhj * qj
+                    d1c += whj * qj1
         for k, phi, psi in self.harmonic_list:
             z = k * h
             kc = k * c
@@ -305,7 +325,7 @@ class SlopeExpansion:
             # Taylor polynomial of Z'(c + h t) in t, then to the Chebyshev basis
             taylor = np.array([horner(self.deriv_lists[j], c) * h**j / math.factorial(j)
                                for j in range(self.slope_poly.size)])
-            cheb = npcheb.poly2cheb(taylor)
+            cheb = power_to_chebyshev(taylor.size) @ taylor
             m = min(cheb.size, order + 1)
             g[:m] -= cheb[:m]
         return g
@@ -364,6 +384,14 @@ class SlopeExpansion:
                     ang = c * k + 0.5 * np.pi * j
                     e[j] -= np.sum(scale * (psi * np.cos(ang) - phi * np.sin(ang)))
         return e
+
+
+@lru_cache(maxsize=32)
+def axis_surface(polynomial: tuple, axis_position: float, harmonic_list: tuple) -> Surface:
+    """:meth:`SlopeExpansion.axis_surface` of the polynomial in surface coordinates and the ``(k, Phi, Psi)``
+    harmonics already in axis coordinates (cached: building a validated Surface costs ~60 us)."""
+    return Surface(taylor_shift(polynomial, axis_position),
+                   tuple(Harmonic(k, phi, psi) for k, phi, psi in harmonic_list))
 
 
 def horner(coefficients, x: float) -> float:
