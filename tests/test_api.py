@@ -334,3 +334,35 @@ def test_a_method_without_accuracy_model_is_used_only_when_nothing_else_applies(
     assert result.success and math.isnan(rollcontact.api.choose_setting(HERTZIAN, 1e-3).error_estimate), \
         "an unmodelled method gives no estimate"
     assert result.info["tolerance_met"] is False, "an unknown error cannot be said to meet the tolerance"
+
+
+FALLING = Scene(1e6, creep=1e-3, rolling_speed=20.0, friction=ExponentialFalling(0.3, 0.4, 3.0))
+
+
+def test_auto_escalates_the_slip_nodes_until_its_estimate_meets_the_tolerance():
+    """The slip iteration starts at its cheapest node count; its a-posteriori estimate (a bound of the error,
+    benchmarks/bench_slip_nodes.py) then drives the count up until it meets t, checked here against 512 nodes."""
+    start = rollcontact.api.choose_setting(FALLING, 1e-6).options["nodes"]
+    result = solve(FALLING, tolerance=1e-6)
+    fine = solve(FALLING, method="polynomial", nodes=512)
+    assert result.info["tolerance_met"], result.message
+    assert result.info["setting"]["nodes"] > start, f"no escalation from {start} nodes"
+    error = abs(result.tangential_force_per_length / fine.tangential_force_per_length - 1.0)
+    assert error <= 1e-6, f"T' off by {error:.3g} at {result.info['setting']['nodes']} nodes"
+
+
+def test_user_nodes_stop_the_escalation():
+    result = solve(FALLING, tolerance=1e-9, nodes=16)
+    assert result.info["setting"]["nodes"] == 16
+    assert not result.info["tolerance_met"] and "not reached" in result.message
+
+
+def test_the_fmu_model_escalates_like_solve():
+    from rollcontact.model import ContactModel, ContactParameters
+
+    model = ContactModel(ContactParameters(friction_law=1, friction_coefficient=0.3, friction_kinetic_ratio=0.4,
+                                           friction_decay=3.0, tolerance=1e-6))
+    out = model.step(0.0, 1e-3, 1e6 * model.width, 1e-3, 20.0)
+    scene = model.scene(out.axis_position, 1e6 * model.width, 1e-3, 20.0)
+    reference = solve(scene, tolerance=1e-6)
+    assert out.tangential_force == pytest.approx(reference.tangential_force_per_length * model.width, rel=1e-12)

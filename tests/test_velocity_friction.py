@@ -1,5 +1,7 @@
 """Velocity-dependent friction by the polynomial method (paper section 4.2; physics.md section 5)."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -227,3 +229,84 @@ def test_tiny_creep_converges():
     assert r.success, r.message
     carter = rc.solve(scene(1e-11, rc.Coulomb(0.3)), method="closed_form")
     np.testing.assert_allclose(r.tangential_force_per_length, carter.tangential_force_per_length, rtol=1e-3)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the a-posteriori error estimate, and the node counts auto offers (api.PolynomialAccuracy)
+SATURATION = 0.3 * rc.hertz(LOAD, 0.46, rc.Material().contact_modulus)[0] / 0.46  # Carter mu a / R
+TABLE = rc.TabulatedFriction((0.0, 0.05, 0.2, 1.0, 5.0), (0.3, 0.27, 0.24, 0.2, 0.18))
+ESTIMATE_CASES = {  # partial slip, the error well above the 256-node reference's own (~1e-7)
+    "exponential B = 3 s/m, flat": scene(0.3 * SATURATION, rc.ExponentialFalling(0.3, 0.4, 3.0)),
+    "exponential B = 30 s/m, flat": scene(1e-3, LAWS["steep"]),
+    "exponential B = 10 s/m, corrugated": corrugated(0.6 * SATURATION, rc.ExponentialFalling(0.3, 0.4, 10.0)),
+    "table, corrugated": corrugated(0.6 * SATURATION, TABLE),
+}
+POLYNOMIAL = rc.api.METHODS["polynomial"].accuracy
+
+
+def test_error_estimate_bounds_the_error():
+    """The a-posteriori estimate reported by solve bounds the T' error, typically at 2-3 times it
+    (benchmarks/bench_slip_nodes.py: median 2.2; more where M happens to err much less than 2M, as the table law at
+    16 nodes; the a-priori bound beta/N^2 is mostly 10-100 times pessimistic)."""
+    ratios = []
+    for name, s in ESTIMATE_CASES.items():
+        reference = rc.solve(s, method="polynomial", nodes=256)
+        for nodes in (16, 32):
+            r = rc.solve(s, method="polynomial", nodes=nodes)
+            error = abs(r.tangential_force_per_length / reference.tangential_force_per_length - 1.0)
+            estimate = r.info["error_estimate"]
+            assert error > 3 * reference.info["error_estimate"], f"{name}: the reference must resolve the error"
+            assert error <= estimate, f"{name}, {nodes} nodes: error {error:.3g} above the estimate {estimate:.3g}"
+            ratios.append(estimate / error)
+    assert np.median(ratios) < 3 and max(ratios) < 20, f"estimate / error: {np.round(ratios, 2)}"
+
+
+def test_error_estimate_is_returned_and_vanishes_in_full_slip():
+    ref, c_n = carter_inputs()
+    args = (c_n, ref.contact_half_width, 0.0, rc.Material().contact_modulus, FALLING, V)
+    partial = solve_velocity_dependent(*args, 1e-3, nodes=24)
+    assert partial["nodes"] == 24 and partial["force_error_estimate"] == partial["distributions"].force_error > 0.0
+    # full slip: q1 = mu(V s) p is smooth, the nodes resolve T' to round-off
+    full = solve_velocity_dependent(*args, 3.0 * SATURATION, nodes=24)
+    assert full["stick_half_width"] == 0.0 and full["force_error_estimate"] < 1e-12, full["force_error_estimate"]
+
+
+def test_ladder_offers_each_node_count_that_runs_once():
+    """Requests below the floor (default_nodes, two nodes per pressure term) run the floor: the ladder, the cost
+    and the bound use the count that runs, each once."""
+    short = scene(1e-3, surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.004, 0.5e-6, 0.3),)))
+    terms = rc.solve(short).info["pressure_coefficients"].size - 1
+    for s, floor in ((ESTIMATE_CASES["exponential B = 3 s/m, flat"], 16),
+                     (ESTIMATE_CASES["exponential B = 30 s/m, flat"], 32), (short, 2 * terms)):
+        nodes = [options["nodes"] for options in POLYNOMIAL.ladder(s)]
+        assert nodes[0] == floor and nodes == sorted(set(nodes)), nodes
+        assert rc.solve(s, method="polynomial", nodes=8).distributions.nodes == floor
+        assert rc.solve(s, method="polynomial", **POLYNOMIAL.ladder(s)[1]).distributions.nodes == nodes[1]
+        assert POLYNOMIAL.cost(s, {"nodes": 8}) == POLYNOMIAL.cost(s, {"nodes": floor})
+        assert POLYNOMIAL.error(s, {"nodes": 8}) == POLYNOMIAL.error(s, {"nodes": floor})
+
+
+def test_escalation_moves_up_until_the_estimate_meets_the_tolerance():
+    s = ESTIMATE_CASES["exponential B = 3 s/m, flat"]
+    tolerance = 5e-6
+    reference = rc.solve(s, method="polynomial", nodes=256)
+    options, runs = {"nodes": 16}, []
+    while options is not None:
+        r = rc.solve(s, method="polynomial", **options)
+        runs.append(r.distributions.nodes)
+        options = POLYNOMIAL.escalation(s, options, r.info["error_estimate"], tolerance)
+    assert runs == [16, 64], f"one step to the count the estimate's N^-1.5 decay predicts: {runs}"
+    assert abs(r.tangential_force_per_length / reference.tangential_force_per_length - 1) <= r.info[
+        "error_estimate"] <= tolerance
+    largest = POLYNOMIAL.ladder(s)[-1]
+    assert POLYNOMIAL.escalation(s, largest, 1.0, tolerance) is None, "nothing above the largest count"
+    assert POLYNOMIAL.escalation(s, {"nodes": 16}, math.nan, tolerance) is None
+    assert POLYNOMIAL.escalation(s, {"nodes": 16}, 1.0, tolerance) == largest
+
+
+def test_auto_starts_at_the_floor_where_the_estimate_meets_the_tolerance():
+    """B = 30 s/m at 1e-4: 32 nodes (the floor) meet it by the estimate, where the bound beta/N^2 wanted 128."""
+    s = ESTIMATE_CASES["exponential B = 30 s/m, flat"]
+    r = rc.solve(s, tolerance=1e-4)
+    assert r.distributions.nodes == 32 and r.info["tolerance_met"], (r.info["setting"], r.info["error_estimate"])
+    assert r.info["error_estimate"] == r.distributions.force_error

@@ -9,7 +9,9 @@ gives, for each, the predicted error and a modelled cost:
 
 * error: the larger of the relative errors of T' and of the peak pressure p0, from measured convergence
   (the discretised T' is first order in the elements across the contact, the polynomial method's truncation is
-  controlled by its coefficient decay, its slip iteration converges as the square of the node count);
+  controlled by its coefficient decay, its slip iteration is bounded a priori by beta/N^2 in the node count N
+  and, after the solve, by its own a-posteriori estimate, from which ``auto`` escalates the node count until the
+  tolerance is met (:func:`run_to_tolerance`, ``benchmarks/bench_slip_nodes.py``);
 * cost: modelled seconds per solve from operation counts (n^3 for a dense factorisation, nodes^2 per slip
   iteration, iteration counts growing with the friction law's sharpness), with constants measured by
   ``benchmarks/pareto.py``, which also checks the model against measured times.  Only the ranking matters.
@@ -84,6 +86,11 @@ class AccuracyModel:
     def achieved(self, scene: Scene, options: dict, result: ContactResult) -> float:
         """Error estimate [1] of a result obtained with these options; by default the prediction."""
         return self.error(scene, options)
+
+    def escalation(self, scene: Scene, options: dict, estimate: float, tolerance: float) -> dict | None:
+        """Options to run next when a result obtained with ``options`` has the a-posteriori error ``estimate``
+        above ``tolerance`` (an adaptive method); None (the default): nothing finer to try."""
+        return None
 
     def minimum_cost(self, scene: Scene) -> float:
         """Cost of the cheapest setting [s] (lets ``auto`` skip a method that cannot beat its best so far); the
@@ -291,7 +298,7 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
         result = call_with_known_options(spec, scene, options)
     else:
         tolerance = check_tolerance(tolerance)
-        spec, result = run_setting(choose_setting(scene, tolerance), scene, options, tolerance)
+        spec, result = run_to_tolerance(choose_setting(scene, tolerance), scene, options, tolerance)
     if result.success:
         return result
     name = spec.name
@@ -307,10 +314,25 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
             setting = choose_setting(scene, tolerance, names=[s.name for s in backups])
         except ValueError:  # no fallback method can treat the scene either
             return result
-        backup_spec, backup = run_setting(setting, scene, options, tolerance)
+        backup_spec, backup = run_to_tolerance(setting, scene, options, tolerance)
     info = dict(backup.info, fallback_from=name, fallback_reason=result.message)
     return type(backup)(**{**backup.__dict__, "info": info,
                            "message": f"{backup.message} (fallback: {name} failed: {result.message})"})
+
+
+def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec,
+                                                                                               ContactResult]:
+    """:func:`run_setting`, then, while the result's a-posteriori estimate misses the tolerance, the settings the
+    method's :meth:`AccuracyModel.escalation` names (each finer than the last, so the loop ends).  User options
+    that fix the escalated option stop it."""
+    spec, result = run_setting(setting, scene, options, tolerance)
+    while result.success:
+        following = spec.accuracy.escalation(scene, result.info["setting"], result.info["error_estimate"],
+                                             tolerance) if spec.accuracy is not None else None
+        if following is None or any(key in options for key in following):
+            break
+        spec, result = run_setting(Setting(spec.name, following, math.nan, math.nan), scene, options, tolerance)
+    return spec, result
 
 
 def run_setting(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec, ContactResult]:
@@ -361,15 +383,19 @@ def nan_last(value: float) -> float:
 CLOSED_FORM_COST = 8.8e-6  # s, Hertz + Carter through solve()
 POLYNOMIAL_COST = 1.8e-4  # s, normal Newton, tangential root and validity checks (order-independent to ~10 %)
 POLYNOMIAL_HARMONIC_COST = 4.6e-5  # s per surface harmonic
-SLIP_ITERATIONS = (7.0, 30.0)  # slip iterations ~ 7 + 30 beta (beta: friction_sharpness)
-SLIP_COST = (7e-5, 3e-8, 3.2e-10)  # s per slip iteration with N nodes, a + b N^2 + c N^3 (dense node tables)
+# slip iteration (benchmarks/bench_slip_nodes.py, table E): Newton steps ~ 3 + 6.8 beta (beta: friction_sharpness);
+# s per step with N nodes a + b N^2 + c N^3 (dense node tables; a also carries the a-posteriori estimate's share)
+SLIP_ITERATIONS = (3.0, 6.8)
+SLIP_COST = (3.5e-4, 1.1e-7, 2.6e-10)
 DIRECT_COST = (1.6e-3, 2e-8, 2.3e-11)  # s: discretised Coulomb, a + b n^2 + c n^3 (influence matrices, LU)
 STRUCTURED_ITERATIONS = (20.0, 85.0)  # Newton iterations of the discretised velocity-dependent solve ~ 20 + 85 beta
 STRUCTURED_COST = (2.2e-4, 1.26e-8, 1.37e-11)  # s per such Newton iteration, a + b n^2 + c n^3
 
 POLYNOMIAL_TOLERANCES = tuple(10.0**-k for k in range(2, 13))
-SLIP_NODES = (8, 16, 32, 64, 128, 256, 512)
-SLIP_NODE_ERROR = 1.0  # relative T' error <= SLIP_NODE_ERROR * sharpness / nodes^2 (bound over the measured cases)
+SLIP_NODES = (8, 16, 32, 64, 128, 256, 512)  # requested; the ladder offers the distinct counts that run
+# Slip-iteration T' error against the nodes N that run (benchmarks/bench_slip_nodes.py, 1024-node references):
+SLIP_NODE_ERROR = 1.5  # relative T' error <= SLIP_NODE_ERROR * sharpness / N^2 (largest measured 0.96)
+SLIP_CONVERGENCE = 2.0  # escalation aims at N (estimate / t)^(1/2): the estimate's typical decay
 DISCRETISED_ELEMENTS = (50, 100, 200, 400, 800, 1600)
 DISCRETISED_FORCE_ERROR = 1.4  # relative T' error <= 1.4 w/n (w = window over the Hertz width 2a)
 DISCRETISED_PRESSURE_ERROR = 3.0  # relative p0 error <= 3 (w/n)^2
@@ -393,21 +419,26 @@ class PolynomialAccuracy(AccuracyModel):
 
     Settings: the truncation ``tolerance`` (the method picks the order whose neglected coefficients stay below
     it relative to the Hertz slope; the p0 error follows) and, for velocity-dependent friction, the slip
-    iteration's ``nodes``, whose T' error was measured below ``SLIP_NODE_ERROR * beta / nodes^2`` with the
-    friction law's sharpness ``beta`` (:func:`friction_sharpness`).  An explicit ``order`` has no prediction
+    iteration's ``nodes``.  Counts are the nodes N that run (:func:`slip_nodes`: requests below the law's and the
+    pressure's floor run the floor, so the ladder offers each count once).  A priori the T' error is below
+    ``SLIP_NODE_ERROR * beta / N^2`` with the law's sharpness ``beta`` (:func:`friction_sharpness`), a bound over
+    ``benchmarks/bench_slip_nodes.py``'s cases but mostly 10-100 times pessimistic; a result carries the slip
+    iteration's a-posteriori estimate (:func:`rollcontact.velocity_friction.force_error_estimate`), which
+    :meth:`achieved` reports.  So :meth:`setting_for` starts at the cheapest count and :meth:`escalation` names
+    the count to run next while the estimate misses the tolerance.  An explicit ``order`` has no prediction
     (NaN); the result's truncation residual then gives the estimate.
     """
 
     def ladder(self, scene):
         if scene.friction.is_constant:
             return tuple({"tolerance": t} for t in POLYNOMIAL_TOLERANCES)
-        return tuple({"nodes": n} for n in SLIP_NODES)
+        return tuple({"nodes": n} for n in sorted({slip_nodes(scene, n) for n in SLIP_NODES}))
 
     def cost(self, scene, options):
         base = POLYNOMIAL_COST + POLYNOMIAL_HARMONIC_COST * len(scene.surface.harmonics)
         if scene.friction.is_constant:
             return base
-        nodes = options.get("nodes", default_option("polynomial", "nodes"))
+        nodes = slip_nodes(scene, options.get("nodes", default_option("polynomial", "nodes")))
         iterations = SLIP_ITERATIONS[0] + SLIP_ITERATIONS[1] * friction_sharpness(scene)
         a, b, c = SLIP_COST
         return base + iterations * (a + b * nodes * nodes + c * nodes**3)
@@ -416,20 +447,94 @@ class PolynomialAccuracy(AccuracyModel):
         if options.get("order") is not None:
             return math.nan
         truncation = options.get("tolerance", default_option("polynomial", "tolerance"))
-        return max(truncation, self.slip_error(scene, options))
+        return max(truncation, SLIP_NODE_ERROR * self.slip_scale(scene, options))
 
     def achieved(self, scene, options, result):
         # residual: the first neglected coefficients relative to the leading one (inf when the solve failed)
         if not math.isfinite(result.residual):
             return math.nan
-        return max(result.residual, ROUND_OFF, self.slip_error(scene, options))
+        slip = slip_estimate(result)
+        return math.nan if math.isnan(slip) else max(result.residual, ROUND_OFF, slip)
+
+    def setting_for(self, name, scene, tolerance):
+        """For velocity-dependent friction the cheapest count, the start of the adaptive path (:meth:`escalation`
+        moves up while the result's estimate misses the tolerance), with the bound of the largest count, which the
+        path can reach, as its error; otherwise the cheapest setting whose bound meets the tolerance.
+
+        Starting at the floor rather than where the bound meets t is cheaper: the bound is 10-100 times pessimistic
+        for most laws, and escalation from the floor costs 1.0-1.4 times the cheapest count whose estimate meets t
+        on average (``benchmarks/bench_slip_nodes.py``, table C).
+        """
+        if scene.friction.is_constant:
+            return super().setting_for(name, scene, tolerance)
+        ladder = self.ladder(scene)
+        return Setting(name, ladder[0], self.error(scene, ladder[-1]), self.cost(scene, ladder[0]))
+
+    def escalation(self, scene, options, estimate, tolerance) -> dict | None:
+        """Options to run next when a result run with ``options`` has error ``estimate`` above ``tolerance``.
+
+        For velocity-dependent friction, the rung expected to meet it: the slip estimate ``E`` at N nodes typically
+        falls like ``N^-SLIP_CONVERGENCE`` (``benchmarks/bench_slip_nodes.py``, table C), so the first count
+        ``>= N (E/t)^(1/SLIP_CONVERGENCE)``, else the largest.  None when the estimate meets the tolerance (or is
+        NaN), for Coulomb friction, or when no count of the ladder exceeds N: every call moves up, so escalating
+        until None ends.
+        """
+        if scene.friction.is_constant or not estimate > tolerance:
+            return None
+        nodes = slip_nodes(scene, options.get("nodes", default_option("polynomial", "nodes")))
+        larger = [o for o in self.ladder(scene) if o["nodes"] > nodes]
+        if not larger:
+            return None
+        target = nodes * (estimate / tolerance) ** (1.0 / SLIP_CONVERGENCE)
+        return next((o for o in larger if o["nodes"] >= target), larger[-1])
 
     @staticmethod
-    def slip_error(scene, options) -> float:
+    def slip_scale(scene, options) -> float:
+        """``beta / N^2`` of the nodes N that run (0 when the slip iteration does not)."""
         if scene.friction.is_constant or scene.creep == 0.0:
             return 0.0
-        nodes = options.get("nodes", default_option("polynomial", "nodes"))
-        return SLIP_NODE_ERROR * friction_sharpness(scene) / (nodes * nodes)
+        nodes = slip_nodes(scene, options.get("nodes", default_option("polynomial", "nodes")))
+        return friction_sharpness(scene) / (nodes * nodes)
+
+
+def slip_estimate(result) -> float:
+    """The slip iteration's a-posteriori relative T' error of a polynomial result (NaN when it did not converge;
+    0 when it did not run: Coulomb friction, zero creep, or the polynomial method's Coulomb reduction)."""
+    from rollcontact.velocity_friction import VelocityFrictionDistributions
+
+    dist = result.distributions
+    return dist.force_error if isinstance(dist, VelocityFrictionDistributions) else 0.0
+
+
+def slip_nodes(scene, nodes: int) -> int:
+    """Nodes the slip iteration runs for ``nodes`` requested: at least :func:`slip_floor`."""
+    return max(int(nodes), slip_floor(scene))
+
+
+@lru_cache(maxsize=64)
+def slip_floor(scene) -> int:
+    """Fewest nodes the slip iteration runs for the scene (:func:`rollcontact.velocity_friction.effective_nodes`
+    with the scene's pressure; 0 without a polynomial normal solution).  Cached: every rung of a ladder asks."""
+    from rollcontact.velocity_friction import effective_nodes
+
+    pressure = normal_pressure(scene.normal_load_per_length, scene.radius, scene.material, scene.surface,
+                               scene.axis_position)
+    if pressure is None:  # no load, or the normal problem failed: nothing to raise against
+        return 0
+    return effective_nodes(0, pressure, scene.material.contact_modulus, scene.friction, scene.rolling_speed)
+
+
+@lru_cache(maxsize=32)
+def normal_pressure(load, radius, material, surface, axis_position) -> np.ndarray | None:
+    """Sine coefficients of p from the polynomial method's normal problem at its default tolerance, or None.
+
+    Cached on the geometry alone (creep, friction and speed do not enter): every rung of a ladder asks for it.
+    """
+    from rollcontact.polynomial import solve_polynomial
+
+    normal = solve_polynomial(Scene(load, radius=radius, material=material, surface=surface,
+                                    axis_position=axis_position), check=False)
+    return normal.info.get("pressure_coefficients")
 
 
 class DiscretisedAccuracy(AccuracyModel):

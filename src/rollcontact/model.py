@@ -66,7 +66,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rollcontact.api import METHODS, setting_for, solve
+from rollcontact.api import METHODS, run_to_tolerance, setting_for, solve
 from rollcontact.closed_form import carter, hertz
 from rollcontact.friction import Coulomb, ExponentialFalling
 from rollcontact.instationary import (
@@ -779,9 +779,12 @@ class ContactModel:
                 continue
             try:
                 options = self.options[name]
-                if self.parameters.tolerance > 0.0:
-                    options = {**setting_for(name, scene, self.parameters.tolerance).options, **options}
-                result = solve(scene, method=name, **options)
+                tolerance = self.parameters.tolerance
+                if tolerance > 0.0:  # as solve(scene, tolerance=...), within this method
+                    _, result = run_to_tolerance(setting_for(name, scene, tolerance), scene, options, tolerance)
+                    options = result.info["setting"]
+                else:
+                    result = solve(scene, method=name, **options)
             except (ValueError, ArithmeticError) as exc:
                 reasons.append(f"{name} raised {type(exc).__name__}: {exc}")
                 continue

@@ -31,7 +31,12 @@ saturation slip relative to mu_s, decides.  Measured against M = 256 (random exp
 laws, creeps 0.01-3 saturation, flat and corrugated; ``benchmarks/bench_steady.py`` table C): M = 16 is within
 2e-4 for kappa < 0.3 (Polach's B = 0.6 s/m at 20 m/s has kappa = 0.01), M = 32 within 4e-4 for kappa < 1; for
 kappa >= 1 (e.g. B = 100 s/m at 20 m/s) M = 64 leaves ~3e-3 and small M can have several discrete solutions.
-:data:`NODES_BY_STEEPNESS` encodes this default.
+:data:`NODES_BY_STEEPNESS` encodes this default.  Because the convergence is so erratic (M = 64 can err more
+than M = 32), every converged solution carries an a-posteriori estimate of its T' error,
+:func:`force_error_estimate` (one step of the fixed point on 2M and 6M nodes from the converged slip): against
+1024 nodes it bounds all 764 measured errors (exponential B = 1-100 s/m, rational and table laws, V = 1-50 m/s,
+creeps 0.1-5 saturation, flat and corrugated), at least 1.7 times, 2.2 times in the median and at most 5 times
+where the error exceeds 1e-5 (``benchmarks/bench_slip_nodes.py``).
 """
 
 from __future__ import annotations
@@ -41,13 +46,14 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+from scipy import fft
 from scipy.linalg import lapack
 
 from rollcontact.chebyshev import read_only, sine_series
 from rollcontact.result import Distributions
 
-__all__ = ["DEFAULT_NODES", "VelocityFrictionDistributions", "default_nodes", "slip_operators",
-           "solve_velocity_dependent"]
+__all__ = ["DEFAULT_NODES", "VelocityFrictionDistributions", "default_nodes", "effective_nodes", "force_error_estimate",
+           "slip_operators", "solve_velocity_dependent"]
 
 DEFAULT_NODES = 16
 """Patch nodes M of the slip iteration unless the law is steep (:func:`default_nodes`)."""
@@ -58,6 +64,16 @@ Measured against M = 256 on random laws, creeps and surfaces (module docstring, 
 
 NEWTON_PATIENCE = 8
 """Newton iterations after which the residual must have halved, else the relaxed fixed point takes over."""
+
+ESTIMATE_REFINEMENTS = (2, 6)
+"""Fine nodes per patch node, K/M, of the a-posteriori estimate (:func:`force_error_estimate`, the larger of the
+steps).  One step alone misses where T'_K happens to err like T'_M (erratic convergence); two rarely both do.  Each
+grid nests in the finest (6M holds the nodes of 2M), which shares the evaluations; none may nest with M's (3M:
+M and 3M often err alike).  ``benchmarks/bench_slip_nodes.py``, table B."""
+
+ESTIMATE_SAFETY = 2.0
+"""Factor on ``max_K |T'_K/T'_M - 1|`` in :func:`force_error_estimate`: the estimate is then at least 1.7 times
+the error against 1024 nodes in every case of ``benchmarks/bench_slip_nodes.py`` (table A)."""
 
 
 @dataclass(frozen=True)
@@ -131,6 +147,12 @@ class VelocityFrictionDistributions(Distributions):
     stick_coefficients: np.ndarray  # F_n, Chebyshev coefficients of H1 on the stick zone
     contact_modulus: float
     creep: float
+    force_error: float  # a-posteriori relative error of T' (force_error_estimate)
+
+    @property
+    def nodes(self) -> int:
+        """Patch nodes M the slip iteration used."""
+        return self.q1_coefficients.size - 1
 
     def pressure(self, x):
         return sine_series(self.pressure_coefficients, (np.asarray(x, dtype=float) - self.offset) / self.half_width)
@@ -365,6 +387,132 @@ def default_nodes(pressure_coefficients: np.ndarray, estar: float, friction, rol
     return next(m for bound, m in NODES_BY_STEEPNESS if kappa < bound)
 
 
+def effective_nodes(nodes: int, pressure_coefficients: np.ndarray, estar: float, friction,
+                    rolling_speed: float) -> int:
+    """Patch nodes that ``solve_polynomial(scene, nodes=nodes)`` runs: ``nodes`` raised to :func:`default_nodes`
+    and then to :func:`patch_nodes`."""
+    return patch_nodes(max(int(nodes), default_nodes(pressure_coefficients, estar, friction, rolling_speed)),
+                       pressure_coefficients)
+
+
+def patch_nodes(nodes: int, pressure_coefficients: np.ndarray) -> int:
+    """``nodes`` raised to two per pressure term: fewer would alias mu(V s) p (short corrugation, high order)."""
+    return max(int(nodes), 2 * (pressure_coefficients.size - 1))
+
+
+@dataclass(frozen=True)
+class EstimateOperators:
+    """Tables of :func:`force_error_estimate` for M patch nodes, on the finest grid of ``K = max(r) M`` nodes, r in
+    ``ESTIMATE_REFINEMENTS``; the grid of ``K/j`` nodes (j odd) is every j-th node from the ``(j - 1)/2``-th.
+
+    Attributes
+    ----------
+    theta, t_plus_one : ndarray
+        ``theta_i = pi (i + 1/2)/K`` and ``1 + cos(theta_i)``.
+    cosines : ndarray
+        (K, M): ``T_n(t_i) = cos(n theta_i)``, n = 1..M (H1 of the M-node solution at the fine nodes).
+    masks, scales : ndarray
+        (S, K) per grid of K' nodes: its nodes among the fine ones, and the factors turning scipy's DST-II of the
+        masked values (twice the sum) into the sine coefficients ``e_1..e_K'`` (``1/K'``, half at n = K', 0 beyond).
+    stick_cos : ndarray
+        ``cos(phi_j)`` of the ``P = K/2 + 1`` stick-zone nodes (Gauss-Chebyshev, exact for the degree K + 1 of
+        ``H1 T_1``).
+    weights : ndarray
+        (P, 2): ``F_0, F_1`` from values at the stick nodes.
+    """
+
+    theta: np.ndarray
+    t_plus_one: np.ndarray
+    cosines: np.ndarray
+    masks: np.ndarray
+    scales: np.ndarray
+    stick_cos: np.ndarray
+    weights: np.ndarray
+
+
+@lru_cache(maxsize=16)
+def estimate_operators(m: int, refinements: tuple[int, ...]) -> EstimateOperators:
+    """The cached :class:`EstimateOperators` for M = ``m`` and the grids ``refinements`` M (arrays read-only)."""
+    k = max(refinements) * m
+    theta = np.pi * (np.arange(k) + 0.5) / k
+    masks = np.zeros((len(refinements), k))
+    scales = np.zeros((len(refinements), k))
+    for row, refinement in enumerate(refinements):
+        size = refinement * m
+        step = k // size
+        masks[row, (step - 1) // 2 :: step] = 1.0
+        scales[row, :size] = 1.0 / size
+        scales[row, size - 1] *= 0.5
+    stick = k // 2 + 1
+    stick_cos = np.cos(np.pi * (np.arange(stick) + 0.5) / stick)
+    weights = np.column_stack((np.full(stick, 1.0 / stick), (2.0 / stick) * stick_cos))
+    cosines = np.cos(np.multiply.outer(theta, np.arange(1.0, m + 1.0)))
+    return EstimateOperators(*read_only(theta, 1.0 + np.cos(theta), cosines, masks, scales, stick_cos, weights))
+
+
+def cosine_sine_sums(a: np.ndarray, b: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``sum_n a_sn cos(n psi_p)`` and ``sum_n b_sn sin(n psi_p)`` (n = 1..K) for rows s of ``a``, ``b`` (S, K).
+
+    By blocks: with ``n = B m + j`` (``B ~ sqrt(K)``), ``e^(i n psi) = (e^(i B psi))^m (e^(i psi))^j``, powers by
+    cumulative products (rounding ~K eps), so each point needs one complex exponential instead of K cosines and K
+    sines, and the sum is one matrix product and one weighted sum.  Returns two (S, P) arrays.
+    """
+    sets, k = a.shape
+    block = math.isqrt(k) + 1
+    rows = -(-(k + 1) // block)
+    table = np.zeros((2 * sets, rows * block))
+    table[:sets, 1 : k + 1] = a
+    table[sets:, 1 : k + 1] = b
+    powers = np.ones((psi.size, block + rows), dtype=complex)  # [e^(i j psi), j < B | e^(i B m psi), m < R]
+    powers[:, 1:block] = np.exp(1j * psi)[:, None]
+    np.cumprod(powers[:, :block], axis=1, out=powers[:, :block])
+    powers[:, block + 1 :] = (powers[:, block - 1] * powers[:, 1])[:, None]
+    np.cumprod(powers[:, block:], axis=1, out=powers[:, block:])
+    # partial[p, (s, m)] = sum_j c_s,Bm+j e^(i j psi_p)
+    partial = powers[:, :block] @ table.reshape(-1, block).T
+    sums = np.einsum("psm,pm->sp", partial.reshape(psi.size, 2 * sets, rows), powers[:, block:])
+    return sums[:sets].real, sums[sets:].imag
+
+
+def force_error_estimate(eq: SlipEquations, st: SlipState, pressure_coefficients: np.ndarray) -> float:
+    """A-posteriori relative error of T' of a converged state: ``ESTIMATE_SAFETY max_K |T'_K / T'_M - 1|``.
+
+    ``T'_K`` is one step of the paper's fixed point on ``K = r M`` patch nodes (r in ``ESTIMATE_REFINEMENTS``)
+    from the converged state, without a new Newton solve: the converged slip series ``s_M`` (exact anywhere) gives
+    ``q1 = mu(V s_M) p`` at the fine nodes, its sine coefficients ``e^K`` (a DST), the stick-zone coefficients
+    ``F_0, F_1`` of ``H1 = (2/E*) sum e^K_n T_n`` and their a*-derivatives (:class:`EstimateOperators`,
+    :func:`cosine_sine_sums`), a* re-solved from ``F_0 + xi = 0`` to first order, and
+    ``T' = (pi a/2) (e_1 - (E*/2) eta F_1)``.  From the converged state that step lands within a few per cent of
+    the K-node solution, so ``T'_K - T'_M`` is, up to T'_K's own smaller error, the error of T'_M.
+    ``benchmarks/bench_slip_nodes.py`` calibrates ``ESTIMATE_SAFETY`` against 1024-node solutions.  Cost:
+    ``O(K log K)`` transforms and ``O(K^1.5)`` products; about a Newton step of the M-node solve.
+    """
+    ops = estimate_operators(eq.ops.n.size, ESTIMATE_REFINEMENTS)
+    k = ops.theta.size
+    c = pressure_coefficients
+    p = np.sin(np.multiply.outer(ops.theta, np.arange(1, c.size))) @ c[1:]
+    s = ops.cosines @ (eq.k2 * st.e) + eq.xi  # the converged slip at the fine nodes
+    if st.maps is not None:
+        sigma = ops.t_plus_one / st.eta - 1.0
+        s = np.where(sigma > 1.0, s - outer_powers(st.f, sigma), 0.0)
+    q = eq.friction.coefficient(np.maximum(eq.speed * s, 0.0)) * np.maximum(p, 0.0)
+    e = fft.dst(ops.masks * q, type=2) * ops.scales  # (S, K): e_1..e_K' of each grid
+    coarse = float(st.e[0])
+    if st.maps is None:
+        return ESTIMATE_SAFETY * max(abs(fine / coarse - 1.0) for fine in e[:, 0].tolist())
+    # stick nodes t = eta (1 + cos phi) - 1 = cos psi; dt/deta = 1 + cos phi, dT_n/dt = n sin(n psi)/sin(psi)
+    psi = np.arccos(st.eta * ops.stick_cos + (st.eta - 1.0))
+    values, slopes = cosine_sine_sums(e, e * np.arange(1, k + 1), psi)
+    moments = (np.vstack((values, slopes * ((1.0 + ops.stick_cos) / np.sin(psi)))) @ ops.weights).tolist()
+    eta, k2, xi = st.eta, eq.k2, eq.xi
+    coarse -= eta * float(st.f[1]) / k2
+    error = 0.0
+    for e1, (f0, f1), (df0, df1) in zip(e[:, 0].tolist(), moments[: len(e)], moments[len(e) :], strict=True):
+        deta = -(k2 * f0 + xi) / (k2 * df0)  # a* re-solved to first order
+        error = max(error, abs((e1 - eta * f1 - (f1 + eta * df1) * deta) / coarse - 1.0))
+    return ESTIMATE_SAFETY * error
+
+
 def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset: float, estar: float, friction,
                              rolling_speed: float, creep: float, *, nodes: int = DEFAULT_NODES,
                              tolerance: float = 1e-9, max_iterations: int = 200):
@@ -386,8 +534,8 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
         xi [1].
     nodes : int
         Chebyshev nodes M on the patch (M + 1 on the stick zone) for the fit of mu(V s) p, raised to twice the
-        number of pressure terms when p has more (no aliasing of mu p).  :func:`default_nodes` gives the count
-        for 1e-3 in T' (``solve_polynomial`` applies it).
+        number of pressure terms when p has more (:func:`patch_nodes`).  :func:`default_nodes` gives the count
+        for 1e-3 in T' (``solve_polynomial`` applies it: :func:`effective_nodes`).
     tolerance : float
         Convergence: largest Newton residual, ``|mu_j - mu(V s_j)| / mu_s`` and ``|F_0 + xi| / max(|xi|, 1e-5
         xi_sat)``.
@@ -398,13 +546,13 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     -------
     dict
         ``stick_half_width``, ``tangential_force_per_length``, ``distributions``, ``iterations``, ``converged``,
-        ``message``, ``history`` (residual norm per iteration).
+        ``message``, ``history`` (residual norm per iteration), ``nodes`` (M used) and ``force_error_estimate``
+        (:func:`force_error_estimate`, relative, NaN unless converged; also the distributions' ``force_error``).
     """
     sign = math.copysign(1.0, creep)
     xi = abs(creep)
     c = pressure_coefficients
-    # at least two nodes per pressure term: fewer would alias mu(V s) p (short corrugation, high order)
-    ops = slip_operators(max(int(nodes), 2 * (c.size - 1)))
+    ops = slip_operators(patch_nodes(nodes, c))
     p = np.clip(np.sin(ops.theta[:, None] * np.arange(1, c.size)) @ c[1:], 0.0, None)
     mu_s = float(friction.static_coefficient)
     eq = SlipEquations(ops, p, estar, friction, rolling_speed, xi)
@@ -447,7 +595,9 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     e = np.concatenate(([0.0], st.e))
     f_coef = st.f if h > 0.0 else np.zeros(2)
     t_force = 0.5 * math.pi * a * e[1] - (0.5 * math.pi * h * 0.5 * estar * f_coef[1] if h > 0.0 else 0.0)
-    dist = VelocityFrictionDistributions(a, offset, pressure_coefficients, e, h, offset - a + h, f_coef, estar, creep)
+    estimate = force_error_estimate(eq, st, c) if converged else math.nan
+    dist = VelocityFrictionDistributions(a, offset, pressure_coefficients, e, h, offset - a + h, f_coef, estar, creep,
+                                         estimate)
     failures = []
     if np.any(st.s < -tolerance * max(xi, 1e-300) * 10):
         failures.append("slip opposes the traction in the slip zone (a second stick zone)")
@@ -467,6 +617,8 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
         "converged": converged and not failures,
         "message": message,
         "history": history,
+        "nodes": ops.n.size,
+        "force_error_estimate": estimate,
     }
 
 
