@@ -255,7 +255,9 @@ def steady_settings(scene: rc.Scene, config: Config) -> list[tuple[str, dict]]:
         out += [("polynomial", {"tolerance": t}) for t in config.poly_tolerances]
         out += [("polynomial", {"order": n}) for n in config.poly_orders]
     else:
-        out += [("polynomial", {"nodes": n}) for n in config.nodes]
+        # the node counts that run (requests below the law's floor run the floor: api.slip_nodes)
+        out += [("polynomial", options) for options in rc.METHODS["polynomial"].accuracy.ladder(scene)
+                if options["nodes"] <= max(config.nodes)]
     sizes = config.elements if scene.friction.is_constant else config.structured_elements
     needed = api.DiscretisedAccuracy.resolution(scene)
     out += [("discretised", {"elements": n}) for n in sizes if n >= needed]
