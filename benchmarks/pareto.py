@@ -210,6 +210,16 @@ class AutoChoice:
     chosen_time: float = math.nan  # of auto's setting run directly (steady cases: auto's time less the choice)
 
 
+def with_cheapest(choice: AutoChoice, rows: list[Row]) -> AutoChoice:
+    """``choice`` with the fastest of the case's measured ``rows`` whose error meets its tolerance noted."""
+    passing = [r for r in rows if r.error <= choice.tolerance]
+    if passing:
+        best = min(passing, key=lambda r: r.time)
+        choice.cheapest = f"{best.label} ({fmt_time(best.time)})"
+        choice.cheapest_time = best.time
+    return choice
+
+
 def relative_errors(result, ref) -> tuple[float, float]:
     return (abs(result.tangential_force_per_length / ref.tangential_force_per_length - 1.0),
             abs(result.max_pressure / ref.max_pressure - 1.0))
@@ -293,12 +303,7 @@ def measure_case(family: str, label: str, scene: rc.Scene, config: Config) -> tu
             if row.method == auto.method and row.options == options:
                 row.auto += (tolerance,)
                 choice.chosen_time = row.time
-        passing = [r for r in rows if r.error <= tolerance]
-        if passing:
-            best = min(passing, key=lambda r: r.time)
-            choice.cheapest = f"{best.label} ({best.time * 1e3:.3g} ms)"
-            choice.cheapest_time = best.time
-        choices.append(choice)
+        choices.append(with_cheapest(choice, rows))
     return rows, choices, ref
 
 
@@ -387,12 +392,7 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
             label = f"FMU auto ({shares or 'quasi-static'})"
             error = float(np.abs(forces - ref).max() / limit)
             choice = AutoChoice("instationary", case, tolerance, "auto", label, error, t, math.nan, error <= tolerance)
-            passing = [r for r in rows if r.case == case and r.error <= tolerance]
-            if passing:
-                best = min(passing, key=lambda r: r.time)
-                choice.cheapest = f"{best.label} ({best.time * 1e6:.3g} us)"
-                choice.cheapest_time = best.time
-            choices.append(choice)
+            choices.append(with_cheapest(choice, [r for r in rows if r.case == case]))
     return rows, choices, references
 
 
