@@ -97,7 +97,7 @@ def reference(scene: rc.Scene, nodes: int) -> tuple[float, float]:
         max_iterations=40)
     if not out["converged"]:
         return math.nan, math.nan
-    return out["tangential_force_per_length"], out["force_error_estimate"]
+    return out["tangential_force_per_length"], out["distributions"].force_error
 
 
 def with_refinement(factor: int, scene: rc.Scene, nodes: int) -> rc.ContactResult:

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import rollcontact as rc
+from rollcontact import velocity_friction
 from rollcontact.velocity_friction import solve_velocity_dependent
 
 LOAD = 1e6  # N/m
@@ -261,14 +262,44 @@ def test_error_estimate_bounds_the_error():
     assert np.median(ratios) < 3 and max(ratios) < 20, f"estimate / error: {np.round(ratios, 2)}"
 
 
-def test_error_estimate_is_returned_and_vanishes_in_full_slip():
+def test_error_estimate_is_returned_on_demand_and_vanishes_in_full_slip(monkeypatch):
     ref, c_n = carter_inputs()
     args = (c_n, ref.contact_half_width, 0.0, rc.Material().contact_modulus, FALLING, V)
+    calls = []
+    real = velocity_friction.force_error_estimate
+    monkeypatch.setattr(velocity_friction, "force_error_estimate", lambda *a: calls.append(1) or real(*a))
     partial = solve_velocity_dependent(*args, 1e-3, nodes=24)
-    assert partial["nodes"] == 24 and partial["force_error_estimate"] == partial["distributions"].force_error > 0.0
+    assert not calls, "the estimate costs a Newton step: it must not run before it is read"
+    estimate = partial["distributions"].force_error
+    assert partial["nodes"] == 24 and estimate > 0.0 and len(calls) == 1, (estimate, calls)
+    assert partial["distributions"].force_error == estimate and len(calls) == 1, "computed once, then kept"
     # full slip: q1 = mu(V s) p is smooth, the nodes resolve T' to round-off
     full = solve_velocity_dependent(*args, 3.0 * SATURATION, nodes=24)
-    assert full["stick_half_width"] == 0.0 and full["force_error_estimate"] < 1e-12, full["force_error_estimate"]
+    error = full["distributions"].force_error
+    assert full["stick_half_width"] == 0.0 and error < 1e-12, error
+
+
+@pytest.mark.parametrize("fraction", [0.0, 0.05, 0.5, 0.95, 1.5, -0.4])
+@pytest.mark.parametrize("decay", [0.6, 30.0])
+def test_creep_stiffness_is_the_slope_of_the_discrete_solution(fraction, decay):
+    """dT'/dxi by the implicit function theorem against a central difference of two solves (h = 1e-6 xi_sat,
+    truncation ~1e-12 relative), in partial slip, on the falling branch (B = 30 s/m at 0.95 saturation has a
+    negative slope), in full slip and at zero creep (the full-stick slope, Carter's 2 N' R / a)."""
+    law = rc.ExponentialFalling(0.3, 0.4, decay)
+    base = scene(0.0, friction=law)
+    ref, _ = carter_inputs()
+    xi_sat = 0.3 * ref.contact_half_width / base.radius
+    s = base.replace(creep=fraction * xi_sat)
+    slope = rc.solve(s, method="polynomial").creep_stiffness_per_length
+    h = 1e-6 * xi_sat
+    up, down = (rc.solve(s.replace(creep=s.creep + d), method="polynomial").tangential_force_per_length
+                for d in (h, -h))
+    difference = (up - down) / (2.0 * h)
+    assert abs(slope - difference) <= 1e-6 * abs(difference) + 1e-9 * 2.0 * ref.normal_load_per_length / xi_sat, (
+        f"dT'/dxi {slope:.9e} against the difference {difference:.9e}")
+    if fraction == 0.0:
+        carter = 2.0 * ref.normal_load_per_length * base.radius / ref.contact_half_width
+        assert slope == pytest.approx(carter, rel=1e-9), "zero creep: Carter's full-stick slope"
 
 
 def test_ladder_offers_each_node_count_that_runs_once():

@@ -783,8 +783,8 @@ class ContactModel:
                 if tolerance > 0.0:  # as solve(scene, tolerance=...), within this method
                     _, result = run_to_tolerance(setting_for(name, scene, tolerance), scene, options, tolerance)
                     options = result.info["setting"]
-                else:
-                    result = solve(scene, method=name, **options)
+                else:  # the method itself: no error estimate to annotate (the polynomial one costs a Newton step)
+                    result = spec.function(scene, **options)
             except (ValueError, ArithmeticError) as exc:
                 reasons.append(f"{name} raised {type(exc).__name__}: {exc}")
                 continue

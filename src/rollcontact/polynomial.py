@@ -418,12 +418,16 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
     if check:
         messages += validity_failures(zero, expansion, scene, a, x0, *samples)
     if xi == 0.0:
-        stick, t_force, dist, it = a, 0.0, zero, 0
+        # full stick: dT'/dxi of the stick zone growing from the leading edge, as with Coulomb friction (the
+        # slip velocities vanish, mu = mu_s; the ratio of the rates does not depend on mu)
+        dxi, dt = stick_rates(expansion, x0 - a, mu_s, 0.25 * math.pi * estar * mu_s, a)
+        stick, t_force, dist, it, stiffness = a, 0.0, zero, 0, dt / dxi if dxi != 0.0 else math.nan
     else:
         nodes = max(nodes, default_nodes(c_n, estar, scene.friction, scene.rolling_speed))
         out = solve_velocity_dependent(c_n, a, x0, estar, scene.friction, scene.rolling_speed, xi, nodes=nodes)
-        stick, t_force, dist, it = (out["stick_half_width"], out["tangential_force_per_length"],
-                                    out["distributions"], out["iterations"])
+        stick, t_force, dist, it, stiffness = (out["stick_half_width"], out["tangential_force_per_length"],
+                                               out["distributions"], out["iterations"],
+                                               out["creep_stiffness_per_length"])
         info["slip_iteration_history"] = out["history"]
         if out["message"]:
             messages.append(out["message"])
@@ -432,8 +436,8 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
     return ContactResult(method="polynomial", success=success, message=message,
                          normal_load_per_length=scene.normal_load_per_length, tangential_force_per_length=t_force,
                          creep=xi, contact_half_width=a, contact_offset=x0, stick_half_width=stick,
-                         max_pressure=max_pressure(c_n, *samples), iterations=iterations + it, residual=residual,
-                         distributions=dist, info=info)
+                         max_pressure=max_pressure(c_n, *samples), creep_stiffness_per_length=stiffness,
+                         iterations=iterations + it, residual=residual, distributions=dist, info=info)
 
 
 def failed(scene, message, a, offset, iterations, info):

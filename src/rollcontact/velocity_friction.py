@@ -42,8 +42,9 @@ where the error exceeds 1e-5 (``benchmarks/bench_slip_nodes.py``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import lru_cache
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 
 import numpy as np
 from scipy import fft
@@ -136,7 +137,12 @@ def slip_operators(m: int) -> SlipOperators:
 
 @dataclass(frozen=True)
 class VelocityFrictionDistributions(Distributions):
-    """Fields of a velocity-dependent solution (x [m] from the axis projection)."""
+    """Fields of a velocity-dependent solution (x [m] from the axis projection).
+
+    ``force_error`` (the a-posteriori relative T' error, :func:`force_error_estimate`) is computed on first access
+    and kept: it costs about as much as a Newton step, and callers that need no error (an FMU step without a
+    tolerance) should not pay it.
+    """
 
     half_width: float
     offset: float
@@ -147,7 +153,12 @@ class VelocityFrictionDistributions(Distributions):
     stick_coefficients: np.ndarray  # F_n, Chebyshev coefficients of H1 on the stick zone
     contact_modulus: float
     creep: float
-    force_error: float  # a-posteriori relative error of T' (force_error_estimate)
+    estimator: Callable[[], float] = field(repr=False, compare=False)  # -> force_error
+
+    @cached_property
+    def force_error(self) -> float:
+        """A-posteriori relative error of T' [1] (:func:`force_error_estimate`; NaN unless converged)."""
+        return self.estimator()
 
     @property
     def nodes(self) -> int:
@@ -285,7 +296,13 @@ class SlipEquations:
         return SlipState(mu, eta, q, e, s, f, maps, r_mu, r_h, max(float(np.abs(r_mu).max()) / self.mu_s, abs(r_h)))
 
     def jacobian(self, st: SlipState) -> np.ndarray:
-        """Exact Jacobian of ``(r_mu, r_h)`` in ``(mu, eta)`` at ``st`` (of ``r_mu`` in ``mu`` in full slip).
+        """Exact Jacobian of ``(r_mu, r_h)`` in ``(mu, eta)`` at ``st`` (of ``r_mu`` in ``mu`` in full slip)."""
+        return self.linearisation(st)[0]
+
+    def linearisation(self, st: SlipState) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+        """The Jacobian (:meth:`jacobian`), ``d r_mu/d mu``'s law factor ``dlaw = V dmu/dv`` at the slipping nodes
+        (``d r_mu / d xi = -dlaw``), the stick-zone re-expansion ``re`` (``F = (2/E*) re @ q``) and ``dF/deta``
+        (None in full slip).
 
         In eta: the stick-zone re-expansion through :func:`gradient_deta` and, behind the zone,
         ``d w^n/deta = n w^n (sigma + 1)/(eta sqrt(sigma^2 - 1))``; the jump of a node from slip to stick is not
@@ -298,7 +315,7 @@ class SlipEquations:
         if st.maps is None:
             jac = (dlaw[:, None] * (-k2 * ops.gradient)) * p
             jac.flat[:: m + 1] += 1.0
-            return jac
+            return jac, dlaw, None, None
         mp, f = st.maps, st.f
         # F = (2/E*) re @ q, and its eta-derivative applied to q
         re = ops.dct @ (mp.cosines @ ops.dst)
@@ -312,7 +329,31 @@ class SlipEquations:
         jac[m, :m] = (k2 / self.xi_scale) * re[0] * p
         jac[m, m] = float(df[0]) / self.xi_scale
         jac.flat[: m * (m + 1) : m + 2] += 1.0  # identity on the mu block only
-        return jac
+        return jac, dlaw, re, df
+
+    def force_slope(self, st: SlipState, a: float) -> float:
+        """``dT'/dxi`` [N/m] of the discrete solution at a converged ``st`` (implicit function theorem).
+
+        With the residuals ``R(u; xi) = 0`` in ``u = (mu, eta)``: ``du/dxi = -J^-1 dR/dxi``, where
+        ``d r_mu/d xi = -dlaw`` (the slip behind the zone is ``xi + ...``) and ``d r_h/d xi = 1/xi_scale``, and
+        ``dT'/dxi = grad_u T' . du/dxi`` with ``T' = (pi a/2)(e_1 - eta (E*/2) F_1)``, ``e_1 = dst_1 @ (mu p)``,
+        ``(E*/2) F_1 = re_1 @ (mu p)``.  One Jacobian and one solve instead of a second slip iteration for a
+        difference quotient; exact for the discrete equations (not differentiated: a node crossing the stick/slip
+        boundary, where T' is continuous).
+        """
+        ops, p = self.ops, self.p
+        m = ops.n.size
+        jac, dlaw, re, df = self.linearisation(st)
+        scale = 0.5 * math.pi * a
+        if re is None:
+            return scale * float((ops.dst[0] * p) @ solve_linear(jac, dlaw))
+        rhs = np.empty(m + 1)
+        rhs[:m] = dlaw
+        rhs[m] = -1.0 / self.xi_scale
+        du = solve_linear(jac, rhs)
+        grad_mu = (ops.dst[0] - st.eta * re[1]) * p
+        grad_eta = -(float(re[1] @ st.q) + st.eta * float(df[1]) / self.k2)
+        return scale * (float(grad_mu @ du[:m]) + grad_eta * float(du[m]))
 
     def newton_step(self, st: SlipState) -> tuple[np.ndarray, float]:
         """``(dmu, deta)`` of Newton's method at ``st`` (``deta = 0`` in full slip)."""
@@ -546,8 +587,10 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     -------
     dict
         ``stick_half_width``, ``tangential_force_per_length``, ``distributions``, ``iterations``, ``converged``,
-        ``message``, ``history`` (residual norm per iteration), ``nodes`` (M used) and ``force_error_estimate``
-        (:func:`force_error_estimate`, relative, NaN unless converged; also the distributions' ``force_error``).
+        ``message``, ``history`` (residual norm per iteration), ``nodes`` (M used) and
+        ``creep_stiffness_per_length`` (dT'/dxi [N/m], :meth:`SlipEquations.force_slope`; NaN unless converged).
+        The distributions' ``force_error`` is :func:`force_error_estimate` (relative, NaN unless converged),
+        computed when first read.
     """
     sign = math.copysign(1.0, creep)
     xi = abs(creep)
@@ -595,9 +638,14 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     e = np.concatenate(([0.0], st.e))
     f_coef = st.f if h > 0.0 else np.zeros(2)
     t_force = 0.5 * math.pi * a * e[1] - (0.5 * math.pi * h * 0.5 * estar * f_coef[1] if h > 0.0 else 0.0)
-    estimate = force_error_estimate(eq, st, c) if converged else math.nan
+    slope = math.nan
+    if converged:
+        try:
+            slope = eq.force_slope(st, a)
+        except np.linalg.LinAlgError:  # a law with a kink at the solution: no derivative to give
+            pass
     dist = VelocityFrictionDistributions(a, offset, pressure_coefficients, e, h, offset - a + h, f_coef, estar, creep,
-                                         estimate)
+                                         (lambda: force_error_estimate(eq, st, c)) if converged else nan_estimate)
     failures = []
     if np.any(st.s < -tolerance * max(xi, 1e-300) * 10):
         failures.append("slip opposes the traction in the slip zone (a second stick zone)")
@@ -618,8 +666,13 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
         "message": message,
         "history": history,
         "nodes": ops.n.size,
-        "force_error_estimate": estimate,
+        "creep_stiffness_per_length": slope,
     }
+
+
+def nan_estimate() -> float:
+    """The error estimate of a solution that did not converge."""
+    return math.nan
 
 
 def same_branch(one: SlipState, other: SlipState) -> bool:
