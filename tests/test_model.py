@@ -349,6 +349,24 @@ def test_falling_friction_needs_more_than_the_closed_form():
     assert out.tangential_force < coulomb.tangential_force, "falling friction lowers the force at the same creep"
 
 
+@pytest.mark.parametrize("creep", [0.0, 1e-3, -3e-3])
+def test_falling_friction_step_solves_once(monkeypatch, creep):
+    """The polynomial method returns dT'/dxi with velocity-dependent friction (implicit function theorem), and the
+    step reads no error estimate without a tolerance: one slip iteration, no difference quotient, no estimate."""
+    falling = ContactParameters(friction_law=1, friction_kinetic_ratio=0.4, friction_decay=3.0, method=2)
+    model = ContactModel(falling)
+    from rollcontact import velocity_friction
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the step must not need this")
+    monkeypatch.setattr(ContactModel, "creep_stiffness_by_difference", refuse)
+    monkeypatch.setattr(velocity_friction, "force_error_estimate", refuse)
+    out = model.step(0.0, H, 1e5, creep, 20.0)
+    d = 1e-9  # central difference: truncation ~ d / xi_sat (xi_sat ~ 5e-3: the second derivative jumps at 0)
+    up, down = (ContactModel(falling).step(0.0, H, 1e5, creep + s, 20.0).tangential_force for s in (d, -d))
+    assert_allclose(out.creep_stiffness, (up - down) / (2 * d), rtol=1e-5, err_msg="stiffness against a difference")
+
+
 # ----------------------------------------------------------------------------------------------------------------
 # instationary rolling (transient = 1 auto, 2 always)
 def creep_oscillation(model: ContactModel, wavelength: float, amplitude: float, steps: int, *, load=1e5,
