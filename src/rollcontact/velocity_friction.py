@@ -32,11 +32,16 @@ laws, creeps 0.01-3 saturation, flat and corrugated; ``benchmarks/bench_steady.p
 2e-4 for kappa < 0.3 (Polach's B = 0.6 s/m at 20 m/s has kappa = 0.01), M = 32 within 4e-4 for kappa < 1; for
 kappa >= 1 (e.g. B = 100 s/m at 20 m/s) M = 64 leaves ~3e-3 and small M can have several discrete solutions.
 :data:`NODES_BY_STEEPNESS` encodes this default.  Because the convergence is so erratic (M = 64 can err more
-than M = 32), every converged solution carries an a-posteriori estimate of its T' error,
-:func:`force_error_estimate` (one step of the fixed point on 2M and 6M nodes from the converged slip): against
+than M = 32), every converged solution carries an a-posteriori estimate of its T' error, computed when first read
+(the distributions' ``force_error``), :func:`force_error_estimate` (one step of the fixed point on 2M and 6M nodes
+from the converged slip): against
 1024 nodes it bounds all 764 measured errors (exponential B = 1-100 s/m, rational and table laws, V = 1-50 m/s,
 creeps 0.1-5 saturation, flat and corrugated), at least 1.7 times, 2.2 times in the median and at most 5 times
 where the error exceeds 1e-5 (``benchmarks/bench_slip_nodes.py``).
+
+Creep stiffness.  ``dT'/dxi`` of the discrete solution follows from the converged state by the implicit function
+theorem (:meth:`SlipEquations.force_slope`): one more Jacobian and linear solve, where a difference quotient would
+need a second slip iteration.
 """
 
 from __future__ import annotations
