@@ -397,7 +397,9 @@ SLIP_NODES = (8, 16, 32, 64, 128, 256, 512)  # requested; the ladder offers the 
 SLIP_NODE_ERROR = 1.5  # relative T' error <= SLIP_NODE_ERROR * sharpness / N^2 (largest measured 0.96)
 SLIP_CONVERGENCE = 2.0  # escalation aims at N (estimate / t)^(1/2): the estimate's typical decay
 DISCRETISED_ELEMENTS = (50, 100, 200, 400, 800, 1600)
-DISCRETISED_FORCE_ERROR = 1.4  # relative T' error <= 1.4 w/n (w = window over the Hertz width 2a)
+# relative T' error <= 2.0 w/n (w = window over the Hertz width 2a): the largest coefficient measured by
+# benchmarks/bench_discretised_estimate.py is 1.68 (10 mm / 20 um corrugation, n = 100 and 1600; 1.4 failed there)
+DISCRETISED_FORCE_ERROR = 2.0
 DISCRETISED_PRESSURE_ERROR = 3.0  # relative p0 error <= 3 (w/n)^2
 
 
@@ -540,9 +542,14 @@ def normal_pressure(load, radius, material, surface, axis_position) -> np.ndarra
 class DiscretisedAccuracy(AccuracyModel):
     """Discretised method: T' first order and p0 second order in the elements across the contact.
 
-    The bound ``max(1.4 w/n, 3 (w/n)^2)`` (w the grid length over the Hertz width 2a, n the elements) holds
-    for every measured case; the first-order coefficient varies 0.2-1.4 with where the patch edges fall on the
-    grid, so the bound can be ~5 times pessimistic for a particular n.  Element counts below the automatic
+    The bound ``max(2.0 w/n, 3 (w/n)^2)`` (w the grid length over the Hertz width 2a, n the elements) holds
+    for every case of ``benchmarks/bench_discretised_estimate.py`` (Hertz/Carter at three loads on a fixed window
+    and five creeps of both signs, corrugations up to a split contact, a quartic profile, falling friction; the
+    smallest bound / error there is 1.19).  The first-order coefficient varies 0-1.7 with where the patch edges
+    fall on the grid, so the bound is ~5 times pessimistic in the median.  No a-posteriori estimate replaces it:
+    the answer at n itself moves by up to the error when the grid moves by half an element, and the two-grid
+    estimate (3 times the largest difference to two solves of n/2 elements at different placements) bounds the
+    error but is larger than this bound in the median (same benchmark).  Element counts below the automatic
     grid's resolution of the shortest surface wavelength are not offered.
     """
 

@@ -1,0 +1,167 @@
+"""Calibration of error estimates of the discretised solver: the a-priori bound and a two-grid a-posteriori estimate.
+
+Run as ``.venv/bin/python benchmarks/bench_discretised_estimate.py`` (about a minute, one BLAS thread).  Prints
+markdown tables; asserts nothing.
+
+Error: the larger relative error of T' and of the peak pressure p0 (the contract of ``solve(scene, tolerance=t)``).
+Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMENTS``:
+
+* bound: ``DiscretisedAccuracy.error``, ``max(c w/n, 3 (w/n)^2)`` with ``c = api.DISCRETISED_FORCE_ERROR`` (w the
+  automatic window over the Hertz width 2a);
+* two-grid: ``SAFETY * max_c max(|T'_n/T'_c - 1|, |p0_n/p0_c - 1|)`` over two coarse solves c of n/2 elements on
+  the same window, one of them shifted by one fine element (so its edges fall elsewhere within the coarse
+  elements): option (a) of the study, cost 1/4 to 1/2 of the solve;
+* shift spread: ``|T'_n / T'_n(window shifted by h/2) - 1|``, how much the answer at n itself moves when the grid
+  moves by half an element.  No estimate computed from this grid and coarser ones can tell the placement it got,
+  so none can certify an error below this spread.
+
+References: Hertz/Carter closed forms; the polynomial method at tolerance 1e-12 (512 slip nodes for
+velocity-dependent friction) where it applies; for split contacts, which only the discretised solver treats, the
+first-order Richardson extrapolation ``2 T_4000 - T_2000`` of discretised solves on a tight window (the patches
++- 10 %), each the mean over two grid placements (shift 0 and h/2); its uncertainty u is the change from
+``T_4000`` and an estimate counts as a bound only when it is >= error + u.
+
+Hertz/Carter cases use a fixed window (the automatic one of N' = 1 MN/m) for three loads, so the patch edges fall
+at different positions within the elements (with the automatic window, which scales with a, they would not).
+"""
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import math  # noqa: E402  (after the thread limits)
+import statistics  # noqa: E402
+import time  # noqa: E402
+
+import rollcontact as rc  # noqa: E402
+from rollcontact import api  # noqa: E402
+from rollcontact.closed_form import carter, hertz  # noqa: E402
+from rollcontact.discretised import automatic_grid, solve_discretised  # noqa: E402
+
+SAFETY = 3.0  # factor of the two-grid estimate: the largest error / raw difference measured here is 2.52
+RADIUS = 0.46
+MU = 0.3
+ESTAR = rc.Material().contact_modulus
+LOAD = 1e6
+WINDOW = (lambda g: (g.x_min, g.x_max))(automatic_grid(rc.Scene(LOAD)))
+STRUCTURED_ELEMENTS = (50, 100, 200, 400)  # velocity-dependent friction: n = 800 takes ~1 s
+
+
+def corrugated(wavelength, amplitude, axis, creep=1e-3):
+    return rc.Scene(LOAD, creep=creep, axis_position=axis,
+                    surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(wavelength, amplitude),)))
+
+
+def cases():
+    """(label, scene, window or None for the automatic one)."""
+    out = []
+    for load in (0.6e6, 1e6, 1.7e6):
+        saturation = MU * hertz(load, RADIUS, ESTAR)[0] / RADIUS
+        for fraction in (0.1, 0.5, 0.95, -0.3, -0.8):
+            scene = rc.Scene(load, creep=fraction * saturation)
+            out.append((f"Carter N' = {load / 1e6:.1f} MN/m, xi = {fraction:+.2f} sat", scene, WINDOW))
+    a_h = hertz(LOAD, RADIUS, ESTAR)[0]
+    for wavelength, amplitude, axis in ((0.04, 20e-6, 0.003), (0.02, 5e-6, 0.003), (0.01, 20e-6, 0.0),
+                                        (0.01, 10e-6, 0.0045), (0.01, 20e-6, 0.0045)):
+        label = f"corrugation {wavelength * 1e3:.0f} mm / {amplitude * 1e6:.0f} um, x_c = {axis * 1e3:.1f} mm, " \
+                f"k a = {2 * math.pi * a_h / wavelength:.2f}"
+        out.append((label, corrugated(wavelength, amplitude, axis), None))
+    out.append(("quartic profile", rc.Scene(LOAD, creep=1e-3, surface=rc.Surface(polynomial=(0, 0, 0, 0, -2e4))),
+                None))
+    saturation = MU * a_h / RADIUS
+    falling = rc.Scene(LOAD, creep=0.3 * saturation, rolling_speed=20.0, friction=rc.ExponentialFalling(MU, 0.4, 3.0))
+    out.append(("exponential falling mu, B = 3 s/m, V = 20 m/s", falling, None))
+    return out
+
+
+def reference(scene):
+    """(T', p0, how, relative uncertainty of T')."""
+    if scene.surface.is_flat and scene.friction.is_constant:
+        return (carter(scene.normal_load_per_length, scene.creep, RADIUS, ESTAR, MU)[0],
+                hertz(scene.normal_load_per_length, RADIUS, ESTAR)[1], "closed form", 0.0)
+    poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=512)
+    if poly.success:
+        return poly.tangential_force_per_length, poly.max_pressure, "polynomial 1e-12", 0.0
+    patches = solve_discretised(scene, elements=800).info["patches"]
+    lo, hi = patches[0][0], patches[-1][1]
+    margin = 0.1 * (hi - lo)
+    means = {}
+    for n in (2000, 4000):
+        h = (hi - lo + 2 * margin) / n
+        solved = [solve_discretised(scene, elements=n, window=(lo - margin + s * h, hi + margin + s * h))
+                  for s in (0.0, 0.5)]
+        means[n] = (statistics.mean(r.tangential_force_per_length for r in solved),
+                    statistics.mean(r.max_pressure for r in solved))
+    force = 2.0 * means[4000][0] - means[2000][0]
+    return force, means[4000][1], "Richardson discretised 2000/4000", abs(means[4000][0] / force - 1.0)
+
+
+def relative(a, b):
+    return abs(a / b - 1.0)
+
+
+def two_grid(scene, result):
+    """Raw two-grid difference (without SAFETY) of a result on its grid, or NaN when a coarse solve fails."""
+    grid = result.info["grid"]
+    h = grid.element_width
+    worst = 0.0
+    for shift in (0.0, h):
+        coarse = solve_discretised(scene, elements=grid.elements // 2, window=(grid.x_min + shift, grid.x_max + shift))
+        if not coarse.success:
+            return math.nan
+        worst = max(worst, relative(result.tangential_force_per_length, coarse.tangential_force_per_length),
+                    relative(result.max_pressure, coarse.max_pressure))
+    return worst
+
+
+def main():
+    start = time.perf_counter()
+    model = api.DiscretisedAccuracy()
+    rows = []
+    for label, scene, window in cases():
+        force, pressure, how, uncertainty = reference(scene)
+        sizes = api.DISCRETISED_ELEMENTS if scene.friction.is_constant else STRUCTURED_ELEMENTS
+        for n in sizes:
+            if n < model.resolution(scene):
+                continue
+            result = solve_discretised(scene, elements=n, window=window)
+            if not result.success:
+                continue
+            grid = result.info["grid"]
+            error = max(relative(result.tangential_force_per_length, force), relative(result.max_pressure, pressure))
+            options = {"elements": n} if window is None else {"elements": n, "window": window}
+            bound = model.error(scene, options)
+            estimate = SAFETY * two_grid(scene, result)
+            shifted = solve_discretised(scene, elements=n, window=(grid.x_min + 0.5 * grid.element_width,
+                                                                   grid.x_max + 0.5 * grid.element_width))
+            spread = relative(result.tangential_force_per_length, shifted.tangential_force_per_length)
+            half_width = hertz(scene.normal_load_per_length, RADIUS, ESTAR)[0]
+            coefficient = relative(result.tangential_force_per_length, force) * 2.0 * half_width * n / grid.length
+            rows.append((label, how, n, error, uncertainty, estimate, bound, spread, coefficient))
+        print(f"<!-- {label}: {time.perf_counter() - start:.0f} s -->", flush=True)
+    print(f"\nTwo-grid estimate (SAFETY = {SAFETY:g}) and a-priori bound (c = {api.DISCRETISED_FORCE_ERROR:g}) against "
+          "the true error of T' and p0.  u: the reference's uncertainty (0 for exact references).\n")
+    print("| case | reference | n | error | u | two-grid estimate | estimate / error | bound | bound / error | "
+          "shift spread | c = err_T' n / w |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for label, how, n, error, u, estimate, bound, spread, coefficient in rows:
+        print(f"| {label} | {how} | {n} | {error:.2e} | {u:.1e} | {estimate:.2e} | {estimate / error:.2f} | "
+              f"{bound:.2e} | {bound / error:.2f} | {spread:.1e} | {coefficient:.2f} |")
+    print("\n## Summary\n")
+    for name, column in (("two-grid estimate", 5), ("a-priori bound", 6)):
+        ratios = [row[column] / row[3] for row in rows if math.isfinite(row[column])]
+        misses = [row for row in rows if not row[column] >= row[3] + row[4]]
+        print(f"* {name}: estimate / error min {min(ratios):.2f}, median {statistics.median(ratios):.2f}, "
+              f"max {max(ratios):.3g} over {len(ratios)} results; below error + u: "
+              + (", ".join(f"{r[0]} n = {r[2]} ({r[column]:.2e} < {r[3]:.2e} + {r[4]:.1e})" for r in misses)
+                 or "none"))
+    print(f"* largest first-order coefficient c = err_T' n / w: {max(row[8] for row in rows):.2f} "
+          f"(the a-priori bound uses {api.DISCRETISED_FORCE_ERROR:g})")
+    print(f"* shift spread over error: median {statistics.median(r[7] / r[3] for r in rows):.2f}, "
+          f"max {max(r[7] / r[3] for r in rows):.2f}")
+    print(f"\n{len(rows)} results in {time.perf_counter() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
