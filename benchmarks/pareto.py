@@ -14,7 +14,11 @@ contact, which only the discretised solver treats, the discretised solver at n =
 the change from n = 1600.  Instationary rolling (creep control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``,
 64 host steps per cycle): max |T' - T'_ref| over the last cycle in units of mu N', reference the first-order
 Richardson extrapolation of the discretised transient at n = 400/800 (order measured in
-``bench_transient_auto.py``; the change of n = 800 from it shown).
+``bench_transient_auto.py``; the change of n = 800 from it shown).  The discretised transient, in the rows and the
+reference, is stepped through the FMU's model with ``method`` = 3, ``transient`` = 2 and ``elements`` = n: the
+grid auto's transient runs on (window about +-1.77 a, the Hertz patch edges on element boundaries,
+``ContactModel.prepare_grid``), so auto and the rows compare like for like; the n = 800 grid is the n = 400 one
+with every element halved.
 
 Time.  Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the cache of
 influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per
@@ -56,7 +60,7 @@ from rollcontact import api  # noqa: E402
 from rollcontact._bem import operators_for  # noqa: E402
 from rollcontact.closed_form import carter, hertz  # noqa: E402
 from rollcontact.instationary import InstationaryModel  # noqa: E402
-from rollcontact.model import ContactModel, ContactParameters  # noqa: E402
+from rollcontact.model import INSTATIONARY_CODES, ContactModel, ContactParameters  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
 TOLERANCES = (1e-2, 1e-3, 1e-4)
@@ -91,7 +95,7 @@ class Config:
 
 FULL = Config(False, 0.3, (1, 2, 4, 8, 16, 32), api.POLYNOMIAL_TOLERANCES, api.SLIP_NODES,
               api.DISCRETISED_ELEMENTS, (50, 100, 200, 400, 800), 1024, (800, 1600), (1600, 3200),
-              (5.0, 10.0, 20.0, 40.0), (50, 100, 200, 400), (400, 800), 30)
+              (5.0, 10.0, 20.0, 40.0), (50, 100, 200, 300, 400, 500, 600), (400, 800), 30)
 QUICK = Config(True, 0.02, (2, 8), (1e-2, 1e-4, 1e-6, 1e-10), (8, 16, 32), (50, 100, 200, 400), (50, 100),
                128, (100, 200), (400, 800), (10.0,), (50, 100), (100, 200), 4)
 
@@ -338,24 +342,38 @@ def run_instationary(step, wavelength: float) -> tuple[np.ndarray, float]:
     return np.array(forces), statistics.median(times)
 
 
+def model_stepper(**parameters):
+    """``step(xi, dt) -> T'`` of the FMU's stepping model with these parameters; ``step.model`` is the
+    :class:`ContactModel`, ``step.used`` the ``method_used`` of every step."""
+    model = ContactModel(ContactParameters(radius=R_I, contact_width=CONTACT_WIDTH, friction_coefficient=MU_I,
+                                           **parameters))
+    clock = [0.0]
+
+    def step(xi, dt):
+        out = model.step(clock[0], dt, LOAD_I * CONTACT_WIDTH, xi, SPEED)
+        clock[0] += dt
+        step.used.append(out.method_used)
+        return out.tangential_force / CONTACT_WIDTH
+    step.model, step.used = model, []
+    return step
+
+
 def instationary_stepper(kind: str, elements: int = 0, tolerance: float = 0.0):
-    """``step(xi, dt) -> T'`` for quasi-static Carter, the relaxation or transient model, or the FMU's model."""
+    """``step(xi, dt) -> T'`` for quasi-static Carter, the relaxation model, the discretised transient with
+    ``elements`` (0: 100) or the FMU's model with ``transient`` = 1 (auto) and ``tolerance``.
+
+    The transient is the FMU's model with ``method`` = 3, ``transient`` = 2: the grid auto's transient builds for
+    the same n (aligned to the load).  Over the measured cycle it agrees with auto forced to that n (``elements``
+    = n) to 1e-7 mu N' (measured for n = 100, 200 at lambda/a = 5, 40): auto starts from steady rolling, this from
+    no traction, and the start has decayed.
+    """
     if kind == "quasi-static":
         return lambda xi, dt: carter(LOAD_I, xi, R_I, ESTAR, MU_I)[0]
-    if kind == "auto":  # the FMU's stepping model with transient = 1 (auto) and the requested tolerance
-        model = ContactModel(ContactParameters(radius=R_I, contact_width=CONTACT_WIDTH, friction_coefficient=MU_I,
-                                               transient=1, tolerance=tolerance))
-        clock = [0.0]
-
-        def auto_step(xi, dt):
-            out = model.step(clock[0], dt, LOAD_I * CONTACT_WIDTH, xi, SPEED)
-            clock[0] += dt
-            auto_step.used.append(out.method_used)
-            return out.tangential_force / CONTACT_WIDTH
-        auto_step.used = []
-        return auto_step
-    model = InstationaryModel(R_I, ESTAR, MU_I, mode=kind, max_normal_load_per_length=LOAD_I,
-                              elements=elements or 100)
+    if kind == "auto":
+        return model_stepper(transient=1, tolerance=tolerance)
+    if kind == "transient":
+        return model_stepper(method=3, transient=2, elements=elements)
+    model = InstationaryModel(R_I, ESTAR, MU_I, mode=kind)
     state = [model.initial_state()]
 
     def step(xi, dt):
@@ -370,10 +388,15 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
     coarse, fine = config.transient_reference
     for wavelength in config.wavelengths:
         case = f"lambda/a = {wavelength:g}"
-        runs = {n: run_instationary(instationary_stepper("transient", n), wavelength) for n in (coarse, fine)}
-        ref = richardson(runs[coarse][0], runs[fine][0], fine / coarse)
+        steppers = {n: instationary_stepper("transient", n) for n in (coarse, fine)}
+        runs = {n: run_instationary(step, wavelength) for n, step in steppers.items()}
+        grids = {n: step.model.instationary.solver.grid for n, step in steppers.items()}
+        # aligned grids of different n can differ in window: extrapolate in the element width
+        ref = richardson(runs[coarse][0], runs[fine][0], grids[coarse].element_width / grids[fine].element_width)
+        windows = "/".join(f"{grids[n].x_max / A_I:.3f}" for n in (coarse, fine))
         references.append((case, f"first-order Richardson extrapolation of the discretised transient n = "
-                                 f"{coarse}/{fine}",
+                                 f"{coarse}/{fine} on the FMU model's grids (method 3, transient 2; windows +-"
+                                 f"{windows} a, the Hertz patch edges on element boundaries)",
                            f"n = {fine} differs from it by {np.abs(runs[fine][0] - ref).max() / limit:.1e} mu N'"))
         settings = [("quasi-static", {}), ("relaxation", {})]
         settings += [("transient", {"elements": n}) for n in sorted({*config.transient_elements, fine})]
@@ -383,16 +406,23 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
                 instationary_stepper(kind, n), wavelength)
             rows.append(Row("instationary", case, kind, setting_label(kind, options), options,
                             float(np.abs(forces - ref).max() / limit), 0.0, t))
+        case_rows = [r for r in rows if r.case == case]
         for tolerance in TOLERANCES:
             stepper = instationary_stepper("auto", tolerance=tolerance)
             forces, t = run_instationary(stepper, wavelength)
             measured = stepper.used[-STEPS_PER_CYCLE:]
-            shares = ", ".join(f"{sum(code == c for code in measured) / len(measured):.0%} {name}"
-                               for c, name in ((4, "relaxation"), (5, "transient")) if c in measured)
-            label = f"FMU auto ({shares or 'quasi-static'})"
+            model = stepper.model.instationary
+            name = model.mode + (f" n = {model.elements}" if model.mode == "transient" else "")
+            code = INSTATIONARY_CODES[model.mode]
+            share = f"{measured.count(code) / len(measured):.0%} {name}" if code in measured else "quasi-static"
             error = float(np.abs(forces - ref).max() / limit)
-            choice = AutoChoice("instationary", case, tolerance, "auto", label, error, t, math.nan, error <= tolerance)
-            choices.append(with_cheapest(choice, [r for r in rows if r.case == case]))
+            choice = AutoChoice("instationary", case, tolerance, "auto", f"FMU auto ({share})", error, t, math.nan,
+                                error <= tolerance)
+            if set(measured) == {code}:  # every measured step ran one model: its row is auto's setting
+                for row in case_rows:
+                    if row.method == model.mode and row.options.get("elements", model.elements) == model.elements:
+                        choice.chosen_time = row.time
+            choices.append(with_cheapest(choice, case_rows))
     return rows, choices, references
 
 
@@ -687,8 +717,9 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Pat
               "(auto) and `tolerance = t` (it switches between quasi-static Carter and the relaxation lag, or the "
               "discretised transient when t is below the lag's accuracy).  "
               "'cheapest measured' is the fastest measured setting whose error is <= t (by measured time, so "
-              "noise and lucky cancellations count).  'x cheapest': auto's time over it, with, for steady cases, "
-              "the time of auto's setting run directly over it in brackets (the rest is the choice itself).", "",
+              "noise and lucky cancellations count).  'x cheapest': auto's time over it, with the time of auto's "
+              "setting run directly over it in brackets (steady: the rest is the choice itself; instationary: "
+              "where every measured step ran one model, the rest is the model's overhead).", "",
               "| family | case | t | auto's choice | error | estimate | meets t | time | cheapest measured meeting t "
               "| x cheapest |",
               "|---|---|---|---|---|---|---|---|---|---|"]
