@@ -889,3 +889,38 @@ def test_cached_power_to_chebyshev_matrix_equals_poly2cheb(size):
                                rtol=0.0, atol=1e-14 * np.abs(coefficients).sum())
     with pytest.raises(ValueError):
         matrix[0, 0] = 2.0
+
+
+def test_surface_height_equals_surface_method_bit_for_bit():
+    """deformed_gap's Horner evaluation of Z against Surface.height (numpy's polyval): the same operations, so the
+    same bits, signed zeros included, for polynomials with zero and trailing-zero coefficients and harmonics."""
+    rng = np.random.default_rng(11)
+    for _ in range(200):
+        poly = tuple((rng.standard_normal(rng.integers(0, 7)) * 10.0 ** rng.uniform(-3, 3)).tolist())
+        if rng.random() < 0.3:
+            poly = (0.0, 0.0, *poly, 0.0)
+        harmonics = tuple(Harmonic(rng.uniform(1.0, 1e3), rng.standard_normal() * 1e-5, rng.standard_normal() * 1e-5)
+                          for _ in range(rng.integers(0, 3)))
+        surface = Surface(polynomial=poly, harmonics=harmonics)
+        x = np.append(rng.standard_normal(40) * 10.0 ** rng.uniform(-4, 0), (0.0, -0.0))
+        assert polynomial.surface_height(surface, x).tobytes() == surface.height(x).tobytes(), (poly, harmonics)
+
+
+def test_cached_outside_points_match_their_definition_and_are_read_only():
+    """outside_gap's cached samples are outer_points of t = +-(1 + reach (i/m)^2), frozen; deformed_gap gives the
+    same bits with them as from t alone."""
+    t, *points = polynomial.outside_points(40, 2.5)
+    u = 2.5 * (np.arange(1, 41) / 40.0) ** 2
+    np.testing.assert_allclose(t, np.concatenate((1.0 + u, -1.0 - u)), rtol=1e-15)
+    for computed, cached in zip(polynomial.outer_points(t), points, strict=True):
+        assert computed.tobytes() == cached.tobytes()
+    for table in (t, *points):
+        with pytest.raises(ValueError, match="read-only"):
+            table[0] = 0
+    scene = Scene(1e6, creep=1e-3, axis_position=0.002,
+                  surface=Surface(harmonics=(Harmonic.from_wavelength(0.010, 20e-6),)), **SPLIT)
+    r = solve(scene, method="polynomial")
+    e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
+    a, x0 = r.contact_half_width, r.contact_offset
+    assert (polynomial.deformed_gap(r.distributions, e, a, x0, t, points).tobytes() ==
+            polynomial.deformed_gap(r.distributions, e, a, x0, t).tobytes())

@@ -15,9 +15,11 @@ exactly with Jacobi-Anger, ``cos(phi + z t) = sum eps_n J_n(z) cos(phi + n pi/2)
 ``eps_n = 2``), which is where the paper's Bessel functions come from.
 
 Speed.  A solve calls these functions a few dozen times on tiny data, so the cost is per-call overhead, not
-arithmetic: the scalar paths use plain floats (``math`` and scalar ``scipy.special.j0/j1``), and every table that
+arithmetic: the scalar paths use plain floats (``math`` and the Cython scalar ``j0/j1`` of
+:mod:`scipy.special.cython_special`, the same functions as the ufuncs without their dispatch), and every table that
 depends only on sizes (angle grids, sine/cosine tables, their index vectors) is built once in a bounded
 module-level cache keyed by those sizes and returned read-only, so no call can alter what another call sees.
+Products are ``ndarray.dot``: the BLAS call of ``@`` (the same bits) without the gufunc dispatch (~1 us a call).
 """
 
 from __future__ import annotations
@@ -29,13 +31,15 @@ import numpy as np
 from numpy.polynomial import chebyshev as npcheb
 from numpy.polynomial import polynomial as nppoly
 from scipy import special
+from scipy.special import cython_special
 
 from rollcontact.scene import Harmonic, Surface
 
 __all__ = ["SlopeExpansion", "outer_transform", "sine_series", "theta_grid", "unit_grid"]
 
-_j0 = special.j0
-_j1 = special.j1
+# the scalar Bessel functions of the Newton loops: bit-identical to special.j0/j1, a third of the call cost
+_j0 = cython_special.j0
+_j1 = cython_special.j1
 _jv = special.jv
 
 
@@ -60,7 +64,7 @@ def theta_grid(m: int, n_max: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @lru_cache(maxsize=64)
-def pressure_table(m: int, n_max: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def pressure_table(m: int, n_max: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Tables on the angles ``theta_i = pi i/m`` (i = 1..m-1) for series of n = 1..n_max terms (cached).
 
     Returns
@@ -71,12 +75,15 @@ def pressure_table(m: int, n_max: int) -> tuple[np.ndarray, np.ndarray, np.ndarr
         (theta = 0, trailing edge) and ``sum n c_n (-1)^(n-1)`` (theta = pi, leading edge).
     cosines : ndarray
         ``n cos(n theta_i)`` (derivative rows, for Newton on the maximum).
-    cos_theta : ndarray
-        ``cos(theta_i)``.
+    one_plus_cos : ndarray
+        ``1 + cos(theta_i)`` (the stick-zone samples of the traction check).
+    n, n_squared : ndarray
+        ``n`` and ``n^2`` (the Newton steps on the maximum weight the series by them).
     """
     theta, sines = theta_grid(m, n_max)
     n = np.arange(1, n_max + 1, dtype=float)
-    return read_only(np.vstack((sines, n, n * (-1.0) ** (n - 1))), n * np.cos(theta[:, None] * n), np.cos(theta))
+    return read_only(np.vstack((sines, n, n * (-1.0) ** (n - 1))), n * np.cos(theta[:, None] * n),
+                     1.0 + np.cos(theta), n, n * n)
 
 
 @lru_cache(maxsize=64)
@@ -117,11 +124,14 @@ def double_factorial_ratio(j: int) -> float:
 
 @lru_cache(maxsize=32)
 def slope_tables(polynomial: tuple, origin: float = 0.0) -> tuple:
-    """``(slope_poly, slope_derivs, deriv_lists)`` of ``Z(origin + u)`` in u, ``Z(X) = sum polynomial[j] X^j``
-    (:func:`taylor_shift`; cached by value).
+    """``(slope_poly, slope_derivs, deriv_lists, horner_lists, curvature_poly)`` of ``Z(origin + u)`` in u,
+    ``Z(X) = sum polynomial[j] X^j`` (:func:`taylor_shift`; cached by value).
 
     ``Z'`` as power coefficients with all its derivatives, as read-only arrays and as lists (the scalar paths run
-    in Newton loops, where numpy scalars cost more than the maths).
+    in Newton loops, where numpy scalars cost more than the maths); ``horner_lists`` are the lists that
+    :meth:`SlopeExpansion.moments` evaluates (derivatives 0 to ``deg Z'' + 1``), highest coefficient first;
+    ``curvature_poly`` are the coefficients of ``Z''`` without trailing zeros
+    (:meth:`SlopeExpansion.curvature_bound`).
     """
     slope_poly = nppoly.polyder(np.asarray(taylor_shift(polynomial, origin), dtype=float))
     slope_derivs = [slope_poly]
@@ -130,30 +140,38 @@ def slope_tables(polynomial: tuple, origin: float = 0.0) -> tuple:
         slope_derivs.append(nppoly.polyder(d) if d.size > 1 else np.zeros(1))
     for d in slope_derivs:
         d.flags.writeable = False
-    return slope_poly, tuple(slope_derivs), tuple(tuple(d.tolist()) for d in slope_derivs)
+    deriv_lists = tuple(tuple(d.tolist()) for d in slope_derivs)
+    curvature_poly = list(deriv_lists[1])
+    while len(curvature_poly) > 1 and curvature_poly[-1] == 0.0:
+        curvature_poly.pop()
+    return (slope_poly, tuple(slope_derivs), deriv_lists, tuple(d[::-1] for d in deriv_lists[: slope_poly.size + 1]),
+            tuple(curvature_poly))
 
 
 @lru_cache(maxsize=32)
 def surface_data(surface) -> tuple:
     """What :class:`SlopeExpansion` needs from a surface, cached by value (Surface is frozen and hashable).
 
-    Returns ``(has_poly, slope_poly, slope_derivs, deriv_lists, poly_weights, harmonic_list, harmonic_curvature,
-    max_wavenumber)``: the :func:`slope_tables` of the polynomial part, the moment weights of
-    :meth:`SlopeExpansion.moments`, the non-zero harmonics as plain ``(k, Phi, Psi)`` tuples, ``sum k^2 |Z_m| >=
-    |Z''|`` of the harmonics and their largest k (0 without harmonics).
+    Returns ``(has_poly, slope_poly, slope_derivs, deriv_lists, horner_lists, curvature_poly, poly_weights,
+    harmonic_list, harmonic_curvature, max_wavenumber)``: the :func:`slope_tables` of the polynomial part, the
+    moment weights of :meth:`SlopeExpansion.moments` as ``(j, weight, 1/j!, j even)``, the non-zero harmonics as
+    plain ``(k, Phi, Psi)`` tuples, ``sum k^2 |Z_m| >= |Z''|`` of the harmonics and their largest k (0 without
+    harmonics).
     """
     has_poly = any(c != 0.0 for c in surface.polynomial[1:])
     if has_poly:
-        slope_poly, slope_derivs, deriv_lists = slope_tables(surface.polynomial)
+        slope_poly, slope_derivs, deriv_lists, horner_lists, curvature_poly = slope_tables(surface.polynomial)
     else:
         slope_poly = read_only(np.zeros(1))
         slope_derivs = (slope_poly, slope_poly)
         deriv_lists = ((0.0,), (0.0,))
+        horner_lists = ()
+        curvature_poly = (0.0,)
     harmonic_list = tuple((hm.wavenumber, hm.cos_amplitude, hm.sin_amplitude) for hm in surface.harmonics
                           if hm.amplitude != 0.0)
-    return (has_poly, slope_poly, slope_derivs, deriv_lists,
-            tuple((j, double_factorial_ratio(j) if j % 2 == 0 else first_moment_weight(j), 1.0 / math.factorial(j))
-                  for j in range(slope_poly.size)),
+    return (has_poly, slope_poly, slope_derivs, deriv_lists, horner_lists, curvature_poly,
+            tuple((j, double_factorial_ratio(j) if j % 2 == 0 else first_moment_weight(j), 1.0 / math.factorial(j),
+                   j % 2 == 0) for j in range(slope_poly.size)),
             harmonic_list, sum(k * k * math.hypot(phi, psi) for k, phi, psi in harmonic_list),
             max((k for k, _, _ in harmonic_list), default=0.0))
 
@@ -194,12 +212,13 @@ class SlopeExpansion:
     def __init__(self, radius, axis_position, surface):
         self.radius = float(radius)
         self.axis_position = x_c = float(axis_position)
-        (self.has_poly, self.slope_poly, self.slope_derivs, self.deriv_lists, self.poly_weights, harmonics,
-         self.harmonic_curvature, self.max_wavenumber) = surface_data(surface)
+        (self.has_poly, self.slope_poly, self.slope_derivs, self.deriv_lists, self.horner_lists, self.curvature_poly,
+         self.poly_weights, harmonics, self.harmonic_curvature, self.max_wavenumber) = surface_data(surface)
         self.surface_polynomial = surface.polynomial
         if x_c != 0.0:
             if self.has_poly:
-                self.slope_poly, self.slope_derivs, self.deriv_lists = slope_tables(surface.polynomial, x_c)
+                (self.slope_poly, self.slope_derivs, self.deriv_lists, self.horner_lists,
+                 self.curvature_poly) = slope_tables(surface.polynomial, x_c)
             rotated = []
             for k, phi, psi in harmonics:
                 cs, sn = math.cos(k * x_c), math.sin(k * x_c)
@@ -234,19 +253,25 @@ class SlopeExpansion:
         m0 = m1 = d0h = d0c = d1h = d1c = 0.0
         if self.has_poly:
             # Z^(j+1)(c), each needed twice below, by :func:`horner` written out (this runs in every Newton step,
-            # where a call per derivative costs more than its sums)
-            q = []
-            for coefficients in self.deriv_lists:
+            # where a call per derivative costs more than its sums; the lists come reversed and the list of values
+            # preallocated, for the same reason)
+            q = [0.0] * len(self.horner_lists)
+            i = 0
+            for coefficients in self.horner_lists:
                 v = 0.0
-                for coef in reversed(coefficients):
+                for coef in coefficients:
                     v = v * c + coef
-                q.append(v)
-            for j, w, inv_fact in self.poly_weights:
+                q[i] = v
+                i += 1
+            h_prev = 0.0  # h**(j-1), carried over from the previous term: one power per term
+            for j, w, inv_fact, even in self.poly_weights:
                 qj = q[j] * inv_fact
                 qj1 = q[j + 1] * inv_fact
-                whj = w * h**j
-                wdhj = w * (j * h ** (j - 1)) if j > 0 else 0.0
-                if j % 2 == 0:
+                hj = h**j
+                whj = w * hj
+                wdhj = w * (j * h_prev) if j > 0 else 0.0
+                h_prev = hj
+                if even:
                     m0 += whj * qj
                     d0h += wdhj * qj
                     d0c += whj * qj1
@@ -258,8 +283,8 @@ class SlopeExpansion:
             z = k * h
             kc = k * c
             cs, sn = math.cos(kc), math.sin(kc)
-            j0 = float(_j0(z))
-            j1 = float(_j1(z))
+            j0 = _j0(z)
+            j1 = _j1(z)
             # J1'(z) = J0 - J1/z, -> 1/2 as z -> 0
             j1p = j0 - j1 / z if z > 1e-8 else 0.5 - z * z * 3.0 / 16.0
             a0 = psi * cs - phi * sn
@@ -285,9 +310,7 @@ class SlopeExpansion:
         bound = self.harmonic_curvature
         if not self.has_poly:
             return bound
-        q = list(self.deriv_lists[1])
-        while len(q) > 1 and q[-1] == 0.0:
-            q.pop()
+        q = self.curvature_poly
         if math.isfinite(lo) and math.isfinite(hi):
             r = max(abs(lo), abs(hi))
             return bound + sum(abs(c) * r**j for j, c in enumerate(q))
@@ -315,7 +338,7 @@ class SlopeExpansion:
                 cs, sn = math.cos(kc), math.sin(kc)
                 a0 = k * (psi * cs - phi * sn)
                 a1 = k * (phi * cs + psi * sn)
-                g += _jv(n, k * h) * (quarter @ np.array((-a0, a1, a0, -a1)))
+                g += _jv(n, k * h) * quarter.dot(np.array((-a0, a1, a0, -a1)))
         else:
             g = np.zeros(order + 1)
         g[0] += c / self.radius
@@ -325,7 +348,7 @@ class SlopeExpansion:
             # Taylor polynomial of Z'(c + h t) in t, then to the Chebyshev basis
             taylor = np.array([horner(self.deriv_lists[j], c) * h**j / math.factorial(j)
                                for j in range(self.slope_poly.size)])
-            cheb = power_to_chebyshev(taylor.size) @ taylor
+            cheb = power_to_chebyshev(taylor.size).dot(taylor)
             m = min(cheb.size, order + 1)
             g[:m] -= cheb[:m]
         return g
@@ -341,20 +364,26 @@ class SlopeExpansion:
         if not self.has_harmonics:
             return order
         target = tolerance * h / self.radius
+        # bounds at the start by logarithms (no overflow for any kh), then b_(n+1) = b_n z/(n+1) in floats:
+        # from n > z on they only decrease
+        if len(self.harmonic_list) == 1:  # the usual single harmonic, in plain floats and without lists
+            k, phi, psi = self.harmonic_list[0]
+            z = 0.5 * k * h
+            n = max(order, int(z) + 1)
+            if n >= max_order:
+                return max_order
+            if z > 0.0:
+                b = math.exp(math.log(2.0 * k * math.hypot(phi, psi)) + n * math.log(z) - math.lgamma(n + 1))
+                while n < max_order and b > target:
+                    n += 1
+                    b *= z / n
+            return n
         terms = [(0.5 * k * h, 2.0 * k * math.hypot(phi, psi)) for k, phi, psi in self.harmonic_list]
         n = max(order, int(max(z for z, _ in terms)) + 1)
         if n >= max_order:
             return max_order
-        # bounds at the start by logarithms (no overflow for any kh), then b_(n+1) = b_n z/(n+1) in floats:
-        # from n > z on they only decrease
         zs = [z for z, _ in terms if z > 0.0]
         bounds = [math.exp(math.log(amp) + n * math.log(z) - math.lgamma(n + 1)) for z, amp in terms if z > 0.0]
-        if len(zs) == 1:  # the usual single harmonic, in plain floats
-            b, z = bounds[0], zs[0]
-            while n < max_order and b > target:
-                n += 1
-                b *= z / n
-            return n
         while n < max_order and sum(bounds) > target:
             n += 1
             bounds = [b * z / n for b, z in zip(bounds, zs, strict=True)]

@@ -29,17 +29,19 @@ is available as ``basis="monomial"`` to measure its conditioning.
 
 Cost.  A solve is a few dozen operations on vectors of ~10-60 entries, so per-call overhead decides the time:
 Newton iterations run on plain floats, tables that depend only on sizes are cached (:mod:`rollcontact.chebyshev`),
-and the pressure samples serve both the checks and ``max_pressure``.  Where the surface curvature allows, a
-theorem replaces sampling: with ``|Z''| < 1/R`` on the patch the creep ``xi(a*)`` of eq 31 decreases (unique
-root, no scan) and the slip has the sign of the creep; with ``|Z''| <= 1/(3R)`` the stick-zone traction bound
-holds; with ``Z'' < 1/R`` everywhere the deformed gap cannot close outside the patch (:func:`validity_failures`,
-:func:`outside_gap`).  Otherwise the checks sample as before.
+and the pressure samples serve both the checks and ``max_pressure``.  Products of arrays are ``ndarray.dot``, the
+same BLAS call as ``@`` (the same bits) without the gufunc dispatch, which costs about a microsecond per product.
+Where the surface curvature allows, a theorem replaces sampling: with ``|Z''| < 1/R`` on the patch the creep
+``xi(a*)`` of eq 31 decreases (unique root, no scan) and the slip has the sign of the creep; with
+``|Z''| <= 1/(3R)`` the stick-zone traction bound holds; with ``Z'' < 1/R`` everywhere the deformed gap cannot close
+outside the patch (:func:`validity_failures`, :func:`outside_gap`).  Otherwise the checks sample as before.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy import linalg
@@ -50,6 +52,7 @@ from rollcontact.chebyshev import (
     orders,
     outer_transform,
     pressure_table,
+    read_only,
     sine_series,
     theta_grid,
     unit_grid,
@@ -603,7 +606,7 @@ def pressure_samples(c_n: np.ndarray) -> tuple[int, np.ndarray]:
     :func:`rollcontact.chebyshev.pressure_table`, shared by :func:`max_pressure` and :func:`validity_failures`.
     """
     m = max(64, 4 * c_n.size)
-    return m, pressure_table(m, c_n.size - 1)[0] @ c_n[1:]
+    return m, pressure_table(m, c_n.size - 1)[0].dot(c_n[1:])
 
 
 def max_pressure(c_n: np.ndarray, m: int, samples: np.ndarray) -> float:
@@ -616,14 +619,13 @@ def max_pressure(c_n: np.ndarray, m: int, samples: np.ndarray) -> float:
     p = samples[:-2]
     i = int(p.argmax())
     best = float(p[i])
-    n = orders(c_n.size - 1)[0][1:]
     c = c_n[1:]
-    sines, cosines, _ = pressure_table(m, n.size)
-    nnc = n * n * c
+    sines, cosines, _, n, n_squared = pressure_table(m, c.size)
+    nnc = n_squared * c
     th = math.pi * (i + 1) / m
     value = best
-    d2 = -float(sines[i] @ nnc)
-    d1 = float(cosines[i] @ c)
+    d2 = -float(sines[i].dot(nnc))
+    d1 = float(cosines[i].dot(c))
     for _ in range(4):
         if d2 >= 0.0:
             break
@@ -633,9 +635,9 @@ def max_pressure(c_n: np.ndarray, m: int, samples: np.ndarray) -> float:
         th = min(max(th - step, 0.0), math.pi)
         ang = n * th
         sn = np.sin(ang)
-        value = float(sn @ c)
-        d2 = -float(sn @ nnc)
-        d1 = float(np.cos(ang) @ (n * c))
+        value = float(sn.dot(c))
+        d2 = -float(sn.dot(nnc))
+        d1 = float(np.cos(ang).dot(n * c))
     return max(best, value)
 
 
@@ -678,8 +680,9 @@ def validity_failures(dist: PolynomialDistributions, e: SlopeExpansion, scene, a
         p = dist.pressure(dist.offset + a * np.cos(theta_grid(m, c_n.size - 1)[0]))
         edges = (0.0, 0.0)
         curvature = math.inf
-    p_min = float(p.min())
-    p_scale = max(float(p.max()), -p_min, 1e-300)
+    # the extremes by index (argmin/argmax cost a third of the min/max reductions; the same values, NaN included)
+    p_min = float(p[p.argmin()])
+    p_scale = max(float(p[p.argmax()]), -p_min, 1e-300)
     if p_min < -tol * p_scale or min(edges) < -tol * p_scale:
         i = int(np.argmin(p))
         out.append(f"contact splits: the pressure turns negative (min p = {p[i]:.4g} Pa near x = "
@@ -696,12 +699,12 @@ def validity_failures(dist: PolynomialDistributions, e: SlopeExpansion, scene, a
     if h > 0.0 and not curvature <= STICK_PROVEN:
         d = dist.stick_coefficients
         theta, table_s = theta_grid(m, d.size - 1)
-        q2 = table_s @ d[1:]
+        q2 = table_s.dot(d[1:])
         # p at the zone's points x = Xs + h cos(theta_i), i.e. t = -1 + (h/a)(1 + cos(theta_i))
-        cos_theta = pressure_table(m, c_n.size - 1)[2]
-        ps = np.sin(np.arccos((h / a) * (1.0 + cos_theta) - 1.0)[:, None] * orders(c_n.size - 1)[0][1:]) @ c_n[1:]
+        _, _, one_plus_cos, n, _ = pressure_table(m, c_n.size - 1)
+        ps = np.sin(np.arccos((h / a) * one_plus_cos - 1.0)[:, None] * n).dot(c_n[1:])
         excess = np.maximum(q2, -2.0 * mu * ps - q2)
-        if float(excess.max()) > tol * mu * p_scale:
+        if float(excess[excess.argmax()]) > tol * mu * p_scale:  # max by index, as p_scale
             i = int(np.argmax(excess > tol * mu * p_scale))
             out.append(f"traction bound |q| <= mu p violated in the stick zone at x = "
                        f"{dist.stick_offset + h * math.cos(theta[i]):.6g} m "
@@ -726,12 +729,12 @@ def slip_zone_samples(dist: PolynomialDistributions, a: float) -> tuple[np.ndarr
     t_lo = 2.0 * h / a - 1.0
     t = t_lo + (1.0 - t_lo) * unit_grid(48)[1:]
     g = dist.slope_coefficients
-    s = np.cos(np.arccos(t)[:, None] * orders(g.size - 1)[0][1:]) @ g[1:]
+    s = np.cos(np.arccos(t)[:, None] * orders(g.size - 1)[0][1:]).dot(g[1:])
     if h > 0.0:
         sigma = (1.0 + t) * (a / h) - 1.0  # >= 1 up to round-off
         w = 1.0 / (sigma + np.sqrt(np.maximum(sigma * sigma - 1.0, 0.0)))
         big_g = dist.stick_slope_coefficients
-        s -= (w[:, None] ** orders(big_g.size - 1)[0][1:]) @ big_g[1:]
+        s -= (w[:, None] ** orders(big_g.size - 1)[0][1:]).dot(big_g[1:])
     return abs(dist.creep) + dist.mu * s, t
 
 
@@ -756,43 +759,119 @@ def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, a, x0):
         reach = max(reach, math.sqrt(8.0 * e.radius * amp) + abs(x0))
         spacing = min(spacing, 0.2 * math.pi / e.max_wavenumber)
     m = int(min(2000, max(32, reach / spacing)))
-    u = unit_grid(m + 1)[1:] ** 2 * (reach / a)
-    t = np.concatenate((1.0 + u, -1.0 - u))
-    gap = deformed_gap(dist, e, a, x0, t)
-    i = int(np.argmin(gap))
+    t, *points = outside_points(m, reach / a)
+    gap = deformed_gap(dist, e, a, x0, t, points)
+    i = int(gap.argmin())
     if gap[i] < -1e-9 * a * a / e.radius:
         return float(x0 + a * t[i]), float(gap[i])
     return None
 
 
-def deformed_gap(dist: PolynomialDistributions, e: SlopeExpansion, a: float, x0: float, t: np.ndarray) -> np.ndarray:
+def outer_points(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """What :func:`deformed_gap` needs of its points ``t`` (``|t| > 1``) alone, whatever the patch and its fields.
+
+    Parameters
+    ----------
+    t : ndarray
+        Patch coordinates outside the patch.
+
+    Returns
+    -------
+    t_edges : ndarray
+        ``t`` followed by the two edges, 1 and -1.
+    trailing : ndarray of bool
+        ``t > 0``: the points behind the trailing edge.
+    w : ndarray
+        ``1/(t + sign(t) sqrt(t^2 - 1))``, ``|w| < 1``.
+    log_w : ndarray
+        ``ln|w|``.
+    """
+    sign = np.sign(t)
+    w = 1.0 / (t + sign * np.sqrt(t * t - 1.0))
+    return np.append(t, (1.0, -1.0)), sign > 0.0, w, np.log(np.abs(w))
+
+
+@lru_cache(maxsize=32)
+def outside_points(m: int, reach: float) -> tuple[np.ndarray, ...]:
+    """The samples of :func:`outside_gap` and their :func:`outer_points`, cached read-only by ``(m, reach)``: a
+    profile without harmonics always samples the same ``m = 32`` points at ``reach = 2``, and so does every repeated
+    scene.
+
+    Parameters
+    ----------
+    m : int
+        Samples on each side of the patch.
+    reach : float
+        How far they go past each edge, in half-widths.
+
+    Returns
+    -------
+    tuple of ndarray
+        ``t = 1 + reach (i/m)^2`` then ``-t`` (i = 1..m, quadratically graded towards the edges), followed by the
+        four arrays of :func:`outer_points`.
+    """
+    u = unit_grid(m + 1)[1:] ** 2 * reach
+    t = np.concatenate((1.0 + u, -1.0 - u))
+    return read_only(t, *outer_points(t))
+
+
+def deformed_gap(dist: PolynomialDistributions, e: SlopeExpansion, a: float, x0: float, t: np.ndarray,
+                 points: tuple | None = None) -> np.ndarray:
     """Deformed gap [m] at ``u = Delta + a t`` (axis coordinates, ``x0 = Delta``) outside the patch (``|t| > 1``),
     in closed form, with the surface of :meth:`SlopeExpansion.axis_surface`.
 
     With ``t = (w + 1/w)/2`` (``|w| < 1``) the elastic slope is ``v = sum g_n w^n`` and
     ``int w^n dt = (w^(n+1)/(n+1) - w^(n-1)/(n-1))/2`` (``(w^2/2 - ln|w|)/2`` for n = 1), so
     ``h(u) = h0(u) - h0(u_edge) - a sum g_n [I_n(w) - I_n(w_edge)]`` with ``w_edge = sign(t)``: exact at every
-    point, no quadrature.
+    point, no quadrature.  ``points`` are the :func:`outer_points` of ``t`` if the caller has them (cached by
+    :func:`outside_points`); they are computed otherwise.
     """
-    g = dist.slope_coefficients
-    n_max = g.size - 1
-    sign = np.sign(t)
-    w = 1.0 / (t + sign * np.sqrt(t * t - 1.0))
-    # antiderivative coefficients: sum_n g_n I_n(w) = sum_j beta_j w^j - (g_1/2) ln|w|
-    beta = np.zeros(n_max + 2)
-    n = orders(n_max)[0][1:]
-    beta[2:] += 0.5 * g[1:] / (n + 1)
-    beta[1:n_max] -= 0.5 * g[2:] / n[:-1]
+    t_edges, trailing, w, log_w = outer_points(t) if points is None else points
+    g = dist.slope_coefficients.tolist()
+    n_max = len(g) - 1
+    # antiderivative coefficients beta_1 .. beta_(n_max+1): sum_n g_n I_n(w) = sum_j beta_j w^j - (g_1/2) ln|w|
+    # (plain floats: a few terms, where each numpy call would cost more than the arithmetic)
+    beta = [0.0, *(0.5 * g[j - 1] / j for j in range(2, n_max + 2))]
+    for j in range(1, n_max):
+        beta[j - 1] -= 0.5 * g[j + 1] / j
     # w^j by cumulative products (np.power is far slower), |w| < 1 so no overflow
     powers = np.multiply.accumulate(np.repeat(w[:, None], n_max + 1, axis=1), axis=1)
-    antiderivative = powers @ beta[1:] - 0.5 * g[1] * np.log(np.abs(w))
+    antiderivative = powers.dot(np.array(beta)) - 0.5 * g[1] * log_w
     # h0 at the points and, last, at the two edges (one surface evaluation); there w = +-1 and ln|w| = 0
-    u = np.append(x0 + a * t, (x0 + a, x0 - a))
-    h0 = u**2 / (2.0 * e.radius) - e.axis_surface().height(u)
-    beta_list = beta[1:].tolist()
-    at_edges = (math.fsum(beta_list), math.fsum(b if j % 2 else -b for j, b in enumerate(beta_list)))
-    at_edge = np.where(sign > 0.0, h0[-2] - a * at_edges[0], h0[-1] - a * at_edges[1])
+    u = x0 + a * t_edges
+    h0 = u**2 / (2.0 * e.radius) - surface_height(e.axis_surface(), u)
+    at_edges = (math.fsum(beta), math.fsum(b if j % 2 else -b for j, b in enumerate(beta)))
+    at_edge = np.where(trailing, h0[-2] - a * at_edges[0], h0[-1] - a * at_edges[1])
     return h0[:-2] - a * antiderivative - at_edge
+
+
+def surface_height(surface, x: np.ndarray) -> np.ndarray:
+    """``surface.height(x)`` for an array x by the same operations, so to the same bits, with the polynomial part by
+    Horner's rule written out: ``numpy.polynomial.polynomial.polyval``'s argument handling costs ~15 us a call,
+    several times its arithmetic on the few dozen points of :func:`outside_gap`.
+
+    Parameters
+    ----------
+    surface : rollcontact.Surface
+        Z(X), here in axis coordinates (:meth:`SlopeExpansion.axis_surface`).
+    x : ndarray
+        Positions [m].
+
+    Returns
+    -------
+    ndarray
+        Z(x) [m].
+    """
+    coefficients = surface.polynomial
+    if coefficients:
+        z = coefficients[-1] + x * 0  # polyval's start, kept for the same signed zeros
+        for c in coefficients[-2::-1]:
+            z = c + z * x
+    else:
+        z = np.zeros_like(x)
+    for h in surface.harmonics:
+        z = z + h.cos_amplitude * np.cos(h.wavenumber * x) + h.sin_amplitude * np.sin(h.wavenumber * x)
+    return z
 
 
 def inapplicable(scene) -> str | None:
