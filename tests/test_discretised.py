@@ -417,3 +417,27 @@ def test_the_a_priori_bound_holds_where_its_coefficient_peaks(elements):
                 abs(result.max_pressure / exact.max_pressure - 1.0))
     assert error <= result.info["error_estimate"], \
         f"n = {elements}: error {error:.3g} above the reported bound {result.info['error_estimate']:.3g}"
+
+
+@pytest.mark.parametrize("creep", [0.0, 2e-4, -1.2e-3, 1e-2])
+@pytest.mark.parametrize("amplitude", [0.0, 20e-6])
+def test_creep_stiffness_is_the_slope_of_the_discrete_solution(creep, amplitude):
+    """dT'/dxi = h 1^T K_SS^-1 1 against a central difference of two solves (the sets do not change over +-1e-9),
+    zero in full slip, on Hertz and on the split contact (two stick zones)."""
+    scene = rc.Scene(1e6, creep=creep, axis_position=0.0045,
+                     surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.01, amplitude),)))
+    result = rc.solve(scene, method="discretised", elements=200)
+    d = 1e-9
+    up, down = (rc.solve(scene.replace(creep=creep + s), method="discretised", elements=200)
+                for s in (d, -d))
+    central = (up.tangential_force_per_length - down.tangential_force_per_length) / (2 * d)
+    slope = result.creep_stiffness_per_length
+    assert slope == pytest.approx(central, rel=1e-6, abs=1e-6 * 4e8), f"dT'/dxi {slope!r} against {central!r}"
+    if result.stick_half_width == 0.0:
+        assert slope == 0.0, "full slip: q = mu p does not depend on the creep"
+
+
+def test_creep_stiffness_is_not_given_under_force_control():
+    scene = rc.Scene(1e6)
+    result = rc.solve(scene, method="discretised", elements=100, tangential_force_per_length=1e5)
+    assert result.success and math.isnan(result.creep_stiffness_per_length), result.creep_stiffness_per_length

@@ -425,6 +425,20 @@ class TransientSolver:
                             int((sol.stick & contact).sum()), sol.iterations, converged, message, certificate)
         return new_state, result
 
+    def steady_creep_stiffness(self, stick: np.ndarray) -> float:
+        """dT'/dxi [N/m] of a steady creep-controlled solution with the stick set ``stick``: ``h 1^T K_SS^-1 1``.
+
+        In steady rolling ``s = xi - K q``: with the sets fixed, the stick tractions are
+        ``q_S = K_SS^-1 (xi 1 - K_SP q_P)`` and the slip tractions ``mu p sign(s)`` do not depend on xi, so
+        ``dq_S/dxi = K_SS^-1 1``, the vector the active set's cached factorisation already holds.  0 in full slip.
+        The derivative of the discrete solution for its sets (an element crossing the stick/slip boundary is not
+        differentiated, as in a one-sided difference that stays within the sets).
+        """
+        if not stick.any():
+            return 0.0
+        _, z, _ = self.ops.k_factors.get(stick)
+        return self.grid.element_width * float(z.sum())
+
     def certify(self, sol, bound, contact, scale, mode, value):
         """T', slip (zero in stick), certificate, converged flag and message of a stick/slip solution.
 
@@ -652,7 +666,9 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
     -------
     ContactResult
         ``residual`` is the largest certificate entry; ``info`` holds ``grid``, ``patches`` [(x_lead, x_trail)],
-        ``normal_certificate``, ``tangential_certificate``, iteration counts and the mode used.
+        ``normal_certificate``, ``tangential_certificate``, iteration counts and the mode used.  The creep
+        stiffness dT'/dxi is given for constant friction under creep control
+        (:meth:`TransientSolver.steady_creep_stiffness`), NaN otherwise.
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a rollcontact.Scene, got {type(scene).__name__}")
@@ -684,13 +700,14 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
     info = {"grid": grid, "patches": patches, "normal_certificate": normal.certificate,
             "normal_iterations": normal.iterations, "steady": steady}
 
-    def result(success, message, q, slip, stick, t, creep, iterations, residual):
+    def result(success, message, q, slip, stick, t, creep, iterations, residual, stiffness=math.nan):
         s = np.where(normal.contact, slip, np.nan)
         return ContactResult(method="discretised", success=success, message=message,
                              normal_load_per_length=scene.normal_load_per_length, tangential_force_per_length=t,
                              creep=creep, contact_half_width=a, contact_offset=offset,
                              stick_half_width=0.5 * grid.element_width * int(stick.sum()),
-                             max_pressure=float(p.max()), iterations=iterations, residual=residual,
+                             max_pressure=float(p.max()), creep_stiffness_per_length=stiffness,
+                             iterations=iterations, residual=residual,
                              distributions=TabulatedDistributions(grid.centres, p, q, s), info=info)
 
     zeros = np.zeros(grid.elements)
@@ -730,9 +747,12 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
     residual = max(normal.residual, max(steady_result.certificate.values()))
     kind = "marched and finished directly" if steady == "march" else "direct steady solve"
     message = f"{kind}, {len(patches)} patch(es): {steady_result.message}"
+    # dT'/dxi of creep control; under force control the creep is the unknown and the model does not ask
+    stiffness = (solver.steady_creep_stiffness(state.stick) if steady_result.converged and not force_control
+                 else math.nan)
     return result(steady_result.converged, message, state.traction, state.slip, state.stick,
                   steady_result.tangential_force_per_length, steady_result.creep,
-                  iterations + steady_result.iterations, residual)
+                  iterations + steady_result.iterations, residual, stiffness)
 
 
 solve_discretised.options = ("elements", "window", "tolerance", "steady", "finish", "datum_length",
