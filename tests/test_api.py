@@ -263,6 +263,20 @@ def test_auto_reports_a_tolerance_it_cannot_reach():
         f"the most accurate setting should be used: {result.info['setting']}"
 
 
+@pytest.mark.parametrize("tolerance", [3e-2, 1e-2, 5e-3])
+def test_discretised_setting_is_the_fewest_elements_whose_bound_meets_the_tolerance(tolerance):
+    """Any count between the ladder's ends, not only its rungs (the bound is within 1.3-2x of the worst-placement
+    error, so the next rung could cost 4-8x); the split contact, which only the discretised method treats."""
+    scene = FAMILY_CASES["split contact 10 mm / 20 um"]
+    model = METHODS["discretised"].accuracy
+    setting = rollcontact.api.setting_for("discretised", scene, tolerance)
+    n = setting.options["elements"]
+    assert setting.error_estimate <= tolerance < model.error(scene, {"elements": n - 1}), (n, setting)
+    result = solve(scene, tolerance=tolerance)
+    assert result.method == "discretised" and result.info["setting"] == {"elements": n}, result.info
+    assert result.info["tolerance_met"] and result.info["grid"].elements == n, result.info
+
+
 def test_without_tolerance_auto_keeps_the_method_defaults():
     result = solve(CORRUGATED)
     assert "tolerance" not in result.info and result.info["order"] == solve(CORRUGATED, method="polynomial").info[
