@@ -381,15 +381,15 @@ def nan_last(value: float) -> float:
 # Constants measured by benchmarks/pareto.py (which prints fitted values and checks model against measurement):
 # times on one core of the 2.5 GHz Xeon of benchmarks/results/pareto.md; errors as bounds over its cases.
 CLOSED_FORM_COST = 8.8e-6  # s, Hertz + Carter through solve()
-POLYNOMIAL_COST = 1.8e-4  # s, normal Newton, tangential root and validity checks (order-independent to ~10 %)
-POLYNOMIAL_HARMONIC_COST = 4.6e-5  # s per surface harmonic
+POLYNOMIAL_COST = 7.5e-5  # s, normal Newton, tangential root and validity checks (order-independent to ~10 %)
+POLYNOMIAL_HARMONIC_COST = 7.5e-5  # s per surface harmonic
 # slip iteration (benchmarks/bench_slip_nodes.py, table E): Newton steps ~ 3 + 6.8 beta (beta: friction_sharpness);
 # s per step with N nodes a + b N^2 + c N^3 (dense node tables; a also carries the a-posteriori estimate's share)
 SLIP_ITERATIONS = (3.0, 6.8)
-SLIP_COST = (3.5e-4, 1.1e-7, 2.6e-10)
-DIRECT_COST = (1.6e-3, 2e-8, 2.3e-11)  # s: discretised Coulomb, a + b n^2 + c n^3 (influence matrices, LU)
+SLIP_COST = (5.2e-4, 8.6e-8, 5.7e-10)
+DIRECT_COST = (1.7e-3, 2.8e-8, 0.0)  # s: discretised Coulomb, a + b n^2 + c n^3 (c fits 0 up to n = 1600)
 STRUCTURED_ITERATIONS = (20.0, 85.0)  # Newton iterations of the discretised velocity-dependent solve ~ 20 + 85 beta
-STRUCTURED_COST = (2.2e-4, 1.26e-8, 1.37e-11)  # s per such Newton iteration, a + b n^2 + c n^3
+STRUCTURED_COST = (1.5e-4, 9.6e-9, 8.9e-12)  # s per such Newton iteration, a + b n^2 + c n^3
 
 POLYNOMIAL_TOLERANCES = tuple(10.0**-k for k in range(2, 13))
 SLIP_NODES = (8, 16, 32, 64, 128, 256, 512)  # requested; the ladder offers the distinct counts that run
