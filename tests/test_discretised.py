@@ -441,3 +441,22 @@ def test_creep_stiffness_is_not_given_under_force_control():
     scene = rc.Scene(1e6)
     result = rc.solve(scene, method="discretised", elements=100, tangential_force_per_length=1e5)
     assert result.success and math.isnan(result.creep_stiffness_per_length), result.creep_stiffness_per_length
+
+
+@pytest.mark.parametrize("creep", [0.0, 2e-4, 1e-3, -1.2e-3, 3e-3])
+def test_creep_stiffness_with_velocity_dependent_friction(creep):
+    """The structured steady solve's dT'/dxi (implicit function theorem on the slip equations, the stick block
+    eliminated) against a central difference, in partial slip, on the falling branch (negative) and in full slip;
+    at zero creep K^-1 1, the Coulomb full-stick slope."""
+    scene = rc.Scene(1e6, creep=creep, rolling_speed=20.0, friction=rc.ExponentialFalling(0.3, 0.4, 30.0))
+    result = rc.solve(scene, method="discretised", elements=100)
+    assert result.success, result.message
+    d = 1e-9
+    up, down = (rc.solve(scene.replace(creep=creep + s), method="discretised", elements=100)
+                for s in (d, -d))
+    central = (up.tangential_force_per_length - down.tangential_force_per_length) / (2 * d)
+    assert result.creep_stiffness_per_length == pytest.approx(central, rel=1e-6, abs=4e8 * 1e-7), \
+        f"dT'/dxi {result.creep_stiffness_per_length!r} against {central!r}"
+    if creep == 0.0:
+        coulomb = rc.solve(scene.replace(friction=rc.Coulomb(0.3)), method="discretised", elements=100)
+        assert result.creep_stiffness_per_length == pytest.approx(coulomb.creep_stiffness_per_length, rel=1e-10)

@@ -469,6 +469,7 @@ class StructuredSteady:
     converged: bool
     message: str
     certificate: dict
+    creep_slope: float = math.nan  # d(sum q)/dxi [Pa]: dT'/dxi over the element width, for the final sets
 
 
 def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float, law: FrictionLaw,
@@ -483,6 +484,9 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
     for which the material slips in the direction of the traction, ``sign(xi) s >= 0`` (bisection on m; for a
     Coulomb law this is Carter's a*); j0 grows while the first stick element exceeds ``mu(0) p``.  The
     certificate checks both conditions.  ``stick_fraction`` (e.g. Carter's a*/a) seeds the search for m.
+
+    ``creep_slope`` is ``d(sum q)/dxi`` for the final sets by the implicit function theorem: ``r0`` and ``q_S`` are
+    linear in xi, so ``(I + Schur dQ/ds) ds/dxi = r0/xi`` and ``dq_S/dxi = y0/xi - W dq_P/dxi``.
     """
     contact = pressure > 0.0
     n = pressure.size
@@ -495,9 +499,10 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
     K = ops.K[start:stop, start:stop]
     p = pressure[start:stop]
     mu_static = law.static_coefficient
-    if creep == 0.0:
+    if creep == 0.0:  # full stick: dq/dxi = K^-1 1
+        slope = float(linalg.solve(K, np.ones(nc), check_finite=False).sum())
         return StructuredSteady(np.zeros(n), np.zeros(n), contact.copy(), 0, True, "zero creep: no traction",
-                                {"stick_slip": 0.0, "traction_bound": 0.0, "slip_direction": 0.0})
+                                {"stick_slip": 0.0, "traction_bound": 0.0, "slip_direction": 0.0}, slope)
     sigma = math.copysign(1.0, creep)
     tol = 1e-3 * tolerance * abs(creep)
     slip_tolerance = tolerance * ops.kappa * mu_static * pressure.max()
@@ -505,15 +510,12 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
     cache: dict[tuple[int, int], tuple] = {}
     last_slip = np.full(nc, creep)
 
-    def solve_for(j0, m):
-        """q, s on the patch, Newton success and the slip-direction test for stick elements [j0, j0 + m)."""
-        nonlocal total_newton
-        if (j0, m) in cache:
-            return cache[j0, m]
+    def eliminated(j0, m):
+        """Stick mask, slip indices, their pressures and ``y0 = K_SS^-1 xi``, ``W = K_SS^-1 K_SP``, ``r0``, Schur
+        complement for stick elements [j0, j0 + m)."""
         stick = np.zeros(nc, dtype=bool)
         stick[j0:j0 + m] = True
         si, pi = np.flatnonzero(stick), np.flatnonzero(~stick)
-        pp = p[pi]
         if m > 0:
             lu = linalg.lu_factor(K[np.ix_(si, si)], check_finite=False)
             y0 = linalg.lu_solve(lu, np.full(m, creep), check_finite=False)
@@ -523,6 +525,18 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
         else:
             y0, w = np.zeros(0), np.zeros((0, nc))
             r0, schur = np.full(nc, creep), K
+        return stick, pi, p[pi], y0, w, r0, schur
+
+    def traction_rate(s, pp):
+        """dQ/ds of ``Q(s) = mu(V|s|) p sign(xi)``."""
+        return law.derivative(speed * np.abs(s)) * speed * np.where(s * sigma >= 0, 1.0, -1.0) * pp
+
+    def solve_for(j0, m):
+        """q, s on the patch, Newton success and the slip-direction test for stick elements [j0, j0 + m)."""
+        nonlocal total_newton
+        if (j0, m) in cache:
+            return cache[j0, m]
+        stick, pi, pp, y0, w, r0, schur = eliminated(j0, m)
 
         def traction(s):
             return law.coefficient(speed * np.abs(s)) * pp * sigma
@@ -542,8 +556,7 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
                 if norm <= tol:
                     ok = True
                     break
-                direction = np.where(s * sigma >= 0, 1.0, -1.0)
-                dq = law.derivative(speed * np.abs(s)) * speed * direction * pp
+                dq = traction_rate(s, pp)
                 step = linalg.solve(np.eye(pi.size) + schur * dq[None, :], -r, check_finite=False)
                 t = 1.0
                 while True:
@@ -556,7 +569,7 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
                 s, r = s_try, r_try
         q = np.zeros(nc)
         q[pi] = traction(s)
-        q[si] = y0 - w @ q[pi]
+        q[stick] = y0 - w @ q[pi]
         slip = np.zeros(nc)
         slip[pi] = s
         last_slip[pi] = s
@@ -595,6 +608,7 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
     for j0 in range(nc):
         m = shortest_feasible(j0, m)
         q_c, s_c, stick_c, ok, _ = solve_for(j0, m)
+        final = j0, m
         if m == 0 or abs(q_c[j0]) <= mu_static * p[j0] * (1.0 + 1e-12):
             break
         # the stick zone starts one element later and is one element shorter (the next guess)
@@ -610,7 +624,13 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
     converged = ok and max(certificate.values()) <= 100.0 * tolerance
     message = ("converged" if converged else
                "Newton did not converge" if not ok else f"leading-edge stick structure fails: {certificate}")
-    return StructuredSteady(q, slip, stick, total_newton, converged, message, certificate)
+    slope = math.nan
+    if converged:
+        _, pi, pp, y0, w, r0, schur = eliminated(*final)
+        dq = traction_rate(s_c[pi], pp)
+        dq_p = dq * linalg.solve(np.eye(pi.size) + schur * dq[None, :], r0 / creep, check_finite=False)
+        slope = float(dq_p.sum() + y0.sum() / creep - (w @ dq_p).sum())
+    return StructuredSteady(q, slip, stick, total_newton, converged, message, certificate, slope)
 
 
 # ---------------------------------------------------------------------------------------------- solve_discretised
@@ -667,8 +687,8 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
     ContactResult
         ``residual`` is the largest certificate entry; ``info`` holds ``grid``, ``patches`` [(x_lead, x_trail)],
         ``normal_certificate``, ``tangential_certificate``, iteration counts and the mode used.  The creep
-        stiffness dT'/dxi is given for constant friction under creep control
-        (:meth:`TransientSolver.steady_creep_stiffness`), NaN otherwise.
+        stiffness dT'/dxi is given under creep control (:meth:`TransientSolver.steady_creep_stiffness`; with
+        velocity-dependent friction ``StructuredSteady.creep_slope``), NaN under force control.
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a rollcontact.Scene, got {type(scene).__name__}")
@@ -728,7 +748,7 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
         t = grid.element_width * sol.traction.sum()
         message = f"steady, leading-edge stick, {len(patches)} patch(es): {sol.message}"
         return result(sol.converged, message, sol.traction, sol.slip, sol.stick, t, scene.creep,
-                      sol.iterations, residual)
+                      sol.iterations, residual, grid.element_width * sol.creep_slope)
     state = None
     iterations = 0
     if steady == "march":
