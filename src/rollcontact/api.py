@@ -445,6 +445,10 @@ class PolynomialAccuracy(AccuracyModel):
         a, b, c = SLIP_COST
         return base + iterations * (a + b * nodes * nodes + c * nodes**3)
 
+    def minimum_cost(self, scene):
+        # with constant friction every setting costs the same: no ladder to build
+        return self.cost(scene, {}) if scene.friction.is_constant else super().minimum_cost(scene)
+
     def error(self, scene, options):
         if options.get("order") is not None:
             return math.nan
