@@ -515,6 +515,8 @@ def test_falling_friction_is_bounded_by_static_friction(case, shape, speed):
     event(f"falling friction success={result.success}")
     if result.success:
         check_polynomial(result, contact, f"{law!r}, V = {speed!r}")
+        assert math.isfinite(result.creep_stiffness_per_length), \
+            f"{law!r}, V = {speed!r}: dT'/dxi = {result.creep_stiffness_per_length!r} (implicit function theorem)"
     else:
         assert_clear_failure(result, "falling friction")
 
