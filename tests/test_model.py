@@ -354,6 +354,23 @@ def test_falling_friction_needs_more_than_the_closed_form():
     assert out.tangential_force < coulomb.tangential_force, "falling friction lowers the force at the same creep"
 
 
+def test_a_method_without_stiffness_gets_it_by_difference(monkeypatch):
+    """Where a solution carries no dT'/dxi (here: a singular slip Jacobian at the solution, e.g. a law with a kink),
+    the result reports NaN and the model's one-sided difference supplies it."""
+    from rollcontact import velocity_friction
+
+    def singular(*args, **kwargs):
+        raise np.linalg.LinAlgError("singular")
+    falling = ContactParameters(friction_law=1, friction_kinetic_ratio=0.4, friction_decay=3.0, method=2)
+    exact = ContactModel(falling).step(0.0, H, 1e5, 1e-3, 20.0).creep_stiffness
+    monkeypatch.setattr(velocity_friction.SlipEquations, "force_slope", singular)
+    scene = ContactModel(falling).scene(0.0, 1e5, 1e-3, 20.0)
+    assert math.isnan(rollcontact.solve(scene, method="polynomial").creep_stiffness_per_length), \
+        "no derivative: NaN, not an exception"
+    out = ContactModel(falling).step(0.0, H, 1e5, 1e-3, 20.0)
+    assert_allclose(out.creep_stiffness, exact, rtol=1e-4, err_msg="one-sided difference against the exact slope")
+
+
 @pytest.mark.parametrize("creep", [0.0, 1e-3, -3e-3])
 def test_falling_friction_step_solves_once(monkeypatch, creep):
     """The polynomial method returns dT'/dxi with velocity-dependent friction (implicit function theorem), and the
