@@ -7,7 +7,7 @@ Error: the larger relative error of T' and of the peak pressure p0 (the contract
 Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMENTS``:
 
 * bound: ``DiscretisedAccuracy.error``, ``max(c w/n, 3 (w/n)^2)`` with ``c = api.DISCRETISED_FORCE_ERROR`` (w the
-  automatic window over the Hertz width 2a);
+  solver's default window, ``contact_window``, over the Hertz width 2a);
 * two-grid: ``SAFETY * max_c max(|T'_n/T'_c - 1|, |p0_n/p0_c - 1|)`` over two coarse solves c of n/2 elements on
   the same window, one of them shifted by one fine element (so its edges fall elsewhere within the coarse
   elements): option (a) of the study, cost 1/4 to 1/2 of the solve;
@@ -17,9 +17,10 @@ Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMEN
 
 References: Hertz/Carter closed forms; the polynomial method at tolerance 1e-12 (512 slip nodes for
 velocity-dependent friction) where it applies; for split contacts, which only the discretised solver treats, the
-first-order Richardson extrapolation ``2 T_4000 - T_2000`` of discretised solves on a tight window (the patches
-+- 10 %), each the mean over two grid placements (shift 0 and h/2); its uncertainty u is the change from
-``T_4000`` and an estimate counts as a bound only when it is >= error + u.
+first-order Richardson extrapolation ``2 T_4000 - T_2000`` of discretised solves on the solver's default window,
+fitted to the patches, each the mean over two grid placements (shift 0 and h/2:
+``rollcontact.discretised.extrapolated``); its uncertainty u is the change from ``T_4000`` and an estimate counts as
+a bound only when it is >= error + u.
 
 Hertz/Carter cases use a fixed window (the automatic one of N' = 1 MN/m) for three loads, so the patch edges fall
 at different positions within the elements (with the automatic window, which scales with a, they would not).
@@ -37,7 +38,7 @@ import time  # noqa: E402
 import rollcontact as rc  # noqa: E402
 from rollcontact import api  # noqa: E402
 from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.discretised import automatic_grid, solve_discretised  # noqa: E402
+from rollcontact.discretised import automatic_grid, extrapolated, solve_discretised  # noqa: E402
 
 SAFETY = 3.0  # factor of the two-grid estimate: the largest error / raw difference measured here is 2.52
 RADIUS = 0.46
@@ -83,18 +84,9 @@ def reference(scene):
     poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=512)
     if poly.success:
         return poly.tangential_force_per_length, poly.max_pressure, "polynomial 1e-12", 0.0
-    patches = solve_discretised(scene, elements=800).info["patches"]
-    lo, hi = patches[0][0], patches[-1][1]
-    margin = 0.1 * (hi - lo)
-    means = {}
-    for n in (2000, 4000):
-        h = (hi - lo + 2 * margin) / n
-        solved = [solve_discretised(scene, elements=n, window=(lo - margin + s * h, hi + margin + s * h))
-                  for s in (0.0, 0.5)]
-        means[n] = (statistics.mean(r.tangential_force_per_length for r in solved),
-                    statistics.mean(r.max_pressure for r in solved))
-    force = 2.0 * means[4000][0] - means[2000][0]
-    return force, means[4000][1], "Richardson discretised 2000/4000", abs(means[4000][0] / force - 1.0)
+    ref = extrapolated(scene, (2000, 4000))
+    return (ref.tangential_force_per_length, ref.max_pressure, "Richardson discretised 2000/4000",
+            ref.info["change"])
 
 
 def relative(a, b):

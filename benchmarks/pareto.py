@@ -5,30 +5,30 @@ ratios, machine) and ``benchmarks/results/pareto.png`` (error vs time per family
 auto's choice at each requested tolerance).  ``--quick`` is a smoke test (< 60 s: one case per family, few
 settings, small references); the full study takes several minutes.  One BLAS thread.
 
-Error.  Steady scenes: the larger relative error of T' and of the peak pressure p0 against a converged reference
-(the contract of ``solve(scene, tolerance=t)``); for discretised settings the largest over four grid placements (the
+Error. Steady scenes: the larger relative error of T' and of the peak pressure p0 against a converged reference (the
+contract of ``solve(scene, tolerance=t)``); for discretised settings the largest over four grid placements (the
 window shifted by 0, 1/4, 1/2, 3/4 of an element, :data:`PLACEMENTS`): where the patch edges fall in their elements
-moves the answer by about its error, and in use that placement is arbitrary.  References: the closed form where
-exact (Hertz/Carter); otherwise the polynomial method at truncation tolerance 1e-12 (1024 slip nodes for
+moves the answer by about its error, and in use that placement is arbitrary. References: the closed form where exact
+(Hertz/Carter); otherwise the polynomial method at truncation tolerance 1e-12 (1024 slip nodes for
 velocity-dependent friction), cross-checked against the Richardson-extrapolated discretised solver (n = 800/1600 on
 a window of +-1.25 a about the patch, whose edges then fall on element boundaries, as in
 ``tests/test_cross_methods.py``); for a split contact, which only the discretised solver treats, the first-order
 Richardson extrapolation of its T' from n = 2000/4000, each the mean over two grid placements
-(:func:`split_reference`), its uncertainty shown as the change of n = 4000 from it.  Instationary rolling (creep
-control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps per cycle): max |T' - T'_ref| over the
-last cycle in units of mu N', reference the first-order Richardson extrapolation of the discretised transient at n =
-400/800 (order measured in ``bench_transient_auto.py``; the change of n = 800 from it shown).  The discretised
-transient, in the rows and the reference, is stepped through the FMU's model with ``method`` = 3, ``transient`` = 2
-and ``elements`` = n: the grid auto's transient runs on (window about +-1.77 a, the Hertz patch edges on element
-boundaries, ``ContactModel.prepare_grid``), so auto and the rows compare like for like; the n = 800 grid is the n =
-400 one with every element halved.
+(:func:`split_reference`), its uncertainty shown as the change of n = 4000 from it. Discretised settings run on the
+solver's default window (``contact_window``: fitted to the patches when the surface is corrugated). Instationary
+rolling (creep control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps per cycle): max |T' -
+T'_ref| over the last cycle in units of mu N', reference the first-order Richardson extrapolation of the discretised
+transient at n = 400/800 (order measured in ``bench_transient_auto.py``; the change of n = 800 from it shown). The
+discretised transient, in the rows and the reference, is stepped through the FMU's model with ``method`` = 3,
+``transient`` = 2 and ``elements`` = n: the grid auto's transient runs on (window about +-1.77 a, the Hertz patch
+edges on element boundaries, ``ContactModel.prepare_grid``), so auto and the rows compare like for like; the n = 800
+grid is the n = 400 one with every element halved.
 
-Time.  Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the cache of
-influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per
-host step.  FMU: microseconds per fmpy step (set inputs, doStep, get outputs) against an empty pythonfmu FMU
-built in the same run (``_fmu_timing.py``).  The machine is shared and noisy: compare ratios measured in the same
-run, not absolute times across runs.
-"""
+Time. Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the caches of
+influence matrices and contact windows emptied first (a first solve of a new scene, as for a moving axis);
+instationary: median per host step. FMU: microseconds per fmpy step (set inputs, doStep, get outputs) against an
+empty pythonfmu FMU built in the same run (``_fmu_timing.py``). The machine is shared and noisy: compare ratios
+measured in the same run, not absolute times across runs. """
 
 from __future__ import annotations
 
@@ -62,6 +62,7 @@ import rollcontact as rc  # noqa: E402
 from rollcontact import api  # noqa: E402
 from rollcontact._bem import operators_for  # noqa: E402
 from rollcontact.closed_form import carter, hertz  # noqa: E402
+from rollcontact.discretised import contact_window  # noqa: E402
 from rollcontact.instationary import InstationaryModel  # noqa: E402
 from rollcontact.model import INSTATIONARY_CODES, ContactModel, ContactParameters  # noqa: E402
 
@@ -157,12 +158,14 @@ def median_time(fn, budget: float, min_samples: int = 3) -> float:
 
 
 def cold(method: str, fn):
-    """The discretised solver timed as a first solve on its grid (influence matrices rebuilt)."""
+    """The discretised solver timed as a first solve of its scene (influence matrices rebuilt, the contact
+    window searched)."""
     if method != "discretised":
         return fn
 
     def run():
         operators_for.cache_clear()
+        contact_window.cache_clear()
         return fn()
     return run
 
@@ -239,36 +242,15 @@ def setting_label(method: str, options: dict) -> str:
 
 
 # ----------------------------------------------------------------------------------------------- references
-@dataclass(frozen=True)
-class Extrapolated:
-    """T' and p0 of a reference that no single solve gives."""
-
-    tangential_force_per_length: float
-    max_pressure: float
-
-
 def split_reference(scene: rc.Scene, sizes: tuple[int, int], why: str) -> Reference:
-    """A contact only the discretised solver treats: first-order Richardson extrapolation of T' from n = sizes on a
-    window 10 % wider than the patches, each the mean over two grid placements (shifted by half an element: the
-    answer at one n moves by about its error with the placement, ``benchmarks/bench_discretised_estimate.py``);
-    p0 (second order) from the finer grid's mean.  A single solve at n = 3200 was 9e-4 off this in T'."""
-    patches = rc.solve(scene, method="discretised", elements=800).info["patches"]
-    lo, hi = patches[0][0], patches[-1][1]
-    margin = 0.1 * (hi - lo)
-    means = {}
-    for n in sizes:
-        h = (hi - lo + 2.0 * margin) / n
-        solved = [rc.solve(scene, method="discretised", elements=n, window=(lo - margin + s * h, hi + margin + s * h))
-                  for s in (0.0, 0.5)]
-        means[n] = (statistics.mean(r.tangential_force_per_length for r in solved),
-                    statistics.mean(r.max_pressure for r in solved))
-    coarse, fine = sizes
-    force = richardson(means[coarse][0], means[fine][0], fine / coarse)
-    change = abs(means[fine][0] / force - 1.0)
-    return Reference(Extrapolated(force, means[fine][1]),
-                     f"Richardson extrapolation of the discretised solver, n = {coarse}/{fine} on the patches + 10 %, "
-                     f"each the mean of two grid placements (polynomial invalid: {why[:40]}...)",
-                     f"n = {fine} (mean) differs from it by {change:.1e} in T'")
+    """A contact only the discretised solver treats: :func:`rollcontact.discretised.extrapolated` from n = sizes
+    (first-order Richardson extrapolation of T', each level the mean over two grid placements; p0, second order,
+    the finer level's mean).  A single solve at n = 3200 was 9e-4 off this in T'."""
+    ref = rc.discretised.extrapolated(scene, sizes)
+    return Reference(ref, f"Richardson extrapolation of the discretised solver, n = {sizes[0]}/{sizes[1]} on its "
+                          f"default (patch-fitted) window, each the mean of two grid placements (polynomial invalid: "
+                          f"{why[:40]}...)",
+                     f"n = {sizes[1]} (mean) differs from it by {ref.info['change']:.1e} in T'")
 
 
 def steady_reference(scene: rc.Scene, config: Config) -> Reference:

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 from scipy import linalg
@@ -59,13 +60,15 @@ from rollcontact.result import ContactResult, NoContact, TabulatedDistributions
 from rollcontact.scene import Scene, Surface, check_real
 
 __all__ = ["Grid", "NormalSolution", "RollingHistory", "StepResult", "TransientSolver", "TransientState",
-           "automatic_grid", "inapplicable", "roll_over_surface", "solve_discretised"]
+           "automatic_grid", "contact_window", "extrapolated", "inapplicable", "roll_over_surface",
+           "solve_discretised"]
 
 DEFAULT_ELEMENTS = 200
 ELEMENTS_PER_WAVELENGTH = 16  # piecewise-constant elements per shortest surface wavelength
 DEFAULT_TOLERANCE = 1e-9
 STEADY_MODES = ("direct", "march", "structured")
 WINDOW_RETRIES = 3
+CONTACT_MARGIN = 0.05  # of the patches' span, each side of a fitted window (plus two search elements)
 
 
 def check_tolerance(tolerance) -> float:
@@ -136,6 +139,43 @@ def automatic_grid(scene: Scene, elements=None, window=None, axis_positions=None
             raise ValueError(f"resolving the shortest surface wavelength {shortest!r} m over the window "
                              f"({x_min!r}, {x_max!r}) m needs {elements} elements, above the limit {MAX_ELEMENTS}")
     return Grid(x_min, x_max, elements)
+
+
+@lru_cache(maxsize=32)
+def contact_window(scene: Scene) -> tuple[float, float]:
+    """Default window (x_min, x_max) [m] of :func:`solve_discretised`: :func:`automatic_grid`'s, fitted to the
+    contact when the surface has harmonics.
+
+    The rigid-gap window adds the corrugation's depth ``2 sum|Z_m|`` to the Hertz depth, since a corrugation
+    may open a patch anywhere within it; for the amplitudes of practice that is 1.5-4.5 times wider than the
+    contact (``benchmarks/pareto.py``'s corrugations), and since the error is first order in the element width,
+    the elements outside the contact are wasted.  So a normal solve on that window, at its automatic element
+    count, locates the patches, and the window becomes their span plus :data:`CONTACT_MARGIN` of it and two
+    search elements on each side (a patch edge moves by less than one element between resolutions).  It
+    depends on the scene only, not on the element count asked for, so the grids of a refinement study share a
+    window.  Cached per scene: one search however many solves.  Without harmonics, or when the search fails
+    (the solve then reports why), the rigid-gap window is kept.
+    """
+    grid = automatic_grid(scene)
+    if scene.normal_load_per_length == 0.0 or not any(h.amplitude > 0.0 for h in scene.surface.harmonics):
+        return grid.x_min, grid.x_max
+    for attempt in range(WINDOW_RETRIES + 1):
+        grid = automatic_grid(scene, widen=1.5**attempt)
+        normal = TransientSolver.from_scene(scene, grid).normal(scene.normal_load_per_length, scene.axis_position)
+        if not (normal.contact[0] or normal.contact[-1]):
+            break
+    if not normal.converged or normal.contact[0] or normal.contact[-1]:
+        return grid.x_min, grid.x_max
+    _, _, patches = patch_geometry(grid, normal.contact)
+    lo, hi = patches[0][0], patches[-1][1]
+    margin = CONTACT_MARGIN * (hi - lo) + 2.0 * grid.element_width
+    return max(lo - margin, grid.x_min), min(hi + margin, grid.x_max)
+
+
+def widened(window: tuple[float, float], factor: float) -> tuple[float, float]:
+    """The window scaled by ``factor`` about its centre."""
+    mid, half = 0.5 * (window[0] + window[1]), 0.5 * (window[1] - window[0]) * factor
+    return mid - half, mid + half
 
 
 # ------------------------------------------------------------------------------------------- transient stepper
@@ -664,8 +704,9 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
     elements : int, optional
         Number of elements n in [8, 4000]; default 200 (more for short surface wavelengths: 16 per wavelength).
     window : (float, float), optional
-        Grid window (x_min, x_max) [m] in the axis coordinate; default from the Hertz width and the surface,
-        widened automatically (up to 3 times) when a patch reaches its edge.
+        Grid window (x_min, x_max) [m] in the axis coordinate; default :func:`contact_window` (from the Hertz
+        width and the surface, fitted to the patches when the surface has harmonics), widened automatically (up
+        to 3 times) when a patch reaches its edge.
     tolerance : float
         Relative tolerance of the active sets and certificates, in [1e-14, 1e-3].
     steady : {"direct", "march", "structured"}, optional
@@ -707,13 +748,15 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
                          "constant friction")
     if scene.normal_load_per_length == 0.0:
         return no_contact_result(scene)
+    fitted = window is None
+    base = contact_window(scene) if fitted else window
     for attempt in range(WINDOW_RETRIES + 1):
-        grid = automatic_grid(scene, elements, window, widen=1.5**attempt)
+        grid = automatic_grid(scene, elements, widened(base, 1.5**attempt) if fitted else base)
         datum = grid.length if datum_length is None else datum_length
         solver = TransientSolver.from_scene(scene, grid, datum_length=datum, tolerance=tolerance)
         normal = solver.normal(scene.normal_load_per_length, scene.axis_position)
         touches = bool(normal.contact[0] or normal.contact[-1])
-        if not (touches and window is None):
+        if not (touches and fitted):
             break
     a, offset, patches = patch_geometry(grid, normal.contact)
     p = normal.pressure
@@ -777,6 +820,56 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
 
 solve_discretised.options = ("elements", "window", "tolerance", "steady", "finish", "datum_length",
                              "tangential_force_per_length")
+
+
+def extrapolated(scene: Scene, elements: tuple[int, int] = (1000, 2000), **options) -> ContactResult:
+    """A converged discretised solution: T' by first-order Richardson extrapolation, each level the mean over
+    two grid placements.
+
+    ``T'_ref = T'_2 + (T'_2 - T'_1)/(r - 1)`` with ``r = n_2/n_1`` (T' is first order in the element width),
+    where ``T'_k`` is the mean of the solves at ``n_k`` elements on :func:`contact_window` and on it shifted by
+    half an element: the answer at one n moves by about its error with where the patch edges fall in their
+    elements (``benchmarks/bench_discretised_estimate.py``), and the mean halves that scatter, which
+    extrapolation alone would amplify.  The other fields are the finer level's first placement; p0 (second
+    order) is the finer level's mean.  For the split contact of ``benchmarks/pareto.py``, n = 1000/2000 is
+    within 1.7e-4 of n = 2000/4000 in T'.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case (creep control).
+    elements : (int, int)
+        Element counts n_1 < n_2.
+    **options
+        Passed to :func:`solve_discretised` (not ``elements`` or ``window``).
+
+    Returns
+    -------
+    ContactResult
+        ``success`` only if all four solves succeeded; ``info["levels"]`` holds the mean T' [N/m] per level and
+        ``info["change"]`` the relative change of T' from the finer level to the extrapolation.
+    """
+    coarse, fine = (int(n) for n in elements)
+    if not coarse < fine:
+        raise ValueError(f"elements = {elements!r}: need n_1 < n_2")
+    if scene.normal_load_per_length == 0.0:
+        return no_contact_result(scene)
+    lo, hi = contact_window(scene)
+    levels = {}
+    for n in (coarse, fine):
+        h = (hi - lo) / n
+        levels[n] = [solve_discretised(scene, elements=n, window=(lo + shift * h, hi + shift * h), **options)
+                     for shift in (0.0, 0.5)]
+    solves = levels[coarse] + levels[fine]
+    means = {n: 0.5 * sum(r.tangential_force_per_length for r in rs) for n, rs in levels.items()}
+    force = means[fine] + (means[fine] - means[coarse]) / (fine / coarse - 1.0)
+    best = levels[fine][0]
+    failed = [r.message for r in solves if not r.success]
+    info = dict(best.info, levels=means, change=abs(means[fine] / force - 1.0) if force else 0.0)
+    return ContactResult(**{**best.__dict__, "success": not failed, "tangential_force_per_length": force,
+                            "max_pressure": 0.5 * sum(r.max_pressure for r in levels[fine]), "info": info,
+                            "message": f"Richardson extrapolation of n = {coarse}/{fine}, each the mean of two "
+                                       "grid placements" + (f"; failed: {failed[0]}" if failed else "")})
 
 
 def march_to_steady(solver: TransientSolver, pressure: np.ndarray, control: dict,
