@@ -61,9 +61,8 @@ from _fmu_timing import Case, build_and_extract, run_interleaved  # noqa: E402
 import rollcontact as rc  # noqa: E402
 from rollcontact import api  # noqa: E402
 from rollcontact._bem import operators_for  # noqa: E402
-from rollcontact.closed_form import carter, hertz  # noqa: E402
+from rollcontact.closed_form import hertz  # noqa: E402
 from rollcontact.discretised import contact_window  # noqa: E402
-from rollcontact.instationary import InstationaryModel  # noqa: E402
 from rollcontact.model import INSTATIONARY_CODES, ContactModel, ContactParameters  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
@@ -394,27 +393,18 @@ def model_stepper(**parameters):
 
 
 def instationary_stepper(kind: str, elements: int = 0, tolerance: float = 0.0):
-    """``step(xi, dt) -> T'`` for quasi-static Carter, the relaxation model, the discretised transient with
-    ``elements`` (0: 100) or the FMU's model with ``transient`` = 1 (auto) and ``tolerance``.
+    """``step(xi, dt) -> T'`` of the FMU's stepping model: quasi-static Carter (``transient`` = 0), the relaxation
+    lag (``transient`` = 2), the discretised transient with ``elements`` (0: 100; ``method`` = 3, ``transient`` = 2)
+    or auto (``transient`` = 1) at ``tolerance``: every setting, auto's included, pays the same model overhead.
 
-    The transient is the FMU's model with ``method`` = 3, ``transient`` = 2: the grid auto's transient builds for
-    the same n (aligned to the load).  Over the measured cycle it agrees with auto forced to that n (``elements``
-    = n) to 1e-7 mu N' (measured for n = 100, 200 at lambda/a = 5, 40): auto starts from steady rolling, this from
-    no traction, and the start has decayed.
+    The transient runs on the grid auto's transient builds for the same n (aligned to the load).  Over the measured
+    cycle it agrees with auto forced to that n (``elements`` = n) to 1e-7 mu N' (measured for n = 100, 200 at
+    lambda/a = 5, 40): auto starts from steady rolling, this from no traction, and the start has decayed.
     """
-    if kind == "quasi-static":
-        return lambda xi, dt: carter(LOAD_I, xi, R_I, ESTAR, MU_I)[0]
-    if kind == "auto":
-        return model_stepper(transient=1, tolerance=tolerance)
-    if kind == "transient":
-        return model_stepper(method=3, transient=2, elements=elements)
-    model = InstationaryModel(R_I, ESTAR, MU_I, mode=kind)
-    state = [model.initial_state()]
-
-    def step(xi, dt):
-        state[0], result = model.step(state[0], LOAD_I, xi, SPEED, dt)
-        return result.tangential_force_per_length
-    return step
+    parameters = {"quasi-static": {"transient": 0}, "relaxation": {"transient": 2},
+                  "transient": {"method": 3, "transient": 2, "elements": elements},
+                  "auto": {"transient": 1, "tolerance": tolerance}}
+    return model_stepper(**parameters[kind])
 
 
 def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], list[tuple[str, str, str]]]:

@@ -338,11 +338,11 @@ def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: f
 def run_setting(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec, ContactResult]:
     """Run a chosen setting (user options override it) and record the tolerance outcome in the result."""
     spec = METHODS[setting.method]
-    result = call_with_known_options(spec, scene, {**setting.options, **options})
+    used = used_options(spec, {**setting.options, **options})
+    result = annotate(spec, scene, used, spec.function(scene, **used))
     estimate = result.info.get("error_estimate", math.nan)
     met = bool(estimate <= tolerance)
-    result.info.update(tolerance=tolerance, tolerance_met=met, setting=used_options(spec, {**setting.options,
-                                                                                           **options}))
+    result.info.update(tolerance=tolerance, tolerance_met=met, setting=used)
     if met or not result.success:
         return spec, result
     note = (f" (tolerance {tolerance:.3g} not reached: error estimate {estimate:.3g})" if math.isfinite(estimate)
@@ -415,6 +415,13 @@ class ClosedFormAccuracy(AccuracyModel):
 
     def error(self, scene, options):
         return ROUND_OFF
+
+    def minimum_cost(self, scene):
+        return CLOSED_FORM_COST
+
+    def setting_for(self, name, scene, tolerance):
+        # the one setting, without the ladder walk: auto asks on every solve of a Hertzian scene
+        return Setting(name, {}, ROUND_OFF, CLOSED_FORM_COST)
 
 
 class PolynomialAccuracy(AccuracyModel):

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import sys
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -141,9 +142,10 @@ class Surface:
         harm = tuple(h if isinstance(h, Harmonic) else Harmonic(**h) for h in self.harmonics)
         object.__setattr__(self, "harmonics", harm)
 
-    @property
+    @cached_property
     def is_flat(self) -> bool:
-        """True when Z is at most linear with no harmonics; a tilt only moves the patch, see hertzian."""
+        """True when Z is at most linear with no harmonics; a tilt only moves the patch, see hertzian (cached: the
+        surface is immutable and every method's applicability check asks)."""
         return all(c == 0.0 for c in self.polynomial[2:]) and all(h.amplitude == 0.0 for h in self.harmonics)
 
     @property
