@@ -7,7 +7,7 @@ Error: the larger relative error of T' and of the peak pressure p0 (the contract
 Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMENTS``:
 
 * bound: ``DiscretisedAccuracy.error``, ``max(c w/n, 3 (w/n)^2)`` with ``c = api.DISCRETISED_FORCE_ERROR`` (w the
-  solver's default window, ``contact_window``, over the Hertz width 2a);
+  automatic window over the Hertz width 2a);
 * two-grid: ``SAFETY * max_c max(|T'_n/T'_c - 1|, |p0_n/p0_c - 1|)`` over two coarse solves c of n/2 elements on
   the same window, one of them shifted by one fine element (so its edges fall elsewhere within the coarse
   elements): option (a) of the study, cost 1/4 to 1/2 of the solve;
@@ -17,8 +17,8 @@ Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMEN
 
 References: Hertz/Carter closed forms; the polynomial method at tolerance 1e-12 (512 slip nodes for
 velocity-dependent friction) where it applies; for split contacts, which only the discretised solver treats, the
-first-order Richardson extrapolation ``2 T_4000 - T_2000`` of discretised solves on the solver's default window,
-fitted to the patches, each the mean over two grid placements (shift 0 and h/2:
+first-order Richardson extrapolation ``2 T_4000 - T_2000`` of discretised solves on a window fitted to the
+patches, each the mean over two grid placements (shift 0 and h/2:
 ``rollcontact.discretised.extrapolated``); its uncertainty u is the change from ``T_4000`` and an estimate counts as
 a bound only when it is >= error + u.
 

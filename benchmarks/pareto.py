@@ -14,21 +14,20 @@ velocity-dependent friction), cross-checked against the Richardson-extrapolated 
 a window of +-1.25 a about the patch, whose edges then fall on element boundaries, as in
 ``tests/test_cross_methods.py``); for a split contact, which only the discretised solver treats, the first-order
 Richardson extrapolation of its T' from n = 2000/4000, each the mean over two grid placements
-(:func:`split_reference`), its uncertainty shown as the change of n = 4000 from it. Discretised settings run on the
-solver's default window (``contact_window``: fitted to the patches when the surface is corrugated). Instationary
-rolling (creep control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps per cycle): max |T' -
-T'_ref| over the last cycle in units of mu N', reference the first-order Richardson extrapolation of the discretised
-transient at n = 400/800 (order measured in ``bench_transient_auto.py``; the change of n = 800 from it shown). The
-discretised transient, in the rows and the reference, is stepped through the FMU's model with ``method`` = 3,
-``transient`` = 2 and ``elements`` = n: the grid auto's transient runs on (window about +-1.77 a, the Hertz patch
-edges on element boundaries, ``ContactModel.prepare_grid``), so auto and the rows compare like for like; the n = 800
-grid is the n = 400 one with every element halved.
+(:func:`split_reference`), its uncertainty shown as the change of n = 4000 from it. Instationary rolling (creep
+control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps per cycle): max |T' - T'_ref| over the
+last cycle in units of mu N', reference the first-order Richardson extrapolation of the discretised transient at n =
+400/800 (order measured in ``bench_transient_auto.py``; the change of n = 800 from it shown). The discretised
+transient, in the rows and the reference, is stepped through the FMU's model with ``method`` = 3, ``transient`` = 2
+and ``elements`` = n: the grid auto's transient runs on (window about +-1.77 a, the Hertz patch edges on element
+boundaries, ``ContactModel.prepare_grid``), so auto and the rows compare like for like; the n = 800 grid is the n =
+400 one with every element halved.
 
 Time. Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the caches of
-influence matrices and contact windows emptied first (a first solve of a new scene, as for a moving axis);
-instationary: median per host step. FMU: microseconds per fmpy step (set inputs, doStep, get outputs) against an
-empty pythonfmu FMU built in the same run (``_fmu_timing.py``). The machine is shared and noisy: compare ratios
-measured in the same run, not absolute times across runs. """
+influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per host
+step. FMU: microseconds per fmpy step (set inputs, doStep, get outputs) against an empty pythonfmu FMU built in the
+same run (``_fmu_timing.py``). The machine is shared and noisy: compare ratios measured in the same run, not
+absolute times across runs. """
 
 from __future__ import annotations
 
@@ -62,7 +61,6 @@ import rollcontact as rc  # noqa: E402
 from rollcontact import api  # noqa: E402
 from rollcontact._bem import operators_for  # noqa: E402
 from rollcontact.closed_form import hertz  # noqa: E402
-from rollcontact.discretised import contact_window  # noqa: E402
 from rollcontact.model import INSTATIONARY_CODES, ContactModel, ContactParameters  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
@@ -157,14 +155,12 @@ def median_time(fn, budget: float, min_samples: int = 3) -> float:
 
 
 def cold(method: str, fn):
-    """The discretised solver timed as a first solve of its scene (influence matrices rebuilt, the contact
-    window searched)."""
+    """The discretised solver timed as a first solve on its grid (influence matrices rebuilt)."""
     if method != "discretised":
         return fn
 
     def run():
         operators_for.cache_clear()
-        contact_window.cache_clear()
         return fn()
     return run
 
@@ -246,8 +242,8 @@ def split_reference(scene: rc.Scene, sizes: tuple[int, int], why: str) -> Refere
     (first-order Richardson extrapolation of T', each level the mean over two grid placements; p0, second order,
     the finer level's mean).  A single solve at n = 3200 was 9e-4 off this in T'."""
     ref = rc.discretised.extrapolated(scene, sizes)
-    return Reference(ref, f"Richardson extrapolation of the discretised solver, n = {sizes[0]}/{sizes[1]} on its "
-                          f"default (patch-fitted) window, each the mean of two grid placements (polynomial invalid: "
+    return Reference(ref, f"Richardson extrapolation of the discretised solver, n = {sizes[0]}/{sizes[1]} on a window "
+                          f"fitted to the patches, each the mean of two grid placements (polynomial invalid: "
                           f"{why[:40]}...)",
                      f"n = {sizes[1]} (mean) differs from it by {ref.info['change']:.1e} in T'")
 

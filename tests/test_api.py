@@ -209,8 +209,9 @@ def measured_settings(scene):
 @pytest.mark.parametrize("name", list(FAMILY_CASES))
 def test_auto_meets_the_tolerance_at_the_lowest_cost(name):
     """auto's result errs by at most t against the reference, and no measured setting that converged to
-    t / SLACK (the documented pessimism of its method's bound) is cheaper by the deterministic cost model: auto is
-    the cheapest setting up to what an a-priori error bound can know."""
+    t / SLACK (the documented pessimism of its method's bound; where none did, no setting whose bound meets t) is
+    cheaper by the deterministic cost model: auto is the cheapest setting up to what an a-priori error bound can
+    know."""
     scene = FAMILY_CASES[name]
     ref, rows = measured_settings(scene)
     assert rows, f"{name}: no measured setting"
@@ -224,7 +225,10 @@ def test_auto_meets_the_tolerance_at_the_lowest_cost(name):
         cost = METHODS[auto.method].accuracy.cost(scene, auto.info["setting"])
         # every measured setting that converged to t with room for its model's slack costs at least as much
         enough = [(s, e) for s, e, envelope in rows if envelope <= tolerance / SLACK[s.method]]
-        assert enough, f"{name}, t = {tolerance}: no measured setting converged to t / slack"
+        if not enough:  # the split contact: no rung up to 1600 elements converges to t / slack; then no setting
+            # whose own bound meets t may be cheaper
+            enough = [(s, e) for s, e, _ in rows if s.error_estimate <= tolerance]
+        assert enough, f"{name}, t = {tolerance}: no measured setting converged to t / slack or is bounded by t"
         cheapest = min(enough, key=lambda row: row[0].cost)[0]
         assert cost <= cheapest.cost * (1 + 1e-12), \
             f"{name}, t = {tolerance}: auto took {auto.method} {auto.info['setting']} (model cost {cost:.3g} s), " \

@@ -106,11 +106,11 @@ def test_window_too_small_is_reported_not_hidden():
     assert not r.success and "window edge" in r.message, r.message
 
 
-def test_default_window_is_fitted_to_the_patches_of_a_corrugated_surface():
-    """The rigid-gap window of a 100 mm / 50 um corrugation is ~4 Hertz widths for a patch of ~1: the default
-    window fits the patches of a search solve (span + 5 % + two search elements each side).  It must hold every
-    patch of the fine solves with room to spare, and at equal n give a smaller error than the rigid-gap window
-    (measured: 2.0e-3 vs 8.6e-3 at n = 200, 9.4e-4 vs 6.5e-3 at n = 400), within the reported bound."""
+def test_contact_window_fits_the_patches_of_a_corrugated_surface():
+    """The rigid-gap window of a 100 mm / 50 um corrugation is ~4 Hertz widths for a patch of ~1: contact_window
+    (the references' window) fits the patches of a search solve (span + 5 % + two search elements each side).  It
+    must hold the patch with room to spare, so that a solve on it succeeds; without harmonics it is the rigid-gap
+    window (Hertz + 15 %)."""
     scene = rc.Scene(1e6, creep=5e-4, surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.1, 50e-6),)))
     exact = rc.solve(scene, method="polynomial", tolerance=1e-12)
     wide = automatic_grid(scene)
@@ -119,14 +119,10 @@ def test_default_window_is_fitted_to_the_patches_of_a_corrugated_surface():
     assert hi - lo < 0.3 * wide.length, f"fitted window {hi - lo:.3g} m vs rigid-gap window {wide.length:.3g} m"
     assert lo < lead - 0.05 * (trail - lead) and hi > trail + 0.05 * (trail - lead), \
         f"window ({lo:.4g}, {hi:.4g}) m does not hold the patch ({lead:.4g}, {trail:.4g}) m with its margin"
-    for n in (200, 400):
-        fitted = rc.solve(scene, method="discretised", elements=n)
-        assert fitted.success and fitted.info["grid"].x_min == lo, fitted.message
-        rigid = solve_discretised(scene, elements=n, window=(wide.x_min, wide.x_max))
-        errors = [abs(r.tangential_force_per_length / exact.tangential_force_per_length - 1.0) for r in (fitted, rigid)]
-        assert errors[0] < errors[1] and errors[0] <= fitted.info["error_estimate"], \
-            f"n = {n}: fitted-window error {errors[0]:.3g}, rigid-gap window {errors[1]:.3g}, bound " \
-            f"{fitted.info['error_estimate']:.3g}"
+    fitted = rc.solve(scene, method="discretised", elements=400, window=(lo, hi))
+    error = abs(fitted.tangential_force_per_length / exact.tangential_force_per_length - 1.0)
+    assert fitted.success and error <= fitted.info["error_estimate"], \
+        f"{fitted.message}; error {error:.3g}, bound {fitted.info['error_estimate']:.3g}"
     flat = SCENE.replace(creep=1e-3)
     assert contact_window(flat) == (automatic_grid(flat).x_min, automatic_grid(flat).x_max), \
         "without harmonics the rigid-gap window (Hertz + 15 %) is kept"
@@ -448,11 +444,10 @@ def test_bad_transient_inputs_raise():
         roll_over_surface(SCENE, 0.01, 0)
 
 
-@pytest.mark.parametrize("elements", [50, 100, 800, 1600])
+@pytest.mark.parametrize("elements", [100, 1600])
 def test_the_a_priori_bound_holds_where_its_coefficient_peaks(elements):
     """The 10 mm / 20 um corrugation at x_c = 0 has the largest first-order coefficient measured by
-    benchmarks/bench_discretised_estimate.py (T' error 1.83 w/n at n = 50 and 800 on its patch-fitted window; 1.68 at
-    n = 100 and 1600 on the rigid-gap window, above the former 1.4 w/n):
+    benchmarks/bench_discretised_estimate.py (T' error 1.68 w/n at n = 100 and 1600, above the former 1.4 w/n):
     the reported bound must still cover the error against the polynomial method (exact to 1e-12 here)."""
     scene = rc.Scene(1e6, creep=1e-3, surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.01, 20e-6),)))
     exact = rc.solve(scene, method="polynomial", tolerance=1e-12)

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import lru_cache
 
 import numpy as np
 from scipy import linalg
@@ -68,7 +67,7 @@ ELEMENTS_PER_WAVELENGTH = 16  # piecewise-constant elements per shortest surface
 DEFAULT_TOLERANCE = 1e-9
 STEADY_MODES = ("direct", "march", "structured")
 WINDOW_RETRIES = 3
-CONTACT_MARGIN = 0.05  # of the patches' span, each side of a fitted window (plus two search elements)
+CONTACT_MARGIN = 0.05  # of the patches' span, each side of contact_window (plus two search elements)
 
 
 def check_tolerance(tolerance) -> float:
@@ -141,20 +140,17 @@ def automatic_grid(scene: Scene, elements=None, window=None, axis_positions=None
     return Grid(x_min, x_max, elements)
 
 
-@lru_cache(maxsize=32)
 def contact_window(scene: Scene) -> tuple[float, float]:
-    """Default window (x_min, x_max) [m] of :func:`solve_discretised`: :func:`automatic_grid`'s, fitted to the
-    contact when the surface has harmonics.
+    """A window (x_min, x_max) [m] fitted to the contact: the patches of a normal solve on :func:`automatic_grid`
+    (its element count), plus :data:`CONTACT_MARGIN` of their span and two search elements on each side (a patch
+    edge moves by less than one element between resolutions); :func:`automatic_grid`'s window without harmonics
+    or when the search fails.
 
-    The rigid-gap window adds the corrugation's depth ``2 sum|Z_m|`` to the Hertz depth, since a corrugation
-    may open a patch anywhere within it; for the amplitudes of practice that is 1.5-4.5 times wider than the
-    contact (``benchmarks/pareto.py``'s corrugations), and since the error is first order in the element width,
-    the elements outside the contact are wasted.  So a normal solve on that window, at its automatic element
-    count, locates the patches, and the window becomes their span plus :data:`CONTACT_MARGIN` of it and two
-    search elements on each side (a patch edge moves by less than one element between resolutions).  It
-    depends on the scene only, not on the element count asked for, so the grids of a refinement study share a
-    window.  Cached per scene: one search however many solves.  Without harmonics, or when the search fails
-    (the solve then reports why), the rigid-gap window is kept.
+    For references (:func:`extrapolated`): the rigid-gap window adds the corrugation's depth ``2 sum|Z_m|`` to the
+    Hertz depth and is 1.5-4.5 times wider than the contact on ``benchmarks/pareto.py``'s corrugations, so at the
+    same element count this window's elements are that much finer.  It is not the solver's default: the cost of a
+    solve grows with the elements in contact, not with those outside it, so at equal accuracy the fitted window
+    saved nothing and its search doubled the cost of a discretised FMU step (measured in ``benchmarks/pareto.py``).
     """
     grid = automatic_grid(scene)
     if scene.normal_load_per_length == 0.0 or not any(h.amplitude > 0.0 for h in scene.surface.harmonics):
@@ -170,12 +166,6 @@ def contact_window(scene: Scene) -> tuple[float, float]:
     lo, hi = patches[0][0], patches[-1][1]
     margin = CONTACT_MARGIN * (hi - lo) + 2.0 * grid.element_width
     return max(lo - margin, grid.x_min), min(hi + margin, grid.x_max)
-
-
-def widened(window: tuple[float, float], factor: float) -> tuple[float, float]:
-    """The window scaled by ``factor`` about its centre."""
-    mid, half = 0.5 * (window[0] + window[1]), 0.5 * (window[1] - window[0]) * factor
-    return mid - half, mid + half
 
 
 # ------------------------------------------------------------------------------------------- transient stepper
@@ -704,9 +694,8 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
     elements : int, optional
         Number of elements n in [8, 4000]; default 200 (more for short surface wavelengths: 16 per wavelength).
     window : (float, float), optional
-        Grid window (x_min, x_max) [m] in the axis coordinate; default :func:`contact_window` (from the Hertz
-        width and the surface, fitted to the patches when the surface has harmonics), widened automatically (up
-        to 3 times) when a patch reaches its edge.
+        Grid window (x_min, x_max) [m] in the axis coordinate; default from the Hertz width and the surface,
+        widened automatically (up to 3 times) when a patch reaches its edge.
     tolerance : float
         Relative tolerance of the active sets and certificates, in [1e-14, 1e-3].
     steady : {"direct", "march", "structured"}, optional
@@ -748,15 +737,13 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
                          "constant friction")
     if scene.normal_load_per_length == 0.0:
         return no_contact_result(scene)
-    fitted = window is None
-    base = contact_window(scene) if fitted else window
     for attempt in range(WINDOW_RETRIES + 1):
-        grid = automatic_grid(scene, elements, widened(base, 1.5**attempt) if fitted else base)
+        grid = automatic_grid(scene, elements, window, widen=1.5**attempt)
         datum = grid.length if datum_length is None else datum_length
         solver = TransientSolver.from_scene(scene, grid, datum_length=datum, tolerance=tolerance)
         normal = solver.normal(scene.normal_load_per_length, scene.axis_position)
         touches = bool(normal.contact[0] or normal.contact[-1])
-        if not (touches and fitted):
+        if not (touches and window is None):
             break
     a, offset, patches = patch_geometry(grid, normal.contact)
     p = normal.pressure
@@ -826,13 +813,13 @@ def extrapolated(scene: Scene, elements: tuple[int, int] = (1000, 2000), **optio
     """A converged discretised solution: T' by first-order Richardson extrapolation, each level the mean over
     two grid placements.
 
-    ``T'_ref = T'_2 + (T'_2 - T'_1)/(r - 1)`` with ``r = n_2/n_1`` (T' is first order in the element width),
-    where ``T'_k`` is the mean of the solves at ``n_k`` elements on :func:`contact_window` and on it shifted by
-    half an element: the answer at one n moves by about its error with where the patch edges fall in their
-    elements (``benchmarks/bench_discretised_estimate.py``), and the mean halves that scatter, which
-    extrapolation alone would amplify.  The other fields are the finer level's first placement; p0 (second
-    order) is the finer level's mean.  For the split contact of ``benchmarks/pareto.py``, n = 1000/2000 is
-    within 1.7e-4 of n = 2000/4000 in T'.
+    ``T'_ref = T'_2 + (T'_2 - T'_1)/(r - 1)`` with ``r = n_2/n_1`` (T' is first order in the element width), where
+    ``T'_k`` is the mean of the solves at ``n_k`` elements on :func:`contact_window` (fitted to the patches) and on
+    it shifted by half an element: the answer at one n moves by about its error with where the patch edges fall in
+    their elements (``benchmarks/bench_discretised_estimate.py``), and the mean halves that scatter, which
+    extrapolation alone would amplify. The other fields are the finer level's first placement; p0 (second order) is
+    the finer level's mean. For the split contact of ``benchmarks/pareto.py``, n = 1000/2000 is within 1.7e-4 of n =
+    2000/4000 in T'.
 
     Parameters
     ----------
