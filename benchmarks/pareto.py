@@ -16,12 +16,13 @@ a window of +-1.25 a about the patch, whose edges then fall on element boundarie
 Richardson extrapolation of its T' from n = 2000/4000, each the mean over two grid placements
 (:func:`split_reference`), its uncertainty shown as the change of n = 4000 from it. Instationary rolling (creep
 control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps per cycle): max |T' - T'_ref| over the
-last cycle in units of mu N', reference the first-order Richardson extrapolation of the discretised transient at n =
-400/800 (order measured in ``bench_transient_auto.py``; the change of n = 800 from it shown). The discretised
-transient, in the rows and the reference, is stepped through the FMU's model with ``method`` = 3, ``transient`` = 2
-and ``elements`` = n: the grid auto's transient runs on (window about +-1.77 a, the Hertz patch edges on element
-boundaries, ``ContactModel.prepare_grid``), so auto and the rows compare like for like; the n = 800 grid is the n =
-400 one with every element halved.
+last cycle in units of mu N', reference the extrapolating transient pair n = 400/800 (nested grids, second order:
+``bench_transient_pairs.py``; the plain n = 800 transient's distance from it shown). Every instationary setting, the
+transients in the rows and the reference included, steps the FMU's model (quasi-static: ``transient`` = 0;
+relaxation: 2; transient: ``method`` = 3, ``transient`` = 2, ``elements`` = n; pair: that model with the
+extrapolating transient swapped in, :func:`pair_stepper`): the grids auto's transient runs on (window about +-1.77
+a, the Hertz patch edges on element boundaries, ``ContactModel.prepare_grid``) and the model's overhead, so auto and
+the rows compare like for like.
 
 Time. Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the caches of
 influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per host
@@ -61,6 +62,7 @@ import rollcontact as rc  # noqa: E402
 from rollcontact import api  # noqa: E402
 from rollcontact._bem import operators_for  # noqa: E402
 from rollcontact.closed_form import hertz  # noqa: E402
+from rollcontact.instationary import InstationaryModel  # noqa: E402
 from rollcontact.model import INSTATIONARY_CODES, ContactModel, ContactParameters  # noqa: E402
 
 RESULTS = ROOT / "benchmarks" / "results"
@@ -90,15 +92,16 @@ class Config:
     split_reference: tuple[int, int]
     wavelengths: tuple[float, ...]  # instationary lambda / a
     transient_elements: tuple[int, ...]
-    transient_reference: tuple[int, int]
+    transient_pairs: tuple[int, ...]  # finer grid's elements of the extrapolating pairs
+    transient_reference: int  # the pair n/2, n of the reference
     fmu_rounds: int
 
 
 FULL = Config(False, 0.3, (1, 2, 4, 8, 16, 32), api.POLYNOMIAL_TOLERANCES, api.SLIP_NODES,
               api.DISCRETISED_ELEMENTS, (50, 100, 200, 400, 800), 1024, (800, 1600), (2000, 4000),
-              (5.0, 10.0, 20.0, 40.0), (50, 100, 200, 300, 400, 500, 600), (400, 800), 30)
+              (5.0, 10.0, 20.0, 40.0), (50, 100, 200, 300, 400, 500, 600, 800), (50, 100, 200, 400), 800, 30)
 QUICK = Config(True, 0.02, (2, 8), (1e-2, 1e-4, 1e-6, 1e-10), (8, 16, 32), (50, 100, 200, 400), (50, 100),
-               128, (100, 200), (400, 800), (10.0,), (50, 100), (100, 200), 4)
+               128, (100, 200), (400, 800), (10.0,), (50, 100), (50,), 200, 4)
 
 
 def steady_cases(config: Config) -> dict[str, list[tuple[str, rc.Scene]]]:
@@ -397,34 +400,47 @@ def instationary_stepper(kind: str, elements: int = 0, tolerance: float = 0.0):
     cycle it agrees with auto forced to that n (``elements`` = n) to 1e-7 mu N' (measured for n = 100, 200 at
     lambda/a = 5, 40): auto starts from steady rolling, this from no traction, and the start has decayed.
     """
+    if kind == "transient pair":
+        return pair_stepper(elements)
     parameters = {"quasi-static": {"transient": 0}, "relaxation": {"transient": 2},
                   "transient": {"method": 3, "transient": 2, "elements": elements},
                   "auto": {"transient": 1, "tolerance": tolerance}}
     return model_stepper(**parameters[kind])
 
 
+def pair_stepper(elements: int):
+    """The FMU's model (``method`` = 3, ``transient`` = 2) with the extrapolating transient of ``elements``/2 and
+    ``elements`` in place of its plain one: what auto builds for a tolerance below about 4e-3."""
+    step = model_stepper(method=3, transient=2, elements=elements)
+    model = step.model
+    model.instationary = InstationaryModel(model.radius, model.contact_modulus, model.mu, mode="transient",
+                                           elements=elements, extrapolate=True)
+    return step
+
+
 def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], list[tuple[str, str, str]]]:
     rows, choices, references = [], [], []
     limit = MU_I * LOAD_I
-    coarse, fine = config.transient_reference
+    fine = config.transient_reference
     for wavelength in config.wavelengths:
         case = f"lambda/a = {wavelength:g}"
-        steppers = {n: instationary_stepper("transient", n) for n in (coarse, fine)}
-        runs = {n: run_instationary(step, wavelength) for n, step in steppers.items()}
-        grids = {n: step.model.instationary.solver.grid for n, step in steppers.items()}
-        # aligned grids of different n can differ in window: extrapolate in the element width
-        ref = richardson(runs[coarse][0], runs[fine][0], grids[coarse].element_width / grids[fine].element_width)
-        windows = "/".join(f"{grids[n].x_max / A_I:.3f}" for n in (coarse, fine))
-        references.append((case, f"first-order Richardson extrapolation of the discretised transient n = "
-                                 f"{coarse}/{fine} on the FMU model's grids (method 3, transient 2; windows +-"
-                                 f"{windows} a, the Hertz patch edges on element boundaries)",
-                           f"n = {fine} differs from it by {np.abs(runs[fine][0] - ref).max() / limit:.1e} mu N'"))
+        reference = pair_stepper(fine)
+        ref, ref_time = run_instationary(reference, wavelength)
+        plain = instationary_stepper("transient", fine)
+        plain_forces, plain_time = run_instationary(plain, wavelength)
+        window = reference.model.instationary.solver.grid.x_max / A_I
+        references.append((case, f"the extrapolating transient pair n = {fine // 2}/{fine} (nested grids, window "
+                                 f"+-{window:.3f} a, the Hertz patch edges on element boundaries of both; second "
+                                 "order, benchmarks/bench_transient_pairs.py) in the FMU model",
+                           f"the plain transient n = {fine} differs from it by "
+                           f"{np.abs(plain_forces - ref).max() / limit:.1e} mu N'"))
         settings = [("quasi-static", {}), ("relaxation", {})]
-        settings += [("transient", {"elements": n}) for n in sorted({*config.transient_elements, fine})]
+        settings += [("transient", {"elements": n}) for n in config.transient_elements]
+        settings += [("transient pair", {"elements": n}) for n in config.transient_pairs]
         for kind, options in settings:
             n = options.get("elements", 0)
-            forces, t = runs[n] if kind == "transient" and n in runs else run_instationary(
-                instationary_stepper(kind, n), wavelength)
+            forces, t = ((plain_forces, plain_time) if (kind, n) == ("transient", fine) else
+                         run_instationary(instationary_stepper(kind, n), wavelength))
             rows.append(Row("instationary", case, kind, setting_label(kind, options), options,
                             float(np.abs(forces - ref).max() / limit), 0.0, t))
         case_rows = [r for r in rows if r.case == case]
@@ -433,7 +449,9 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
             forces, t = run_instationary(stepper, wavelength)
             measured = stepper.used[-STEPS_PER_CYCLE:]
             model = stepper.model.instationary
-            name = model.mode + (f" n = {model.elements}" if model.mode == "transient" else "")
+            kind = "transient pair" if model.extrapolate else model.mode
+            name = kind + (f" n = {model.elements // 2}/{model.elements}" if model.extrapolate else
+                           f" n = {model.elements}" if model.mode == "transient" else "")
             code = INSTATIONARY_CODES[model.mode]
             share = f"{measured.count(code) / len(measured):.0%} {name}" if code in measured else "quasi-static"
             error = float(np.abs(forces - ref).max() / limit)
@@ -441,7 +459,7 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
                                 error <= tolerance)
             if set(measured) == {code}:  # every measured step ran one model: its row is auto's setting
                 for row in case_rows:
-                    if row.method == model.mode and row.options.get("elements", model.elements) == model.elements:
+                    if row.method == kind and row.options.get("elements", model.elements) == model.elements:
                         choice.chosen_time = row.time
             choices.append(with_cheapest(choice, case_rows))
     return rows, choices, references
@@ -620,7 +638,8 @@ def plot(rows: list[Row], choices: list[AutoChoice], path: Path) -> None:
     families = list(dict.fromkeys(r.family for r in rows))
     fig, axes = plt.subplots(2, 3, figsize=(17, 10.5))
     colours = {"closed_form": "black", "polynomial": "tab:blue", "discretised": "tab:orange",
-               "quasi-static": "tab:gray", "relaxation": "tab:green", "transient": "tab:orange"}
+               "quasi-static": "tab:gray", "relaxation": "tab:green", "transient": "tab:orange",
+               "transient pair": "tab:brown"}
     markers = "osD^vP*X"
     for ax, family in zip(axes.flat, families, strict=False):
         cases = list(dict.fromkeys(r.case for r in rows if r.family == family))
@@ -737,7 +756,7 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Pat
               "auto takes the cheapest setting (by the cost model of `api.py`) whose predicted error bound meets t.  "
               "Steady: `solve(scene, tolerance=t)`; instationary: the FMU's stepping model with `transient = 1` "
               "(auto) and `tolerance = t` (it switches between quasi-static Carter and the relaxation lag, or the "
-              "discretised transient when t is below the lag's accuracy).  "
+              "discretised transient, a pair of nested grids extrapolated, when t is below the lag's accuracy).  "
               "'cheapest measured' is the fastest measured setting whose error is <= t (by measured time, so "
               "noise and lucky cancellations count).  'x cheapest': auto's time over it, with the time of auto's "
               "setting run directly over it in brackets (steady: the rest is the choice itself; instationary: "

@@ -96,7 +96,8 @@ VARIABLES = (
     ("polynomial_order", Integer, PARAMETER, FIXED, None, DEFAULT.polynomial_order, 0, None,
      "Order of the polynomial method (0: chosen from the tolerance)"),
     ("elements", Integer, PARAMETER, FIXED, None, DEFAULT.elements, 0, None,
-     "Number of elements of the discretised method (0: the method's default)"),
+     "Number of elements of the discretised method (0: the method's default; for the discretised transient a "
+     "pair of nested grids extrapolated, chosen from the tolerance; > 0: one grid of this many)"),
     ("transient", Integer, PARAMETER, FIXED, None, DEFAULT.transient, 0, 2,
      "Transient rolling (flat surface, Coulomb friction): 0 quasi-static, 1 auto (while the stationarity measure "
      "is below its threshold: the relaxation model, or the discretised transient for tolerance < 4e-3 or method "

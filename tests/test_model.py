@@ -15,6 +15,8 @@ from rollcontact.api import MethodSpec
 from rollcontact.closed_form import hertz
 from rollcontact.instationary import InstationaryModel, aligned_grid_load
 from rollcontact.model import (
+    EXTRAPOLATED_MAX_ELEMENTS,
+    EXTRAPOLATION_COST,
     GRID_LOAD_FACTOR,
     RELAXATION_ACCURACY,
     STATIONARY,
@@ -26,6 +28,8 @@ from rollcontact.model import (
     StepOutputs,
     transient_elements,
     transient_error,
+    transient_model_error,
+    transient_setting,
 )
 from rollcontact.result import ContactResult
 
@@ -564,17 +568,18 @@ def test_tolerance_selects_a_setting_that_meets_it(tolerance):
 
 # ----------------------------------------------------------------------------------------------------------------
 # transient = 1 at tolerances below the relaxation lag's accuracy: the discretised transient
-@pytest.mark.parametrize("parameters, mode, elements", [
+@pytest.mark.parametrize("parameters, mode, setting", [
     (dict(transient=1, tolerance=1e-2), "relaxation", None),
     (dict(transient=1, tolerance=RELAXATION_ACCURACY), "relaxation", None),
-    (dict(transient=1, tolerance=1e-3), "transient", transient_elements(1e-3)),
-    (dict(transient=1, tolerance=1e-4), "transient", TRANSIENT_MAX_ELEMENTS),
-    (dict(transient=1, tolerance=1e-3, elements=60), "transient", 60),
+    (dict(transient=1, tolerance=1e-3), "transient", (128, True)),
+    (dict(transient=1, tolerance=1e-4), "transient", (400, True)),
+    (dict(transient=1, tolerance=1e-5), "transient", (EXTRAPOLATED_MAX_ELEMENTS, True)),
+    (dict(transient=1, tolerance=1e-3, elements=60), "transient", (60, False)),
     (dict(transient=1, tolerance=1e-3, method=1), "relaxation", None),
     (dict(transient=2, tolerance=1e-3), "relaxation", None),
-    (dict(transient=2, tolerance=1e-3, method=3), "transient", transient_elements(1e-3)),
+    (dict(transient=2, tolerance=1e-3, method=3), "transient", (128, True)),
 ])
-def test_tolerance_selects_the_instationary_model_and_its_elements(parameters, mode, elements):
+def test_tolerance_selects_the_instationary_model_and_its_elements(parameters, mode, setting):
     model = ContactModel(ContactParameters(**parameters))
     tolerance = parameters["tolerance"]
     assert model.instationary.mode == mode, f"{parameters}: {model.instationary.mode}"
@@ -582,11 +587,26 @@ def test_tolerance_selects_the_instationary_model_and_its_elements(parameters, m
     if mode == "relaxation":
         assert ("relaxation lag" in notices) == (tolerance < RELAXATION_ACCURACY), notices
         return
-    assert model.instationary.elements == elements, f"{parameters}: {model.instationary.elements} elements"
-    met = transient_error(elements) <= tolerance
-    if "elements" not in parameters and elements < TRANSIENT_MAX_ELEMENTS:
-        assert met and transient_error(elements - 1) > tolerance, "the fewest elements that meet the tolerance"
-    assert f"elements = {elements}" in notices and ("NOT met" in notices) == (not met), notices
+    elements, extrapolate = setting
+    assert (model.instationary.elements, model.instationary.extrapolate) == setting, \
+        f"{parameters}: {model.instationary.elements} elements, extrapolate {model.instationary.extrapolate}"
+    met = transient_model_error(elements, extrapolate) <= tolerance
+    if "elements" not in parameters and met:
+        assert transient_model_error(elements - 2, extrapolate) > tolerance, "the fewest elements that meet it"
+    grids = f"elements = {elements // 2}/{elements} extrapolated" if extrapolate else f"elements = {elements}"
+    assert grids in notices and ("NOT met" in notices) == (not met), notices
+
+
+def test_transient_setting_is_the_cheapest_that_meets_the_error_models():
+    """Over the tolerances below the relaxation lag's accuracy: the setting meets its model where any can, and the
+    other kind (plain or pair) that meets it costs more per step (n^2.5, the pair's times EXTRAPOLATION_COST)."""
+    for tolerance in np.geomspace(1.01e-4, 0.99 * RELAXATION_ACCURACY, 9):
+        elements, extrapolate = transient_setting(tolerance)
+        assert transient_model_error(elements, extrapolate) <= tolerance, f"tolerance {tolerance}"
+        plain = transient_elements(tolerance)
+        if transient_error(plain) <= tolerance and extrapolate:
+            assert EXTRAPOLATION_COST * elements**2.5 <= plain**2.5, f"tolerance {tolerance}: pair {elements}"
+    assert transient_setting(1e-3) == (128, True), "1e-3: the pair 64/128, where a single grid needs 800"
 
 
 def test_transient_elements_follow_the_error_model():
@@ -620,14 +640,16 @@ def test_switching_the_transient_in_starts_from_steady_rolling_at_the_previous_i
 
 
 def test_tight_tolerance_meets_its_error_against_a_refined_transient():
-    """One cheap case (lambda/a = 8, a quarter cycle after the switch-in): auto at tolerance 3.9e-3 against the
-    Richardson extrapolation (first order, benchmarks/bench_transient_auto.py) of the transient on 2 and 4 times its
-    elements, both switched in the same way."""
+    """One cheap case (lambda/a = 8, a quarter cycle after the switch-in): auto at tolerance 3.9e-3 (the
+    extrapolating pair 33/66) against the Richardson extrapolation (first order, benchmarks/bench_transient_auto.py)
+    of the plain transient on 2 and 4 times the elements a single grid would need (412, 824), both switched in the
+    same way."""
     tolerance = 3.9e-3
     forces = {}
     for factor in (1, 2, 4):
         model = ContactModel(ContactParameters(transient=1, tolerance=tolerance,
                                                elements=factor * transient_elements(tolerance) if factor > 1 else 0))
+        assert factor > 1 or model.instationary.extrapolate, "auto runs the pair"
         inputs, a = creep_oscillation(model, 1.0, 0.0, 1)
         inputs, _ = creep_oscillation(model, 8 * a, 0.3, 20, mean=0.5, h=a / 10 / 10.0)
         outs = run(model, inputs, h=a / 100.0)

@@ -126,6 +126,25 @@ TRANSIENT_MAX_ELEMENTS = 800
 """Most elements :func:`transient_elements` chooses: the finest grid measured (its error model is not extrapolated)
 and already 30-320 ms per host step in that benchmark (lambda/a = 5..40; the cost grows about as n^2.5)."""
 
+EXTRAPOLATED_ERROR_ORDER = 2.0
+"""p of the extrapolating transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
+(:func:`transient_model_error`; n the finer grid's elements): the first-order errors of the nested grids cancel
+and what remains falls as n^-2 (``benchmarks/bench_transient_pairs.py``: ``error n^2`` stays within 0.85-11 for
+n = 50..400)."""
+
+EXTRAPOLATED_ERROR_CONSTANT = 16.0
+"""C of that model: 1.4 times the largest ``error n^2`` measured by ``benchmarks/bench_transient_pairs.py`` (11.2,
+lambda/a = 5, n = 200; the signal of :data:`TRANSIENT_ERROR_CONSTANT`, against the pair 400/800)."""
+
+EXTRAPOLATED_MAX_ELEMENTS = 400
+"""Most elements (of the finer grid) :func:`transient_setting` chooses for a pair: the finest pair measured against a
+finer reference."""
+
+EXTRAPOLATION_COST = 1.6
+"""Time per step of a pair over the single grid of n elements: median 1.6 over ``benchmarks/bench_transient_pairs.py``
+(1.25-1.9, one outlier): the coarse grid adds about 2^-2.5 of the cost (it grows as n^2.5), and the fine grid takes
+twice the coarse grid's substeps, up to one more than its own."""
+
 TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
 FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
 
@@ -477,11 +496,14 @@ class ContactModel:
             else:
                 tight = 0.0 < p.tolerance < RELAXATION_ACCURACY
                 discretised = p.method == 3 or (tight and self.transient_auto and p.method == AUTO)
-                elements = p.elements or (transient_elements(p.tolerance) if discretised and p.tolerance else 100)
+                elements, extrapolate = p.elements or 100, False
                 if discretised and p.tolerance:
-                    notices.append(transient_notice(p.tolerance, elements, given=p.elements > 0))
+                    if not p.elements:
+                        elements, extrapolate = transient_setting(p.tolerance)
+                    notices.append(transient_notice(p.tolerance, elements, p.elements > 0, extrapolate))
                     # the transient settles on its own steady force, which is within its error of Carter's
-                    self.settle_tolerance = max(self.transient_tolerance, transient_error(elements))
+                    self.settle_tolerance = max(self.transient_tolerance,
+                                                transient_model_error(elements, extrapolate))
                 elif tight:
                     notices.append(f"tolerance = {p.tolerance!r}: the relaxation lag of transient = {p.transient} is "
                                    f"accurate to about {RELAXATION_ACCURACY!r} mu N (benchmarks/pareto.py); for less "
@@ -490,7 +512,7 @@ class ContactModel:
                 self.instationary = InstationaryModel(
                     radius, material.contact_modulus, friction.static_coefficient,
                     mode="transient" if discretised else "relaxation", datum_length=p.datum or None,
-                    elements=elements)
+                    elements=elements, extrapolate=extrapolate)
         self.notices: tuple[str, ...] = tuple(notices)
         """Messages worth showing once (e.g. in an FMU log): ignored parameters, modes not implemented."""
         self.material = material
@@ -707,11 +729,12 @@ class ContactModel:
                 raise ValueError(f"the state carries a transient traction history but grid_load = {grid_load!r}")
         else:
             previous = 0.0 if state.previous is None else state.previous[1] * self.per_width
-            grid_load = aligned_grid_load(max(load, previous), model.elements, GRID_LOAD_FACTOR)
+            grid_load = aligned_grid_load(max(load, previous), model.elements, GRID_LOAD_FACTOR,
+                                          2 if model.extrapolate else 1)
         if model.solver is None or model.max_load != grid_load:
             model.build_solver(grid_load)
         if lag is not None and load > grid_load:
-            grid_load = aligned_grid_load(load, model.elements, GRID_LOAD_FACTOR)
+            grid_load = aligned_grid_load(load, model.elements, GRID_LOAD_FACTOR, 2 if model.extrapolate else 1)
             lag = model.regrid(lag, grid_load)
         return grid_load, lag
 
@@ -858,12 +881,41 @@ def transient_elements(tolerance: float) -> int:
     return min(TRANSIENT_MAX_ELEMENTS, math.ceil(needed * (1.0 - 1e-12)))  # C/t = 400.0000001 asks for 400
 
 
-def transient_notice(tolerance: float, elements: int, given: bool) -> str:
+def transient_model_error(elements: int, extrapolate: bool) -> float:
+    """Modelled error [1 of mu N] of the discretised transient with n elements: :func:`transient_error`, or for
+    the extrapolating pair n/2, n ``C_e / n^2`` (:data:`EXTRAPOLATED_ERROR_CONSTANT`)."""
+    if extrapolate:
+        return EXTRAPOLATED_ERROR_CONSTANT / elements**EXTRAPOLATED_ERROR_ORDER
+    return transient_error(elements)
+
+
+def transient_setting(tolerance: float) -> tuple[int, bool]:
+    """``(elements, extrapolate)`` of the cheapest discretised transient whose modelled error meets ``tolerance``.
+
+    The fewest plain elements (:func:`transient_elements`) against the fewest of an extrapolating pair (even, at
+    least 16, at most :data:`EXTRAPOLATED_MAX_ELEMENTS`), by their cost per step ``n^2.5`` (the pair's times
+    :data:`EXTRAPOLATION_COST`); when neither meets the tolerance, the more accurate.  Below about 4e-3 the pair
+    wins: 128 elements meet 1e-3 where a single grid needs 800.
+    """
+    plain = transient_elements(tolerance)
+    needed = (EXTRAPOLATED_ERROR_CONSTANT / tolerance) ** (1.0 / EXTRAPOLATED_ERROR_ORDER)
+    pair = min(EXTRAPOLATED_MAX_ELEMENTS, max(16, 2 * math.ceil(0.5 * needed * (1.0 - 1e-12))))
+    options = [(plain**2.5, plain, False), (EXTRAPOLATION_COST * pair**2.5, pair, True)]
+    meeting = [o for o in options if transient_model_error(o[1], o[2]) <= tolerance]
+    if meeting:
+        return min(meeting)[1:]
+    return min(options, key=lambda o: transient_model_error(o[1], o[2]))[1:]
+
+
+def transient_notice(tolerance: float, elements: int, given: bool, extrapolate: bool = False) -> str:
     """What the discretised transient chosen for ``tolerance`` reaches, and whether that meets it."""
-    reached = transient_error(elements)
-    how = "as given" if given else f"chosen for the tolerance, at most {TRANSIENT_MAX_ELEMENTS}"
-    text = (f"tolerance = {tolerance!r}: instationary steps run the discretised transient (method_used 5) with "
-            f"elements = {elements} ({how}), modelled error {reached:.2g} mu N (benchmarks/bench_transient_auto.py)")
+    reached = transient_model_error(elements, extrapolate)
+    largest = EXTRAPOLATED_MAX_ELEMENTS if extrapolate else TRANSIENT_MAX_ELEMENTS
+    how = "as given" if given else f"chosen for the tolerance, at most {largest}"
+    grids = (f"elements = {elements // 2}/{elements} extrapolated ({how}), modelled error {reached:.2g} mu N "
+             "(benchmarks/bench_transient_pairs.py)" if extrapolate else
+             f"elements = {elements} ({how}), modelled error {reached:.2g} mu N (benchmarks/bench_transient_auto.py)")
+    text = f"tolerance = {tolerance!r}: instationary steps run the discretised transient (method_used 5) with {grids}"
     if reached > tolerance:
         return text + f"; the tolerance is NOT met, {reached:.2g} mu N is reached"
     return text

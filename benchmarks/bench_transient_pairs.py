@@ -1,0 +1,78 @@
+"""The extrapolating discretised transient (a pair of nested grids, n/2 and n): error vs elements, time per step.
+
+Run as ``.venv/bin/python benchmarks/bench_transient_pairs.py [--crosscheck]`` (about 3 minutes; ``--crosscheck``
+adds the plain n = 800/1600 Richardson at lambda/a = 5 and 40, about 8 minutes more).  Prints markdown tables;
+asserts nothing.  One BLAS thread.
+
+Scenario: the instationary study of ``benchmarks/pareto.py`` (its signal and helpers are imported): N' = 1e7 N/m,
+mu = 0.3, R = 0.46 m, V = 10 m/s, creep control ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps
+per cycle, lambda/a = 5, 10, 20, 40, at least 40 a rolled before the measured last cycle, every transient stepped
+through the FMU's model (``method`` = 3, ``transient`` = 2) from no traction.
+
+The pair: :class:`rollcontact.instationary.InstationaryModel` with ``extrapolate=True`` on n elements (swapped into
+the FMU's model in place of its plain transient, ``pareto.pair_stepper``): the grid of n/2 elements on the same
+window, both aligned to the load (``aligned_grid_load`` with ``multiple`` = 2), the fine grid taking twice the
+coarse grid's substeps, and ``T' = 2 T'_n - T'_(n/2)``. Reference: the pair 400/800. Error: ``max |T' - T'_ref|``
+over the last cycle in units of mu N'. The plain transient on n elements is shown against the same reference.
+
+Tables: (1) per lambda/a and n, the pair's error, ``error n^2`` and time per host step, the plain transient's
+error and time; (2) the error model ``error <= C / n^2`` over n <= 400: the largest ``error n^2`` and 1.4 times it,
+against :data:`rollcontact.model.EXTRAPOLATED_ERROR_CONSTANT`.  ``--crosscheck``: the reference against the
+first-order Richardson extrapolation of plain transients on n = 800/1600 (non-nested grids, an independent route).
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+import argparse  # noqa: E402  (after the thread limits)
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+from pareto import LOAD_I, MU_I, instationary_stepper, pair_stepper, richardson, run_instationary  # noqa: E402
+
+from rollcontact.model import EXTRAPOLATED_ERROR_CONSTANT  # noqa: E402
+
+WAVELENGTHS = (5.0, 10.0, 20.0, 40.0)
+PAIRS = (50, 100, 200, 400)
+REFERENCE = 800
+SAFETY = 1.4  # the model's constant over the largest measured, as for the plain transient's
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--crosscheck", action="store_true", help="also the plain n = 800/1600 Richardson")
+    args = parser.parse_args()
+    limit = MU_I * LOAD_I
+    start = time.perf_counter()
+    rows, worst = [], 0.0
+    print("| lambda/a | n | pair error [mu N'] | error n^2 | pair ms/step | plain error | plain ms/step |")
+    print("|---|---|---|---|---|---|---|")
+    for wavelength in WAVELENGTHS:
+        reference, _ = run_instationary(pair_stepper(REFERENCE), wavelength)
+        for n in PAIRS:
+            pair, pair_time = run_instationary(pair_stepper(n), wavelength)
+            plain, plain_time = run_instationary(instationary_stepper("transient", n), wavelength)
+            error = float(np.abs(pair - reference).max() / limit)
+            worst = max(worst, error * n * n)
+            rows.append((wavelength, n, error))
+            print(f"| {wavelength:g} | {n} | {error:.2e} | {error * n * n:.3g} | {1e3 * pair_time:.2f} | "
+                  f"{np.abs(plain - reference).max() / limit:.2e} | {1e3 * plain_time:.2f} |", flush=True)
+        if args.crosscheck and wavelength in (5.0, 40.0):
+            steppers = {n: instationary_stepper("transient", n) for n in (800, 1600)}
+            runs = {n: run_instationary(step, wavelength)[0] for n, step in steppers.items()}
+            ratio = (steppers[800].model.instationary.solver.grid.element_width
+                     / steppers[1600].model.instationary.solver.grid.element_width)
+            plain_ref = richardson(runs[800], runs[1600], ratio)
+            print(f"| {wavelength:g} | crosscheck | pair 400/800 vs plain Richardson 800/1600: "
+                  f"{np.abs(reference - plain_ref).max() / limit:.2e} | | | | |", flush=True)
+    print(f"\nError model error <= C / n^2 over n = {PAIRS[0]}..{PAIRS[-1]}: largest error n^2 {worst:.3g}, "
+          f"x {SAFETY} = {SAFETY * worst:.3g}; the model uses C = {EXTRAPOLATED_ERROR_CONSTANT:g}")
+    print(f"\n{len(rows)} pairs in {time.perf_counter() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
