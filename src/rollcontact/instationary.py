@@ -39,7 +39,10 @@ Models
   control (the reference; ~0.4 ms per step of one element width with n = 100-200, longer steps are split into
   substeps of at most one element), ``mode="relaxation"``: the lag (R1) around Carter (~50 us per step, mostly
   bookkeeping).  :meth:`InstationaryModel.steady_state` gives steady rolling on the transient's grid as the exact
-  fixed point of a held step, to switch the transient in mid-run without a jump.  Measured against each other
+  fixed point of a held step, to switch the transient in mid-run without a jump.  With ``extrapolate=True`` the
+  transient runs on two nested grids (n/2 and n elements, both aligned by :func:`aligned_grid_load`, the fine one
+  taking twice the coarse one's substeps) and reports ``2 T'_n - T'_(n/2)``: their first-order errors cancel and
+  the rest falls as n^-2 (``benchmarks/bench_transient_pairs.py``).  Measured against each other
   (``tests/test_instationary.py``, ``benchmarks/bench_instationary.py``): T' within 0.7 % of mu N' for
   lambda/a >= 5 with the default datum (2 % with L = 10 a), where quasi-static Carter is off by 12-78 %.
 * Force control, oscillating force ``T' = T0 + T1 sin(2 pi sigma / lambda)``:

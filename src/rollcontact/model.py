@@ -38,9 +38,10 @@ the inputs vary slowly and switches the instationary model in when the stationar
 starting from the previous step's quasi-steady state (:meth:`ContactModel.switch_in`), and switches back once the
 inputs are slow again and its force is back within the tolerance of the quasi-steady one.  The relaxation lag is
 accurate to about :data:`RELAXATION_ACCURACY` mu N; for a tighter ``tolerance`` with ``method`` = 0, ``transient``
-= 1 runs the discretised transient instead, with the fewest elements whose modelled error meets the tolerance
-(:func:`transient_elements`, at most :data:`TRANSIENT_MAX_ELEMENTS`; ``elements`` > 0 overrides) and switched in
-from steady rolling on its grid, so stationary inputs stay on the cheap closed form.  Both models assume a flat
+= 1 runs the discretised transient instead, the cheapest whose modelled error meets the tolerance
+(:func:`transient_setting`: in practice the extrapolating pair of nested grids, at most
+:data:`EXTRAPOLATED_MAX_ELEMENTS`; ``elements`` > 0 runs one grid of that many) and switched in from steady rolling
+on its grid, so stationary inputs stay on the cheap closed form.  Both models assume a flat
 surface and Coulomb friction: on other scenes ``transient`` = 2 is refused and ``transient`` = 1 stays quasi-steady
 (:attr:`ContactModel.notices` says so).  With ``method`` = 3, ``transient`` = 1 behaves as 2: the discretised
 method was asked for on every step, and its transient is exact in steady rolling too.
@@ -105,7 +106,7 @@ DEFAULT_TRANSIENT_TOLERANCE = 1e-2
 RELAXATION_ACCURACY = 4e-3
 """Error [1 of mu N] of the relaxation lag against the discretised transient, measured 2.8-3.6e-3 for
 lambda/a = 5..40 by ``benchmarks/pareto.py``.  ``transient`` = 1 with ``method`` = 0 and a tighter ``tolerance``
-runs the discretised transient instead (:func:`transient_elements`)."""
+runs the discretised transient instead (:func:`transient_setting`)."""
 
 GRID_LOAD_FACTOR = 2.0
 """The discretised transient's grid holds loads up to about this factor times the load it is aligned to (a up to
@@ -251,15 +252,15 @@ class ContactParameters:
         Requested relative error [1] >= 0 of T' and p0: each step's method runs with its cheapest setting whose
         error estimate meets it (:func:`rollcontact.api.setting_for`, as ``rollcontact.solve(scene,
         tolerance=...)``); with ``transient`` = 1 also the error of T' (of mu N) it tolerates before the
-        instationary model takes over.  It sets the element count of the discretised transient
-        (:func:`transient_elements`) with ``method`` = 3, and with ``method`` = 0 below
+        instationary model takes over.  It sets the grids of the discretised transient
+        (:func:`transient_setting`) with ``method`` = 3, and with ``method`` = 0 below
         :data:`RELAXATION_ACCURACY`, where ``transient`` = 1 uses that transient.  0: the methods' defaults and
         :data:`DEFAULT_TRANSIENT_TOLERANCE`.
     polynomial_order : int
         Polynomial order >= 0 for methods that accept it (0: the method's default).
     elements : int
         Element count >= 0 for methods that accept it and for the discretised transient (0: the method's
-        default; the transient's is chosen from ``tolerance``, else 100).
+        default; the transient's grids are chosen from ``tolerance``, else one grid of 100; > 0: one grid).
     transient : int
         0 quasi-static, 1 auto (instationary model only while the stationarity measure calls for it), 2 always
         (module docstring, "Instationary rolling").
@@ -744,7 +745,7 @@ class ContactModel:
         Relaxation: the lag starts at the previous step's force.  Discretised transient: steady rolling at the
         previous step's load and creep on the grid (:meth:`InstationaryModel.steady_state`, the exact fixed point of
         a step rolling ``distance`` = V h, so holding the inputs changes nothing); its force differs from the
-        quasi-steady one by the discretisation error, at most :func:`transient_error`.  No traction after an
+        quasi-steady one by the discretisation error, at most :func:`transient_model_error`.  No traction after an
         unloaded step.
         """
         model = self.instationary
