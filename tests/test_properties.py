@@ -709,3 +709,42 @@ def test_contact_model_steps_to_valid_outputs_or_a_model_error(case, data):
         event(f"model: method_used {out.method_used}")
         check_outputs(out, parameters, normal_load, creep, velocity)
         t += h
+
+
+@st.composite
+def instationary_parameters(draw):
+    """``ContactParameters`` keywords of instationary rolling (flat surface, Coulomb friction, which the instationary
+    models need) over the domain of :func:`extremes.model_parameters`: ``transient`` 1 or 2, ``method`` 0 or 3,
+    ``tolerance`` 0 (the defaults), 1e-2 (the relaxation lag) or 2e-3 (the extrapolating pair 45/90), ``elements``
+    0 or :data:`extremes.ELEMENTS` (one grid)."""
+    return {"youngs_modulus": draw(log_uniform(1e6, 1e12)), "poisson_ratio": draw(st.floats(0.0, 0.49)),
+            "radius": draw(log_uniform(1e-3, 1e2)), "contact_width": draw(log_uniform(1e-3, 1.0)),
+            "friction_coefficient": draw(log_uniform(1e-6, 2.0)), "transient": draw(st.sampled_from((1, 2))),
+            "method": draw(st.sampled_from((0, 3))), "tolerance": draw(st.sampled_from((0.0, 1e-2, 2e-3))),
+            "elements": draw(st.sampled_from((0, ELEMENTS)))}
+
+
+@settings(PROFILE, max_examples=30)
+@given(instationary_parameters(), st.data())
+def test_instationary_model_steps_to_valid_outputs_or_a_model_error(parameters, data):
+    """The instationary models (relaxation lag, discretised transient, extrapolating pair) at the extremes of the
+    inputs, 4 steps: valid outputs (|T| <= mu N, 0 <= a* <= a, finite), or a ModelError: naming the invalid input,
+    or, for valid inputs, saying what failed (e.g. a contact so wide that the transient's datum falls inside its
+    grid: the half-space theory does not apply); the state is then left unchanged."""
+    model = ContactModel(ContactParameters(**parameters))
+    t = 0.0
+    for _ in range(4):
+        (h, normal_load, creep, velocity), problem = data.draw(model_inputs(parameters["contact_width"]))
+        before = model.get_state()
+        try:
+            out = model.step(t, h, normal_load, creep, velocity)
+        except ModelError as exc:
+            event(f"instationary: step refused ({'input' if problem else 'valid input'})")
+            message = str(exc)
+            assert f"{problem} = " in message if problem else "instationary" in message, message
+            assert model.get_state() == before, "a refused step leaves the state unchanged"
+            continue
+        assert problem is None, f"{problem} invalid, yet the step was accepted: {out}"
+        event(f"instationary: method_used {out.method_used}")
+        check_outputs(out, parameters, normal_load, creep, velocity, instationary=True)
+        t += h
