@@ -693,21 +693,28 @@ def test_contact_model_steps_to_valid_outputs_or_a_model_error(case, data):
         assert problem is not None and f"{problem} = " in str(exc), f"refused {parameters}: {exc}"
         return
     assert problem is None, f"{problem} = {parameters[problem]!r} was accepted"
+    step_at_the_extremes(model, parameters, data, 3, "no method solved")
+
+
+def step_at_the_extremes(model, parameters: dict, data, steps: int, refusal: str, instationary: bool = False):
+    """``steps`` steps with inputs of :func:`extremes.model_inputs`: valid outputs (:func:`extremes.check_outputs`),
+    or a ModelError naming the invalid input, or for valid inputs containing ``refusal``; a refused step leaves
+    the state unchanged."""
     t = 0.0
-    for _ in range(3):
+    for _ in range(steps):
         (h, normal_load, creep, velocity), problem = data.draw(model_inputs(parameters["contact_width"]))
         before = model.get_state()
         try:
             out = model.step(t, h, normal_load, creep, velocity)
         except ModelError as exc:
-            event(f"model: step refused ({'input' if problem else 'scene'})")
+            event(f"model: step refused ({'input' if problem else 'valid input'})")
             message = str(exc)
-            assert f"{problem} = " in message if problem else "no method solved" in message, message
+            assert f"{problem} = " in message if problem else refusal in message, message
             assert model.get_state() == before, "a refused step leaves the state unchanged"
             continue
         assert problem is None, f"{problem} invalid, yet the step was accepted: {out}"
         event(f"model: method_used {out.method_used}")
-        check_outputs(out, parameters, normal_load, creep, velocity)
+        check_outputs(out, parameters, normal_load, creep, velocity, instationary)
         t += h
 
 
@@ -731,20 +738,5 @@ def test_instationary_model_steps_to_valid_outputs_or_a_model_error(parameters, 
     inputs, 4 steps: valid outputs (|T| <= mu N, 0 <= a* <= a, finite), or a ModelError: naming the invalid input,
     or, for valid inputs, saying what failed (e.g. a contact so wide that the transient's datum falls inside its
     grid: the half-space theory does not apply); the state is then left unchanged."""
-    model = ContactModel(ContactParameters(**parameters))
-    t = 0.0
-    for _ in range(4):
-        (h, normal_load, creep, velocity), problem = data.draw(model_inputs(parameters["contact_width"]))
-        before = model.get_state()
-        try:
-            out = model.step(t, h, normal_load, creep, velocity)
-        except ModelError as exc:
-            event(f"instationary: step refused ({'input' if problem else 'valid input'})")
-            message = str(exc)
-            assert f"{problem} = " in message if problem else "instationary" in message, message
-            assert model.get_state() == before, "a refused step leaves the state unchanged"
-            continue
-        assert problem is None, f"{problem} invalid, yet the step was accepted: {out}"
-        event(f"instationary: method_used {out.method_used}")
-        check_outputs(out, parameters, normal_load, creep, velocity, instationary=True)
-        t += h
+    step_at_the_extremes(ContactModel(ContactParameters(**parameters)), parameters, data, 4, "instationary",
+                         instationary=True)
