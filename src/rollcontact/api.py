@@ -29,6 +29,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
@@ -42,9 +43,11 @@ ROUND_OFF = 1e-14
 """Relative error reported for results exact up to floating-point round-off."""
 
 
-@dataclass(frozen=True)
-class Setting:
+class Setting(NamedTuple):
     """One way to run a method on a scene, with what it is predicted to achieve and to cost.
+
+    Immutable; a named tuple rather than a frozen dataclass because ``auto`` builds one per solve and a frozen
+    dataclass costs ~2 us to construct, a quarter of a closed-form solve.
 
     Attributes
     ----------
@@ -68,8 +71,12 @@ class AccuracyModel:
     """How the error and the cost of a method depend on its options; what the tolerance-aware ``auto`` needs.
 
     Subclasses give :meth:`ladder` (option sets, cheapest first), :meth:`cost` and :meth:`error`;
-    :meth:`achieved` may refine the error from a result.
+    :meth:`achieved` may refine the error from a result, and :attr:`floor` a lower bound of :meth:`cost`.
     """
+
+    floor: float = 0.0
+    """A lower bound [s] of :meth:`cost` over every scene and setting: ``auto`` skips the method without asking
+    its scene-dependent :meth:`minimum_cost` once a setting at most this cheap is found."""
 
     def ladder(self, scene: Scene) -> tuple[dict, ...]:  # pragma: no cover - interface
         """Option sets worth considering for the scene, from the cheapest to the most accurate."""
@@ -212,7 +219,11 @@ def choose_setting(scene: Scene, tolerance: float, names=None) -> Setting:
     ValueError
         Invalid tolerance, or no considered method can treat the scene.
     """
-    tolerance = check_tolerance(tolerance)
+    return cheapest_setting(scene, check_tolerance(tolerance), names)
+
+
+def cheapest_setting(scene: Scene, tolerance: float, names=None) -> Setting:
+    """:func:`choose_setting` for a tolerance already checked (``solve`` checks it once per call)."""
     allowed = None if names is None else set(names)
     best = closest = None
     unmodelled = []
@@ -221,7 +232,7 @@ def choose_setting(scene: Scene, tolerance: float, names=None) -> Setting:
             continue
         model = spec.accuracy
         # a method whose cheapest setting costs more than the best found cannot win: skip its checks
-        if best is not None and (model is None or model.minimum_cost(scene) >= best.cost):
+        if best is not None and (model is None or model.floor >= best.cost or model.minimum_cost(scene) >= best.cost):
             continue
         if spec.inapplicable(scene) is not None:
             continue
@@ -298,7 +309,7 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
         result = call_with_known_options(spec, scene, options)
     else:
         tolerance = check_tolerance(tolerance)
-        spec, result = run_to_tolerance(choose_setting(scene, tolerance), scene, options, tolerance)
+        spec, result = run_to_tolerance(cheapest_setting(scene, tolerance), scene, options, tolerance)
     if result.success:
         return result
     name = spec.name
@@ -311,7 +322,7 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
         backup = call_with_known_options(backup_spec, scene, options)
     else:
         try:
-            setting = choose_setting(scene, tolerance, names=[s.name for s in backups])
+            setting = cheapest_setting(scene, tolerance, names=[s.name for s in backups])
         except ValueError:  # no fallback method can treat the scene either
             return result
         backup_spec, backup = run_to_tolerance(setting, scene, options, tolerance)
@@ -338,7 +349,7 @@ def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: f
 def run_setting(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec, ContactResult]:
     """Run a chosen setting (user options override it) and record the tolerance outcome in the result."""
     spec = METHODS[setting.method]
-    used = used_options(spec, {**setting.options, **options})
+    used = used_options(spec, {**setting.options, **options} if options else setting.options)
     result = annotate(spec, scene, used, spec.function(scene, **used))
     estimate = result.info.get("error_estimate", math.nan)
     met = bool(estimate <= tolerance)
@@ -406,6 +417,8 @@ DISCRETISED_PRESSURE_ERROR = 3.0  # relative p0 error <= 3 (w/n)^2
 class ClosedFormAccuracy(AccuracyModel):
     """Hertz + Carter: exact (round-off) wherever applicable, one setting."""
 
+    floor = CLOSED_FORM_COST
+
     def ladder(self, scene):
         return ({},)
 
@@ -437,6 +450,8 @@ class PolynomialAccuracy(AccuracyModel):
     the count to run next while the estimate misses the tolerance.  An explicit ``order`` has no prediction
     (NaN); the result's truncation residual then gives the estimate.
     """
+
+    floor = POLYNOMIAL_COST
 
     def ladder(self, scene):
         if scene.friction.is_constant:
@@ -567,6 +582,8 @@ class DiscretisedAccuracy(AccuracyModel):
     error but is larger than this bound in the median (same benchmark).  Element counts below the automatic
     grid's resolution of the shortest surface wavelength are not offered.
     """
+
+    floor = DIRECT_COST[0]  # the structured (velocity-dependent) solve's ~20 iterations cost more
 
     def ladder(self, scene):
         needed = self.resolution(scene)
