@@ -258,6 +258,19 @@ def test_cost_model_ranks_the_methods_and_settings():
     assert poly == sorted(poly) and disc == sorted(disc), f"costs must grow with the resolution: {poly}, {disc}"
 
 
+@pytest.mark.parametrize("name", list(FAMILY_CASES))
+def test_each_models_floor_is_below_every_cost_it_models(name):
+    """auto skips a method once its best setting costs at most the method's ``floor``; that is only safe if no
+    setting of the method, on any scene, is cheaper than the floor."""
+    scene = FAMILY_CASES[name]
+    for spec in METHODS.values():
+        model = spec.accuracy
+        if model is None:
+            continue
+        costs = [model.cost(scene, options) for options in model.ladder(scene)] + [model.minimum_cost(scene)]
+        assert model.floor <= min(costs), f"{name}: {spec.name} floor {model.floor:.3g} s > cost {min(costs):.3g} s"
+
+
 def test_auto_reports_a_tolerance_it_cannot_reach():
     scene = FAMILY_CASES["split contact 10 mm / 20 um"]
     result = solve(scene, tolerance=1e-4)
