@@ -387,18 +387,20 @@ STEPS_PER_CYCLE = 64
 CONTACT_WIDTH = 0.02  # m, the FMU's default lateral width
 
 
-def creep_signal(wavelength: float) -> tuple[np.ndarray, float, int]:
-    """Creep per host step, the step [s] and the index of the first step of the measured (last) cycle."""
+def creep_signal(wavelength: float, mean: float = 0.5, amplitude: float = 0.3) -> tuple[np.ndarray, float, int]:
+    """Creep ``(mean + amplitude sin(2 pi sigma/lambda)) mu a/R`` per host step, the step [s] and the index of the
+    first step of the measured (last) cycle."""
     cycles = max(1, math.ceil(40.0 / wavelength)) + 1  # >= 40 a of settling: the lag (~5 a) has decayed
     k = np.arange(1, cycles * STEPS_PER_CYCLE + 1)
-    xi = SATURATION_I * (0.5 + 0.3 * np.sin(2.0 * np.pi * k / STEPS_PER_CYCLE))
+    xi = SATURATION_I * (mean + amplitude * np.sin(2.0 * np.pi * k / STEPS_PER_CYCLE))
     dt = wavelength * A_I / STEPS_PER_CYCLE / SPEED
     return xi, dt, (cycles - 1) * STEPS_PER_CYCLE
 
 
-def run_instationary(step, wavelength: float) -> tuple[np.ndarray, float]:
-    """T' [N/m] over the measured cycle and the median time per host step [s] of ``step(xi, dt) -> T'``."""
-    xi, dt, first = creep_signal(wavelength)
+def run_instationary(step, wavelength: float, mean: float = 0.5, amplitude: float = 0.3) -> tuple[np.ndarray, float]:
+    """T' [N/m] over the measured cycle of :func:`creep_signal` and the median time per host step [s] of
+    ``step(xi, dt) -> T'``."""
+    xi, dt, first = creep_signal(wavelength, mean, amplitude)
     forces, times = [], []
     for i, value in enumerate(xi):
         t0 = time.perf_counter()

@@ -134,8 +134,9 @@ and what remains falls as n^-2 (``benchmarks/bench_transient_pairs.py``: ``error
 n = 50..400)."""
 
 EXTRAPOLATED_ERROR_CONSTANT = 16.0
-"""C of that model: 1.4 times the largest ``error n^2`` measured by ``benchmarks/bench_transient_pairs.py`` (11.2,
-lambda/a = 5, n = 200; the signal of :data:`TRANSIENT_ERROR_CONSTANT`, against the pair 400/800)."""
+"""C of that model: 1.35 times the largest ``error n^2`` measured by ``benchmarks/bench_transient_pairs.py`` (11.8 at
+lambda/a = 1, n = 100; 11.2 at lambda/a = 5, n = 200, on the signal of :data:`TRANSIENT_ERROR_CONSTANT`, against the
+pair 400/800), over lambda/a = 1..40 and a creep reversal ``0.9 sin`` at lambda/a = 5 and 20 (at most 3.0 there)."""
 
 EXTRAPOLATED_MAX_ELEMENTS = 400
 """Most elements (of the finer grid) :func:`transient_setting` chooses for a pair: the finest pair measured against a
