@@ -91,8 +91,9 @@ VARIABLES = (
      "Method: 0 auto (cheapest the scene needs), 1 closed form, 2 polynomial, 3 discretised"),
     ("tolerance", Real, PARAMETER, FIXED, "1", DEFAULT.tolerance, 0.0, None,
      "Requested relative error of T and p0: each method runs with its cheapest setting that meets it; with "
-     "transient = 1 also the error of T (of mu N) tolerated before the instationary model takes over, below 4e-3 "
-     "with the discretised transient and its element count (0: defaults)"),
+     "transient = 1 also the error of T (of mu N) tolerated before the instationary model takes over, which is "
+     "then the discretised transient with the elements the tolerance needs (0: defaults, the relaxation lag, "
+     "whose error grows with the creep swing)"),
     ("polynomial_order", Integer, PARAMETER, FIXED, None, DEFAULT.polynomial_order, 0, None,
      "Order of the polynomial method (0: chosen from the tolerance)"),
     ("elements", Integer, PARAMETER, FIXED, None, DEFAULT.elements, 0, None,
@@ -100,8 +101,8 @@ VARIABLES = (
      "pair of nested grids extrapolated, chosen from the tolerance; > 0: one grid of this many)"),
     ("transient", Integer, PARAMETER, FIXED, None, DEFAULT.transient, 0, 2,
      "Transient rolling (flat surface, Coulomb friction): 0 quasi-static, 1 auto (while the stationarity measure "
-     "is below its threshold: the relaxation model, or the discretised transient for tolerance < 4e-3 or method "
-     "3), 2 always (relaxation; discretised transient with method 3)"),
+     "is below its threshold: the relaxation model for tolerance 0 or >= 0.21 (its measured error bound), else the "
+     "discretised transient, also with method 3), 2 always (relaxation; discretised transient with method 3)"),
     ("datum", Real, PARAMETER, FIXED, "m", DEFAULT.datum, 0.0, None,
      "Datum distance L of instationary rolling (creep control depends on it; 0: the effective radius)"),
 )
