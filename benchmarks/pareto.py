@@ -15,7 +15,8 @@ a window of +-1.25 a about the patch, whose edges then fall on element boundarie
 ``tests/test_cross_methods.py``); for a split contact, which only the discretised solver treats, the first-order
 Richardson extrapolation of its T' from n = 2000/4000, each the mean over two grid placements
 (:func:`split_reference`), its uncertainty shown as the change of n = 4000 from it. Instationary rolling (creep
-control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps per cycle): max |T' - T'_ref| over the
+control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R`` at lambda/a = 5..40, and a creep reversal ``0.9 sin`` at
+lambda/a = 5, where the relaxation lag errs most; 64 host steps per cycle): max |T' - T'_ref| over the
 last cycle in units of mu N', reference the extrapolating transient pair n = 400/800 (nested grids, second order:
 ``bench_transient_pairs.py``; the plain n = 800 transient's distance from it shown). Every instationary setting, the
 transients in the rows and the reference included, steps the FMU's model (quasi-static: ``transient`` = 0;
@@ -96,7 +97,7 @@ class Config:
     reference_nodes: int
     richardson: tuple[int, int] | None
     split_reference: tuple[int, int]
-    wavelengths: tuple[float, ...]  # instationary lambda / a
+    signals: tuple[tuple[float, float, float], ...]  # instationary (lambda / a, mean, amplitude): creep_signal
     transient_elements: tuple[int, ...]
     transient_pairs: tuple[int, ...]  # finer grid's elements of the extrapolating pairs
     transient_reference: int  # the pair n/2, n of the reference
@@ -105,9 +106,10 @@ class Config:
 
 FULL = Config(False, 0.3, (1, 2, 4, 8, 16, 32), api.POLYNOMIAL_TOLERANCES, api.SLIP_NODES,
               api.DISCRETISED_ELEMENTS, (50, 100, 200, 400, 800), 1024, (800, 1600), (2000, 4000),
-              (5.0, 10.0, 20.0, 40.0), (50, 100, 200, 300, 400, 500, 600, 800), (50, 100, 200, 400), 800, 30)
+              ((5.0, 0.5, 0.3), (10.0, 0.5, 0.3), (20.0, 0.5, 0.3), (40.0, 0.5, 0.3), (5.0, 0.0, 0.9)),
+              (50, 100, 200, 300, 400, 500, 600, 800), (50, 100, 200, 400), 800, 30)
 QUICK = Config(True, 0.02, (2, 8), (1e-2, 1e-4, 1e-6, 1e-10), (8, 16, 32), (50, 100, 200, 400), (50, 100),
-               128, (100, 200), (400, 800), (10.0,), (50, 100), (50,), 200, 4)
+               128, (100, 200), (400, 800), ((10.0, 0.5, 0.3),), (50, 100), (50,), 200, 4)
 
 
 def steady_cases(config: Config) -> dict[str, list[tuple[str, rc.Scene]]]:
@@ -469,12 +471,14 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
     rows, choices, references = [], [], []
     limit = MU_I * LOAD_I
     fine = config.transient_reference
-    for wavelength in config.wavelengths:
-        case = f"lambda/a = {wavelength:g}"
+    for signal in config.signals:
+        wavelength, mean, amplitude = signal
+        case = f"lambda/a = {wavelength:g}" + ("" if (mean, amplitude) == (0.5, 0.3) else
+                                              f", xi = ({mean:g} + {amplitude:g} sin) mu a/R")
         reference = pair_stepper(fine)
-        ref, ref_time = run_instationary(reference, wavelength)
+        ref, ref_time = run_instationary(reference, *signal)
         plain = instationary_stepper("transient", fine)
-        plain_forces, plain_time = run_instationary(plain, wavelength)
+        plain_forces, plain_time = run_instationary(plain, *signal)
         window = reference.model.instationary.solver.grid.x_max / A_I
         references.append((case, f"the extrapolating transient pair n = {fine // 2}/{fine} (nested grids, window "
                                  f"+-{window:.3f} a, the Hertz patch edges on element boundaries of both; second "
@@ -487,13 +491,13 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
         for kind, options in settings:
             n = options.get("elements", 0)
             forces, t = ((plain_forces, plain_time) if (kind, n) == ("transient", fine) else
-                         run_instationary(instationary_stepper(kind, n), wavelength))
+                         run_instationary(instationary_stepper(kind, n), *signal))
             rows.append(Row("instationary", case, kind, setting_label(kind, options), options,
                             float(np.abs(forces - ref).max() / limit), 0.0, t, bound=instationary_bound(kind, n)))
         case_rows = [r for r in rows if r.case == case]
         for tolerance in TOLERANCES:
             stepper = instationary_stepper("auto", tolerance=tolerance)
-            forces, t = run_instationary(stepper, wavelength)
+            forces, t = run_instationary(stepper, *signal)
             measured = stepper.used[-STEPS_PER_CYCLE:]
             model = stepper.model.instationary
             kind = "transient pair" if model.extrapolate else model.mode
@@ -510,10 +514,10 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
                         choice.chosen_time = row.time
             choices.append(with_cheapest(
                 choice, case_rows,
-                lambda row, lam=wavelength: run_instationary(
-                    instationary_stepper(row.method, row.options.get("elements", 0)), lam)[1],
-                lambda tol=tolerance, lam=wavelength: run_instationary(
-                    instationary_stepper("auto", tolerance=tol), lam)[1]))
+                lambda row, sig=signal: run_instationary(
+                    instationary_stepper(row.method, row.options.get("elements", 0)), *sig)[1],
+                lambda tol=tolerance, sig=signal: run_instationary(
+                    instationary_stepper("auto", tolerance=tol), *sig)[1]))
     return rows, choices, references
 
 
