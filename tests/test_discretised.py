@@ -438,6 +438,9 @@ def test_bad_transient_inputs_raise():
         solver.step(state, p[:-1], 1e-4, creep=1e-3)
     with pytest.raises(ValueError, match="static step"):
         solver.step(state, p, 0.0, creep=1e-3)
+    for bad, shown in ((math.nan, "minimum nan"), (math.inf, "maximum inf"), (-1.0, "minimum -1.0")):
+        with pytest.raises(ValueError, match=f"finite and >= 0, got .*{shown}"):
+            solver.step(state, np.where(np.arange(p.size) == 3, bad, p), 1e-4, creep=1e-3)
     with pytest.raises(ValueError, match="ill-posed"):
         solve_discretised(SCENE.replace(friction=rc.ExponentialFalling(MU)), steady="march")
     with pytest.raises(ValueError, match="steps must be an integer"):

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import linalg
+from scipy.linalg import lapack
 
 MIN_ELEMENTS = 8
 MAX_ELEMENTS = 4000  # dense n x n matrices: 4000^2 doubles are 128 MB each
@@ -107,16 +108,18 @@ class FactorCache:
             return hit
         idx = np.flatnonzero(mask)
         sub = self.matrix[np.ix_(idx, idx)]
+        # the LAPACK solves directly: scipy's cho_solve/lu_solve wrappers cost ~12 us a call, several times the
+        # solve itself on the small stick sets of a transient substep (same routines, same results)
         if self.symmetric:
-            factor = linalg.cho_factor(sub, check_finite=False)
+            factor, lower = linalg.cho_factor(sub, check_finite=False)
 
-            def solve(r, factor=factor):
-                return linalg.cho_solve(factor, r, check_finite=False)
+            def solve(r, factor=factor, lower=lower):
+                return lapack.dpotrs(factor, r, lower=lower)[0]
         else:
-            factor = linalg.lu_factor(sub, check_finite=False)
+            lu, pivots = linalg.lu_factor(sub, check_finite=False)
 
-            def solve(r, factor=factor):
-                return linalg.lu_solve(factor, r, check_finite=False)
+            def solve(r, lu=lu, pivots=pivots):
+                return lapack.dgetrs(lu, pivots, r)[0]
         entry = (solve, solve(np.ones(idx.size)), idx)
         if len(self.store) >= self.size:
             self.store.pop(next(iter(self.store)))

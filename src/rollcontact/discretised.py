@@ -331,8 +331,9 @@ class TransientSolver:
         if p.shape != (self.grid.elements,):
             raise ValueError(f"pressure must have shape ({self.grid.elements},) (one value per element), "
                              f"got {p.shape}")
-        if not np.all(np.isfinite(p)) or p.min() < 0.0:
-            raise ValueError(f"pressure must be finite and >= 0, got minimum {p.min()!r} Pa")
+        if not (p.min() >= 0.0 and p.max() < math.inf):  # NaN fails the first test
+            raise ValueError(f"pressure must be finite and >= 0, got minimum {float(p.min())!r} Pa and maximum "
+                             f"{float(p.max())!r} Pa")
         return p
 
     def control(self, creep, tangential_force, bound) -> tuple[str, float]:
@@ -384,7 +385,9 @@ class TransientSolver:
         ds = float(distance)
         if not (math.isfinite(ds) and ds >= 0.0):
             raise ValueError(f"distance = {distance!r} m is out of range: it must be finite and >= 0")
-        mu = self.friction.coefficient(self.rolling_speed * np.abs(state.slip))
+        friction = self.friction
+        mu = (friction.static_coefficient if friction.is_constant
+              else friction.coefficient(self.rolling_speed * np.abs(state.slip)))
         bound = mu * p
         contact = p > 0.0
         mode, value = self.control(creep, tangential_force, bound)
