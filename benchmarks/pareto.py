@@ -758,19 +758,15 @@ def auto_summary(choices: list[AutoChoice]) -> list[str]:
     ratios = [c.paired for c in reachable if c.error <= c.tolerance]
     lines = [f"- auto met the requested tolerance in {len(met)} of {len(choices)} cases (t = "
              f"{', '.join(f'{t:.0e}' for t in TOLERANCES)}); some setting measured met it in {len(reachable)}"]
-    if ratios:
-        within = sum(r <= LOWEST_COST_SLACK for r in ratios)
-        lines.append(f"- auto's time over the cheapest measured setting meeting t, where auto met t (timed "
-                     f"alternately, {PAIRED_ROUNDS} rounds): median "
-                     f"{statistics.median(ratios):.2f}x, max {max(ratios):.2f}x; within {LOWEST_COST_SLACK}x "
-                     f"(timing noise and the choice itself) in {within} of {len(ratios)}")
     certified = [c.certified_paired for c in choices if not math.isnan(c.certified_paired)]
-    if certified:
-        within = sum(r <= LOWEST_COST_SLACK for r in certified)
-        lines.append(f"- auto's time over the cheapest measured setting whose a-priori error bound meets t (what can "
-                     f"be known before solving; timed alternately, {PAIRED_ROUNDS} rounds): median "
-                     f"{statistics.median(certified):.2f}x, max {max(certified):.2f}x; within {LOWEST_COST_SLACK}x in "
-                     f"{within} of {len(certified)}")
+    for what, values in (("the cheapest measured setting meeting t, where auto met t", ratios),
+                         ("the cheapest measured setting whose a-priori error bound meets t (what can be known "
+                          "before solving)", certified)):
+        if values:
+            lines.append(f"- auto's time over {what} (timed alternately, {PAIRED_ROUNDS} rounds): median "
+                         f"{statistics.median(values):.2f}x, max {max(values):.2f}x; within {LOWEST_COST_SLACK}x "
+                         f"(timing noise and the choice itself) in {sum(r <= LOWEST_COST_SLACK for r in values)} of "
+                         f"{len(values)}")
     return lines
 
 
