@@ -152,20 +152,31 @@ def contact_window(scene: Scene) -> tuple[float, float]:
     solve grows with the elements in contact, not with those outside it, so at equal accuracy the fitted window
     saved nothing and its search doubled the cost of a discretised FMU step (measured in ``benchmarks/pareto.py``).
     """
-    grid = automatic_grid(scene)
     if scene.normal_load_per_length == 0.0 or not any(h.amplitude > 0.0 for h in scene.surface.harmonics):
+        grid = automatic_grid(scene)
         return grid.x_min, grid.x_max
-    for attempt in range(WINDOW_RETRIES + 1):
-        grid = automatic_grid(scene, widen=1.5**attempt)
-        normal = TransientSolver.from_scene(scene, grid).normal(scene.normal_load_per_length, scene.axis_position)
-        if not (normal.contact[0] or normal.contact[-1]):
-            break
+    grid, _, normal = fitted_normal(scene)
     if not normal.converged or normal.contact[0] or normal.contact[-1]:
         return grid.x_min, grid.x_max
     _, _, patches = patch_geometry(grid, normal.contact)
     lo, hi = patches[0][0], patches[-1][1]
     margin = CONTACT_MARGIN * (hi - lo) + 2.0 * grid.element_width
     return max(lo - margin, grid.x_min), min(hi + margin, grid.x_max)
+
+
+def fitted_normal(scene: Scene, elements=None, window=None, *, datum_length=None,
+                  tolerance: float = DEFAULT_TOLERANCE) -> tuple[Grid, TransientSolver, NormalSolution]:
+    """The normal problem on :func:`automatic_grid`, widened 1.5 times per retry (at most :data:`WINDOW_RETRIES`)
+    while the contact reaches the window's edge; a given ``window`` is kept.  Returns the grid, its solver (datum
+    ``datum_length``, default the grid length) and the normal solution, which may still touch the edge."""
+    for attempt in range(WINDOW_RETRIES + 1):
+        grid = automatic_grid(scene, elements, window, widen=1.5**attempt)
+        solver = TransientSolver.from_scene(scene, grid, datum_length=grid.length if datum_length is None
+                                            else datum_length, tolerance=tolerance)
+        normal = solver.normal(scene.normal_load_per_length, scene.axis_position)
+        if window is not None or not (normal.contact[0] or normal.contact[-1]):
+            break
+    return grid, solver, normal
 
 
 # ------------------------------------------------------------------------------------------- transient stepper
@@ -740,14 +751,7 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
                          "constant friction")
     if scene.normal_load_per_length == 0.0:
         return no_contact_result(scene)
-    for attempt in range(WINDOW_RETRIES + 1):
-        grid = automatic_grid(scene, elements, window, widen=1.5**attempt)
-        datum = grid.length if datum_length is None else datum_length
-        solver = TransientSolver.from_scene(scene, grid, datum_length=datum, tolerance=tolerance)
-        normal = solver.normal(scene.normal_load_per_length, scene.axis_position)
-        touches = bool(normal.contact[0] or normal.contact[-1])
-        if not (touches and window is None):
-            break
+    grid, solver, normal = fitted_normal(scene, elements, window, datum_length=datum_length, tolerance=tolerance)
     a, offset, patches = patch_geometry(grid, normal.contact)
     p = normal.pressure
     info = {"grid": grid, "patches": patches, "normal_certificate": normal.certificate,
@@ -767,7 +771,7 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
     if not normal.converged:
         return result(False, f"normal problem: {normal.message}", zeros, zeros, zeros, 0.0, scene.creep,
                       normal.iterations, normal.residual)
-    if touches:
+    if normal.contact[0] or normal.contact[-1]:
         return result(False, f"contact reaches the window edge ({grid.x_min!r}, {grid.x_max!r}) m: enlarge the "
                       "window", zeros, zeros, zeros, 0.0, scene.creep, normal.iterations, normal.residual)
     control = ({"tangential_force": tangential_force_per_length} if force_control else {"creep": scene.creep})

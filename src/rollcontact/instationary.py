@@ -686,7 +686,6 @@ class InstationaryModel:
                 messages.append(res.message)
         return current, substeps, iterations, dissipation, converged, messages
 
-
     def substeps(self, solver: TransientSolver, ds: float) -> int:
         """Substeps of ``solver`` in a step rolling ``ds`` [m]: :func:`substep_count`; when extrapolating, the fine
         grid takes exactly twice the coarse grid's, so that the substep halves with the element and the first-order

@@ -141,7 +141,7 @@ and already 30-320 ms per host step in that benchmark (lambda/a = 5..40; the cos
 EXTRAPOLATED_ERROR_ORDER = 2.0
 """p of the extrapolating transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
 (:func:`transient_model_error`; n the finer grid's elements): the first-order errors of the nested grids cancel
-and what remains falls as n^-2 (``benchmarks/bench_transient_pairs.py``: ``error n^2`` stays within 0.85-11 for
+and what remains falls as n^-2 (``benchmarks/bench_transient_pairs.py``: ``error n^2`` stays within 0.85-11.8 for
 n = 50..400)."""
 
 EXTRAPOLATED_ERROR_CONSTANT = 16.0
@@ -738,18 +738,18 @@ class ContactModel:
         """
         state = self.state
         model = self.instationary
+        multiple = 2 if model.extrapolate else 1  # both grids of a pair aligned
         if lag is not None:
             grid_load = state.grid_load
             if not grid_load > 0.0:
                 raise ValueError(f"the state carries a transient traction history but grid_load = {grid_load!r}")
         else:
             previous = 0.0 if state.previous is None else state.previous[1] * self.per_width
-            grid_load = aligned_grid_load(max(load, previous), model.elements, GRID_LOAD_FACTOR,
-                                          2 if model.extrapolate else 1)
+            grid_load = aligned_grid_load(max(load, previous), model.elements, GRID_LOAD_FACTOR, multiple)
         if model.solver is None or model.max_load != grid_load:
             model.build_solver(grid_load)
         if lag is not None and load > grid_load:
-            grid_load = aligned_grid_load(load, model.elements, GRID_LOAD_FACTOR, 2 if model.extrapolate else 1)
+            grid_load = aligned_grid_load(load, model.elements, GRID_LOAD_FACTOR, multiple)
             lag = model.regrid(lag, grid_load)
         return grid_load, lag
 
@@ -882,7 +882,8 @@ def transient_error(elements: int) -> float:
     """Modelled error [1 of mu N] of the discretised transient with n elements: ``C / n^p``.
 
     :data:`TRANSIENT_ERROR_CONSTANT` and :data:`TRANSIENT_ERROR_ORDER` bound max |T' - T'_converged| / (mu N') of
-    ``benchmarks/bench_transient_auto.py`` on the model's grid (:func:`rollcontact.instationary.aligned_grid_load`).
+    ``benchmarks/bench_transient_auto.py`` and ``benchmarks/bench_transient_pairs.py`` on the model's grid
+    (:func:`rollcontact.instationary.aligned_grid_load`).
     """
     return TRANSIENT_ERROR_CONSTANT / elements ** TRANSIENT_ERROR_ORDER
 
@@ -931,7 +932,7 @@ def transient_notice(tolerance: float, elements: int, given: bool, extrapolate: 
     how = "as given" if given else f"chosen for the tolerance, at most {largest}"
     grids = (f"elements = {elements // 2}/{elements} extrapolated ({how}), modelled error {reached:.2g} mu N "
              "(benchmarks/bench_transient_pairs.py)" if extrapolate else
-             f"elements = {elements} ({how}), modelled error {reached:.2g} mu N (benchmarks/bench_transient_auto.py)")
+             f"elements = {elements} ({how}), modelled error {reached:.2g} mu N (benchmarks/bench_transient_pairs.py)")
     text = f"tolerance = {tolerance!r}: instationary steps run the discretised transient (method_used 5) with {grids}"
     if reached > tolerance:
         return text + f"; the tolerance is NOT met, {reached:.2g} mu N is reached"
