@@ -141,6 +141,22 @@ def test_extrapolated_reference_reaches_carter():
     assert abs(ref.max_pressure / exact.max_pressure - 1.0) < 1e-6, "p0 of the finer level's mean"
     with pytest.raises(ValueError, match="n_1 < n_2"):
         extrapolated(scene, (400, 200))
+    with pytest.raises(ValueError, match="placements"):
+        extrapolated(scene, (200, 400), placements=0)
+
+
+@pytest.mark.parametrize("options, match", [
+    ({"extrapolate": -1}, "extrapolate"),
+    ({"extrapolate": True}, "extrapolate"),
+    ({"extrapolate": 2.0}, "extrapolate"),
+    ({"extrapolate": 2, "window": (-1e-2, 1e-2)}, "window"),
+    ({"extrapolate": 2, "tangential_force_per_length": 1e4}, "tangential_force_per_length"),
+    ({"extrapolate": 2, "elements": 2001}, "2000"),
+    ({"extrapolate": 2, "elements": 4}, "elements"),
+])
+def test_extrapolate_refuses_what_it_cannot_do(options, match):
+    with pytest.raises(ValueError, match=match):
+        solve_discretised(SCENE, **options)
 
 
 def test_no_load_gives_no_contact():
