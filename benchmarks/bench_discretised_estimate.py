@@ -22,6 +22,12 @@ patches, each the mean over two grid placements (shift 0 and h/2:
 ``rollcontact.discretised.extrapolated``); its uncertainty u is the change from ``T_4000`` and an estimate counts as
 a bound only when it is >= error + u.
 
+Table C calibrates the extrapolated setting (``solve_discretised(..., extrapolate=m)``, :func:`extrapolated`): T'
+from n and 2n elements on a window fitted to the patches, each level the mean over m placements, for m = 2, 4, 8,
+against the same references; ``c1 = err n / w`` and ``c2 = err (n / w)^2`` with w the fitted window over 2a, and
+for m = 8 the model's bound (``api.EXTRAPOLATED_FORCE_ERROR``, ``api.EXTRAPOLATED_SECOND_ORDER``, on the automatic
+window, which is at least as long).
+
 Hertz/Carter cases use a fixed window (the automatic one of N' = 1 MN/m) for three loads, so the patch edges fall
 at different positions within the elements (with the automatic window, which scales with a, they would not).
 """
@@ -38,7 +44,7 @@ import time  # noqa: E402
 import rollcontact as rc  # noqa: E402
 from rollcontact import api  # noqa: E402
 from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.discretised import automatic_grid, extrapolated, solve_discretised  # noqa: E402
+from rollcontact.discretised import automatic_grid, contact_window, extrapolated, solve_discretised  # noqa: E402
 
 SAFETY = 3.0  # factor of the two-grid estimate: the largest error / raw difference measured here is 2.52
 RADIUS = 0.46
@@ -47,6 +53,10 @@ ESTAR = rc.Material().contact_modulus
 LOAD = 1e6
 WINDOW = (lambda g: (g.x_min, g.x_max))(automatic_grid(rc.Scene(LOAD)))
 STRUCTURED_ELEMENTS = (50, 100, 200, 400)  # velocity-dependent friction: n = 800 takes ~1 s
+REFERENCE_ELEMENTS = (2000, 4000)  # split contacts: extrapolated from these, its uncertainty from half as many
+REFERENCE_PLACEMENTS = 8
+EXTRAPOLATED_ELEMENTS = (50, 100, 200, 400, 800)  # n of the pairs n/2n of table C (velocity-dependent: to 200)
+PLACEMENT_COUNTS = (2, 4, 8)
 
 
 def corrugated(wavelength, amplitude, axis, creep=1e-3):
@@ -59,18 +69,24 @@ def cases():
     out = []
     for load in (0.6e6, 1e6, 1.7e6):
         saturation = MU * hertz(load, RADIUS, ESTAR)[0] / RADIUS
-        for fraction in (0.1, 0.5, 0.95, -0.3, -0.8):
+        for fraction in (0.01, 0.1, 0.5, 0.95, -0.3, -0.8):
             scene = rc.Scene(load, creep=fraction * saturation)
             out.append((f"Carter N' = {load / 1e6:.1f} MN/m, xi = {fraction:+.2f} sat", scene, WINDOW))
     a_h = hertz(LOAD, RADIUS, ESTAR)[0]
-    for wavelength, amplitude, axis in ((0.04, 20e-6, 0.003), (0.02, 5e-6, 0.003), (0.01, 20e-6, 0.0),
-                                        (0.01, 10e-6, 0.0045), (0.01, 20e-6, 0.0045)):
-        label = f"corrugation {wavelength * 1e3:.0f} mm / {amplitude * 1e6:.0f} um, x_c = {axis * 1e3:.1f} mm, " \
-                f"k a = {2 * math.pi * a_h / wavelength:.2f}"
-        out.append((label, corrugated(wavelength, amplitude, axis), None))
-    out.append(("quartic profile", rc.Scene(LOAD, creep=1e-3, surface=rc.Surface(polynomial=(0, 0, 0, 0, -2e4))),
-                None))
     saturation = MU * a_h / RADIUS
+    # creep 1e-3 = 0.68 of saturation; the relative T' error is largest at small creep (near full stick)
+    for wavelength, amplitude, axis, creep in ((0.04, 20e-6, 0.003, 1e-3), (0.04, 20e-6, 0.003, 0.01 * saturation),
+                                               (0.02, 5e-6, 0.003, 1e-3), (0.01, 20e-6, 0.0, 1e-3),
+                                               (0.01, 10e-6, 0.0045, 1e-3), (0.01, 20e-6, 0.0045, 1e-3),
+                                               (0.01, 20e-6, 0.0045, 0.1 * saturation),
+                                               (0.01, 20e-6, 0.0045, 0.01 * saturation),
+                                               (0.01, 20e-6, 0.0045, 0.001 * saturation)):
+        label = f"corrugation {wavelength * 1e3:.0f} mm / {amplitude * 1e6:.0f} um, x_c = {axis * 1e3:.1f} mm, " \
+                f"k a = {2 * math.pi * a_h / wavelength:.2f}, xi = {creep / saturation:.3g} sat"
+        out.append((label, corrugated(wavelength, amplitude, axis, creep), None))
+    for creep in (1e-3, 0.01 * saturation):
+        out.append((f"quartic profile, xi = {creep / saturation:.3g} sat",
+                    rc.Scene(LOAD, creep=creep, surface=rc.Surface(polynomial=(0, 0, 0, 0, -2e4))), None))
     falling = rc.Scene(LOAD, creep=0.3 * saturation, rolling_speed=20.0, friction=rc.ExponentialFalling(MU, 0.4, 3.0))
     out.append(("exponential falling mu, B = 3 s/m, V = 20 m/s", falling, None))
     return out
@@ -84,9 +100,12 @@ def reference(scene):
     poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=512)
     if poly.success:
         return poly.tangential_force_per_length, poly.max_pressure, "polynomial 1e-12", 0.0
-    ref = extrapolated(scene, (2000, 4000))
-    return (ref.tangential_force_per_length, ref.max_pressure, "Richardson discretised 2000/4000",
-            ref.info["change"])
+    ref = extrapolated(scene, REFERENCE_ELEMENTS, REFERENCE_PLACEMENTS)
+    half = extrapolated(scene, tuple(n // 2 for n in REFERENCE_ELEMENTS), REFERENCE_PLACEMENTS)
+    return (ref.tangential_force_per_length, ref.max_pressure,
+            f"Richardson discretised {REFERENCE_ELEMENTS[0]}/{REFERENCE_ELEMENTS[1]}, "
+            f"{REFERENCE_PLACEMENTS} placements",
+            relative(half.tangential_force_per_length, ref.tangential_force_per_length))
 
 
 def relative(a, b):
@@ -107,12 +126,36 @@ def two_grid(scene, result):
     return worst
 
 
+def extrapolated_rows(label, scene, force, pressure, uncertainty, model):
+    """Table C rows: (label, n, m, error, u, c1, c2, bound or NaN, time [s])."""
+    rows = []
+    lo, hi = contact_window(scene)
+    width = (hi - lo) / (2.0 * hertz(scene.normal_load_per_length, RADIUS, ESTAR)[0])
+    sizes = EXTRAPOLATED_ELEMENTS if scene.friction.is_constant else EXTRAPOLATED_ELEMENTS[:3]
+    for n in sizes:
+        for m in PLACEMENT_COUNTS:
+            t0 = time.perf_counter()
+            result = solve_discretised(scene, elements=n, extrapolate=m)
+            elapsed = time.perf_counter() - t0
+            if not result.success:
+                continue
+            error = max(relative(result.tangential_force_per_length, force), relative(result.max_pressure, pressure))
+            bound = model.error(scene, {"elements": n, "extrapolate": m})
+            force_error = relative(result.tangential_force_per_length, force)
+            rows.append((label, n, m, error, uncertainty, force_error * n / width, force_error * (n / width) ** 2,
+                         bound, elapsed))
+    return rows
+
+
 def main():
     start = time.perf_counter()
     model = api.DiscretisedAccuracy()
     rows = []
+    table_c = []
     for label, scene, window in cases():
         force, pressure, how, uncertainty = reference(scene)
+        if not label.startswith("Carter") or "N' = 1.0" in label:  # the fitted window scales with a: loads alike
+            table_c += extrapolated_rows(label, scene, force, pressure, uncertainty, model)
         sizes = api.DISCRETISED_ELEMENTS if scene.friction.is_constant else STRUCTURED_ELEMENTS
         for n in sizes:
             if n < model.resolution(scene):
@@ -152,7 +195,28 @@ def main():
           f"(the a-priori bound uses {api.DISCRETISED_FORCE_ERROR:g})")
     print(f"* shift spread over error: median {statistics.median(r[7] / r[3] for r in rows):.2f}, "
           f"max {max(r[7] / r[3] for r in rows):.2f}")
-    print(f"\n{len(rows)} results in {time.perf_counter() - start:.0f} s")
+    print("\n## C. Extrapolated settings: n/2n, each level the mean over m placements\n")
+    print("| case | n/2n | m | error | u | c1 = err_T' n / w | c2 = err_T' (n / w)^2 | bound | bound / error | "
+          "time [ms] |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for label, n, m, error, u, c1, c2, bound, elapsed in table_c:
+        print(f"| {label} | {n}/{2 * n} | {m} | {error:.2e} | {u:.1e} | {c1:.3f} | {c2:.2f} | {bound:.2e} | "
+              f"{bound / error:.2f} | {elapsed * 1e3:.0f} |")
+    print()
+    for m in PLACEMENT_COUNTS:
+        picked = [r for r in table_c if r[2] == m]
+        for column, name in ((5, "c1"), (6, "c2")):
+            worst = max(picked, key=lambda r, k=column: r[k])
+            print(f"* m = {m}: largest {name} = {worst[column]:.3g} ({worst[0]}, n = {worst[1]}), median "
+                  f"{statistics.median(r[column] for r in picked):.3g} over {len(picked)} results")
+    bounded = [r for r in table_c if math.isfinite(r[7])]
+    misses = [r for r in bounded if not r[7] >= r[3] + r[4]]
+    print(f"* m = {api.EXTRAPOLATION_PLACEMENTS}, bound max({api.EXTRAPOLATED_FORCE_ERROR:g} w/n, "
+          f"{api.EXTRAPOLATED_SECOND_ORDER:g} (w/n)^2) on the automatic window: bound / error min "
+          f"{min(r[7] / r[3] for r in bounded):.2f}, median {statistics.median(r[7] / r[3] for r in bounded):.2f}; "
+          "below error + u: "
+          + (", ".join(f"{r[0]} n = {r[1]} ({r[7]:.2e} < {r[3]:.2e} + {r[4]:.1e})" for r in misses) or "none"))
+    print(f"\n{len(rows) + len(table_c)} results in {time.perf_counter() - start:.0f} s")
 
 
 if __name__ == "__main__":
