@@ -13,8 +13,10 @@ moves the answer by about its error, and in use that placement is arbitrary. Ref
 velocity-dependent friction), cross-checked against the Richardson-extrapolated discretised solver (n = 800/1600 on
 a window of +-1.25 a about the patch, whose edges then fall on element boundaries, as in
 ``tests/test_cross_methods.py``); for a split contact, which only the discretised solver treats, the first-order
-Richardson extrapolation of its T' from n = 2000/4000, each the mean over two grid placements
-(:func:`split_reference`), its uncertainty shown as the change of n = 4000 from it. Instationary rolling (creep
+Richardson extrapolation of its T' from n = 2000/4000, each level the mean over 8 grid placements
+(:func:`split_reference`), its uncertainty shown as the change from n = 1000/2000.  The extrapolated discretised
+settings (``extrapolate`` = 8: n/2n, each level the mean over 8 placements) average over placements themselves and
+are measured as they run. Instationary rolling (creep
 control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R`` at lambda/a = 5..40, and a creep reversal ``0.9 sin`` at
 lambda/a = 5, where the relaxation lag errs most; 64 host steps per cycle): max |T' - T'_ref| over the
 last cycle in units of mu N', reference the extrapolating transient pair n = 400/800 (nested grids, second order:
@@ -97,6 +99,7 @@ class Config:
     reference_nodes: int
     richardson: tuple[int, int] | None
     split_reference: tuple[int, int]
+    extrapolated_elements: tuple[int, ...]  # coarser levels n of the extrapolated discretised pairs (constant mu)
     signals: tuple[tuple[float, float, float], ...]  # instationary (lambda / a, mean, amplitude): creep_signal
     transient_elements: tuple[int, ...]
     transient_pairs: tuple[int, ...]  # finer grid's elements of the extrapolating pairs
@@ -106,10 +109,11 @@ class Config:
 
 FULL = Config(False, 0.3, (1, 2, 4, 8, 16, 32), api.POLYNOMIAL_TOLERANCES, api.SLIP_NODES,
               api.DISCRETISED_ELEMENTS, (50, 100, 200, 400, 800), 1024, (800, 1600), (2000, 4000),
+              (50, 100, 200, 400, 800),
               ((5.0, 0.5, 0.3), (10.0, 0.5, 0.3), (20.0, 0.5, 0.3), (40.0, 0.5, 0.3), (5.0, 0.0, 0.9)),
               (50, 100, 200, 300, 400, 500, 600, 800), (50, 100, 200, 400), 800, 30)
 QUICK = Config(True, 0.02, (2, 8), (1e-2, 1e-4, 1e-6, 1e-10), (8, 16, 32), (50, 100, 200, 400), (50, 100),
-               128, (100, 200), (400, 800), ((10.0, 0.5, 0.3),), (50, 100), (50,), 200, 4)
+               128, (100, 200), (400, 800), (50, 100), ((10.0, 0.5, 0.3),), (50, 100), (50,), 200, 4)
 
 
 def steady_cases(config: Config) -> dict[str, list[tuple[str, rc.Scene]]]:
@@ -131,7 +135,10 @@ def steady_cases(config: Config) -> dict[str, list[tuple[str, rc.Scene]]]:
         "corrugation": [(f"100 mm / 50 um, {ka(0.1)}", corrugated(0.1, 50e-6)),
                         (f"40 mm / 20 um, {ka(0.04)}", corrugated(0.04, 20e-6)),
                         (f"20 mm / 5 um, {ka(0.02)}", corrugated(0.02, 5e-6)),
-                        (f"10 mm / 20 um split, {ka(0.01)}", corrugated(0.01, 20e-6, axis=0.0045))],
+                        (f"10 mm / 20 um split, {ka(0.01)}", corrugated(0.01, 20e-6, axis=0.0045)),
+                        # near full stick, where the discretised T' errs most relative to T'
+                        (f"10 mm / 20 um split, {ka(0.01)}, xi = 0.01 mu a/R",
+                         corrugated(0.01, 20e-6, axis=0.0045, creep=0.01 * SATURATION))],
         "velocity-dependent friction": [
             ("exponential B = 30 s/m, V = 20 m/s", rc.Scene(LOAD, creep=1e-3, rolling_speed=20.0,
                                                              friction=rc.ExponentialFalling(0.3, 0.4, 30.0))),
@@ -278,15 +285,21 @@ def setting_label(method: str, options: dict) -> str:
 
 
 # ----------------------------------------------------------------------------------------------- references
+SPLIT_REFERENCE_PLACEMENTS = 8
+
+
 def split_reference(scene: rc.Scene, sizes: tuple[int, int], why: str) -> Reference:
     """A contact only the discretised solver treats: :func:`rollcontact.discretised.extrapolated` from n = sizes
-    (first-order Richardson extrapolation of T', each level the mean over two grid placements; p0, second order,
-    the finer level's mean).  A single solve at n = 3200 was 9e-4 off this in T'."""
-    ref = rc.discretised.extrapolated(scene, sizes)
+    (first-order Richardson extrapolation of T', each level the mean over :data:`SPLIT_REFERENCE_PLACEMENTS` grid
+    placements; p0, second order, the finer level's mean), at least twice as fine as every extrapolated setting
+    measured; its uncertainty: the change from half the elements."""
+    ref = rc.discretised.extrapolated(scene, sizes, SPLIT_REFERENCE_PLACEMENTS)
+    half = rc.discretised.extrapolated(scene, tuple(n // 2 for n in sizes), SPLIT_REFERENCE_PLACEMENTS)
+    change = abs(half.tangential_force_per_length / ref.tangential_force_per_length - 1.0)
     return Reference(ref, f"Richardson extrapolation of the discretised solver, n = {sizes[0]}/{sizes[1]} on a window "
-                          f"fitted to the patches, each the mean of two grid placements (polynomial invalid: "
-                          f"{why[:40]}...)",
-                     f"n = {sizes[1]} (mean) differs from it by {ref.info['change']:.1e} in T'")
+                          f"fitted to the patches, each level the mean of {SPLIT_REFERENCE_PLACEMENTS} grid placements "
+                          f"(polynomial invalid: {why[:40]}...)",
+                     f"n = {sizes[0] // 2}/{sizes[1] // 2} differs from it by {change:.1e} in T'")
 
 
 def steady_reference(scene: rc.Scene, config: Config) -> Reference:
@@ -325,6 +338,8 @@ def steady_settings(scene: rc.Scene, config: Config) -> list[tuple[str, dict]]:
     sizes = config.elements if scene.friction.is_constant else config.structured_elements
     needed = api.DiscretisedAccuracy.resolution(scene)
     out += [("discretised", {"elements": n}) for n in sizes if n >= needed]
+    out += [("discretised", options) for options in rc.METHODS["discretised"].accuracy.ladder(scene)
+            if options.get("extrapolate") and options["elements"] in config.extrapolated_elements]
     return out
 
 
@@ -336,10 +351,11 @@ arbitrary, so a setting meets t only if it does at every placement."""
 
 
 def worst_placement_errors(scene: rc.Scene, method: str, options: dict, result, ref) -> tuple[float, float]:
-    """The relative errors of T' and p0 of ``result``; for the discretised method the largest over the grid
-    placements :data:`PLACEMENTS` (the window shifted by fractions of an element)."""
+    """The relative errors of T' and p0 of ``result``; for the discretised method on one grid the largest over the
+    grid placements :data:`PLACEMENTS` (the window shifted by fractions of an element; the extrapolated setting
+    averages over placements itself)."""
     errors = [relative_errors(result, ref)]
-    if method == "discretised" and "grid" in result.info:
+    if method == "discretised" and "grid" in result.info and not options.get("extrapolate"):
         grid = result.info["grid"]
         h = grid.element_width
         for shift in PLACEMENTS[1:]:
@@ -585,13 +601,14 @@ def envelope(rows: list[Row], row: Row) -> float:
     return max(r.error for r in same[same.index(row):])
 
 
-def equal_accuracy_ratios(rows: list[Row], level: float) -> list[tuple[str, float, float, str]]:
-    """Per case: time of the cheapest discretised setting converged to ``level`` over the cheapest polynomial
-    setting meeting it; (case, ratio, polynomial time, note)."""
+def equal_accuracy_ratios(rows: list[Row], level: float, extrapolated: bool) -> list[tuple[str, float, float, str]]:
+    """Per case: time of the cheapest discretised setting of one kind (single grids, or the extrapolated pairs)
+    converged to ``level`` over the cheapest polynomial setting meeting it; (case, ratio, polynomial time, note)."""
     out = []
     for case in dict.fromkeys(r.case for r in rows):
         poly = [r for r in rows if r.case == case and r.method == "polynomial" and r.error <= level]
-        disc = [r for r in rows if r.case == case and r.method == "discretised" and math.isfinite(r.error)]
+        disc = [r for r in rows if r.case == case and r.method == "discretised" and math.isfinite(r.error)
+                and bool(r.options.get("extrapolate")) == extrapolated]
         if not poly or not disc:
             continue
         t_poly = min(r.time for r in poly)
@@ -623,7 +640,7 @@ def fit_costs(rows: list[Row]) -> list[tuple[str, str, str]]:
         base, per = fit([np.ones(len(coulomb)), harmonics], np.array([r.time for r in coulomb]))
         out.append(("POLYNOMIAL_COST, POLYNOMIAL_HARMONIC_COST",
                     f"{api.POLYNOMIAL_COST:.3g}, {api.POLYNOMIAL_HARMONIC_COST:.3g}", f"{base:.3g}, {per:.3g}"))
-    direct = [r for r in rows if r.method == "discretised" and r.sharpness == 0.0]
+    direct = [r for r in rows if r.method == "discretised" and r.sharpness == 0.0 and not r.options.get("extrapolate")]
     if len(direct) > 3:
         n = np.array([r.options["elements"] for r in direct], dtype=float)
         fitted = fit([np.ones(n.size), n**2, n**3], np.array([r.time for r in direct]))
@@ -781,14 +798,15 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Pat
     # headline ratios
     lines += ["## Headline ratios (same run)", ""]
     closed = statistics.median([r.time for r in rows if r.method == "closed_form"])
-    for level in (1e-2, 1e-3):
-        ratios = equal_accuracy_ratios([r for r in rows if r.family != "instationary"], level)
-        if ratios:
-            values = [v for _, v, _, _ in ratios]
-            lines.append(f"- Discretised vs polynomial at equal accuracy {level:.0e} (time of the cheapest "
-                         f"discretised setting converged to it over the polynomial's): median "
-                         f"{statistics.median(values):.3g}x, range {min(values):.3g}-{max(values):.3g}x over "
-                         f"{len(values)} cases")
+    for extrapolated, kind in ((False, "single-grid"), (True, "extrapolated (8 placements)")):
+        for level in (1e-2, 1e-3):
+            ratios = equal_accuracy_ratios([r for r in rows if r.family != "instationary"], level, extrapolated)
+            if ratios:
+                values = [v for _, v, _, _ in ratios]
+                lines.append(f"- Discretised vs polynomial at equal accuracy {level:.0e} (time of the cheapest "
+                             f"{kind} discretised setting converged to it over the polynomial's): median "
+                             f"{statistics.median(values):.3g}x, range {min(values):.3g}-{max(values):.3g}x over "
+                             f"{len(values)} cases")
     if fmu:
         for label, _, ratio, _, _ in fmu[1:]:
             lines.append(f"- FMU step / empty pythonfmu FMU step, {label}: {ratio:.3g}x")
