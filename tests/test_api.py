@@ -290,7 +290,7 @@ def test_auto_reports_a_tolerance_it_cannot_reach():
     assert not result.info["tolerance_met"] and result.info["error_estimate"] > 1e-4, result.info
     assert "not reached" in result.message, f"the message must say so: {result.message!r}"
     most_accurate = {"elements": max(rollcontact.api.DISCRETISED_ELEMENTS) // 2,
-                     "extrapolate": rollcontact.api.EXTRAPOLATION_PLACEMENTS}
+                     "extrapolate": max(rollcontact.api.EXTRAPOLATION_PLACEMENTS)}
     assert result.info["setting"] == most_accurate, \
         f"the most accurate setting should be used: {result.info['setting']}"
 
@@ -298,24 +298,29 @@ def test_auto_reports_a_tolerance_it_cannot_reach():
 @pytest.mark.parametrize("tolerance, extrapolate", [(3e-2, False), (1e-2, None), (3e-3, True), (1e-3, True)])
 def test_discretised_setting_is_the_fewest_elements_whose_bound_meets_the_tolerance(tolerance, extrapolate):
     """Any count between the ladder's ends, not only its rungs (the bound is within 1.3-2x of the worst-placement
-    error, so the next rung could cost 4-8x), of the cheaper kind by the cost model: a single grid, or from ~1e-2
-    down the pair extrapolated over 8 placements (None: either); the split contact, which only the discretised
-    method treats."""
+    error, so the next rung could cost 4-8x), of the cheapest kind by the cost model: a single grid, or from ~1e-2
+    down an extrapolated pair over 8 or 16 placements (None: either); the split contact, which only the
+    discretised method treats."""
     scene = FAMILY_CASES["split contact 10 mm / 20 um"]
     model = METHODS["discretised"].accuracy
     setting = rollcontact.api.setting_for("discretised", scene, tolerance)
     options = setting.options
     n = options["elements"]
-    extrapolate = bool(options.get("extrapolate")) if extrapolate is None else extrapolate
-    assert bool(options.get("extrapolate")) == extrapolate, setting
+    if extrapolate is not None:
+        assert bool(options.get("extrapolate")) == extrapolate, setting
     assert setting.error_estimate <= tolerance < model.error(scene, {**options, "elements": n - 1}), setting
-    other = {"elements": 1} if extrapolate else {"elements": 1, "extrapolate": rollcontact.api.EXTRAPOLATION_PLACEMENTS}
-    while model.error(scene, other) > tolerance:
-        other["elements"] += 1
-    assert setting.cost <= model.cost(scene, other), f"{other} would be cheaper than {setting}"
+    tops = {0: max(rollcontact.api.DISCRETISED_ELEMENTS)}
+    tops.update((m, tops[0] // 2) for m in rollcontact.api.EXTRAPOLATION_PLACEMENTS)
+    for m, top in tops.items():  # the fewest elements of every kind that meets t costs at least as much
+        other = {"elements": 1, **({"extrapolate": m} if m else {})}
+        while model.error(scene, other) > tolerance and other["elements"] < top:
+            other["elements"] += 1
+        if model.error(scene, other) <= tolerance:
+            assert setting.cost <= model.cost(scene, other), f"{other} would be cheaper than {setting}"
     result = solve(scene, tolerance=tolerance)
     assert result.method == "discretised" and result.info["setting"] == options, result.info
-    assert result.info["tolerance_met"] and result.info["grid"].elements == n * (2 if extrapolate else 1), result.info
+    pair = bool(options.get("extrapolate"))
+    assert result.info["tolerance_met"] and result.info["grid"].elements == n * (2 if pair else 1), result.info
 
 
 def test_user_elements_fix_one_grid_instead_of_the_extrapolated_pair():

@@ -150,8 +150,8 @@ def test_placement_means_shrink_the_extrapolated_error(creep_fraction):
     """The part of the first-order error that depends on where the patch edges fall in their elements is periodic
     in the grid shift: averaged over 8 placements it leaves an extrapolated T' (100/200) about a tenth of one grid
     of 200's error (measured 0.07-0.12; at 0.8 saturation that grid happens to err little, 0.22) and within the
-    model's bound (``api.EXTRAPOLATED_FORCE_ERROR``, ``api.EXTRAPOLATED_SECOND_ORDER``, calibrated in
-    ``benchmarks/bench_discretised_estimate.py``, table C)."""
+    model's bound (``api.EXTRAPOLATED_FORCE_ERROR``, calibrated in ``benchmarks/bench_discretised_estimate.py``,
+    table C)."""
     scene = SCENE.replace(creep=creep_fraction * SATURATION)
     exact = rc.solve(scene, method="closed_form").tangential_force_per_length
     single = abs(solve_discretised(scene, elements=200).tangential_force_per_length / exact - 1.0)

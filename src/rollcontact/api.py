@@ -419,14 +419,15 @@ DISCRETISED_ELEMENTS = (50, 100, 200, 400, 800, 1600)
 # creeps near saturation it stays below 1.7)
 DISCRETISED_FORCE_ERROR = 4.0
 DISCRETISED_PRESSURE_ERROR = 3.0  # relative p0 error <= 3 (w/n)^2
-# The extrapolated setting (solve_discretised(extrapolate=8)): T' from n and 2n elements, each level the mean over 8
-# grid placements.  Relative T' and p0 error <= max(0.2 w/n, 12 (w/n)^2) (n the coarser level): what the placement
-# mean leaves of the first-order term and the extrapolation's second-order remainder (benchmarks/
-# bench_discretised_estimate.py, table C: largest measured 0.203 w/n and, where the second term decides, 7.0 (w/n)^2,
-# both on the split contact at small creep; bound / error >= 1.99 over 88 results; p0 is the finer level's)
-EXTRAPOLATION_PLACEMENTS = 8
-EXTRAPOLATED_FORCE_ERROR = 0.2
-EXTRAPOLATED_SECOND_ORDER = 12.0
+# The extrapolated setting (solve_discretised(extrapolate=m)): T' from n and 2n elements, each level the mean over m
+# grid placements.  Relative T' error <= 3.2 w/(m n) (n the coarser level): the placement mean leaves a first-order
+# residue that falls like 1/m (benchmarks/bench_discretised_estimate.py, table C: m c = err m n / w at most 2.12,
+# on the split contact near full stick, the worst case, scanned at n = 50..400; m = 2, 4, 8, 16 alike; the bound on
+# the automatic window is >= 2.03 times every one of 450 errors); p0 is the finer level's, <= 3 (w/2n)^2.
+# Calibrated for m in [2, 16]; auto offers m = 8 and 16
+EXTRAPOLATION_PLACEMENTS = (8, 16)
+EXTRAPOLATED_FORCE_ERROR = 3.2
+EXTRAPOLATION_CALIBRATED = (2, 16)  # the range of m the bound was measured for
 
 
 class ClosedFormAccuracy(AccuracyModel):
@@ -600,12 +601,12 @@ class DiscretisedAccuracy(AccuracyModel):
 
     The extrapolated setting ``{"elements": n, "extrapolate": m}`` averages that placement-dependent part over m
     placements and removes the smooth first-order part by Richardson extrapolation from n and 2n elements: its
-    bound is ``max(0.2 w/n, 12 (w/n)^2)`` (:data:`EXTRAPOLATED_FORCE_ERROR`, :data:`EXTRAPOLATED_SECOND_ORDER`),
-    w from the automatic window, which is at least as long as the fitted window it runs on; other m have no
-    calibrated bound (NaN).  It costs ``m`` solves at n and at 2n, and pays where a
-    single grid would need more than ~3 times 2n elements: tolerances below ~5e-3 on a scene only this method
-    treats (a split contact).  Offered with m = :data:`EXTRAPOLATION_PLACEMENTS`, its finer level at most the
-    largest single grid offered, for constant friction (with velocity-dependent friction each of the 2m
+    bound is ``max(3.2 w/(m n), 3 (w/2n)^2)`` (:data:`EXTRAPOLATED_FORCE_ERROR`), w from the automatic window,
+    which is at least as long as the fitted window it runs on; m outside :data:`EXTRAPOLATION_CALIBRATED` has no
+    calibrated bound (NaN).  It costs ``m`` solves at n and at 2n, and pays where a single grid would need more
+    than ~3 times 2n elements: tolerances below ~1e-2 on a scene only this method treats (a split contact).
+    Offered with m = :data:`EXTRAPOLATION_PLACEMENTS`, its finer level at most the largest single grid offered,
+    for constant friction (with velocity-dependent friction each of the 2m
     structured solves costs ~20-100 Newton iterations, and the polynomial method treats every scene the
     structured solve does: one patch).
     """
@@ -615,7 +616,7 @@ class DiscretisedAccuracy(AccuracyModel):
     def ladder(self, scene):
         needed = self.resolution(scene)
         rungs = tuple({"elements": n} for n in DISCRETISED_ELEMENTS if n >= needed)
-        pairs = tuple({"elements": n, "extrapolate": EXTRAPOLATION_PLACEMENTS} for n in DISCRETISED_ELEMENTS
+        pairs = tuple({"elements": n, "extrapolate": m} for m in EXTRAPOLATION_PLACEMENTS for n in DISCRETISED_ELEMENTS
                       if n >= needed and 2 * n <= DISCRETISED_ELEMENTS[-1]) if scene.friction.is_constant else ()
         return (rungs + pairs) or ({},)  # the automatic grid resolves the shortest wavelength
 
@@ -667,12 +668,12 @@ class DiscretisedAccuracy(AccuracyModel):
         single = self.fewest({}, ratio * max(DISCRETISED_FORCE_ERROR / tolerance,
                                              math.sqrt(DISCRETISED_PRESSURE_ERROR / tolerance)),
                              floor, largest, scene, tolerance)
-        paired = self.fewest({"extrapolate": EXTRAPOLATION_PLACEMENTS},
-                             ratio * max(EXTRAPOLATED_FORCE_ERROR / tolerance,
-                                         math.sqrt(EXTRAPOLATED_SECOND_ORDER / tolerance)),
-                             floor, largest // 2, scene, tolerance) \
-            if floor <= largest // 2 and scene.friction.is_constant else None
-        candidates = [s for s in (single, paired) if s is not None]
+        candidates = [single]
+        if floor <= largest // 2 and scene.friction.is_constant:
+            candidates += [self.fewest({"extrapolate": m},
+                                       ratio * max(EXTRAPOLATED_FORCE_ERROR / (m * tolerance),
+                                                   0.5 * math.sqrt(DISCRETISED_PRESSURE_ERROR / tolerance)),
+                                       floor, largest // 2, scene, tolerance) for m in EXTRAPOLATION_PLACEMENTS]
         meeting = [s for s in candidates if s.error_estimate <= tolerance]
         if meeting:
             return Setting(name, *min(meeting, key=lambda s: s.cost)[1:])
@@ -728,11 +729,13 @@ class DiscretisedAccuracy(AccuracyModel):
 
     @staticmethod
     def extrapolated_bound(scene, length: float, elements: int, placements: int) -> float:
-        """``max(0.2 w/n, 12 (w/n)^2)`` for the coarser level's n and m = 8 placements; NaN for another m."""
-        if placements != EXTRAPOLATION_PLACEMENTS:
+        """``max(3.2 w/(m n), 3 (w/2n)^2)`` for the coarser level's n and m placements; NaN for an m outside
+        :data:`EXTRAPOLATION_CALIBRATED`."""
+        low, high = EXTRAPOLATION_CALIBRATED
+        if not low <= placements <= high:
             return math.nan
         ratio = length / (2.0 * hertz_half_width(scene) * elements)
-        return max(EXTRAPOLATED_FORCE_ERROR * ratio, EXTRAPOLATED_SECOND_ORDER * ratio * ratio)
+        return max(EXTRAPOLATED_FORCE_ERROR * ratio / placements, DISCRETISED_PRESSURE_ERROR * 0.25 * ratio * ratio)
 
 
 def default_option(name: str, option: str):
