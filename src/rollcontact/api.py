@@ -606,9 +606,8 @@ class DiscretisedAccuracy(AccuracyModel):
     calibrated bound (NaN).  It costs ``m`` solves at n and at 2n, and pays where a single grid would need more
     than ~3 times 2n elements: tolerances below ~1e-2 on a scene only this method treats (a split contact).
     Offered with m = :data:`EXTRAPOLATION_PLACEMENTS`, its finer level at most the largest single grid offered,
-    for constant friction (with velocity-dependent friction each of the 2m
-    structured solves costs ~20-100 Newton iterations, and the polynomial method treats every scene the
-    structured solve does: one patch).
+    for constant friction (with velocity-dependent friction each of the 2m structured solves costs ~20-100 Newton
+    iterations, and the polynomial method treats every scene the structured solve does: one patch).
     """
 
     floor = DIRECT_COST[0]  # the structured (velocity-dependent) solve's ~20 iterations cost more
@@ -652,13 +651,12 @@ class DiscretisedAccuracy(AccuracyModel):
         return {**options, **user}
 
     def setting_for(self, name, scene, tolerance):
-        """The cheaper of the fewest single-grid elements and the fewest extrapolated pair whose bounds meet the
-        tolerance, any count from the ladder's first to its last (at least the surface resolution); when neither
-        does, the more accurate of the two at their largest counts, with its bound.
+        """The cheapest of the fewest single-grid elements and, for each m offered, the fewest extrapolated pair
+        whose bounds meet the tolerance, any count from the ladder's first to its last (at least the surface
+        resolution); when none does, the most accurate of them at their largest counts, with its bound.
 
-        Not only the ladder's rungs: at the worst grid placement the bound is within 1.3-2 times the error
-        (``benchmarks/pareto.py``), so the next rung up, up to twice the elements needed, would cost up to 4-8
-        times (n^2 to n^3).
+        Not only the ladder's rungs: the bounds are within 1.35-2 times the worst measured error, so the next rung
+        up, up to twice the elements needed, would cost up to 4-8 times (n^2 to n^3).
         """
         if scene.normal_load_per_length == 0.0:
             return super().setting_for(name, scene, tolerance)
