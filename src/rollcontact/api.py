@@ -622,13 +622,18 @@ class DiscretisedAccuracy(AccuracyModel):
     def cost(self, scene, options):
         placements = options.get("extrapolate", 0)
         if placements:
-            from rollcontact.discretised import DEFAULT_ELEMENTS
-
-            n = options.get("elements") or DEFAULT_ELEMENTS
+            n = self.pair_elements(options)
             # plus the normal solve on the automatic grid that fits the window, costed as a whole solve
             return (placements * (self.solve_cost(scene, n) + self.solve_cost(scene, 2 * n))
                     + self.solve_cost(scene, automatic_grid(scene).elements))
         return self.solve_cost(scene, options.get("elements") or automatic_grid(scene).elements)
+
+    @staticmethod
+    def pair_elements(options) -> int:
+        """The coarser level's elements of an extrapolated pair (``solve_discretised``'s default when unset)."""
+        from rollcontact.discretised import DEFAULT_ELEMENTS
+
+        return options.get("elements") or DEFAULT_ELEMENTS
 
     @staticmethod
     def solve_cost(scene, n: int) -> float:
@@ -692,10 +697,7 @@ class DiscretisedAccuracy(AccuracyModel):
             return 0.0
         placements = options.get("extrapolate", 0)
         if placements:
-            from rollcontact.discretised import DEFAULT_ELEMENTS
-
-            return self.extrapolated_bound(scene, automatic_length(scene), options.get("elements") or
-                                           DEFAULT_ELEMENTS, placements)
+            return self.extrapolated_bound(scene, automatic_length(scene), self.pair_elements(options), placements)
         window = options.get("window")
         length = automatic_length(scene) if window is None else float(window[1]) - float(window[0])
         elements = options.get("elements") or automatic_grid(scene, None, window).elements

@@ -94,6 +94,16 @@ def positive_length(name: str, value, unit: str = "m") -> float:
     return check_real(name, value, lower=0.0, lower_open=True, unit=unit)
 
 
+def check_count(name: str, value, lower: int, upper: int | None = None, why: str = "") -> int:
+    """An integer count in [lower, upper] (no upper limit when None; a ValueError naming the value, the limits and
+    ``why`` otherwise)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lower or (
+            upper is not None and value > upper):
+        limits = f">= {lower}" if upper is None else f"in [{lower}, {upper}]"
+        raise ValueError(f"{name} must be an integer {limits}{why}, got {value!r}")
+    return int(value)
+
+
 # --------------------------------------------------------------------------------------------------- grid choice
 def automatic_grid(scene: Scene, elements=None, window=None, axis_positions=None, widen: float = 1.0) -> Grid:
     """Grid for a scene: the given window and element count, or chosen from the Hertz width and the surface.
@@ -742,17 +752,12 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a rollcontact.Scene, got {type(scene).__name__}")
-    if isinstance(extrapolate, bool) or not isinstance(extrapolate, (int, np.integer)) or extrapolate < 0:
-        raise ValueError(f"extrapolate = {extrapolate!r} must be an integer >= 0 (grid placements per level)")
-    if extrapolate:
+    if check_count("extrapolate", extrapolate, 0, why=" (grid placements per level)"):
         if window is not None or tangential_force_per_length is not None:
             raise ValueError("extrapolate fits its own windows to the patches and extrapolates T' under creep "
                              "control: it takes neither window nor tangential_force_per_length")
-        n = DEFAULT_ELEMENTS if elements is None else elements
-        if (not isinstance(n, (int, np.integer)) or isinstance(n, bool)
-                or not MIN_ELEMENTS <= n <= MAX_ELEMENTS // 2):
-            raise ValueError(f"elements = {n!r} is out of range with extrapolate: it must be an integer in "
-                             f"[{MIN_ELEMENTS}, {MAX_ELEMENTS // 2}] (the finer level has twice as many)")
+        n = check_count("elements", DEFAULT_ELEMENTS if elements is None else elements, MIN_ELEMENTS,
+                        MAX_ELEMENTS // 2, " with extrapolate (the finer level has twice as many)")
         return extrapolated(scene, (n, 2 * n), extrapolate, tolerance=tolerance, steady=steady, finish=finish,
                             datum_length=datum_length)
     tolerance = check_tolerance(tolerance)
@@ -846,9 +851,9 @@ def extrapolated(scene: Scene, elements: tuple[int, int] = (1000, 2000), placeme
     patch edges fall in their elements (``benchmarks/bench_discretised_estimate.py``): that part of the error is
     periodic in the shift, the mean over m placements is its trapezoidal average, and extrapolation alone would
     amplify it.  The smooth first-order part is then removed by the extrapolation.  Measured over the cases of
-    ``benchmarks/bench_discretised_estimate.py`` (table C, n_2 = 2 n_1) the error is at most ``c w/n_1`` (w the
-    window over the Hertz width 2a) with c = 0.9 for m = 2, 0.37 for m = 4 and 0.2 for m = 8, largest on a split
-    contact at small creep.  The other fields are the finer level's first placement; p0 (second order) is the
+    ``benchmarks/bench_discretised_estimate.py`` (table C, n_2 = 2 n_1) the error is at most ``c w/(m n_1)`` (w the
+    window over the Hertz width 2a) with c = 2.12 for m = 2 to 16 (erratic in n), largest on a split contact at
+    small creep.  The other fields are the finer level's first placement; p0 (second order) is the
     finer level's mean.
 
     Parameters
@@ -872,8 +877,7 @@ def extrapolated(scene: Scene, elements: tuple[int, int] = (1000, 2000), placeme
     coarse, fine = (int(n) for n in elements)
     if not coarse < fine:
         raise ValueError(f"elements = {elements!r}: need n_1 < n_2")
-    if isinstance(placements, bool) or not isinstance(placements, (int, np.integer)) or placements < 1:
-        raise ValueError(f"placements = {placements!r} must be an integer >= 1")
+    placements = check_count("placements", placements, 1)
     if scene.normal_load_per_length == 0.0:
         return no_contact_result(scene)
     lo, hi = contact_window(scene)
@@ -888,7 +892,7 @@ def extrapolated(scene: Scene, elements: tuple[int, int] = (1000, 2000), placeme
     best = levels[fine][0]
     failed = [r.message for r in solves if not r.success]
     info = dict(best.info, levels=means, change=abs(means[fine] / force - 1.0) if force else 0.0,
-                placements=int(placements))
+                placements=placements)
     return ContactResult(**{**best.__dict__, "success": not failed, "tangential_force_per_length": force,
                             "max_pressure": sum(r.max_pressure for r in levels[fine]) / placements, "info": info,
                             "message": f"Richardson extrapolation of n = {coarse}/{fine}, each the mean of "
@@ -994,8 +998,7 @@ def roll_over_surface(scene: Scene, distance: float, steps: int, *, tangential_f
         As in :func:`solve_discretised`; the automatic window covers every axis position of the roll.
     """
     distance = positive_length("distance", distance)
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
-        raise ValueError(f"steps must be an integer >= 1, got {steps!r}")
+    check_count("steps", steps, 1)
     if not scene.friction.is_constant:
         raise ValueError(f"roll_over_surface needs constant friction, got {scene.friction!r}: with dmu/dv < 0 "
                          "the transient problem is ill-posed")
