@@ -19,6 +19,7 @@ from rollcontact.closed_form import CarterDistributions, carter, cattaneo_tracti
 from rollcontact.instationary import (
     STATIONARITY_THRESHOLD,
     STATIONARY,
+    STEADY_AFTER,
     InputHistory,
     InstationaryModel,
     InstationaryState,
@@ -29,6 +30,7 @@ from rollcontact.instationary import (
     oscillating_force_discretised,
     quasi_steady_deviation,
     relaxation_length,
+    relaxation_step,
     stationarity,
 )
 
@@ -186,6 +188,17 @@ def test_relaxation_model_tracks_creep_controlled_transient(wavelength, mean, am
     assert err < 0.02, f"lambda/a = {wavelength}, xi = ({mean} +- {amplitude}) sat, L = {datum}: relaxation off " \
                        f"the transient by {err} mu N'"
     assert np.abs(quasi_static - transient).max() / LIMIT > 5 * err, "the test must tell the lag from no lag"
+
+
+def test_a_lag_step_rolling_far_ends_on_carter_without_marching():
+    """A host step of 1 km at 1e6 m/s: the lag is on Carter's force (e^-30 left), at the cost of one step."""
+    for creep in (-2 * SATURATION, 0.3 * SATURATION):
+        distance = 1.01 * STEADY_AFTER * relaxation_length(0.0, LOAD, R, ESTAR, MU, R)
+        force, substeps = relaxation_step(0.0, creep, distance, LOAD, R, ESTAR, MU, R)
+        assert substeps == 0 and force == carter(LOAD, creep, R, ESTAR, MU)[0], f"creep {creep}: {force}"
+        marched, _ = relaxation_step(0.0, creep, 0.99 * distance, LOAD, R, ESTAR, MU, R)
+        assert marched == pytest.approx(force, rel=1e-11, abs=1e-9 * LIMIT), \
+            f"creep {creep}: just short of the shortcut the marched lag is on Carter too"
 
 
 @pytest.mark.parametrize("host_step", [0.3, 2.0, 7.4])

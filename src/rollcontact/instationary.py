@@ -94,8 +94,9 @@ HISTORY_SAMPLES = 3
 WINDOW_FACTOR = 1.25  # transient grid: +-1.25 a_max
 FORCE_MARGIN = 1.0 - 1e-9  # static steps hold |T'| just below the friction limit
 STEADY_AFTER = 30.0
-"""Transient mode: a step that rolls more than this many relaxation lengths (at T' = 0, the longest) with the
-inputs held ends in steady rolling (:meth:`InstationaryModel.steady_state`): from any start, the force was measured
+"""A step that rolls more than this many relaxation lengths (at T' = 0, the longest) with the inputs held ends in
+steady rolling: Carter's force for the lag (:func:`relaxation_step`, exp(-30) of the lag left), and
+:meth:`InstationaryModel.steady_state` for the transient: from any start, the force was measured
 within 2e-13 mu N' of it after 25 lengths (n = 100, datum R and 100 m, xi from -0.9 to 0.5 of saturation)."""
 
 
@@ -150,7 +151,8 @@ def relaxation_step(force: float, creep: float, distance: float, load: float, ra
     varies only logarithmically); each substep is solved exactly: with ``beta = ds/C``, ``s = mu a/R`` and
     ``|T'| = mu N' (1 - r^2)``, ``T' + beta xi_steady(T') = T'_old + beta xi =: g`` is the quadratic
     ``mu N' r^2 + beta s r - (mu N' + beta s - |g|) = 0`` (sign of T' = sign of g), saturated where
-    ``|g| >= mu N' + beta s``.  Substeps of at most a/8 keep the first-order error below ~1 % of the lag.
+    ``|g| >= mu N' + beta s``.  Substeps of at most a/8 keep the first-order error below ~1 % of the lag.  A step
+    rolling more than :data:`STEADY_AFTER` relaxation lengths ends on the lag's fixed point, Carter's force.
     """
     a = hertz(load, radius, contact_modulus)[0]
     limit = mu * load
@@ -159,6 +161,10 @@ def relaxation_step(force: float, creep: float, distance: float, load: float, ra
     force = max(-limit, min(limit, force))
     if distance == 0.0:
         return force, 0
+    if distance > STEADY_AFTER * relaxation_length(0.0, load, radius, contact_modulus, mu, datum_length):
+        # the lag has relaxed onto its fixed point, Carter's force (T'(0) has the longest length); marching would
+        # cost distance / (a/8) substeps for nothing
+        return carter(load, creep, radius, contact_modulus, mu)[0], 0
     substeps = max(1, math.ceil(distance / (0.125 * a)))
     ds = distance / substeps
     saturation = mu * a / radius
