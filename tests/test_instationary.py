@@ -17,6 +17,9 @@ import pytest
 import rollcontact as rc
 from rollcontact.closed_form import CarterDistributions, carter, cattaneo_traction, hertz, mindlin_unloading_traction
 from rollcontact.instationary import (
+    CREEP_RATIO_CAP,
+    LAG_ERROR_COEFFICIENT,
+    LAG_ERROR_FLOOR,
     STATIONARITY_THRESHOLD,
     STATIONARY,
     STEADY_AFTER,
@@ -26,6 +29,8 @@ from rollcontact.instationary import (
     OscillatingForce,
     aligned_grid_load,
     carter_creep,
+    creep_envelope,
+    lag_error_bound,
     oscillating_force_chebyshev,
     oscillating_force_discretised,
     quasi_steady_deviation,
@@ -188,6 +193,34 @@ def test_relaxation_model_tracks_creep_controlled_transient(wavelength, mean, am
     assert err < 0.02, f"lambda/a = {wavelength}, xi = ({mean} +- {amplitude}) sat, L = {datum}: relaxation off " \
                        f"the transient by {err} mu N'"
     assert np.abs(quasi_static - transient).max() / LIMIT > 5 * err, "the test must tell the lag from no lag"
+
+
+def test_creep_envelope_holds_the_extremes_and_forgets_them_over_its_memory():
+    assert creep_envelope(None, 0.4, 0.1) == (0.4, 0.4), "no history: no swing"
+    envelope = creep_envelope(creep_envelope((0.4, 0.4), 0.9, 0.0), 0.2, 0.0)
+    assert envelope == (0.9, 0.2), "without decay the envelope holds the extremes visited"
+    high, low = creep_envelope(envelope, 0.5, 1.0)
+    assert high == pytest.approx(0.5 + 0.4 / math.e, rel=1e-15) and low == pytest.approx(0.5 - 0.3 / math.e,
+                                                                                          rel=1e-15), \
+        "one memory length rolled: the distances of the extremes from the creep fall by 1/e"
+    for _ in range(60):
+        high, low = creep_envelope((high, low), 0.5, 1.0)
+    assert high - low < 1e-20, "constant creep: the swing is forgotten"
+    assert creep_envelope(None, -1e300, 1.0) == (-CREEP_RATIO_CAP, -CREEP_RATIO_CAP), "capped far in full slip"
+
+
+def test_lag_error_bound_is_linear_in_the_swing_above_its_floor():
+    assert lag_error_bound((0.3, 0.3)) == LAG_ERROR_FLOOR, "no swing: the floor the calibration resolves"
+    assert lag_error_bound((0.3, -0.3)) - LAG_ERROR_FLOOR == pytest.approx(LAG_ERROR_COEFFICIENT * 0.3, rel=1e-14), \
+        "a swing through zero creep: C times its half range"
+    assert lag_error_bound((0.8, 0.2)) - LAG_ERROR_FLOOR == pytest.approx(LAG_ERROR_COEFFICIENT * 0.3 * 0.8,
+                                                                          rel=1e-14), \
+        "away from zero creep: times Carter's relative slope where the swing comes nearest"
+    assert lag_error_bound((-0.2, -0.8)) == lag_error_bound((0.8, 0.2)), "symmetric in the sign of the creep"
+    assert lag_error_bound((2.5, 1.5)) == LAG_ERROR_FLOOR == lag_error_bound((-1.0, -3.0)), \
+        "a swing wholly in full slip adds nothing: both models give mu N'"
+    assert lag_error_bound((CREEP_RATIO_CAP, -CREEP_RATIO_CAP)) == pytest.approx(
+        LAG_ERROR_COEFFICIENT * CREEP_RATIO_CAP), "finite at the cap"
 
 
 def test_a_lag_step_rolling_far_ends_on_carter_without_marching():

@@ -72,7 +72,8 @@ from rollcontact.result import ContactResult, Distributions, NoContact, Tabulate
 from rollcontact.scene import check_real
 
 __all__ = ["MODES", "RELAXATION_DATUM_RATIO", "STATIONARITY_THRESHOLD", "STATIONARY", "InputHistory",
-           "InstationaryModel", "InstationaryState", "OscillatingForce", "carter_creep", "oscillating_force_chebyshev",
+           "InstationaryModel", "InstationaryState", "LAG_ERROR_COEFFICIENT", "LAG_MEMORY", "OscillatingForce",
+           "carter_creep", "creep_envelope", "lag_error_bound", "oscillating_force_chebyshev",
            "oscillating_force_discretised", "quasi_steady_deviation", "relaxation_length", "stationarity",
            "stationarity_of_samples"]
 
@@ -88,6 +89,27 @@ RELAXATION_DATUM_RATIO = 0.5 * math.sqrt(math.e)
 
 RELAXATION_FLOOR = 0.1
 """Lower bound of ``L_1 / a`` (keeps the lag finite at saturation, a* = 0)."""
+
+LAG_ERROR_COEFFICIENT = 0.038
+"""C of :func:`lag_error_bound` [1 of mu N' per saturation creep]: 1.4 times the largest ratio, 0.027, of the lag's
+error less :data:`LAG_ERROR_FLOOR` to ``(high - low)/2 (1 - d)_+`` at any step of the measured cycle, over
+``benchmarks/bench_relaxation.py`` (creep control ``(mean + amplitude sin) mu a/R`` at lambda/a = 2..320, from
+``0.2 + 0.1 sin`` to ``10 sin``, near saturation and wholly in full slip; N' = 1e7 N/m, R = 0.46 m, datum R,
+where the relaxation length is 4.35 a).  The lag's error is linear in the swing: 0.7-2.6 % of its amplitude, most
+where the swing passes zero creep, 0.2-0.5 % near saturation and none wholly in full slip."""
+
+LAG_ERROR_FLOOR = 1e-4
+"""e_0 of :func:`lag_error_bound` [1 of mu N']: below it the lag's error is not resolved (the reference pair
+200/400 is good to 16/400^2 = 1e-4 mu N'); at lambda/a = 320 every swing that touched saturation measured
+7.5e-5."""
+
+LAG_MEMORY = 8.0
+"""Memory of :func:`creep_envelope` in relaxation lengths at T' = 0 (about 35 a for a railway wheel): shorter memories
+forget the stiff part of a slow swing while its error persists (at lambda/a = 40, 4 lengths needed C/1.4 = 0.031,
+8 need 0.027, longer ones the same to 2 %)."""
+
+CREEP_RATIO_CAP = 1e6
+"""Largest creep ratio ``|xi| / (mu a/R)`` the envelope keeps (far in full slip; keeps its arithmetic finite)."""
 
 MODES = ("relaxation", "transient")
 HISTORY_SAMPLES = 3
@@ -180,6 +202,39 @@ def relaxation_step(force: float, creep: float, distance: float, load: float, ra
         r = (-bs + math.sqrt(bs * bs + 4.0 * limit * (top - abs(g)))) / (2.0 * limit)
         force = math.copysign(limit * (1.0 - r * r), g)
     return force, substeps
+
+
+# ------------------------------------------------------------------------------------ the lag's error bound
+def creep_envelope(envelope: tuple[float, float] | None, creep_ratio: float,
+                   memory_distance: float) -> tuple[float, float]:
+    """Peak-hold envelope ``(high, low)`` of the creep [1 of Carter's saturation creep mu a/R] after one step.
+
+    ``high <- r + max(0, high - r) exp(-d)`` and ``low <- r - max(0, r - low) exp(-d)``, with r the step's
+    creep ratio ``xi / (mu a/R)`` (clipped to +-:data:`CREEP_RATIO_CAP`) and d the distance the step rolls in
+    units of the envelope's memory (:data:`LAG_MEMORY` relaxation lengths): the extremes the creep visited over
+    the last few relaxation lengths, which is what the lag's error depends on (:func:`lag_error_bound`).  None
+    (no history) starts at ``(r, r)``.
+    """
+    r = max(-CREEP_RATIO_CAP, min(CREEP_RATIO_CAP, creep_ratio))
+    if envelope is None:
+        return r, r
+    shrink = -math.expm1(-memory_distance)  # as the extremes' distance decays by exp(-d), exactly held at d = 0
+    high, low = envelope
+    return (r if r >= high else high - (high - r) * shrink), (r if r <= low else low + (r - low) * shrink)
+
+
+def lag_error_bound(envelope: tuple[float, float]) -> float:
+    """Bound [1 of mu N'] on the relaxation lag's T' error for a creep that swung over ``envelope``.
+
+    ``C (high - low)/2 (1 - d)_+ + e_0`` with ``C`` = :data:`LAG_ERROR_COEFFICIENT`, d the distance of the envelope
+    (:func:`creep_envelope`) from zero creep in saturation creeps and ``e_0`` = :data:`LAG_ERROR_FLOOR`: the lag's
+    error is linear in the creep swing and largest where the swing passes the stiff stick regime (Carter's slope,
+    relative to that at zero creep, is ``1 - |xi|/(mu a/R)``); a swing wholly in full slip (d >= 1) adds
+    nothing, both models give ``mu N'``.
+    """
+    high, low = envelope
+    nearest = 0.0 if low <= 0.0 <= high else min(abs(low), abs(high))
+    return LAG_ERROR_COEFFICIENT * 0.5 * (high - low) * max(0.0, 1.0 - nearest) + LAG_ERROR_FLOOR
 
 
 # ---------------------------------------------------------------------------------------------- stationarity

@@ -39,10 +39,14 @@ starting from the previous step's quasi-steady state (:meth:`ContactModel.switch
 inputs are slow again and its force is back within the tolerance of the quasi-steady one.  The relaxation lag errs
 by up to 2.6 % of the creep swing (in saturation creeps), at most :data:`RELAXATION_ACCURACY` mu N as measured: it is
 the default (``tolerance`` = 0), which promises no accuracy.  For a ``tolerance`` below that bound, with ``method`` =
-0, ``transient`` = 1 runs the discretised transient instead, the cheapest whose modelled error meets the tolerance
-(:func:`transient_setting`: in practice the extrapolating pair of nested grids, at most
-:data:`EXTRAPOLATED_MAX_ELEMENTS`; ``elements`` > 0 runs one grid of that many) and switched in from steady rolling
-on its grid, so stationary inputs stay on the cheap closed form.  Both models assume a flat
+0, ``transient`` = 1 bounds the lag's error by the creep swing of the last few relaxation lengths
+(:func:`rollcontact.instationary.lag_error_bound` of the envelope in ``state.creep_envelope``) and runs the lag
+while that bound meets the tolerance, the discretised transient where it does not (:meth:`ContactModel.choose_model`):
+the cheapest transient whose modelled error meets the tolerance (:func:`transient_setting`: in practice the
+extrapolating pair of nested grids, at most :data:`EXTRAPOLATED_MAX_ELEMENTS`; ``elements`` > 0 runs one grid of
+that many), switched in from steady rolling on its grid at the previous creep, or at the lag's equivalent creep when
+it takes over from the lag; it hands back to the lag once the swing has died down.  So stationary inputs stay on the
+cheap closed form and small swings on the lag.  Both models assume a flat
 surface and Coulomb friction: on other scenes ``transient`` = 2 is refused and ``transient`` = 1 stays quasi-steady
 (:attr:`ContactModel.notices` says so).  With ``method`` = 3, ``transient`` = 1 behaves as 2: the discretised
 method was asked for on every step, and its transient is exact in steady rolling too.
@@ -72,10 +76,16 @@ from rollcontact.api import METHODS, run_to_tolerance, setting_for, solve
 from rollcontact.closed_form import carter, hertz
 from rollcontact.friction import Coulomb, ExponentialFalling
 from rollcontact.instationary import (
+    LAG_ERROR_COEFFICIENT,
+    LAG_ERROR_FLOOR,
+    LAG_MEMORY,
     STATIONARITY_THRESHOLD,
     InstationaryModel,
     InstationaryState,
     aligned_grid_load,
+    carter_creep,
+    creep_envelope,
+    lag_error_bound,
     relaxation_length,
     stationarity_of_samples,
 )
@@ -110,9 +120,14 @@ RELAXATION_ACCURACY = 0.21
 measured by ``benchmarks/bench_relaxation.py`` over lambda/a = 1..40 and creep swings up to 10 saturation creeps
 (0.15 mu N at lambda/a = 2 for ``10 sin``).  The lag's error grows with the swing, up to 2.6 % of its amplitude in
 saturation creeps: 3e-3 mu N on the Pareto study's ``(0.5 + 0.3 sin) mu a/R``, 2.3e-2 for a reversal ``0.9 sin`` at
-lambda/a = 5.  So ``transient`` = 1 with ``method`` = 0 and a ``tolerance`` below this runs the discretised transient
-(:func:`transient_setting`), whatever the swing; the lag runs with ``tolerance`` = 0 (the cheap default, no accuracy
-promised) or ``transient`` = 2."""
+lambda/a = 5.  So ``transient`` = 1 with ``method`` = 0 and a ``tolerance`` below this runs the lag only while its
+bound for the swing actually seen (:func:`rollcontact.instationary.lag_error_bound`) meets the tolerance and the
+discretised transient (:func:`transient_setting`) otherwise; the lag runs unconditionally with ``tolerance`` = 0 (the
+cheap default, no accuracy promised) or ``transient`` = 2."""
+
+LAG_RETURN = 0.5
+"""A running discretised transient hands back to the lag once the lag's bound is below this times the tolerance
+(:meth:`ContactModel.choose_model`)."""
 
 GRID_LOAD_FACTOR = 2.0
 """The discretised transient's grid holds loads up to about this factor times the load it is aligned to (a up to
@@ -170,8 +185,8 @@ selects each method's cheapest setting that meets it (:func:`rollcontact.api.set
 parameters then override.
 """
 
-STATE_VERSION = 2
-READABLE_STATE_VERSIONS = (1, 2)  # version 1 had no instationary state: it reads as quasi-steady history
+STATE_VERSION = 3
+READABLE_STATE_VERSIONS = (1, 2, 3)  # 1 had no instationary state (reads as quasi-steady history), 2 no envelope
 INF = math.inf
 new_tuple = tuple.__new__  # StepOutputs without NamedTuple.__new__'s extra Python frame, on the closed-form path
 
@@ -266,7 +281,8 @@ class ContactParameters:
         tolerance=...)``); with ``transient`` = 1 also the error of T' (of mu N) it tolerates before the
         instationary model takes over.  It sets the grids of the discretised transient
         (:func:`transient_setting`) with ``method`` = 3, and with ``method`` = 0 below
-        :data:`RELAXATION_ACCURACY`, where ``transient`` = 1 uses that transient.  0: the methods' defaults and
+        :data:`RELAXATION_ACCURACY`, where ``transient`` = 1 uses that transient wherever the relaxation lag's bound
+        for the creep swing does not meet the tolerance.  0: the methods' defaults and
         :data:`DEFAULT_TRANSIENT_TOLERANCE`.
     polynomial_order : int
         Polynomial order >= 0 for methods that accept it (0: the method's default).
@@ -365,6 +381,9 @@ class ModelState:
         N' [N/m] the discretised transient's grid was built for (0: none yet; about twice the load it was
         aligned to, :meth:`ContactModel.prepare_grid`); part of the state because the traction history lives on
         that grid.
+    creep_envelope : tuple or None
+        ``(high, low)`` creep [1 of mu a/R] of :func:`rollcontact.instationary.creep_envelope`, kept by
+        ``transient`` = 1 with a tolerance (the lag's error bound); None otherwise and after an unloaded step.
     version : int
         Layout version of this state; states of another version are refused by :meth:`from_dict`.
     """
@@ -378,6 +397,7 @@ class ModelState:
     outputs: StepOutputs
     instationary: InstationaryState | None = None
     grid_load: float = 0.0
+    creep_envelope: tuple[float, float] | None = None
     version: int = STATE_VERSION
 
     @classmethod
@@ -400,7 +420,8 @@ class ModelState:
                 "steps": self.steps, "outputs": list(self.outputs),
                 "instationary": None if self.instationary is None
                 else base64.b64encode(self.instationary.to_bytes()).decode("ascii"),
-                "grid_load": self.grid_load}
+                "grid_load": self.grid_load,
+                "creep_envelope": None if self.creep_envelope is None else list(self.creep_envelope)}
 
     @classmethod
     def from_dict(cls, data: dict) -> ModelState:
@@ -412,12 +433,14 @@ class ModelState:
             previous = data["previous"]
             older = data["older"]
             packed = data.get("instationary")
+            envelope = data.get("creep_envelope")
             instationary = None if packed is None else InstationaryState.from_bytes(base64.b64decode(packed))
             return cls(float(data["time"]), float(data["position"]), float(data["position_error"]),
                        None if previous is None else tuple(float(v) for v in previous),
                        None if older is None else tuple(float(v) for v in older),
                        int(data["steps"]), StepOutputs(*data["outputs"]), instationary,
-                       float(data.get("grid_load", 0.0)), STATE_VERSION)
+                       float(data.get("grid_load", 0.0)),
+                       None if envelope is None else (float(envelope[0]), float(envelope[1])), STATE_VERSION)
         except (KeyError, TypeError, ValueError) as exc:
             raise ModelError(f"invalid model state: {exc!r}") from None
 
@@ -494,6 +517,10 @@ class ContactModel:
                 raise ModelError(str(exc)) from None
         self.instationary: InstationaryModel | None = None
         """The instationary model of ``transient`` = 1/2 (None: every step quasi-steady)."""
+        self.lag: InstationaryModel | None = None
+        """``transient`` = 1 with ``method`` = 0 and a tolerance below :data:`RELAXATION_ACCURACY`: the relaxation
+        lag, run instead of the discretised transient ``instationary`` while its error bound for the creep swing
+        (:func:`rollcontact.instationary.lag_error_bound`) meets the tolerance."""
         self.transient_auto = p.transient == 1 and p.method != 3
         self.transient_tolerance = p.tolerance or DEFAULT_TRANSIENT_TOLERANCE
         self.settle_tolerance = self.transient_tolerance
@@ -508,12 +535,13 @@ class ContactModel:
                                "stationarity output shows how far that holds")
             else:
                 tight = 0.0 < p.tolerance < RELAXATION_ACCURACY
-                discretised = p.method == 3 or (tight and self.transient_auto and p.method == AUTO)
+                adaptive = tight and self.transient_auto and p.method == AUTO
+                discretised = p.method == 3 or adaptive
                 elements, extrapolate = p.elements or 100, False
                 if discretised and p.tolerance:
                     if not p.elements:
                         elements, extrapolate = transient_setting(p.tolerance)
-                    notices.append(transient_notice(p.tolerance, elements, p.elements > 0, extrapolate))
+                    notices.append(transient_notice(p.tolerance, elements, p.elements > 0, extrapolate, adaptive))
                     # the transient settles on its own steady force, which is within its error of Carter's
                     self.settle_tolerance = max(self.transient_tolerance,
                                                 transient_model_error(elements, extrapolate))
@@ -528,6 +556,9 @@ class ContactModel:
                     radius, material.contact_modulus, friction.static_coefficient,
                     mode="transient" if discretised else "relaxation", datum_length=p.datum or None,
                     elements=elements, extrapolate=extrapolate)
+                if adaptive:
+                    self.lag = InstationaryModel(radius, material.contact_modulus, friction.static_coefficient,
+                                                 mode="relaxation", datum_length=p.datum or None)
         self.notices: tuple[str, ...] = tuple(notices)
         """Messages worth showing once (e.g. in an FMU log): ignored parameters, modes not implemented."""
         self.material = material
@@ -652,6 +683,7 @@ class ContactModel:
         lag = None
         if normal_load == 0.0:
             outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
+            state.creep_envelope = None
         elif self.instationary is not None:
             outputs, lag = self.instationary_step(x, normal_load, creep, velocity, step_size)
         elif self.closed_form:
@@ -693,15 +725,22 @@ class ContactModel:
         model = self.instationary
         load = normal_load * self.per_width
         lag = state.instationary
-        quasi = None
+        quasi = envelope = None
         if self.transient_auto:
             quasi = (self.closed_form_step if self.closed_form else self.solve_step)(x, normal_load, creep, velocity)
+            if self.lag is not None:
+                envelope, model = self.choose_model(lag, load, creep, velocity * step_size, quasi.contact_half_width)
             if lag is None and not quasi.stationarity < self.transient_threshold(quasi.contact_half_width, load):
+                state.creep_envelope = envelope
                 return quasi, None
         try:
+            handover = lag is not None and lag.mode != model.mode
+            if handover and model.mode == "transient":
+                lag = None  # the transient starts from steady rolling at the lag's force
             grid_load, lag = self.prepare_grid(load, lag) if model.mode == "transient" else (0.0, lag)
-            if lag is None:
-                lag = self.switch_in(load, velocity * step_size) if quasi is not None else model.initial_state()
+            if lag is None or handover:
+                lag = (self.switch_in(model, velocity * step_size, handover) if quasi is not None
+                       else model.initial_state())
             lag, result = model.step(lag, load, creep, velocity, step_size)
         except (ValueError, ArithmeticError) as exc:
             raise ModelError(f"instationary {model.mode} model at X = {x!r} m (N = {normal_load!r} N, creep = "
@@ -714,11 +753,13 @@ class ContactModel:
             settled = abs(force_per_length - quasi.tangential_force * self.per_width) <= (
                 self.settle_tolerance * self.mu * load)
             if settled and not quasi.stationarity < self.transient_threshold(a, load):
+                state.creep_envelope = envelope
                 return quasi, None
             measure = quasi.stationarity
         else:
             measure = self.stationarity(x, normal_load, creep, velocity, a)
         state.grid_load = grid_load  # last: a refused step leaves the state as it was
+        state.creep_envelope = envelope
         force = force_per_length * self.width
         stiffness = self.lag_stiffness(force_per_length, load, a, velocity * step_size)
         return new_tuple(StepOutputs, (force, force_per_length / load, a, float(result.stick_half_width),
@@ -753,22 +794,46 @@ class ContactModel:
             lag = model.regrid(lag, grid_load)
         return grid_load, lag
 
-    def switch_in(self, load: float, distance: float) -> InstationaryState:
-        """Instationary state that continues the quasi-steady steps of ``transient`` = 1 without a jump.
+    def switch_in(self, model: InstationaryModel, distance: float, handover: bool = False) -> InstationaryState:
+        """State of ``model`` that continues the previous step (quasi-steady, or the other model's) without a jump.
 
         Relaxation: the lag starts at the previous step's force.  Discretised transient: steady rolling at the
         previous step's load and creep on the grid (:meth:`InstationaryModel.steady_state`, the exact fixed point of
         a step rolling ``distance`` = V h, so holding the inputs changes nothing); its force differs from the
-        quasi-steady one by the discretisation error, at most :func:`transient_model_error`.  No traction after an
-        unloaded step.
+        quasi-steady one by the discretisation error, at most :func:`transient_model_error`.  When it takes over
+        from the lag (``handover``), the creep is the lag's equivalent steady creep (Carter's creep of its force):
+        the traction history the lag does not carry starts as Carter's, an error the lag's bound covered at the
+        step before.  No traction after an unloaded step.
         """
-        model = self.instationary
         if model.mode == "relaxation":
             return InstationaryState("relaxation", self.state.outputs.tangential_force * self.per_width)
         previous = self.state.previous
         if previous is None or previous[1] == 0.0:
             return model.initial_state()
-        return model.steady_state(previous[1] * self.per_width, previous[2], distance)
+        load = previous[1] * self.per_width
+        creep = previous[2]
+        if handover:
+            creep = carter_creep(self.state.outputs.tangential_force * self.per_width, load, self.radius,
+                                 self.contact_modulus, self.mu)
+        return model.steady_state(load, creep, distance)
+
+    def choose_model(self, running: InstationaryState | None, load: float, creep: float, distance: float,
+                     half_width: float) -> tuple[tuple[float, float], InstationaryModel]:
+        """The creep envelope after this step and the model to run it with, for ``transient`` = 1 with a tolerance.
+
+        The lag (:attr:`lag`) while :func:`rollcontact.instationary.lag_error_bound` of the envelope meets the
+        tolerance, else the discretised transient (:attr:`instationary`); a running transient hands back to the
+        lag only below :data:`LAG_RETURN` times the tolerance, so that a swing near the limit does not switch
+        models every step.
+        """
+        memory = LAG_MEMORY * relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
+                                                self.lag.datum_length)
+        envelope = creep_envelope(self.state.creep_envelope, creep / (self.saturation_per_half_width * half_width),
+                                  distance / memory)
+        limit = self.transient_tolerance
+        if running is not None and running.mode == "transient":
+            limit *= LAG_RETURN
+        return envelope, self.lag if lag_error_bound(envelope) <= limit else self.instationary
 
     def transient_threshold(self, half_width: float, load: float) -> float:
         """Stationarity below which ``transient`` = 1 switches the lag in [1].
@@ -925,8 +990,10 @@ def transient_setting(tolerance: float) -> tuple[int, bool]:
     return min(options, key=lambda o: transient_model_error(o[1], o[2]))[1:]
 
 
-def transient_notice(tolerance: float, elements: int, given: bool, extrapolate: bool = False) -> str:
-    """What the discretised transient chosen for ``tolerance`` reaches, and whether that meets it."""
+def transient_notice(tolerance: float, elements: int, given: bool, extrapolate: bool = False,
+                     adaptive: bool = False) -> str:
+    """What the discretised transient chosen for ``tolerance`` reaches, and whether that meets it; ``adaptive``:
+    it runs only where the relaxation lag's bound does not meet the tolerance (:meth:`ContactModel.choose_model`)."""
     reached = transient_model_error(elements, extrapolate)
     largest = EXTRAPOLATED_MAX_ELEMENTS if extrapolate else TRANSIENT_MAX_ELEMENTS
     how = "as given" if given else f"chosen for the tolerance, at most {largest}"
@@ -934,6 +1001,12 @@ def transient_notice(tolerance: float, elements: int, given: bool, extrapolate: 
              "(benchmarks/bench_transient_pairs.py)" if extrapolate else
              f"elements = {elements} ({how}), modelled error {reached:.2g} mu N (benchmarks/bench_transient_pairs.py)")
     text = f"tolerance = {tolerance!r}: instationary steps run the discretised transient (method_used 5) with {grids}"
+    if adaptive:
+        text += (" where the relaxation lag (method_used 4) would not meet the tolerance: the lag runs while its "
+                 f"error bound for the creep swing over the last {LAG_MEMORY:g} relaxation lengths, "
+                 f"{LAG_ERROR_COEFFICIENT:g} mu N per saturation creep of half the swing (less where the swing stays "
+                 f"away from zero creep) + {LAG_ERROR_FLOOR:g} mu N (rollcontact.instationary.lag_error_bound, "
+                 "benchmarks/bench_relaxation.py), meets it")
     if reached > tolerance:
         return text + f"; the tolerance is NOT met, {reached:.2g} mu N is reached"
     return text
