@@ -91,9 +91,9 @@ VARIABLES = (
      "Method: 0 auto (cheapest the scene needs), 1 closed form, 2 polynomial, 3 discretised"),
     ("tolerance", Real, PARAMETER, FIXED, "1", DEFAULT.tolerance, 0.0, None,
      "Requested relative error of T and p0: each method runs with its cheapest setting that meets it; with "
-     "transient = 1 also the error of T (of mu N) tolerated before the instationary model takes over, which is "
-     "then the discretised transient with the elements the tolerance needs (0: defaults, the relaxation lag, "
-     "whose error grows with the creep swing)"),
+     "transient = 1 also the error of T (of mu N) tolerated before the instationary model takes over: the "
+     "relaxation lag while its error bound for the creep swing meets it, else the discretised transient with the "
+     "elements the tolerance needs (0: defaults, the relaxation lag, whose error grows with the creep swing)"),
     ("polynomial_order", Integer, PARAMETER, FIXED, None, DEFAULT.polynomial_order, 0, None,
      "Order of the polynomial method (0: chosen from the tolerance)"),
     ("elements", Integer, PARAMETER, FIXED, None, DEFAULT.elements, 0, None,
@@ -102,7 +102,9 @@ VARIABLES = (
     ("transient", Integer, PARAMETER, FIXED, None, DEFAULT.transient, 0, 2,
      "Transient rolling (flat surface, Coulomb friction): 0 quasi-static, 1 auto (while the stationarity measure "
      "is below its threshold: the relaxation model for tolerance 0 or >= 0.21 (its measured error bound), else the "
-     "discretised transient, also with method 3), 2 always (relaxation; discretised transient with method 3)"),
+     "relaxation model while its bound for the creep swing meets the tolerance and the discretised transient "
+     "where it does not; the discretised transient with method 3), 2 always (relaxation; discretised transient "
+     "with method 3)"),
     ("datum", Real, PARAMETER, FIXED, "m", DEFAULT.datum, 0.0, None,
      "Datum distance L of instationary rolling (creep control depends on it; 0: the effective radius)"),
 )
