@@ -515,6 +515,25 @@ def test_instationary_history_survives_restore_and_serialisation(parameters):
         "a state through bytes into a fresh model repeats exactly (grid rebuilt from the state)"
 
 
+def test_a_load_whose_contact_width_underflows_is_quasi_steady_or_a_model_error():
+    """N = 5e-324 N: the Hertz half-width is 0.  ``transient`` = 1 answers quasi-steadily (T = 0, the envelope
+    dropped), ``transient`` = 2 refuses it by name; both continue normally afterwards."""
+    rows = [(1e5, 1e-3, 10.0), (5e-324, 1e-3, 10.0), (1e5, 2e-3, 10.0)]
+    for parameters in (dict(transient=1, tolerance=1e-2), dict(transient=1), dict(transient=2),
+                       dict(transient=2, method=3, elements=40)):
+        model = ContactModel(ContactParameters(**parameters))
+        model.step(0.0, H, *rows[0])
+        if parameters["transient"] == 1:
+            out = model.step(H, H, *rows[1])
+            assert out.method_used == 1 and out.tangential_force == 0.0, f"{parameters}: {out}"
+            assert model.state.creep_envelope is None and model.state.instationary is None, parameters
+        else:
+            with pytest.raises(ModelError, match=r"normal_load_per_length = .* underflows to 0"):
+                model.step(H, H, *rows[1])
+        out = model.step(2 * H, H, *rows[2])
+        assert out.tangential_force > 0.0 and math.isfinite(out.tangential_force), f"{parameters}: {out}"
+
+
 def test_lag_stiffness_is_the_derivative_of_the_step_force():
     model = ContactModel(ContactParameters(transient=2))
     inputs, a = creep_oscillation(model, 0.02, 0.5, 30, mean=0.3)

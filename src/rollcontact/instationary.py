@@ -627,6 +627,9 @@ class InstationaryModel:
         distance = state.distance + speed * dt
         history = state.history.append(distance, load, xi)
         a, p0 = hertz(load, self.radius, self.contact_modulus)
+        if load > 0.0 and not a > 0.0:
+            raise ValueError(f"normal_load_per_length = {load!r} N/m is too small: the Hertz half-width "
+                             "sqrt(4 N' R/(pi E*)) underflows to 0 m, so there is no contact to roll through")
         measure = stationarity(history, a, self.mu * a / self.radius) if a > 0 else STATIONARY
         info = {"distance": distance, "stationarity": measure, "datum_length": self.datum_length}
         if load == 0.0:

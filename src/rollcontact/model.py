@@ -728,6 +728,9 @@ class ContactModel:
         quasi = envelope = None
         if self.transient_auto:
             quasi = (self.closed_form_step if self.closed_form else self.solve_step)(x, normal_load, creep, velocity)
+            if not quasi.contact_half_width > 0.0:  # a load so small that a underflows: no contact to roll through
+                state.creep_envelope = None
+                return quasi, None
             if self.lag is not None:
                 envelope, model = self.choose_model(lag, load, creep, velocity * step_size, quasi.contact_half_width)
             if lag is None and not quasi.stationarity < self.transient_threshold(quasi.contact_half_width, load):
