@@ -597,6 +597,7 @@ class ContactModel:
         slope = surface.polynomial[1] if len(surface.polynomial) > 1 else 0.0
         self.flat_offset = self.radius * slope  # uphill by R alpha (physics.md section 4)
         self.saturation_per_half_width = self.mu / self.radius  # Carter saturation creep over a
+        self.length_cache = (math.nan, 0.0)  # (N', zero_force_length(N'))
         self.state = ModelState.initial(start_time, p.initial_position)
 
     def method_options(self, name: str) -> dict:
@@ -738,10 +739,10 @@ class ContactModel:
                 return quasi, None
         try:
             handover = lag is not None and lag.mode != model.mode
-            if handover and model.mode == "transient":
-                lag = None  # the transient starts from steady rolling at the lag's force
+            if handover:
+                lag = None  # the model takes over from the other one's force (switch_in)
             grid_load, lag = self.prepare_grid(load, lag) if model.mode == "transient" else (0.0, lag)
-            if lag is None or handover:
+            if lag is None:
                 lag = (self.switch_in(model, velocity * step_size, handover) if quasi is not None
                        else model.initial_state())
             lag, result = model.step(lag, load, creep, velocity, step_size)
@@ -829,10 +830,8 @@ class ContactModel:
         lag only below :data:`LAG_RETURN` times the tolerance, so that a swing near the limit does not switch
         models every step.
         """
-        memory = LAG_MEMORY * relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
-                                                self.lag.datum_length)
         envelope = creep_envelope(self.state.creep_envelope, creep / (self.saturation_per_half_width * half_width),
-                                  distance / memory)
+                                  distance / (LAG_MEMORY * self.zero_force_length(load)))
         limit = self.transient_tolerance
         if running is not None and running.mode == "transient":
             limit *= LAG_RETURN
@@ -849,9 +848,16 @@ class ContactModel:
         paper's 20, a rule for force control that creep control would miss: quasi-static Carter was measured
         12-37 % off for lambda/a = 5..50, ``benchmarks/bench_instationary.py``).
         """
-        length = relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
-                                   self.instationary.datum_length)
-        return max(STATIONARITY_THRESHOLD, 4.0 * math.pi * length / (half_width * self.transient_tolerance))
+        return max(STATIONARITY_THRESHOLD,
+                   4.0 * math.pi * self.zero_force_length(load) / (half_width * self.transient_tolerance))
+
+    def zero_force_length(self, load: float) -> float:
+        """Relaxation length [m] at T' = 0 for N' = ``load`` [N/m] (the longest; one-entry cache: up to three calls
+        per step of ``transient`` = 1, and constant loads are the common case)."""
+        if self.length_cache[0] != load:
+            self.length_cache = (load, relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
+                                                         self.instationary.datum_length))
+        return self.length_cache[1]
 
     def lag_stiffness(self, force: float, load: float, half_width: float, distance: float) -> float:
         """dT'/dxi [N/m] of one instationary step of rolled distance ``distance`` [m]: ``(1 - exp(-ds/l)) k``.
