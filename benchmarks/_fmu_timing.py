@@ -8,6 +8,7 @@ real and 1 integer outputs (fmpy's ``FMU2Slave``).  The empty FMU has the same i
 from __future__ import annotations
 
 import math
+import statistics
 import textwrap
 import time
 from pathlib import Path
@@ -57,18 +58,22 @@ def build_and_extract(tmp: Path, build_contact) -> tuple[str, str]:
 
 
 class Case:
-    """One initialised FMU instance stepped with slowly varying inputs (load 20 kN +-5 %, creep +-1e-3)."""
+    """One initialised FMU instance stepped with slowly varying inputs (load 20 kN +-5 %, creep +-1e-3), or with the
+    constant inputs ``fixed = (normal_load [N], creep [1])``, by communication steps of ``step_size`` [s];
+    ``before_step()``, if given, runs before each step (inside the timing)."""
 
-    def __init__(self, label: str, unzipped: str, parameters: dict, steps_per_batch: int, velocity: float):
+    def __init__(self, label: str, unzipped: str, parameters: dict, steps_per_batch: int, velocity: float,
+                 fixed: tuple[float, float] | None = None, step_size: float = 1e-3, before_step=None):
         self.label, self.steps_per_batch, self.velocity = label, steps_per_batch, velocity
+        self.fixed, self.step_size, self.before_step = fixed, step_size, before_step
         md = read_model_description(unzipped)
         variables = {v.name: v for v in md.modelVariables}
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
                              modelIdentifier=md.coSimulation.modelIdentifier, instanceName=label)
         self.fmu.instantiate()
+        setters = {"Integer": self.fmu.setInteger, "Real": self.fmu.setReal, "String": self.fmu.setString}
         for name, value in parameters.items():
-            (self.fmu.setInteger if variables[name].type == "Integer" else self.fmu.setReal)(
-                [variables[name].valueReference], [value])
+            setters[variables[name].type]([variables[name].valueReference], [value])
         self.fmu.setupExperiment(startTime=0.0)
         self.fmu.enterInitializationMode()
         self.fmu.exitInitializationMode()
@@ -82,15 +87,21 @@ class Case:
         self.discards = 0
         self.methods_used: set[int] = set()
 
-    def batch(self, h: float = 1e-3) -> None:
+    def batch(self) -> None:
         """Time ``steps_per_batch`` steps; record microseconds per step."""
         fmu, inputs, reals, integers, v = self.fmu, self.inputs, self.reals, self.integers, self.velocity
+        h, fixed, before = self.step_size, self.fixed, self.before_step
         n0 = self.n
         used = []
         start = time.perf_counter()
         for n in range(n0, n0 + self.steps_per_batch):
-            phase = 0.01 * n
-            fmu.setReal(inputs, [2e4 * (1.0 + 0.05 * math.sin(phase)), 1e-3 * math.cos(phase), v])
+            if fixed is None:
+                phase = 0.01 * n
+                fmu.setReal(inputs, [2e4 * (1.0 + 0.05 * math.sin(phase)), 1e-3 * math.cos(phase), v])
+            else:
+                fmu.setReal(inputs, [fixed[0], fixed[1], v])
+            if before is not None:
+                before()
             try:
                 fmu.doStep(n * h, h)
             except FMICallException:
@@ -115,3 +126,56 @@ def run_interleaved(cases: list[Case], rounds: int) -> None:
     for _ in range(rounds):
         for case in cases:
             case.batch()
+
+
+STEADY_STEP = 1e-9
+"""Communication step [s] of :func:`steady_step_time`: the axis rolls ``V h`` (20 nm at 20 m/s) per step, so a few
+thousand steps see the scene of the case, not a different place on a corrugation."""
+
+
+def steady_step_time(unzipped: str, parameters: dict, inputs: tuple[float, float], velocity: float,
+                     budget: float, min_batches: int = 3, before_step=None) -> tuple[float, int, set]:
+    """Median microseconds per fmpy step of a fresh instance with ``parameters``, stepped with the constant
+    ``inputs = (normal_load [N], creep [1])`` at ``velocity`` [m/s] by :data:`STEADY_STEP`: batches of at least
+    ~2 ms (at least ``min_batches``, up to ``budget`` [s] of them) after one step of warm-up (imports, caches), with
+    ``before_step`` run before each step (:class:`Case`).  Also the discarded steps and the ``method_used`` codes
+    seen."""
+    case = Case("steady", unzipped, parameters, 1, velocity, fixed=inputs, step_size=STEADY_STEP,
+                before_step=before_step)
+    try:
+        case.batch()
+        case.steps_per_batch = max(1, int(2e3 / max(case.times[0], 1e-3)))
+        case.times.clear()
+        start = time.perf_counter()
+        while len(case.times) < min_batches or (time.perf_counter() - start < budget and len(case.times) < 200):
+            case.batch()
+        return statistics.median(case.times), case.discards, case.methods_used
+    finally:
+        case.free()
+
+
+def scene_toml(scene) -> str:
+    """``scene`` as the TOML text of a scene file for the contact FMU's ``scene_file`` parameter.
+
+    The FMU reads the file's surface in its own frame and solves the mirrored scene with the axis at ``-X``
+    (:mod:`rollcontact.model`), so the file holds the mirror of the scene's surface
+    (:func:`rollcontact.model.mirrored` is its own inverse); start the FMU at ``initial_position =
+    -scene.axis_position``.  The load, creep and speed in the file are placeholders: the FMU's inputs replace them.
+    """
+    from dataclasses import fields
+
+    from rollcontact.friction import LAWS
+    from rollcontact.model import mirrored
+
+    surface = mirrored(scene.surface)
+    law = next(name for name, cls in LAWS.items() if type(scene.friction) is cls)
+    lines = ["[material]", f"youngs_modulus = {scene.material.youngs_modulus!r}",
+             f"poisson_ratio = {scene.material.poisson_ratio!r}", "", "[geometry]", f"radius = {scene.radius!r}", "",
+             "[load]", f"normal_load_per_length = {scene.normal_load_per_length!r}", f"creep = {scene.creep!r}", "",
+             "[rolling]", f"rolling_speed = {scene.rolling_speed!r}", "", "[friction]", f'law = "{law}"']
+    lines += [f"{f.name} = {getattr(scene.friction, f.name)!r}" for f in fields(scene.friction)]
+    lines += ["", "[surface]", f"polynomial = [{', '.join(repr(float(c)) for c in surface.polynomial)}]"]
+    for h in surface.harmonics:
+        lines += ["", "[[surface.harmonics]]", f"wavenumber = {h.wavenumber!r}", f"cos_amplitude = {h.cos_amplitude!r}",
+                  f"sin_amplitude = {h.sin_amplitude!r}"]
+    return "\n".join(lines) + "\n"

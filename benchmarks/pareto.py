@@ -30,8 +30,13 @@ the rows compare like for like.
 Time. Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the caches of
 influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per host
 step. FMU: microseconds per fmpy step (set inputs, doStep, get outputs) against an empty pythonfmu FMU built in the
-same run (``_fmu_timing.py``). The machine is shared and noisy: compare ratios measured in the same run, not
-absolute times across runs. """
+same run (``_fmu_timing.py``): for every steady setting that an FMU parameter selects (closed form: ``method`` = 1;
+polynomial: 2 with its ``tolerance`` or ``polynomial_order``; discretised: 3 with ``elements``) and for auto
+(``method`` = 0, ``tolerance`` = t), a fresh contact FMU reading the case's scene from a scene file
+(``_fmu_timing.scene_toml``; its model solves exactly the case's scene) with the case's load, creep and speed as
+constant inputs, stepped by 1 ns so the axis stays where the case puts it (``steady_step_time``: caches warm after a
+first step, as along a run); and a few cases with varying inputs against the empty FMU (``fmu_study``). The machine
+is shared and noisy: compare ratios measured in the same run, not absolute times across runs. """
 
 from __future__ import annotations
 
@@ -59,7 +64,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "src"))
 
-from _fmu_timing import Case, build_and_extract, run_interleaved  # noqa: E402
+from _fmu_timing import Case, build_and_extract, run_interleaved, scene_toml, steady_step_time  # noqa: E402
 
 import rollcontact as rc  # noqa: E402
 from rollcontact import api  # noqa: E402
@@ -87,6 +92,7 @@ ESTAR = rc.Material().contact_modulus
 LOAD = 1e6  # N' [N/m] of the steady cases
 A_HERTZ = hertz(LOAD, 0.46, ESTAR)[0]
 SATURATION = 0.3 * A_HERTZ / 0.46  # Carter's saturation creep mu a / R
+CONTACT_WIDTH = 0.02  # m, the FMU's default lateral width
 
 
 # ------------------------------------------------------------------------------------------------ configuration
@@ -208,6 +214,7 @@ class Row:
     note: str = ""
     harmonics: int = 0  # surface harmonics of the scene (a term of the polynomial cost model)
     sharpness: float = 0.0  # api.friction_sharpness of the scene (sets the iteration counts of the cost model)
+    fmu_time: float = math.nan  # s per fmpy step of the contact FMU running this setting (:func:`fmu_step_time`)
 
     @property
     def error(self) -> float:
@@ -241,6 +248,7 @@ class AutoChoice:
     certified: str = ""
     certified_time: float = math.nan  # of the fastest measured setting whose a-priori bound is <= t
     certified_paired: float = math.nan  # auto's time over it, timed alternately
+    fmu_time: float = math.nan  # s per fmpy step of the contact FMU with method = 0 (auto) and tolerance = t
 
 
 PAIRED_ROUNDS = 3
@@ -371,10 +379,62 @@ def worst_placement_errors(scene: rc.Scene, method: str, options: dict, result, 
     return max(e[0] for e in errors), max(e[1] for e in errors)
 
 
-def measure_case(family: str, label: str, scene: rc.Scene, config: Config) -> tuple[list[Row], list[AutoChoice],
-                                                                                        Reference]:
+@dataclass(frozen=True)
+class FmuBench:
+    """The FMUs built for this run (unzip directories) and a folder for the scene files of the steady cases."""
+
+    empty: str
+    contact: str
+    folder: Path
+
+    def scene_file(self, scene: rc.Scene) -> str:
+        """Path of a TOML scene file the contact FMU reads as ``scene``'s (:func:`_fmu_timing.scene_toml`)."""
+        path = self.folder / f"case{len(list(self.folder.glob('case*.toml')))}.toml"
+        path.write_text(scene_toml(scene))
+        return str(path)
+
+
+def fmu_parameters(method: str, options: dict) -> dict | None:
+    """The contact FMU's parameters that run ``method`` with ``options``; None where no parameter sets the option
+    (the slip iteration's nodes, the extrapolated discretised pairs)."""
+    if method == "closed_form" and not options:
+        return {"method": 1}
+    if method == "polynomial" and set(options) == {"tolerance"}:
+        # the FMU's tolerance picks the loosest truncation tolerance <= t: t itself for api.POLYNOMIAL_TOLERANCES
+        return {"method": 2, "tolerance": options["tolerance"]}
+    if method == "polynomial" and set(options) == {"order"}:
+        return {"method": 2, "polynomial_order": options["order"]}
+    if method == "discretised" and set(options) == {"elements"}:
+        return {"method": 3, "elements": options["elements"]}
+    return None
+
+
+def fmu_step_time(fmu: FmuBench | None, scene_file: str, scene: rc.Scene, parameters: dict | None,
+                  config: Config) -> float:
+    """Seconds per fmpy step of a fresh contact FMU reading ``scene_file`` with ``parameters``, its axis at the
+    scene's and its inputs the scene's load (over :data:`CONTACT_WIDTH`), creep and speed
+    (:func:`_fmu_timing.steady_step_time`); NaN without an FMU, without parameters for the setting, or where a step
+    was discarded.
+
+    The FMU's model runs in this process on the ``rollcontact`` imported here (the slave's module docstring), so
+    every step of a setting that may run the discretised solver (``method`` 0 and 3) starts with the influence
+    matrices emptied, as :func:`cold` times its solve(): a first solve on its grid, as along a run on a corrugation,
+    where the grid moves with the patch."""
+    if fmu is None or parameters is None:
+        return math.nan
+    us, discards, _ = steady_step_time(
+        fmu.contact, {"scene_file": scene_file, "initial_position": -scene.axis_position,
+                      "contact_width": CONTACT_WIDTH, **parameters},
+        (scene.normal_load_per_length * CONTACT_WIDTH, scene.creep), scene.rolling_speed, config.budget,
+        before_step=operators_for.cache_clear if parameters["method"] in (0, 3) else None)
+    return math.nan if discards else us * 1e-6
+
+
+def measure_case(family: str, label: str, scene: rc.Scene, config: Config,
+                 fmu: FmuBench | None = None) -> tuple[list[Row], list[AutoChoice], Reference]:
     ref = steady_reference(scene, config)
     rows = []
+    scene_file = fmu.scene_file(scene) if fmu is not None else ""
     for method, options in steady_settings(scene, config):
         result = rc.solve(scene, method=method, **options)
         if not result.success:
@@ -387,7 +447,8 @@ def measure_case(family: str, label: str, scene: rc.Scene, config: Config) -> tu
         rows.append(Row(family, label, method, setting_label(method, options), options, ef, ep, t,
                         model.cost(scene, options), model.error(scene, options),
                         harmonics=len(scene.surface.harmonics),
-                        sharpness=0.0 if scene.friction.is_constant else api.friction_sharpness(scene)))
+                        sharpness=0.0 if scene.friction.is_constant else api.friction_sharpness(scene),
+                        fmu_time=fmu_step_time(fmu, scene_file, scene, fmu_parameters(method, options), config)))
     choices = []
     for tolerance in TOLERANCES:
         auto = rc.solve(scene, tolerance=tolerance)
@@ -401,7 +462,9 @@ def measure_case(family: str, label: str, scene: rc.Scene, config: Config) -> tu
                                config.budget)
 
         choice = AutoChoice(family, label, tolerance, auto.method, setting_label(auto.method, options), max(ef, ep),
-                            auto_timer(), auto.info["error_estimate"], auto.info["tolerance_met"])
+                            auto_timer(), auto.info["error_estimate"], auto.info["tolerance_met"],
+                            fmu_time=fmu_step_time(fmu, scene_file, scene, {"method": 0, "tolerance": tolerance},
+                                                   config))
         for row in rows:
             if row.method == auto.method and row.options == options:
                 row.auto += (tolerance,)
@@ -416,7 +479,6 @@ MU_I, R_I, SPEED = 0.3, 0.46, 10.0
 A_I = hertz(LOAD_I, R_I, ESTAR)[0]
 SATURATION_I = MU_I * A_I / R_I
 STEPS_PER_CYCLE = 64
-CONTACT_WIDTH = 0.02  # m, the FMU's default lateral width
 
 
 def creep_signal(wavelength: float, mean: float = 0.5, amplitude: float = 0.3) -> tuple[np.ndarray, float, int]:
@@ -581,32 +643,29 @@ def richardson(coarse: np.ndarray, fine: np.ndarray, refinement: float) -> np.nd
 
 
 # ---------------------------------------------------------------------------------------------------- FMU steps
-def fmu_study(config: Config) -> list[tuple[str, float, float, int, set]]:
+def fmu_study(config: Config, fmu: FmuBench) -> list[tuple[str, float, float, int, set]]:
     """(label, median us/step, ratio to the empty FMU, discarded steps, method_used codes) per case."""
-    from build_fmu import build
-
     corrugation = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04}
-    with tempfile.TemporaryDirectory(prefix="pareto_fmu_") as tmp:
-        empty, contact = build_and_extract(Path(tmp), build)
-        cases = [Case("empty pythonfmu FMU", empty, {}, 200, 1.0),
-                 Case("closed form (method 1)", contact, {"method": 1}, 200, 20.0),
-                 Case("polynomial, corrugation 40 mm / 20 um (method 2)", contact, {"method": 2, **corrugation},
-                      10, 1.0),
-                 Case("auto, corrugation, tolerance 1e-3 (method 0)", contact,
-                      {"method": 0, "tolerance": 1e-3, **corrugation}, 10, 1.0),
-                 Case("falling friction, auto (method 0)", contact, {"method": 0, "friction_law": 1}, 2, 20.0),
-                 Case("falling friction, auto, tolerance 1e-3 (method 0)", contact,
-                      {"method": 0, "friction_law": 1, "tolerance": 1e-3}, 2, 20.0),
-                 Case("discretised, corrugation (method 3)", contact, {"method": 3, **corrugation}, 2, 1.0),
-                 Case("relaxation lag (transient 2)", contact, {"transient": 2}, 50, 20.0),
-                 Case("discretised transient n = 100 (method 3, transient 2)", contact,
-                      {"method": 3, "transient": 2}, 5, 20.0)]
-        run_interleaved(cases, config.fmu_rounds)
-        floor = statistics.median(cases[0].times)
-        out = [(c.label, statistics.median(c.times), statistics.median(c.times) / floor, c.discards,
-                c.methods_used) for c in cases]
-        for case in cases:
-            case.free()
+    empty, contact = fmu.empty, fmu.contact
+    cases = [Case("empty pythonfmu FMU", empty, {}, 200, 1.0),
+             Case("closed form (method 1)", contact, {"method": 1}, 200, 20.0),
+             Case("polynomial, corrugation 40 mm / 20 um (method 2)", contact, {"method": 2, **corrugation},
+                  10, 1.0),
+             Case("auto, corrugation, tolerance 1e-3 (method 0)", contact,
+                  {"method": 0, "tolerance": 1e-3, **corrugation}, 10, 1.0),
+             Case("falling friction, auto (method 0)", contact, {"method": 0, "friction_law": 1}, 2, 20.0),
+             Case("falling friction, auto, tolerance 1e-3 (method 0)", contact,
+                  {"method": 0, "friction_law": 1, "tolerance": 1e-3}, 2, 20.0),
+             Case("discretised, corrugation (method 3)", contact, {"method": 3, **corrugation}, 2, 1.0),
+             Case("relaxation lag (transient 2)", contact, {"transient": 2}, 50, 20.0),
+             Case("discretised transient n = 100 (method 3, transient 2)", contact,
+                  {"method": 3, "transient": 2}, 5, 20.0)]
+    run_interleaved(cases, config.fmu_rounds)
+    floor = statistics.median(cases[0].times)
+    out = [(c.label, statistics.median(c.times), statistics.median(c.times) / floor, c.discards,
+            c.methods_used) for c in cases]
+    for case in cases:
+        case.free()
     return out
 
 
@@ -796,6 +855,24 @@ def plot(rows: list[Row], choices: list[AutoChoice], path: Path) -> None:
     plt.close(fig)
 
 
+def fmu_overhead_lines(rows: list[Row], empty: float) -> list[str]:
+    """Headline lines: each steady setting's FMU step over its solve() and the difference, per method (the FMU's
+    own share: pythonfmu's step, the model building the scene and its outputs, fmpy's calls)."""
+    lines = []
+    for method in ("closed_form", "polynomial", "discretised"):
+        pairs = [(r.fmu_time, r.time) for r in rows if r.method == method and r.family != "instationary"
+                 and math.isfinite(r.fmu_time) and math.isfinite(r.time)]
+        if not pairs:
+            continue
+        ratios = [f / t for f, t in pairs]
+        extra = statistics.median(f - t for f, t in pairs)
+        lines.append(f"- FMU step over solve() of the same setting, {method.replace('_', ' ')}: median "
+                     f"{statistics.median(ratios):.3g}x (range {min(ratios):.3g}-{max(ratios):.3g}x over {len(pairs)} "
+                     f"settings); the FMU adds a median {fmt_time(extra)} per step"
+                     + (f" (the empty FMU step: {fmt_time(empty)})" if math.isfinite(empty) else ""))
+    return lines
+
+
 def auto_summary(choices: list[AutoChoice]) -> list[str]:
     """Headline lines: how often auto met t, and its cost over the cheapest measured setting that met t."""
     met = [c for c in choices if c.error <= c.tolerance]
@@ -838,6 +915,7 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Pat
     if fmu:
         for label, _, ratio, _, _ in fmu[1:]:
             lines.append(f"- FMU step / empty pythonfmu FMU step, {label}: {ratio:.3g}x")
+    lines += fmu_overhead_lines(rows, fmu[0][1] * 1e-6 if fmu else math.nan)
     lines += auto_summary(choices)
     lines.append(f"- Each method vs the closed form (solve() on Hertz/Carter, {fmt_time(closed)}):")
     for title, selector in (
@@ -881,36 +959,45 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Pat
               "measured step ran one model, the rest is the model's overhead).  'cheapest certified': the fastest "
               "measured setting whose a-priori error bound (the 'bound' column below) meets t, the best choice "
               "possible without hindsight of the errors; 'x certified': auto's time over it, timed alternately "
-              "likewise.", "",
-              "| family | case | t | auto's choice | error | estimate | meets t | time | cheapest measured meeting t "
-              "| x cheapest | unpaired | cheapest certified | x certified |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "likewise.  'FMU step': the contact FMU with `method = 0` (auto) and `tolerance = t` stepped through "
+              "fmpy on the same scene (steady cases; the instationary times are already steps of the FMU's model).",
+              "",
+              "| family | case | t | auto's choice | error | estimate | meets t | time | FMU step | cheapest measured "
+              "meeting t | x cheapest | unpaired | cheapest certified | x certified |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for c in choices:
         meets = "yes" if c.error <= c.tolerance else "**no**"
         ratio = "-" if math.isnan(c.cheapest_time) else f"{c.time / c.cheapest_time:.2f}" + (
             "" if math.isnan(c.chosen_time) else f" ({c.chosen_time / c.cheapest_time:.2f})")
         paired = "-" if math.isnan(c.paired) else f"{c.paired:.2f}"
         lines.append(f"| {c.family} | {c.case} | {c.tolerance:.0e} | {c.label} | {fmt_error(c.error)} | "
-                     f"{fmt_error(c.estimate)} | {meets} | {fmt_time(c.time)} | {c.cheapest or 'none'} | {paired} | "
+                     f"{fmt_error(c.estimate)} | {meets} | {fmt_time(c.time)} | {fmt_time(c.fmu_time)} | "
+                     f"{c.cheapest or 'none'} | {paired} | "
                      f"{ratio} | {c.certified or 'none'} | "
                      f"{'-' if math.isnan(c.certified_paired) else f'{c.certified_paired:.2f}'} |")
     lines.append("")
     # per family tables
     lines += ["## Every setting", "",
-              "error: the larger of the T' and p0 errors (instationary: T' in units of mu N').  model: the cost "
-              "model of `api.py` [s] and the predicted error bound; 'front': on the case's Pareto front; 'auto': "
-              "the tolerances at which auto chose this setting.", ""]
+              "error: the larger of the T' and p0 errors (instationary: T' in units of mu N').  time: per solve() "
+              "(instationary: per step of the FMU's model).  FMU step: the contact FMU running the same setting on "
+              "the same scene, per fmpy step (set 3 inputs, doStep, get 11 outputs; `_fmu_timing.steady_step_time`): "
+              "'-' where no FMU parameter selects the setting (the slip iteration's nodes, the extrapolated "
+              "discretised pairs) and for the instationary rows, whose times are already model steps.  model: the "
+              "cost model of `api.py` [s] and the predicted error bound; 'front': on the case's Pareto front; "
+              "'auto': the tolerances at which auto chose this setting.", ""]
     for family in dict.fromkeys(r.family for r in rows):
         lines += [f"### {family}", "",
-                  "| case | setting | error T' | error p0 | error | time | model cost | bound | front | auto |",
-                  "|---|---|---|---|---|---|---|---|---|---|"]
+                  "| case | setting | error T' | error p0 | error | time | FMU step | model cost | bound | front "
+                  "| auto |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|"]
         for case in dict.fromkeys(r.case for r in rows if r.family == family):
             case_rows = [r for r in rows if r.family == family and r.case == case]
             front = {id(r) for r in pareto_front(case_rows)}
             for r in case_rows:
                 lines.append(f"| {case} | {r.label}{' (' + r.note + ')' if r.note else ''} | "
                              f"{fmt_error(r.error_force)} | {fmt_error(r.error_pressure)} | {fmt_error(r.error)} | "
-                             f"{fmt_time(r.time)} | {fmt_time(r.model_cost)} | {fmt_error(r.bound)} | "
+                             f"{fmt_time(r.time)} | {fmt_time(r.fmu_time)} | {fmt_time(r.model_cost)} | "
+                             f"{fmt_error(r.bound)} | "
                              f"{'x' if id(r) in front else ''} | {', '.join(f'{t:.0e}' for t in r.auto)} |")
         lines.append("")
     # model checks
@@ -947,22 +1034,29 @@ def main(argv: list[str] | None = None) -> None:
     args = parser.parse_args(argv)
     config = QUICK if args.quick else FULL
     start = time.perf_counter()
-    rows, choices, references = [], [], {}
-    for family, cases in steady_cases(config).items():
-        for label, scene in cases:
-            print(f"{family}: {label}", flush=True)
-            case_rows, case_choices, ref = measure_case(family, label, scene, config)
-            rows += case_rows
-            choices += case_choices
-            references[(family, label)] = ref
-    print("instationary", flush=True)
-    inst_rows, inst_choices, inst_refs = instationary_study(config)
-    rows += inst_rows
-    choices += inst_choices
-    fmu = []
-    if not args.no_fmu:
-        print("FMU steps", flush=True)
-        fmu = fmu_study(config)
+    with tempfile.TemporaryDirectory(prefix="pareto_fmu_") as tmp:
+        bench = None
+        if not args.no_fmu:
+            from build_fmu import build
+
+            print("building the FMUs", flush=True)
+            bench = FmuBench(*build_and_extract(Path(tmp), build), Path(tmp))
+        rows, choices, references = [], [], {}
+        for family, cases in steady_cases(config).items():
+            for label, scene in cases:
+                print(f"{family}: {label}", flush=True)
+                case_rows, case_choices, ref = measure_case(family, label, scene, config, bench)
+                rows += case_rows
+                choices += case_choices
+                references[(family, label)] = ref
+        print("instationary", flush=True)
+        inst_rows, inst_choices, inst_refs = instationary_study(config)
+        rows += inst_rows
+        choices += inst_choices
+        fmu = []
+        if bench is not None:
+            print("FMU steps", flush=True)
+            fmu = fmu_study(config, bench)
     RESULTS.mkdir(parents=True, exist_ok=True)
     plot(rows, choices, RESULTS / "pareto.png")
     report(config, rows, choices, references, inst_refs, fmu, time.perf_counter() - start, RESULTS / "pareto.md")
