@@ -160,22 +160,10 @@ def scene_toml(scene) -> str:
     The FMU reads the file's surface in its own frame and solves the mirrored scene with the axis at ``-X``
     (:mod:`rollcontact.model`), so the file holds the mirror of the scene's surface
     (:func:`rollcontact.model.mirrored` is its own inverse); start the FMU at ``initial_position =
-    -scene.axis_position``.  The load, creep and speed in the file are placeholders: the FMU's inputs replace them.
+    -scene.axis_position``.  The load, creep, axis and speed in the file are placeholders: the FMU's inputs replace
+    them.
     """
-    from dataclasses import fields
-
-    from rollcontact.friction import LAWS
+    import rollcontact as rc
     from rollcontact.model import mirrored
 
-    surface = mirrored(scene.surface)
-    law = next(name for name, cls in LAWS.items() if type(scene.friction) is cls)
-    lines = ["[material]", f"youngs_modulus = {scene.material.youngs_modulus!r}",
-             f"poisson_ratio = {scene.material.poisson_ratio!r}", "", "[geometry]", f"radius = {scene.radius!r}", "",
-             "[load]", f"normal_load_per_length = {scene.normal_load_per_length!r}", f"creep = {scene.creep!r}", "",
-             "[rolling]", f"rolling_speed = {scene.rolling_speed!r}", "", "[friction]", f'law = "{law}"']
-    lines += [f"{f.name} = {getattr(scene.friction, f.name)!r}" for f in fields(scene.friction)]
-    lines += ["", "[surface]", f"polynomial = [{', '.join(repr(float(c)) for c in surface.polynomial)}]"]
-    for h in surface.harmonics:
-        lines += ["", "[[surface.harmonics]]", f"wavenumber = {h.wavenumber!r}", f"cos_amplitude = {h.cos_amplitude!r}",
-                  f"sin_amplitude = {h.sin_amplitude!r}"]
-    return "\n".join(lines) + "\n"
+    return rc.scene_toml(scene.replace(surface=mirrored(scene.surface)))

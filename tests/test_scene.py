@@ -14,10 +14,13 @@ from rollcontact import (
     Coulomb,
     ExponentialFalling,
     Harmonic,
+    LinearFalling,
     Material,
+    RationalFalling,
     Scene,
     SceneError,
     Surface,
+    TabulatedFriction,
     load_scene,
     solve,
 )
@@ -236,6 +239,32 @@ def test_toml_round_trip_sets_every_field(tmp_path, friction_table, expected):
          + 3e-6 * np.cos(2 * np.pi * X / 0.013 - 1.1) + 1.5e-6 * np.cos(250 * X) - 2.5e-6 * np.sin(250 * X))
     np.testing.assert_allclose(scene.surface.height(X), z, rtol=0, atol=1e-18,
                                err_msg="Surface.height of the loaded scene differs from the TOML's Z(X)")
+
+
+@pytest.mark.parametrize("friction", [
+    Coulomb(0.27), ExponentialFalling(0.42, 0.35, 0.8), RationalFalling(0.3, 0.2, 0.5), LinearFalling(0.4, 0.25, 0.02),
+    TabulatedFriction((0.0, 0.5, 3.0), (0.4, 0.3, 0.22)),
+], ids=lambda law: type(law).__name__)
+def test_scene_toml_is_read_back_as_the_same_scene(tmp_path, friction):
+    # awkward floats (subnormal, huge, -0.0, the shortest repr of 0.1 + 0.2) and a name with quotes, a backslash, a
+    # newline and a non-ASCII letter: every value must come back to the bit
+    scene = Scene(5e-324 + 1.25e6, creep=-(0.1 + 0.2) * 1e-3, radius=0.43, material=Material(2.05e11, 0.27),
+                  friction=friction, axis_position=-0.0,
+                  surface=Surface(polynomial=(1e-300, -2e-4, 0.0, 3.0e2), harmonics=(
+                      Harmonic.from_wavelength(0.04, 2e-5, 0.7), Harmonic(250.0, 1.5e-6, -2.5e-6))),
+                  rolling_speed=12.5, name='rail "A"\\ \n ø')
+    path = tmp_path / "written.toml"
+    path.write_text(rollcontact.scene_toml(scene), encoding="utf-8")
+    back = load_scene(path)
+    assert back == scene, f"read back {back!r}\nwrote     {scene!r}"
+
+
+def test_scene_toml_names_a_friction_law_without_a_file_form():
+    class Custom(Coulomb):
+        pass
+
+    with pytest.raises(SceneError, match="Custom has no scene-file form.*'coulomb'"):
+        rollcontact.scene_toml(Scene(1e6, friction=Custom(0.3)))
 
 
 def test_toml_defaults_and_name_from_file_stem(tmp_path):

@@ -32,7 +32,7 @@ from rollcontact.friction import (
     TabulatedFriction,
 )
 from rollcontact.result import ContactResult
-from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, load_scene
+from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, load_scene, scene_toml
 
 __version__ = "0.1.0"
 
@@ -55,5 +55,6 @@ __all__ = [
     "hertz",
     "load_scene",
     "register_method",
+    "scene_toml",
     "solve",
 ]

@@ -4,28 +4,28 @@ A scene holds everything a solver needs: material, geometry (cylinder radius, su
 normal load per unit length, creep, friction and rolling speed.  Every value is checked when the scene is built;
 an invalid one raises :class:`SceneError` naming the field, the value and the limit.
 
-Scenes are loaded from TOML files (``models/*.toml``) by :func:`load_scene`; see ``models/README.md`` for the
-format.
+Scenes are loaded from TOML files (``models/*.toml``) by :func:`load_scene` and written by :func:`scene_toml`; see
+``models/README.md`` for the format.
 """
 
 from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
-from rollcontact.friction import Coulomb, FrictionLaw, friction_from_dict
+from rollcontact.friction import LAWS, Coulomb, FrictionLaw, friction_from_dict
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - exercised on Python 3.10 only
     import tomli as tomllib
 
-__all__ = ["Harmonic", "Material", "Scene", "SceneError", "Surface", "load_scene"]
+__all__ = ["Harmonic", "Material", "Scene", "SceneError", "Surface", "load_scene", "scene_toml"]
 
 
 class SceneError(ValueError):
@@ -284,3 +284,50 @@ def load_scene(path) -> Scene:
         return scene_from_dict(data, name=path.stem)
     except (ValueError, TypeError) as exc:  # SceneError and the friction laws' ValueErrors
         raise SceneError(f"{path.name}: {exc}") from exc
+
+
+def scene_toml(scene: Scene) -> str:
+    """The TOML text of a scene file that :func:`load_scene` reads back as ``scene`` (every value exactly).
+
+    Harmonics are written by wavenumber and amplitudes (``[[surface.harmonics]]``), the friction law by its name in
+    :data:`rollcontact.friction.LAWS` and its fields.  Use it to hand a scene to the FMU's ``scene_file`` parameter
+    (which reads the surface in the FMU's frame: ``rollcontact.model`` module docstring).
+
+    Parameters
+    ----------
+    scene : Scene
+        A scene whose friction law is one of :data:`rollcontact.friction.LAWS` (a SceneError names any other).
+
+    Returns
+    -------
+    str
+        The file's text.
+    """
+    def toml(value) -> str:
+        if isinstance(value, tuple):
+            return "[" + ", ".join(toml(v) for v in value) + "]"
+        if isinstance(value, str):  # a basic string: quote, backslash and control characters escaped
+            return '"' + "".join(f"\\u{ord(c):04x}" if c in '"\\' or ord(c) < 0x20 or ord(c) == 0x7F else c
+                                 for c in value) + '"'
+        return repr(float(value))  # repr round-trips every float; TOML reads inf and nan too
+
+    friction = scene.friction
+    law = next((name for name, cls in LAWS.items() if type(friction) is cls), None)
+    if law is None:
+        raise SceneError(f"friction law {type(friction).__name__} has no scene-file form: the laws of a scene file "
+                         f"are {sorted(LAWS)}")
+    tables = {"scene": {"name": scene.name},
+              "material": {"youngs_modulus": scene.material.youngs_modulus,
+                           "poisson_ratio": scene.material.poisson_ratio},
+              "geometry": {"radius": scene.radius, "axis_position": scene.axis_position},
+              "load": {"normal_load_per_length": scene.normal_load_per_length, "creep": scene.creep},
+              "rolling": {"rolling_speed": scene.rolling_speed},
+              "friction": {"law": law, **{f.name: getattr(friction, f.name) for f in fields(friction)}},
+              "surface": {"polynomial": tuple(scene.surface.polynomial)}}
+    lines = []
+    for table, values in tables.items():
+        lines += [f"[{table}]", *(f"{key} = {toml(value)}" for key, value in values.items()), ""]
+    for h in scene.surface.harmonics:
+        lines += ["[[surface.harmonics]]", f"wavenumber = {toml(h.wavenumber)}",
+                  f"cos_amplitude = {toml(h.cos_amplitude)}", f"sin_amplitude = {toml(h.sin_amplitude)}", ""]
+    return "\n".join(lines)
