@@ -637,6 +637,16 @@ def test_same_inputs_give_bit_identical_results_in_any_call_order():
         assert again[i] == first[i], f"call {i} ({options}) differs when made in another order"
 
 
+@pytest.mark.parametrize("coefficients", [(3.5,), (-3.5,), (0.0, 1.0), (1e-300, -2e-4, 0.0, 3e2, -2e4),
+                                          (0.1, 0.2, 0.3, -0.0, 7.0, 1e17, -3.3)])
+def test_derivative_has_the_bits_of_numpys_polyder(coefficients):
+    # slope_tables differentiates on lists (an FMU step re-expands the surface about a new axis every time); it must
+    # give numpy's products, signed zeros included, or the results would move with the speed-up
+    ours = chebyshev.derivative(coefficients)
+    theirs = np.polynomial.polynomial.polyder(np.array(coefficients)).tolist()
+    assert [repr(c) for c in ours] == [repr(c) for c in theirs], f"derivative {ours} != polyder {theirs}"
+
+
 def test_cached_tables_are_read_only():
     tables = [chebyshev.unit_grid(11), *chebyshev.theta_grid(16, 5), *chebyshev.pressure_table(16, 5),
               *chebyshev.orders(5), *vars(velocity_friction.slip_operators(8)).values(),

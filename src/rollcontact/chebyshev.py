@@ -133,14 +133,15 @@ def slope_tables(polynomial: tuple, origin: float = 0.0) -> tuple:
     ``curvature_poly`` are the coefficients of ``Z''`` without trailing zeros
     (:meth:`SlopeExpansion.curvature_bound`).
     """
-    slope_poly = nppoly.polyder(np.asarray(taylor_shift(polynomial, origin), dtype=float))
-    slope_derivs = [slope_poly]
-    for _ in range(slope_poly.size + 1):
-        d = slope_derivs[-1]
-        slope_derivs.append(nppoly.polyder(d) if d.size > 1 else np.zeros(1))
-    for d in slope_derivs:
-        d.flags.writeable = False
-    deriv_lists = tuple(tuple(d.tolist()) for d in slope_derivs)
+    # the derivatives on lists, the products of numpy's polyder (j c_j) without its ~20 us of argument handling per
+    # call: with the axis moving every FMU step, the origin changes and the cache cannot serve
+    derivs = [derivative(taylor_shift(tuple(float(c) for c in polynomial), origin))]
+    for _ in range(len(derivs[0]) + 1):
+        d = derivs[-1]
+        derivs.append(derivative(d) if len(d) > 1 else (0.0,))
+    deriv_lists = tuple(derivs)
+    slope_derivs = read_only(*(np.array(d) for d in deriv_lists))
+    slope_poly = slope_derivs[0]
     curvature_poly = list(deriv_lists[1])
     while len(curvature_poly) > 1 and curvature_poly[-1] == 0.0:
         curvature_poly.pop()
@@ -174,6 +175,14 @@ def surface_data(surface) -> tuple:
                    j % 2 == 0) for j in range(slope_poly.size)),
             harmonic_list, sum(k * k * math.hypot(phi, psi) for k, phi, psi in harmonic_list),
             max((k for k, _, _ in harmonic_list), default=0.0))
+
+
+def derivative(coefficients: tuple) -> tuple:
+    """Power coefficients of ``P'`` from those of P, ``(1 c_1, 2 c_2, ...)``: ``numpy.polynomial.polynomial.polyder``'s
+    products, to the same bits (``(0 c_0,)`` for a constant)."""
+    if len(coefficients) == 1:
+        return (0.0 * coefficients[0],)
+    return tuple(j * coefficients[j] for j in range(1, len(coefficients)))
 
 
 def taylor_shift(coefficients: tuple, origin: float) -> tuple:
