@@ -265,6 +265,8 @@ def test_scene_toml_names_a_friction_law_without_a_file_form():
 
     with pytest.raises(SceneError, match="Custom has no scene-file form.*'coulomb'"):
         rollcontact.scene_toml(Scene(1e6, friction=Custom(0.3)))
+    with pytest.raises(SceneError, match="needs a Scene, got dict"):
+        rollcontact.scene_toml({"normal_load_per_length": 1e6})
 
 
 def test_toml_defaults_and_name_from_file_stem(tmp_path):

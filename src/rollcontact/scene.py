@@ -296,7 +296,8 @@ def scene_toml(scene: Scene) -> str:
     Parameters
     ----------
     scene : Scene
-        A scene whose friction law is one of :data:`rollcontact.friction.LAWS` (a SceneError names any other).
+        A scene whose friction law is one of :data:`rollcontact.friction.LAWS` (a SceneError names any other, and
+        anything but a Scene).
 
     Returns
     -------
@@ -311,6 +312,8 @@ def scene_toml(scene: Scene) -> str:
                                  for c in value) + '"'
         return repr(float(value))  # repr round-trips every float; TOML reads inf and nan too
 
+    if not isinstance(scene, Scene):
+        raise SceneError(f"scene_toml needs a Scene, got {type(scene).__name__} {scene!r}")
     friction = scene.friction
     law = next((name for name, cls in LAWS.items() if type(friction) is cls), None)
     if law is None:
