@@ -134,12 +134,11 @@ thousand steps see the scene of the case, not a different place on a corrugation
 
 
 def steady_step_time(unzipped: str, parameters: dict, inputs: tuple[float, float], velocity: float,
-                     budget: float, min_batches: int = 3, before_step=None) -> tuple[float, int, set]:
+                     budget: float, min_batches: int = 3, before_step=None) -> tuple[float, int]:
     """Median microseconds per fmpy step of a fresh instance with ``parameters``, stepped with the constant
     ``inputs = (normal_load [N], creep [1])`` at ``velocity`` [m/s] by :data:`STEADY_STEP`: batches of at least
     ~2 ms (at least ``min_batches``, up to ``budget`` [s] of them) after one step of warm-up (imports, caches), with
-    ``before_step`` run before each step (:class:`Case`).  Also the discarded steps and the ``method_used`` codes
-    seen."""
+    ``before_step`` run before each step (:class:`Case`).  Also the number of discarded steps."""
     case = Case("steady", unzipped, parameters, 1, velocity, fixed=inputs, step_size=STEADY_STEP,
                 before_step=before_step)
     try:
@@ -149,7 +148,7 @@ def steady_step_time(unzipped: str, parameters: dict, inputs: tuple[float, float
         start = time.perf_counter()
         while len(case.times) < min_batches or (time.perf_counter() - start < budget and len(case.times) < 200):
             case.batch()
-        return statistics.median(case.times), case.discards, case.methods_used
+        return statistics.median(case.times), case.discards
     finally:
         case.free()
 

@@ -389,9 +389,10 @@ class FmuBench:
 
     def scene_file(self, scene: rc.Scene) -> str:
         """Path of a TOML scene file the contact FMU reads as ``scene``'s (:func:`_fmu_timing.scene_toml`)."""
-        path = self.folder / f"case{len(list(self.folder.glob('case*.toml')))}.toml"
-        path.write_text(scene_toml(scene))
-        return str(path)
+        handle, path = tempfile.mkstemp(suffix=".toml", dir=self.folder)
+        with os.fdopen(handle, "w") as file:
+            file.write(scene_toml(scene))
+        return path
 
 
 def fmu_parameters(method: str, options: dict) -> dict | None:
@@ -422,7 +423,7 @@ def fmu_step_time(fmu: FmuBench | None, scene_file: str, scene: rc.Scene, parame
     where the grid moves with the patch."""
     if fmu is None or parameters is None:
         return math.nan
-    us, discards, _ = steady_step_time(
+    us, discards = steady_step_time(
         fmu.contact, {"scene_file": scene_file, "initial_position": -scene.axis_position,
                       "contact_width": CONTACT_WIDTH, **parameters},
         (scene.normal_load_per_length * CONTACT_WIDTH, scene.creep), scene.rolling_speed, config.budget,
