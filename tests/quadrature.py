@@ -88,9 +88,9 @@ def pressure_integral(result, nodes=400):
     Parameters
     ----------
     result : ContactResult
-        Single-patch solution.
+        Solution; with several patches (``info["stick_zones"]``: rollcontact.multipatch) the rule runs on each.
     nodes : int
-        Number of nodes.
+        Number of nodes (per patch).
 
     Returns
     -------
@@ -98,6 +98,11 @@ def pressure_integral(result, nodes=400):
         N' recomputed from ``result.pressure``.
     """
     theta = np.pi * np.arange(1, nodes + 1) / (nodes + 1)
-    a = result.contact_half_width
-    return float(a * np.pi / (nodes + 1) * np.sum(np.sin(theta) * result.pressure(result.contact_offset
-                                                                                   + a * np.cos(theta))))
+    patches = (result.info["patches"] if "stick_zones" in result.info
+               else [(result.contact_offset - result.contact_half_width,
+                      result.contact_offset + result.contact_half_width)])
+    total = 0.0
+    for lo, hi in patches:
+        a, centre = 0.5 * (hi - lo), 0.5 * (hi + lo)
+        total += float(a * np.pi / (nodes + 1) * np.sum(np.sin(theta) * result.pressure(centre + a * np.cos(theta))))
+    return total

@@ -48,19 +48,19 @@ def test_polynomial_equals_extrapolated_discretised(name):
 
 
 @pytest.mark.parametrize("axis_position, patches", [(0.0, 1), (0.002, 1), (0.005, 2), (0.008, 1)])
-def test_split_detection_agrees_with_the_discretised_patch_count(axis_position, patches):
-    """10 mm / 20 um corrugation: over the trough the wheel touches both flanks (two patches)."""
+def test_polynomial_patches_agree_with_the_discretised_patch_count(axis_position, patches):
+    """10 mm / 20 um corrugation: over the trough the wheel touches both flanks (two patches); the polynomial
+    method finds the patches the discretised solver finds, and the same T'."""
     scene = rc.Scene(normal_load_per_length=1e6, creep=1e-3, axis_position=axis_position,
                      surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.01, 20e-6),)))
     poly = rc.solve(scene, method="polynomial")
     disc = rc.solve(scene, method="discretised", elements=400)
     assert disc.success, disc.message
     assert len(disc.info["patches"]) == patches, f"discretised patches at x_c = {axis_position}: {disc.info['patches']}"
-    assert poly.success == (patches == 1), f"polynomial validity at x_c = {axis_position}: {poly.message}"
-    if patches == 1:
-        np.testing.assert_allclose(poly.tangential_force_per_length, disc.tangential_force_per_length, rtol=5e-3,
-                                   err_msg="one patch: polynomial vs discretised (n = 400) T'")
-    else:
-        auto = rc.solve(scene)
-        assert auto.method == "discretised" and auto.success, auto.message
-        assert auto.info["fallback_from"] == "polynomial", auto.info
+    assert poly.success, f"polynomial at x_c = {axis_position}: {poly.message}"
+    assert len(poly.info.get("patches", [None])) == patches, f"polynomial patches at x_c = {axis_position}"
+    # one patch: 5e-3 (measured ~1e-3); two: the discretised bound 4 w/n (its interior edges fall anywhere in their
+    # elements, measured errors up to ~8e-3 at n = 400, benchmarks/results/pareto.md)
+    rtol = 5e-3 if patches == 1 else disc.info["error_estimate"]
+    np.testing.assert_allclose(poly.tangential_force_per_length, disc.tangential_force_per_length, rtol=rtol,
+                               err_msg=f"{patches} patch(es): polynomial vs discretised (n = 400) T'")

@@ -199,6 +199,30 @@ def test_corrugated_surface_uses_the_polynomial_method(instance):
     assert_allclose(x, 3 * H * 5.0, rtol=1e-14, err_msg="the corrugation phase moves with X")
 
 
+@pytest.mark.skipif("polynomial" not in rollcontact.METHODS, reason="the polynomial method is not registered")
+def test_split_contact_through_the_fmu_is_solved_with_several_patches(instance):
+    """10 mm / 20 um corrugation, axis where the contact splits: the FMU's steps are the polynomial method's
+    several-patch solutions (rollcontact.multipatch), method_used 2, for auto and for method = 2."""
+    b = ContactParameters().contact_width
+    p = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.01, "initial_position": -0.0045}
+    for method in (0, 2):
+        fmu = instance(method=method, **p)
+        for n in range(3):
+            out = fmu.step(n * H, H, 1e6 * b, 1e-3, 0.01)  # 10 um per step: the contact stays split
+            x = out.axis_position
+            scene = rollcontact.Scene(normal_load_per_length=1e6, creep=1e-3, rolling_speed=0.01, axis_position=-x,
+                                      surface=rollcontact.Surface(harmonics=(rollcontact.Harmonic.from_wavelength(
+                                          0.01, 20e-6),)))
+            ref = rollcontact.solve(scene, method="polynomial")
+            assert ref.success and len(ref.info["patches"]) == 2, ref.message
+            assert out.method_used == 2, f"method {method}, X = {x}: {out.method_used}"
+            assert_allclose(out[:8], [ref.tangential_force_per_length * b, ref.traction_coefficient,
+                                      ref.contact_half_width, ref.stick_half_width, -ref.contact_offset,
+                                      ref.max_pressure, 1e-5 * ref.tangential_force_per_length * b,
+                                      ref.creep_stiffness_per_length * b], rtol=1e-11, atol=1e-15,
+                            err_msg=f"method {method}, X = {x}: FMU against rollcontact.solve(method='polynomial')")
+
+
 @pytest.mark.skipif("discretised" not in rollcontact.METHODS, reason="the discretised method is not registered")
 def test_explicit_discretised_method_through_the_fmu(instance):
     fmu = instance(method=3, corrugation_amplitude=20e-6, elements=100)

@@ -204,6 +204,10 @@ def patch_nodes(result, m: int):
     ``f a sin(theta)``, is then a cosine series of degree below 2m.
     """
     theta = math.pi * (np.arange(m) + 0.5) / m
+    if "stick_zones" in result.info:  # several patches (rollcontact.multipatch): the rule on each
+        halves = [(0.5 * (lo + hi), 0.5 * (hi - lo)) for lo, hi in result.info["patches"]]
+        return (np.concatenate([c + h * np.cos(theta) for c, h in halves]),
+                np.concatenate([h * math.pi / m * np.sin(theta) for _, h in halves]))
     a = result.contact_half_width
     return result.contact_offset + a * np.cos(theta), a * math.pi / m * np.sin(theta)
 
@@ -234,9 +238,9 @@ def assert_finite(result, what: str):
 def assert_fields_admissible(result, mu: float, m: int, what: str):
     """p >= 0 and |q| <= mu p at patch nodes, relative to mu p0 (SOLVER: the methods' own check tolerance)."""
     x, _ = patch_nodes(result, m)
-    lead = result.leading_edge
-    stick = lead + 2.0 * result.stick_half_width * (0.5 + 0.5 * np.cos(math.pi * (np.arange(m) + 0.5) / m))
-    x = np.concatenate((x, stick))
+    fraction = 0.5 + 0.5 * np.cos(math.pi * (np.arange(m) + 0.5) / m)
+    zones = result.info.get("stick_zones", [(result.leading_edge, result.leading_edge + 2 * result.stick_half_width)])
+    x = np.concatenate([x] + [lo + (hi - lo) * fraction for lo, hi in zones])
     p, q = result.pressure(x), result.traction(x)
     p0 = result.max_pressure
     assert np.all(np.isfinite(p)) and np.all(np.isfinite(q)), f"{what}: non-finite p or q"

@@ -475,3 +475,74 @@ def outer_transform(coefficients: np.ndarray, t) -> np.ndarray:
     powers = np.cumprod(np.broadcast_to(w[:, None], (w.size, c.size - 1)), axis=1)
     out[~inside] = powers @ c[1:]
     return out
+
+
+def surface_height(surface, x: np.ndarray) -> np.ndarray:
+    """``surface.height(x)`` for an array x by the same operations, so to the same bits, with the polynomial part by
+    Horner's rule written out: ``numpy.polynomial.polynomial.polyval``'s argument handling costs ~15 us a call,
+    several times its arithmetic on the few dozen points of :func:`outside_gap`.
+
+    Parameters
+    ----------
+    surface : rollcontact.Surface
+        Z(X), here in axis coordinates (:meth:`SlopeExpansion.axis_surface`).
+    x : ndarray
+        Positions [m].
+
+    Returns
+    -------
+    ndarray
+        Z(x) [m].
+    """
+    coefficients = surface.polynomial
+    if coefficients:
+        z = coefficients[-1] + x * 0  # polyval's start, kept for the same signed zeros
+        for c in coefficients[-2::-1]:
+            z = c + z * x
+    else:
+        z = np.zeros_like(x)
+    for h in surface.harmonics:
+        z = z + h.cos_amplitude * np.cos(h.wavenumber * x) + h.sin_amplitude * np.sin(h.wavenumber * x)
+    return z
+
+
+def pressure_samples(c_n: np.ndarray) -> tuple[int, np.ndarray]:
+    """``m`` and ``[p(theta_1) .. p(theta_(m-1)), dp/dtheta(0), dp/dtheta(pi)]``, ``theta_i = pi i/m``.
+
+    ``m = max(64, 4 (order + 1))``: four samples per term; one product with the cached
+    :func:`rollcontact.chebyshev.pressure_table`, shared by :func:`max_pressure` and :func:`validity_failures`.
+    """
+    m = max(64, 4 * c_n.size)
+    return m, pressure_table(m, c_n.size - 1)[0].dot(c_n[1:])
+
+
+def max_pressure(c_n: np.ndarray, m: int, samples: np.ndarray) -> float:
+    """max of ``p(theta) = sum c_n sin(n theta)``: the largest sample, then Newton on ``dp/dtheta = 0``.
+
+    The first step uses the cached sine and derivative rows at the sample (``|theta - theta*| <= pi/2m``); each
+    further one evaluates the series.  Once a step is below 1e-5 the value at that iterate is corrected by the
+    step, ``p - p'^2/(2 p'')``, whose error is third order in the step (~1e-15 of p).
+    """
+    p = samples[:-2]
+    i = int(p.argmax())
+    best = float(p[i])
+    c = c_n[1:]
+    sines, cosines, _, n, n_squared = pressure_table(m, c.size)
+    nnc = n_squared * c
+    th = math.pi * (i + 1) / m
+    value = best
+    d2 = -float(sines[i].dot(nnc))
+    d1 = float(cosines[i].dot(c))
+    for _ in range(4):
+        if d2 >= 0.0:
+            break
+        step = d1 / d2
+        if abs(step) <= 1e-5:
+            return max(best, value - 0.5 * d1 * step)
+        th = min(max(th - step, 0.0), math.pi)
+        ang = n * th
+        sn = np.sin(ang)
+        value = float(sn.dot(c))
+        d2 = -float(sn.dot(nnc))
+        d1 = float(np.cos(ang).dot(n * c))
+    return max(best, value)

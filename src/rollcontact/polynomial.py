@@ -21,7 +21,12 @@ Coulomb friction (:func:`coulomb_reduction`), otherwise by the slip iteration of
 
 Validity (one patch, one stick zone at the leading edge) is checked on the returned fields: ``p >= 0``; the
 deformed gap stays open outside the patch; ``|q| <= mu p`` in the stick zone; slip has the sign of the traction
-in the slip zone.  A failed check gives ``success = False`` and a message naming it.
+in the slip zone.  A failed check gives ``success = False`` and a message naming it.  Where the contact has
+several patches (the pressure turns negative, or the gap closes outside the patch) and friction is Coulomb's,
+:mod:`rollcontact.multipatch` solves it with one expansion per patch and stick zone (one stick zone at each
+patch's leading edge, checked likewise), from the patches of a coarse discretised normal solve (which also finds
+the one patch in contact where Newton from the Hertz patch landed on a spurious one); only when that fails too is
+the result unsuccessful.
 
 The paper's monomial formulation (eqs 21-26; note eq 26 needs ``A_n^-1 = +(1/pi) a^(2n-2)/(2n-3) prod...``
 for n >= 2, the printed minus sign is wrong: ``A = -pi (1 - a^2 S)^(-1/2)`` so ``A^-1 = -(1/pi)(1 - a^2 S)^(1/2)``)
@@ -49,15 +54,20 @@ from scipy import linalg
 from rollcontact.api import register_method
 from rollcontact.chebyshev import (
     SlopeExpansion,
+    max_pressure,
     orders,
     outer_transform,
+    pressure_samples,
     pressure_table,
     read_only,
     sine_series,
+    surface_height,
     theta_grid,
     unit_grid,
 )
 from rollcontact.closed_form import hertz
+from rollcontact.multipatch import patch_start
+from rollcontact.multipatch import solve_split as several_patches
 from rollcontact.result import ContactResult, Distributions, NoContact
 from rollcontact.velocity_friction import DEFAULT_NODES, default_nodes, solve_velocity_dependent
 
@@ -345,6 +355,14 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         messages.append(tang_failure)
     if check:
         messages += validity_failures(dist, expansion, scene, a, x0, m, samples)
+        if messages and messages[0].startswith(SEVERAL) and friction.is_constant and basis == "chebyshev":
+            start = patch_start(scene, x0, a, samples[:-2])
+            several = several_patches(expansion, load, estar, mu, xi, start, tolerance, order)
+            if several.success:
+                several.info["basis"] = basis
+                return several
+            messages.append(several.message)
+            info["patches"] = several.info["patches"]
     if monomial_b is None:
         p_max = max_pressure(c_n, m, samples)
     else:
@@ -599,48 +617,11 @@ def refine_root(creep_of, target, lo, hi, f_lo, w):
 
 # ---------------------------------------------------------------------------------------------------------------
 # fields on the patch, validity
-def pressure_samples(c_n: np.ndarray) -> tuple[int, np.ndarray]:
-    """``m`` and ``[p(theta_1) .. p(theta_(m-1)), dp/dtheta(0), dp/dtheta(pi)]``, ``theta_i = pi i/m``.
-
-    ``m = max(64, 4 (order + 1))``: four samples per term; one product with the cached
-    :func:`rollcontact.chebyshev.pressure_table`, shared by :func:`max_pressure` and :func:`validity_failures`.
-    """
-    m = max(64, 4 * c_n.size)
-    return m, pressure_table(m, c_n.size - 1)[0].dot(c_n[1:])
-
-
-def max_pressure(c_n: np.ndarray, m: int, samples: np.ndarray) -> float:
-    """max of ``p(theta) = sum c_n sin(n theta)``: the largest sample, then Newton on ``dp/dtheta = 0``.
-
-    The first step uses the cached sine and derivative rows at the sample (``|theta - theta*| <= pi/2m``); each
-    further one evaluates the series.  Once a step is below 1e-5 the value at that iterate is corrected by the
-    step, ``p - p'^2/(2 p'')``, whose error is third order in the step (~1e-15 of p).
-    """
-    p = samples[:-2]
-    i = int(p.argmax())
-    best = float(p[i])
-    c = c_n[1:]
-    sines, cosines, _, n, n_squared = pressure_table(m, c.size)
-    nnc = n_squared * c
-    th = math.pi * (i + 1) / m
-    value = best
-    d2 = -float(sines[i].dot(nnc))
-    d1 = float(cosines[i].dot(c))
-    for _ in range(4):
-        if d2 >= 0.0:
-            break
-        step = d1 / d2
-        if abs(step) <= 1e-5:
-            return max(best, value - 0.5 * d1 * step)
-        th = min(max(th - step, 0.0), math.pi)
-        ang = n * th
-        sn = np.sin(ang)
-        value = float(sn.dot(c))
-        d2 = -float(sn.dot(nnc))
-        d1 = float(np.cos(ang).dot(n * c))
-    return max(best, value)
-
-
+SPLIT = "contact splits"
+GAP_CLOSES = "the deformed gap closes outside the patch"
+SEVERAL = (SPLIT, GAP_CLOSES)
+"""How :func:`validity_failures` begins the messages that mean several patches (a negative pressure, a gap that
+closes outside the patch): then :func:`rollcontact.multipatch.solve_split` takes over."""
 CONVEX = 0.99
 """``sup |Z''| < CONVEX / R`` on the patch proves the slip-sign check (and makes xi(a*) monotone)."""
 STICK_PROVEN = 0.33
@@ -685,12 +666,12 @@ def validity_failures(dist: PolynomialDistributions, e: SlopeExpansion, scene, a
     p_scale = max(float(p[p.argmax()]), -p_min, 1e-300)
     if p_min < -tol * p_scale or min(edges) < -tol * p_scale:
         i = int(np.argmin(p))
-        out.append(f"contact splits: the pressure turns negative (min p = {p[i]:.4g} Pa near x = "
+        out.append(f"{SPLIT}: the pressure turns negative (min p = {p[i]:.4g} Pa near x = "
                    f"{dist.offset + a * math.cos(math.pi * (i + 1) / m):.6g} m, edge slopes {edges[0]:.3g}, "
                    f"{edges[1]:.3g} Pa), more than one contact patch")
     gap = outside_gap(dist, e, a, x0)
     if gap is not None:
-        out.append(f"the deformed gap closes outside the patch (gap = {gap[1]:.3g} m at x = {gap[0]:.6g} m): "
+        out.append(f"{GAP_CLOSES} (gap = {gap[1]:.3g} m at x = {gap[0]:.6g} m): "
                    "a second contact patch")
     if dist.creep == 0.0:
         return out
@@ -843,35 +824,6 @@ def deformed_gap(dist: PolynomialDistributions, e: SlopeExpansion, a: float, x0:
     at_edges = (math.fsum(beta), math.fsum(b if j % 2 else -b for j, b in enumerate(beta)))
     at_edge = np.where(trailing, h0[-2] - a * at_edges[0], h0[-1] - a * at_edges[1])
     return h0[:-2] - a * antiderivative - at_edge
-
-
-def surface_height(surface, x: np.ndarray) -> np.ndarray:
-    """``surface.height(x)`` for an array x by the same operations, so to the same bits, with the polynomial part by
-    Horner's rule written out: ``numpy.polynomial.polynomial.polyval``'s argument handling costs ~15 us a call,
-    several times its arithmetic on the few dozen points of :func:`outside_gap`.
-
-    Parameters
-    ----------
-    surface : rollcontact.Surface
-        Z(X), here in axis coordinates (:meth:`SlopeExpansion.axis_surface`).
-    x : ndarray
-        Positions [m].
-
-    Returns
-    -------
-    ndarray
-        Z(x) [m].
-    """
-    coefficients = surface.polynomial
-    if coefficients:
-        z = coefficients[-1] + x * 0  # polyval's start, kept for the same signed zeros
-        for c in coefficients[-2::-1]:
-            z = c + z * x
-    else:
-        z = np.zeros_like(x)
-    for h in surface.harmonics:
-        z = z + h.cos_amplitude * np.cos(h.wavenumber * x) + h.sin_amplitude * np.sin(h.wavenumber * x)
-    return z
 
 
 def inapplicable(scene) -> str | None:
