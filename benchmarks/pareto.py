@@ -12,11 +12,12 @@ moves the answer by about its error, and in use that placement is arbitrary. Ref
 (Hertz/Carter); otherwise the polynomial method at truncation tolerance 1e-12 (1024 slip nodes for
 velocity-dependent friction), cross-checked against the Richardson-extrapolated discretised solver (n = 800/1600 on
 a window of +-1.25 a about the patch, whose edges then fall on element boundaries, as in
-``tests/test_cross_methods.py``); for a split contact, which only the discretised solver treats, the first-order
-Richardson extrapolation of its T' from n = 2000/4000, each level the mean over 8 grid placements
-(:func:`split_reference`), its uncertainty shown as the change from n = 1000/2000.  The extrapolated discretised
-settings (``extrapolate`` = m = 8, 16: n/2n, each level the mean over m placements) average over placements
-themselves and are measured as they run. Instationary rolling (creep
+``tests/test_cross_methods.py``); for a split contact (several patches, ``rollcontact.multipatch``) against the
+first-order Richardson extrapolation of the discretised T' from n = 2000/4000, each level the mean over 8 grid
+placements on a window fitted to the patches; a contact the polynomial method cannot treat would take that
+extrapolation as its reference (:func:`split_reference`), its uncertainty shown as the change from n = 1000/2000.
+The extrapolated discretised settings (``extrapolate`` = m = 8, 16: n/2n, each level the mean over m placements)
+average over placements themselves and are measured as they run. Instationary rolling (creep
 control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R`` at lambda/a = 5..40, and a creep reversal ``0.9 sin`` at
 lambda/a = 5, where the relaxation lag errs most; 64 host steps per cycle): max |T' - T'_ref| over the
 last cycle in units of mu N', reference the extrapolating transient pair n = 400/800 (nested grids, second order:
@@ -326,6 +327,14 @@ def steady_reference(scene: rc.Scene, config: Config) -> Reference:
            else "polynomial, tolerance 1e-12")
     if config.richardson is None:
         return Reference(poly, how)
+    if "patches" in poly.info:  # several patches: the split contacts' discretised reference is the cross-check
+        sizes = config.split_reference
+        check = rc.discretised.extrapolated(scene, sizes, SPLIT_REFERENCE_PLACEMENTS)
+        diff = abs(check.tangential_force_per_length / poly.tangential_force_per_length - 1.0)
+        return Reference(poly, f"{how}, {len(poly.info['patches'])} patches",
+                         f"Richardson discretised n = {sizes[0]}/{sizes[1]}, each level the mean of "
+                         f"{SPLIT_REFERENCE_PLACEMENTS} grid placements on a window fitted to the patches: T' within "
+                         f"{diff:.1e} (its bound {check.info['error_estimate']:.1e})")
     a, offset = poly.contact_half_width, poly.contact_offset
     forces = [rc.solve(scene, method="discretised", elements=n,
                        window=(offset - 1.25 * a, offset + 1.25 * a)).tangential_force_per_length
