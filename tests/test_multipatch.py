@@ -223,6 +223,34 @@ def test_one_patch_found_where_the_single_patch_newton_lands_astray():
         assert abs(residual) <= 1e-9 * A_REF / RADIUS, f"x = {x:.6g} m: residual {residual:.3e}"
 
 
+def test_patches_found_where_the_single_patch_normal_problem_does_not_converge():
+    """6 mm / 20 um, axis 2 mm past a crest: Newton on the single patch wanders among the crests and fails; from
+    the discretised start the patches are found, those the discretised solver finds, with its T'."""
+    scene = corrugated(0.006, 0.002)
+    assert not solve_polynomial(scene, check=False).success, "the premise: the single-patch normal problem fails"
+    r = solve(scene, method="polynomial")
+    assert r.success, r.message
+    disc = solve(scene, method="discretised", elements=400)
+    width = disc.info["grid"].element_width
+    assert len(r.info["patches"]) == len(disc.info["patches"])
+    for got, ref in zip(r.info["patches"], disc.info["patches"], strict=True):
+        np.testing.assert_allclose(got, ref, atol=2 * width, rtol=0, err_msg="patch edges")
+    assert r.tangential_force_per_length == pytest.approx(disc.tangential_force_per_length,
+                                                          rel=disc.info["error_estimate"])
+
+
+def test_lobes_are_the_runs_of_positive_pressure():
+    """The start near the split onset: runs of p > 0 on the samples ``x = cos(pi i/m)`` (trailing edge first), the
+    crossings interpolated linearly, the outer edges the patch's."""
+    x = np.cos(np.pi * np.arange(1, 16) / 16)
+    edges = multipatch.lobes(0.0, 1.0, 0.09 - x * x)  # positive in |x| < 0.3 only
+    assert len(edges) == 2 and -0.35 < edges[0] < -0.25 and 0.25 < edges[1] < 0.35, edges
+    edges = multipatch.lobes(0.0, 1.0, x * x - 0.09)  # negative in |x| < 0.3: two runs out to the edges
+    assert len(edges) == 4 and edges[0] == -1.0 and edges[3] == 1.0, edges
+    assert -0.4 < edges[1] < -0.2 and 0.2 < edges[2] < 0.4, edges
+    assert multipatch.lobes(0.0, 1.0, np.ones(15)) == [-1.0, 1.0]
+
+
 def test_mirror_symmetric_gap_gives_mirror_patches_with_equal_loads():
     """The axis over a crest of the gap (h0 even): the patches mirror each other and carry N'/2 each."""
     r = solve(SYMMETRIC.replace(creep=0.0), method="polynomial")

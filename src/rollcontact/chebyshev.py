@@ -480,7 +480,7 @@ def outer_transform(coefficients: np.ndarray, t) -> np.ndarray:
 def surface_height(surface, x: np.ndarray) -> np.ndarray:
     """``surface.height(x)`` for an array x by the same operations, so to the same bits, with the polynomial part by
     Horner's rule written out: ``numpy.polynomial.polynomial.polyval``'s argument handling costs ~15 us a call,
-    several times its arithmetic on the few dozen points of :func:`outside_gap`.
+    several times its arithmetic on the few dozen points of :func:`rollcontact.polynomial.outside_gap`.
 
     Parameters
     ----------
@@ -510,7 +510,8 @@ def pressure_samples(c_n: np.ndarray) -> tuple[int, np.ndarray]:
     """``m`` and ``[p(theta_1) .. p(theta_(m-1)), dp/dtheta(0), dp/dtheta(pi)]``, ``theta_i = pi i/m``.
 
     ``m = max(64, 4 (order + 1))``: four samples per term; one product with the cached
-    :func:`rollcontact.chebyshev.pressure_table`, shared by :func:`max_pressure` and :func:`validity_failures`.
+    :func:`pressure_table`, shared by :func:`max_pressure` and the validity checks of
+    :mod:`rollcontact.polynomial` and :mod:`rollcontact.multipatch`.
     """
     m = max(64, 4 * c_n.size)
     return m, pressure_table(m, c_n.size - 1)[0].dot(c_n[1:])

@@ -303,17 +303,20 @@ START_ELEMENTS = (64, 8)
 first, and the second per shortest wavelength of the surface over the solver's automatic window."""
 
 
-def patch_start(scene, offset: float, half_width: float, samples: np.ndarray) -> list[float]:
-    """Edges ``[l_1, r_1, l_2, r_2, ...]`` [m] (axis coordinates) to start :func:`solve_edges` from.
+def patch_starts(scene, single: tuple | None) -> list[list[float]]:
+    """Edges ``[l_1, r_1, l_2, r_2, ...]`` [m] (axis coordinates) to start :func:`solve_split` from, in the order
+    to try them.
 
-    The patches of a coarse discretised normal solve (:data:`START_ELEMENTS` on the solver's automatic window): the
-    single-patch solution that failed is no guide in general, since forced to one patch it can land across
-    several crests of a short corrugation, far from where the bodies touch, while the discretised normal problem
-    finds the contact set whatever its shape, to an element (a few per cent of a).  Where the contact has only
-    just split, the gap between the patches is narrower than an element and the coarse solve sees one patch;
-    then the runs of positive pressure of the single-patch solution (:func:`lobes`; ``offset``, ``half_width``
-    and its ``samples``), which is close to the split one there, start the iteration instead.
+    First the patches of a coarse discretised normal solve (:data:`START_ELEMENTS` on the solver's automatic
+    window): the single-patch solution that failed is no guide in general, since forced to one patch it can land
+    across several crests of a short corrugation, far from where the bodies touch, while the discretised normal
+    problem finds the contact set whatever its shape, to an element (a few per cent of a).  Where it finds one
+    patch, either that is the patch in contact (the single patch landed astray) or the contact has only just split
+    and the gap between the patches is narrower than an element; for the second, the runs of positive pressure of
+    the single-patch solution (:func:`lobes`), which is close to the split one there, follow (``single``: its
+    offset, half-width and pressure samples; None where the single-patch normal problem did not converge).
     """
+    runs = lobes(*single) if single is not None else []
     least, per_wavelength = START_ELEMENTS
     shortest = min((2.0 * math.pi / h.wavenumber for h in scene.surface.harmonics if h.amplitude > 0.0),
                    default=math.inf)
@@ -321,9 +324,9 @@ def patch_start(scene, offset: float, half_width: float, samples: np.ndarray) ->
         elements = max(least, math.ceil(per_wavelength * automatic_grid(scene, least).length / shortest))
         grid, _, normal = fitted_normal(scene, elements=min(elements, MAX_ELEMENTS))
     except ValueError:  # no window the discretised solver accepts (extreme scenes): the single patch's runs
-        return lobes(offset, half_width, samples)
+        return [runs] if runs else []
     edges = [edge for patch in patch_geometry(grid, normal.contact)[2] for edge in patch]
-    return edges if len(edges) > 2 else lobes(offset, half_width, samples)
+    return [edges] if len(edges) > 2 or len(runs) <= 2 else [edges, runs]
 
 
 def lobes(offset: float, half_width: float, samples: np.ndarray) -> list[float]:
@@ -643,7 +646,7 @@ def validity_failures(expansion: SlopeExpansion, dist: PatchesDistributions, edg
 def solve_split(expansion: SlopeExpansion, load: float, estar: float, mu: float, xi: float, start: list[float],
                 tolerance: float, order: int | None = None) -> ContactResult:
     """Polynomial method for a contact of several patches (module docstring), from the patch edges ``start``
-    (axis coordinates, leading first; e.g. :func:`lobes` of the failed single-patch solution).
+    (axis coordinates, leading first: :func:`patch_starts`).
 
     Parameters
     ----------
@@ -654,17 +657,18 @@ def solve_split(expansion: SlopeExpansion, load: float, estar: float, mu: float,
     start : list of float
         ``[l_1, r_1, l_2, r_2, ...]`` [m].
     tolerance : float
-        The first neglected coefficients of every expansion stay below it, relative to ``h_k/R``: M doubles from
-        the gap's own :meth:`~rollcontact.chebyshev.SlopeExpansion.required_order` (at least 8) until they do.
+        Requested relative error of T' and p0: M starts from :func:`initial_terms` and doubles (at most
+        :data:`MAX_TERMS`, :data:`MAX_UNKNOWNS` over all patches) until the first neglected coefficients fall below
+        the target of the module docstring (Accuracy), where Newton also stops.
     order : int, optional
         A fixed M instead.
 
     Returns
     -------
     ContactResult
-        ``residual`` is the largest first neglected coefficient (relative); ``info["patches"]`` the patches'
-        ``(leading, trailing)`` edges [m], ``info["stick_zones"]`` the stick zones'; a, Delta from the outer edges,
-        the stick half-width the sum of the zones' (as the discretised method reports them).
+        ``residual`` is the error estimate of the module docstring (Accuracy); ``info["patches"]`` the patches'
+        ``(leading, trailing)`` edges [m], ``info["stick_zones"]`` the stick zones', ``info["order"]`` M; a, Delta
+        from the outer edges, the stick half-width the sum of the zones' (as the discretised method reports them).
     """
     radius = expansion.radius
     a_ref = hertz(load, radius, estar)[0]

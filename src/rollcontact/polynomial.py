@@ -66,8 +66,7 @@ from rollcontact.chebyshev import (
     unit_grid,
 )
 from rollcontact.closed_form import hertz
-from rollcontact.multipatch import patch_start
-from rollcontact.multipatch import solve_split as several_patches
+from rollcontact.multipatch import patch_starts, solve_split
 from rollcontact.result import ContactResult, Distributions, NoContact
 from rollcontact.velocity_friction import DEFAULT_NODES, default_nodes, solve_velocity_dependent
 
@@ -295,7 +294,9 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         relative to the leading one); ``info`` holds the order, basis, coefficients and, for the monomial basis,
         the cancellation factor of the paper's power basis (``info["cancellation_factor"]``); for a
         velocity-dependent law solved as Coulomb friction, ``info["coulomb_reduction"]`` says why
-        (:func:`coulomb_reduction`).
+        (:func:`coulomb_reduction`).  Solved as several patches (:func:`rollcontact.multipatch.solve_split`):
+        ``info["patches"]`` and ``info["stick_zones"]`` (leading and trailing ends [m]), a and Delta from the outer
+        edges, the stick half-width the sum of the zones'.
     """
     if basis not in BASES:
         raise ValueError(f"unknown basis {basis!r}; valid bases are {list(BASES)}")
@@ -322,9 +323,15 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     problem = NormalProblem(expansion, basis, monomial_order)
     a, x0, iterations, failure = solve_normal(problem, load, estar, a_hertz, max_iterations)
     info = {"basis": basis}
+    several_apply = check and friction.is_constant and basis == "chebyshev"
     if failure or not (a > 0.0 and math.isfinite(a) and math.isfinite(x0)):
-        return failed(scene, failure or f"normal problem: no positive root for a (a = {a!r} m)", a, x0,
-                      iterations, info)
+        failure = failure or f"normal problem: no positive root for a (a = {a!r} m)"
+        if several_apply and expansion.has_harmonics:  # a short corrugation: Newton lost among the crests
+            several = several_patches(scene, expansion, tolerance, order, None)
+            if several.success:
+                return several
+            failure += "; " + several.message
+        return failed(scene, failure, a, x0, iterations, info)
 
     n_order = order if order is not None else expansion.required_order(a, tolerance)
     g = expansion.gap_slope_coefficients(a, x0, n_order + 4)
@@ -355,11 +362,9 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         messages.append(tang_failure)
     if check:
         messages += validity_failures(dist, expansion, scene, a, x0, m, samples)
-        if messages and messages[0].startswith(SEVERAL) and friction.is_constant and basis == "chebyshev":
-            start = patch_start(scene, x0, a, samples[:-2])
-            several = several_patches(expansion, load, estar, mu, xi, start, tolerance, order)
+        if several_apply and any(text.startswith(SEVERAL) for text in messages):
+            several = several_patches(scene, expansion, tolerance, order, (x0, a, samples[:-2]))
             if several.success:
-                several.info["basis"] = basis
                 return several
             messages.append(several.message)
             info["patches"] = several.info["patches"]
@@ -381,6 +386,21 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
 
 
 solve_polynomial.options = ("order", "tolerance", "basis", "max_iterations", "nodes")
+
+
+def several_patches(scene, expansion: SlopeExpansion, tolerance: float, order: int | None,
+                    single: tuple | None) -> ContactResult:
+    """The scene as several patches (:func:`rollcontact.multipatch.solve_split`) from each start of
+    :func:`rollcontact.multipatch.patch_starts` in turn: the first success, else the last failure.  ``single`` is
+    ``(offset, half-width, pressure samples)`` of the failed single-patch solution, None where its normal problem
+    did not converge."""
+    for start in patch_starts(scene, single) or [[]]:  # no start: solve_split reports that no patch was found
+        several = solve_split(expansion, scene.normal_load_per_length, scene.material.contact_modulus,
+                              scene.friction.static_coefficient, scene.creep, start, tolerance, order)
+        if several.success:
+            several.info["basis"] = "chebyshev"
+            return several
+    return several
 
 
 COULOMB_REDUCTION = 1e-10
