@@ -325,10 +325,15 @@ def test_discretised_setting_is_the_fewest_elements_whose_bound_meets_the_tolera
             other["elements"] += 1
         if model.error(scene, other) <= tolerance:
             assert setting.cost <= model.cost(scene, other), f"{other} would be cheaper than {setting}"
+    # run: the chosen setting, then finer ones while the result's patch-aware estimate misses t (the small leading
+    # patch is narrower than the Hertz width of the a-priori bound)
     result = solve(scene, tolerance=tolerance)
-    assert result.method == "discretised" and result.info["setting"] == options, result.info
-    pair = bool(options.get("extrapolate"))
-    assert result.info["tolerance_met"] and result.info["grid"].elements == n * (2 if pair else 1), result.info
+    used = result.info["setting"]
+    assert result.method == "discretised" and model.error(scene, used) <= setting.error_estimate, \
+        f"{used} is neither the chosen {options} nor finer"
+    assert result.info["tolerance_met"] == (result.info["error_estimate"] <= tolerance), result.info
+    pair = bool(used.get("extrapolate"))
+    assert result.info["grid"].elements == used["elements"] * (2 if pair else 1), result.info
 
 
 def test_user_elements_fix_one_grid_instead_of_the_extrapolated_pair():
@@ -447,3 +452,72 @@ def test_the_fmu_model_escalates_like_solve():
     scene = model.scene(out.axis_position, 1e6 * model.width, 1e-3, 20.0)
     reference = solve(scene, tolerance=1e-6)
     assert out.tangential_force == pytest.approx(reference.tangential_force_per_length * model.width, rel=1e-12)
+
+
+# ------------------------------------------------------------------- the discretised estimate on narrow patches
+# 4 mm / 40 um at 0.1 of saturation: three patches of 0.07-0.15 times the Hertz width, the outer two slipping fully
+THREE_PATCHES = Scene(1e6, creep=0.1 * SATURATION, axis_position=0.0,
+                      surface=Surface(harmonics=(Harmonic.from_wavelength(0.004, 40e-6),)))
+
+
+@pytest.fixture(scope="module")
+def three_patches():
+    reference = solve(THREE_PATCHES, method="polynomial", tolerance=1e-12)
+    assert reference.success and len(reference.info["patches"]) == 3, reference.message
+    return reference
+
+
+def relative_errors(result, reference) -> tuple[float, float]:
+    """Relative errors of T' and p0."""
+    return (abs(result.tangential_force_per_length / reference.tangential_force_per_length - 1.0),
+            abs(result.max_pressure / reference.max_pressure - 1.0))
+
+
+@pytest.mark.parametrize("options", [{"elements": 100}, {"elements": 400}, {"elements": 50, "extrapolate": 16}],
+                         ids=["100", "400", "pair 50/100 x 16"])
+def test_discretised_estimate_bounds_the_error_on_narrow_patches(three_patches, options):
+    """The a-priori bound (the Hertz width) is exceeded here; the result's estimate, with the patch widths
+    (``api.patch_widths``), bounds the T' and p0 errors against the polynomial method's three patches."""
+    model = METHODS["discretised"].accuracy
+    result = solve(THREE_PATCHES, method="discretised", **options)
+    assert result.success and len(result.info["patches"]) == 3, result.message
+    force, pressure = relative_errors(result, three_patches)
+    estimate = result.info["error_estimate"]
+    assert max(force, pressure) > model.error(THREE_PATCHES, options), \
+        f"premise: the Hertz-width bound {model.error(THREE_PATCHES, options):.3g} should miss here"
+    assert force <= estimate and pressure <= estimate, \
+        f"{options}: T' error {force:.3g}, p0 error {pressure:.3g} above the estimate {estimate:.3g}"
+
+
+@pytest.mark.parametrize("creep", [0.0, 0.2 * SATURATION, 3.0 * SATURATION])
+def test_discretised_estimate_of_one_hertzian_patch_is_the_a_priori_bound(creep):
+    """One patch as wide as Hertz: the patch widths change nothing (within the element the grid patch may lose);
+    at zero creep (no traction to weigh) the Hertz width."""
+    scene = HERTZIAN.replace(creep=creep)
+    for options in ({"elements": 100}, {"elements": 50, "extrapolate": 8}):
+        bound = METHODS["discretised"].accuracy.error(scene, options)
+        estimate = solve(scene, method="discretised", **options).info["error_estimate"]
+        assert bound <= estimate <= 1.1 * bound, f"{options}, creep {creep}: estimate {estimate:.3g}, bound {bound:.3g}"
+
+
+def test_discretised_escalation_meets_the_tolerance_the_a_priori_choice_missed(three_patches):
+    """auto's discretised route (as where the polynomial method fails): the a-priori choice's estimate misses t,
+    the escalation runs finer settings until it meets it, and the error is then within t."""
+    model = METHODS["discretised"].accuracy
+    tolerance = 3e-2
+    first = rollcontact.api.setting_for("discretised", THREE_PATCHES, tolerance)
+    assert solve(THREE_PATCHES, method="discretised", **first.options).info["error_estimate"] > tolerance, \
+        "premise: the a-priori choice misses t"
+    _, result = rollcontact.api.run_to_tolerance(first, THREE_PATCHES, {}, tolerance)
+    used = result.info["setting"]
+    assert result.success and result.info["tolerance_met"], result.message
+    assert model.error(THREE_PATCHES, used) < first.error_estimate, f"{used} is not finer than {first.options}"
+    force, pressure = relative_errors(result, three_patches)
+    assert max(force, pressure) <= tolerance, f"{used}: errors {force:.3g}, {pressure:.3g} above {tolerance}"
+    grid = {"elements": max(rollcontact.api.DISCRETISED_ELEMENTS)}
+    assert model.escalation(THREE_PATCHES, grid, 1.0, tolerance).get("extrapolate"), "the pair is finer"
+    top = {"elements": max(rollcontact.api.DISCRETISED_ELEMENTS) // 2,
+           "extrapolate": max(rollcontact.api.EXTRAPOLATION_PLACEMENTS)}
+    assert model.escalation(THREE_PATCHES, top, 1.0, tolerance) is None, "nothing finer than the finest pair"
+    assert model.escalation(THREE_PATCHES, first.options, 0.5 * tolerance, tolerance) is None, "t met: stop"
+    assert model.escalation(THREE_PATCHES, first.options, math.nan, tolerance) is None, "no estimate: stop"

@@ -593,11 +593,13 @@ class DiscretisedAccuracy(AccuracyModel):
     and six creeps of both signs, corrugations up to a split contact at four creeps, a quartic profile,
     falling friction).  The first-order coefficient varies 0-3 with where the patch edges fall on the grid and
     with the creep (largest on the split contact at small creep), so the bound is several times pessimistic in
-    the median.  Known gap: the bound is not aware of the size of the patches; on short corrugations where small
-    satellite patches sit beside the main one it is exceeded (up to 2.9 times for one grid, 5 times for the
-    extrapolated pair, three patches at 0.1 of saturation; measured against the polynomial method's several
-    patches on 40 scenes of 4-10 mm / 10-40 um corrugation), and ``auto`` reaches this method there only where
-    the polynomial method fails.  No a-posteriori estimate replaces it:
+    the median.  The bound uses the Hertz width 2a and holds where the patches are about as wide; a result's
+    estimate (:meth:`achieved`) puts in its patches' widths where they are narrower (:func:`patch_widths`): on short
+    corrugations with small satellite patches the Hertz-width bound was exceeded by T' (up to 2.9 times for one
+    grid, 5 times for the extrapolated pair; measured against the polynomial method's several patches on 64 scenes
+    of 4-10 mm / 10-40 um corrugation, ``benchmarks/bench_multipatch.py``), the estimate is not (at most 0.58), and
+    ``auto`` escalates while it misses the tolerance (:meth:`escalation`).  No estimate from the solution's
+    convergence replaces the bound:
     the answer at n itself moves by up to the error when the grid moves by half an element, and the two-grid
     estimate (3 times the largest difference to two solves of n/2 elements at different placements) bounds the
     error but is larger than this bound in the median (same benchmark).  Element counts below the automatic
@@ -708,13 +710,31 @@ class DiscretisedAccuracy(AccuracyModel):
         return self.bound(scene, length, elements)
 
     def achieved(self, scene, options, result):
+        """The bound with the result's patches: the Hertz width 2a in it replaced by :func:`patch_widths`' widths
+        where the patches are narrower (short corrugations), so never below the a-priori :meth:`error`."""
         grid = result.info.get("grid")
         if grid is None:  # no load: no grid, nothing to get wrong
             return 0.0
+        widths = patch_widths(result, 2.0 * hertz_half_width(scene))
         placements = options.get("extrapolate", 0)
         if placements:  # the grid is the finer level's, on the fitted window
-            return self.extrapolated_bound(scene, grid.length, grid.elements // 2, placements)
-        return self.bound(scene, grid.length, grid.elements)
+            return self.extrapolated_bound(scene, grid.length, grid.elements // 2, placements, widths)
+        return self.bound(scene, grid.length, grid.elements, widths)
+
+    def escalation(self, scene, options, estimate, tolerance) -> dict | None:
+        """Options to run next when the result's patch-aware estimate (:meth:`achieved`) misses the tolerance
+        that the a-priori bound (Hertz width) promised: :meth:`setting_for` with the tolerance tightened by the
+        factor the patches cost, ``t error/estimate`` (one grid or the pair, whichever is then cheaper).  None
+        when the estimate meets the tolerance (or is NaN), or that setting's bound is not below the one run:
+        every call lowers the bound, so escalating until None ends.
+        """
+        if not estimate > tolerance or "elements" not in options:
+            return None
+        predicted = self.error(scene, options)
+        if not predicted > 0.0:  # NaN (an uncalibrated m) or no load: nothing to scale
+            return None
+        following = self.setting_for("discretised", scene, tolerance * predicted / estimate).options
+        return following if self.error(scene, following) < predicted else None
 
     @staticmethod
     def resolution(scene) -> int:
@@ -727,19 +747,25 @@ class DiscretisedAccuracy(AccuracyModel):
         return math.ceil(ELEMENTS_PER_WAVELENGTH * automatic_length(scene) / min(waves))
 
     @staticmethod
-    def bound(scene, length: float, elements: int) -> float:
-        ratio = length / (2.0 * hertz_half_width(scene) * elements)
-        return max(DISCRETISED_FORCE_ERROR * ratio, DISCRETISED_PRESSURE_ERROR * ratio * ratio)
+    def bound(scene, length: float, elements: int, widths: PatchWidths | None = None) -> float:
+        """``max(4.0 h/W_T, 3 (h/W_p)^2)``, h = length/elements; the widths W [m] default to the Hertz width 2a
+        (then h/2a = w/n)."""
+        force, pressure = widths or PatchWidths.hertz(scene)
+        h = length / elements
+        return max(DISCRETISED_FORCE_ERROR * h / force, DISCRETISED_PRESSURE_ERROR * (h / pressure) ** 2)
 
     @staticmethod
-    def extrapolated_bound(scene, length: float, elements: int, placements: int) -> float:
-        """``max(3.2 w/(m n), 3 (w/2n)^2)`` for the coarser level's n and m placements; NaN for an m outside
-        :data:`EXTRAPOLATION_CALIBRATED`."""
+    def extrapolated_bound(scene, length: float, elements: int, placements: int,
+                           widths: PatchWidths | None = None) -> float:
+        """``max(3.2 h/(m W_T), 3 (h/(2 W_p))^2)`` for the coarser level's n (h = length/n) and m placements, the
+        widths as in :meth:`bound`; NaN for an m outside :data:`EXTRAPOLATION_CALIBRATED`."""
         low, high = EXTRAPOLATION_CALIBRATED
         if not low <= placements <= high:
             return math.nan
-        ratio = length / (2.0 * hertz_half_width(scene) * elements)
-        return max(EXTRAPOLATED_FORCE_ERROR * ratio / placements, DISCRETISED_PRESSURE_ERROR * 0.25 * ratio * ratio)
+        force, pressure = widths or PatchWidths.hertz(scene)
+        h = length / elements
+        return max(EXTRAPOLATED_FORCE_ERROR * h / (placements * force),
+                   DISCRETISED_PRESSURE_ERROR * (0.5 * h / pressure) ** 2)
 
 
 def default_option(name: str, option: str):
@@ -759,6 +785,48 @@ def automatic_grid(scene, elements=None, window=None):
 def automatic_length(scene) -> float:
     """Length [m] of the automatic grid's window (cached: each setting of the ladder asks for it)."""
     return automatic_grid(scene).length
+
+
+class PatchWidths(NamedTuple):
+    """Widths [m] that scale the discretised error bounds: T' error ~ h/force, p0 error ~ (h/pressure)^2."""
+
+    force: float
+    pressure: float
+
+    @classmethod
+    def hertz(cls, scene) -> PatchWidths:
+        """Both the Hertz width 2a: the a-priori bounds, before the patches are known."""
+        width = 2.0 * hertz_half_width(scene)
+        return cls(width, width)
+
+
+def patch_widths(result: ContactResult, hertz_width: float) -> PatchWidths:
+    """The widths of a discretised result's patches in its error bounds, at most the Hertz width ``hertz_width``.
+
+    T': every patch k (width ``w_k``, force ``T'_k``, from the tabulated fields) errs by about ``h/w_k |T'_k|`` to
+    first order, its edges and its stick zone lying anywhere within their elements, so relative to T' the error is
+    ~ ``h/W_T`` with ``1/W_T = sum_k |T'_k| / (w_k |T'|)``.  A small satellite patch beside the main one weighs by
+    its force: at small creep it slips fully while |T'| is small.  p0 (second order): the width of the patch that
+    holds the largest pressure.  ``benchmarks/bench_multipatch.py`` (table B) measures the T' coefficient
+    ``error W_T/h`` against the polynomial method's several patches: at most 1.3 for one grid, 1.9/m for the pair
+    over m placements, under the bounds' 4.0 and 3.2/m (the Hertz width alone let the error reach 2.9 and 5
+    times the bound); the p0 term's coefficient with the holding patch's width is at most 0.76 (3 in the bound;
+    with the Hertz width it reached 32).  Without traction (zero creep, a failed solve) W_T is the Hertz width.
+    """
+    fields = result.distributions
+    x, p, q = np.asarray(fields.x), np.asarray(fields.p), np.asarray(fields.q)
+    patches = result.info.get("patches") or []
+    if x.size < 2 or not patches:
+        return PatchWidths(hertz_width, hertz_width)
+    h = x[1] - x[0]
+    # element centres lie half an element inside the patch edges
+    forces = [(h * float(q[(x > lo) & (x < hi)].sum()), hi - lo) for lo, hi in patches]
+    total = abs(sum(force for force, _ in forces))
+    weighted = sum(abs(force) / width for force, width in forces) / total if total > 0.0 else 0.0
+    peak = x[int(np.argmax(p))]
+    holding = next((hi - lo for lo, hi in patches if lo <= peak <= hi), hertz_width)
+    return PatchWidths(min(hertz_width, 1.0 / weighted) if weighted > 0.0 else hertz_width,
+                       min(hertz_width, holding))
 
 
 def hertz_half_width(scene) -> float:
