@@ -810,8 +810,8 @@ def patch_widths(result: ContactResult, hertz_width: float) -> PatchWidths:
     holds the largest pressure.  ``benchmarks/bench_multipatch.py`` (table B) measures the T' coefficient
     ``error W_T/h`` against the polynomial method's several patches: at most 1.3 for one grid, 1.9/m for the pair
     over m placements, under the bounds' 4.0 and 3.2/m (the Hertz width alone let the error reach 2.9 and 5
-    times the bound); the p0 term's coefficient with the holding patch's width is at most 0.76 (3 in the bound;
-    with the Hertz width it reached 32).  Without traction (zero creep, a failed solve) W_T is the Hertz width.
+    times the bound); the p0 errors stay below 0.03 of the estimate.  Without traction (zero creep, a failed
+    solve) W_T is the Hertz width.
     """
     fields = result.distributions
     x, p, q = np.asarray(fields.x), np.asarray(fields.p), np.asarray(fields.q)
