@@ -539,3 +539,56 @@ def test_creep_stiffness_with_velocity_dependent_friction(creep):
     if creep == 0.0:
         coulomb = rc.solve(scene.replace(friction=rc.Coulomb(0.3)), method="discretised", elements=100)
         assert result.creep_stiffness_per_length == pytest.approx(coulomb.creep_stiffness_per_length, rel=1e-10)
+
+
+# --------------------------------------------------------------- velocity-dependent friction on several patches
+def split_scene(wavelength, amplitude, axis_position, creep_ratio, friction=MU, rolling_speed=1.0):
+    """1 MN/m on a corrugation that splits the contact; creep as a fraction of Carter's saturation creep."""
+    load = 1e6
+    saturation = MU * hertz(load, SCENE.radius, ESTAR)[0] / SCENE.radius
+    return rc.Scene(load, creep=creep_ratio * saturation, axis_position=axis_position, friction=friction,
+                    rolling_speed=rolling_speed,
+                    surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(wavelength, amplitude),)))
+
+
+@pytest.mark.parametrize("corrugation, patches", [((0.010, 20e-6, 0.0045), 2), ((0.004, 40e-6, 0.0), 3),
+                                                  ((0.006, 20e-6, 0.0045), 2)], ids=["10 mm", "4 mm", "6 mm"])
+@pytest.mark.parametrize("creep_ratio", [0.1, 0.5, 0.9, -0.5])
+def test_structured_solve_on_several_patches_is_the_coulomb_active_set(corrugation, patches, creep_ratio):
+    """With a constant law the structured solve (a stick zone at each patch's leading edge, found patch by patch)
+    is the direct active-set solve on the same grid, element by element."""
+    scene = split_scene(*corrugation, creep_ratio)
+    direct = solve_discretised(scene, elements=400)
+    structured = solve_discretised(scene, elements=400, steady="structured")
+    assert structured.success and len(structured.info["patches"]) == patches, structured.message
+    scale = MU * direct.max_pressure
+    assert np.abs(structured.distributions.q - direct.distributions.q).max() <= 1e-9 * scale, \
+        "q differs from the active set's"
+    assert structured.tangential_force_per_length == pytest.approx(direct.tangential_force_per_length, rel=1e-9)
+
+
+def test_falling_friction_on_a_split_contact():
+    """A falling law on two patches: every element within its friction bound and slipping with the traction (the
+    certificate); continuous in the law (decay B -> 0 is Coulomb, the difference linear in B); T' converging with n
+    (against n = 1600, the difference shrinks at least 1.5 times per doubling from 100 to 400, and stays within
+    the error estimate)."""
+    falling = rc.ExponentialFalling(MU, 0.4, 3.0)
+    scene = split_scene(0.010, 20e-6, 0.0045, 0.68, falling, rolling_speed=20.0)
+    result = solve_discretised(scene, elements=400)
+    assert result.success and len(result.info["patches"]) == 2, result.message
+    assert max(result.info["tangential_certificate"].values()) <= 1e-9, result.info["tangential_certificate"]
+    fields = result.distributions
+    contact = fields.p > 0
+    assert np.all(np.abs(fields.q[contact]) <= MU * fields.p[contact] * (1 + 1e-12)), "|q| <= mu_s p"
+    coulomb = solve_discretised(scene.replace(friction=rc.ExponentialFalling(MU, 1.0, 3.0)), elements=400)
+    changes = [solve_discretised(scene.replace(friction=rc.ExponentialFalling(MU, 0.4, decay)), elements=400)
+               .tangential_force_per_length / coulomb.tangential_force_per_length - 1.0 for decay in (1e-6, 1e-3)]
+    assert 0 < abs(changes[0]) < 1e-7 and changes[1] / changes[0] == pytest.approx(1e3, rel=1e-2), \
+        f"T' relative to Coulomb at decay 1e-6, 1e-3: {changes}"
+    reference = solve_discretised(scene, elements=1600).tangential_force_per_length
+    differences = []
+    for n in (100, 200, 400):
+        coarse = rc.solve(scene, method="discretised", elements=n)
+        differences.append(abs(coarse.tangential_force_per_length / reference - 1.0))
+        assert differences[-1] <= coarse.info["error_estimate"], f"n = {n}: {differences[-1]:.3g} above its estimate"
+    assert differences[0] > 1.5 * differences[1] > 2.25 * differences[2], f"|T'_n / T'_1600 - 1|: {differences}"

@@ -613,7 +613,7 @@ class DiscretisedAccuracy(AccuracyModel):
     than ~3 times 2n elements: tolerances below ~1e-2 on a scene only this method treats (a split contact).
     Offered with m = :data:`EXTRAPOLATION_PLACEMENTS`, its finer level at most the largest single grid offered,
     for constant friction (with velocity-dependent friction each of the 2m structured solves costs ~20-100 Newton
-    iterations, and the polynomial method treats every scene the structured solve does: one patch).
+    iterations).
     """
 
     floor = DIRECT_COST[0]  # the structured (velocity-dependent) solve's ~20 iterations cost more

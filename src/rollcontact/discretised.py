@@ -19,9 +19,10 @@ element (log kernel for displacements, Cauchy kernel for gradients), collocation
   ``s = xi + (1/V) Du/Dt``; the old displacement at the shifted points is integrated exactly for any ds.
 * Steady rolling: the fixed point of that stepper for ``ds = h``, ``s = xi - K q`` with ``K = (M - M_1)/h``,
   solved directly by the same active set, or reached by marching (``steady="march"``).
-* Velocity-dependent friction (``steady="structured"``): one stick zone at the leading edge, slip behind it
-  with ``q = mu(V |s|) p sign(xi)`` (paper section 4.2); Newton on the slip for each stick length, bisection
-  on the stick length (the shortest stick zone behind which the material slips in the traction's direction).
+* Velocity-dependent friction (``steady="structured"``): a stick zone at the leading edge of each patch, slip
+  behind it with ``q = mu(V |s|) p sign(xi)`` (paper section 4.2); Newton on the slip for each set of stick
+  lengths, bisection on each patch's stick length (the shortest stick zone behind which the material slips in the
+  traction's direction), the patches' zones in turn until none changes.
   With dmu/dv < 0 the transient problem is ill-posed, so this is the only way to that steady state
   (physics.md section 5).
 
@@ -67,6 +68,7 @@ DEFAULT_ELEMENTS = 200
 ELEMENTS_PER_WAVELENGTH = 16  # piecewise-constant elements per shortest surface wavelength
 DEFAULT_TOLERANCE = 1e-9
 STEADY_MODES = ("direct", "march", "structured")
+STRUCTURED_SWEEPS = 8  # of the several-patch stick-zone search (each patch's zone with the others held)
 WINDOW_RETRIES = 3
 CONTACT_MARGIN = 0.05  # of the patches' span, each side of contact_window (plus two search elements)
 
@@ -529,30 +531,33 @@ class StructuredSteady:
 
 def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float, law: FrictionLaw,
                               speed: float, tolerance: float, stick_fraction: float = 0.5) -> StructuredSteady:
-    """Steady rolling with ``q = mu(V |s|) p sign(xi)`` in slip and one stick zone at the leading edge.
+    """Steady rolling with ``q = mu(V |s|) p sign(xi)`` in slip and a stick zone at the leading edge of each patch.
 
-    For a stick zone S of m elements starting j0 elements behind the leading edge (j0 > 0 only where the
-    pressure of the first elements is too small to hold their stick traction) the stick tractions are
-    eliminated, ``q_S = K_SS^-1 (xi - K_SP Q(s_P))``, and the slip of the other elements P satisfies
+    For stick zones S (in patch k, m_k elements starting j0_k elements behind its leading edge; j0_k > 0 only
+    where the pressure of the first elements is too small to hold their stick traction) the stick tractions are
+    eliminated, ``q_S = K_SS^-1 (xi - K_SP Q(s_P))``, and the slip of the other elements P of all patches satisfies
     ``R(s) = s - (xi - K_PS K_SS^-1 xi) + (K_PP - K_PS K_SS^-1 K_SP) Q(s) = 0``, ``Q(s) = mu(V|s|) p sign(xi)``,
-    solved by damped Newton (paper section 4.2; Nielsen & Theiler 1996).  The stick length is the smallest m
-    for which the material slips in the direction of the traction, ``sign(xi) s >= 0`` (bisection on m; for a
-    Coulomb law this is Carter's a*); j0 grows while the first stick element exceeds ``mu(0) p``.  The
-    certificate checks both conditions.  ``stick_fraction`` (e.g. Carter's a*/a) seeds the search for m.
+    solved by damped Newton (paper section 4.2; Nielsen & Theiler 1996).  A patch's stick length is the smallest
+    m_k for which its material slips in the direction of the traction, ``sign(xi) s >= 0`` (bisection on m_k; for
+    a Coulomb law on one patch this is Carter's a*); j0_k grows while the first stick element exceeds ``mu(0) p``.
+    The patches act on each other through K: with several, each patch's zone is found with the others' held, in
+    sweeps until none changes (at most :data:`STRUCTURED_SWEEPS`).  The certificate checks both conditions on every
+    element.  ``stick_fraction`` (e.g. Carter's a*/a) seeds the search for each m_k, as that fraction of the patch.
 
     ``creep_slope`` is ``d(sum q)/dxi`` for the final sets by the implicit function theorem: ``r0`` and ``q_S`` are
     linear in xi, so ``(I + Schur dQ/ds) ds/dxi = r0/xi`` and ``dq_S/dxi = y0/xi - W dq_P/dxi``.
     """
     contact = pressure > 0.0
     n = pressure.size
-    patches = runs(contact)
-    if len(patches) != 1:
-        return StructuredSteady(np.zeros(n), np.zeros(n), contact.copy(), 0, False,
-                                f"velocity-dependent friction needs one contact patch, found {len(patches)}", {})
-    start, stop = patches[0]
-    nc = stop - start
-    K = ops.K[start:stop, start:stop]
-    p = pressure[start:stop]
+    spans = runs(contact)
+    if not spans:
+        return StructuredSteady(np.zeros(n), np.zeros(n), contact.copy(), 0, False, "no contact patch", {})
+    elements = np.concatenate([np.arange(start, stop) for start, stop in spans])
+    sizes = [stop - start for start, stop in spans]
+    offsets = np.cumsum([0, *sizes[:-1]]).tolist()  # of each patch among the contact elements
+    nc = elements.size
+    K = ops.K[np.ix_(elements, elements)]
+    p = pressure[elements]
     mu_static = law.static_coefficient
     if creep == 0.0:  # full stick: dq/dxi = K^-1 1
         slope = float(linalg.solve(K, np.ones(nc), check_finite=False).sum())
@@ -562,18 +567,19 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
     tol = 1e-3 * tolerance * abs(creep)
     slip_tolerance = tolerance * ops.kappa * mu_static * pressure.max()
     total_newton = 0
-    cache: dict[tuple[int, int], tuple] = {}
+    cache: dict[tuple, tuple] = {}
     last_slip = np.full(nc, creep)
 
-    def eliminated(j0, m):
+    def eliminated(zones):
         """Stick mask, slip indices, their pressures and ``y0 = K_SS^-1 xi``, ``W = K_SS^-1 K_SP``, ``r0``, Schur
-        complement for stick elements [j0, j0 + m)."""
+        complement for the stick zones ``((j0_k, m_k), ...)``, one per patch."""
         stick = np.zeros(nc, dtype=bool)
-        stick[j0:j0 + m] = True
+        for offset, (j0, m) in zip(offsets, zones, strict=True):
+            stick[offset + j0:offset + j0 + m] = True
         si, pi = np.flatnonzero(stick), np.flatnonzero(~stick)
-        if m > 0:
+        if si.size:
             lu = linalg.lu_factor(K[np.ix_(si, si)], check_finite=False)
-            y0 = linalg.lu_solve(lu, np.full(m, creep), check_finite=False)
+            y0 = linalg.lu_solve(lu, np.full(si.size, creep), check_finite=False)
             w = linalg.lu_solve(lu, K[np.ix_(si, pi)], check_finite=False)
             r0 = creep - K[np.ix_(pi, si)] @ y0
             schur = K[np.ix_(pi, pi)] - K[np.ix_(pi, si)] @ w
@@ -586,12 +592,12 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
         """dQ/ds of ``Q(s) = mu(V|s|) p sign(xi)``."""
         return law.derivative(speed * np.abs(s)) * speed * np.where(s * sigma >= 0, 1.0, -1.0) * pp
 
-    def solve_for(j0, m):
-        """q, s on the patch, Newton success and the slip-direction test for stick elements [j0, j0 + m)."""
+    def solve_for(zones):
+        """q, s on the contact elements, Newton success and the slip-direction test per patch for the zones."""
         nonlocal total_newton
-        if (j0, m) in cache:
-            return cache[j0, m]
-        stick, pi, pp, y0, w, r0, schur = eliminated(j0, m)
+        if zones in cache:
+            return cache[zones]
+        stick, pi, pp, y0, w, r0, schur = eliminated(zones)
 
         def traction(s):
             return law.coefficient(speed * np.abs(s)) * pp * sigma
@@ -599,7 +605,7 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
         def residual(s):
             return s - r0 + schur @ traction(s)
 
-        # warm start from the last solved stick length: the slip behind the zone barely changes
+        # warm start from the last solved stick lengths: the slip behind the zones barely changes
         s = np.where(sigma * last_slip[pi] > 0, last_slip[pi], creep)
         ok = True
         if pi.size:
@@ -628,51 +634,69 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
         slip = np.zeros(nc)
         slip[pi] = s
         last_slip[pi] = s
-        feasible = bool(np.all(sigma * s >= -slip_tolerance))
-        cache[j0, m] = (q, slip, stick, ok, feasible)
-        return cache[j0, m]
+        wrong = sigma * slip < -slip_tolerance
+        feasible = tuple(not wrong[offset:offset + size].any() for offset, size in zip(offsets, sizes, strict=True))
+        cache[zones] = (q, slip, stick, ok, feasible)
+        return cache[zones]
 
-    def shortest_feasible(j0, guess):
-        """Smallest m passing the slip-direction test: bracket outwards from ``guess``, then bisect.
+    def shortest_feasible(zones, k, j0, guess):
+        """Smallest m_k passing patch k's slip-direction test, the other zones held: bracket outwards from
+        ``guess``, then bisect.
 
         The test fails for too short a stick zone and holds beyond the true one (too long a zone breaks the
-        traction bound instead); m = nc - j0 (no slip behind the zone) counts as passing.
+        traction bound instead); m_k = size - j0 (no slip behind the zone) counts as passing.
         """
-        top = nc - j0
+        def passes(m):
+            return solve_for(zones[:k] + ((j0, m),) + zones[k + 1:])[4][k]
+
+        top = sizes[k] - j0
         guess = min(max(guess, 0), top)
         step = 1
-        if guess < top and solve_for(j0, guess)[4]:
+        if guess < top and passes(guess):
             hi, lo = guess, guess - 1
-            while lo >= 0 and solve_for(j0, lo)[4]:
+            while lo >= 0 and passes(lo):
                 hi, lo, step = lo, lo - step, 2 * step
             lo = max(lo, -1)
         else:
             lo, hi = guess, guess + 1
-            while hi < top and not solve_for(j0, hi)[4]:
+            while hi < top and not passes(hi):
                 lo, hi, step = hi, hi + step, 2 * step
             hi = min(hi, top)
         while hi - lo > 1:
             mid = (lo + hi) // 2
-            if solve_for(j0, mid)[4]:
+            if passes(mid):
                 hi = mid
             else:
                 lo = mid
         return hi
 
-    m = int(round(stick_fraction * nc))
-    for j0 in range(nc):
-        m = shortest_feasible(j0, m)
-        q_c, s_c, stick_c, ok, _ = solve_for(j0, m)
-        final = j0, m
-        if m == 0 or abs(q_c[j0]) <= mu_static * p[j0] * (1.0 + 1e-12):
+    def patch_zone(zones, k):
+        """Patch k's zone (j0_k, m_k) with the other zones held."""
+        offset = offsets[k]
+        m = zones[k][1] + zones[k][0]
+        for j0 in range(sizes[k]):
+            m = shortest_feasible(zones, k, j0, m)
+            found = zones[:k] + ((j0, m),) + zones[k + 1:]
+            q_c = solve_for(found)[0]
+            if m == 0 or abs(q_c[offset + j0]) <= mu_static * p[offset + j0] * (1.0 + 1e-12):
+                break
+            # the stick zone starts one element later and is one element shorter (the next guess)
+            m -= 1
+        return found
+
+    final = tuple((0, int(round(stick_fraction * size))) for size in sizes)
+    for _ in range(STRUCTURED_SWEEPS if len(sizes) > 1 else 1):  # one patch: nothing to hold, one pass
+        start = final
+        for k in range(len(sizes)):
+            final = patch_zone(final, k)
+        if final == start:
             break
-        # the stick zone starts one element later and is one element shorter (the next guess)
-        m -= 1
+    q_c, s_c, stick_c, ok, _ = solve_for(final)
     q, slip = np.zeros(n), np.zeros(n)
-    q[start:stop], slip[start:stop] = q_c, s_c
+    q[elements], slip[elements] = q_c, s_c
     stick = np.zeros(n, dtype=bool)
-    stick[start:stop] = stick_c
-    slip_check = np.where(contact, creep - ops.K[:, start:stop] @ q_c, 0.0)
+    stick[elements] = stick_c
+    slip_check = np.where(contact, creep - ops.K[:, elements] @ q_c, 0.0)
     scale = ops.kappa * mu_static * pressure.max()
     bound = np.where(stick, mu_static, law.coefficient(speed * np.abs(slip))) * pressure
     certificate = tangential_certificate(q, slip_check, stick, bound, contact, scale)
@@ -681,7 +705,7 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
                "Newton did not converge" if not ok else f"leading-edge stick structure fails: {certificate}")
     slope = math.nan
     if converged:
-        _, pi, pp, y0, w, r0, schur = eliminated(*final)
+        _, pi, pp, y0, w, r0, schur = eliminated(final)
         dq = traction_rate(s_c[pi], pp)
         dq_p = dq * linalg.solve(np.eye(pi.size) + schur * dq[None, :], r0 / creep, check_finite=False)
         slope = float(dq_p.sum() + y0.sum() / creep - (w @ dq_p).sum())
