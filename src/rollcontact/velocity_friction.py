@@ -545,6 +545,8 @@ def force_error_estimate(eq: SlipEquations, st: SlipState, pressure_coefficients
     e = fft.dst(ops.masks * q, type=2) * ops.scales  # (S, K): e_1..e_K' of each grid
     coarse = float(st.e[0])
     if st.maps is None:
+        if coarse == 0.0:  # no traction at the nodes (p <= 0 there: a normal solution that failed): no ratio
+            return math.nan
         return ESTIMATE_SAFETY * max(abs(fine / coarse - 1.0) for fine in e[:, 0].tolist())
     # stick nodes t = eta (1 + cos phi) - 1 = cos psi; dt/deta = 1 + cos phi, dT_n/dt = n sin(n psi)/sin(psi)
     psi = np.arccos(st.eta * ops.stick_cos + (st.eta - 1.0))
@@ -552,6 +554,8 @@ def force_error_estimate(eq: SlipEquations, st: SlipState, pressure_coefficients
     moments = (np.vstack((values, slopes * ((1.0 + ops.stick_cos) / np.sin(psi)))) @ ops.weights).tolist()
     eta, k2, xi = st.eta, eq.k2, eq.xi
     coarse -= eta * float(st.f[1]) / k2
+    if coarse == 0.0:
+        return math.nan
     error = 0.0
     for e1, (f0, f1), (df0, df1) in zip(e[:, 0].tolist(), moments[: len(e)], moments[len(e) :], strict=True):
         deta = -(k2 * f0 + xi) / (k2 * df0)  # a* re-solved to first order
