@@ -552,7 +552,7 @@ def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float
     spans = runs(contact)
     if not spans:
         return StructuredSteady(np.zeros(n), np.zeros(n), contact.copy(), 0, False, "no contact patch", {})
-    elements = np.concatenate([np.arange(start, stop) for start, stop in spans])
+    elements = np.flatnonzero(contact)  # the patches' elements in order
     sizes = [stop - start for start, stop in spans]
     offsets = np.cumsum([0, *sizes[:-1]]).tolist()  # of each patch among the contact elements
     nc = elements.size
