@@ -592,3 +592,17 @@ def test_falling_friction_on_a_split_contact():
         differences.append(abs(coarse.tangential_force_per_length / reference - 1.0))
         assert differences[-1] <= coarse.info["error_estimate"], f"n = {n}: {differences[-1]:.3g} above its estimate"
     assert differences[0] > 1.5 * differences[1] > 2.25 * differences[2], f"|T'_n / T'_1600 - 1|: {differences}"
+
+
+def test_structured_solve_refines_a_failed_automatic_grid_once():
+    """4 mm / 20 um at 0.1 of saturation with a falling law: on the automatic grid (200 elements) each patch's slip
+    zone is shorter than an element, so full stick leaves the trailing element above mu_s p and one slipping
+    element slips against the traction.  Without ``elements`` the solve refines once and succeeds, and says so;
+    a caller's ``elements`` is kept, and the failure reported."""
+    scene = split_scene(0.004, 20e-6, 0.001, 0.1, rc.ExponentialFalling(MU, 0.4, 3.0), rolling_speed=20.0)
+    fixed = solve_discretised(scene, elements=200)
+    assert not fixed.success and "traction_bound" in fixed.message, fixed.message
+    refined = solve_discretised(scene)
+    assert refined.success and refined.info["grid"].elements == 400, refined.message
+    assert "refined from the automatic grid of 200 elements" in refined.message, refined.message
+    assert len(refined.info["patches"]) == 2 and max(refined.info["tangential_certificate"].values()) <= 1e-9

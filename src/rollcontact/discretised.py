@@ -35,7 +35,7 @@ radius R: the size of the body, beyond which the half-space idealisation that pr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import linalg
@@ -69,6 +69,7 @@ ELEMENTS_PER_WAVELENGTH = 16  # piecewise-constant elements per shortest surface
 DEFAULT_TOLERANCE = 1e-9
 STEADY_MODES = ("direct", "march", "structured")
 STRUCTURED_SWEEPS = 8  # of the several-patch stick-zone search (each patch's zone with the others held)
+STRUCTURED_REFINED_ELEMENTS = 1600  # most elements of the one refinement of a failed structured automatic grid
 WINDOW_RETRIES = 3
 CONTACT_MARGIN = 0.05  # of the patches' span, each side of contact_window (plus two search elements)
 
@@ -517,7 +518,7 @@ class TransientSolver:
 # ------------------------------------------------------------------------------ velocity-dependent friction
 @dataclass(frozen=True)
 class StructuredSteady:
-    """Steady solution with one stick zone at the leading edge (velocity-dependent friction)."""
+    """Steady solution with a stick zone at the leading edge of each patch (velocity-dependent friction)."""
 
     traction: np.ndarray
     slip: np.ndarray
@@ -752,7 +753,11 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
         How the steady state is found: ``"direct"`` (default for constant friction) the active set on the
         steady operator; ``"march"`` Kalker's transient marching with ``ds = h`` until the slip pattern
         settles (finished by the direct solve when ``finish``); ``"structured"`` (default for
-        velocity-dependent friction) one stick zone at the leading edge, Newton on the slip.
+        velocity-dependent friction) a stick zone at the leading edge of each patch, Newton on the slip
+        (:func:`steady_leading_edge_stick`).  Where it fails on the automatic grid (no ``elements``, no
+        ``window``), once more on twice the elements, up to :data:`STRUCTURED_REFINED_ELEMENTS`: a slip zone
+        shorter than an element at a patch end leaves a stick element above mu p, or one slipping against the
+        traction; the message says so.
     finish : bool
         With ``steady="march"``: polish the marched state by the direct steady solve.
     datum_length : float, optional
@@ -832,6 +837,14 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
         residual = max(normal.residual, max(sol.certificate.values(), default=0.0))
         t = grid.element_width * sol.traction.sum()
         message = f"steady, leading-edge stick, {len(patches)} patch(es): {sol.message}"
+        if not sol.converged and elements is None and window is None \
+                and 2 * grid.elements <= STRUCTURED_REFINED_ELEMENTS:
+            # the automatic grid leaves a slip zone shorter than an element at a patch end (a stick element
+            # above mu p, or one slipping against the traction): twice the elements resolve it
+            finer = solve_discretised(scene, elements=2 * grid.elements, tolerance=tolerance, steady=steady,
+                                      datum_length=datum_length)
+            return replace(finer, message=f"{finer.message} (refined from the automatic grid of {grid.elements} "
+                                          f"elements, where the structure failed: {sol.message})")
         return result(sol.converged, message, sol.traction, sol.slip, sol.stick, t, scene.creep,
                       sol.iterations, residual, grid.element_width * sol.creep_slope)
     state = None
