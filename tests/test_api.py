@@ -521,3 +521,22 @@ def test_discretised_escalation_meets_the_tolerance_the_a_priori_choice_missed(t
     assert model.escalation(THREE_PATCHES, top, 1.0, tolerance) is None, "nothing finer than the finest pair"
     assert model.escalation(THREE_PATCHES, first.options, 0.5 * tolerance, tolerance) is None, "t met: stop"
     assert model.escalation(THREE_PATCHES, first.options, math.nan, tolerance) is None, "no estimate: stop"
+
+
+def test_auto_retries_a_failed_slip_iteration_on_a_finer_grid():
+    """A falling law on three patches (4 mm / 40 um, 0.9 of saturation): the grid auto chooses for t = 0.1 (152
+    elements) leaves a slip zone shorter than an element, and the structure fails there; auto runs twice the
+    elements (``DiscretisedAccuracy.retry``), succeeds, and the message keeps the failure."""
+    scene = THREE_PATCHES.replace(creep=0.9 * SATURATION, rolling_speed=20.0,
+                                  friction=ExponentialFalling(0.3, 0.4, 3.0))
+    model = METHODS["discretised"].accuracy
+    first = rollcontact.api.setting_for("discretised", scene, 0.1).options
+    assert not solve(scene, method="discretised", **first).success, f"premise: {first} fails"
+    result = solve(scene, tolerance=0.1)
+    assert result.success and result.method == "discretised", result.message
+    assert result.info["setting"]["elements"] > first["elements"], result.info["setting"]
+    assert f"after failing with {first}" in result.message, result.message
+    assert model.retry(scene, {"elements": 1600}, result) is None, "nothing above the largest grid"
+    assert model.retry(scene, {"elements": 100, "extrapolate": 8}, result) is None, "pairs: not retried"
+    assert model.retry(THREE_PATCHES, {"elements": 100}, result) is None, "Coulomb: the direct solve has no structure"
+    assert model.retry(scene, {"elements": 100}, result) == {"elements": 200}

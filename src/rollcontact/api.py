@@ -71,7 +71,8 @@ class AccuracyModel:
     """How the error and the cost of a method depend on its options; what the tolerance-aware ``auto`` needs.
 
     Subclasses give :meth:`ladder` (option sets, cheapest first), :meth:`cost` and :meth:`error`;
-    :meth:`achieved` may refine the error from a result, and :attr:`floor` a lower bound of :meth:`cost`.
+    :meth:`achieved` may refine the error from a result, :meth:`escalation` and :meth:`retry` name finer settings
+    after a result that misses the tolerance or fails, and :attr:`floor` is a lower bound of :meth:`cost`.
     """
 
     floor: float = 0.0
@@ -97,6 +98,11 @@ class AccuracyModel:
     def escalation(self, scene: Scene, options: dict, estimate: float, tolerance: float) -> dict | None:
         """Options to run next when a result obtained with ``options`` has the a-posteriori error ``estimate``
         above ``tolerance`` (an adaptive method); None (the default): nothing finer to try."""
+        return None
+
+    def retry(self, scene: Scene, options: dict, result: ContactResult) -> dict | None:
+        """Options to run next when the result obtained with ``options`` failed, where a finer setting may
+        succeed; None (the default): the failure stands."""
         return None
 
     def minimum_cost(self, scene: Scene) -> float:
@@ -338,15 +344,22 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
 def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec,
                                                                                                ContactResult]:
     """:func:`run_setting`, then, while the result's a-posteriori estimate misses the tolerance, the settings the
-    method's :meth:`AccuracyModel.escalation` names (each finer than the last, so the loop ends).  User options
-    that fix the escalated option stop it."""
+    method's :meth:`AccuracyModel.escalation` names, and after a failure those its :meth:`AccuracyModel.retry`
+    names (each finer than the last, so the loop ends).  User options that fix the escalated option stop it."""
     spec, result = run_setting(setting, scene, options, tolerance)
-    while result.success:
-        following = spec.accuracy.escalation(scene, result.info["setting"], result.info["error_estimate"],
-                                             tolerance) if spec.accuracy is not None else None
+    failures = []
+    while spec.accuracy is not None:
+        used = result.info["setting"]
+        following = (spec.accuracy.escalation(scene, used, result.info["error_estimate"], tolerance)
+                     if result.success else spec.accuracy.retry(scene, used, result))
         if following is None or any(key in options for key in following):
             break
+        if not result.success:
+            failures.append(f"{used}: {result.message}")
         spec, result = run_setting(Setting(spec.name, following, math.nan, math.nan), scene, options, tolerance)
+    if failures:
+        result = type(result)(**{**result.__dict__, "message": f"{result.message} (after failing with "
+                                                                  + "; ".join(failures) + ")"})
     return spec, result
 
 
@@ -735,6 +748,16 @@ class DiscretisedAccuracy(AccuracyModel):
             return None
         following = self.setting_for("discretised", scene, tolerance * predicted / estimate).options
         return following if self.error(scene, following) < predicted else None
+
+    def retry(self, scene, options, result) -> dict | None:
+        """After a failed slip iteration (velocity-dependent friction) on a single grid, twice the elements, up to
+        the largest offered: the failure is mostly a slip zone shorter than an element at a patch end (see
+        :func:`rollcontact.discretised.solve_discretised`, which does the same on its automatic grid)."""
+        elements = options.get("elements")
+        if scene.friction.is_constant or not elements or options.get("extrapolate") \
+                or 2 * elements > DISCRETISED_ELEMENTS[-1]:
+            return None
+        return {"elements": 2 * elements}
 
     @staticmethod
     def resolution(scene) -> int:
