@@ -54,7 +54,7 @@ from rollcontact._bem import (
     solve_stick_slip,
     tangential_certificate,
 )
-from rollcontact.api import register_method
+from rollcontact.api import DISCRETISED_ELEMENTS, register_method
 from rollcontact.closed_form import hertz
 from rollcontact.friction import Coulomb, FrictionLaw
 from rollcontact.result import ContactResult, NoContact, TabulatedDistributions
@@ -69,7 +69,6 @@ ELEMENTS_PER_WAVELENGTH = 16  # piecewise-constant elements per shortest surface
 DEFAULT_TOLERANCE = 1e-9
 STEADY_MODES = ("direct", "march", "structured")
 STRUCTURED_SWEEPS = 8  # of the several-patch stick-zone search (each patch's zone with the others held)
-STRUCTURED_REFINED_ELEMENTS = 1600  # most elements of the one refinement of a failed structured automatic grid
 WINDOW_RETRIES = 3
 CONTACT_MARGIN = 0.05  # of the patches' span, each side of contact_window (plus two search elements)
 
@@ -755,9 +754,10 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
         settles (finished by the direct solve when ``finish``); ``"structured"`` (default for
         velocity-dependent friction) a stick zone at the leading edge of each patch, Newton on the slip
         (:func:`steady_leading_edge_stick`).  Where it fails on the automatic grid (no ``elements``, no
-        ``window``), once more on twice the elements, up to :data:`STRUCTURED_REFINED_ELEMENTS`: a slip zone
-        shorter than an element at a patch end leaves a stick element above mu p, or one slipping against the
-        traction; the message says so.
+        ``window``), once more on twice the elements, up to the largest grid ``auto`` offers
+        (:data:`rollcontact.api.DISCRETISED_ELEMENTS`, as its :meth:`~rollcontact.api.DiscretisedAccuracy.retry`
+        does for a grid chosen for a tolerance): a slip zone shorter than an element at a patch end leaves a
+        stick element above mu p, or one slipping against the traction; the message says so.
     finish : bool
         With ``steady="march"``: polish the marched state by the direct steady solve.
     datum_length : float, optional
@@ -838,7 +838,7 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, tolerance=DEF
         t = grid.element_width * sol.traction.sum()
         message = f"steady, leading-edge stick, {len(patches)} patch(es): {sol.message}"
         if not sol.converged and elements is None and window is None \
-                and 2 * grid.elements <= STRUCTURED_REFINED_ELEMENTS:
+                and 2 * grid.elements <= DISCRETISED_ELEMENTS[-1]:
             # the automatic grid leaves a slip zone shorter than an element at a patch end (a stick element
             # above mu p, or one slipping against the traction): twice the elements resolve it
             finer = solve_discretised(scene, elements=2 * grid.elements, tolerance=tolerance, steady=steady,
