@@ -525,15 +525,18 @@ def test_discretised_escalation_meets_the_tolerance_the_a_priori_choice_missed(t
 
 def test_auto_retries_a_failed_slip_iteration_on_a_finer_grid():
     """A falling law on three patches (4 mm / 40 um, 0.9 of saturation): the grid auto chooses for t = 0.1 (152
-    elements) leaves a slip zone shorter than an element, and the structure fails there; auto runs twice the
-    elements (``DiscretisedAccuracy.retry``), succeeds, and the message keeps the failure."""
+    elements) leaves a slip zone shorter than an element, and the structure fails there; auto's run of the
+    discretised method (``run_to_tolerance``, as after a failure of the polynomial method, which solves this scene
+    itself: tests/test_split_friction.py) runs twice the elements (``DiscretisedAccuracy.retry``), succeeds, and
+    the message keeps the failure."""
     scene = THREE_PATCHES.replace(creep=0.9 * SATURATION, rolling_speed=20.0,
                                   friction=ExponentialFalling(0.3, 0.4, 3.0))
     model = METHODS["discretised"].accuracy
     first = rollcontact.api.setting_for("discretised", scene, 0.1).options
     assert not solve(scene, method="discretised", **first).success, f"premise: {first} fails"
-    result = solve(scene, tolerance=0.1)
-    assert result.success and result.method == "discretised", result.message
+    spec, result = rollcontact.api.run_to_tolerance(rollcontact.api.setting_for("discretised", scene, 0.1), scene,
+                                                    {}, 0.1)
+    assert result.success and spec.name == "discretised", result.message
     assert result.info["setting"]["elements"] > first["elements"], result.info["setting"]
     assert f"after failing with {first}" in result.message, result.message
     assert model.retry(scene, {"elements": 1600}, result) is None, "nothing above the largest grid"

@@ -224,17 +224,18 @@ def test_split_contact_through_the_fmu_is_solved_with_several_patches(instance):
 
 
 @pytest.mark.skipif("discretised" not in rollcontact.METHODS, reason="the discretised method is not registered")
-def test_falling_friction_on_a_split_contact_through_the_fmu(instance):
-    """The same split contact with a falling law: the polynomial method reports the split, auto's step is the
-    discretised slip iteration on both patches (method_used 3), the library's ContactModel's outputs."""
+@pytest.mark.parametrize(("method", "used"), [(0, 2), (3, 3)], ids=["auto: polynomial", "discretised"])
+def test_falling_friction_on_a_split_contact_through_the_fmu(instance, method, used):
+    """The same split contact with a falling law: auto's step is the polynomial slip iteration on both patches
+    (method_used 2), method 3 the discretised one on both (3); each the library's ContactModel's outputs."""
     b = ContactParameters().contact_width
     p = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.01, "initial_position": -0.0045,
-         "friction_law": 1, "friction_kinetic_ratio": 0.4, "friction_decay": 3.0, "elements": 200}
+         "friction_law": 1, "friction_kinetic_ratio": 0.4, "friction_decay": 3.0, "elements": 200, "method": method}
     fmu = instance(**p)
     rows = [(1e6 * b, 1e-3, 20.0), (1e6 * b, -5e-4, 20.0)]
     outs = [fmu.step(n * H, H, *row) for n, row in enumerate(rows)]
     for out, expected in zip(outs, model_outputs(p, rows), strict=True):
-        assert out.method_used == 3 and out == expected, f"FMU {out} against ContactModel {expected}"
+        assert out.method_used == used and out == expected, f"FMU {out} against ContactModel {expected}"
         assert 0.0 < abs(out.tangential_force) <= 0.3 * 1e6 * b, out
 
 

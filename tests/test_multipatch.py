@@ -338,20 +338,6 @@ def test_auto_meets_the_tolerance_on_a_split_contact_with_the_polynomial_method(
                                                           rel=r.info["error_estimate"])
 
 
-def test_velocity_dependent_friction_on_a_split_contact_falls_back_to_the_discretised_solver():
-    """Several patches are solved for Coulomb friction only: a falling law on a split contact is reported, with the
-    reason, and auto answers by the discretised slip iteration, which takes a stick zone at each patch's leading edge
-    (its checks: tests/test_discretised.py)."""
-    from rollcontact import ExponentialFalling
-
-    scene = corrugated(0.010, 0.0045, friction=ExponentialFalling(0.3, 0.4, 3.0), rolling_speed=20.0)
-    poly = solve(scene, method="polynomial")
-    assert not poly.success and "contact splits" in poly.message, poly.message
-    auto = solve(scene)
-    assert auto.success and auto.method == "discretised" and len(auto.info["patches"]) == 2, auto.message
-    assert "contact splits" in auto.info["fallback_reason"], auto.info["fallback_reason"]
-
-
 def test_a_patch_that_breaks_the_leading_edge_structure_is_reported_not_solved():
     """A small satellite patch ahead of a large one whose slip zone turns against the creep: the structure (one stick
     zone at each leading edge) does not hold; the method says so and the result is not accepted."""

@@ -560,7 +560,8 @@ class PolynomialAccuracy(AccuracyModel):
 
 def slip_estimate(result) -> float:
     """The slip iteration's a-posteriori relative T' error of a polynomial result (NaN when it did not converge;
-    0 when it did not run: Coulomb friction, zero creep, or the polynomial method's Coulomb reduction)."""
+    0 when it did not run: Coulomb friction, zero creep, or the polynomial method's Coulomb reduction; and 0 on
+    several patches, whose estimate is the result's residual, :mod:`rollcontact.split_friction`)."""
     from rollcontact.velocity_friction import VelocityFrictionDistributions
 
     dist = result.distributions

@@ -40,8 +40,8 @@ crest, with a negative pressure), the discretised start often finds the one patc
 
 Validity (checked on the returned fields, each failure named): p >= 0 on every patch; the deformed gap open
 between and beyond the patches; ``|q| <= mu p`` in every stick zone; slip with the sign of the creep in every slip
-zone.  Outside the method (reported, left to the discretised solver): a falling friction law; more than
-:data:`MAX_PATCHES` patches; a satellite patch whose slip turns against the creep; patches so close that Newton
+zone.  A falling friction law is solved on these patches by :mod:`rollcontact.split_friction`.  Outside the method
+(reported, left to the discretised solver): more than :data:`MAX_PATCHES` patches; a satellite patch whose slip turns against the creep; patches so close that Newton
 stalls (where the contact has only just split).
 """
 
@@ -643,6 +643,88 @@ def validity_failures(expansion: SlopeExpansion, dist: PatchesDistributions, edg
     return out
 
 
+def split_target(tolerance: float, xi: float, mu: float, slope: float) -> float:
+    """The truncation target of the patches for a relative error ``tolerance`` of T' and p0 (``slope``: the Hertz
+    a/R).
+
+    T' = mu N' - sum (...) loses relative accuracy like mu N'/|T'| at small creep: the target is the tolerance times
+    Carter's ``|T'|/(mu N')`` on the Hertz patch (the reported residual carries the ratio of the solution); at zero
+    creep T' = 0 exactly, nothing to amplify.
+    """
+    if xi == 0.0:
+        return tolerance
+    ratio = min(abs(xi) / (mu * slope), 1.0)
+    return max(tolerance * ratio * (2.0 - ratio), 1e-16)
+
+
+@dataclass(frozen=True)
+class SplitNormal:
+    """The normal problem of several patches at M = ``terms`` (:func:`split_normal`)."""
+
+    load: float
+    edges: np.ndarray  # [l_1, r_1, l_2, r_2, ...] [m], axis coordinates
+    g: list  # [0, g_k1 .. g_kM] per patch: p_k = (E*/2) sum g_kn sin(n theta)
+    terms: int
+    residual: float  # the larger of the truncation (relative to h_k/R) and Newton's scaled residual
+    accept: float  # Newton's acceptance of scaled residuals, for the tangential iterations that follow
+    iterations: int
+    failure: str
+
+    def geometry(self, xi: float) -> dict:
+        """The :class:`ContactResult` fields of the outer edges (a, Delta), the load and the creep."""
+        lead, trail = float(self.edges[0]), float(self.edges[-1])
+        return dict(normal_load_per_length=self.load, creep=xi, contact_half_width=0.5 * (trail - lead),
+                    contact_offset=0.5 * (trail + lead))
+
+    def info(self) -> dict:
+        edges = self.edges
+        return {"patches": [(float(edges[i]), float(edges[i + 1])) for i in range(0, edges.size, 2)],
+                "order": self.terms}
+
+    def failed(self, xi: float) -> ContactResult:
+        """The failed result that reports :attr:`failure`."""
+        if self.edges.size == 0:
+            geometry = dict(normal_load_per_length=self.load, creep=xi, contact_half_width=math.nan,
+                            contact_offset=math.nan)
+            info = {"patches": []}
+        else:
+            geometry, info = self.geometry(xi), self.info()
+        return ContactResult(method="polynomial", success=False, message=f"several patches: {self.failure}",
+                             tangential_force_per_length=math.nan, stick_half_width=math.nan, max_pressure=math.nan,
+                             iterations=self.iterations, residual=math.inf, info=info, **geometry)
+
+
+def split_normal(expansion: SlopeExpansion, load: float, estar: float, start: list[float], target: float,
+                 order: int | None) -> SplitNormal:
+    """The patch edges and pressure densities from the edges ``start`` (:func:`solve_edges`), with M from
+    :func:`initial_terms` doubled (at most :data:`MAX_TERMS`, :data:`MAX_UNKNOWNS` over all patches) until the
+    first neglected coefficients fall below ``target`` (relative to ``h_k/R``), or M = ``order``."""
+    radius = expansion.radius
+    a_ref = hertz(load, radius, estar)[0]
+    edges = np.array(start, dtype=float)
+    count = edges.size // 2
+    if not 1 <= count <= MAX_PATCHES or edges.size % 2:
+        return SplitNormal(load, np.empty(0), [], 0, math.inf, 0.0, 0,
+                           f"{count} patches found, the method takes 1 to {MAX_PATCHES}")
+    largest = min(MAX_TERMS, MAX_UNKNOWNS // count)
+    m = min(order, largest) if order is not None else initial_terms(expansion, edges, target, largest)
+    # Newton stops at residuals ACCEPTED_FRACTION of the target: the error they leave is far below it
+    accept = max(1e-13, ACCEPTED_FRACTION * target)
+    iterations = 0
+    while True:
+        edges, g, leftover, left, it, failure = solve_edges(expansion, edges, load, estar, m, a_ref, accept)
+        iterations += it
+        residual = max(tail(leftover, intervals_of(edges), m, radius), left) if not failure else math.inf
+        # converged but truncated: more terms from there (a failure is not retried: on the cases measured Newton
+        # stalled where the patches nearly touch, whatever the terms)
+        if failure or order is not None or m >= largest or residual <= target:
+            break
+        m = min(2 * m, largest)
+    if not failure and not all(h > 0.0 for _, h in intervals_of(edges)):
+        failure = "a patch closed up (its edges crossed)"
+    return SplitNormal(load, edges, g, m, residual, accept, iterations, failure)
+
+
 def solve_split(expansion: SlopeExpansion, load: float, estar: float, mu: float, xi: float, start: list[float],
                 tolerance: float, order: int | None = None) -> ContactResult:
     """Polynomial method for a contact of several patches (module docstring), from the patch edges ``start``
@@ -672,46 +754,14 @@ def solve_split(expansion: SlopeExpansion, load: float, estar: float, mu: float,
     """
     radius = expansion.radius
     a_ref = hertz(load, radius, estar)[0]
-    edges = np.array(start, dtype=float)
     sign = math.copysign(1.0, xi)
-    count = edges.size // 2
-    if not 1 <= count <= MAX_PATCHES or edges.size % 2:
-        return ContactResult(method="polynomial", success=False,
-                             message=f"several patches: {count} patches found, the method takes 1 to {MAX_PATCHES}",
-                             normal_load_per_length=load, tangential_force_per_length=math.nan, creep=xi,
-                             contact_half_width=math.nan, contact_offset=math.nan, stick_half_width=math.nan,
-                             max_pressure=math.nan, residual=math.inf, info={"patches": []})
-    largest = min(MAX_TERMS, MAX_UNKNOWNS // count)
-    # T' = mu N' - sum (...) loses relative accuracy like mu N'/|T'| at small creep: the targets are tightened by
-    # Carter's ratio on the Hertz patch, and the reported residual carries the ratio of the solution
-    saturation = mu * a_ref / radius
-    ratio = min(abs(xi) / saturation, 1.0)
-    # tolerance |T'_Carter| / (mu N'); at zero creep T' = 0 exactly, nothing to amplify
-    target = max(tolerance * ratio * (2.0 - ratio), 1e-16) if xi != 0.0 else tolerance
-    m = min(order, largest) if order is not None else initial_terms(expansion, edges, target, largest)
-    # Newton stops at residuals ACCEPTED_FRACTION of the target: the error they leave is far below it
-    accept = max(1e-13, ACCEPTED_FRACTION * target)
-    iterations = 0
-    while True:
-        edges, g, leftover, left, it, failure = solve_edges(expansion, edges, load, estar, m, a_ref, accept)
-        iterations += it
-        residual = max(tail(leftover, intervals_of(edges), m, radius), left) if not failure else math.inf
-        # converged but truncated: more terms from there (a failure is not retried: on the cases measured Newton
-        # stalled where the patches nearly touch, whatever the terms)
-        if failure or order is not None or m >= largest or residual <= target:
-            break
-        m = min(2 * m, largest)
+    normal = split_normal(expansion, load, estar, start, split_target(tolerance, xi, mu, a_ref / radius), order)
+    if normal.failure:
+        return normal.failed(xi)
+    edges, g, m, residual, accept, iterations = (normal.edges, normal.g, normal.terms, normal.residual,
+                                                 normal.accept, normal.iterations)
     intervals = intervals_of(edges)
-    lead, trail = float(edges[0]), float(edges[-1])
-    geometry = dict(normal_load_per_length=load, creep=xi, contact_half_width=0.5 * (trail - lead),
-                    contact_offset=0.5 * (trail + lead))
-    info = {"patches": [(float(edges[i]), float(edges[i + 1])) for i in range(0, edges.size, 2)], "order": m}
-    if not failure and not all(h > 0.0 for _, h in intervals):
-        failure = "a patch closed up (its edges crossed)"
-    if failure:
-        return ContactResult(method="polynomial", success=False, message=f"several patches: {failure}",
-                             tangential_force_per_length=math.nan, stick_half_width=math.nan, max_pressure=math.nan,
-                             iterations=iterations, residual=math.inf, info=info, **geometry)
+    geometry, info = normal.geometry(xi), normal.info()
     halves, big_g, force, stiffness, left, it, failure = solve_stick(expansion, edges, intervals, load, estar, mu,
                                                                      abs(xi), m, a_ref, accept)
     iterations += it

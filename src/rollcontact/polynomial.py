@@ -22,8 +22,8 @@ Coulomb friction (:func:`coulomb_reduction`), otherwise by the slip iteration of
 Validity (one patch, one stick zone at the leading edge) is checked on the returned fields: ``p >= 0``; the
 deformed gap stays open outside the patch; ``|q| <= mu p`` in the stick zone; slip has the sign of the traction
 in the slip zone.  A failed check gives ``success = False`` and a message naming it.  Where the contact has
-several patches (the pressure turns negative, or the gap closes outside the patch) and friction is Coulomb's,
-:mod:`rollcontact.multipatch` solves it with one expansion per patch and stick zone (one stick zone at each
+several patches (the pressure turns negative, or the gap closes outside the patch), :mod:`rollcontact.multipatch`
+solves it (a velocity-dependent law on its patches by :mod:`rollcontact.split_friction`) with one expansion per patch and stick zone (one stick zone at each
 patch's leading edge, checked likewise), from the patches of a coarse discretised normal solve (which also finds
 the one patch in contact where Newton from the Hertz patch landed on a spurious one); only when that fails too is
 the result unsuccessful.
@@ -66,8 +66,9 @@ from rollcontact.chebyshev import (
     unit_grid,
 )
 from rollcontact.closed_form import hertz
-from rollcontact.multipatch import patch_starts, solve_split
+from rollcontact.multipatch import patch_starts, solve_split, split_normal, split_target
 from rollcontact.result import ContactResult, Distributions, NoContact
+from rollcontact.split_friction import solve_split_velocity
 from rollcontact.velocity_friction import DEFAULT_NODES, default_nodes, solve_velocity_dependent
 
 __all__ = ["PolynomialDistributions", "monomial_density", "solve_polynomial"]
@@ -323,11 +324,11 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     problem = NormalProblem(expansion, basis, monomial_order)
     a, x0, iterations, failure = solve_normal(problem, load, estar, a_hertz, max_iterations)
     info = {"basis": basis}
-    several_apply = check and friction.is_constant and basis == "chebyshev"
+    several_apply = check and basis == "chebyshev"
     if failure or not (a > 0.0 and math.isfinite(a) and math.isfinite(x0)):
         failure = failure or f"normal problem: no positive root for a (a = {a!r} m)"
         if several_apply and expansion.has_harmonics:  # a short corrugation: Newton lost among the crests
-            several = several_patches(scene, expansion, tolerance, order, None)
+            several = several_patches(scene, expansion, tolerance, order, None, nodes)
             if several.success:
                 return several
             failure += "; " + several.message
@@ -354,7 +355,7 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         tangential = coulomb_reduction(scene, expansion, a, x0, g, info, order, tolerance)
         if tangential is None:
             return solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check,
-                                                nodes, (m, samples))
+                                                nodes, (m, samples), tolerance, order)
     stick, d_n, G, t_force, stiffness, tang_failure = tangential
     dist = PolynomialDistributions(a, x0, c_n, g, stick, x0 - a + stick, d_n, G, mu, xi, monomial_b)
     messages = []
@@ -363,7 +364,7 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     if check:
         messages += validity_failures(dist, expansion, scene, a, x0, m, samples)
         if several_apply and any(text.startswith(SEVERAL) for text in messages):
-            several = several_patches(scene, expansion, tolerance, order, (x0, a, samples[:-2]))
+            several = several_patches(scene, expansion, tolerance, order, (x0, a, samples[:-2]), nodes)
             if several.success:
                 return several
             messages.append(several.message)
@@ -389,14 +390,28 @@ solve_polynomial.options = ("order", "tolerance", "basis", "max_iterations", "no
 
 
 def several_patches(scene, expansion: SlopeExpansion, tolerance: float, order: int | None,
-                    single: tuple | None) -> ContactResult:
-    """The scene as several patches (:func:`rollcontact.multipatch.solve_split`) from each start of
-    :func:`rollcontact.multipatch.patch_starts` in turn: the first success, else the last failure.  ``single`` is
-    ``(offset, half-width, pressure samples)`` of the failed single-patch solution, None where its normal problem
-    did not converge."""
+                    single: tuple | None, nodes: int) -> ContactResult:
+    """The scene as several patches from each start of :func:`rollcontact.multipatch.patch_starts` in turn: the
+    first success, else the last failure.  ``single`` is ``(offset, half-width, pressure samples)`` of the failed
+    single-patch solution, None where its normal problem did not converge.
+
+    Coulomb friction, and any law at zero creep (full stick, q = 0): :func:`rollcontact.multipatch.solve_split`.
+    A velocity-dependent law: the patches of :func:`rollcontact.multipatch.split_normal`, then the slip iteration
+    on them (:func:`rollcontact.split_friction.solve_split_velocity`, at least ``nodes`` nodes per patch).
+    """
+    load, estar, friction, xi = (scene.normal_load_per_length, scene.material.contact_modulus, scene.friction,
+                                 scene.creep)
+    mu_s = friction.static_coefficient
     for start in patch_starts(scene, single) or [[]]:  # no start: solve_split reports that no patch was found
-        several = solve_split(expansion, scene.normal_load_per_length, scene.material.contact_modulus,
-                              scene.friction.static_coefficient, scene.creep, start, tolerance, order)
+        if friction.is_constant or xi == 0.0:
+            several = solve_split(expansion, load, estar, mu_s, xi, start, tolerance, order)
+        else:
+            slope = hertz(load, scene.radius, estar)[0] / scene.radius
+            normal = split_normal(expansion, load, estar, start, split_target(tolerance, xi, mu_s, slope), order)
+            several = (normal.failed(xi) if normal.failure else
+                       solve_split_velocity(expansion, normal, estar, friction, scene.rolling_speed, xi,
+                                            max(nodes, *(default_nodes(0.5 * estar * g, estar, friction,
+                                                                       scene.rolling_speed) for g in normal.g))))
         if several.success:
             several.info["basis"] = "chebyshev"
             return several
@@ -448,8 +463,9 @@ def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, tolerance
 
 
 def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check, nodes,
-                                 samples):
-    """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.velocity_friction`."""
+                                 samples, tolerance, order):
+    """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.velocity_friction`, or,
+    where the contact splits, on the patches of :func:`several_patches`."""
     estar = scene.material.contact_modulus
     xi = scene.creep
     messages = []
@@ -458,6 +474,12 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
     zero = PolynomialDistributions(a, x0, c_n, g, a, x0, -mu_s * c_n, g, mu_s, 0.0)
     if check:
         messages += validity_failures(zero, expansion, scene, a, x0, *samples)
+        if any(text.startswith(SEVERAL) for text in messages):
+            several = several_patches(scene, expansion, tolerance, order, (x0, a, samples[1][:-2]), nodes)
+            if several.success:
+                return several
+            messages.append(several.message)
+            info["patches"] = several.info["patches"]
     if xi == 0.0:
         # full stick: dT'/dxi of the stick zone growing from the leading edge, as with Coulomb friction (the
         # slip velocities vanish, mu = mu_s; the ratio of the rates does not depend on mu)

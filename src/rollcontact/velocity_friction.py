@@ -251,6 +251,7 @@ class SlipState:
     eta: float  # a*/a (0: full slip)
     q: np.ndarray  # q1 = mu p at the nodes
     e: np.ndarray  # its sine coefficients e_1..e_M
+    h: np.ndarray  # Chebyshev coefficients 1..M of the slope H1 + external on the patch
     s: np.ndarray  # slip S(q, a*) at the nodes (0 in the stick zone)
     f: np.ndarray | None  # F_0..F_M (partial slip)
     maps: StickMaps | None
@@ -266,11 +267,19 @@ class SlipEquations:
     ``mu_j``, not the slips: q1 is linear in them, and where the law saturates (``dmu/dv ~ 0``, steep laws far into
     slip) the equations become linear instead of losing the slip's sensitivity, which is what makes Newton on the
     slips bounce.
+
+    ``external`` (optional): Chebyshev coefficients ``0 .. M`` on the patch of a slope the patch does not produce
+    (the other patches of a split contact, :mod:`rollcontact.split_friction`), added to the slip everywhere.
     """
 
-    def __init__(self, ops: SlipOperators, p: np.ndarray, estar: float, friction, rolling_speed: float, xi: float):
+    def __init__(self, ops: SlipOperators, p: np.ndarray, estar: float, friction, rolling_speed: float, xi: float,
+                 external: np.ndarray | None = None):
         self.ops, self.p, self.friction, self.speed, self.xi = ops, p, friction, rolling_speed, xi
         self.k2 = 2.0 / estar
+        # a slope the patch does not produce itself (the other patches of a split contact): its T_0 coefficient acts
+        # as creep, the others add to H1's
+        self.creep = xi if external is None else xi + float(external[0])
+        self.external = None if external is None else external[1:]
         self.mu_s = float(friction.static_coefficient)
         # creep scale of the creep equation: |xi|, but at least 1e-5 of the Carter saturation creep, since F_0 sums
         # M terms of that size and cannot be resolved below ~M eps xi_sat (Newton would never meet the tolerance)
@@ -278,15 +287,17 @@ class SlipEquations:
 
     def evaluate(self, mu: np.ndarray, eta: float) -> SlipState:
         """Residuals at ``(mu, eta)``; the branch follows ``xi < -H1(-1)`` (partial slip) or not (full slip)."""
-        ops, xi, k2 = self.ops, self.xi, self.k2
+        ops, xi = self.ops, self.creep
         q = mu * self.p
         e = ops.dst @ q
-        xi_full = -k2 * float(ops.alternating @ e)  # creep of a vanishing stick zone, -H1(-1)
+        k2e = self.k2 * e
+        if self.external is not None:
+            k2e += self.external
+        xi_full = -float(ops.alternating @ k2e)  # creep of a vanishing stick zone, -H1(-1)
         if xi >= xi_full:
             eta = 0.0
         elif eta == 0.0:
             eta = 1.0 - xi / xi_full  # Carter: xi(a*) = xi_full (1 - a*/a)
-        k2e = k2 * e
         h1 = ops.cosines @ k2e
         if eta > 0.0:
             maps = stick_maps(ops, eta)
@@ -298,7 +309,8 @@ class SlipEquations:
             s = xi + h1
             r_h = 0.0
         r_mu = mu - self.friction.coefficient(self.speed * np.maximum(s, 0.0))
-        return SlipState(mu, eta, q, e, s, f, maps, r_mu, r_h, max(float(np.abs(r_mu).max()) / self.mu_s, abs(r_h)))
+        return SlipState(mu, eta, q, e, k2e, s, f, maps, r_mu, r_h,
+                         max(float(np.abs(r_mu).max()) / self.mu_s, abs(r_h)))
 
     def jacobian(self, st: SlipState) -> np.ndarray:
         """Exact Jacobian of ``(r_mu, r_h)`` in ``(mu, eta)`` at ``st`` (of ``r_mu`` in ``mu`` in full slip)."""
@@ -324,7 +336,7 @@ class SlipEquations:
         mp, f = st.maps, st.f
         # F = (2/E*) re @ q, and its eta-derivative applied to q
         re = ops.dct @ (mp.cosines @ ops.dst)
-        df = ops.dct @ (k2 * gradient_deta(ops, mp.psi, st.e))
+        df = ops.dct @ gradient_deta(ops, mp.psi, st.h)
         # zero rows of the powers inside the zone make the (finite) factor irrelevant there
         factor = (mp.sigma + 1.0) / (mp.eta * mp.root)
         ds_deta = -((mp.powers @ (ops.n * f[1:])) * factor + mp.powers @ df[1:])
@@ -357,7 +369,7 @@ class SlipEquations:
         rhs[m] = -1.0 / self.xi_scale
         du = solve_linear(jac, rhs)
         grad_mu = (ops.dst[0] - st.eta * re[1]) * p
-        grad_eta = -(float(re[1] @ st.q) + st.eta * float(df[1]) / self.k2)
+        grad_eta = -(float(st.f[1]) + st.eta * float(df[1])) / self.k2
         return scale * (float(grad_mu @ du[:m]) + grad_eta * float(du[m]))
 
     def newton_step(self, st: SlipState) -> tuple[np.ndarray, float]:
@@ -387,7 +399,7 @@ class SlipEquations:
                 lo = st.eta
             else:
                 hi = st.eta
-            slope = float(ops.dct[0] @ gradient_deta(ops, st.maps.psi, st.e)) * self.k2 / self.xi_scale
+            slope = float(ops.dct[0] @ gradient_deta(ops, st.maps.psi, st.h)) / self.xi_scale
             eta = st.eta - st.r_h / slope if slope > 0.0 else 0.5 * (lo + hi)
             if not lo < eta < hi:
                 eta = 0.5 * (lo + hi)
@@ -521,7 +533,8 @@ def cosine_sine_sums(a: np.ndarray, b: np.ndarray, psi: np.ndarray) -> tuple[np.
 
 
 def force_error_estimate(eq: SlipEquations, st: SlipState, pressure_coefficients: np.ndarray) -> float:
-    """A-posteriori relative error of T' of a converged state: ``ESTIMATE_SAFETY max_K |T'_K / T'_M - 1|``.
+    """A-posteriori relative error of T' of a converged state of one patch (no external slope):
+    ``ESTIMATE_SAFETY max_K |T'_K / T'_M - 1|``.
 
     ``T'_K`` is one step of the paper's fixed point on ``K = r M`` patch nodes (r in ``ESTIMATE_REFINEMENTS``)
     from the converged state, without a new Newton solve: the converged slip series ``s_M`` (exact anywhere) gives
@@ -611,35 +624,7 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     # Carter state: mu = mu_s everywhere (evaluate() sets a* = a (1 - xi/xi_sat))
     st = eq.evaluate(np.full(ops.n.size, mu_s), 0.0)
     history = [st.norm]
-    it = 0
-    best = st.norm
-    while st.norm > tolerance and it < max_iterations:
-        it += 1
-        try:
-            dmu, deta = eq.newton_step(st)
-        except np.linalg.LinAlgError:  # singular Jacobian (e.g. a law with a kink): the fixed point needs none
-            st, extra = eq.relaxed_iteration(tolerance, max_iterations, history)
-            it += extra
-            break
-        # backtracking within a branch (a* kept inside (0, a]; a zone that wants to vanish is halved, the branch
-        # test then decides).  A step that moves the stick/slip boundary across a node is taken as it is: the node
-        # changes equation there (its slip goes like sqrt(a*_node - a*)), so the residuals of the two sides do not
-        # compare, and backtracking would keep Newton on the wrong side of the kink
-        lam = 1.0
-        for _ in range(6):
-            eta = st.eta + lam * deta
-            trial = eq.evaluate(st.mu + lam * dmu, min(eta, 1.0) if eta > 0.0 else 0.5 * st.eta)
-            if trial.norm < st.norm or not same_branch(st, trial):
-                break
-            lam *= 0.5
-        st = trial
-        history.append(st.norm)
-        if it % NEWTON_PATIENCE == 0:
-            if st.norm > 0.5 * best:  # stalled: a kink of the discrete equations, leave it to the fixed point
-                st, extra = eq.relaxed_iteration(tolerance, max_iterations, history)
-                it += extra
-                break
-            best = st.norm
+    st, it = newton(eq, st, tolerance, max_iterations, history)
     converged = st.norm <= tolerance
     message = "" if converged else (f"velocity-dependent friction: the slip iteration did not converge in {it} "
                                     f"iterations (last residual {history[-1]:.3g})")
@@ -677,6 +662,41 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
         "nodes": ops.n.size,
         "creep_stiffness_per_length": slope,
     }
+
+
+def newton(eq: SlipEquations, st: SlipState, tolerance: float, max_iterations: int,
+           history: list[float]) -> tuple[SlipState, int]:
+    """Newton's method on ``eq`` from the state ``st`` until the residual norm is at most ``tolerance``; the
+    relaxed fixed point (:meth:`SlipEquations.relaxed_iteration`) takes over where Newton stalls or its matrix is
+    singular.  Appends each residual norm to ``history``; returns the last state and the iterations."""
+    it = 0
+    best = st.norm
+    while st.norm > tolerance and it < max_iterations:
+        it += 1
+        try:
+            dmu, deta = eq.newton_step(st)
+        except np.linalg.LinAlgError:  # singular Jacobian (e.g. a law with a kink): the fixed point needs none
+            st, extra = eq.relaxed_iteration(tolerance, max_iterations, history)
+            return st, it + extra
+        # backtracking within a branch (a* kept inside (0, a]; a zone that wants to vanish is halved, the branch
+        # test then decides).  A step that moves the stick/slip boundary across a node is taken as it is: the node
+        # changes equation there (its slip goes like sqrt(a*_node - a*)), so the residuals of the two sides do not
+        # compare, and backtracking would keep Newton on the wrong side of the kink
+        lam = 1.0
+        for _ in range(6):
+            eta = st.eta + lam * deta
+            trial = eq.evaluate(st.mu + lam * dmu, min(eta, 1.0) if eta > 0.0 else 0.5 * st.eta)
+            if trial.norm < st.norm or not same_branch(st, trial):
+                break
+            lam *= 0.5
+        st = trial
+        history.append(st.norm)
+        if it % NEWTON_PATIENCE == 0:
+            if st.norm > 0.5 * best:  # stalled: a kink of the discrete equations, leave it to the fixed point
+                st, extra = eq.relaxed_iteration(tolerance, max_iterations, history)
+                return st, it + extra
+            best = st.norm
+    return st, it
 
 
 def nan_estimate() -> float:
