@@ -41,8 +41,11 @@ crest, with a negative pressure), the discretised start often finds the one patc
 Validity (checked on the returned fields, each failure named): p >= 0 on every patch; the deformed gap open
 between and beyond the patches; ``|q| <= mu p`` in every stick zone; slip with the sign of the creep in every slip
 zone.  A falling friction law is solved on these patches by :mod:`rollcontact.split_friction`.  Outside the method
-(reported, left to the discretised solver): more than :data:`MAX_PATCHES` patches; a satellite patch whose slip turns against the creep; patches so close that Newton
-stalls (where the contact has only just split).
+(reported, left to the discretised solver): more than :data:`MAX_PATCHES` patches; a satellite patch whose slip
+turns against the creep; patches so close that Newton stalls (where the contact has only just split).  The
+second is not always physics: on the 6 mm scene of ``tests/test_split_friction.py`` the iteration on the stick
+half-widths lets the main patch leave into full slip, while the discretised active set and the Gauss-Seidel
+iteration of :mod:`rollcontact.split_friction` (with a flat law) find it sticking at its leading edge.
 """
 
 from __future__ import annotations

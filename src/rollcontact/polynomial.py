@@ -23,10 +23,10 @@ Validity (one patch, one stick zone at the leading edge) is checked on the retur
 deformed gap stays open outside the patch; ``|q| <= mu p`` in the stick zone; slip has the sign of the traction
 in the slip zone.  A failed check gives ``success = False`` and a message naming it.  Where the contact has
 several patches (the pressure turns negative, or the gap closes outside the patch), :mod:`rollcontact.multipatch`
-solves it (a velocity-dependent law on its patches by :mod:`rollcontact.split_friction`) with one expansion per patch and stick zone (one stick zone at each
-patch's leading edge, checked likewise), from the patches of a coarse discretised normal solve (which also finds
-the one patch in contact where Newton from the Hertz patch landed on a spurious one); only when that fails too is
-the result unsuccessful.
+solves it with one expansion per patch and stick zone (one stick zone at each patch's leading edge, checked
+likewise; a velocity-dependent law on its patches by :mod:`rollcontact.split_friction`), from the patches of a
+coarse discretised normal solve (which also finds the one patch in contact where Newton from the Hertz patch
+landed on a spurious one); only when that fails too is the result unsuccessful.
 
 The paper's monomial formulation (eqs 21-26; note eq 26 needs ``A_n^-1 = +(1/pi) a^(2n-2)/(2n-3) prod...``
 for n >= 2, the printed minus sign is wrong: ``A = -pi (1 - a^2 S)^(-1/2)`` so ``A^-1 = -(1/pi)(1 - a^2 S)^(1/2)``)
