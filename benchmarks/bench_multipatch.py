@@ -172,9 +172,10 @@ def main():
     total = sum(falling_counts.values())
     lines += [f"## C. Falling friction: `solve(scene)` on {total} of the scenes", "",
               f"Every other axis position of table A, with `{FALLING!r}` at V = {SPEED:g} m/s.  The polynomial method "
-              "solves one patch; on several it reports the split and auto falls back to the discretised slip "
-              "iteration (a stick zone at each patch's leading edge, on the automatic grid, refined once where the "
-              "structure fails there).", "",
+              "solves one patch, and several by each patch's slip iteration under the others' fields "
+              "(`split_friction.py`); where that fails auto falls back to the discretised slip iteration (a stick "
+              "zone at each patch's leading edge, on the automatic grid, refined once where the structure fails "
+              "there).", "",
               "| outcome | scenes | median time |", "|---|---|---|"]
     for kind, count in sorted(falling_counts.items(), key=lambda item: -item[1]):
         lines.append(f"| {kind} | {count} | {1e3 * float(np.median(falling_times[kind])):.2f} ms |")
