@@ -237,6 +237,18 @@ DIFFERENCE_STEP = 1e-7
 """Step of the difference Jacobians, relative to the Hertz half-width."""
 
 
+def series_sum(intervals, coefficients, x, factor: float = 1.0) -> np.ndarray:
+    """``sum_k factor sum_n c_kn sin(n theta_k)`` at ``x`` [m] over the ``intervals`` ``(centre, half-width)`` of
+    positive half-width (a density per patch or stick zone; :func:`rollcontact.chebyshev.sine_series`, 0 off the
+    interval)."""
+    x = np.asarray(x, dtype=float)
+    total = np.zeros(x.shape)
+    for (c, h), ck in zip(intervals, coefficients, strict=True):
+        if h > 0.0:
+            total = total + sine_series(factor * ck, (x - c) / h)
+    return total
+
+
 @dataclass(frozen=True)
 class PatchesDistributions(Distributions):
     """Fields of a solution with several patches (x [m] from the axis projection, as every method's).
@@ -264,20 +276,11 @@ class PatchesDistributions(Distributions):
     creep: float
 
     def pressure(self, x):
-        x = np.asarray(x, dtype=float)
-        p = np.zeros(x.shape)
-        for (c, h), g in zip(self.patches, self.slope_coefficients, strict=True):
-            p = p + sine_series(0.5 * self.contact_modulus * g, (x - c) / h)
-        return p
+        return series_sum(self.patches, self.slope_coefficients, x, 0.5 * self.contact_modulus)
 
     def stick_correction(self, x):
         """``q2`` [Pa] (for the creep's sign taken positive)."""
-        x = np.asarray(x, dtype=float)
-        q2 = np.zeros(x.shape)
-        for (c, h), big_g in zip(self.zones, self.stick_slope_coefficients, strict=True):
-            if h > 0.0:
-                q2 = q2 - 0.5 * self.contact_modulus * self.mu * sine_series(big_g, (x - c) / h)
-        return q2
+        return series_sum(self.zones, self.stick_slope_coefficients, x, -0.5 * self.contact_modulus * self.mu)
 
     def traction(self, x):
         return math.copysign(1.0, self.creep) * (self.mu * self.pressure(x) + self.stick_correction(x))

@@ -402,12 +402,12 @@ def several_patches(scene, expansion: SlopeExpansion, tolerance: float, order: i
     load, estar, friction, xi = (scene.normal_load_per_length, scene.material.contact_modulus, scene.friction,
                                  scene.creep)
     mu_s = friction.static_coefficient
+    target = split_target(tolerance, xi, mu_s, hertz(load, scene.radius, estar)[0] / scene.radius)
     for start in patch_starts(scene, single) or [[]]:  # no start: solve_split reports that no patch was found
         if friction.is_constant or xi == 0.0:
             several = solve_split(expansion, load, estar, mu_s, xi, start, tolerance, order)
         else:
-            slope = hertz(load, scene.radius, estar)[0] / scene.radius
-            normal = split_normal(expansion, load, estar, start, split_target(tolerance, xi, mu_s, slope), order)
+            normal = split_normal(expansion, load, estar, start, target, order)
             several = (normal.failed(xi) if normal.failure else
                        solve_split_velocity(expansion, normal, estar, friction, scene.rolling_speed, xi,
                                             max(nodes, *(default_nodes(0.5 * estar * g, estar, friction,

@@ -39,13 +39,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollcontact.chebyshev import max_pressure, pressure_samples, sine_series
+from rollcontact.chebyshev import max_pressure, pressure_samples
 from rollcontact.multipatch import (
     EXTRA_NODES,
     PatchesDistributions,
     SplitNormal,
     field_coefficients,
     intervals_of,
+    series_sum,
 )
 from rollcontact.multipatch import validity_failures as normal_failures
 from rollcontact.result import ContactResult, Distributions
@@ -105,20 +106,11 @@ class SplitVelocityDistributions(Distributions):
     creep: float
 
     def pressure(self, x):
-        x = np.asarray(x, dtype=float)
-        p = np.zeros(x.shape)
-        for (c, h), coefficients in zip(self.patches, self.pressure_coefficients, strict=True):
-            p = p + sine_series(coefficients, (x - c) / h)
-        return p
+        return series_sum(self.patches, self.pressure_coefficients, x)
 
     def traction(self, x):
-        x = np.asarray(x, dtype=float)
-        q = np.zeros(x.shape)
-        for (c, h), e, (zc, zh), f in zip(self.patches, self.q1_coefficients, self.zones, self.stick_coefficients,
-                                          strict=True):
-            q = q + sine_series(e, (x - c) / h)
-            if zh > 0.0:
-                q = q - 0.5 * self.contact_modulus * sine_series(f, (x - zc) / zh)
+        q = (series_sum(self.patches, self.q1_coefficients, x)
+             + series_sum(self.zones, self.stick_coefficients, x, -0.5 * self.contact_modulus))
         return math.copysign(1.0, self.creep) * q
 
     def slip(self, x):
