@@ -339,8 +339,38 @@ def test_auto_meets_the_tolerance_on_a_split_contact_with_the_polynomial_method(
 
 
 def test_a_patch_that_breaks_the_leading_edge_structure_is_reported_not_solved():
-    """A small satellite patch ahead of a large one whose slip zone turns against the creep: the structure (one stick
-    zone at each leading edge) does not hold; the method says so and the result is not accepted."""
-    r = solve(corrugated(0.006, 0.0045), method="polynomial")  # auto's fallback on it: test_api.py
+    """10 mm / 10 um, axis 5.42 mm, half the saturation creep: the discretised active set has the trailing patch
+    slip at its leading edge and stick behind, outside the structure (one stick zone at each leading edge); the
+    slip of the method's solution turns against the creep there, the method says so and the result is not
+    accepted."""
+    scene = corrugated(0.010, 0.010 * 13 / 24, creep=0.5 * XI_SAT, amplitude=10e-6)
+    r = solve(scene, method="polynomial")  # auto's fallback on it: test_api.py
     assert not r.success and "several patches" in r.message and "second stick zone" in r.message, r.message
     assert len(r.info["patches"]) == 2, r.info
+    disc = solve(scene, method="discretised", elements=800).distributions
+    sticking = disc.x[(disc.p > 0.0) & (disc.s == 0.0) & (disc.x > 0.0)]
+    (_, (lead, _)) = r.info["patches"]
+    assert sticking.min() - lead > 0.1 * A_REF, "the premise: the trailing patch slips at its leading edge"
+
+
+def test_a_satellite_that_slips_throughout_leaves_the_main_patch_sticking():
+    """6 mm / 20 um, axis 4.5 mm: a small satellite ahead of the main patch slips throughout (its zone leaves the
+    iteration on the half-widths) and the main patch sticks at its leading edge; the zone, T' and the traction
+    bound against the discretised active set.  (A zone that left used to shift the others' zones onto the wrong
+    patches: T' = mu N' and a spurious "second stick zone".)"""
+    scene = corrugated(0.006, 0.0045)
+    r = solve(scene, method="polynomial")
+    assert r.success and len(r.info["patches"]) == 2, r.message
+    (satellite, main), (satellite_zone, main_zone) = r.info["patches"], r.info["stick_zones"]
+    assert satellite_zone == (satellite[0], satellite[0]) and main_zone[0] == main[0], r.info["stick_zones"]
+    d = solve(scene, method="discretised", elements=1600)
+    assert d.success, d.message
+    assert r.tangential_force_per_length == pytest.approx(d.tangential_force_per_length,
+                                                          rel=d.info["error_estimate"])
+    dist = d.distributions
+    sticking = dist.x[(dist.p > 0.0) & (dist.s == 0.0)]
+    element = dist.x[1] - dist.x[0]
+    assert abs(sticking.min() - main_zone[0]) <= 2 * element and abs(sticking.max() - main_zone[1]) <= 2 * element, \
+        (sticking.min(), sticking.max(), main_zone)
+    x = np.linspace(*main, 401)[1:-1]
+    assert (np.abs(r.traction(x)) <= MU * r.pressure(x) * (1 + 1e-9)).all(), "|q| <= mu p on the main patch"

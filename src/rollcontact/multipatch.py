@@ -41,11 +41,10 @@ crest, with a negative pressure), the discretised start often finds the one patc
 Validity (checked on the returned fields, each failure named): p >= 0 on every patch; the deformed gap open
 between and beyond the patches; ``|q| <= mu p`` in every stick zone; slip with the sign of the creep in every slip
 zone.  A falling friction law is solved on these patches by :mod:`rollcontact.split_friction`.  Outside the method
-(reported, left to the discretised solver): more than :data:`MAX_PATCHES` patches; a satellite patch whose slip
-turns against the creep; patches so close that Newton stalls (where the contact has only just split).  The
-second is not always physics: on the 6 mm scene of ``tests/test_split_friction.py`` the iteration on the stick
-half-widths lets the main patch leave into full slip, while the discretised active set and the Gauss-Seidel
-iteration of :mod:`rollcontact.split_friction` (with a flat law) find it sticking at its leading edge.
+(reported, left to the discretised solver): more than :data:`MAX_PATCHES` patches; a patch that slips at its
+leading edge and sticks behind it (the slip of the solution turns against the creep: 2 of the 864 scenes of
+``benchmarks/bench_multipatch.py``, both so in the discretised active set); patches so close that Newton stalls
+(where the contact has only just split).
 """
 
 from __future__ import annotations
@@ -203,10 +202,11 @@ def normal_residuals(expansion: SlopeExpansion, edges, load: float, estar: float
     return np.array(out), g, leftover
 
 
-def stick_residuals(expansion: SlopeExpansion, edges, halves, xi_over_mu: float, m: int, a_ref: float):
-    """The ``T_0`` equations of the stick zones ``[l_k, l_k + 2 a*_k]`` (``halves``: a*_k > 0, the patches that
-    stick), scaled by ``a_ref/R``, with the correction coefficients ``G_k`` they were computed from."""
-    zones = [(edges[2 * k] + a, a) for k, a in enumerate(halves)]
+def stick_residuals(expansion: SlopeExpansion, leading, halves, xi_over_mu: float, m: int, a_ref: float):
+    """The ``T_0`` equations of the stick zones ``[l_k, l_k + 2 a*_k]`` (``leading``: the l_k of the patches that
+    stick, ``halves``: their a*_k > 0), scaled by ``a_ref/R``, with the correction coefficients ``G_k`` they were
+    computed from."""
+    zones = [(lead + a, a) for lead, a in zip(leading, halves, strict=True)]
     big_g, leftover = solve_densities(expansion, zones, m, xi_over_mu)
     slope = a_ref / expansion.radius
     return np.array([float(rest[0]) / slope for rest in leftover]), big_g, leftover
@@ -504,7 +504,7 @@ def solve_stick(expansion: SlopeExpansion, edges: np.ndarray, intervals, load: f
     def evaluate(values, which):
         full = np.zeros(len(intervals))
         full[which] = values
-        f, big_g, _ = stick_residuals(expansion, edges, [full[k] for k in which], xi / mu, m, a_ref)
+        f, big_g, _ = stick_residuals(expansion, edges[0::2][which], full[which], xi / mu, m, a_ref)
         coefficients = [np.zeros(2)] * len(intervals)
         for k, gk in zip(which, big_g, strict=True):
             coefficients[k] = gk
