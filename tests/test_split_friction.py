@@ -146,6 +146,22 @@ def test_sign_zero_creep_and_full_slip():
     assert 0.12 * LOAD < full.tangential_force_per_length < 0.3 * LOAD
 
 
+@pytest.mark.parametrize("ratio", [0.0, 0.1, 0.5, 0.9, 2.0])
+def test_creep_stiffness_is_the_slope_of_the_creep_curve(ratio):
+    """dT'/dxi (a one-sided difference over a warm-started perturbed solution) against the central difference of
+    two independent solves 1e-5 of saturation either side (both from the Coulomb start): within 2e-4 (the discrete
+    solution's kinks where the stick/slip boundary crosses a node; 6e-5 measured); in full slip negative, mu falling
+    with the slip."""
+    creep = ratio * XI_SAT
+    r = split_solve(SCENE.replace(creep=creep))
+    assert r.success and math.isfinite(r.creep_stiffness_per_length), r.message
+    h = 1e-5 * XI_SAT
+    up, down = (split_solve(SCENE.replace(creep=creep + d)).tangential_force_per_length for d in (h, -h))
+    assert r.creep_stiffness_per_length == pytest.approx((up - down) / (2 * h), rel=2e-4, abs=1e-6 * LOAD / XI_SAT)
+    if ratio > 1.0:
+        assert r.creep_stiffness_per_length < 0.0
+
+
 def test_force_is_continuous_in_the_law_and_falls_with_it():
     """T' from B = 0 (Coulomb) up: continuous (steps of B change it by steps of their size) and decreasing."""
     forces = [split_solve(SCENE.replace(creep=0.5 * XI_SAT), friction=ExponentialFalling(0.3, 0.4, b))
@@ -180,6 +196,32 @@ def test_satellite_scene_agrees_with_the_discretised_active_set():
     assert satellite[0] == satellite[1], "the satellite slips throughout"
     assert abs(sticking.min() - main[0]) <= 2 * element and abs(sticking.max() - main[1]) <= 2 * element, \
         (sticking.min(), sticking.max(), main)
+
+
+def test_small_creep_on_mirror_patches_starts_from_the_coulomb_stick_zones():
+    """10 mm / 10 um with the axis over a crest of the gap (two mirror patches) at 0.1 of saturation: from full slip
+    (q1 = mu_s p, no stick zones) the first sweep's field of the trailing patch reverses the leading patch's creep
+    and its slip iteration has no solution; from Coulomb's stick zones and corrections with mu_s the sweeps
+    converge, to the discretised slip iteration's T' within its estimate and its stick zones within two elements."""
+    from rollcontact.split_friction import coupled_iteration
+
+    scene = corrugated(0.010, 0.005, creep=0.1 * XI_SAT).replace(
+        surface=Surface(harmonics=(Harmonic.from_wavelength(0.010, 10e-6),)))
+    expansion = SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
+    normal = multipatch.split_normal(expansion, LOAD, ESTAR, multipatch.patch_starts(scene, None)[0], 1e-12, None)
+    *_, failure = coupled_iteration(normal, ESTAR, LAW, SPEED, scene.creep, 32, XI_SAT)
+    assert "did not converge" in failure, "the premise: the iteration from full slip fails"
+    r = solve(scene, method="polynomial")
+    assert r.success and len(r.info["patches"]) == 2, r.message
+    d = solve(scene, method="discretised", elements=1600)
+    assert d.success, d.message
+    assert abs(d.tangential_force_per_length / r.tangential_force_per_length - 1.0) <= d.info["error_estimate"]
+    dist = d.distributions
+    element = dist.x[1] - dist.x[0]
+    for lo, hi in r.info["stick_zones"]:
+        sticking = dist.x[(dist.p > 0.0) & (dist.s == 0.0) & (dist.x > lo - 0.5 * A_REF) & (dist.x < hi + 0.5 * A_REF)]
+        assert abs(sticking.min() - lo) <= 2 * element and abs(sticking.max() - hi) <= 2 * element, \
+            (sticking.min(), sticking.max(), lo, hi)
 
 
 def test_a_traction_above_the_bound_is_reported():

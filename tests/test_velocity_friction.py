@@ -1,6 +1,7 @@
 """Velocity-dependent friction by the polynomial method (paper section 4.2; physics.md section 5)."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -182,6 +183,23 @@ def test_jacobian_equals_finite_differences():
         down[j] -= h
         np.testing.assert_allclose(jac[:, j], (residual(up) - residual(down)) / (2 * h), rtol=1e-5,
                                    atol=1e-6 * np.abs(jac).max(), err_msg=f"column {j}")
+
+
+def test_a_creep_reversed_by_an_external_slope_starts_sticking_throughout():
+    """An external slope whose T_0 coefficient outweighs the creep (the other patches of a split contact) makes the
+    patch's creep negative: the Carter start ``a*/a = 1 - xi/xi_full`` would exceed 1 (stick nodes beyond the patch,
+    arccos of more than 1: NaN); the start is the whole patch sticking, every residual finite."""
+    from rollcontact.velocity_friction import SlipEquations, slip_operators
+
+    ops = slip_operators(12)
+    p = 1e9 * np.sqrt(1.0 - (ops.t_plus_one - 1.0) ** 2)
+    external = np.zeros(13)
+    external[0] = -3e-3
+    eq = SlipEquations(ops, p, rc.Material().contact_modulus, LAWS["steep"], V, 1e-3, external=external)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        st = eq.evaluate(np.full(12, 0.3), 0.0)
+    assert st.eta == 1.0 and np.isfinite(st.s).all() and np.isfinite(st.norm), (st.eta, st.s)
 
 
 @pytest.mark.parametrize("law", ["polach", "steep", "rational"])

@@ -14,12 +14,14 @@ the other patches add the smooth slope
 ``S_j``), which enters patch k's equations as a known slope (:class:`~rollcontact.velocity_friction.SlipEquations`'
 ``external``: its ``T_0`` coefficient acts as creep, the others add to H1's).
 
-Solution.  Block Gauss-Seidel over the patches: each patch's slip iteration (Newton, warm-started from its last
-solution) with the others' fields frozen at their latest values, in sweeps until no patch's external slope
-changes by more than :data:`SWEEP_TOLERANCE` of the Carter saturation creep ``mu_s a/R`` (each patch then solves
-its equations for the fields of the others' final state: the coupled discrete equations hold to the slip
-iteration's tolerance).  Every patch runs M nodes (the largest of :func:`rollcontact.velocity_friction.patch_nodes`
-over the patches); the external slopes are truncated at degree M, their first neglected coefficients are reported.
+Solution.  Block Gauss-Seidel over the patches, from Coulomb's solution with mu_s
+(:func:`rollcontact.multipatch.solve_stick`: stick zones and corrections, ``q1 = mu_s p``): each patch's slip
+iteration (Newton, warm-started from its last solution) with the others' fields frozen at their latest values, in
+sweeps until no patch's external slope changes by more than :data:`SWEEP_TOLERANCE` of the Carter saturation creep
+``mu_s a/R`` (each patch then solves its equations for the fields of the others' final state: the coupled discrete
+equations hold to the slip iteration's tolerance).  Every patch runs M nodes (the largest of
+:func:`rollcontact.velocity_friction.patch_nodes` over the patches); the external slopes are truncated at degree M,
+their first neglected coefficients are reported.
 
 Accuracy.  As for one patch, T' converges like M^-1.5 and erratically; the result is that of 2M nodes, with the
 relative T' error estimated as :data:`rollcontact.velocity_friction.ESTIMATE_SAFETY` times its difference to the
@@ -40,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rollcontact.chebyshev import max_pressure, pressure_samples
+from rollcontact.closed_form import hertz
 from rollcontact.multipatch import (
     EXTRA_NODES,
     PatchesDistributions,
@@ -47,6 +50,7 @@ from rollcontact.multipatch import (
     field_coefficients,
     intervals_of,
     series_sum,
+    solve_stick,
 )
 from rollcontact.multipatch import validity_failures as normal_failures
 from rollcontact.result import ContactResult, Distributions
@@ -67,6 +71,10 @@ MAX_SWEEPS = 60
 SWEEP_TOLERANCE = 1e-11
 """Largest change of a patch's external slope between its solves, relative to the Carter saturation creep, at
 which the sweeps end."""
+STIFFNESS_STEP = 1e-5
+"""Creep step of the creep stiffness's difference, relative to the Carter saturation creep: on the two-patch scene
+of ``tests/test_split_friction.py`` (0.1-0.9 of saturation) the one-sided difference is within 9e-5 of the central
+one of steps 1e-5 and 1e-4 (which agree to 3e-4 and better); at 1e-6 the solves' tolerance shows (1e-4)."""
 SLIP_TOLERANCE = 1e-9
 """Newton tolerance of each patch's slip iteration (that of
 :func:`~rollcontact.velocity_friction.solve_velocity_dependent`)."""
@@ -149,12 +157,16 @@ class PatchSlip:
 
 
 def coupled_iteration(normal: SplitNormal, estar: float, friction, speed: float, xi: float, nodes: int,
-                      scale: float, coarser: list[PatchSlip] | None = None):
+                      scale: float, coarser: list[PatchSlip] | None = None, coulomb: tuple | None = None):
     """The block Gauss-Seidel iteration of the module docstring at M = ``nodes`` (``xi >= 0``).
 
-    It starts from ``q1 = mu_s p`` and no stick zones, or from the solution on fewer nodes ``coarser``: its nodal
-    friction coefficients at the new nodes (``mu(V s)`` of its slip), its stick zones and corrections and its
-    external slopes, which leaves the sweeps little to do.
+    It starts from the solution on fewer nodes ``coarser``: its nodal friction coefficients at the new nodes
+    (``mu(V s)`` of its slip), its stick zones and corrections and its external slopes, which leaves the sweeps
+    little to do; else from ``q1 = mu_s p`` with the stick zones and corrections of Coulomb's friction with mu_s
+    (``coulomb``: the half-widths a*_k and coefficients G_k of :func:`rollcontact.multipatch.solve_stick`, the
+    correction being ``F_n = mu_s G_kn``), or, without it, with no stick zones.  The first sweep's fields are then
+    those of a coupled solution: from full slip they can reverse a patch's creep at small creep, where its slip
+    iteration has no solution.
 
     Returns ``(patches, sweeps, slip iterations, tail, failure)``: the :class:`PatchSlip` of every patch, the
     sweeps and patch Newton iterations used, the largest first neglected coefficient of the external slopes
@@ -174,6 +186,13 @@ def coupled_iteration(normal: SplitNormal, estar: float, friction, speed: float,
     corrections = [np.zeros(nodes + 1) for _ in patches]
     zones = [(0.0, 0.0) for _ in patches]
     starts = [(np.full(nodes, mu_s), 0.0) for _ in patches]
+    if coulomb is not None and coarser is None:
+        for k, (patch, a_star, big_g) in enumerate(zip(patches, *coulomb, strict=True)):
+            if a_star > 0.0:
+                count = min(nodes + 1, big_g.size)
+                corrections[k][1:count] = mu_s * big_g[1:count]
+                zones[k] = (patch.centre - patch.half_width + a_star, float(a_star))
+                starts[k] = (starts[k][0], float(a_star) / patch.half_width)
     if coarser is not None:
         slip = distributions(coarser, estar, xi).slip
         for k, (patch, old) in enumerate(zip(patches, coarser, strict=True)):
@@ -289,7 +308,9 @@ def solve_split_velocity(expansion, normal: SplitNormal, estar: float, friction,
     ContactResult
         ``residual``: the relative T' error estimate (module docstring, Accuracy); ``info["patches"]``,
         ``info["stick_zones"]`` (leading and trailing ends [m]), ``info["nodes"]`` (2M), ``info["sweeps"]``;
-        ``creep_stiffness_per_length`` is NaN (the coupled iteration gives none).
+        ``creep_stiffness_per_length``: a one-sided difference of T' over :data:`STIFFNESS_STEP` of the saturation
+        creep towards zero creep, the perturbed solution warm-started from the result's (a few sweeps, NaN if they
+        fail).
     """
     xi = abs(creep)
     sign = math.copysign(1.0, creep)
@@ -303,8 +324,13 @@ def solve_split_velocity(expansion, normal: SplitNormal, estar: float, friction,
     failure = ""
     tail = 0.0
     patches = None
+    halves, big_g, *_, stick_failure = solve_stick(
+        expansion, normal.edges, intervals_of(normal.edges), normal.load, estar, mu_s, xi, normal.terms,
+        hertz(normal.load, expansion.radius, estar)[0], normal.accept)
+    coulomb = None if stick_failure else (halves, big_g)
     for m in (coarse, 2 * coarse):
-        patches, used, its, tail_m, failure = coupled_iteration(normal, estar, friction, speed, xi, m, scale, patches)
+        patches, used, its, tail_m, failure = coupled_iteration(normal, estar, friction, speed, xi, m, scale, patches,
+                                                                coulomb)
         sweeps += used
         iterations += its
         tail = max(tail, tail_m)
@@ -326,11 +352,19 @@ def solve_split_velocity(expansion, normal: SplitNormal, estar: float, friction,
     messages = normal_failures(expansion, check, normal.edges) + tangential_failures(dist, mu_s, scale)
     p_max = max(max_pressure(c, *pressure_samples(c)) for c in dist.pressure_coefficients)
     success = not messages
+    stiffness = math.nan
+    if success:
+        step = STIFFNESS_STEP * scale if xi < 2.0 * STIFFNESS_STEP * scale else -STIFFNESS_STEP * scale
+        perturbed, _, its, _, perturbed_failure = coupled_iteration(normal, estar, friction, speed, xi + step,
+                                                                    2 * coarse, scale, patches)
+        iterations += its
+        if not perturbed_failure:
+            stiffness = (sum(patch_force(p, estar) for p in perturbed) - forces[-1]) / step
     count = len(patches)
     message = (f"converged ({count} patch{'es' if count > 1 else ''}, velocity-dependent friction)" if success
                else "several patches: " + "; ".join(messages))
     return ContactResult(method="polynomial", success=success, message=message,
-                         tangential_force_per_length=sign * force,
+                         tangential_force_per_length=sign * force, creep_stiffness_per_length=stiffness,
                          stick_half_width=float(sum(zh for _, zh in dist.zones)), max_pressure=p_max,
                          iterations=normal.iterations + iterations, residual=estimate, distributions=dist, info=info,
                          **geometry)

@@ -297,7 +297,9 @@ class SlipEquations:
         if xi >= xi_full:
             eta = 0.0
         elif eta == 0.0:
-            eta = 1.0 - xi / xi_full  # Carter: xi(a*) = xi_full (1 - a*/a)
+            # Carter: xi(a*) = xi_full (1 - a*/a); a patch whose creep the other patches' fields reverse (split
+            # contacts) starts sticking throughout
+            eta = 1.0 - xi / xi_full if 0.0 < xi else 1.0
         h1 = ops.cosines @ k2e
         if eta > 0.0:
             maps = stick_maps(ops, eta)
