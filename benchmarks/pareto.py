@@ -158,7 +158,11 @@ def steady_cases(config: Config) -> dict[str, list[tuple[str, rc.Scene]]]:
             ("exponential B = 3 s/m, V = 20 m/s", rc.Scene(LOAD, creep=0.3 * SATURATION, rolling_speed=20.0,
                                                             friction=rc.ExponentialFalling(0.3, 0.4, 3.0))),
             ("rational, V = 10 m/s", rc.Scene(LOAD, creep=0.7 * SATURATION, rolling_speed=10.0,
-                                              friction=rc.RationalFalling(0.3, 0.2, 0.5)))],
+                                              friction=rc.RationalFalling(0.3, 0.2, 0.5))),
+            # the corrugation family's split contact with the falling law: the slip iteration on both patches
+            (f"exponential B = 3 s/m, V = 20 m/s, 10 mm / 20 um split, {ka(0.01)}",
+             corrugated(0.01, 20e-6, axis=0.0045, creep=0.5 * SATURATION).replace(
+                 rolling_speed=20.0, friction=rc.ExponentialFalling(0.3, 0.4, 3.0)))],
     }
     if config.quick:
         families = {"Hertz/Carter": families["Hertz/Carter"][:1],
@@ -215,6 +219,7 @@ class Row:
     note: str = ""
     harmonics: int = 0  # surface harmonics of the scene (a term of the polynomial cost model)
     sharpness: float = 0.0  # api.friction_sharpness of the scene (sets the iteration counts of the cost model)
+    patches: int = 1  # contact patches of the reference solution
     fmu_time: float = math.nan  # s per fmpy step of the contact FMU running this setting (:func:`fmu_step_time`)
 
     @property
@@ -317,16 +322,26 @@ def split_reference(scene: rc.Scene, sizes: tuple[int, int], why: str) -> Refere
                      f"n = {sizes[0] // 2}/{sizes[1] // 2} differs from it by {change:.1e} in T'")
 
 
+SPLIT_REFERENCE_NODES = 256
+"""Slip nodes requested for the reference of a velocity-dependent law on a split contact (each patch runs twice
+as many, ~3 s; its estimate ~2e-7).  The single patch's 1024 would run 2048 per patch in dense Newton steps."""
+
+
 def steady_reference(scene: rc.Scene, config: Config) -> Reference:
     if scene.surface.is_flat and scene.friction.is_constant:
         return Reference(rc.solve(scene, method="closed_form"), "closed form (exact)")
-    poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=config.reference_nodes)
+    nodes = config.reference_nodes
+    if not scene.friction.is_constant and patch_count(rc.solve(scene, method="polynomial")) > 1:
+        nodes = min(nodes, SPLIT_REFERENCE_NODES)
+    poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=nodes)
     if not poly.success:
         return split_reference(scene, config.split_reference, poly.message)
-    how = (f"polynomial, tolerance 1e-12, {config.reference_nodes} slip nodes" if not scene.friction.is_constant
-           else "polynomial, tolerance 1e-12")
+    how = (f"polynomial, tolerance 1e-12, {nodes} slip nodes (estimate {poly.residual:.1e})"
+           if not scene.friction.is_constant else "polynomial, tolerance 1e-12")
     if config.richardson is None:
         return Reference(poly, how)
+    if patch_count(poly) > 1 and not scene.friction.is_constant:
+        return Reference(poly, f"{how}, {patch_count(poly)} patches", falling_split_check(scene, poly, config))
     if "patches" in poly.info:  # several patches: the split contacts' discretised reference is the cross-check
         sizes = config.split_reference
         check = rc.discretised.extrapolated(scene, sizes, SPLIT_REFERENCE_PLACEMENTS)
@@ -345,9 +360,32 @@ def steady_reference(scene: rc.Scene, config: Config) -> Reference:
                                 f"T' within {diff:.1e}")
 
 
+def patch_count(result) -> int:
+    return len(result.info.get("patches", [None]))
+
+
+def falling_split_check(scene: rc.Scene, poly, config: Config) -> str:
+    """The discretised slip iteration's T' on the finer Richardson grid, scaled by the polynomial over the
+    discretised Coulomb T' (mu = mu_s) on that grid: the ratio removes most of its first-order error, which the law
+    hardly changes (``tests/test_split_friction.py``)."""
+    n = config.richardson[1]
+    coulomb = scene.replace(friction=rc.Coulomb(scene.friction.static_coefficient))
+    disc, disc_c = (rc.solve(s, method="discretised", elements=n).tangential_force_per_length for s in (scene, coulomb))
+    scaled = disc * rc.solve(coulomb, method="polynomial", tolerance=1e-12).tangential_force_per_length / disc_c
+    diff = abs(scaled / poly.tangential_force_per_length - 1.0)
+    raw = abs(disc / poly.tangential_force_per_length - 1.0)
+    return (f"discretised slip iteration n = {n} (automatic grid): T' within {raw:.1e}, scaled by the ratio of the "
+            f"polynomial to the discretised Coulomb T' on that grid within {diff:.1e}")
+
+
 # --------------------------------------------------------------------------------------------- steady study
-def steady_settings(scene: rc.Scene, config: Config) -> list[tuple[str, dict]]:
-    """(method, options) to measure: every ladder setting of the applicable methods plus explicit orders."""
+SPLIT_NODES = 128
+"""Largest slip nodes requested on a split contact (each patch runs twice as many, ~0.8 s a solve)."""
+
+
+def steady_settings(scene: rc.Scene, config: Config, patches: int = 1) -> list[tuple[str, dict]]:
+    """(method, options) to measure: every ladder setting of the applicable methods plus explicit orders (slip
+    nodes up to :data:`SPLIT_NODES` on ``patches`` > 1)."""
     out = []
     if rc.METHODS["closed_form"].inapplicable(scene) is None:
         out.append(("closed_form", {}))
@@ -356,8 +394,9 @@ def steady_settings(scene: rc.Scene, config: Config) -> list[tuple[str, dict]]:
         out += [("polynomial", {"order": n}) for n in config.poly_orders]
     else:
         # the node counts that run (requests below the law's floor run the floor: api.slip_nodes)
+        largest = max(config.nodes) if patches == 1 else min(max(config.nodes), SPLIT_NODES)
         out += [("polynomial", options) for options in rc.METHODS["polynomial"].accuracy.ladder(scene)
-                if options["nodes"] <= max(config.nodes)]
+                if options["nodes"] <= largest]
     sizes = config.elements if scene.friction.is_constant else config.structured_elements
     needed = api.DiscretisedAccuracy.resolution(scene)
     out += [("discretised", {"elements": n}) for n in sizes if n >= needed]
@@ -443,9 +482,10 @@ def fmu_step_time(fmu: FmuBench | None, scene_file: str, scene: rc.Scene, parame
 def measure_case(family: str, label: str, scene: rc.Scene, config: Config,
                  fmu: FmuBench | None = None) -> tuple[list[Row], list[AutoChoice], Reference]:
     ref = steady_reference(scene, config)
+    patches = patch_count(ref.result)
     rows = []
     scene_file = fmu.scene_file(scene) if fmu is not None else ""
-    for method, options in steady_settings(scene, config):
+    for method, options in steady_settings(scene, config, patches):
         result = rc.solve(scene, method=method, **options)
         if not result.success:
             rows.append(Row(family, label, method, setting_label(method, options), options, math.nan, math.nan,
@@ -458,6 +498,7 @@ def measure_case(family: str, label: str, scene: rc.Scene, config: Config,
                         model.cost(scene, options), model.error(scene, options),
                         harmonics=len(scene.surface.harmonics),
                         sharpness=0.0 if scene.friction.is_constant else api.friction_sharpness(scene),
+                        patches=patches,
                         fmu_time=fmu_step_time(fmu, scene_file, scene, fmu_parameters(method, options), config)))
     choices = []
     for tolerance in TOLERANCES:
@@ -744,7 +785,8 @@ def fit_costs(rows: list[Row]) -> list[tuple[str, str, str]]:
         out.append(("DIRECT_COST (a, b, c)", ", ".join(f"{c:.3g}" for c in api.DIRECT_COST),
                     ", ".join(f"{c:.3g}" for c in fitted)))
     # velocity-dependent friction: times per modelled iteration (the iteration counts are part of the model)
-    structured = [r for r in rows if r.method == "discretised" and r.sharpness > 0.0]
+    # on one patch: a split contact runs each patch's iteration in sweeps, which the model does not count
+    structured = [r for r in rows if r.method == "discretised" and r.sharpness > 0.0 and r.patches == 1]
     if len(structured) > 3:
         n = np.array([r.options["elements"] for r in structured], dtype=float)
         iterations = np.array([api.STRUCTURED_ITERATIONS[0] + api.STRUCTURED_ITERATIONS[1] * r.sharpness
@@ -752,7 +794,7 @@ def fit_costs(rows: list[Row]) -> list[tuple[str, str, str]]:
         fitted = fit([np.ones(n.size), n**2, n**3], np.array([r.time for r in structured]) / iterations)
         out.append(("STRUCTURED_COST (a, b, c) per iteration", ", ".join(f"{c:.3g}" for c in api.STRUCTURED_COST),
                     ", ".join(f"{c:.3g}" for c in fitted)))
-    velocity = [r for r in rows if r.method == "polynomial" and "nodes" in r.options]
+    velocity = [r for r in rows if r.method == "polynomial" and "nodes" in r.options and r.patches == 1]
     if len(velocity) > 3:
         nodes = np.array([r.options["nodes"] for r in velocity], dtype=float)
         iterations = np.array([api.SLIP_ITERATIONS[0] + api.SLIP_ITERATIONS[1] * r.sharpness for r in velocity])
@@ -931,12 +973,18 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Pat
     for title, selector in (
             ("polynomial, corrugation (auto at 1e-3)",
              lambda r: r.family == "corrugation" and r.method == "polynomial" and 1e-3 in r.auto),
-            ("polynomial, velocity-dependent friction (auto at 1e-3)",
-             lambda r: r.family.startswith("velocity") and r.method == "polynomial" and 1e-3 in r.auto),
+            ("polynomial, velocity-dependent friction, one patch (auto at 1e-3)",
+             lambda r: r.family.startswith("velocity") and r.method == "polynomial" and 1e-3 in r.auto
+             and r.patches == 1),
+            ("polynomial, velocity-dependent friction, split contact (auto at 1e-3)",
+             lambda r: r.family.startswith("velocity") and r.method == "polynomial" and 1e-3 in r.auto
+             and r.patches > 1),
             ("discretised n = 200, Coulomb", lambda r: r.method == "discretised" and r.options == {"elements": 200}
              and r.family != "velocity-dependent friction"),
-            ("discretised n = 200, velocity-dependent", lambda r: r.method == "discretised"
-             and r.options == {"elements": 200} and r.family == "velocity-dependent friction"),
+            ("discretised n = 200, velocity-dependent, one patch", lambda r: r.method == "discretised"
+             and r.options == {"elements": 200} and r.family == "velocity-dependent friction" and r.patches == 1),
+            ("discretised n = 200, velocity-dependent, split contact", lambda r: r.method == "discretised"
+             and r.options == {"elements": 200} and r.family == "velocity-dependent friction" and r.patches > 1),
             ("quasi-static step", lambda r: r.method == "quasi-static"),
             ("relaxation step", lambda r: r.method == "relaxation"),
             ("transient step, n = 100", lambda r: r.method == "transient" and r.options == {"elements": 100})):
