@@ -237,3 +237,17 @@ def test_a_traction_above_the_bound_is_reported():
     assert tangential_failures(r.distributions, 0.3, XI_SAT) == []
     wrong = replace(r.distributions, stick_coefficients=tuple(-f for f in r.distributions.stick_coefficients))
     assert any("traction bound" in text for text in tangential_failures(wrong, 0.3, XI_SAT))
+
+
+def test_no_slip_iteration_on_a_single_patch_that_is_not_the_contact(monkeypatch):
+    """A corrugation so short that the contact has more patches than the method takes: the single patch's normal
+    solution fails its checks and so do the patches; the result says why at once, without the single patch's slip
+    iteration (which at the hundreds of nodes such a pressure needs took seconds, for a result that fails anyway)."""
+    from rollcontact import polynomial
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the slip iteration ran on a patch known not to be the contact")
+
+    monkeypatch.setattr(polynomial, "solve_velocity_dependent", refuse)
+    r = solve(corrugated(0.0004, 0.0), method="polynomial")
+    assert not r.success and "contact splits" in r.message and "patches found" in r.message, r.message

@@ -480,6 +480,8 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
                 return several
             messages.append(several.message)
             info["patches"] = several.info["patches"]
+        if messages:  # the normal solution is not the contact's: a slip iteration on it (seconds at large M) is moot
+            return failed(scene, "; ".join(messages), a, x0, iterations, info)
     if xi == 0.0:
         # full stick: dT'/dxi of the stick zone growing from the leading edge, as with Coulomb friction (the
         # slip velocities vanish, mu = mu_s; the ratio of the rates does not depend on mu)
