@@ -74,6 +74,19 @@ def test_normal_certificate_load_balance_and_complementarity():
     assert r.residual < 1e-9, f"residual {r.residual}"
 
 
+def test_load_balance_holds_on_a_steep_surface_far_above_the_deflections():
+    """A 32-element grid on a 0.32 mm / 5 mm corrugation under 1 N/m (an example of the FMU property tests): the
+    rigid gap's level at the contact is ~1e8 times the deflections; passed through M^-1 with the pressures it cost
+    7.7e-9 of the load to cancellation, and full slip exceeded mu N'.  The level now goes into the approach: h sum p
+    = N' and full slip gives mu N' to round-off."""
+    scene = rc.Scene(1.0, creep=1.0, radius=10.0**-2.25, axis_position=-1.0,
+                     material=rc.Material(10.0**10.75, 0.0), friction=rc.Coulomb(1.0),
+                     surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(10.0**-3.5, 0.005093675216780135),)))
+    r = solve_discretised(scene, elements=32)
+    assert r.info["normal_certificate"]["load_balance"] <= 1e-14, r.info["normal_certificate"]
+    assert abs(r.tangential_force_per_length - 1.0) <= 1e-14, r.tangential_force_per_length
+
+
 def test_tilted_surface_moves_patch_uphill_by_r_alpha():
     alpha = 2e-3
     r = solve_discretised(SCENE.replace(surface=rc.Surface(polynomial=(0.0, alpha))), elements=200)

@@ -275,9 +275,13 @@ def solve_normal(ops: Operators, gap0: np.ndarray, load: float, tolerance: float
             break
         seen.add(key)
         solve, z, idx = ops.m_factors.get(contact)
-        y = solve(-gap0[idx])
-        c = (load / h - y.sum()) / z.sum()
-        p_i = y + c * z
+        # the rigid gap's level over the set goes into the approach, not through M^-1: on a steep surface it is
+        # many orders above the deflections, and p = M^-1 (c - h0) would lose them to cancellation
+        level = gap0[idx].min()
+        y = solve(level - gap0[idx])
+        shift = (load / h - y.sum()) / z.sum()
+        c = level + shift
+        p_i = y + shift * z
         p = np.zeros(n)
         p[idx] = p_i
         negative = p_i < -tolerance * max(p_i.max(), 0.0)
