@@ -78,7 +78,10 @@ def model_parameters(draw):
           "polynomial_order": draw(st.sampled_from((0, 1, 40, 200))), "elements": ELEMENTS}
     if draw(one_in_ten):
         problem = draw(st.sampled_from(INVALID_PARAMETERS))
-        kw[problem] = draw(st.sampled_from((math.nan, math.inf, -1.0, 0.5 if problem == "poisson_ratio" else 0.0)))
+        # the bound itself where it is excluded: nu = 0.5, a zero modulus, radius, width, mu or wavelength (a zero
+        # amplitude is no corrugation, valid)
+        edge = {"poisson_ratio": (0.5,), "corrugation_amplitude": ()}.get(problem, (0.0,))
+        kw[problem] = draw(st.sampled_from((math.nan, math.inf, -1.0, *edge)))
         kw["method"] = draw(st.sampled_from((0, 2, 3)))
         return kw, problem
     # the exponential law with mu_k = mu_s (a ratio drawn at its bound 1.0) is constant friction: closed form
