@@ -336,7 +336,7 @@ def steady_reference(scene: rc.Scene, config: Config) -> Reference:
     poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=nodes)
     if not poly.success:
         return split_reference(scene, config.split_reference, poly.message)
-    how = (f"polynomial, tolerance 1e-12, {nodes} slip nodes (estimate {poly.residual:.1e})"
+    how = (f"polynomial, tolerance 1e-12, {nodes} slip nodes (estimate {poly.info['error_estimate']:.1e})"
            if not scene.friction.is_constant else "polynomial, tolerance 1e-12")
     if config.richardson is None:
         return Reference(poly, how)

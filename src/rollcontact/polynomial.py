@@ -465,7 +465,8 @@ def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, tolerance
 def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check, nodes,
                                  samples, tolerance, order):
     """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.velocity_friction`, or,
-    where the contact splits, on the patches of :func:`several_patches`."""
+    where the contact splits, on the patches of :func:`several_patches`; where those fail too, the failure (no
+    slip iteration on a patch that is not the contact)."""
     estar = scene.material.contact_modulus
     xi = scene.creep
     messages = []
