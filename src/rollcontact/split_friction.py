@@ -355,6 +355,8 @@ def solve_split_velocity(expansion, normal: SplitNormal, estar: float, friction,
     stiffness = math.nan
     if success:
         step = STIFFNESS_STEP * scale if xi < 2.0 * STIFFNESS_STEP * scale else -STIFFNESS_STEP * scale
+        # the start re-samples mu(V s) with the perturbed creep: the result's own nodal mu would meet the slip
+        # iteration's tolerance before any step in full slip (the stiffness off by 1e-3 there, measured)
         perturbed, _, its, _, perturbed_failure = coupled_iteration(normal, estar, friction, speed, xi + step,
                                                                     2 * coarse, scale, patches)
         iterations += its
