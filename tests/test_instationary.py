@@ -342,7 +342,7 @@ def test_extrapolating_transient_is_richardson_of_its_two_grids():
 
 def test_extrapolating_transient_converges_second_order():
     """lambda/a = 10: against the pair of 128/256 elements the pairs of 16/32 and 32/64 err by 2.6e-3 and 3.7e-4
-    mu N' (measured), about n^-2 and within the model's 16/n^2 (rollcontact.model.EXTRAPOLATED_ERROR_CONSTANT),
+    mu N' (measured), about n^-2 and within the model's C/n^2 (rollcontact.model.EXTRAPOLATED_ERROR_CONSTANT),
     where the plain transient of 64 elements errs by 7.4e-3."""
     from rollcontact.model import EXTRAPOLATED_ERROR_CONSTANT
 

@@ -100,8 +100,8 @@ where the swing passes zero creep, 0.2-0.5 % near saturation and none wholly in 
 
 LAG_ERROR_FLOOR = 1e-4
 """e_0 of :func:`lag_error_bound` [1 of mu N']: below it the lag's error is not resolved (the reference pair
-200/400 is good to 16/400^2 = 1e-4 mu N'); at lambda/a = 320 every swing that touched saturation measured
-7.5e-5."""
+200/400 erred by at most 6.2/400^2 = 3.9e-5 mu N' in ``benchmarks/bench_transient_pairs.py``, and its model allows
+30/400^2 = 1.9e-4); at lambda/a = 320 every swing that touched saturation measured 7.5e-5."""
 
 LAG_MEMORY = 8.0
 """Memory of :func:`creep_envelope` in relaxation lengths at T' = 0 (about 35 a for a railway wheel): shorter memories
