@@ -992,8 +992,8 @@ def transient_setting(tolerance: float) -> tuple[int, bool]:
 
     The fewest plain elements (:func:`transient_elements`) against the fewest of an extrapolating pair (even, from
     :data:`TRANSIENT_MIN_ELEMENTS` to :data:`EXTRAPOLATED_MAX_ELEMENTS`), by their cost per step ``n^2.5`` (the
-    pair's times :data:`EXTRAPOLATION_COST`); when neither meets the tolerance, the more accurate.  Below about 7e-2
-    the pair wins: 128 elements meet 1e-3 where a single grid would need 1300, beyond the 800 measured.
+    pair's times :data:`EXTRAPOLATION_COST`); when neither meets the tolerance, the more accurate.  Below about 2e-2
+    the pair wins: 174 elements meet 1e-3 where a single grid would need 1300, beyond the 800 measured.
     """
     plain = transient_elements(tolerance)
     needed = (EXTRAPOLATED_ERROR_CONSTANT / tolerance) ** (1.0 / EXTRAPOLATED_ERROR_ORDER)
