@@ -630,6 +630,8 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
     rows, choices, references = [], [], []
     limit = MU_I * LOAD_I
     fine = config.transient_reference
+    # auto's own pairs too: the cheapest setting whose bound meets t is then among the rows
+    pairs = sorted(set(config.transient_pairs) | {n for n, pair in map(transient_setting, TOLERANCES) if pair})
     for signal in config.signals:
         wavelength, mean, amplitude = signal
         case = f"lambda/a = {wavelength:g}" + ("" if (mean, amplitude) == (0.5, 0.3) else
@@ -646,8 +648,6 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
                            f"{np.abs(plain_forces - ref).max() / limit:.1e} mu N'"))
         settings = [("quasi-static", {}), ("relaxation", {})]
         settings += [("transient", {"elements": n}) for n in config.transient_elements]
-        # auto's own pairs too: the cheapest setting whose bound meets t is then among the rows
-        pairs = sorted(set(config.transient_pairs) | {n for n, pair in map(transient_setting, TOLERANCES) if pair})
         settings += [("transient pair", {"elements": n}) for n in pairs]
         for kind, options in settings:
             n = options.get("elements", 0)
