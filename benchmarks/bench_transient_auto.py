@@ -14,13 +14,13 @@ switches the transient in).
 
 Reference: first-order Richardson extrapolation of n = 400/800, ``T'_ref = 2 T'_800 - T'_400``.  The order is
 observed from three grids n, 2n, 4n as ``log2(max|T'_2n - T'_n| / max|T'_4n - T'_2n|)`` (:func:`observed_order`),
-printed for n = 200/400/800 with the substep length of each grid: 0.93-1.11 where the three take substeps of the
-same fraction of an element (lambda/a >= 10).  At lambda/a = 5 the n = 200 grid takes substeps of 0.88 h against
-0.98 h on the others, and its estimate (0.5, the clip) is meaningless; ``--order-check`` runs n = 400/800/1600
-there (all 0.98 h): order 1.01.  Error: ``max |T'_n - T'_ref|`` over the last cycle in units of mu N'; the
-n = 800 row is part of the extrapolation and left out of the fit.
+printed for n = 200/400/800 (measured 0.93-1.11 at lambda/a >= 10 in session 13, when each host step was split
+into equal substeps of up to one element; at lambda/a = 5 the n = 200 grid's substeps of 0.88 h against 0.98 h
+spoiled the estimate, ``--order-check`` with n = 400/800/1600 gave 1.01; the model now commits whole-element
+substeps, ``benchmarks/bench_substep_rule.py``).  Error: ``max |T'_n - T'_ref|`` over the last cycle in units of
+mu N'; the n = 800 row is part of the extrapolation and left out of the fit.
 
-Tables: (1) error, substeps and median time per host step for each lambda/a and n; (2) steady rolling on the grid
+Tables: (1) error, elements rolled and median time per host step for each lambda/a and n; (2) steady rolling on the grid
 against Carter, the force jump when the model switches the transient in or hands back; (3) the error model
 ``error(n) <= C / n^p``: p fitted by least squares to log(max over lambda/a of the error) for n <= 400, C the
 largest ``error n^p``, against the constants the model uses (:data:`rollcontact.model.TRANSIENT_ERROR_CONSTANT`,
@@ -54,7 +54,7 @@ from pareto import (  # noqa: E402
 )
 
 from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.instationary import InstationaryModel, aligned_grid_load, substep_count  # noqa: E402
+from rollcontact.instationary import InstationaryModel, aligned_grid_load  # noqa: E402
 from rollcontact.model import (  # noqa: E402
     GRID_LOAD_FACTOR,
     TRANSIENT_ERROR_CONSTANT,
@@ -80,30 +80,25 @@ def transient_stepper(elements: int):
 
     def step(xi, dt):
         if state[0] is None:
-            state[0] = model.steady_state(LOAD_I, xi, SPEED * dt)
+            state[0] = model.steady_state(LOAD_I, xi)
         state[0], result = model.step(state[0], LOAD_I, xi, SPEED, dt)
         return result.tangential_force_per_length
     return step
 
 
-def substeps(elements: int, wavelength: float) -> tuple[int, float]:
-    """Substeps per host step (at most one element each) and their length over the element width."""
-    distance = wavelength * A_I / STEPS_PER_CYCLE
-    h = grid_model(elements).solver.grid.element_width
-    count = substep_count(distance, h)
-    return count, distance / (count * h)
+def elements_per_step(elements: int, wavelength: float) -> float:
+    """Elements rolled per host step, ``V dt / h`` (the model commits whole-element substeps)."""
+    return wavelength * A_I / STEPS_PER_CYCLE / grid_model(elements).solver.grid.element_width
 
 
-def steady_jump(elements: int, wavelengths) -> float:
-    """max |T'_steady(n) - T'_Carter| / (mu N') over xi = (0.2, 0.5, 0.8) mu a/R and the substeps of the cases."""
+def steady_jump(elements: int) -> float:
+    """max |T'_steady(n) - T'_Carter| / (mu N') over xi = (0.2, 0.5, 0.8) mu a/R."""
     model = grid_model(elements)
     worst = 0.0
-    for wavelength in wavelengths:
-        distance = wavelength * A_I / STEPS_PER_CYCLE
-        for fraction in (0.2, 0.5, 0.8):
-            xi = fraction * SATURATION_I
-            steady = model.steady_state(LOAD_I, xi, distance).tangential_force_per_length
-            worst = max(worst, abs(steady - carter(LOAD_I, xi, R_I, ESTAR, MU_I)[0]) / LIMIT)
+    for fraction in (0.2, 0.5, 0.8):
+        xi = fraction * SATURATION_I
+        steady = model.steady_state(LOAD_I, xi).tangential_force_per_length
+        worst = max(worst, abs(steady - carter(LOAD_I, xi, R_I, ESTAR, MU_I)[0]) / LIMIT)
     return worst
 
 
@@ -131,29 +126,27 @@ def main(argv=None) -> None:
     fitted = [n for n in elements if n < fine]
 
     print("### (1) Discretised transient on the model's grid vs the Richardson reference\n")
-    print("| lambda/a | n | substeps per step (length / h) | error [mu N'] | time per step [ms] |")
+    print("| lambda/a | n | elements per step | error [mu N'] | time per step [ms] |")
     print("|---|---|---|---|---|")
     errors, references, orders = {}, {}, []
     for wavelength in wavelengths:
         runs = {n: run_instationary(transient_stepper(n), wavelength) for n in elements}
         order = observed_order({n: runs[n][0] for n in (fine // 4, fine // 2, fine)})
-        fractions = "/".join(f"{substeps(n, wavelength)[1]:.3f}" for n in (fine // 4, fine // 2, fine))
-        orders.append(f"lambda/a = {wavelength:g}: {order:.2f} (substeps of {fractions} h)")
+        orders.append(f"lambda/a = {wavelength:g}: {order:.2f}")
         ref = references[wavelength] = richardson(runs[fine // 2][0], runs[fine][0], 2.0)
         for n in elements:
             forces, seconds = runs[n]
             errors[wavelength, n] = float(np.abs(forces - ref).max() / LIMIT)
             note = " (in the extrapolation)" if n == fine else ""
-            count, fraction = substeps(n, wavelength)
-            print(f"| {wavelength:g} | {n} | {count} ({fraction:.3f}) | {errors[wavelength, n]:.2e}{note} | "
-                  f"{1e3 * seconds:.3g} |")
+            print(f"| {wavelength:g} | {n} | {elements_per_step(n, wavelength):.3f} | "
+                  f"{errors[wavelength, n]:.2e}{note} | {1e3 * seconds:.3g} |")
     print(f"\nObserved orders from n = {fine // 4}/{fine // 2}/{fine} (observed_order): " + "; ".join(orders))
 
     print("\n### (2) Steady rolling on the grid vs Carter (jump at switch-in and hand-back)\n")
     print("| n | max |T'_steady - T'_Carter| [mu N'] |")
     print("|---|---|")
     for n in elements:
-        print(f"| {n} | {steady_jump(n, wavelengths):.2e} |")
+        print(f"| {n} | {steady_jump(n):.2e} |")
 
     print("\n### (3) Error model error(n) <= C / n^p\n")
     worst = np.array([max(errors[w, n] for w in wavelengths) for n in fitted])

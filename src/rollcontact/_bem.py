@@ -173,11 +173,15 @@ class Operators:
         """``M`` at ``x_i - distance``: the old displacement field seen by the particles now at x_i."""
         shift = distance / self.h
         key = round(shift, 12)
-        if key not in self.shift_cache:
+        # least recently used out: a transient's whole-element shift is used every step, its provisional
+        # fractional shifts (InstationaryModel.advance) change with the phase of the roll
+        matrix = self.shift_cache.pop(key, None)
+        if matrix is None:
             if len(self.shift_cache) >= 8:
                 self.shift_cache.pop(next(iter(self.shift_cache)))
-            self.shift_cache[key] = self.M if shift == 0.0 else self.shifted(shift)
-        return self.shift_cache[key]
+            matrix = self.M if shift == 0.0 else self.shifted(shift)
+        self.shift_cache[key] = matrix
+        return matrix
 
 
 @functools.lru_cache(maxsize=8)

@@ -36,13 +36,15 @@ discretised creep control needs (grid length ~2.5 a, a << R).  With it the relax
 Models
 ------
 * :class:`InstationaryModel` with ``mode="transient"``: the discretised :class:`TransientSolver` in creep
-  control (the reference; ~0.4 ms per step of one element width with n = 100-200, longer steps are split into
-  substeps of at most one element), ``mode="relaxation"``: the lag (R1) around Carter (~50 us per step, mostly
-  bookkeeping).  :meth:`InstationaryModel.steady_state` gives steady rolling on the transient's grid as the exact
-  fixed point of a held step, to switch the transient in mid-run without a jump.  With ``extrapolate=True`` the
-  transient runs on two nested grids (n/2 and n elements, both aligned by :func:`aligned_grid_load`, the fine one
-  taking twice the coarse one's substeps) and reports ``2 T'_n - T'_(n/2)``: their first-order errors cancel and
-  the rest falls as n^-2 (``benchmarks/bench_transient_pairs.py``).  Measured against each other
+  control (the reference; ~0.4 ms per step of one element width with n = 100-200).  The grid commits substeps of
+  exactly one element; a host step that ends between element boundaries leaves the rest of its roll pending for
+  the next, and its output is a provisional substep of that roll (:meth:`InstationaryModel.advance`).
+  ``mode="relaxation"``: the lag (R1) around Carter (~50 us per step, mostly bookkeeping).
+  :meth:`InstationaryModel.steady_state` gives steady rolling on the transient's grid as the fixed point of the
+  whole-element substeps, to switch the transient in mid-run without a jump.  With ``extrapolate=True`` the
+  transient runs on two nested grids (n/2 and n elements, both aligned by :func:`aligned_grid_load`, each
+  committing its own elements) and reports ``2 T'_n - T'_(n/2)``: their first-order errors cancel and the rest
+  falls as n^-2 (``benchmarks/bench_transient_pairs.py``).  Measured against each other
   (``tests/test_instationary.py``, ``benchmarks/bench_instationary.py``): T' within 0.7 % of mu N' for
   lambda/a >= 5 with the default datum (2 % with L = 10 a), where quasi-static Carter is off by 12-78 %.
 * Force control, oscillating force ``T' = T0 + T1 sin(2 pi sigma / lambda)``:
@@ -60,11 +62,11 @@ from __future__ import annotations
 import io
 import math
 from dataclasses import dataclass, field, replace
+from typing import NamedTuple
 
 import numpy as np
 from scipy import optimize, special
 
-from rollcontact._bem import Control, FactorCache, solve_stick_slip
 from rollcontact.closed_form import CarterDistributions, carter, ellipse, hertz
 from rollcontact.discretised import Grid, TransientSolver, TransientState, patch_geometry
 from rollcontact.friction import Coulomb
@@ -363,20 +365,25 @@ class InstationaryState:
     mode : str
         ``"relaxation"`` or ``"transient"`` (a state is only valid for the mode that made it).
     tangential_force_per_length : float
-        T' [N/m] after the last step.
+        T' [N/m] after the last step; transient mode: of the committed traction below (the step's result reports
+        T' after the pending roll).
     distance : float
         Rolled distance sigma [m] since the initial state.
     steps : int
         Steps taken.
     traction, stick, slip : ndarray
         Transient mode: q_i [Pa], stick mask and slip s_i [1] on the model's grid (see
-        :class:`rollcontact.discretised.TransientState`); empty in relaxation mode.
+        :class:`rollcontact.discretised.TransientState`), committed at the last whole-element substep
+        (:meth:`InstationaryModel.advance`); empty in relaxation mode.
     history : InputHistory
         Last input samples (for :func:`stationarity`).
     coarse : TransientState or None
         Extrapolating transient mode: the state on the grid of half the elements (its ``steps`` unused).  The
         force above stays the finer grid's, which its traction history needs; the step's result reports the
         extrapolation.  None otherwise.
+    pending, coarse_pending : tuple of float
+        Transient mode: the roll the model's grid (the coarse grid's) has not committed yet, less than one
+        element: its distance [m] and its rigid slip, the integral of xi over it [m].
     """
 
     mode: str
@@ -388,6 +395,8 @@ class InstationaryState:
     slip: np.ndarray = field(default_factory=lambda: np.zeros(0))
     history: InputHistory = field(default_factory=InputHistory)
     coarse: TransientState | None = None
+    pending: tuple[float, float] = (0.0, 0.0)
+    coarse_pending: tuple[float, float] = (0.0, 0.0)
 
     def copy(self) -> InstationaryState:
         """Deep copy (arrays copied)."""
@@ -402,7 +411,9 @@ class InstationaryState:
         np.savez(buffer, mode=np.array(self.mode), force=np.float64(self.tangential_force_per_length),
                  distance=np.float64(self.distance), steps=np.int64(self.steps), traction=self.traction,
                  stick=self.stick, slip=self.slip, history_distance=self.history.distance,
-                 history_load=self.history.normal_load_per_length, history_creep=self.history.creep, **coarse)
+                 history_load=self.history.normal_load_per_length, history_creep=self.history.creep,
+                 pending=np.array(self.pending, dtype=float),
+                 coarse_pending=np.array(self.coarse_pending, dtype=float), **coarse)
         return buffer.getvalue()
 
     @classmethod
@@ -416,13 +427,21 @@ class InstationaryState:
                 return cls(str(f["mode"]), float(f["force"]), float(f["distance"]), int(f["steps"]),
                            f["traction"].astype(float), f["stick"].astype(bool), f["slip"].astype(float),
                            InputHistory(f["history_distance"].astype(float), f["history_load"].astype(float),
-                                        f["history_creep"].astype(float)), coarse)
+                                        f["history_creep"].astype(float)), coarse,
+                           *(pending_pair(f[name]) for name in ("pending", "coarse_pending")))
         except (OSError, KeyError, ValueError, TypeError) as exc:
             raise ValueError(f"not a serialised InstationaryState: {exc}") from None
 
     def transient(self) -> TransientState:
         """The discretised solver's view of this state."""
         return TransientState(self.traction, self.stick, self.slip, self.tangential_force_per_length, self.steps)
+
+
+def pending_pair(values: np.ndarray) -> tuple[float, float]:
+    """A serialised pending roll ``(distance [m], rigid slip [m])``; ValueError for any other shape."""
+    if values.shape != (2,):
+        raise ValueError(f"a pending roll has two values, got shape {values.shape}")
+    return float(values[0]), float(values[1])
 
 
 # -------------------------------------------------------------------------------------------------------- model
@@ -516,17 +535,14 @@ class InstationaryModel:
                                      coarse=coarse[0] if coarse else None)
         return InstationaryState(self.mode)
 
-    def steady_state(self, normal_load_per_length: float, creep: float, distance: float) -> InstationaryState:
-        """Transient mode: steady rolling on the grid, the state that a step rolling ``distance`` keeps unchanged.
+    def steady_state(self, normal_load_per_length: float, creep: float) -> InstationaryState:
+        """Transient mode: steady rolling on the grid, the state that holding the inputs keeps unchanged.
 
-        A step is split into substeps of length d (:func:`substep_count`); with q and T' unchanged,
-        :meth:`TransientSolver.step` gives the slip ``S = xi d - (M - M_d) q`` (the datum term drops out), i.e. the
-        steady slip ``s = xi - K_d q`` with ``K_d = (M - M_d) / d``.  :meth:`TransientSolver.steady_state` solves
-        it for ``K_h`` (d = one element h); for d != h its solution starts the same active set on ``K_d``.  So the
-        state is the fixed point of the step actually taken: holding the inputs changes T' only by the solver's
-        tolerance, where the K_h solution alone would relax by the O(h) difference of the two discretisations
-        (``tests/test_instationary.py::test_steady_state_is_a_fixed_point_of_the_held_step``).  ``distance`` = 0
-        (a static step) uses ``K_h``.
+        The model commits substeps of exactly one element h (:meth:`advance`); with q and T' unchanged,
+        :meth:`TransientSolver.step` gives the slip ``S = xi h - (M - M_h) q`` (the datum term drops out), i.e. the
+        steady slip ``s = xi - K_h q`` that :meth:`TransientSolver.steady_state` solves.  So a held step leaves the
+        committed state unchanged to the solver's tolerance; its output, a provisional substep of the pending roll,
+        ripples with the phase of that roll by O(h^2) (``tests/test_instationary.py``).
 
         Raises
         ------
@@ -537,43 +553,29 @@ class InstationaryModel:
             raise ValueError("steady_state needs the transient mode with its grid built (build_solver)")
         load = check_real("normal_load_per_length", normal_load_per_length, lower=0.0, lower_open=True, unit="N/m")
         xi = check_real("creep", creep, unit="1")
-        ds = check_real("distance", distance, lower=0.0, unit="m")
-        fine, *coarse = (self.steady_on(solver, load, xi, ds) for solver in self.solvers())
+        fine, *coarse = (self.steady_on(solver, load, xi) for solver in self.solvers())
         return InstationaryState("transient", fine.tangential_force_per_length, traction=fine.traction,
                                  stick=fine.stick, slip=fine.slip, coarse=coarse[0] if coarse else None)
 
-    def steady_on(self, solver: TransientSolver, load: float, xi: float, ds: float) -> TransientState:
+    def steady_on(self, solver: TransientSolver, load: float, xi: float) -> TransientState:
         """:meth:`steady_state` on one of the model's solvers."""
-        p = self.pressure(load, solver)
-        h = solver.grid.element_width
-        state, result = solver.steady_state(p, creep=xi)
-        converged, message = result.converged, result.message
-        substep = ds / self.substeps(solver, ds) if ds > 0.0 else h
-        if converged and substep != h:
-            ops = solver.ops
-            matrix = (ops.M - ops.convected(substep)) / substep
-            bound, contact = self.mu * p, p > 0.0
-            scale = ops.kappa * bound.max()
-            sign = np.where(state.traction != 0.0, np.sign(state.traction), math.copysign(1.0, xi))
-            sol = solve_stick_slip(matrix, FactorCache(matrix, symmetric=False), np.zeros(p.size), bound, contact,
-                                   Control(1.0, 0.0, xi), h, state.stick, sign, solver.tolerance * scale,
-                                   solver.max_iterations)
-            force, slip, _, converged, message = solver.certify(sol, bound, contact, scale, "creep", xi)
-            state = TransientState(sol.traction, sol.stick & contact, slip, force)
-        if not converged:
-            raise ValueError(f"steady rolling on the transient grid failed: {message}")
+        state, result = solver.steady_state(self.pressure(load, solver), creep=xi)
+        if not result.converged:
+            raise ValueError(f"steady rolling on the transient grid failed: {result.message}")
         return state
 
     def regrid(self, state: InstationaryState, grid_load: float) -> InstationaryState:
         """Transient mode: build the grid for ``grid_load`` (larger than the current one's) and carry ``state`` over
-        (:func:`remap`, each grid's traction when extrapolating)."""
+        (:func:`remap`, each grid's traction when extrapolating; the pending rolls, shorter than the old elements,
+        are shorter than the new ones too)."""
         old = [solver.grid for solver in self.solvers()]
         self.build_solver(grid_load)
         states = (state.transient(),) if state.coarse is None else (state.transient(), state.coarse)
         fine, *coarse = (remap(current, before, solver.grid) for current, before, solver in
                          zip(states, old, self.solvers(), strict=True))
         return InstationaryState("transient", state.tangential_force_per_length, state.distance, state.steps,
-                                 fine.traction, fine.stick, fine.slip, state.history, coarse[0] if coarse else None)
+                                 fine.traction, fine.stick, fine.slip, state.history, coarse[0] if coarse else None,
+                                 state.pending, state.coarse_pending)
 
     def pressure(self, load: float, solver: TransientSolver | None = None) -> np.ndarray:
         """Discretised normal pressure for N' on ``solver``'s grid (default the model's; cached: constant loads are
@@ -683,81 +685,133 @@ class InstationaryModel:
         # the step ends in steady rolling: marching would cost ds/h substeps for nothing
         steady = ds > STEADY_AFTER * relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
                                                        self.datum_length)
-        current, substeps, iterations, dissipation, converged, messages = self.advance(
-            solver, state.transient(), load, creep, ds, steady)
-        force = current.tangential_force_per_length
+        fine = self.advance(solver, state.transient(), state.pending, load, creep, ds, steady)
+        substeps, iterations, converged, messages = fine.substeps, fine.iterations, fine.converged, fine.messages
+        force = fine.output.tangential_force_per_length
         coarse = None
         if self.extrapolate:
-            coarse, _, more, _, coarse_converged, trouble = self.advance(self.coarse_solver, state.coarse, load,
-                                                                         creep, ds, steady)
-            iterations += more
-            converged &= coarse_converged
-            messages += trouble
+            coarse = self.advance(self.coarse_solver, state.coarse, state.coarse_pending, load, creep, ds, steady)
+            iterations += coarse.iterations
+            converged &= coarse.converged
+            messages += coarse.messages
             # first-order Richardson on nested grids (h halved), within the friction limit mu N'
             limit = self.mu * load
-            force = max(-limit, min(limit, 2.0 * force - coarse.tangential_force_per_length))
-            info |= {"fine_force": current.tangential_force_per_length,
-                     "coarse_force": coarse.tangential_force_per_length}
+            force = max(-limit, min(limit, 2.0 * force - coarse.output.tangential_force_per_length))
+            info |= {"fine_force": fine.output.tangential_force_per_length,
+                     "coarse_force": coarse.output.tangential_force_per_length}
         p = self.pressure(load)
         h = solver.grid.element_width
         a, offset, _ = patch_geometry(solver.grid, p > 0)
-        info |= {"substeps": substeps, "dissipation": dissipation, "grid": solver.grid}
-        new = InstationaryState("transient", current.tangential_force_per_length, distance, state.steps + 1,
-                                current.traction, current.stick, current.slip, history, coarse)
+        info |= {"substeps": substeps, "dissipation": fine.dissipation, "grid": solver.grid}
+        committed = fine.committed
+        new = InstationaryState("transient", committed.tangential_force_per_length, distance, state.steps + 1,
+                                committed.traction, committed.stick, committed.slip, history,
+                                None if coarse is None else coarse.committed, fine.pending,
+                                (0.0, 0.0) if coarse is None else coarse.pending)
         message = ("discretised transient, creep control" if ds > 0.0 else
                    "discretised transient, static step (force held)") if converged else "; ".join(messages)
         if self.extrapolate:
             message += f", extrapolated from n = {self.coarse_solver.grid.elements}/{solver.grid.elements}"
         if steady:
             message += " (rolled into steady rolling)"
-        slip = np.where(p > 0, current.slip, np.nan)
+        output = fine.output
+        slip = np.where(p > 0, output.slip, np.nan)
         return new, ContactResult(method="instationary_transient", success=converged, message=message,
                                   normal_load_per_length=load, tangential_force_per_length=force, creep=xi,
                                   contact_half_width=a, contact_offset=offset,
-                                  stick_half_width=0.5 * h * int((current.stick & (p > 0)).sum()),
+                                  stick_half_width=0.5 * h * int((output.stick & (p > 0)).sum()),
                                   max_pressure=float(p.max()), iterations=iterations,
-                                  distributions=TabulatedDistributions(solver.grid.centres, p, current.traction,
+                                  distributions=TabulatedDistributions(solver.grid.centres, p, output.traction,
                                                                        slip), info=info)
 
-    def advance(self, solver: TransientSolver, current: TransientState, load: float, creep: float, ds: float,
-                steady: bool) -> tuple[TransientState, int, int, float, bool, list[str]]:
-        """One step of ``solver`` rolling ``ds`` [m] from ``current``: in substeps of at most one element, or, when
-        ``steady``, straight to steady rolling.  Returns the state, substeps (0 when steady), active-set
-        iterations, dissipated energy per length, whether every substep converged and their messages if not."""
+    def advance(self, solver: TransientSolver, current: TransientState, pending: tuple[float, float], load: float,
+                creep: float, ds: float, steady: bool) -> Advance:
+        """One step of ``solver`` rolling ``ds`` [m] from the committed state ``current`` and its ``pending`` roll.
+
+        The grid commits substeps of exactly one element h: the convected traction then moves by whole elements,
+        and the pair's extrapolation cancels the first-order error cleanly.  Substeps of a fraction r of an element
+        (what splitting each host step into equal substeps gives) leave an O(h^2) bias that varies erratically with
+        r: on the same grids the pair's ``error n^2`` was 4.4-26 with equal substeps and is 2.5-5.3 with whole
+        elements (``benchmarks/bench_substep_rule.py``).  A host step that ends between element boundaries leaves
+        a pending roll, its distance and rigid slip (the creep integrated over it, each host step's creep held over
+        its part); the next steps complete it.  The step's output is a provisional substep of the pending roll from
+        the committed state, not kept: its error is one step's, which ripples with the roll's phase by O(h^2) and
+        does not accumulate.  ``ds`` = 0 (a static step) first commits the pending roll as one short substep, then
+        redistributes q at the held force.  ``steady``: straight to steady rolling, nothing pending.
+        """
         p = self.pressure(load, solver)
         h = solver.grid.element_width
         if steady:
-            current = self.steady_on(solver, load, creep, ds)
-            return current, 0, 0, ds * h * float(np.dot(current.traction, current.slip)), True, []
-        iterations, dissipation, converged, messages = 0, 0.0, True, []
-        substeps = self.substeps(solver, ds)
-        for _ in range(substeps):
-            if ds > 0.0:
-                current, res = solver.step(current, p, ds / substeps, creep=creep)
-            else:
-                held = current.tangential_force_per_length
-                if abs(held) >= FORCE_MARGIN * h * self.mu * p.sum():
-                    # saturated: full slip, which force control (it needs a stick element) cannot represent
-                    q = math.copysign(self.mu, held) * p
-                    current = TransientState(q, np.zeros(q.size, dtype=bool), np.zeros(q.size), h * q.sum(),
-                                             current.steps + 1)
-                    continue
-                current, res = solver.step(current, p, 0.0, tangential_force=held)
-            iterations += res.iterations
-            dissipation += res.dissipation
-            converged &= res.converged
-            if not res.converged:
-                messages.append(res.message)
-        return current, substeps, iterations, dissipation, converged, messages
+            current = self.steady_on(solver, load, creep)
+            return Advance(current, (0.0, 0.0), current, 0, 0, ds * h * float(np.dot(current.traction, current.slip)),
+                           True, [])
+        run = Run()
+        distance, rigid = pending
+        if ds > 0.0:
+            rest = ds
+            while distance + rest >= h * (1.0 - 1e-12):
+                take = min(rest, max(0.0, h - distance))
+                distance, rigid, rest = distance + take, rigid + creep * take, rest - take
+                # exactly h (the roll may fall short by round-off): one convected matrix for every commit
+                current = run.add(*solver.step(current, p, h, creep=rigid / distance))
+                distance = rigid = 0.0
+            distance, rigid = distance + rest, rigid + creep * rest
+            output = current
+            if distance > 1e-9 * h:
+                output, res = solver.step(current, p, distance, creep=rigid / distance)
+                run.add(output, res, committed=False)
+            return Advance(current, (distance, rigid), output, run.substeps, run.iterations, run.dissipation,
+                           run.converged, run.messages)
+        if distance > 0.0:
+            current = run.add(*solver.step(current, p, distance, creep=rigid / distance))
+        held = current.tangential_force_per_length
+        if abs(held) >= FORCE_MARGIN * h * self.mu * p.sum():
+            # saturated: full slip, which force control (it needs a stick element) cannot represent
+            q = math.copysign(self.mu, held) * p
+            current = TransientState(q, np.zeros(q.size, dtype=bool), np.zeros(q.size), h * q.sum(), current.steps + 1)
+        else:
+            current = run.add(*solver.step(current, p, 0.0, tangential_force=held))
+        return Advance(current, (0.0, 0.0), current, max(1, run.substeps), run.iterations, run.dissipation,
+                       run.converged, run.messages)
 
-    def substeps(self, solver: TransientSolver, ds: float) -> int:
-        """Substeps of ``solver`` in a step rolling ``ds`` [m]: :func:`substep_count`; when extrapolating, the fine
-        grid takes exactly twice the coarse grid's, so that the substep halves with the element and the first-order
-        error of both (space and time) scales by the same factor 2."""
-        if self.coarse_solver is None or ds == 0.0:
-            return substep_count(ds, solver.grid.element_width)
-        coarse = substep_count(ds, self.coarse_solver.grid.element_width)
-        return coarse if solver is self.coarse_solver else 2 * coarse
+
+class Advance(NamedTuple):
+    """What :meth:`InstationaryModel.advance` returns for one grid."""
+
+    committed: TransientState
+    """State after the last whole-element substep (what the next step starts from)."""
+    pending: tuple[float, float]
+    """The roll not yet committed: distance [m] (less than one element) and rigid slip, xi integrated over it [m]."""
+    output: TransientState
+    """State at the end of the host step: the committed one after a provisional substep of the pending roll."""
+    substeps: int
+    """Solves of the step, the provisional one included (0 when it rolled into steady rolling)."""
+    iterations: int
+    """Active-set iterations of those solves."""
+    dissipation: float
+    """Frictional work [J/m] of the committed substeps (a pending roll's with the substep that commits it)."""
+    converged: bool
+    """Every solve converged."""
+    messages: list[str]
+    """The messages of those that did not."""
+
+
+class Run:
+    """Tally of the solves of one :meth:`InstationaryModel.advance`."""
+
+    def __init__(self):
+        self.substeps, self.iterations, self.dissipation, self.converged, self.messages = 0, 0, 0.0, True, []
+
+    def add(self, state: TransientState, res, committed: bool = True) -> TransientState:
+        """Count one solve (its work only when ``committed``); returns its state."""
+        self.substeps += 1
+        self.iterations += res.iterations
+        if committed:
+            self.dissipation += res.dissipation
+        self.converged &= res.converged
+        if not res.converged:
+            self.messages.append(res.message)
+        return state
 
 
 def remap(state: TransientState, old: Grid, new: Grid) -> TransientState:
@@ -793,11 +847,6 @@ def aligned_grid_load(load: float, elements: int, factor: float, multiple: int =
     if not 0 < 2 * m < elements:
         return factor * load
     return load * (1.0 / (WINDOW_FACTOR * (1.0 - 2.0 * m / elements))) ** 2
-
-
-def substep_count(distance: float, element_width: float) -> int:
-    """Substeps of a transient step: the fewest of at most one element each (1 for a static step)."""
-    return max(1, math.ceil(distance / element_width * (1.0 - 1e-12))) if distance > 0.0 else 1
 
 
 # ---------------------------------------------------------------------------------------- force control

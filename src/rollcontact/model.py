@@ -135,15 +135,17 @@ sqrt(2) times; :func:`rollcontact.instationary.aligned_grid_load`)."""
 
 TRANSIENT_ERROR_ORDER = 1.0
 """p of the discretised transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
-(:func:`transient_error`; n elements on the model's grid): the order observed in
-``benchmarks/bench_transient_auto.py`` is 0.93-1.11 (least squares over n = 50..600: 0.98)."""
+(:func:`transient_error`; n elements on the model's grid): with whole-element substeps ``error n`` is 0.49-0.58
+for n = 50..500 on every signal of ``benchmarks/bench_transient_pairs.py`` (session 15); the order observed in
+``benchmarks/bench_transient_auto.py`` with the earlier equal substeps was 0.93-1.11."""
 
-TRANSIENT_ERROR_CONSTANT = 1.3
-"""C of that error model: 1.4 times the largest ``error n`` measured, 0.94 at lambda/a = 1 and n = 50 (the single
-grids of ``benchmarks/bench_transient_pairs.py``, against the pair 500/1000; ``benchmarks/bench_transient_auto.py``
-measured at most 0.565 over lambda/a = 5..40 for the creep oscillation ``(0.5 + 0.3 sin) mu a/R``, 64 host steps per
-cycle, n = 50..600).  Steady rolling on the grid is off Carter by 0.57/n (``bench_transient_auto.py``), so the
-switch-in and hand-back jumps stay within the model too."""
+TRANSIENT_ERROR_CONSTANT = 0.82
+"""C of that error model: 1.4 times the largest ``error n`` measured, 0.58 (lambda/a = 40, n = 50; the single grids
+of ``benchmarks/bench_transient_pairs.py`` against the pair 500/1000, lambda/a = 1..40 and creep reversals,
+n = 50..500).  With the equal substeps of sessions 12-14 it was 1.3 (0.94 at lambda/a = 1, n = 50, erratic);
+committing whole elements made the error regular: the quasi-steady bias, steady rolling on the grid being off
+Carter by 0.57/n (``benchmarks/bench_transient_auto.py``), which also bounds the switch-in and hand-back jumps.
+n = 600 and 800 were measured in session 13 only (``bench_transient_auto.py``, equal substeps, at most 0.565)."""
 
 TRANSIENT_MIN_ELEMENTS = 50
 """Fewest elements (of a single grid, or the finer of a pair) the models choose: the coarsest grid their error models
@@ -156,28 +158,26 @@ and already 30-320 ms per host step in that benchmark (lambda/a = 5..40; the cos
 EXTRAPOLATED_ERROR_ORDER = 2.0
 """p of the extrapolating transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
 (:func:`transient_model_error`; n the finer grid's elements): the first-order errors of the nested grids cancel
-and what remains falls as n^-2, erratically (``benchmarks/bench_transient_pairs.py``: ``error n^2`` between 1.0 and
-21.4 for n = 50..500, neighbouring n differing up to tenfold).  The erratic part follows the ratio ``r = d/h`` of
-the substep the host step imposes to the coarse element (:meth:`InstationaryModel.substeps`, ``r`` in (0.5, 1]): at
-lambda/a = 2 ``error n^2`` is 2.2 at n = 440 (r = 0.97) and 21.4 at n = 460 (r = 0.68); the pair's steady bias
-shows the same (``benchmarks/bench_pair_bias.py``)."""
+and what remains falls as n^-2 (``benchmarks/bench_transient_pairs.py``: ``error n^2`` between 1.1 and 4.7 for
+n = 50..500).  Each grid commits whole-element substeps (:meth:`InstationaryModel.advance`); with equal substeps
+of a fraction r of an element per host step (sessions 12-14) ``error n^2`` was erratic in r, 1.0 to 21.4
+(``benchmarks/bench_substep_rule.py``)."""
 
-EXTRAPOLATED_ERROR_CONSTANT = 30.0
-"""C of that model: 1.4 times the largest ``error n^2`` measured by ``benchmarks/bench_transient_pairs.py``, 21.4 at
-lambda/a = 2, n = 460 (15.5 at lambda/a = 1, n = 156; 10.8 at lambda/a = 5, n = 200, on the signal of
-:data:`TRANSIENT_ERROR_CONSTANT`), against the pair 500/1000, over lambda/a = 1..40 and a creep reversal ``0.9 sin``
-at lambda/a = 5 and 20 (at most 3.3 there), n = 50..500.  Until session 14 it was 16, calibrated on n = 50, 100, 200,
-400, which missed the peaks between them (16.6 at n = 300, 21.4 at 460 exceed it).  With it the finest pair measured
-reaches 30/500^2 = 1.2e-4 mu N': a tolerance of 1e-4 is out of the pair's certified reach."""
+EXTRAPOLATED_ERROR_CONSTANT = 6.6
+"""C of that model: 1.4 times the largest ``error n^2`` measured by ``benchmarks/bench_transient_pairs.py``, 4.69 at
+lambda/a = 1, n = 460 (4.05 at lambda/a = 40, n = 460; at most 2.2 for the creep reversals), against the pair
+500/1000, over lambda/a = 1..40, ``(0.5 + 0.3 sin) mu a/R`` and a creep reversal ``0.9 sin`` at lambda/a = 5 and
+20, n = 50..500 (14 values).  It was 30 with equal substeps (16 until session 14).  The pair 129/258 certifies
+1e-4 mu N'; the finest measured, 250/500, reaches 2.6e-5."""
 
 EXTRAPOLATED_MAX_ELEMENTS = 500
 """Most elements (of the finer grid) :func:`transient_setting` chooses for a pair: the finest pair measured against a
 finer reference (the pair 500/1000)."""
 
-EXTRAPOLATION_COST = 1.6
-"""Time per step of a pair over the single grid of n elements: median 1.6 over ``benchmarks/bench_transient_pairs.py``
-(1.25-1.9, one outlier): the coarse grid adds about 2^-2.5 of the cost (it grows as n^2.5), and the fine grid takes
-twice the coarse grid's substeps, up to one more than its own."""
+EXTRAPOLATION_COST = 1.4
+"""Time per step of a pair over the single grid of n elements: median 1.41 over ``benchmarks/bench_transient_pairs.py``
+(1.08-2.0 between the 10th and 90th percentiles, a loaded machine): the coarse grid adds about 2^-2.5 of the cost
+(it grows as n^2.5) and one provisional substep per host step."""
 
 TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
 FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
@@ -749,8 +749,7 @@ class ContactModel:
                 lag = None  # the model takes over from the other one's force (switch_in)
             grid_load, lag = self.prepare_grid(load, lag) if model.mode == "transient" else (0.0, lag)
             if lag is None:
-                lag = (self.switch_in(model, velocity * step_size, handover) if quasi is not None
-                       else model.initial_state())
+                lag = self.switch_in(model, handover) if quasi is not None else model.initial_state()
             lag, result = model.step(lag, load, creep, velocity, step_size)
         except (ValueError, ArithmeticError) as exc:
             raise ModelError(f"instationary {model.mode} model at X = {x!r} m (N = {normal_load!r} N, creep = "
@@ -804,13 +803,14 @@ class ContactModel:
             lag = model.regrid(lag, grid_load)
         return grid_load, lag
 
-    def switch_in(self, model: InstationaryModel, distance: float, handover: bool = False) -> InstationaryState:
+    def switch_in(self, model: InstationaryModel, handover: bool = False) -> InstationaryState:
         """State of ``model`` that continues the previous step (quasi-steady, or the other model's) without a jump.
 
         Relaxation: the lag starts at the previous step's force.  Discretised transient: steady rolling at the
-        previous step's load and creep on the grid (:meth:`InstationaryModel.steady_state`, the exact fixed point of
-        a step rolling ``distance`` = V h, so holding the inputs changes nothing); its force differs from the
-        quasi-steady one by the discretisation error, at most :func:`transient_model_error`.  When it takes over
+        previous step's load and creep on the grid (:meth:`InstationaryModel.steady_state`, the fixed point of the
+        whole-element substeps, so holding the inputs changes T' only by the O(h^2) ripple of the provisional
+        substep); its force differs from the quasi-steady one by the discretisation error, at most
+        :func:`transient_model_error`.  When it takes over
         from the lag (``handover``), the creep is the lag's equivalent steady creep (Carter's creep of its force):
         the traction history the lag does not carry starts as Carter's, an error the lag's bound covered at the
         step before.  No traction after an unloaded step.
@@ -825,7 +825,7 @@ class ContactModel:
         if handover:
             creep = carter_creep(self.state.outputs.tangential_force * self.per_width, load, self.radius,
                                  self.contact_modulus, self.mu)
-        return model.steady_state(load, creep, distance)
+        return model.steady_state(load, creep)
 
     def choose_model(self, running: InstationaryState | None, load: float, creep: float, distance: float,
                      half_width: float) -> tuple[tuple[float, float], InstationaryModel]:
@@ -992,8 +992,8 @@ def transient_setting(tolerance: float) -> tuple[int, bool]:
 
     The fewest plain elements (:func:`transient_elements`) against the fewest of an extrapolating pair (even, from
     :data:`TRANSIENT_MIN_ELEMENTS` to :data:`EXTRAPOLATED_MAX_ELEMENTS`), by their cost per step ``n^2.5`` (the
-    pair's times :data:`EXTRAPOLATION_COST`); when neither meets the tolerance, the more accurate.  Below about 2e-2
-    the pair wins: 174 elements meet 1e-3 where a single grid would need 1300, beyond the 800 measured.
+    pair's times :data:`EXTRAPOLATION_COST`); when neither meets the tolerance, the more accurate.  Below about 1.4e-2
+    the pair wins: 82 elements meet 1e-3 where a single grid would need 820, beyond the 800 measured.
     """
     plain = transient_elements(tolerance)
     needed = (EXTRAPOLATED_ERROR_CONSTANT / tolerance) ** (1.0 / EXTRAPOLATED_ERROR_ORDER)
