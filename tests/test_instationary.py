@@ -263,6 +263,36 @@ def test_steady_state_is_a_fixed_point_of_the_held_step(host_step):
         assert 1e-9 < max(ripple) < 1.0 / n**2, f"the output's ripple {ripple} is not O(h^2)"
 
 
+def test_host_steps_commit_whole_elements_and_carry_the_rest():
+    """Host steps of 0.6 element at two creeps: the model commits a substep of exactly h once a whole element has
+    rolled, with the rigid slip of both creeps over it (0.6 h at the first, 0.4 h at the second), keeps 0.2 h
+    pending, and reports a provisional substep of the pending roll; the same solver stepped by hand agrees."""
+    model = InstationaryModel(R, ESTAR, MU, mode="transient", max_normal_load_per_length=2 * LOAD, elements=60)
+    solver, h, speed = model.solver, model.solver.grid.element_width, 10.0
+    p = model.pressure(LOAD)
+    creeps = (0.3 * SATURATION, 0.7 * SATURATION)
+    state = model.steady_state(LOAD, creeps[0])
+    start = state.transient()
+    first, res_1 = model.step(state, LOAD, creeps[0], speed, 0.6 * h / speed)
+    assert first.pending == pytest.approx((0.6 * h, 0.6 * h * creeps[0]), rel=1e-12), "nothing committed yet"
+    assert np.array_equal(first.traction, start.traction), "the committed traction is kept"
+    provisional, _ = solver.step(start, p, 0.6 * h, creep=creeps[0])
+    assert res_1.tangential_force_per_length == provisional.tangential_force_per_length, "output: provisional"
+    second, res_2 = model.step(first, LOAD, creeps[1], speed, 0.6 * h / speed)
+    committed, _ = solver.step(start, p, h, creep=0.6 * creeps[0] + 0.4 * creeps[1])
+    assert np.allclose(second.traction, committed.traction, rtol=0, atol=1e-12 * MU * p.max()), \
+        "one whole element committed, at the creep averaged over it"
+    assert second.pending == pytest.approx((0.2 * h, 0.2 * h * creeps[1]), rel=1e-9), "0.2 h left pending"
+    provisional, _ = solver.step(committed, p, 0.2 * h, creep=creeps[1])
+    assert res_2.tangential_force_per_length == pytest.approx(provisional.tangential_force_per_length,
+                                                              abs=1e-12 * LIMIT), "output: provisional"
+    assert res_2.info["substeps"] == 2, "one commit and one provisional solve"
+    held, res_3 = model.step(second, LOAD, creeps[1], 0.0, 1e-3)
+    assert held.pending == (0.0, 0.0), "a static step commits the pending roll first"
+    assert res_3.tangential_force_per_length == pytest.approx(provisional.tangential_force_per_length,
+                                                              abs=1e-9 * LIMIT), "and holds its force"
+
+
 def test_transient_grid_aligned_to_the_load_and_friction_coefficient():
     """The aligned grid puts the Hertz patch edges on element boundaries; the transient uses the model's mu."""
     for elements in (40, 100, 333):
@@ -327,14 +357,14 @@ def extrapolating_run(elements, extrapolate, wavelength=10.0, steps=32, cycles=2
 
 def test_extrapolating_transient_is_richardson_of_its_two_grids():
     """Each grid of the pair is a plain transient: the coarse one steps like a model of n/2 elements on the same
-    window; with a step of whole coarse elements (so that the fine grid's substeps, twice the coarse ones, are
-    also its own) the fine one like a model of n elements; T' is 2 T'_n - T'_(n/2), within mu N'."""
+    window, the fine one like a model of n elements (each commits its own whole elements); T' is
+    2 T'_n - T'_(n/2), within mu N'."""
     n, grid_load = 40, aligned_grid_load(LOAD, 40, 2.0, 2)
     pair, fine, coarse = (InstationaryModel(R, ESTAR, MU, mode="transient", elements=k, extrapolate=e,
                                             max_normal_load_per_length=grid_load)
                           for k, e in ((n, True), (n, False), (n // 2, False)))
     assert pair.coarse_solver.grid.x_max == coarse.solver.grid.x_max == fine.solver.grid.x_max
-    ds = 3 * coarse.solver.grid.element_width
+    ds = 2.3 * coarse.solver.grid.element_width  # a roll pending on both grids
     states = [model.initial_state() for model in (pair, fine, coarse)]
     for k in range(24):
         xi = SATURATION * (0.4 + 0.7 * math.sin(0.5 * k))  # into full slip and back

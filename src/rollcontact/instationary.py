@@ -475,7 +475,7 @@ class InstationaryModel:
         Richardson extrapolation ``2 T'_n - T'_(n/2)``, clipped to ``|T'| <= mu N'``.  The error of T' is first
         order and regular on nested grids whose patch edges fall on element boundaries (``aligned_grid_load``
         with ``multiple`` = 2), so the extrapolation is far more accurate than either grid (second order,
-        ``benchmarks/bench_transient_pairs.py``) for about 1.6 times (1.25-1.9) the cost of the finer one alone.
+        ``benchmarks/bench_transient_pairs.py``) for about 1.4 times (1.1-2.0) the cost of the finer one alone.
         Distributions, a* and p0 are the finer grid's.
 
     Notes
