@@ -748,7 +748,7 @@ def instationary_parameters(draw):
     """``ContactParameters`` keywords of instationary rolling (flat surface, Coulomb friction, which the instationary
     models need) over the domain of :func:`extremes.model_parameters`: ``transient`` 1 or 2, ``method`` 0 or 3,
     ``tolerance`` 0 (the defaults), 1e-2 or 2e-3 (with ``transient`` 1 and ``method`` 0: the relaxation lag while its
-    swing bound meets the tolerance, else the extrapolating pair 25/50 resp. 45/90), ``elements`` 0 or
+    swing bound meets the tolerance, else the extrapolating pair 25/50 resp. 29/58), ``elements`` 0 or
     :data:`extremes.ELEMENTS` (one grid)."""
     return {"youngs_modulus": draw(log_uniform(1e6, 1e12)), "poisson_ratio": draw(st.floats(0.0, 0.49)),
             "radius": draw(log_uniform(1e-3, 1e2)), "contact_width": draw(log_uniform(1e-3, 1.0)),
