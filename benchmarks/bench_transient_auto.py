@@ -14,11 +14,10 @@ switches the transient in).
 
 Reference: first-order Richardson extrapolation of n = 400/800, ``T'_ref = 2 T'_800 - T'_400``.  The order is
 observed from three grids n, 2n, 4n as ``log2(max|T'_2n - T'_n| / max|T'_4n - T'_2n|)`` (:func:`observed_order`),
-printed for n = 200/400/800 (measured 0.93-1.11 at lambda/a >= 10 in session 13, when each host step was split
-into equal substeps of up to one element; at lambda/a = 5 the n = 200 grid's substeps of 0.88 h against 0.98 h
-spoiled the estimate, ``--order-check`` with n = 400/800/1600 gave 1.01; the model now commits whole-element
-substeps, ``benchmarks/bench_substep_rule.py``).  Error: ``max |T'_n - T'_ref|`` over the last cycle in units of
-mu N'; the n = 800 row is part of the extrapolation and left out of the fit.
+printed for n = 200/400/800: 0.97-0.98 with the whole-element substeps of session 15
+(``benchmarks/results/transient_auto.md``; 0.93-1.11 in session 13 with equal substeps per host step, which at
+lambda/a = 5 spoiled the estimate).  Error: ``max |T'_n - T'_ref|`` over the last cycle in units of mu N'; the
+n = 800 row is part of the extrapolation and left out of the fit.
 
 Tables: (1) error, elements rolled and median time per host step for each lambda/a and n; (2) steady rolling on the grid
 against Carter, the force jump when the model switches the transient in or hands back; (3) the error model
@@ -170,8 +169,9 @@ def main(argv=None) -> None:
         for tolerance in TOLERANCES:
             model = ContactModel(ContactParameters(radius=R_I, contact_width=CONTACT_WIDTH,
                                                    friction_coefficient=MU_I, transient=1, tolerance=tolerance))
-            choice = model.instationary.mode + (f" n = {model.instationary.elements}"
-                                                if model.instationary.mode == "transient" else "")
+            n = model.instationary.elements
+            choice = ("relaxation" if model.instationary.mode != "transient" else
+                      f"transient pair n = {n // 2}/{n}" if model.instationary.extrapolate else f"transient n = {n}")
             stepper = instationary_stepper("auto", tolerance=tolerance)
             forces, seconds = run_instationary(stepper, wavelength)
             last = stepper.used[-STEPS_PER_CYCLE:]

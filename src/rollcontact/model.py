@@ -136,8 +136,8 @@ sqrt(2) times; :func:`rollcontact.instationary.aligned_grid_load`)."""
 TRANSIENT_ERROR_ORDER = 1.0
 """p of the discretised transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
 (:func:`transient_error`; n elements on the model's grid): with whole-element substeps ``error n`` is 0.49-0.58
-for n = 50..500 on every signal of ``benchmarks/bench_transient_pairs.py`` (session 15); the order observed in
-``benchmarks/bench_transient_auto.py`` with the earlier equal substeps was 0.93-1.11."""
+for n = 50..500 on every signal of ``benchmarks/bench_transient_pairs.py``, and the order observed in
+``benchmarks/bench_transient_auto.py`` is 0.97-0.98 (least squares over n = 50..600: 1.00)."""
 
 TRANSIENT_ERROR_CONSTANT = 0.82
 """C of that error model: 1.4 times the largest ``error n`` measured, 0.58 (lambda/a = 40, n = 50; the single grids
@@ -145,7 +145,7 @@ of ``benchmarks/bench_transient_pairs.py`` against the pair 500/1000, lambda/a =
 n = 50..500).  With the equal substeps of sessions 12-14 it was 1.3 (0.94 at lambda/a = 1, n = 50, erratic);
 committing whole elements made the error regular: the quasi-steady bias, steady rolling on the grid being off
 Carter by 0.57/n (``benchmarks/bench_transient_auto.py``), which also bounds the switch-in and hand-back jumps.
-n = 600 and 800 were measured in session 13 only (``bench_transient_auto.py``, equal substeps, at most 0.565)."""
+``bench_transient_auto.py`` measured at most 0.58 up to n = 600 against a Richardson 400/800 (lambda/a = 5..40)."""
 
 TRANSIENT_MIN_ELEMENTS = 50
 """Fewest elements (of a single grid, or the finer of a pair) the models choose: the coarsest grid their error models
