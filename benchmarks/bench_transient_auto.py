@@ -1,6 +1,6 @@
 """Discretised transient behind ``transient`` = 1 (auto) at tight tolerances: error vs elements, time per step.
 
-Run as ``.venv/bin/python benchmarks/bench_transient_auto.py [--quick | --order-check]`` (full: about 25
+Run as ``.venv/bin/python benchmarks/bench_transient_auto.py [--quick | --order-check]`` (full: about 3
 minutes; ``--quick``: lambda/a = 10 only, reference from n = 200/400).  Prints markdown tables; asserts nothing.
 One BLAS thread.
 

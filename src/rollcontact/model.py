@@ -153,7 +153,7 @@ were measured on."""
 
 TRANSIENT_MAX_ELEMENTS = 800
 """Most elements :func:`transient_elements` chooses: the finest grid measured (its error model is not extrapolated)
-and already 30-320 ms per host step in that benchmark (lambda/a = 5..40; the cost grows about as n^2.5)."""
+and already 30-210 ms per host step in that benchmark (lambda/a = 5..40; the cost grows about as n^2.5)."""
 
 EXTRAPOLATED_ERROR_ORDER = 2.0
 """p of the extrapolating transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
