@@ -9,6 +9,7 @@ the paper's route vs the discretised transient at the discretisation level of st
 ``tests/test_discretised.py::test_datum_relation_for_force_controlled_transient`` (not duplicated here).
 """
 
+import io
 import math
 
 import numpy as np
@@ -456,6 +457,12 @@ def test_restore_step_restore_step_is_identical(kind):
     assert copy is not state and copy.to_bytes() == blob, "copy is equal and independent"
     with pytest.raises(ValueError, match="not a serialised InstationaryState"):
         InstationaryState.from_bytes(b"garbage")
+    with np.load(io.BytesIO(blob)) as f:
+        fields = dict(f) | {"pending": np.zeros(3)}
+    buffer = io.BytesIO()
+    np.savez(buffer, **fields)
+    with pytest.raises(ValueError, match="a pending roll has two values"):
+        InstationaryState.from_bytes(buffer.getvalue())
 
 
 @pytest.mark.parametrize("kind", list(MODEL_KINDS))
