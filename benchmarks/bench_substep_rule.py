@@ -1,6 +1,6 @@
 """How the discretised transient splits a host step: whole-element substeps against equal substeps (the pair's error).
 
-Run as ``.venv/bin/python benchmarks/bench_substep_rule.py [--signals 0,1,2]`` (about 25 minutes for all three
+Run as ``.venv/bin/python benchmarks/bench_substep_rule.py [--signals 0,1,2]`` (about 4 minutes for all three
 signals, one BLAS thread; ``--signals`` picks some of :data:`SIGNALS`).  Prints a markdown table; asserts nothing.
 
 Question.  Until session 15 the model split each host step rolling ``ds`` into ``k = ceil(ds/h)`` equal substeps
