@@ -42,6 +42,12 @@ __all__ = ["METHODS", "AccuracyModel", "MethodSpec", "Setting", "choose_method",
 ROUND_OFF = 1e-14
 """Relative error reported for results exact up to floating-point round-off."""
 
+UNRESOLVED = 1.0
+"""A result whose error estimate (relative, T' and p0) is at least this says nothing reliable, not even the size of
+T' or p0: ``solve`` with ``"auto"`` treats it as a failure and falls back like one (a corrugation of k a = 293 on
+order 170 once reported success with an estimate of 49 and |q| above mu p by 1.4 % of mu p0;
+``tests/test_api.py``)."""
+
 
 class Setting(NamedTuple):
     """One way to run a method on a scene, with what it is predicted to achieve and to cost.
@@ -320,8 +326,11 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
     else:
         tolerance = check_tolerance(tolerance)
         spec, result = run_to_tolerance(cheapest_setting(scene, tolerance), scene, options, tolerance)
-    if result.success:
+    estimate = result.info.get("error_estimate", math.nan)
+    if result.success and not estimate >= UNRESOLVED:  # NaN: no estimate, the method's success stands
         return result
+    reason = result.message if not result.success else (
+        f"its error estimate {estimate:.3g} is at least {UNRESOLVED:g}: the scene is beyond what it resolves")
     name = spec.name
     backups = [s for s in METHODS.values()
                if s.fallback and s.cost > spec.cost and (tolerance is not None or s.inapplicable(scene) is None)]
@@ -336,9 +345,9 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
         except ValueError:  # no fallback method can treat the scene either
             return result
         backup_spec, backup = run_to_tolerance(setting, scene, options, tolerance)
-    info = dict(backup.info, fallback_from=name, fallback_reason=result.message)
+    info = dict(backup.info, fallback_from=name, fallback_reason=reason)
     return type(backup)(**{**backup.__dict__, "info": info,
-                           "message": f"{backup.message} (fallback: {name} failed: {result.message})"})
+                           "message": f"{backup.message} (fallback: {name} failed: {reason})"})
 
 
 def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec,
