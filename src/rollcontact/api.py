@@ -326,11 +326,9 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
     else:
         tolerance = check_tolerance(tolerance)
         spec, result = run_to_tolerance(cheapest_setting(scene, tolerance), scene, options, tolerance)
-    estimate = result.info.get("error_estimate", math.nan)
-    if result.success and not estimate >= UNRESOLVED:  # NaN: no estimate, the method's success stands
+    reason = result.message if not result.success else unresolved(result)
+    if reason is None:
         return result
-    reason = result.message if not result.success else (
-        f"its error estimate {estimate:.3g} is at least {UNRESOLVED:g}: the scene is beyond what it resolves")
     name = spec.name
     backups = [s for s in METHODS.values()
                if s.fallback and s.cost > spec.cost and (tolerance is not None or s.inapplicable(scene) is None)]
@@ -348,6 +346,15 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
     info = dict(backup.info, fallback_from=name, fallback_reason=reason)
     return type(backup)(**{**backup.__dict__, "info": info,
                            "message": f"{backup.message} (fallback: {name} failed: {reason})"})
+
+
+def unresolved(result: ContactResult) -> str | None:
+    """Why a successful ``result`` still says nothing reliable (its error estimate is at least
+    :data:`UNRESOLVED`), or None (also without an estimate: then the method's success stands)."""
+    estimate = result.info.get("error_estimate", math.nan)
+    if not estimate >= UNRESOLVED:
+        return None
+    return f"its error estimate {estimate:.3g} is at least {UNRESOLVED:g}: the scene is beyond what it resolves"
 
 
 def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec,

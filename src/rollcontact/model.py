@@ -72,7 +72,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from rollcontact.api import METHODS, UNRESOLVED, run_to_tolerance, setting_for, solve
+from rollcontact.api import METHODS, run_to_tolerance, setting_for, solve, unresolved
 from rollcontact.closed_form import carter, hertz
 from rollcontact.friction import Coulomb, ExponentialFalling
 from rollcontact.instationary import (
@@ -909,9 +909,9 @@ class ContactModel:
             if not result.success:
                 reasons.append(f"{name} failed: {result.message}")
                 continue
-            estimate = result.info.get("error_estimate", math.nan)  # with a tolerance, as solve() does
-            if estimate >= UNRESOLVED:
-                reasons.append(f"{name}: its error estimate {estimate:.3g} is at least {UNRESOLVED:g}")
+            why = unresolved(result)  # an estimate exists only with a tolerance
+            if why is not None:
+                reasons.append(f"{name}: {why}")
                 continue
             stiffness = float(result.creep_stiffness_per_length)
             if not math.isfinite(stiffness):
