@@ -101,6 +101,11 @@ class AccuracyModel:
         """Error estimate [1] of a result obtained with these options; by default the prediction."""
         return self.error(scene, options)
 
+    def free_estimate(self, result: ContactResult) -> float:
+        """A lower bound [1] of :meth:`achieved` that costs nothing beyond the solve (the FMU's model checks it
+        every step without a tolerance, :func:`unresolved`); NaN (the default): none is known."""
+        return math.nan
+
     def escalation(self, scene: Scene, options: dict, estimate: float, tolerance: float) -> dict | None:
         """Options to run next when a result obtained with ``options`` has the a-posteriori error ``estimate``
         above ``tolerance`` (an adaptive method); None (the default): nothing finer to try."""
@@ -348,10 +353,12 @@ def solve(scene: Scene, method: str = "auto", **options) -> ContactResult:
                            "message": f"{backup.message} (fallback: {name} failed: {reason})"})
 
 
-def unresolved(result: ContactResult) -> str | None:
-    """Why a successful ``result`` still says nothing reliable (its error estimate is at least
-    :data:`UNRESOLVED`), or None (also without an estimate: then the method's success stands)."""
-    estimate = result.info.get("error_estimate", math.nan)
+def unresolved(result: ContactResult, estimate: float | None = None) -> str | None:
+    """Why a successful ``result`` still says nothing reliable (its error ``estimate``, by default
+    ``info["error_estimate"]``, is at least :data:`UNRESOLVED`), or None (also without an estimate: then the
+    method's success stands)."""
+    if estimate is None:
+        estimate = result.info.get("error_estimate", math.nan)
     if not estimate >= UNRESOLVED:
         return None
     return f"its error estimate {estimate:.3g} is at least {UNRESOLVED:g}: the scene is beyond what it resolves"
@@ -528,6 +535,11 @@ class PolynomialAccuracy(AccuracyModel):
             return math.nan
         slip = slip_estimate(result)
         return math.nan if math.isnan(slip) else max(result.residual, ROUND_OFF, slip)
+
+    def free_estimate(self, result):
+        """The truncation residual (the slip iteration's estimate, the rest of :meth:`achieved`, costs a Newton
+        step)."""
+        return result.residual if math.isfinite(result.residual) else math.nan
 
     def setting_for(self, name, scene, tolerance):
         """For velocity-dependent friction the cheapest count, the start of the adaptive path (:meth:`escalation`

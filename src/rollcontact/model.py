@@ -901,7 +901,8 @@ class ContactModel:
                 if tolerance > 0.0:  # as solve(scene, tolerance=...), within this method
                     _, result = run_to_tolerance(setting_for(name, scene, tolerance), scene, options, tolerance)
                     options = result.info["setting"]
-                else:  # the method itself: no error estimate to annotate (the polynomial one costs a Newton step)
+                else:  # the method itself: of its error estimate only what costs nothing (the polynomial slip
+                    # iteration's costs a Newton step per FMU step)
                     result = spec.function(scene, **options)
             except (ValueError, ArithmeticError) as exc:
                 reasons.append(f"{name} raised {type(exc).__name__}: {exc}")
@@ -909,7 +910,8 @@ class ContactModel:
             if not result.success:
                 reasons.append(f"{name} failed: {result.message}")
                 continue
-            why = unresolved(result)  # an estimate exists only with a tolerance
+            why = (unresolved(result) if tolerance > 0.0 else
+                   unresolved(result, math.nan if spec.accuracy is None else spec.accuracy.free_estimate(result)))
             if why is not None:
                 reasons.append(f"{name}: {why}")
                 continue
