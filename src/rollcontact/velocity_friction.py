@@ -212,6 +212,7 @@ class StickMaps:
     eta: float
     psi: np.ndarray  # arccos of the stick nodes t_k = eta (1 + sigma_k) - 1
     cosines: np.ndarray  # (M+1, M): T_n(t_k) = cos(n psi_k)
+    sines: np.ndarray  # (M+1, M): sin(n psi_k)
     slipping: np.ndarray  # bool (M,): patch nodes behind the stick zone
     sigma: np.ndarray  # their stick-zone coordinate (1 + t_j)/eta - 1 (> 1 where slipping)
     root: np.ndarray  # sqrt(sigma^2 - 1) where slipping, 1 inside the zone
@@ -219,28 +220,34 @@ class StickMaps:
 
 
 def stick_maps(ops: SlipOperators, eta: float) -> StickMaps:
-    """Stick-zone nodes ``t_k = eta (1 + sigma_k) - 1`` with ``T_n(t_k)``, and the outer powers ``w_j^n`` behind it.
+    """Stick-zone nodes ``t_k = eta (1 + sigma_k) - 1`` with ``T_n(t_k)`` and ``sin(n psi_k)``, and the outer
+    powers ``w_j^n`` behind it.
 
     ``F = (2/E*) dct @ cosines @ e`` re-expands ``H1`` on the zone; behind it ``sigma_j = (1 + t_j)/eta - 1 > 1``
     and ``w_j = 1/(sigma_j + sqrt(sigma_j^2 - 1))`` (the cancellation-free form of ``sigma - sqrt(sigma^2 - 1)``);
     inside it the powers are zero.  ``root`` is 1 inside (``sqrt(sigma^2 - 1)`` behind), so that the divisions here
-    and in the eta-derivative stay finite without branches.
+    and in the eta-derivative stay finite without branches.  ``cos(n psi) + i sin(n psi) = (e^(i psi))^n`` by
+    cumulative products: one complex exponential per node instead of 2M cosines and sines, 2-3 times faster at
+    M = 16-64, rounding ~M eps.
     """
     psi = np.arccos(eta * ops.sigma_plus_one - 1.0)
+    rotations = np.empty((psi.size, ops.n.size), dtype=complex)
+    rotations[:] = np.exp(1j * psi)[:, None]
+    np.cumprod(rotations, axis=1, out=rotations)
     sig = ops.t_plus_one / eta - 1.0
     slipping = sig > 1.0
     root = np.sqrt(np.maximum(sig * sig - 1.0, 0.0)) + ~slipping
     w = slipping / (sig + root)  # inside: 0/(sigma + 1) with sigma > -1
-    return StickMaps(eta, psi, np.cos(psi[:, None] * ops.n), slipping, sig, root, w[:, None] ** ops.n)
+    return StickMaps(eta, psi, rotations.real, rotations.imag, slipping, sig, root, w[:, None] ** ops.n)
 
 
-def gradient_deta(ops: SlipOperators, psi: np.ndarray, e: np.ndarray) -> np.ndarray:
+def gradient_deta(ops: SlipOperators, maps: StickMaps, e: np.ndarray) -> np.ndarray:
     """``d/deta sum_n e_n T_n(t_k)`` at the stick nodes ``t_k = cos(psi_k) = eta (1 + sigma_k) - 1``.
 
     ``dT_n/dt = n sin(n psi)/sin(psi)`` and ``dt_k/deta = 1 + sigma_k``; ``sin(psi_k) > 0`` since every node is
     interior.
     """
-    return (ops.sigma_plus_one / np.sin(psi)) * (np.sin(psi[:, None] * ops.n) @ (ops.n * e))
+    return (ops.sigma_plus_one / maps.sines[:, 0]) * (maps.sines @ (ops.n * e))
 
 
 @dataclass
@@ -338,7 +345,7 @@ class SlipEquations:
         mp, f = st.maps, st.f
         # F = (2/E*) re @ q, and its eta-derivative applied to q
         re = ops.dct @ (mp.cosines @ ops.dst)
-        df = ops.dct @ gradient_deta(ops, mp.psi, st.h)
+        df = ops.dct @ gradient_deta(ops, mp, st.h)
         # zero rows of the powers inside the zone make the (finite) factor irrelevant there
         factor = (mp.sigma + 1.0) / (mp.eta * mp.root)
         ds_deta = -((mp.powers @ (ops.n * f[1:])) * factor + mp.powers @ df[1:])
@@ -401,7 +408,7 @@ class SlipEquations:
                 lo = st.eta
             else:
                 hi = st.eta
-            slope = float(ops.dct[0] @ gradient_deta(ops, st.maps.psi, st.h)) / self.xi_scale
+            slope = float(ops.dct[0] @ gradient_deta(ops, st.maps, st.h)) / self.xi_scale
             eta = st.eta - st.r_h / slope if slope > 0.0 else 0.5 * (lo + hi)
             if not lo < eta < hi:
                 eta = 0.5 * (lo + hi)
