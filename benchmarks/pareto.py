@@ -824,7 +824,9 @@ def rank_agreement(rows: list[Row]) -> tuple[float, float, int]:
 
 
 # ------------------------------------------------------------------------------------------------- reporting
-def machine() -> list[str]:
+def machine(load: float) -> list[str]:
+    """The machine's description; ``load``: the 1-minute load average read before the study started (read at the
+    end it would count the study's own process)."""
     cpu = platform.processor() or platform.machine()
     try:
         with open("/proc/cpuinfo") as fh:
@@ -832,9 +834,8 @@ def machine() -> list[str]:
     except (OSError, StopIteration):
         pass
     blas = np.show_config(mode="dicts")["Build Dependencies"]["blas"]
-    load = os.getloadavg() if hasattr(os, "getloadavg") else ("?",) * 3
     return [f"- CPU: {cpu}, {os.cpu_count()} logical cores (shared with other jobs; load average at start "
-            f"{load[0]:.2f})",
+            f"{load:.2f})",
             f"- Python {platform.python_version()} ({platform.python_implementation()}), numpy {np.__version__}, "
             f"scipy {scipy.__version__}, {blas.get('name', '?')} {blas.get('version', '')}",
             f"- BLAS threads: OPENBLAS_NUM_THREADS = {os.environ.get('OPENBLAS_NUM_THREADS')}, "
@@ -947,12 +948,12 @@ def auto_summary(choices: list[AutoChoice]) -> list[str]:
     return lines
 
 
-def report(config, rows, choices, references, inst_refs, fmu, elapsed, path: Path) -> None:
+def report(config, rows, choices, references, inst_refs, fmu, elapsed, load, path: Path) -> None:
     lines = ["# Speed-accuracy Pareto study" + (" (quick smoke test)" if config.quick else ""), "",
              f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by "
              f"`.venv/bin/python benchmarks/pareto.py{' --quick' if config.quick else ''}` in {elapsed:.0f} s "
              "(figure: `pareto.png`).  Method and definitions: the docstring of `benchmarks/pareto.py`.", "",
-             "## Machine", "", *machine(), "",
+             "## Machine", "", *machine(load), "",
              "Timings on this shared machine are noisy (other jobs run alongside): ratios measured in the same run "
              "are meaningful, absolute times only roughly.", ""]
     # headline ratios
@@ -1094,6 +1095,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--no-fmu", action="store_true", help="skip the FMU step timing")
     args = parser.parse_args(argv)
     config = QUICK if args.quick else FULL
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else math.nan
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="pareto_fmu_") as tmp:
         bench = None
@@ -1120,7 +1122,8 @@ def main(argv: list[str] | None = None) -> None:
             fmu = fmu_study(config, bench)
     RESULTS.mkdir(parents=True, exist_ok=True)
     plot(rows, choices, RESULTS / "pareto.png")
-    report(config, rows, choices, references, inst_refs, fmu, time.perf_counter() - start, RESULTS / "pareto.md")
+    report(config, rows, choices, references, inst_refs, fmu, time.perf_counter() - start, load,
+           RESULTS / "pareto.md")
     print(f"wrote {RESULTS / 'pareto.md'} and {RESULTS / 'pareto.png'} in {time.perf_counter() - start:.0f} s")
 
 
