@@ -210,7 +210,7 @@ class StickMaps:
     """The a*-dependent quantities at one stick half-width ``a* = eta a`` (see :func:`stick_maps`)."""
 
     eta: float
-    psi: np.ndarray  # arccos of the stick nodes t_k = eta (1 + sigma_k) - 1
+    # at the stick nodes t_k = eta (1 + sigma_k) - 1 = cos(psi_k):
     cosines: np.ndarray  # (M+1, M): T_n(t_k) = cos(n psi_k)
     sines: np.ndarray  # (M+1, M): sin(n psi_k)
     slipping: np.ndarray  # bool (M,): patch nodes behind the stick zone
@@ -238,7 +238,7 @@ def stick_maps(ops: SlipOperators, eta: float) -> StickMaps:
     slipping = sig > 1.0
     root = np.sqrt(np.maximum(sig * sig - 1.0, 0.0)) + ~slipping
     w = slipping / (sig + root)  # inside: 0/(sigma + 1) with sigma > -1
-    return StickMaps(eta, psi, rotations.real, rotations.imag, slipping, sig, root, w[:, None] ** ops.n)
+    return StickMaps(eta, rotations.real, rotations.imag, slipping, sig, root, w[:, None] ** ops.n)
 
 
 def gradient_deta(ops: SlipOperators, maps: StickMaps, e: np.ndarray) -> np.ndarray:
@@ -654,7 +654,7 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
         failures.append("slip opposes the traction in the slip zone (a second stick zone)")
     if h > 0.0:
         q2 = -0.5 * estar * (ops.stick_sines @ f_coef[1:])
-        ps = np.sin(st.maps.psi[:, None] * np.arange(1, c.size)) @ c[1:]
+        ps = st.maps.sines[:, : c.size - 1] @ c[1:]  # p at the stick nodes (M >= 2 (c.size - 1) columns)
         pmax = float(np.max(p))
         if float(np.maximum(q2, -2.0 * mu_s * ps - q2).max()) > 1e-6 * mu_s * pmax:
             failures.append("traction bound |q| <= mu_s p violated in the stick zone")
