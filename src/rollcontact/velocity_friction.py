@@ -102,6 +102,12 @@ class SlipOperators:
         (M, M): ``cosines @ dst``, so ``H1 = (2/E*) gradient @ Q``.
     alternating : ndarray
         (M,): ``(-1)^n``, so ``H1(-1) = (2/E*) alternating @ e``.
+    stacked : ndarray
+        (2M + 1, M): ``dst``, ``alternating @ dst`` and ``gradient`` stacked, so that one product gives ``e``,
+        ``(E*/2) H1(-1)`` and ``(E*/2) H1`` at the nodes (the slip iteration's evaluations are bound by the number
+        of numpy calls at these sizes, not by arithmetic).
+    sines : ndarray
+        (M, M): ``sin(n theta_j)``, n = 1..M, so that p at the nodes is ``sines[:, :N] @ c_1..c_N`` (N <= M).
     sigma, sigma_plus_one : ndarray
         Stick-zone nodes ``cos(phi_k)``, ``phi_k = pi (k + 1/2)/(M + 1)``, and ``1 + sigma``.
     dct : ndarray
@@ -117,6 +123,8 @@ class SlipOperators:
     cosines: np.ndarray
     gradient: np.ndarray
     alternating: np.ndarray
+    stacked: np.ndarray
+    sines: np.ndarray
     sigma: np.ndarray
     sigma_plus_one: np.ndarray
     dct: np.ndarray
@@ -136,8 +144,12 @@ def slip_operators(m: int) -> SlipOperators:
     dct = (2.0 / k) * np.cos(np.multiply.outer(np.arange(k), phi))
     dct[0] *= 0.5
     sigma = np.cos(phi)
-    return SlipOperators(*read_only(1.0 + np.cos(theta), theta, n, dst, cosines, cosines @ dst, (-1.0) ** n, sigma,
-                                    1.0 + sigma, dct, np.sin(np.multiply.outer(phi, n))))
+    alternating = (-1.0) ** n
+    gradient = cosines @ dst
+    stacked = np.vstack((dst, alternating @ dst, gradient))
+    return SlipOperators(*read_only(1.0 + np.cos(theta), theta, n, dst, cosines, gradient, alternating, stacked,
+                                    np.sin(np.multiply.outer(theta, n)), sigma, 1.0 + sigma, dct,
+                                    np.sin(np.multiply.outer(phi, n))))
 
 
 @dataclass(frozen=True)
@@ -287,6 +299,9 @@ class SlipEquations:
         # as creep, the others add to H1's
         self.creep = xi if external is None else xi + float(external[0])
         self.external = None if external is None else external[1:]
+        # the external slope's -H1(-1) and H1 at the nodes, added to the patch's own in evaluate()
+        self.external_end = 0.0 if external is None else float(ops.alternating @ self.external)
+        self.external_nodes = None if external is None else ops.cosines @ self.external
         self.mu_s = float(friction.static_coefficient)
         # creep scale of the creep equation: |xi|, but at least 1e-5 of the Carter saturation creep, since F_0 sums
         # M terms of that size and cannot be resolved below ~M eps xi_sat (Newton would never meet the tolerance)
@@ -294,20 +309,22 @@ class SlipEquations:
 
     def evaluate(self, mu: np.ndarray, eta: float) -> SlipState:
         """Residuals at ``(mu, eta)``; the branch follows ``xi < -H1(-1)`` (partial slip) or not (full slip)."""
-        ops, xi = self.ops, self.creep
+        ops, xi, m = self.ops, self.creep, self.ops.n.size
         q = mu * self.p
-        e = ops.dst @ q
+        y = ops.stacked @ q
+        e = y[:m]
         k2e = self.k2 * e
+        h1 = self.k2 * y[m + 1 :]
         if self.external is not None:
             k2e += self.external
-        xi_full = -float(ops.alternating @ k2e)  # creep of a vanishing stick zone, -H1(-1)
+            h1 += self.external_nodes
+        xi_full = -self.k2 * float(y[m]) - self.external_end  # creep of a vanishing stick zone, -H1(-1)
         if xi >= xi_full:
             eta = 0.0
         elif eta == 0.0:
             # Carter: xi(a*) = xi_full (1 - a*/a); a patch whose creep the other patches' fields reverse (split
             # contacts) starts sticking throughout
             eta = 1.0 - xi / xi_full if 0.0 < xi else 1.0
-        h1 = ops.cosines @ k2e
         if eta > 0.0:
             maps = stick_maps(ops, eta)
             f = ops.dct @ (maps.cosines @ k2e)
@@ -478,6 +495,8 @@ class EstimateOperators:
         ``theta_i = pi (i + 1/2)/K`` and ``1 + cos(theta_i)``.
     cosines : ndarray
         (K, M): ``T_n(t_i) = cos(n theta_i)``, n = 1..M (H1 of the M-node solution at the fine nodes).
+    sines : ndarray
+        (K, M): ``sin(n theta_i)``, n = 1..M (p at the fine nodes from its at most M/2 coefficients).
     masks, scales : ndarray
         (S, K) per grid of K' nodes: its nodes among the fine ones, and the factors turning scipy's DST-II of the
         masked values (twice the sum) into the sine coefficients ``e_1..e_K'`` (``1/K'``, half at n = K', 0 beyond).
@@ -491,6 +510,7 @@ class EstimateOperators:
     theta: np.ndarray
     t_plus_one: np.ndarray
     cosines: np.ndarray
+    sines: np.ndarray
     masks: np.ndarray
     scales: np.ndarray
     stick_cos: np.ndarray
@@ -513,8 +533,9 @@ def estimate_operators(m: int, refinements: tuple[int, ...]) -> EstimateOperator
     stick = k // 2 + 1
     stick_cos = np.cos(np.pi * (np.arange(stick) + 0.5) / stick)
     weights = np.column_stack((np.full(stick, 1.0 / stick), (2.0 / stick) * stick_cos))
-    cosines = np.cos(np.multiply.outer(theta, np.arange(1.0, m + 1.0)))
-    return EstimateOperators(*read_only(theta, 1.0 + np.cos(theta), cosines, masks, scales, stick_cos, weights))
+    angles = np.multiply.outer(theta, np.arange(1.0, m + 1.0))
+    return EstimateOperators(*read_only(theta, 1.0 + np.cos(theta), np.cos(angles), np.sin(angles), masks, scales,
+                                        stick_cos, weights))
 
 
 def cosine_sine_sums(a: np.ndarray, b: np.ndarray, psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -558,11 +579,13 @@ def force_error_estimate(eq: SlipEquations, st: SlipState, pressure_coefficients
     ops = estimate_operators(eq.ops.n.size, ESTIMATE_REFINEMENTS)
     k = ops.theta.size
     c = pressure_coefficients
-    p = np.sin(np.multiply.outer(ops.theta, np.arange(1, c.size))) @ c[1:]
+    p = ops.sines[:, : c.size - 1] @ c[1:]
     s = ops.cosines @ (eq.k2 * st.e) + eq.xi  # the converged slip at the fine nodes
     if st.maps is not None:
-        sigma = ops.t_plus_one / st.eta - 1.0
-        s = np.where(sigma > 1.0, s - outer_powers(st.f, sigma), 0.0)
+        # the nodes behind the stick zone, sigma > 1, are the first ones (t decreases); pow(0, n) is slow
+        behind = int(np.searchsorted(-ops.t_plus_one, -2.0 * st.eta))
+        s[:behind] -= outer_powers(st.f, ops.t_plus_one[:behind] / st.eta - 1.0)
+        s[behind:] = 0.0
     q = eq.friction.coefficient(np.maximum(eq.speed * s, 0.0)) * np.maximum(p, 0.0)
     e = fft.dst(ops.masks * q, type=2) * ops.scales  # (S, K): e_1..e_K' of each grid
     coarse = float(st.e[0])
@@ -627,7 +650,7 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     xi = abs(creep)
     c = pressure_coefficients
     ops = slip_operators(patch_nodes(nodes, c))
-    p = np.clip(np.sin(ops.theta[:, None] * np.arange(1, c.size)) @ c[1:], 0.0, None)
+    p = np.maximum(ops.sines[:, : c.size - 1] @ c[1:], 0.0)
     mu_s = float(friction.static_coefficient)
     eq = SlipEquations(ops, p, estar, friction, rolling_speed, xi)
     # Carter state: mu = mu_s everywhere (evaluate() sets a* = a (1 - xi/xi_sat))
@@ -650,12 +673,12 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     dist = VelocityFrictionDistributions(a, offset, pressure_coefficients, e, h, offset - a + h, f_coef, estar, creep,
                                          (lambda: force_error_estimate(eq, st, c)) if converged else nan_estimate)
     failures = []
-    if np.any(st.s < -tolerance * max(xi, 1e-300) * 10):
+    if float(st.s.min()) < -tolerance * max(xi, 1e-300) * 10:
         failures.append("slip opposes the traction in the slip zone (a second stick zone)")
     if h > 0.0:
         q2 = -0.5 * estar * (ops.stick_sines @ f_coef[1:])
         ps = st.maps.sines[:, : c.size - 1] @ c[1:]  # p at the stick nodes (M >= 2 (c.size - 1) columns)
-        pmax = float(np.max(p))
+        pmax = float(p.max())
         if float(np.maximum(q2, -2.0 * mu_s * ps - q2).max()) > 1e-6 * mu_s * pmax:
             failures.append("traction bound |q| <= mu_s p violated in the stick zone")
     if failures:
