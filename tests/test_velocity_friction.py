@@ -361,6 +361,25 @@ def test_auto_starts_at_the_floor_where_the_estimate_meets_the_tolerance():
     assert r.info["error_estimate"] == r.distributions.force_error
 
 
+def test_auto_certifies_by_the_bound_where_it_meets_the_tolerance(monkeypatch):
+    """Where the a-priori bound SLIP_NODE_ERROR beta/N^2 of the nodes that ran meets t, auto reports it and skips
+    the a-posteriori estimate (a Newton step's cost); where it does not, the estimate decides (as above)."""
+    s = ESTIMATE_CASES["exponential B = 3 s/m, flat"]
+    reference = rc.solve(s, method="polynomial", nodes=256)
+    calls = []
+    real = velocity_friction.force_error_estimate
+    monkeypatch.setattr(velocity_friction, "force_error_estimate", lambda *a: calls.append(1) or real(*a))
+    r = rc.solve(s, tolerance=1e-3)
+    bound = rc.api.SLIP_NODE_ERROR * rc.api.friction_sharpness(s) / r.distributions.nodes**2
+    assert r.info["tolerance_met"] and not calls, f"the bound {bound:.3g} meets 1e-3: no estimate ({r.info})"
+    assert r.info["error_estimate"] == pytest.approx(bound, rel=1e-12), (r.info["error_estimate"], bound)
+    error = abs(r.tangential_force_per_length / reference.tangential_force_per_length - 1.0)
+    assert error <= r.distributions.force_error <= bound <= 1e-3, (error, r.distributions.force_error, bound)
+    tight = rc.solve(s, tolerance=0.5 * bound)
+    assert tight.distributions.nodes == r.distributions.nodes and tight.info["tolerance_met"], tight.info
+    assert tight.info["error_estimate"] == tight.distributions.force_error, "below the bound the estimate decides"
+
+
 def test_a_slip_iteration_without_traction_has_no_estimate_rather_than_an_error():
     """Regression (bench_multipatch table C): on a 4 mm / 40 um corrugation the single-patch normal problem lands
     on a spurious patch with p <= 0 at every slip node, so q1 = 0 and the estimate's ratio T'_K / T'_M was 0/0,
