@@ -570,3 +570,18 @@ def test_auto_retries_a_failed_slip_iteration_on_a_finer_grid():
     assert model.retry(scene, {"elements": 100, "extrapolate": 8}, result) is None, "pairs: not retried"
     assert model.retry(THREE_PATCHES, {"elements": 100}, result) is None, "Coulomb: the direct solve has no structure"
     assert model.retry(scene, {"elements": 100}, result) == {"elements": 200}
+
+
+@pytest.mark.parametrize("surface", [Surface(), Surface(polynomial=(1e-5, 2e-3))], ids=["flat", "tilted"])
+@pytest.mark.parametrize("load", [0.0, 3e5, 1e6])
+def test_the_pressure_of_a_flat_surface_for_the_slip_floor_is_hertz(surface, load):
+    """normal_pressure (the slip-node floor's input, asked at every FMU step with a tolerance) takes Hertz's
+    coefficients on a flat surface instead of a normal solve: the same as the polynomial method's."""
+    scene = Scene(load, radius=0.3, surface=surface)
+    fast = rollcontact.api.normal_pressure(load, scene.radius, scene.material, surface, scene.axis_position)
+    solved = solve(scene, method="polynomial").info.get("pressure_coefficients")
+    if load == 0.0:
+        assert fast is None and solved is None, (fast, solved)
+    else:
+        np.testing.assert_allclose(fast, solved, rtol=1e-12, atol=1e-12 * float(np.abs(solved).max()),
+                                   err_msg="Hertz's p0 sin(theta) against the polynomial normal solve")

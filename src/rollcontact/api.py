@@ -513,7 +513,8 @@ class PolynomialAccuracy(AccuracyModel):
     def ladder(self, scene):
         if scene.friction.is_constant:
             return tuple({"tolerance": t} for t in POLYNOMIAL_TOLERANCES)
-        return tuple({"nodes": n} for n in sorted({slip_nodes(scene, n) for n in SLIP_NODES}))
+        floor = slip_floor(scene)  # slip_nodes per rung, without hashing the scene for each
+        return tuple({"nodes": n} for n in sorted({max(n, floor) for n in SLIP_NODES}))
 
     def cost(self, scene, options):
         base = POLYNOMIAL_COST + POLYNOMIAL_HARMONIC_COST * len(scene.surface.harmonics)
@@ -644,10 +645,15 @@ def slip_floor(scene) -> int:
 def normal_pressure(load, radius, material, surface, axis_position) -> np.ndarray | None:
     """Sine coefficients of p from the polynomial method's normal problem at its default tolerance, or None.
 
-    Cached on the geometry alone (creep, friction and speed do not enter): every rung of a ladder asks for it.
+    Cached on the geometry alone (creep, friction and speed do not enter): every rung of a ladder asks for it.  A
+    flat surface has Hertz's ``p = p0 sin(theta)`` (eq 9): no normal solve, which the FMU's model would otherwise
+    repeat at every step whose load changed.
     """
+    from rollcontact.closed_form import hertz
     from rollcontact.polynomial import solve_polynomial
 
+    if surface.is_flat:
+        return None if load == 0.0 else np.array([0.0, hertz(load, radius, material.contact_modulus)[1]])
     normal = solve_polynomial(Scene(load, radius=radius, material=material, surface=surface,
                                     axis_position=axis_position), check=False)
     return normal.info.get("pressure_coefficients")
@@ -925,10 +931,14 @@ def friction_sharpness(scene: Scene) -> float:
                                                                / scene.radius))
 
 
+SHARPNESS_SAMPLES = np.linspace(0.0, 1.0, 9)
+"""Where :func:`sharpness` samples dmu/dv, in units of v_max."""
+
+
 @lru_cache(maxsize=64)
 def sharpness(friction, v_max: float) -> float:
     # cached: every setting of a ladder asks for the same scene's value
-    slopes = np.abs(friction.derivative(np.linspace(0.0, v_max, 9)))
+    slopes = np.abs(friction.derivative(v_max * SHARPNESS_SAMPLES))
     return float(np.max(slopes)) * v_max / friction.static_coefficient
 
 
