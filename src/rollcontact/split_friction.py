@@ -59,6 +59,7 @@ from rollcontact.velocity_friction import (
     SlipEquations,
     gradient_q1,
     newton,
+    nodal_pressure,
     outer_powers,
     patch_nodes,
     slip_operators,
@@ -180,7 +181,7 @@ def coupled_iteration(normal: SplitNormal, estar: float, friction, speed: float,
     patches = []
     for k, ((c, h), g) in enumerate(zip(intervals, normal.g, strict=True)):
         coefficients = 0.5 * estar * g
-        nodal = np.clip(np.sin(ops.theta[:, None] * np.arange(1, coefficients.size)) @ coefficients[1:], 0.0, None)
+        nodal = nodal_pressure(ops, coefficients)
         fields = {j: field_coefficients((c, h), other, nodes, size) for j, other in enumerate(intervals) if j != k}
         patches.append(PatchSlip(c, h, coefficients, nodal, fields, np.zeros(size)))
     corrections = [np.zeros(nodes + 1) for _ in patches]

@@ -203,6 +203,12 @@ class VelocityFrictionDistributions(Distributions):
         return np.where(np.abs(t) <= 1.0, math.copysign(1.0, self.creep) * s, np.nan)
 
 
+def nodal_pressure(ops: SlipOperators, c: np.ndarray) -> np.ndarray:
+    """``p = max(sum_n c_n sin(n theta_j), 0)`` at the patch nodes (``c.size - 1 <= M``, as :func:`patch_nodes`
+    ensures)."""
+    return np.maximum(ops.sines[:, : c.size - 1] @ c[1:], 0.0)
+
+
 def gradient_q1(e: np.ndarray, t, estar: float):
     """``H1 = (2/E*) sum e_n T_n(t)`` for |t| <= 1."""
     t = np.clip(np.asarray(t, dtype=float), -1.0, 1.0)
@@ -650,7 +656,7 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     xi = abs(creep)
     c = pressure_coefficients
     ops = slip_operators(patch_nodes(nodes, c))
-    p = np.maximum(ops.sines[:, : c.size - 1] @ c[1:], 0.0)
+    p = nodal_pressure(ops, c)
     mu_s = float(friction.static_coefficient)
     eq = SlipEquations(ops, p, estar, friction, rolling_speed, xi)
     # Carter state: mu = mu_s everywhere (evaluate() sets a* = a (1 - xi/xi_sat))
