@@ -1,14 +1,14 @@
 """PythonFMU slave of the RollingContact2D FMU (FMI 2.0 co-simulation): maps FMU variables to rollcontact.
 
-No physics here: the parameters become a :class:`rollcontact.model.ContactParameters`, each ``do_step`` is one
-:meth:`rollcontact.model.ContactModel.step`, and the output variables read the step's
-:class:`rollcontact.model.StepOutputs` by position.  The variables are declared in the single table
+No physics here: the parameters become a :class:`rollcontact.stepping.ContactParameters`, each ``do_step`` is one
+:meth:`rollcontact.stepping.ContactModel.step`, and the output variables read the step's
+:class:`rollcontact.stepping.StepOutputs` by position.  The variables are declared in the single table
 :data:`VARIABLES` (value references follow its order: append, never reorder; outputs in StepOutputs' order).
 
 * Bad inputs or parameters, and scenes no allowed method solves, are logged (status Discard) and answered with
   ``do_step`` returning False (fmi2Discard); no exception reaches pythonfmu (it would become fmi2Fatal).
 * The FMU state (``canGetAndSetFMUstate``, ``canSerializeFMUstate``) holds every variable plus the model's
-  :class:`rollcontact.model.ModelState` as a JSON-compatible dict, so pythonfmu's JSON byte converters serialise it.
+  :class:`rollcontact.stepping.ModelState` as a JSON-compatible dict, so pythonfmu's JSON byte converters serialise it.
 * The ``rollcontact`` package is bundled in ``resources/``; a host process that imported ``rollcontact`` before
   loading the FMU uses its own copy instead (Python caches modules per process).
 """
@@ -22,7 +22,7 @@ from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu_xml import TableSlave
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
-from rollcontact.model import STATIONARY, ContactModel, ContactParameters, ModelState
+from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, ModelState
 
 INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
 CONTINUOUS, DISCRETE, FIXED = Fmi2Variability.continuous, Fmi2Variability.discrete, Fmi2Variability.fixed

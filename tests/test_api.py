@@ -9,6 +9,12 @@ import pytest
 
 import rollcontact
 from rollcontact import METHODS, ContactResult, ExponentialFalling, Harmonic, Scene, Surface, choose_method, solve
+from rollcontact.dispatch import choose_setting, run_to_tolerance, setting_for
+from rollcontact.method import ROUND_OFF, UNRESOLVED, AccuracyModel, MethodSpec, Setting
+from rollcontact.methods.closed_form import solve_closed_form
+from rollcontact.methods.discretised.accuracy import EXTRAPOLATION_PLACEMENTS
+from rollcontact.methods.discretised.steady import DISCRETISED_ELEMENTS, extrapolated
+from rollcontact.methods.polynomial.accuracy import normal_pressure
 
 HERTZIAN = Scene(1e6, creep=4e-4)
 TILTED = Scene(1e6, creep=-4e-4, surface=Surface(polynomial=(0.0, 2e-3)))
@@ -43,7 +49,7 @@ def test_unknown_method_lists_valid_ones():
 
 def test_registry_holds_the_steady_methods():
     assert {"closed_form", "polynomial"} <= set(METHODS), f"registry: {sorted(METHODS)}"
-    assert METHODS["closed_form"].cost < METHODS["polynomial"].cost, "closed_form must be the cheaper method"
+    assert METHODS["closed_form"].rank < METHODS["polynomial"].rank, "closed_form must rank before polynomial"
 
 
 @pytest.mark.parametrize("scene, expected", [
@@ -163,7 +169,7 @@ def test_auto_falls_back_where_the_error_estimate_says_nothing():
     discretised solver and says why; asked for explicitly, the polynomial method still answers, its estimate
     attached; the two forces agree (the polynomial's T' was right, its distributions were not)."""
     explicit = solve(UNRESOLVED_CORRUGATION, method="polynomial")
-    assert explicit.success and explicit.info["error_estimate"] >= rollcontact.api.UNRESOLVED, explicit.info
+    assert explicit.success and explicit.info["error_estimate"] >= UNRESOLVED, explicit.info
     for options in ({}, {"tolerance": 1e-3}):
         result = solve(UNRESOLVED_CORRUGATION, **options)
         assert result.method == "discretised" and result.success, f"{options}: {result.message}"
@@ -213,11 +219,11 @@ def reference(scene):
     velocity-dependent friction; several patches for the split contact), itself checked against the extrapolated
     discretised solver in test_cross_methods.py and test_multipatch.py; where the polynomial method fails, the
     discretised solver extrapolated from n = 1000/2000, each level the mean over 8 grid placements
-    (:func:`rollcontact.discretised.extrapolated`)."""
+    (:func:`extrapolated`)."""
     if scene.surface.is_flat and scene.friction.is_constant:
         return solve(scene, method="closed_form")
     poly = solve(scene, method="polynomial", tolerance=1e-12, nodes=512)
-    return poly if poly.success else rollcontact.discretised.extrapolated(scene, (1000, 2000), placements=8)
+    return poly if poly.success else extrapolated(scene, (1000, 2000), placements=8)
 
 
 def relative_error(result, ref) -> float:
@@ -243,7 +249,7 @@ def measured_settings(scene):
                 continue
             result = solve(scene, method=spec.name, **options)
             if result.success:
-                setting = rollcontact.api.Setting(spec.name, options, spec.accuracy.error(scene, options),
+                setting = Setting(spec.name, options, spec.accuracy.error(scene, options),
                                                   spec.accuracy.cost(scene, options))
                 method_rows.append((setting, relative_error(result, ref)))
         for i, (setting, error) in enumerate(method_rows):
@@ -324,8 +330,8 @@ def test_auto_reports_a_tolerance_it_cannot_reach():
     assert result.success and result.method == "discretised", result.message
     assert not result.info["tolerance_met"] and result.info["error_estimate"] > 1e-4, result.info
     assert "not reached" in result.message, f"the message must say so: {result.message!r}"
-    most_accurate = {"elements": max(rollcontact.api.DISCRETISED_ELEMENTS) // 2,
-                     "extrapolate": max(rollcontact.api.EXTRAPOLATION_PLACEMENTS)}
+    most_accurate = {"elements": max(DISCRETISED_ELEMENTS) // 2,
+                     "extrapolate": max(EXTRAPOLATION_PLACEMENTS)}
     assert result.info["setting"] == most_accurate, \
         f"the most accurate setting should be used: {result.info['setting']}"
 
@@ -338,14 +344,14 @@ def test_discretised_setting_is_the_fewest_elements_whose_bound_meets_the_tolera
     method treats."""
     scene = UNSOLVED_SPLIT
     model = METHODS["discretised"].accuracy
-    setting = rollcontact.api.setting_for("discretised", scene, tolerance)
+    setting = setting_for("discretised", scene, tolerance)
     options = setting.options
     n = options["elements"]
     if extrapolate is not None:
         assert bool(options.get("extrapolate")) == extrapolate, setting
     assert setting.error_estimate <= tolerance < model.error(scene, {**options, "elements": n - 1}), setting
-    tops = {0: max(rollcontact.api.DISCRETISED_ELEMENTS)}
-    tops.update((m, tops[0] // 2) for m in rollcontact.api.EXTRAPOLATION_PLACEMENTS)
+    tops = {0: max(DISCRETISED_ELEMENTS)}
+    tops.update((m, tops[0] // 2) for m in EXTRAPOLATION_PLACEMENTS)
     for m, top in tops.items():  # the fewest elements of every kind that meets t costs at least as much
         other = {"elements": 1, **({"extrapolate": m} if m else {})}
         while model.error(scene, other) > tolerance and other["elements"] < top:
@@ -367,7 +373,7 @@ def test_user_elements_fix_one_grid_instead_of_the_extrapolated_pair():
     """auto's discretised setting for a split contact at 1e-3 is the extrapolated pair; a caller who fixes
     ``elements`` gets one grid of that many (the tolerance is then only reported), unless they ask for the pair."""
     scene = UNSOLVED_SPLIT
-    assert rollcontact.api.setting_for("discretised", scene, 1e-3).options.get("extrapolate"), "premise"
+    assert setting_for("discretised", scene, 1e-3).options.get("extrapolate"), "premise"
     single = solve(scene, tolerance=1e-3, elements=300)
     assert single.info["setting"] == {"elements": 300} and single.info["grid"].elements == 300, single.info
     assert not single.info["tolerance_met"], "300 elements cannot certify 1e-3"
@@ -396,7 +402,7 @@ def test_every_method_reports_an_error_estimate(method):
 def test_explicit_options_override_the_chosen_setting():
     result = solve(CORRUGATED, tolerance=1e-2, order=12)
     assert result.info["order"] == 12 and result.info["setting"]["order"] == 12, result.info["setting"]
-    assert result.info["error_estimate"] == max(result.residual, rollcontact.api.ROUND_OFF), \
+    assert result.info["error_estimate"] == max(result.residual, ROUND_OFF), \
         "with an explicit order the estimate is the truncation residual"
 
 
@@ -406,15 +412,22 @@ def test_a_bad_tolerance_is_refused(tolerance):
         solve(CORRUGATED, tolerance=tolerance)
 
 
-def test_an_explicit_method_still_takes_its_own_tolerance():
+def test_an_explicit_method_with_a_tolerance_runs_its_cheapest_setting_that_meets_it():
+    """``tolerance`` is the requested accuracy with a named method too (its own knob is ``truncation``): the
+    method's cheapest setting whose estimate meets it, judged like auto's, and no other method."""
     result = solve(CORRUGATED, method="polynomial", tolerance=1e-3)
-    assert result.info["order"] < solve(CORRUGATED, method="polynomial").info["order"], \
-        "method='polynomial' passes tolerance on as its truncation tolerance"
-    assert "tolerance_met" not in result.info, "only auto judges a tolerance"
+    assert result.method == "polynomial" and result.info["tolerance_met"], result.message
+    assert result.info["setting"] == {"truncation": 1e-3}, f"the loosest truncation that meets 1e-3: {result.info}"
+    truncated = solve(CORRUGATED, method="polynomial", truncation=1e-3)
+    assert result.info["order"] == truncated.info["order"] < solve(CORRUGATED, method="polynomial").info["order"], \
+        "the setting is the method's truncation, coarser than its default"
+    assert "tolerance_met" not in truncated.info, "without a tolerance nothing is judged"
+    grid = solve(HERTZIAN, method="discretised", tolerance=2e-2)
+    assert grid.method == "discretised" and grid.info["tolerance_met"], grid.message
 
 
 def test_a_registered_method_with_its_own_accuracy_model_competes(monkeypatch):
-    class Cheap(rollcontact.api.AccuracyModel):
+    class Cheap(AccuracyModel):
         def ladder(self, scene):
             return ({"level": 1}, {"level": 2})
 
@@ -429,7 +442,7 @@ def test_a_registered_method_with_its_own_accuracy_model_competes(monkeypatch):
         return ContactResult(**{**exact.__dict__, "method": "surrogate", "info": {"level": level}})
 
     surrogate.options = ("level",)
-    monkeypatch.setitem(METHODS, "surrogate", rollcontact.api.MethodSpec("surrogate", surrogate, lambda s: None, 5,
+    monkeypatch.setitem(METHODS, "surrogate", MethodSpec("surrogate", surrogate, lambda s: None, 5,
                                                                          accuracy=Cheap()))
     assert solve(CORRUGATED, tolerance=0.5).info["level"] == 1, "cheapest setting meeting 0.5"
     assert solve(CORRUGATED, tolerance=0.05).info["level"] == 2, "0.1 does not meet 0.05"
@@ -438,13 +451,13 @@ def test_a_registered_method_with_its_own_accuracy_model_competes(monkeypatch):
 
 
 def test_a_method_without_accuracy_model_is_used_only_when_nothing_else_applies(monkeypatch):
-    only = rollcontact.closed_form.solve_closed_form
+    only = solve_closed_form
 
     for name in list(METHODS):
         monkeypatch.delitem(METHODS, name)
-    monkeypatch.setitem(METHODS, "plain", rollcontact.api.MethodSpec("plain", only, lambda s: None, 0))
+    monkeypatch.setitem(METHODS, "plain", MethodSpec("plain", only, lambda s: None, 0))
     result = solve(HERTZIAN, tolerance=1e-3)
-    assert result.success and math.isnan(rollcontact.api.choose_setting(HERTZIAN, 1e-3).error_estimate), \
+    assert result.success and math.isnan(choose_setting(HERTZIAN, 1e-3).error_estimate), \
         "an unmodelled method gives no estimate"
     assert result.info["tolerance_met"] is False, "an unknown error cannot be said to meet the tolerance"
 
@@ -455,7 +468,7 @@ FALLING = Scene(1e6, creep=1e-3, rolling_speed=20.0, friction=ExponentialFalling
 def test_auto_escalates_the_slip_nodes_until_its_estimate_meets_the_tolerance():
     """The slip iteration starts at its cheapest node count; its a-posteriori estimate (a bound of the error,
     benchmarks/bench_slip_nodes.py) then drives the count up until it meets t, checked here against 512 nodes."""
-    start = rollcontact.api.choose_setting(FALLING, 1e-6).options["nodes"]
+    start = choose_setting(FALLING, 1e-6).options["nodes"]
     result = solve(FALLING, tolerance=1e-6)
     fine = solve(FALLING, method="polynomial", nodes=512)
     assert result.info["tolerance_met"], result.message
@@ -471,7 +484,7 @@ def test_user_nodes_stop_the_escalation():
 
 
 def test_the_fmu_model_escalates_like_solve():
-    from rollcontact.model import ContactModel, ContactParameters
+    from rollcontact.stepping import ContactModel, ContactParameters
 
     model = ContactModel(ContactParameters(friction_law=1, friction_coefficient=0.3, friction_kinetic_ratio=0.4,
                                            friction_decay=3.0, tolerance=1e-6))
@@ -532,19 +545,19 @@ def test_discretised_escalation_meets_the_tolerance_the_a_priori_choice_missed(t
     the escalation runs finer settings until it meets it, and the error is then within t."""
     model = METHODS["discretised"].accuracy
     tolerance = 3e-2
-    first = rollcontact.api.setting_for("discretised", THREE_PATCHES, tolerance)
+    first = setting_for("discretised", THREE_PATCHES, tolerance)
     assert solve(THREE_PATCHES, method="discretised", **first.options).info["error_estimate"] > tolerance, \
         "premise: the a-priori choice misses t"
-    _, result = rollcontact.api.run_to_tolerance(first, THREE_PATCHES, {}, tolerance)
+    _, result = run_to_tolerance(first, THREE_PATCHES, {}, tolerance)
     used = result.info["setting"]
     assert result.success and result.info["tolerance_met"], result.message
     assert model.error(THREE_PATCHES, used) < first.error_estimate, f"{used} is not finer than {first.options}"
     force, pressure = relative_errors(result, three_patches)
     assert max(force, pressure) <= tolerance, f"{used}: errors {force:.3g}, {pressure:.3g} above {tolerance}"
-    grid = {"elements": max(rollcontact.api.DISCRETISED_ELEMENTS)}
+    grid = {"elements": max(DISCRETISED_ELEMENTS)}
     assert model.escalation(THREE_PATCHES, grid, 1.0, tolerance).get("extrapolate"), "the pair is finer"
-    top = {"elements": max(rollcontact.api.DISCRETISED_ELEMENTS) // 2,
-           "extrapolate": max(rollcontact.api.EXTRAPOLATION_PLACEMENTS)}
+    top = {"elements": max(DISCRETISED_ELEMENTS) // 2,
+           "extrapolate": max(EXTRAPOLATION_PLACEMENTS)}
     assert model.escalation(THREE_PATCHES, top, 1.0, tolerance) is None, "nothing finer than the finest pair"
     assert model.escalation(THREE_PATCHES, first.options, 0.5 * tolerance, tolerance) is None, "t met: stop"
     assert model.escalation(THREE_PATCHES, first.options, math.nan, tolerance) is None, "no estimate: stop"
@@ -559,9 +572,9 @@ def test_auto_retries_a_failed_slip_iteration_on_a_finer_grid():
     scene = THREE_PATCHES.replace(creep=0.9 * SATURATION, rolling_speed=20.0,
                                   friction=ExponentialFalling(0.3, 0.4, 3.0))
     model = METHODS["discretised"].accuracy
-    first = rollcontact.api.setting_for("discretised", scene, 0.1).options
+    first = setting_for("discretised", scene, 0.1).options
     assert not solve(scene, method="discretised", **first).success, f"premise: {first} fails"
-    spec, result = rollcontact.api.run_to_tolerance(rollcontact.api.setting_for("discretised", scene, 0.1), scene,
+    spec, result = run_to_tolerance(setting_for("discretised", scene, 0.1), scene,
                                                     {}, 0.1)
     assert result.success and spec.name == "discretised", result.message
     assert result.info["setting"]["elements"] > first["elements"], result.info["setting"]
@@ -578,7 +591,7 @@ def test_the_pressure_of_a_flat_surface_for_the_slip_floor_is_hertz(surface, loa
     """normal_pressure (the slip-node floor's input, asked at every FMU step with a tolerance) takes Hertz's
     coefficients on a flat surface instead of a normal solve: the same as the polynomial method's."""
     scene = Scene(load, radius=0.3, surface=surface)
-    fast = rollcontact.api.normal_pressure(load, scene.radius, scene.material, surface, scene.axis_position)
+    fast = normal_pressure(load, scene.radius, scene.material, surface, scene.axis_position)
     solved = solve(scene, method="polynomial").info.get("pressure_coefficients")
     if load == 0.0:
         assert fast is None and solved is None, (fast, solved)

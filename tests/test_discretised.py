@@ -12,23 +12,13 @@ from scipy.optimize import brentq
 from scipy.special import j0, j1
 
 import rollcontact as rc
-from rollcontact.closed_form import (
-    CarterDistributions,
-    carter,
-    cattaneo_traction,
-    hertz,
-    mindlin_unloading_traction,
-)
-from rollcontact.discretised import (
-    Grid,
-    TransientSolver,
-    TransientState,
-    automatic_grid,
-    contact_window,
-    extrapolated,
-    roll_over_surface,
-    solve_discretised,
-)
+from rollcontact.closed_form import CarterDistributions, carter, cattaneo_traction, hertz, mindlin_unloading_traction
+from rollcontact.halfspace.elements import Grid
+from rollcontact.halfspace.grid import automatic_grid
+from rollcontact.halfspace.solver import TransientSolver, TransientState, contact_window
+from rollcontact.methods.discretised.accuracy import DiscretisedAccuracy
+from rollcontact.methods.discretised.rolling import roll_over_surface
+from rollcontact.methods.discretised.steady import extrapolated, solve_discretised
 
 LOAD = 1e7  # N' [N/m]
 MU = 0.3
@@ -172,7 +162,7 @@ def test_placement_means_shrink_the_extrapolated_error(creep_fraction):
     assert result.success and result.info["placements"] == 8, result.message
     assert result.info["grid"].elements == 200, "the result's fields are the finer level's"
     error = abs(result.tangential_force_per_length / exact - 1.0)
-    bound = rc.api.DiscretisedAccuracy().achieved(scene, {"elements": 100, "extrapolate": 8}, result)
+    bound = DiscretisedAccuracy().achieved(scene, {"elements": 100, "extrapolate": 8}, result)
     assert error <= bound, f"extrapolated error {error:.2e} above its bound {bound:.2e}"
     assert error < 0.2 * single, \
         f"8-placement extrapolation from 100/200 errs {error:.2e}, one grid of 200 {single:.2e}"
@@ -457,7 +447,8 @@ def test_registered_for_the_dispatcher():
     assert "discretised" in rc.METHODS and rc.METHODS["discretised"].fallback, "registered as a fallback"
     r = rc.solve(SCENE, method="discretised", elements=100)
     assert r.method == "discretised" and r.success, r.message
-    assert {"elements", "tolerance", "window"} <= set(solve_discretised.options), "options auto may forward"
+    assert {"elements", "iteration_tolerance", "window"} <= set(solve_discretised.options), \
+        "options auto may forward"
     assert rc.METHODS["discretised"].inapplicable(SCENE) is None, "applicable to a smooth scene"
 
 
@@ -466,7 +457,7 @@ def test_registered_for_the_dispatcher():
     ({"elements": 2.5}, "elements must be an integer"),
     ({"window": (1e-3, -1e-3)}, "x_max must exceed x_min"),
     ({"window": "wide"}, "window must be a pair"),
-    ({"tolerance": 0.5}, "tolerance = 0.5"),
+    ({"iteration_tolerance": 0.5}, "iteration_tolerance = 0.5"),
     ({"steady": "fast"}, "valid modes"),
     ({"tangential_force_per_length": 2 * MU * LOAD}, "friction limit"),
 ])

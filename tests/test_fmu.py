@@ -22,7 +22,8 @@ from fmpy.validation import validate_fmu
 from numpy.testing import assert_allclose
 
 import rollcontact
-from rollcontact.model import STATIONARY, ContactModel, ContactParameters, StepOutputs
+from rollcontact.method import MethodSpec
+from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, StepOutputs
 
 ROOT = Path(__file__).resolve().parents[1]
 DISCARD = 2
@@ -333,7 +334,7 @@ def test_a_scene_the_method_cannot_solve_is_discarded(instance, monkeypatch):
 
     spec = rollcontact.METHODS.get("polynomial")
     monkeypatch.setitem(rollcontact.METHODS, "polynomial",
-                        rollcontact.api.MethodSpec("polynomial", failing, lambda s: None, 10))
+                        MethodSpec("polynomial", failing, lambda s: None, 10))
     fmu = instance(method=2, corrugation_amplitude=1e-5)
     message = discarded(fmu, 0.0, H, 1e5, 1e-3, 20.0)
     assert "polynomial failed: contact splits (test)" in message, f"logged {message!r}"

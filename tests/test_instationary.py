@@ -39,6 +39,7 @@ from rollcontact.instationary import (
     relaxation_step,
     stationarity,
 )
+from rollcontact.stepping.transient import EXTRAPOLATED_ERROR_CONSTANT
 
 LOAD = 1e7  # N' [N/m]
 MU = 0.3
@@ -383,9 +384,8 @@ def test_extrapolating_transient_is_richardson_of_its_two_grids():
 def test_extrapolating_transient_converges_second_order():
     """lambda/a = 10: against the pair of 128/256 elements the pairs of 8/16, 16/32 and 32/64 err by about
     2.7 n^-2 mu N' (measured 1.0e-2, 1.7e-3, 6.2e-4: erratic by up to 1.6x per doubling, so the order is taken over
-    two doublings), within the model's C/n^2 (rollcontact.model.EXTRAPOLATED_ERROR_CONSTANT), where the plain
+    two doublings), within the model's C/n^2 (EXTRAPOLATED_ERROR_CONSTANT), where the plain
     transient of 64 elements errs by 8.8e-3."""
-    from rollcontact.model import EXTRAPOLATED_ERROR_CONSTANT
 
     reference = extrapolating_run(256, True)
     errors = {n: np.abs(extrapolating_run(n, True) - reference).max() / LIMIT for n in (16, 32, 64)}

@@ -11,29 +11,24 @@ from numpy.testing import assert_allclose
 from scipy import integrate
 
 import rollcontact
-from rollcontact.api import MethodSpec
 from rollcontact.closed_form import hertz
 from rollcontact.instationary import InstationaryModel, aligned_grid_load, lag_error_bound
-from rollcontact.model import (
+from rollcontact.method import MethodSpec
+from rollcontact.result import ContactResult
+from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, ModelError, ModelState, StepOutputs
+from rollcontact.stepping.state import STATE_VERSION
+from rollcontact.stepping.transient import (
     EXTRAPOLATED_MAX_ELEMENTS,
     EXTRAPOLATION_COST,
     GRID_LOAD_FACTOR,
     RELAXATION_ACCURACY,
-    STATE_VERSION,
-    STATIONARY,
     TRANSIENT_MAX_ELEMENTS,
     TRANSIENT_MIN_ELEMENTS,
-    ContactModel,
-    ContactParameters,
-    ModelError,
-    ModelState,
-    StepOutputs,
     transient_elements,
     transient_error,
     transient_model_error,
     transient_setting,
 )
-from rollcontact.result import ContactResult
 
 H = 1e-3  # communication step [s]
 
@@ -287,8 +282,8 @@ def test_corrugated_steps_equal_the_polynomial_solve():
                                   ref.creep_stiffness_per_length * b],
                         rtol=1e-12, atol=1e-15, err_msg=f"polynomial outputs at X = {out.axis_position}")
         assert out.method_used == 2, "a corrugated surface uses the polynomial method"
-    assert p.polynomial_order == 0 and model.options["polynomial"] == {}, "0 means the method's default"
-    assert ContactModel(dataclasses.replace(p, polynomial_order=12)).options["polynomial"] == {"order": 12}, \
+    assert p.polynomial_order == 0 and model.options == {}, "0 means the method's default"
+    assert ContactModel(dataclasses.replace(p, polynomial_order=12)).options == {"order": 12}, \
         "polynomial_order is passed as the polynomial method's 'order'"
 
 
@@ -363,13 +358,13 @@ def test_falling_friction_needs_more_than_the_closed_form():
 def test_a_method_without_stiffness_gets_it_by_difference(monkeypatch):
     """Where a solution carries no dT'/dxi (here: a singular slip Jacobian at the solution, e.g. a law with a kink),
     the result reports NaN and the model's one-sided difference supplies it."""
-    from rollcontact import velocity_friction
+    from rollcontact.methods.polynomial import slip
 
     def singular(*args, **kwargs):
         raise np.linalg.LinAlgError("singular")
     falling = ContactParameters(friction_law=1, friction_kinetic_ratio=0.4, friction_decay=3.0, method=2)
     exact = ContactModel(falling).step(0.0, H, 1e5, 1e-3, 20.0).creep_stiffness
-    monkeypatch.setattr(velocity_friction.SlipEquations, "force_slope", singular)
+    monkeypatch.setattr(slip.SlipEquations, "force_slope", singular)
     scene = ContactModel(falling).scene(0.0, 1e5, 1e-3, 20.0)
     assert math.isnan(rollcontact.solve(scene, method="polynomial").creep_stiffness_per_length), \
         "no derivative: NaN, not an exception"
@@ -383,12 +378,12 @@ def test_falling_friction_step_solves_once(monkeypatch, creep):
     step reads no error estimate without a tolerance: one slip iteration, no difference quotient, no estimate."""
     falling = ContactParameters(friction_law=1, friction_kinetic_ratio=0.4, friction_decay=3.0, method=2)
     model = ContactModel(falling)
-    from rollcontact import velocity_friction
+    from rollcontact.methods.polynomial import slip
 
     def refuse(*args, **kwargs):
         raise AssertionError("the step must not need this")
     monkeypatch.setattr(ContactModel, "creep_stiffness_by_difference", refuse)
-    monkeypatch.setattr(velocity_friction, "force_error_estimate", refuse)
+    monkeypatch.setattr(slip, "force_error_estimate", refuse)
     out = model.step(0.0, H, 1e5, creep, 20.0)
     d = 1e-9  # central difference: truncation ~ d / xi_sat (xi_sat ~ 5e-3: the second derivative jumps at 0)
     up, down = (ContactModel(falling).step(0.0, H, 1e5, creep + s, 20.0).tangential_force for s in (d, -d))

@@ -15,8 +15,9 @@ import pytest
 from quadrature import edge_quad, pv_hilbert
 from scipy.integrate import IntegrationWarning, quad
 
-from rollcontact import Harmonic, Scene, Surface, multipatch, solve
-from rollcontact.polynomial import solve_polynomial
+from rollcontact import Harmonic, Scene, Surface, solve
+from rollcontact.methods.polynomial import patches
+from rollcontact.methods.polynomial.solver import solve_polynomial
 
 LOAD = 1e6
 RADIUS = 0.46
@@ -70,7 +71,7 @@ def test_outer_field_is_the_finite_hilbert_transform_of_the_sine_density(n, t):
         warnings.simplefilter("ignore", IntegrationWarning)
         expected = quad(lambda th: math.sin(n * th) * math.sin(th) / (t - math.cos(th)), 0.0, math.pi,
                         epsabs=1e-15, epsrel=1e-12, limit=200)[0] / math.pi
-    got = multipatch.outer_powers(multipatch.outer_variable(np.array([t])), n)[0, -1]
+    got = patches.outer_powers(patches.outer_variable(np.array([t])), n)[0, -1]
     assert got == pytest.approx(expected, rel=1e-11, abs=1e-15), f"n = {n}, t = {t}"
 
 
@@ -78,9 +79,9 @@ def test_outer_field_is_the_finite_hilbert_transform_of_the_sine_density(n, t):
 def test_outer_antiderivative_differentiates_to_the_field(t):
     """``d I_n/dt = w^n`` (central differences, n = 1..6)."""
     h = 1e-6
-    up = multipatch.outer_antiderivative(multipatch.outer_variable(np.array([t + h])), 6)[0]
-    down = multipatch.outer_antiderivative(multipatch.outer_variable(np.array([t - h])), 6)[0]
-    w = multipatch.outer_variable(np.array([t]))[0]
+    up = patches.outer_antiderivative(patches.outer_variable(np.array([t + h])), 6)[0]
+    down = patches.outer_antiderivative(patches.outer_variable(np.array([t - h])), 6)[0]
+    w = patches.outer_variable(np.array([t]))[0]
     np.testing.assert_allclose((up - down) / (2 * h), w ** np.arange(1, 7), rtol=1e-8, atol=1e-12,
                                err_msg=f"t = {t}")
 
@@ -88,9 +89,9 @@ def test_outer_antiderivative_differentiates_to_the_field(t):
 def test_field_coefficients_reproduce_the_field_on_the_target():
     """The Chebyshev series of ``w_s^n`` on a target interval, evaluated anywhere in it, is the field itself."""
     target, source = (0.3, 0.5), (-1.0, 0.6)  # gap 0.1 between them: slow, but geometric, convergence
-    coefficients = multipatch.field_coefficients(target, source, 6, 120)
+    coefficients = patches.field_coefficients(target, source, 6, 120)
     t = np.linspace(-1.0, 1.0, 41)
-    exact = multipatch.outer_powers(multipatch.outer_variable((target[0] + target[1] * t - source[0]) / source[1]), 6)
+    exact = patches.outer_powers(patches.outer_variable((target[0] + target[1] * t - source[0]) / source[1]), 6)
     series = np.polynomial.chebyshev.chebval(t, coefficients)  # (6, 41)
     np.testing.assert_allclose(series.T, exact, rtol=0, atol=1e-12)
 
@@ -243,12 +244,12 @@ def test_lobes_are_the_runs_of_positive_pressure():
     """The start near the split onset: runs of p > 0 on the samples ``x = cos(pi i/m)`` (trailing edge first), the
     crossings interpolated linearly, the outer edges the patch's."""
     x = np.cos(np.pi * np.arange(1, 16) / 16)
-    edges = multipatch.lobes(0.0, 1.0, 0.09 - x * x)  # positive in |x| < 0.3 only
+    edges = patches.lobes(0.0, 1.0, 0.09 - x * x)  # positive in |x| < 0.3 only
     assert len(edges) == 2 and -0.35 < edges[0] < -0.25 and 0.25 < edges[1] < 0.35, edges
-    edges = multipatch.lobes(0.0, 1.0, x * x - 0.09)  # negative in |x| < 0.3: two runs out to the edges
+    edges = patches.lobes(0.0, 1.0, x * x - 0.09)  # negative in |x| < 0.3: two runs out to the edges
     assert len(edges) == 4 and edges[0] == -1.0 and edges[3] == 1.0, edges
     assert -0.4 < edges[1] < -0.2 and 0.2 < edges[2] < 0.4, edges
-    assert multipatch.lobes(0.0, 1.0, np.ones(15)) == [-1.0, 1.0]
+    assert patches.lobes(0.0, 1.0, np.ones(15)) == [-1.0, 1.0]
 
 
 def test_mirror_symmetric_gap_gives_mirror_patches_with_equal_loads():

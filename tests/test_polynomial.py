@@ -24,11 +24,9 @@ from rollcontact import (
     Material,
     Scene,
     Surface,
-    chebyshev,
-    polynomial,
     solve,
-    velocity_friction,
 )
+from rollcontact.methods.polynomial import chebyshev, slip, solver, validity
 
 MATERIAL = Material(210e9, 0.28)
 E_STAR = MATERIAL.contact_modulus
@@ -638,7 +636,7 @@ def test_same_inputs_give_bit_identical_results_in_any_call_order():
              (corrugated, {"check": False}), (falling, {}), (falling, {"nodes": 24}), (falling, {"nodes": 16})]
     first = [fingerprint(solve(s, method="polynomial", **o)) for s, o in calls]
     for cached in (chebyshev.unit_grid, chebyshev.theta_grid, chebyshev.pressure_table, chebyshev.orders,
-                   chebyshev.surface_data, chebyshev.slope_tables, velocity_friction.slip_operators):
+                   chebyshev.surface_data, chebyshev.slope_tables, slip.slip_operators):
         cached.cache_clear()
     order = [8, 2, 6, 0, 4, 7, 1, 5, 3]
     again = {i: fingerprint(solve(calls[i][0], method="polynomial", **calls[i][1])) for i in order}
@@ -658,7 +656,7 @@ def test_derivative_has_the_bits_of_numpys_polyder(coefficients):
 
 def test_cached_tables_are_read_only():
     tables = [chebyshev.unit_grid(11), *chebyshev.theta_grid(16, 5), *chebyshev.pressure_table(16, 5),
-              *chebyshev.orders(5), *vars(velocity_friction.slip_operators(8)).values(),
+              *chebyshev.orders(5), *vars(slip.slip_operators(8)).values(),
               chebyshev.surface_data(PREVIOUS_SCENES["cubic+quartic"].surface)[1]]
     for table in tables:
         with pytest.raises(ValueError, match="read-only"):
@@ -687,9 +685,9 @@ def test_convex_gap_needs_no_sampling_and_sampling_agrees(ka, position, monkeypa
     e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
     assert e.curvature_bound(-math.inf, math.inf) < 0.99 / scene.radius, "the test scene must be convex"
     x0 = r.contact_offset  # axis coordinates
-    assert polynomial.outside_gap(r.distributions, e, r.contact_half_width, x0) is None
+    assert validity.outside_gap(r.distributions, e, r.contact_half_width, x0) is None
     monkeypatch.setattr(chebyshev.SlopeExpansion, "curvature_bound", lambda self, lo, hi: math.inf)
-    assert polynomial.outside_gap(r.distributions, e, r.contact_half_width, x0) is None, \
+    assert validity.outside_gap(r.distributions, e, r.contact_half_width, x0) is None, \
         "sampling finds a closing gap where the convexity theorem says there is none"
 
 
@@ -698,7 +696,7 @@ def test_closed_form_deformed_gap_equals_quadrature(axis_position):
     """deformed_gap (antiderivative of the outer transform) against the quadrature oracle, 10 mm / 20 um."""
     scene = Scene(1e6, creep=1e-3, axis_position=axis_position,
                   surface=Surface(harmonics=(Harmonic.from_wavelength(0.010, 20e-6),)), **SPLIT)
-    r = polynomial.solve_polynomial(scene, order=30, check=False)  # the single patch, valid or not
+    r = solver.solve_polynomial(scene, order=30, check=False)  # the single patch, valid or not
     a, x0 = r.contact_half_width, r.contact_offset  # axis coordinates
     e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
     estar = scene.material.contact_modulus
@@ -712,7 +710,7 @@ def test_closed_form_deformed_gap_equals_quadrature(axis_position):
         slope = gap_slope(scene, x) - (2.0 / (math.pi * estar)) * (weights[None, :] / (x[:, None] - z[None, :])).sum(1)
         xs, ss = np.concatenate(([edge], x)), np.concatenate(([0.0], slope))
         oracle = np.cumsum(0.5 * (ss[1:] + ss[:-1]) * np.diff(xs))[99::100]
-        closed = polynomial.deformed_gap(r.distributions, e, a, x0, (x[99::100] - r.contact_offset) / a)
+        closed = validity.deformed_gap(r.distributions, e, a, x0, (x[99::100] - r.contact_offset) / a)
         np.testing.assert_allclose(closed, oracle, rtol=1e-5, atol=1e-6 * a * a / scene.radius,
                                    err_msg=f"deformed gap, side {side:+.0f}")
 
@@ -781,17 +779,18 @@ def test_what_convexity_proves_the_sampled_checks_confirm(monkeypatch):
                       material=MATERIAL, friction=MU, axis_position=rng.uniform(-0.02, 0.02),
                       surface=Surface(polynomial=polynomial_part, harmonics=harmonics))
         with monkeypatch.context() as patch:
-            patch.setattr(polynomial, "CONVEX", -1.0)
-            patch.setattr(polynomial, "STICK_PROVEN", -1.0)
+            patch.setattr(solver, "CONVEX", -1.0)  # read by the creep root and by the checks
+            patch.setattr(validity, "CONVEX", -1.0)
+            patch.setattr(validity, "STICK_PROVEN", -1.0)
             sampled = solve(scene, method="polynomial")
         if not math.isfinite(sampled.contact_half_width):
             continue
         e = chebyshev.SlopeExpansion(RADIUS, scene.axis_position, scene.surface)
         x0, a = sampled.contact_offset, sampled.contact_half_width  # axis coordinates
         bound = e.curvature_bound(x0 - a, x0 + a) * RADIUS
-        conditions = {"traction bound": bound <= polynomial.STICK_PROVEN and sampled.stick_half_width > 0,
-                      "slip opposes": bound < polynomial.CONVEX,
-                      "gap closes": e.curvature_bound(-math.inf, math.inf) * RADIUS < polynomial.CONVEX}
+        conditions = {"traction bound": bound <= validity.STICK_PROVEN and sampled.stick_half_width > 0,
+                      "slip opposes": bound < validity.CONVEX,
+                      "gap closes": e.curvature_bound(-math.inf, math.inf) * RADIUS < validity.CONVEX}
         for failure, holds in conditions.items():
             if holds:
                 proven[failure] += 1
@@ -838,7 +837,7 @@ def test_difference_form_equals_eqs_30_31_where_both_hold(name, monkeypatch):
         s = scene.replace(creep=math.copysign(fraction * XI_SAT, scene.creep))
         direct = solve(s, method="polynomial")
         with monkeypatch.context() as patch:
-            patch.setattr(polynomial, "DIFFERENCE_WIDTH", 1.0)
+            patch.setattr(solver, "DIFFERENCE_WIDTH", 1.0)
             difference = solve(s, method="polynomial")
         assert direct.success and difference.success, (direct.message, difference.message)
         w = (direct.contact_half_width - direct.stick_half_width) / direct.contact_half_width
@@ -928,10 +927,10 @@ def test_surface_height_equals_surface_method_bit_for_bit():
 def test_cached_outside_points_match_their_definition_and_are_read_only():
     """outside_gap's cached samples are outer_points of t = +-(1 + reach (i/m)^2), frozen; deformed_gap gives the
     same bits with them as from t alone."""
-    t, *points = polynomial.outside_points(40, 2.5)
+    t, *points = validity.outside_points(40, 2.5)
     u = 2.5 * (np.arange(1, 41) / 40.0) ** 2
     np.testing.assert_allclose(t, np.concatenate((1.0 + u, -1.0 - u)), rtol=1e-15)
-    for computed, cached in zip(polynomial.outer_points(t), points, strict=True):
+    for computed, cached in zip(validity.outer_points(t), points, strict=True):
         assert computed.tobytes() == cached.tobytes()
     for table in (t, *points):
         with pytest.raises(ValueError, match="read-only"):
@@ -941,5 +940,5 @@ def test_cached_outside_points_match_their_definition_and_are_read_only():
     r = solve(scene, method="polynomial")
     e = chebyshev.SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
     a, x0 = r.contact_half_width, r.contact_offset
-    assert (polynomial.deformed_gap(r.distributions, e, a, x0, t, points).tobytes() ==
-            polynomial.deformed_gap(r.distributions, e, a, x0, t).tobytes())
+    assert (validity.deformed_gap(r.distributions, e, a, x0, t, points).tobytes() ==
+            validity.deformed_gap(r.distributions, e, a, x0, t).tobytes())

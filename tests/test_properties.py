@@ -33,7 +33,7 @@ Polynomial method:
 Velocity-dependent friction (exponential, rational, linear falling laws):
     |T'| <= mu_s N', xi T' >= 0; when mu varies by less than 1e-10 over the slip velocities that occur, the
     answer is Carter's.
-``auto``, ``discretised`` (a handful of examples at small n), :class:`rollcontact.model.ContactModel`:
+``auto``, ``discretised`` (a handful of examples at small n), :class:`ContactModel`:
     valid outputs (``extremes.check_outputs`` for the model) or a clear error (``success False`` with a message,
     ``SceneError``/``ValueError``/``ModelError`` naming the value); never another exception; a refused step
     leaves the model's state unchanged.
@@ -94,7 +94,7 @@ from rollcontact import (
     hertz,
     solve,
 )
-from rollcontact.model import ContactModel, ContactParameters, ModelError
+from rollcontact.stepping import ContactModel, ContactParameters, ModelError
 
 PI = Decimal("3.14159265358979323846264338327950288419716939937510")
 

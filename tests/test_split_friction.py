@@ -12,9 +12,10 @@ import math
 import numpy as np
 import pytest
 
-from rollcontact import Coulomb, ExponentialFalling, Harmonic, Scene, Surface, multipatch, solve
-from rollcontact.chebyshev import SlopeExpansion
-from rollcontact.split_friction import SplitVelocityDistributions, solve_split_velocity
+from rollcontact import Coulomb, ExponentialFalling, Harmonic, Scene, Surface, solve
+from rollcontact.methods.polynomial import patches
+from rollcontact.methods.polynomial.chebyshev import SlopeExpansion
+from rollcontact.methods.polynomial.patches_slip import SplitVelocityDistributions, solve_split_velocity
 
 LOAD = 1e6
 RADIUS = 0.46
@@ -38,8 +39,8 @@ XI_SAT = 0.3 * A_REF / RADIUS
 def split_solve(scene, nodes=16, friction=None):
     """:func:`solve_split_velocity` on the scene's patches (normal problem to 1e-12)."""
     expansion = SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
-    start = multipatch.patch_starts(scene, None)[0]
-    normal = multipatch.split_normal(expansion, LOAD, ESTAR, start, 1e-12, None)
+    start = patches.patch_starts(scene, None)[0]
+    normal = patches.split_normal(expansion, LOAD, ESTAR, start, 1e-12, None)
     assert not normal.failure, normal.failure
     return solve_split_velocity(expansion, normal, ESTAR, friction or scene.friction, SPEED, scene.creep, nodes)
 
@@ -214,12 +215,12 @@ def test_small_creep_on_mirror_patches_starts_from_the_coulomb_stick_zones():
     (q1 = mu_s p, no stick zones) the first sweep's field of the trailing patch reverses the leading patch's creep
     and its slip iteration has no solution; from Coulomb's stick zones and corrections with mu_s the sweeps
     converge, to the discretised slip iteration's T' within its estimate and its stick zones within two elements."""
-    from rollcontact.split_friction import coupled_iteration
+    from rollcontact.methods.polynomial.patches_slip import coupled_iteration
 
     scene = corrugated(0.010, 0.005, creep=0.1 * XI_SAT).replace(
         surface=Surface(harmonics=(Harmonic.from_wavelength(0.010, 10e-6),)))
     expansion = SlopeExpansion(scene.radius, scene.axis_position, scene.surface)
-    normal = multipatch.split_normal(expansion, LOAD, ESTAR, multipatch.patch_starts(scene, None)[0], 1e-12, None)
+    normal = patches.split_normal(expansion, LOAD, ESTAR, patches.patch_starts(scene, None)[0], 1e-12, None)
     *_, failure = coupled_iteration(normal, ESTAR, LAW, SPEED, scene.creep, 32, XI_SAT)
     assert "did not converge" in failure, "the premise: the iteration from full slip fails"
     r = solve(scene, method="polynomial")
@@ -231,7 +232,7 @@ def test_a_traction_above_the_bound_is_reported():
     """The validity check on the fields: a stick-zone correction of the wrong sign puts |q| above mu_s p."""
     from dataclasses import replace
 
-    from rollcontact.split_friction import tangential_failures
+    from rollcontact.methods.polynomial.patches_slip import tangential_failures
 
     r = split_solve(SCENE.replace(creep=0.5 * XI_SAT))
     assert tangential_failures(r.distributions, 0.3, XI_SAT) == []
@@ -243,11 +244,11 @@ def test_no_slip_iteration_on_a_single_patch_that_is_not_the_contact(monkeypatch
     """A corrugation so short that the contact has more patches than the method takes: the single patch's normal
     solution fails its checks and so do the patches; the result says why at once, without the single patch's slip
     iteration (which at the hundreds of nodes such a pressure needs took seconds, for a result that fails anyway)."""
-    from rollcontact import polynomial
+    from rollcontact.methods.polynomial import solver
 
     def refuse(*args, **kwargs):
         raise AssertionError("the slip iteration ran on a patch known not to be the contact")
 
-    monkeypatch.setattr(polynomial, "solve_velocity_dependent", refuse)
+    monkeypatch.setattr(solver, "solve_velocity_dependent", refuse)
     r = solve(corrugated(0.0004, 0.0), method="polynomial")
     assert not r.success and "contact splits" in r.message and "patches found" in r.message, r.message

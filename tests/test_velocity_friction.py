@@ -7,8 +7,11 @@ import numpy as np
 import pytest
 
 import rollcontact as rc
-from rollcontact import velocity_friction
-from rollcontact.velocity_friction import solve_velocity_dependent
+from rollcontact.dispatch import METHODS
+from rollcontact.method import friction_sharpness
+from rollcontact.methods.polynomial import slip
+from rollcontact.methods.polynomial.accuracy import SLIP_NODE_ERROR
+from rollcontact.methods.polynomial.slip import solve_velocity_dependent
 
 LOAD = 1e6  # N/m
 V = 20.0  # m/s
@@ -157,7 +160,7 @@ def test_returned_fields_satisfy_the_discrete_equations(law, creep):
 
 def test_jacobian_equals_finite_differences():
     """The analytic Jacobian of the slip equations (mu_j and a*/a) against central differences."""
-    from rollcontact.velocity_friction import SlipEquations, slip_operators
+    from rollcontact.methods.polynomial.slip import SlipEquations, slip_operators
 
     r = rc.solve(corrugated(1e-3, LAWS["steep"]), method="polynomial", nodes=12)
     c_n = r.info["pressure_coefficients"]
@@ -189,7 +192,7 @@ def test_a_creep_reversed_by_an_external_slope_starts_sticking_throughout():
     """An external slope whose T_0 coefficient outweighs the creep (the other patches of a split contact) makes the
     patch's creep negative: the Carter start ``a*/a = 1 - xi/xi_full`` would exceed 1 (stick nodes beyond the patch,
     arccos of more than 1: NaN); the start is the whole patch sticking, every residual finite."""
-    from rollcontact.velocity_friction import SlipEquations, slip_operators
+    from rollcontact.methods.polynomial.slip import SlipEquations, slip_operators
 
     ops = slip_operators(12)
     p = 1e9 * np.sqrt(1.0 - (ops.t_plus_one - 1.0) ** 2)
@@ -205,7 +208,7 @@ def test_a_creep_reversed_by_an_external_slope_starts_sticking_throughout():
 @pytest.mark.parametrize("law", ["polach", "steep", "rational"])
 def test_relaxed_fixed_point_reaches_the_newton_solution(law):
     """The fallback (the paper's under-relaxed fixed point) and Newton converge to the same state."""
-    from rollcontact.velocity_friction import SlipEquations, slip_operators
+    from rollcontact.methods.polynomial.slip import SlipEquations, slip_operators
 
     r = rc.solve(corrugated(1e-3, LAWS[law]), method="polynomial")
     c_n = r.info["pressure_coefficients"]
@@ -260,7 +263,7 @@ ESTIMATE_CASES = {  # partial slip, the error well above the 256-node reference'
     "exponential B = 10 s/m, corrugated": corrugated(0.6 * SATURATION, rc.ExponentialFalling(0.3, 0.4, 10.0)),
     "table, corrugated": corrugated(0.6 * SATURATION, TABLE),
 }
-POLYNOMIAL = rc.api.METHODS["polynomial"].accuracy
+POLYNOMIAL = METHODS["polynomial"].accuracy
 
 
 def test_error_estimate_bounds_the_error():
@@ -284,8 +287,8 @@ def test_error_estimate_is_returned_on_demand_and_vanishes_in_full_slip(monkeypa
     ref, c_n = carter_inputs()
     args = (c_n, ref.contact_half_width, 0.0, rc.Material().contact_modulus, FALLING, V)
     calls = []
-    real = velocity_friction.force_error_estimate
-    monkeypatch.setattr(velocity_friction, "force_error_estimate", lambda *a: calls.append(1) or real(*a))
+    real = slip.force_error_estimate
+    monkeypatch.setattr(slip, "force_error_estimate", lambda *a: calls.append(1) or real(*a))
     partial = solve_velocity_dependent(*args, 1e-3, nodes=24)
     assert not calls, "the estimate costs a Newton step: it must not run before it is read"
     estimate = partial["distributions"].force_error
@@ -367,10 +370,10 @@ def test_auto_certifies_by_the_bound_where_it_meets_the_tolerance(monkeypatch):
     s = ESTIMATE_CASES["exponential B = 3 s/m, flat"]
     reference = rc.solve(s, method="polynomial", nodes=256)
     calls = []
-    real = velocity_friction.force_error_estimate
-    monkeypatch.setattr(velocity_friction, "force_error_estimate", lambda *a: calls.append(1) or real(*a))
+    real = slip.force_error_estimate
+    monkeypatch.setattr(slip, "force_error_estimate", lambda *a: calls.append(1) or real(*a))
     r = rc.solve(s, tolerance=1e-3)
-    bound = rc.api.SLIP_NODE_ERROR * rc.api.friction_sharpness(s) / r.distributions.nodes**2
+    bound = SLIP_NODE_ERROR * friction_sharpness(s) / r.distributions.nodes**2
     assert r.info["tolerance_met"] and not calls, f"the bound {bound:.3g} meets 1e-3: no estimate ({r.info})"
     assert r.info["error_estimate"] == pytest.approx(bound, rel=1e-12), (r.info["error_estimate"], bound)
     error = abs(r.tangential_force_per_length / reference.tangential_force_per_length - 1.0)
@@ -385,7 +388,7 @@ def test_a_slip_iteration_without_traction_has_no_estimate_rather_than_an_error(
     on a spurious patch with p <= 0 at every slip node, so q1 = 0 and the estimate's ratio T'_K / T'_M was 0/0,
     raised as ZeroDivisionError out of solve().  Now NaN; the method finds the two patches instead
     (tests/test_split_friction.py) and auto answers with them."""
-    from rollcontact.polynomial import solve_polynomial
+    from rollcontact.methods.polynomial.solver import solve_polynomial
 
     scene = rc.Scene(1e6, creep=1.4786792607177798e-4, axis_position=0.0004 / 1.2, rolling_speed=20.0,
                      friction=rc.ExponentialFalling(0.3, 0.4, 3.0),

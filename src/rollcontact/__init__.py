@@ -19,10 +19,9 @@ Conventions (used by every module; physics.md section 1)
 Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`ContactResult`.
 """
 
-# method modules register themselves in the registry on import
-from rollcontact import closed_form, discretised, polynomial  # noqa: F401
-from rollcontact.api import METHODS, choose_method, register_method, solve
+from rollcontact import _moved
 from rollcontact.closed_form import carter, hertz
+from rollcontact.dispatch import METHODS, choose_method, register_method, solve
 from rollcontact.friction import (
     Coulomb,
     ExponentialFalling,
@@ -35,6 +34,8 @@ from rollcontact.result import ContactResult
 from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, load_scene, scene_toml
 
 __version__ = "0.1.0"
+
+_moved.install()
 
 __all__ = [
     "METHODS",

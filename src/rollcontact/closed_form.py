@@ -12,11 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollcontact.api import register_method
-from rollcontact.result import ContactResult, Distributions, NoContact
-
-__all__ = ["CarterDistributions", "carter", "cattaneo_traction", "hertz", "mindlin_unloading_traction",
-           "solve_closed_form"]
+from rollcontact.result import Distributions
 
 
 def hertz(normal_load_per_length: float, radius: float, contact_modulus: float) -> tuple[float, float]:
@@ -176,46 +172,8 @@ class CarterDistributions(Distributions):
         return np.where(inside, s, np.nan)
 
 
-def solve_closed_form(scene, **options) -> ContactResult:
-    """Hertz + Carter for a scene whose gap is parabolic (a linear surface tilt only moves the patch).
+def __getattr__(name: str):
+    """Names that moved to :mod:`rollcontact.methods.closed_form`, for one release (:mod:`rollcontact._moved`)."""
+    from rollcontact._moved import moved_attribute
 
-    A surface slope ``Z' = alpha`` moves the contact uphill by ``Delta = R alpha`` (physics.md section 4
-    check).  Raises ValueError when the scene is not Hertzian or the friction is not constant.
-    """
-    if options:
-        raise TypeError(f"closed_form takes no options, got {sorted(options)}")
-    if not scene.surface.is_flat:
-        raise ValueError("closed_form needs a parabolic gap (no harmonics, surface polynomial of degree <= 1); "
-                         "use method='polynomial' or 'auto'")
-    if not scene.friction.is_constant:
-        raise ValueError(f"closed_form needs constant (Coulomb) friction, got {scene.friction!r}; "
-                         "use method='polynomial' or 'auto'")
-    n = scene.normal_load_per_length
-    R = scene.radius
-    mu = scene.friction_coefficient
-    estar = scene.material.contact_modulus
-    a, p0 = hertz(n, R, estar)
-    t, a_star, stiffness = carter(n, scene.creep, R, estar, mu)
-    poly = scene.surface.polynomial
-    offset = R * poly[1] if len(poly) > 1 else 0.0
-    if n == 0.0:
-        dist = NoContact()
-        message = "no load: no contact"
-    else:
-        dist = CarterDistributions(a, p0, a_star, offset, mu, scene.creep, R)
-        message = "full slip (saturated)" if a_star == 0.0 and scene.creep != 0.0 else "Hertz + Carter"
-    return ContactResult(method="closed_form", success=True, message=message, normal_load_per_length=n,
-                         tangential_force_per_length=t, creep=scene.creep, contact_half_width=a,
-                         contact_offset=offset, stick_half_width=a_star, max_pressure=p0,
-                         creep_stiffness_per_length=stiffness, distributions=dist)
-
-
-def inapplicable(scene) -> str | None:
-    if not scene.surface.is_flat:
-        return "the gap is not parabolic (harmonics or polynomial terms of degree >= 2)"
-    if not scene.friction.is_constant:
-        return "friction depends on slip velocity"
-    return None
-
-
-register_method("closed_form", solve_closed_form, inapplicable, cost=0)
+    return moved_attribute(__name__, name)

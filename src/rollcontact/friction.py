@@ -10,14 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Coulomb", "ExponentialFalling", "FrictionLaw", "LinearFalling", "RationalFalling", "TabulatedFriction",
-           "friction_from_dict"]
-
-
-def positive(name, value, *, allow_zero=False):
-    from rollcontact.scene import check_real  # late import: scene imports this module
-
-    return check_real(name, value, lower=0.0, lower_open=not allow_zero)
+from rollcontact.checks import positive
 
 
 class FrictionLaw:
@@ -80,7 +73,7 @@ class ExponentialFalling(FrictionLaw):
     decay: float = 0.6
 
     def __post_init__(self):
-        from rollcontact.scene import check_real
+        from rollcontact.checks import check_real
 
         object.__setattr__(self, "mu_static", positive("friction mu_static", self.mu_static))
         object.__setattr__(self, "kinetic_ratio",
@@ -207,4 +200,3 @@ def friction_from_dict(data: dict) -> FrictionLaw:
         return LAWS[law](**data)
     except TypeError as exc:
         raise ValueError(f"friction law {law!r}: {exc}") from None
-

@@ -23,13 +23,9 @@ subprocess: the builder imports the slaves) when missing or older than their sou
 from __future__ import annotations
 
 import atexit
-import importlib.util
 import shutil
-import subprocess
-import sys
 import tempfile
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -37,6 +33,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
 
+from rollcontact_cosim.fmus import FMU_DIR, CosimResult, ensure_fmus, summarise
 from rollcontact_cosim.scenes import (
     CONNECTIONS,
     CONTACT,
@@ -49,92 +46,8 @@ from rollcontact_cosim.scenes import (
 
 __all__ = ["FMU_DIR", "MASTERS", "CosimResult", "ensure_fmus", "run_cosimulation", "summarise"]
 
-ROOT = Path(__file__).resolve().parents[2]
-FMU_DIR = ROOT / "models"
-"""Default folder of ``RollingContact2D.fmu`` and ``WheelRig.fmu``."""
 MASTERS = ("fmpy", "libcosim")
 STATUS = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
-
-
-@dataclass
-class CosimResult:
-    """Time histories and bookkeeping of one co-simulation run.
-
-    Attributes
-    ----------
-    scene : str
-        Scene name.
-    master : str
-        ``"fmpy"`` or ``"libcosim"``.
-    algorithm : str
-        ``"gauss-seidel"`` or ``"jacobi"``.
-    step_size : float
-        Macro step H [s].
-    values : numpy.ndarray
-        Structured array: ``time`` [s] and the recorded variables (``"Instance.output"``, SI units), one row per
-        communication point reached (module docstring).
-    steps : int
-        Macro steps completed.
-    wall_time : float
-        Wall-clock time [s] of the stepping loop (without loading and initialising the FMUs).
-    success : bool
-        False when an FMU refused a step; ``values`` then ends at the last complete row.
-    message : str
-        Why the run stopped early (with the FMU's log message), or ``"completed"``.
-    """
-
-    scene: str
-    master: str
-    algorithm: str
-    step_size: float
-    values: np.ndarray
-    steps: int
-    wall_time: float
-    success: bool
-    message: str
-
-    def __getitem__(self, name: str) -> np.ndarray:
-        return self.values[name]
-
-    @property
-    def wall_time_per_step(self) -> float:
-        """Wall-clock time per macro step [s]."""
-        return self.wall_time / max(self.steps, 1)
-
-
-def summarise(result: CosimResult) -> dict[str, float]:
-    """Peak adhesion and cost of a run.
-
-    Returns
-    -------
-    dict
-        ``peak_traction_coefficient`` (largest |T/N|, with its sign), ``creep_at_peak`` and ``time_at_peak``
-        (the host's creep at that row) when ``RollingContact2D.traction_coefficient`` and ``WheelRig.creep`` are
-        recorded; ``steps``, ``wall_time`` [s] and ``wall_time_per_step_us`` [us] always.
-    """
-    out: dict[str, float] = {}
-    names = result.values.dtype.names
-    traction, creep = f"{CONTACT}.traction_coefficient", f"{HOST}.creep"
-    if traction in names and creep in names and result.values.size:
-        k = int(np.argmax(np.abs(result.values[traction])))
-        out.update(peak_traction_coefficient=float(result.values[traction][k]),
-                   creep_at_peak=float(result.values[creep][k]), time_at_peak=float(result.values["time"][k]))
-    out.update(steps=result.steps, wall_time=result.wall_time, wall_time_per_step_us=1e6 * result.wall_time_per_step)
-    return out
-
-
-def ensure_fmus(fmu_dir: Path | str = FMU_DIR) -> dict[str, Path]:
-    """Paths of both FMUs in ``fmu_dir``, built by ``build_fmu.py --all --if-stale`` when missing or stale."""
-    fmu_dir = Path(fmu_dir)
-    spec = importlib.util.spec_from_file_location("rollcontact_build_fmu", ROOT / "build_fmu.py")
-    builder = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(builder)  # only for is_stale: the build itself runs in a subprocess
-    if any(builder.is_stale(name, fmu_dir) for name in builder.FMUS):
-        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--all", "--if-stale", "--dest",
-                               str(fmu_dir)], capture_output=True, text=True, timeout=600)
-        if done.returncode != 0:
-            raise RuntimeError(f"build_fmu.py --all failed:\n{done.stdout}\n{done.stderr}")
-    return {name: fmu_dir / f"{name}.fmu" for name in (HOST, CONTACT)}
 
 
 _extracted: dict[tuple[str, float], str] = {}

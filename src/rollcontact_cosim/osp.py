@@ -45,7 +45,7 @@ from libcosimpy.CosimExecution import CosimExecution
 from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
 from libcosimpy.CosimObserver import CosimObserver
 
-from rollcontact_cosim.master import FMU_DIR, CosimResult, ensure_fmus
+from rollcontact_cosim.fmus import FMU_DIR, CosimResult, ensure_fmus
 from rollcontact_cosim.scenes import (
     CONTACT,
     COSIM_DIR,

@@ -18,7 +18,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from rollcontact.model import ContactParameters, ModelError, StepOutputs
+from rollcontact.stepping import ContactParameters, ModelError, StepOutputs
 from rollcontact_cosim.wheel_rig import INPUT_NAMES, WheelRigError, WheelRigOutputs, WheelRigParameters
 
 if sys.version_info >= (3, 11):

@@ -41,9 +41,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollcontact.chebyshev import max_pressure, pressure_samples
 from rollcontact.closed_form import hertz
-from rollcontact.multipatch import (
+from rollcontact.methods.polynomial.chebyshev import max_pressure, pressure_samples
+from rollcontact.methods.polynomial.patches import (
     EXTRA_NODES,
     PatchesDistributions,
     SplitNormal,
@@ -52,9 +52,8 @@ from rollcontact.multipatch import (
     series_sum,
     solve_stick,
 )
-from rollcontact.multipatch import validity_failures as normal_failures
-from rollcontact.result import ContactResult, Distributions
-from rollcontact.velocity_friction import (
+from rollcontact.methods.polynomial.patches import validity_failures as normal_failures
+from rollcontact.methods.polynomial.slip import (
     ESTIMATE_SAFETY,
     SlipEquations,
     gradient_q1,
@@ -64,21 +63,28 @@ from rollcontact.velocity_friction import (
     patch_nodes,
     slip_operators,
 )
-
-__all__ = ["SplitVelocityDistributions", "solve_split_velocity"]
+from rollcontact.result import ContactResult, Distributions
 
 MAX_SWEEPS = 60
 """Gauss-Seidel sweeps over the patches before the coupled iteration is reported as not converged."""
+
+
 SWEEP_TOLERANCE = 1e-11
 """Largest change of a patch's external slope between its solves, relative to the Carter saturation creep, at
 which the sweeps end."""
+
+
 STIFFNESS_STEP = 1e-5
 """Creep step of the creep stiffness's difference, relative to the Carter saturation creep: on the two-patch scene
 of ``tests/test_split_friction.py`` (0.1-0.9 of saturation) the one-sided difference is within 9e-5 of the central
 one of steps 1e-5 and 1e-4 (which agree to 3e-4 and better); at 1e-6 the solves' tolerance shows (1e-4)."""
+
+
 SLIP_TOLERANCE = 1e-9
 """Newton tolerance of each patch's slip iteration (that of
 :func:`~rollcontact.velocity_friction.solve_velocity_dependent`)."""
+
+
 SLIP_ITERATIONS = 200
 """Newton iterations per patch solve."""
 

@@ -55,27 +55,28 @@ import numpy as np
 from scipy import fft
 from scipy.linalg import lapack
 
-from rollcontact.chebyshev import read_only, sine_series
+from rollcontact.methods.polynomial.chebyshev import read_only, sine_series
 from rollcontact.result import Distributions
-
-__all__ = ["DEFAULT_NODES", "VelocityFrictionDistributions", "default_nodes", "effective_nodes", "force_error_estimate",
-           "slip_operators", "solve_velocity_dependent"]
 
 DEFAULT_NODES = 16
 """Patch nodes M of the slip iteration unless the law is steep (:func:`default_nodes`)."""
+
 
 NODES_BY_STEEPNESS = ((0.3, DEFAULT_NODES), (1.0, 32), (math.inf, 64))
 """Patch nodes M by the law's steepness ``kappa`` (:func:`default_nodes`): the first M whose bound exceeds kappa.
 Measured against M = 256 on random laws, creeps and surfaces (module docstring, Accuracy)."""
 
+
 NEWTON_PATIENCE = 8
 """Newton iterations after which the residual must have halved, else the relaxed fixed point takes over."""
+
 
 ESTIMATE_REFINEMENTS = (2, 6)
 """Fine nodes per patch node, K/M, of the a-posteriori estimate (:func:`force_error_estimate`, the larger of the
 steps).  One step alone misses where T'_K happens to err like T'_M (erratic convergence); two rarely both do.  Each
 grid nests in the finest (6M holds the nodes of 2M), which shares the evaluations; none may nest with M's (3M:
 M and 3M often err alike).  ``benchmarks/bench_slip_nodes.py``, table B."""
+
 
 ESTIMATE_SAFETY = 2.0
 """Factor on ``max_K |T'_K/T'_M - 1|`` in :func:`force_error_estimate`: the estimate is then at least 1.7 times
@@ -440,7 +441,7 @@ class SlipEquations:
             st = self.evaluate(mu, eta)
         return st
 
-    def relaxed_iteration(self, tolerance: float, max_iterations: int, history: list[float]):
+    def relaxed_iteration(self, newton_tolerance: float, max_iterations: int, history: list[float]):
         """The paper's fixed point, under-relaxed: ``s <- s + omega (S(mu(V s) p, a*) - s)``, a* exact at every step.
 
         From the Carter state (s = 0); ``omega`` halves (down to 0.05) whenever the largest change of s grows: slow,
@@ -454,7 +455,7 @@ class SlipEquations:
         for it in range(1, max_iterations + 1):
             st = self.exact_stick(self.friction.coefficient(self.speed * np.maximum(s, 0.0)), st.eta)
             history.append(st.norm)
-            if st.norm <= tolerance:
+            if st.norm <= newton_tolerance:
                 return st, it
             change = float(np.abs(st.s - s).max())
             if change > last:
@@ -616,7 +617,7 @@ def force_error_estimate(eq: SlipEquations, st: SlipState, pressure_coefficients
 
 def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset: float, estar: float, friction,
                              rolling_speed: float, creep: float, *, nodes: int = DEFAULT_NODES,
-                             tolerance: float = 1e-9, max_iterations: int = 200):
+                             newton_tolerance: float = 1e-9, max_iterations: int = 200):
     """Creep-controlled steady rolling with ``mu = friction.coefficient(V |s|)`` (paper section 4.2).
 
     Parameters
@@ -637,7 +638,7 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
         Chebyshev nodes M on the patch (M + 1 on the stick zone) for the fit of mu(V s) p, raised to twice the
         number of pressure terms when p has more (:func:`patch_nodes`).  :func:`default_nodes` gives the count
         for 1e-3 in T' (``solve_polynomial`` applies it: :func:`effective_nodes`).
-    tolerance : float
+    newton_tolerance : float
         Convergence: largest Newton residual, ``|mu_j - mu(V s_j)| / mu_s`` and ``|F_0 + xi| / max(|xi|, 1e-5
         xi_sat)``.
     max_iterations : int
@@ -662,8 +663,8 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     # Carter state: mu = mu_s everywhere (evaluate() sets a* = a (1 - xi/xi_sat))
     st = eq.evaluate(np.full(ops.n.size, mu_s), 0.0)
     history = [st.norm]
-    st, it = newton(eq, st, tolerance, max_iterations, history)
-    converged = st.norm <= tolerance
+    st, it = newton(eq, st, newton_tolerance, max_iterations, history)
+    converged = st.norm <= newton_tolerance
     message = "" if converged else (f"velocity-dependent friction: the slip iteration did not converge in {it} "
                                     f"iterations (last residual {history[-1]:.3g})")
     h = st.eta * a
@@ -679,7 +680,7 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     dist = VelocityFrictionDistributions(a, offset, pressure_coefficients, e, h, offset - a + h, f_coef, estar, creep,
                                          (lambda: force_error_estimate(eq, st, c)) if converged else nan_estimate)
     failures = []
-    if float(st.s.min()) < -tolerance * max(xi, 1e-300) * 10:
+    if float(st.s.min()) < -newton_tolerance * max(xi, 1e-300) * 10:
         failures.append("slip opposes the traction in the slip zone (a second stick zone)")
     if h > 0.0:
         q2 = -0.5 * estar * (ops.stick_sines @ f_coef[1:])
@@ -702,19 +703,19 @@ def solve_velocity_dependent(pressure_coefficients: np.ndarray, a: float, offset
     }
 
 
-def newton(eq: SlipEquations, st: SlipState, tolerance: float, max_iterations: int,
+def newton(eq: SlipEquations, st: SlipState, newton_tolerance: float, max_iterations: int,
            history: list[float]) -> tuple[SlipState, int]:
-    """Newton's method on ``eq`` from the state ``st`` until the residual norm is at most ``tolerance``; the
+    """Newton's method on ``eq`` from the state ``st`` until the residual norm is at most ``newton_tolerance``; the
     relaxed fixed point (:meth:`SlipEquations.relaxed_iteration`) takes over where Newton stalls or its matrix is
     singular.  Appends each residual norm to ``history``; returns the last state and the iterations."""
     it = 0
     best = st.norm
-    while st.norm > tolerance and it < max_iterations:
+    while st.norm > newton_tolerance and it < max_iterations:
         it += 1
         try:
             dmu, deta = eq.newton_step(st)
         except np.linalg.LinAlgError:  # singular Jacobian (e.g. a law with a kink): the fixed point needs none
-            st, extra = eq.relaxed_iteration(tolerance, max_iterations, history)
+            st, extra = eq.relaxed_iteration(newton_tolerance, max_iterations, history)
             return st, it + extra
         # backtracking within a branch (a* kept inside (0, a]; a zone that wants to vanish is halved, the branch
         # test then decides).  A step that moves the stick/slip boundary across a node is taken as it is: the node
@@ -731,7 +732,7 @@ def newton(eq: SlipEquations, st: SlipState, tolerance: float, max_iterations: i
         history.append(st.norm)
         if it % NEWTON_PATIENCE == 0:
             if st.norm > 0.5 * best:  # stalled: a kink of the discrete equations, leave it to the fixed point
-                st, extra = eq.relaxed_iteration(tolerance, max_iterations, history)
+                st, extra = eq.relaxed_iteration(newton_tolerance, max_iterations, history)
                 return st, it + extra
             best = st.norm
     return st, it

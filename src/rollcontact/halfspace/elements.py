@@ -28,6 +28,8 @@ from scipy import linalg
 from scipy.linalg import lapack
 
 MIN_ELEMENTS = 8
+
+
 MAX_ELEMENTS = 4000  # dense n x n matrices: 4000^2 doubles are 128 MB each
 
 

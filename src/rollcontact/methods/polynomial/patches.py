@@ -56,8 +56,11 @@ from functools import lru_cache
 import numpy as np
 from scipy.linalg import lapack
 
-from rollcontact._bem import MAX_ELEMENTS
-from rollcontact.chebyshev import (
+from rollcontact.closed_form import hertz
+from rollcontact.halfspace.elements import MAX_ELEMENTS
+from rollcontact.halfspace.grid import automatic_grid, patch_geometry
+from rollcontact.halfspace.solver import fitted_normal
+from rollcontact.methods.polynomial.chebyshev import (
     SlopeExpansion,
     max_pressure,
     outer_transform,
@@ -67,8 +70,6 @@ from rollcontact.chebyshev import (
     sine_series,
     surface_height,
 )
-from rollcontact.closed_form import hertz
-from rollcontact.discretised import automatic_grid, fitted_normal, patch_geometry
 from rollcontact.result import ContactResult, Distributions
 
 EXTRA_NODES = 8
@@ -215,24 +216,38 @@ def stick_residuals(expansion: SlopeExpansion, leading, halves, xi_over_mu: floa
 # ---------------------------------------------------------------------------------------------------------------
 MAX_TERMS = 400
 """Largest number of terms M per patch."""
+
+
 MAX_UNKNOWNS = 512
 """Largest number of coefficients K M of all patches together (the dense system of :func:`solve_densities`): a
 solve then costs at most ~0.1 s on the machines of ``benchmarks/results/pareto.md``, beyond which the discretised
 fallback is the better buy."""
+
+
 MAX_PATCHES = 8
 """More patches than this are left to the discretised solver (a corrugation much shorter than the contact)."""
+
+
 NEWTON_ITERATIONS = 40
 """Newton steps (or Jacobian refreshes) of one iteration on the edges or on the zones."""
+
+
 ACCEPTED_FRACTION = 1e-3
 """Newton's residuals (scaled to order one) are accepted below this fraction of the requested tolerance (and below
 1e-13 at the default tolerance); the result's residual reports the larger of them and the truncation."""
+
+
 RESIDUAL_SAFETY = 10.0
 """Factor on the reported residual (the larger of the truncation and Newton's scaled residuals, times
 ``mu N'/|T'|``): against solutions at tolerance 1e-13 the relative error of T' and p0 was at most 1.44 times the
 unfactored value (5 split scenes, creeps 1e-4 to 0.99 of saturation, tolerances 1e-2 to 1e-6)."""
+
+
 MAX_EVALUATIONS = 60
 """Evaluations of the residuals (Jacobian columns included) per Newton iteration on the edges or the zones; the
 converged cases measured need 6-15."""
+
+
 DIFFERENCE_STEP = 1e-7
 """Step of the difference Jacobians, relative to the Hertz half-width."""
 
@@ -352,19 +367,19 @@ def lobes(offset: float, half_width: float, samples: np.ndarray) -> list[float]:
     return edges
 
 
-def initial_terms(expansion: SlopeExpansion, edges: np.ndarray, tolerance: float, largest: int) -> int:
+def initial_terms(expansion: SlopeExpansion, edges: np.ndarray, truncation: float, largest: int) -> int:
     """Terms M to start with: the gap's own :meth:`~SlopeExpansion.required_order` on every patch (at least 8) and
-    the decay of the neighbours' fields, ``rho^-M <= tolerance`` with ``rho = t + sqrt(t^2 - 1)`` the Bernstein
+    the decay of the neighbours' fields, ``rho^-M <= truncation`` with ``rho = t + sqrt(t^2 - 1)`` the Bernstein
     ellipse through the nearest neighbouring edge, ``t = 1 + d/h`` (d: the gap to it, h: the patch's half-width);
     at most ``largest``."""
     intervals = intervals_of(edges)
-    m = max(8, *(expansion.required_order(h, tolerance) for _, h in intervals))
+    m = max(8, *(expansion.required_order(h, truncation) for _, h in intervals))
     gaps = np.diff(edges)[1::2]
     for k, (_, h) in enumerate(intervals):
         near = min(gaps[k - 1] if k > 0 else math.inf, gaps[k] if k < gaps.size else math.inf)
         if 0.0 < near < math.inf:
             t = 1.0 + near / h
-            m = max(m, math.ceil(math.log(1.0 / tolerance) / math.log(t + math.sqrt(t * t - 1.0))))
+            m = max(m, math.ceil(math.log(1.0 / truncation) / math.log(t + math.sqrt(t * t - 1.0))))
     return min(m, largest)
 
 
@@ -649,18 +664,18 @@ def validity_failures(expansion: SlopeExpansion, dist: PatchesDistributions, edg
     return out
 
 
-def split_target(tolerance: float, xi: float, mu: float, slope: float) -> float:
-    """The truncation target of the patches for a relative error ``tolerance`` of T' and p0 (``slope``: the Hertz
+def split_target(truncation: float, xi: float, mu: float, slope: float) -> float:
+    """The truncation target of the patches for a relative error ``truncation`` of T' and p0 (``slope``: the Hertz
     a/R).
 
-    T' = mu N' - sum (...) loses relative accuracy like mu N'/|T'| at small creep: the target is the tolerance times
+    T' = mu N' - sum (...) loses relative accuracy like mu N'/|T'| at small creep: the target is the truncation times
     Carter's ``|T'|/(mu N')`` on the Hertz patch (the reported residual carries the ratio of the solution); at zero
     creep T' = 0 exactly, nothing to amplify.
     """
     if xi == 0.0:
-        return tolerance
+        return truncation
     ratio = min(abs(xi) / (mu * slope), 1.0)
-    return max(tolerance * ratio * (2.0 - ratio), 1e-16)
+    return max(truncation * ratio * (2.0 - ratio), 1e-16)
 
 
 @dataclass(frozen=True)
@@ -732,7 +747,7 @@ def split_normal(expansion: SlopeExpansion, load: float, estar: float, start: li
 
 
 def solve_split(expansion: SlopeExpansion, load: float, estar: float, mu: float, xi: float, start: list[float],
-                tolerance: float, order: int | None = None) -> ContactResult:
+                truncation: float, order: int | None = None) -> ContactResult:
     """Polynomial method for a contact of several patches (module docstring), from the patch edges ``start``
     (axis coordinates, leading first: :func:`patch_starts`).
 
@@ -744,7 +759,7 @@ def solve_split(expansion: SlopeExpansion, load: float, estar: float, mu: float,
         N' [N/m], E* [Pa], Coulomb's mu [1], creep [1].
     start : list of float
         ``[l_1, r_1, l_2, r_2, ...]`` [m].
-    tolerance : float
+    truncation : float
         Requested relative error of T' and p0: M starts from :func:`initial_terms` and doubles (at most
         :data:`MAX_TERMS`, :data:`MAX_UNKNOWNS` over all patches) until the first neglected coefficients fall below
         the target of the module docstring (Accuracy), where Newton also stops.
@@ -761,7 +776,7 @@ def solve_split(expansion: SlopeExpansion, load: float, estar: float, mu: float,
     radius = expansion.radius
     a_ref = hertz(load, radius, estar)[0]
     sign = math.copysign(1.0, xi)
-    normal = split_normal(expansion, load, estar, start, split_target(tolerance, xi, mu, a_ref / radius), order)
+    normal = split_normal(expansion, load, estar, start, split_target(truncation, xi, mu, a_ref / radius), order)
     if normal.failure:
         return normal.failed(xi)
     edges, g, m, residual, accept, iterations = (normal.edges, normal.g, normal.terms, normal.residual,

@@ -45,148 +45,26 @@ outside the patch (:func:`validity_failures`, :func:`outside_gap`).  Otherwise t
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
-from scipy import linalg
 
-from rollcontact.api import register_method
-from rollcontact.chebyshev import (
+from rollcontact.closed_form import hertz
+from rollcontact.methods.polynomial.chebyshev import (
     SlopeExpansion,
     max_pressure,
-    orders,
-    outer_transform,
     pressure_samples,
-    pressure_table,
-    read_only,
-    sine_series,
-    surface_height,
-    theta_grid,
     unit_grid,
 )
-from rollcontact.closed_form import hertz
-from rollcontact.multipatch import patch_starts, solve_split, split_normal, split_target
-from rollcontact.result import ContactResult, Distributions, NoContact
-from rollcontact.split_friction import solve_split_velocity
-from rollcontact.velocity_friction import DEFAULT_NODES, default_nodes, solve_velocity_dependent
+from rollcontact.methods.polynomial.distributions import PolynomialDistributions
+from rollcontact.methods.polynomial.monomial import BASES, monomial_density
+from rollcontact.methods.polynomial.patches import patch_starts, solve_split, split_normal, split_target
+from rollcontact.methods.polynomial.patches_slip import solve_split_velocity
+from rollcontact.methods.polynomial.slip import DEFAULT_NODES, default_nodes, solve_velocity_dependent
+from rollcontact.methods.polynomial.validity import CONVEX, SEVERAL, validity_failures
+from rollcontact.result import ContactResult, NoContact
 
-__all__ = ["PolynomialDistributions", "monomial_density", "solve_polynomial"]
-
-BASES = ("chebyshev", "monomial")
-
-
-# ---------------------------------------------------------------------------------------------------------------
-# monomial backend (paper eqs 19-26)
-def monomial_matrix(h: float, order: int) -> np.ndarray:
-    """The paper's matrix of eq 21: ``beta_k = sum_n A_n B_{k+2n-1}``, ``A_n = -pi h^(2n-2) prod (2i-3)/(2i-2)``
-    (eqs 22-23, verified: the PV integral of ``zeta^m / ((x-zeta) sqrt(h^2-zeta^2))`` is
-    ``-pi sum_{j even} h^j (j-1)!!/j!! x^(m-1-j)``)."""
-    coef = np.empty(order)
-    coef[0] = -math.pi
-    prod = 1.0
-    for n in range(2, order + 1):
-        prod *= (2 * n - 3) / (2 * n - 2)
-        coef[n - 1] = -math.pi * h ** (2 * n - 2) * prod
-    m = np.zeros((order, order))
-    for k in range(order):
-        for n in range(1, order + 1):
-            j = k + 2 * n - 1  # index of B_j, column j-1
-            if j <= order:
-                m[k, j - 1] = coef[n - 1]
-    return m
-
-
-def monomial_density(taylor: np.ndarray, h: float):
-    """Solve ``(1/pi) PV-int f(z)/(x - z) dz = sum_k e_k x^k`` on |x| < h in the paper's monomial form.
-
-    ``f = B(x)/sqrt(h^2 - x^2)`` with ``B(+h) = 0``.  Returns ``(B, r0, r1, cancellation)``: the power
-    coefficients of B, the T0 and T1 Chebyshev coefficients of the right-hand side recovered from B
-    (``r0 = -(1/h) sum_odd B_n h^n``, ``r1 = (2/(pi h)) int f - 2 r0``), and the cancellation factor
-    ``sum |B_n| h^n / max |B(x)|`` (|x| <= h): how much round-off the power basis amplifies.  The triangular
-    matrix itself stays well conditioned (its diagonal is -pi); the precision is lost in the power-basis sums,
-    whose terms grow like (k h)^n / n! for harmonics and whose coefficients scale like h^(-n).
-    """
-    order = taylor.size
-    m = monomial_matrix(h, order)
-    with np.errstate(all="ignore"):
-        b_tail = linalg.solve_triangular(m, math.pi * taylor, check_finite=False)
-        powers = h ** np.arange(1, order + 1)
-        b0 = -np.dot(b_tail, powers)
-        b = np.concatenate(([b0], b_tail))
-        odd = b[1::2] @ powers[0::2]
-        r0 = -odd / h
-        even_idx = np.arange(0, order + 1, 2)
-        weights = np.array([math.pi * h**n * dfr(n) for n in even_idx])
-        integral = b[0::2] @ weights
-        r1 = 2.0 * integral / (math.pi * h) - 2.0 * r0
-        xs = h * np.cos(np.pi * np.arange(33) / 32)
-        peak = float(np.max(np.abs(np.polynomial.polynomial.polyval(xs, b))))
-        cancellation = float(np.sum(np.abs(b) * h ** np.arange(order + 1))) / peak if peak > 0 else math.inf
-    return b, r0, r1, cancellation if math.isfinite(cancellation) else math.inf
-
-
-def dfr(n: int) -> float:
-    r = 1.0
-    for i in range(2, n + 1, 2):
-        r *= (i - 1) / i
-    return r
-
-
-# ---------------------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class PolynomialDistributions(Distributions):
-    """Fields of a polynomial-method solution (x [m] from the axis projection)."""
-
-    half_width: float
-    offset: float
-    pressure_coefficients: np.ndarray  # c_n [Pa], sine series on the patch
-    slope_coefficients: np.ndarray  # g_n [1] of h0' on the patch
-    stick_half_width: float
-    stick_offset: float  # centre of the stick zone, x [m]
-    stick_coefficients: np.ndarray  # d_n [Pa] of q2 (for the creep's sign taken positive)
-    stick_slope_coefficients: np.ndarray  # G_n [1] of h0' on the stick zone
-    mu: float
-    creep: float
-    monomial_pressure: np.ndarray | None = None  # B_n when the monomial basis was used
-
-    def t(self, x):
-        return (np.asarray(x, dtype=float) - self.offset) / self.half_width
-
-    def pressure(self, x):
-        t = self.t(x)
-        if self.monomial_pressure is not None:
-            xr = t * self.half_width
-            inside = np.abs(t) < 1.0
-            with np.errstate(all="ignore"):
-                val = np.polynomial.polynomial.polyval(xr, self.monomial_pressure) / np.sqrt(
-                    np.where(inside, self.half_width**2 - xr * xr, 1.0))
-            return np.where(inside, val, 0.0)
-        return sine_series(self.pressure_coefficients, t)
-
-    def stick_correction(self, x):
-        if self.stick_half_width <= 0.0:
-            return np.zeros_like(np.asarray(x, dtype=float))
-        sigma = (np.asarray(x, dtype=float) - self.stick_offset) / self.stick_half_width
-        return sine_series(self.stick_coefficients, sigma)
-
-    def traction(self, x):
-        sign = math.copysign(1.0, self.creep)
-        return sign * (self.mu * self.pressure(x) + self.stick_correction(x))
-
-    def slip(self, x):
-        # s = |xi| + du/dx with du/dx = mu sum g_n T_n(t) - mu sum G_n F_n(sigma) (chebyshev.outer_transform)
-        x = np.asarray(x, dtype=float)
-        t = self.t(x)
-        du = self.mu * outer_transform(self.slope_coefficients, t)
-        if self.stick_half_width > 0.0:
-            sigma = (x - self.stick_offset) / self.stick_half_width
-            du = du - self.mu * outer_transform(self.stick_slope_coefficients, sigma)
-            in_stick = np.abs(sigma) <= 1.0
-        else:
-            in_stick = np.zeros(x.shape, dtype=bool)
-        s = np.where(in_stick, 0.0, abs(self.creep) + du)
-        return np.where(np.abs(t) <= 1.0, math.copysign(1.0, self.creep) * s, np.nan)
+TRUNCATION = 1e-10
+"""Default ``truncation`` of :func:`solve_polynomial`: the neglected coefficients relative to the Hertz slope."""
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -260,7 +138,7 @@ def solve_normal(problem: NormalProblem, load: float, estar: float, a0: float, m
                                   f"(a = {a:.6g} m, residuals {f1:.3g}, {f2:.3g} N/m)")
 
 
-def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-10, basis: str = "chebyshev",
+def solve_polynomial(scene, *, order: int | None = None, truncation: float = TRUNCATION, basis: str = "chebyshev",
                      max_iterations: int = 60, check: bool = True, nodes: int = DEFAULT_NODES) -> ContactResult:
     """Polynomial method for a steady scene (paper sections 3, 4.1 and, for velocity-dependent friction, 4.2).
 
@@ -270,10 +148,10 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         Any surface: polynomial part and/or harmonics.
     order : int, optional
         Number of Chebyshev terms (or monomial degree) of the distributions; by default the smallest order
-        whose neglected coefficients are below ``tolerance`` (relative to the Hertz slope a/R).  With Coulomb
+        whose neglected coefficients are below ``truncation`` (relative to the Hertz slope a/R).  With Coulomb
         friction a, Delta, a* and T' are exact at every order (eqs 28-31 are closed forms); the order sets the
         accuracy of p(x), q(x), s(x) and of the checks.
-    tolerance : float
+    truncation : float
         Target relative truncation error of the distributions, > 0.
     basis : {"chebyshev", "monomial"}
         The stable basis, or the paper's monomial matrices (eqs 21-26) whose conditioning degrades as a^(2n).
@@ -303,8 +181,8 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
         raise ValueError(f"unknown basis {basis!r}; valid bases are {list(BASES)}")
     if order is not None and (int(order) != order or not 1 <= order <= 2000):
         raise ValueError(f"order = {order!r} is out of range: it must be an integer in [1, 2000]")
-    if not (math.isfinite(tolerance) and tolerance > 0.0):
-        raise ValueError(f"tolerance = {tolerance!r} must be finite and > 0")
+    if not (math.isfinite(truncation) and truncation > 0.0):
+        raise ValueError(f"truncation = {truncation!r} must be finite and > 0")
     friction = scene.friction
     if not friction.is_constant and basis != "chebyshev":
         raise ValueError("velocity-dependent friction needs basis='chebyshev'")
@@ -328,13 +206,13 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     if failure or not (a > 0.0 and math.isfinite(a) and math.isfinite(x0)):
         failure = failure or f"normal problem: no positive root for a (a = {a!r} m)"
         if several_apply and expansion.has_harmonics:  # a short corrugation: Newton lost among the crests
-            several = several_patches(scene, expansion, tolerance, order, None, nodes)
+            several = several_patches(scene, expansion, truncation, order, None, nodes)
             if several.success:
                 return several
             failure += "; " + several.message
         return failed(scene, failure, a, x0, iterations, info)
 
-    n_order = order if order is not None else expansion.required_order(a, tolerance)
+    n_order = order if order is not None else expansion.required_order(a, truncation)
     g = expansion.gap_slope_coefficients(a, x0, n_order + 4)
     g_list = g.tolist()
     residual = max(map(abs, g_list[n_order + 1:])) / abs(g_list[1]) if g_list[1] != 0 else math.inf
@@ -350,12 +228,12 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     m, samples = pressure_samples(c_n)
 
     if friction.is_constant:
-        tangential = solve_tangential(expansion, a, x0, load, estar, mu, xi, order, tolerance)
+        tangential = solve_tangential(expansion, a, x0, load, estar, mu, xi, order, truncation)
     else:
-        tangential = coulomb_reduction(scene, expansion, a, x0, g, info, order, tolerance)
+        tangential = coulomb_reduction(scene, expansion, a, x0, g, info, order, truncation)
         if tangential is None:
             return solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check,
-                                                nodes, (m, samples), tolerance, order)
+                                                nodes, (m, samples), truncation, order)
     stick, d_n, G, t_force, stiffness, tang_failure = tangential
     dist = PolynomialDistributions(a, x0, c_n, g, stick, x0 - a + stick, d_n, G, mu, xi, monomial_b)
     messages = []
@@ -364,7 +242,7 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
     if check:
         messages += validity_failures(dist, expansion, scene, a, x0, m, samples)
         if several_apply and any(text.startswith(SEVERAL) for text in messages):
-            several = several_patches(scene, expansion, tolerance, order, (x0, a, samples[:-2]), nodes)
+            several = several_patches(scene, expansion, truncation, order, (x0, a, samples[:-2]), nodes)
             if several.success:
                 return several
             messages.append(several.message)
@@ -386,10 +264,10 @@ def solve_polynomial(scene, *, order: int | None = None, tolerance: float = 1e-1
                          distributions=dist, info=info)
 
 
-solve_polynomial.options = ("order", "tolerance", "basis", "max_iterations", "nodes")
+solve_polynomial.options = ("order", "truncation", "basis", "max_iterations", "nodes")
 
 
-def several_patches(scene, expansion: SlopeExpansion, tolerance: float, order: int | None,
+def several_patches(scene, expansion: SlopeExpansion, truncation: float, order: int | None,
                     single: tuple | None, nodes: int) -> ContactResult:
     """The scene as several patches from each start of :func:`rollcontact.multipatch.patch_starts` in turn: the
     first success, else the last failure.  ``single`` is ``(offset, half-width, pressure samples)`` of the failed
@@ -402,10 +280,10 @@ def several_patches(scene, expansion: SlopeExpansion, tolerance: float, order: i
     load, estar, friction, xi = (scene.normal_load_per_length, scene.material.contact_modulus, scene.friction,
                                  scene.creep)
     mu_s = friction.static_coefficient
-    target = split_target(tolerance, xi, mu_s, hertz(load, scene.radius, estar)[0] / scene.radius)
+    target = split_target(truncation, xi, mu_s, hertz(load, scene.radius, estar)[0] / scene.radius)
     for start in patch_starts(scene, single) or [[]]:  # no start: solve_split reports that no patch was found
         if friction.is_constant or xi == 0.0:
-            several = solve_split(expansion, load, estar, mu_s, xi, start, tolerance, order)
+            several = solve_split(expansion, load, estar, mu_s, xi, start, truncation, order)
         else:
             normal = split_normal(expansion, load, estar, start, target, order)
             several = (normal.failed(xi) if normal.failure else
@@ -421,7 +299,7 @@ def several_patches(scene, expansion: SlopeExpansion, tolerance: float, order: i
 COULOMB_REDUCTION = 1e-10
 """Largest relative change ``|mu(v)/mu_s - 1|`` over the slip velocities of the patch for which a
 velocity-dependent law is solved as Coulomb friction with mu_s (:func:`coulomb_reduction`): a tenth of the slip
-iteration's tolerance."""
+iteration's truncation."""
 
 
 def friction_change(friction, slip_velocity: float) -> float:
@@ -430,7 +308,7 @@ def friction_change(friction, slip_velocity: float) -> float:
     return abs(float(friction.coefficient(slip_velocity)) / friction.static_coefficient - 1.0)
 
 
-def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, tolerance):
+def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, truncation):
     """:func:`solve_tangential` with ``mu = mu_s`` if a velocity-dependent law cannot tell it from Coulomb's, else
     None (then :func:`solve_with_velocity_friction` solves the problem).
 
@@ -452,7 +330,7 @@ def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, tolerance
     if xi == 0.0 or friction_change(friction, speed * patch_slip) > COULOMB_REDUCTION:
         return None
     tangential = solve_tangential(e, a, x0, scene.normal_load_per_length, scene.material.contact_modulus, mu_s, xi,
-                                  order, tolerance)
+                                  order, truncation)
     fastest = speed * (patch_slip + mu_s * float(np.abs(tangential[2][1:]).sum()))
     change = friction_change(friction, fastest)
     if change > COULOMB_REDUCTION:
@@ -463,7 +341,7 @@ def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, tolerance
 
 
 def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check, nodes,
-                                 samples, tolerance, order):
+                                 samples, truncation, order):
     """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.velocity_friction`, or,
     where the contact splits, on the patches of :func:`several_patches`; where those fail too, the failure (no
     slip iteration on a patch that is not the contact)."""
@@ -476,7 +354,7 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
     if check:
         messages += validity_failures(zero, expansion, scene, a, x0, *samples)
         if any(text.startswith(SEVERAL) for text in messages):
-            several = several_patches(scene, expansion, tolerance, order, (x0, a, samples[1][:-2]), nodes)
+            several = several_patches(scene, expansion, truncation, order, (x0, a, samples[1][:-2]), nodes)
             if several.success:
                 return several
             messages.append(several.message)
@@ -517,6 +395,8 @@ DIFFERENCE_WIDTH = 1e-3
 """Slip widths ``w = a - a*`` below this fraction of a (and below ``DIFFERENCE_PHASE / k_max``) have xi and T'
 evaluated from their zeros at ``a* = a`` (:func:`solve_tangential`); above it the direct forms lose at most
 ``eps / DIFFERENCE_WIDTH ~ 2e-13`` of relative accuracy."""
+
+
 DIFFERENCE_PHASE = 0.3
 """Largest ``k w`` of the difference form: the 5-point rule's error is then ``~4e-13 (k w)^10 < 3e-18``."""
 
@@ -531,7 +411,7 @@ DIFFERENCE_RULE = unit_gauss_rule(5)
 """The difference form's rule: (fraction of w, weight)."""
 
 
-def solve_tangential(e: SlopeExpansion, a, x0, load, estar, mu, xi, order, tolerance):
+def solve_tangential(e: SlopeExpansion, a, x0, load, estar, mu, xi, order, truncation):
     """Stick-zone half-width a* from ``xi = -mu G0(a*, Xs)`` (eq 31), then q2 and T' (eq 30).
 
     The unknown is the slip width ``w = a - a*``.  ``xi(a*)`` runs from its full-slip value at ``a* = 0`` (w = a) to
@@ -603,7 +483,7 @@ def solve_tangential(e: SlopeExpansion, a, x0, load, estar, mu, xi, order, toler
         if h == 0.0:
             sol = 0.0, np.zeros(2), np.zeros(2), sign * mu * load, 0.0
         else:
-            G = e.gap_slope_coefficients(h, lead + h, order if order is not None else e.required_order(h, tolerance))
+            G = e.gap_slope_coefficients(h, lead + h, order if order is not None else e.required_order(h, truncation))
             t_force = (mu * load - quarter * h * float(G[1]) if w > near else
                        from_full_stick(e, a, lead, mu, quarter, w)[1])
             # dT'/dxi = (dT'/da*)/(dxi/da*) along the stick zone's leading-edge-fixed family
@@ -660,219 +540,5 @@ def refine_root(creep_of, target, lo, hi, f_lo, w):
     return w
 
 
-# ---------------------------------------------------------------------------------------------------------------
-# fields on the patch, validity
-SPLIT = "contact splits"
-GAP_CLOSES = "the deformed gap closes outside the patch"
-SEVERAL = (SPLIT, GAP_CLOSES)
-"""How :func:`validity_failures` begins the messages that mean several patches (a negative pressure, a gap that
-closes outside the patch): then :func:`rollcontact.multipatch.solve_split` takes over."""
-CONVEX = 0.99
-"""``sup |Z''| < CONVEX / R`` on the patch proves the slip-sign check (and makes xi(a*) monotone)."""
-STICK_PROVEN = 0.33
-"""``sup |Z''| <= STICK_PROVEN / R`` on the patch proves the stick-zone traction bound."""
-
-
-def validity_failures(dist: PolynomialDistributions, e: SlopeExpansion, scene, a, x0, m: int,
-                      samples: np.ndarray) -> list[str]:
-    """The assumptions of the method, checked on the returned fields; each failure named.
-
-    Sampled: ``p >= 0`` on the samples of :func:`pressure_samples` and both edge slopes ``>= 0``; the gap
-    outside the patch (:func:`outside_gap`); in the stick zone ``-2 mu p <= q2 <= 0`` (i.e. ``|q| <= mu p``) on
-    the angles ``theta_i`` of the zone; in the slip zone ``s xi >= 0`` (:func:`slip_zone_samples`).
-
-    Proven instead of sampled where the curvature allows.  The bounded solution on an interval of half-width h
-    about c is ``p(x) = (E*/2) sqrt(h^2 - (x - c)^2) (1/pi) int K(x, tau) dtau / sqrt(1 - tau^2)`` with
-    ``K = (h0'(tau) - h0'(x))/(tau - x)``, a mean of ``h0'' = 1/R - Z''``; so ``sup |Z''| <= B`` on the patch
-    bounds ``p`` between ``(E*/2) S (1/R -+ B)``, ``S = sqrt(a^2 - (x - X0)^2)``, and the stick-zone correction
-    ``q2 = -mu p_h`` (the same solution on the zone, whose root lies inside S) by ``(E*/2) S (1/R + B)``:
-
-    * ``B < 1/R``: ``p_h >= 0``; behind the zone the slip is ``mu D`` with ``D = h0' - G_0 - v_h`` (``v_h``: the
-      field of ``p_h``), ``D = 0`` at the zone's edge and ``D' = h0'' - v_h' > 0`` (``v_h' < 0`` outside the zone
-      for ``p_h >= 0``): the slip has the sign of the creep (also in full slip, where ``h0'`` increases);
-    * ``B <= 1/(3R)``: also ``p_h <= 2 p`` in the zone, the traction bound.
-
-    ``B`` is :meth:`SlopeExpansion.curvature_bound`; the margins are :data:`CONVEX` and :data:`STICK_PROVEN`.
-    The fields of the monomial basis are always sampled (that basis is there to measure its own errors).
-    """
-    out = []
-    tol = 1e-9
-    c_n = dist.pressure_coefficients
-    if dist.monomial_pressure is None:
-        p = samples[:-2]
-        edges = (float(samples[-2]), float(samples[-1]))
-        curvature = e.curvature_bound(x0 - a, x0 + a) * scene.radius
-    else:
-        p = dist.pressure(dist.offset + a * np.cos(theta_grid(m, c_n.size - 1)[0]))
-        edges = (0.0, 0.0)
-        curvature = math.inf
-    # the extremes by index (argmin/argmax cost a third of the min/max reductions; the same values, NaN included)
-    p_min = float(p[p.argmin()])
-    p_scale = max(float(p[p.argmax()]), -p_min, 1e-300)
-    if p_min < -tol * p_scale or min(edges) < -tol * p_scale:
-        i = int(np.argmin(p))
-        out.append(f"{SPLIT}: the pressure turns negative (min p = {p[i]:.4g} Pa near x = "
-                   f"{dist.offset + a * math.cos(math.pi * (i + 1) / m):.6g} m, edge slopes {edges[0]:.3g}, "
-                   f"{edges[1]:.3g} Pa), more than one contact patch")
-    gap = outside_gap(dist, e, a, x0)
-    if gap is not None:
-        out.append(f"{GAP_CLOSES} (gap = {gap[1]:.3g} m at x = {gap[0]:.6g} m): "
-                   "a second contact patch")
-    if dist.creep == 0.0:
-        return out
-    mu = dist.mu
-    h = dist.stick_half_width
-    if h > 0.0 and not curvature <= STICK_PROVEN:
-        d = dist.stick_coefficients
-        theta, table_s = theta_grid(m, d.size - 1)
-        q2 = table_s.dot(d[1:])
-        # p at the zone's points x = Xs + h cos(theta_i), i.e. t = -1 + (h/a)(1 + cos(theta_i))
-        _, _, one_plus_cos, n, _ = pressure_table(m, c_n.size - 1)
-        ps = np.sin(np.arccos((h / a) * one_plus_cos - 1.0)[:, None] * n).dot(c_n[1:])
-        excess = np.maximum(q2, -2.0 * mu * ps - q2)
-        if float(excess[excess.argmax()]) > tol * mu * p_scale:  # max by index, as p_scale
-            i = int(np.argmax(excess > tol * mu * p_scale))
-            out.append(f"traction bound |q| <= mu p violated in the stick zone at x = "
-                       f"{dist.stick_offset + h * math.cos(theta[i]):.6g} m "
-                       "(the stick zone is not a single zone at the leading edge)")
-    if not curvature < CONVEX:
-        s, t = slip_zone_samples(dist, a)
-        if float(s.min()) < -tol * mu * a / scene.radius:
-            i = int(np.argmin(s))
-            out.append(f"slip opposes the traction in the slip zone (s = {s[i]:.3g} at x = "
-                       f"{dist.offset + a * t[i]:.6g} m): a second stick zone")
-    return out
-
-
-def slip_zone_samples(dist: PolynomialDistributions, a: float) -> tuple[np.ndarray, np.ndarray]:
-    """``s sign(xi)`` at 47 equally spaced points ``t`` of the slip zone ``(2 a*/a - 1, 1]`` (patch coordinate).
-
-    The field of :meth:`PolynomialDistributions.slip` without its generic branches: there
-    ``|xi| + mu sum g_n T_n(t) - mu sum G_n w^n``, ``T_n(t) = cos(n arccos t)``, with the stick-zone coordinate
-    ``sigma = (1 + t) a/a* - 1 > 1`` and ``w = 1/(sigma + sqrt(sigma^2 - 1))``.
-    """
-    h = dist.stick_half_width
-    t_lo = 2.0 * h / a - 1.0
-    t = t_lo + (1.0 - t_lo) * unit_grid(48)[1:]
-    g = dist.slope_coefficients
-    s = np.cos(np.arccos(t)[:, None] * orders(g.size - 1)[0][1:]).dot(g[1:])
-    if h > 0.0:
-        sigma = (1.0 + t) * (a / h) - 1.0  # >= 1 up to round-off
-        w = 1.0 / (sigma + np.sqrt(np.maximum(sigma * sigma - 1.0, 0.0)))
-        big_g = dist.stick_slope_coefficients
-        s -= (w[:, None] ** orders(big_g.size - 1)[0][1:]).dot(big_g[1:])
-    return abs(dist.creep) + dist.mu * s, t
-
-
-def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, a, x0):
-    """First point outside the patch where the deformed gap closes; ``(x, gap)`` or None (axis coordinates).
-
-    Convex gap (``Z'' < CONVEX/R`` everywhere, :meth:`SlopeExpansion.curvature_bound`): the gap cannot close,
-    no sampling needed.  Outside the patch the deformed gap is ``h(X) = h0(X) - int_edge^X v``, with
-    ``v = (2/(pi E*)) int p(z)/(X - z) dz``; for ``p >= 0`` (checked separately) ``v' < 0`` on both sides, so
-    ``h'' = h0'' - v' > 0``, and ``h = h' = 0`` at the edge (bounded solution) makes ``h > 0``.
-
-    Otherwise :func:`deformed_gap` is sampled as far as the surface could touch again (where ``(X - x_c)^2/2R``
-    exceeds four times the total amplitude, at least 2a past each edge), 10 samples per shortest wavelength,
-    quadratically graded towards the edges.
-    """
-    if e.curvature_bound(-math.inf, math.inf) * e.radius < CONVEX:
-        return None
-    reach = 2.0 * a
-    spacing = a / 8.0
-    if e.has_harmonics:
-        amp = sum(math.hypot(phi, psi) for _, phi, psi in e.harmonic_list)
-        reach = max(reach, math.sqrt(8.0 * e.radius * amp) + abs(x0))
-        spacing = min(spacing, 0.2 * math.pi / e.max_wavenumber)
-    m = int(min(2000, max(32, reach / spacing)))
-    t, *points = outside_points(m, reach / a)
-    gap = deformed_gap(dist, e, a, x0, t, points)
-    i = int(gap.argmin())
-    if gap[i] < -1e-9 * a * a / e.radius:
-        return float(x0 + a * t[i]), float(gap[i])
-    return None
-
-
-def outer_points(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """What :func:`deformed_gap` needs of its points ``t`` (``|t| > 1``) alone, whatever the patch and its fields.
-
-    Parameters
-    ----------
-    t : ndarray
-        Patch coordinates outside the patch.
-
-    Returns
-    -------
-    t_edges : ndarray
-        ``t`` followed by the two edges, 1 and -1.
-    trailing : ndarray of bool
-        ``t > 0``: the points behind the trailing edge.
-    w : ndarray
-        ``1/(t + sign(t) sqrt(t^2 - 1))``, ``|w| < 1``.
-    log_w : ndarray
-        ``ln|w|``.
-    """
-    sign = np.sign(t)
-    w = 1.0 / (t + sign * np.sqrt(t * t - 1.0))
-    return np.append(t, (1.0, -1.0)), sign > 0.0, w, np.log(np.abs(w))
-
-
-@lru_cache(maxsize=32)
-def outside_points(m: int, reach: float) -> tuple[np.ndarray, ...]:
-    """The samples of :func:`outside_gap` and their :func:`outer_points`, cached read-only by ``(m, reach)``: a
-    profile without harmonics always samples the same ``m = 32`` points at ``reach = 2``, and so does every repeated
-    scene.
-
-    Parameters
-    ----------
-    m : int
-        Samples on each side of the patch.
-    reach : float
-        How far they go past each edge, in half-widths.
-
-    Returns
-    -------
-    tuple of ndarray
-        ``t = 1 + reach (i/m)^2`` then ``-t`` (i = 1..m, quadratically graded towards the edges), followed by the
-        four arrays of :func:`outer_points`.
-    """
-    u = unit_grid(m + 1)[1:] ** 2 * reach
-    t = np.concatenate((1.0 + u, -1.0 - u))
-    return read_only(t, *outer_points(t))
-
-
-def deformed_gap(dist: PolynomialDistributions, e: SlopeExpansion, a: float, x0: float, t: np.ndarray,
-                 points: tuple | None = None) -> np.ndarray:
-    """Deformed gap [m] at ``u = Delta + a t`` (axis coordinates, ``x0 = Delta``) outside the patch (``|t| > 1``),
-    in closed form, with the surface of :meth:`SlopeExpansion.axis_surface`.
-
-    With ``t = (w + 1/w)/2`` (``|w| < 1``) the elastic slope is ``v = sum g_n w^n`` and
-    ``int w^n dt = (w^(n+1)/(n+1) - w^(n-1)/(n-1))/2`` (``(w^2/2 - ln|w|)/2`` for n = 1), so
-    ``h(u) = h0(u) - h0(u_edge) - a sum g_n [I_n(w) - I_n(w_edge)]`` with ``w_edge = sign(t)``: exact at every
-    point, no quadrature.  ``points`` are the :func:`outer_points` of ``t`` if the caller has them (cached by
-    :func:`outside_points`); they are computed otherwise.
-    """
-    t_edges, trailing, w, log_w = outer_points(t) if points is None else points
-    g = dist.slope_coefficients.tolist()
-    n_max = len(g) - 1
-    # antiderivative coefficients beta_1 .. beta_(n_max+1): sum_n g_n I_n(w) = sum_j beta_j w^j - (g_1/2) ln|w|
-    # (plain floats: a few terms, where each numpy call would cost more than the arithmetic)
-    beta = [0.0, *(0.5 * g[j - 1] / j for j in range(2, n_max + 2))]
-    for j in range(1, n_max):
-        beta[j - 1] -= 0.5 * g[j + 1] / j
-    # w^j by cumulative products (np.power is far slower), |w| < 1 so no overflow
-    powers = np.multiply.accumulate(np.repeat(w[:, None], n_max + 1, axis=1), axis=1)
-    antiderivative = powers.dot(np.array(beta)) - 0.5 * g[1] * log_w
-    # h0 at the points and, last, at the two edges (one surface evaluation); there w = +-1 and ln|w| = 0
-    u = x0 + a * t_edges
-    h0 = u**2 / (2.0 * e.radius) - surface_height(e.axis_surface(), u)
-    at_edges = (math.fsum(beta), math.fsum(b if j % 2 else -b for j, b in enumerate(beta)))
-    at_edge = np.where(trailing, h0[-2] - a * at_edges[0], h0[-1] - a * at_edges[1])
-    return h0[:-2] - a * antiderivative - at_edge
-
-
 def inapplicable(scene) -> str | None:
     return None
-
-
-register_method("polynomial", solve_polynomial, inapplicable, cost=10)

@@ -35,11 +35,13 @@ from scipy.special import cython_special
 
 from rollcontact.scene import Harmonic, Surface
 
-__all__ = ["SlopeExpansion", "outer_transform", "sine_series", "theta_grid", "unit_grid"]
-
 # the scalar Bessel functions of the Newton loops: bit-identical to special.j0/j1, a third of the call cost
 _j0 = cython_special.j0
+
+
 _j1 = cython_special.j1
+
+
 _jv = special.jv
 
 
@@ -362,8 +364,8 @@ class SlopeExpansion:
             g[:m] -= cheb[:m]
         return g
 
-    def required_order(self, h: float, tolerance: float, max_order: int = 400) -> int:
-        """Smallest order whose neglected harmonic coefficients are below ``tolerance`` times the Hertz slope
+    def required_order(self, h: float, truncation: float, max_order: int = 400) -> int:
+        """Smallest order whose neglected harmonic coefficients are below ``truncation`` times the Hertz slope
         ``h/R`` (the polynomial part is exact from its degree on).
 
         Uses ``|J_n(z)| <= (z/2)^n / n!``: the bound of the n-th coefficient, ``2 k |Z_m| (kh/2)^n / n!``, is
@@ -372,7 +374,7 @@ class SlopeExpansion:
         order = max(1, self.slope_poly.size)
         if not self.has_harmonics:
             return order
-        target = tolerance * h / self.radius
+        target = truncation * h / self.radius
         # bounds at the start by logarithms (no overflow for any kh), then b_(n+1) = b_n z/(n+1) in floats:
         # from n > z on they only decrease
         if len(self.harmonic_list) == 1:  # the usual single harmonic, in plain floats and without lists

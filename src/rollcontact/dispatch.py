@@ -1,0 +1,325 @@
+"""One dispatcher, a registry of methods and the automatic choice (in the manner of scipy's root_scalar).
+
+Tolerance-aware choice
+----------------------
+``solve(scene, tolerance=t)`` (method ``"auto"``) takes, over every method that can treat the scene, the cheapest
+*setting* whose error estimate is at most t.  Each registered method may carry an :class:`AccuracyModel` that
+lists its settings for a scene (option sets such as a polynomial tolerance, a node count or an element count) and
+gives, for each, the predicted error and a modelled cost:
+
+* error: the larger of the relative errors of T' and of the peak pressure p0, from measured convergence
+  (the discretised T' is first order in the elements across the contact, the polynomial method's truncation is
+  controlled by its coefficient decay, its slip iteration is bounded a priori by beta/N^2 in the node count N
+  and, after the solve, by its own a-posteriori estimate, from which ``auto`` escalates the node count until the
+  tolerance is met (:func:`run_to_tolerance`, ``benchmarks/bench_slip_nodes.py``);
+* cost: modelled seconds per solve from operation counts (n^3 for a dense factorisation, nodes^2 per slip
+  iteration, iteration counts growing with the friction law's sharpness), with constants measured by
+  ``benchmarks/pareto.py``, which also checks the model against measured times.  Only the ranking matters.
+
+The result reports ``info["error_estimate"]`` (the method's estimate for the options actually used, a posteriori
+where the method returns one, e.g. the polynomial truncation residual or the discretised grid), and with a
+tolerance also ``info["tolerance"]``, ``info["tolerance_met"]`` and ``info["setting"]``.  When no setting meets
+the tolerance, the most accurate one is used and the message says so.  Without a tolerance ``auto`` behaves as
+before: the cheapest exact method with its defaults.
+"""
+
+from __future__ import annotations
+
+import math
+
+from rollcontact.method import AccuracyModel, MethodSpec, Setting, check_tolerance, nan_last, unresolved
+from rollcontact.methods import closed_form, discretised, polynomial
+from rollcontact.result import ContactResult
+from rollcontact.scene import Scene
+
+BUILTIN: tuple[MethodSpec, ...] = (
+    closed_form.METHOD,
+    polynomial.METHOD,
+    discretised.METHOD,
+)
+"""The method table: the fidelity levels shipped with the package, one line each (a method module exports its
+:class:`~rollcontact.method.MethodSpec` as ``METHOD``)."""
+
+METHODS: dict[str, MethodSpec] = {spec.name: spec for spec in BUILTIN}
+"""The registry ``solve`` dispatches over: :data:`BUILTIN` and whatever :func:`register_method` added."""
+
+
+def register_method(name: str, function, inapplicable, rank: int, *, fallback: bool = False,
+                    accuracy: AccuracyModel | None = None) -> None:
+    """Add (or replace) a method in :data:`METHODS`: the extension point for a fidelity level outside the package.
+
+    Parameters
+    ----------
+    name : str
+        Registry key, the ``method`` argument of :func:`solve`.
+    function : callable
+        ``function(scene, **options) -> ContactResult``; its attribute ``options`` (a tuple of names) lists the
+        options ``auto`` may pass on.
+    inapplicable : callable
+        ``inapplicable(scene) -> str | None``: why the method cannot treat the scene, or None.
+    rank : int
+        Order of preference of ``auto`` without a tolerance: lower is tried first.
+    fallback : bool
+        Whether ``auto`` may use it when a method of lower rank fails.
+    accuracy : AccuracyModel, optional
+        Settings, error and cost model for ``auto`` with a tolerance.
+    """
+    METHODS[name] = MethodSpec(name, function, inapplicable, rank, fallback, accuracy)
+
+
+def by_rank() -> list[MethodSpec]:
+    """The registered methods, lowest rank first (sorted once per registry content: auto asks per solve)."""
+    specs = tuple(METHODS.values())
+    if RANKED[0] != specs:
+        RANKED[:] = [specs, sorted(specs, key=lambda s: s.rank)]
+    return RANKED[1]
+
+
+RANKED: list = [None, []]  # (registry content it was sorted from, sorted specs)
+
+
+def choose_method(scene: Scene, tolerance: float | None = None, names=None) -> str:
+    """Name of the lowest-ranked registered method (among ``names``, default all) that can treat the scene (or,
+    with a tolerance, of the method of :func:`choose_setting`)."""
+    if tolerance is not None:
+        return choose_setting(scene, tolerance, names).method
+    reasons = []
+    for spec in by_rank():
+        if names is not None and spec.name not in names:
+            continue
+        why = spec.inapplicable(scene)
+        if why is None:
+            return spec.name
+        reasons.append(f"{spec.name}: {why}")
+    raise ValueError("no registered method can solve this scene (" + "; ".join(reasons) + ")")
+
+
+def choose_setting(scene: Scene, tolerance: float, names=None) -> Setting:
+    """The cheapest setting, over the applicable methods, whose error estimate is at most ``tolerance``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case.
+    tolerance : float
+        Requested relative error of T' and p0, > 0.
+    names : iterable of str, optional
+        Consider only these methods (default: all registered).
+
+    Returns
+    -------
+    Setting
+        When no setting meets the tolerance, the most accurate one (``error_estimate > tolerance``); when no
+        method with an accuracy model applies, the cheapest exact method by rank with its defaults (NaN
+        estimates).
+
+    Raises
+    ------
+    ValueError
+        Invalid tolerance, or no considered method can treat the scene.
+    """
+    return cheapest_setting(scene, check_tolerance(tolerance), names)
+
+
+def cheapest_setting(scene: Scene, tolerance: float, names=None) -> Setting:
+    """:func:`choose_setting` for a tolerance already checked (``solve`` checks it once per call)."""
+    allowed = None if names is None else set(names)
+    best = closest = None
+    unmodelled = []
+    for spec in by_rank():
+        if allowed is not None and spec.name not in allowed:
+            continue
+        model = spec.accuracy
+        # a method whose cheapest setting costs more than the best found cannot win: skip its checks
+        if best is not None and (model is None or model.floor >= best.cost or model.minimum_cost(scene) >= best.cost):
+            continue
+        if spec.inapplicable(scene) is not None:
+            continue
+        if model is None:
+            unmodelled.append(spec.name)
+            continue
+        setting = model.setting_for(spec.name, scene, tolerance)
+        if setting.error_estimate <= tolerance:
+            if best is None or setting.cost < best.cost:
+                best = setting
+        elif closest is None or nan_last(setting.error_estimate) < nan_last(closest.error_estimate):
+            closest = setting
+    if best is not None or closest is not None:
+        return best if best is not None else closest
+    if unmodelled:
+        return Setting(unmodelled[0], {}, math.nan, math.nan)
+    raise ValueError("no registered method can solve this scene"
+                     + (f" among {sorted(allowed)}" if allowed is not None else ""))
+
+
+def setting_for(name: str, scene: Scene, tolerance: float) -> Setting:
+    """The cheapest setting of method ``name`` whose error estimate meets ``tolerance`` (else its most accurate).
+
+    For callers that run a fixed list of methods themselves (the FMU's stepping model); a method without an
+    accuracy model gets its defaults (NaN estimates).
+    """
+    tolerance = check_tolerance(tolerance)
+    model = METHODS[name].accuracy
+    if model is None:
+        return Setting(name, {}, math.nan, math.nan)
+    return model.setting_for(name, scene, tolerance)
+
+
+def solve(scene: Scene, method: str = "auto", *, tolerance: float | None = None, methods=None,
+          estimate: str = "full", **options) -> ContactResult:
+    """Solve a steady 2D rolling-contact scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        The case.
+    method : str
+        ``"auto"`` or a name in :data:`METHODS`.  ``"auto"`` without a tolerance takes the lowest-ranked method
+        that can treat the scene, with its defaults; with ``tolerance`` the cheapest setting of any applicable
+        method whose error estimate meets it (module docstring).  When the answer fails (its validity checks, its
+        convergence, an arithmetic error) or its error estimate says nothing (:data:`~rollcontact.method.UNRESOLVED`),
+        ``auto`` falls back to the cheapest method of higher rank registered as a fallback (``"discretised"``).
+    tolerance : float, optional
+        Requested relative error [1] of T' and p0, > 0.  With a named method: that method's cheapest setting whose
+        error estimate meets it, without fallback.
+    methods : iterable of str, optional
+        ``auto`` chooses and falls back only among these registered names (default: all).
+    estimate : {"full", "free"}
+        Without a tolerance, ``info["error_estimate"]`` is the method's full estimate (``"full"``), or only the part
+        that costs nothing beyond the solve (``"free"``, :meth:`~rollcontact.method.AccuracyModel.free_estimate`: a
+        lower bound, NaN where none is known), which is what ``auto`` then checks against
+        :data:`~rollcontact.method.UNRESOLVED`.  The FMU's stepping model asks for ``"free"``.
+    **options
+        Passed to the method (see each method's docstring).  With ``"auto"``, or with a tolerance, they override
+        the chosen setting's and only those the chosen method accepts are passed.
+
+    Returns
+    -------
+    ContactResult
+        ``success`` is False, with a message, when the method's assumptions failed or it did not converge.
+        ``info["error_estimate"]`` holds the estimated relative error of T' and p0 when the method has an
+        accuracy model; with a tolerance also ``tolerance``, ``tolerance_met`` and ``setting`` (options used).
+        After a fallback ``info["fallback_from"]`` and ``info["fallback_reason"]`` name the method that failed.
+
+    Raises
+    ------
+    ValueError
+        Unknown method name (the message lists the valid ones), no method that can treat the scene, or an
+        invalid tolerance or ``estimate``.
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a rollcontact.Scene, got {type(scene).__name__}")
+    if estimate not in ("full", "free"):
+        raise ValueError(f"estimate = {estimate!r} is not one of 'full', 'free'")
+    if method != "auto":
+        if method not in METHODS:
+            raise ValueError(f"unknown method {method!r}; valid methods are {['auto', *sorted(METHODS)]}")
+        if tolerance is None:
+            spec = METHODS[method]
+            return annotate(spec, scene, options, spec.function(scene, **options), estimate=estimate)
+        methods, fallback = (method,), False
+    else:
+        fallback = True
+    names = None if methods is None else tuple(methods)
+    if tolerance is None:
+        spec = METHODS[choose_method(scene, names=names)]
+        result = attempt(fallback, spec.name, lambda: call_with_known_options(spec, scene, options, estimate))
+    else:
+        tolerance = check_tolerance(tolerance)
+        setting = cheapest_setting(scene, tolerance, names)
+        spec = METHODS[setting.method]
+        result = attempt(fallback, spec.name, lambda: run_to_tolerance(setting, scene, options, tolerance)[1])
+    reason = result.message if not result.success else unresolved(result)
+    if reason is None or not fallback:
+        return result
+    backups = [s for s in METHODS.values()
+               if s.fallback and s.rank > spec.rank and (names is None or s.name in names)
+               and (tolerance is not None or s.inapplicable(scene) is None)]
+    if not backups:
+        return result
+    if tolerance is None:
+        backup_spec = min(backups, key=lambda s: s.rank)
+        backup = call_with_known_options(backup_spec, scene, options, estimate)
+    else:
+        try:
+            setting = cheapest_setting(scene, tolerance, names=[s.name for s in backups])
+        except ValueError:  # no fallback method can treat the scene either
+            return result
+        backup_spec, backup = run_to_tolerance(setting, scene, options, tolerance)
+    info = dict(backup.info, fallback_from=spec.name, fallback_reason=reason)
+    return type(backup)(**{**backup.__dict__, "info": info,
+                           "message": f"{backup.message} (fallback: {spec.name} failed: {reason})"})
+
+
+def attempt(fallback: bool, name: str, run) -> ContactResult:
+    """``run()``; where a fallback may follow, an ArithmeticError it raises (a numerical breakdown, e.g. a division
+    by a load that underflows) becomes an unsuccessful result that says so, so the fallback runs."""
+    if not fallback:
+        return run()
+    try:
+        return run()
+    except ArithmeticError as exc:
+        return ContactResult(name, False, f"raised {type(exc).__name__}: {exc}", math.nan, math.nan, math.nan,
+                             math.nan, math.nan, math.nan, math.nan)
+
+
+def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec,
+                                                                                               ContactResult]:
+    """:func:`run_setting`, then, while the result's a-posteriori estimate misses the tolerance, the settings the
+    method's :meth:`AccuracyModel.escalation` names, and after a failure those its :meth:`AccuracyModel.retry`
+    names (each finer than the last, so the loop ends).  User options that fix the escalated option stop it."""
+    spec, result = run_setting(setting, scene, options, tolerance)
+    failures = []
+    while spec.accuracy is not None:
+        used = result.info["setting"]
+        following = (spec.accuracy.escalation(scene, used, result.info["error_estimate"], tolerance)
+                     if result.success else spec.accuracy.retry(scene, used, result))
+        if following is None or any(key in options for key in following):
+            break
+        if not result.success:
+            failures.append(f"{used}: {result.message}")
+        spec, result = run_setting(Setting(spec.name, following, math.nan, math.nan), scene, options, tolerance)
+    if failures:
+        result = type(result)(**{**result.__dict__, "message": f"{result.message} (after failing with "
+                                                                  + "; ".join(failures) + ")"})
+    return spec, result
+
+
+def run_setting(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec, ContactResult]:
+    """Run a chosen setting (user options override it) and record the tolerance outcome in the result."""
+    spec = METHODS[setting.method]
+    merged = (spec.accuracy.merged(setting.options, options) if spec.accuracy is not None
+              else {**setting.options, **options}) if options else setting.options
+    used = used_options(spec, merged)
+    result = annotate(spec, scene, used, spec.function(scene, **used), tolerance)
+    estimate = result.info.get("error_estimate", math.nan)
+    met = bool(estimate <= tolerance)
+    result.info.update(tolerance=tolerance, tolerance_met=met, setting=used)
+    if met or not result.success:
+        return spec, result
+    note = (f" (tolerance {tolerance:.3g} not reached: error estimate {estimate:.3g})" if math.isfinite(estimate)
+            else f" (tolerance {tolerance:.3g} not checked: the method gives no error estimate)")
+    return spec, type(result)(**{**result.__dict__, "message": result.message + note})
+
+
+def call_with_known_options(spec: MethodSpec, scene: Scene, options: dict, estimate: str = "full") -> ContactResult:
+    """Call the method with the options it accepts, and annotate the result with its error estimate."""
+    used = used_options(spec, options)
+    return annotate(spec, scene, used, spec.function(scene, **used), estimate=estimate)
+
+
+def used_options(spec: MethodSpec, options: dict) -> dict:
+    """The ``options`` that the method lists in its function's ``options`` attribute."""
+    accepted = getattr(spec.function, "options", ())
+    return {k: v for k, v in options.items() if k in accepted}
+
+
+def annotate(spec: MethodSpec, scene: Scene, options: dict, result: ContactResult,
+             tolerance: float | None = None, estimate: str = "full") -> ContactResult:
+    """Put the method's error estimate for the options used into ``result.info`` (a fresh dict per result); with
+    a ``tolerance``, one that need only tell whether the result meets it (:meth:`AccuracyModel.achieved`); with
+    ``estimate="free"`` and no tolerance, only the part that costs nothing (:meth:`AccuracyModel.free_estimate`)."""
+    if spec.accuracy is not None and isinstance(result, ContactResult):
+        result.info["error_estimate"] = (spec.accuracy.free_estimate(result) if estimate == "free" and tolerance is None
+                                         else spec.accuracy.achieved(scene, options, result, tolerance))
+    return result

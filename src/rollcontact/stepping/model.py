@@ -1,0 +1,286 @@
+"""Model."""
+
+from __future__ import annotations
+
+import math
+
+from rollcontact.closed_form import carter, hertz
+from rollcontact.dispatch import METHODS, solve, used_options
+from rollcontact.instationary.stationarity import stationarity_of_samples
+from rollcontact.method import unresolved
+from rollcontact.scene import Harmonic, Scene, Surface
+from rollcontact.stepping.parameters import (
+    AUTO,
+    METHOD_NAMES,
+    OPTION_NAMES,
+    STATIONARY,
+    ContactParameters,
+    ModelError,
+    StepOutputs,
+    contact_bodies,
+    input_problem,
+    method_code,
+    new_tuple,
+    registered_methods,
+)
+from rollcontact.stepping.state import ModelState
+from rollcontact.stepping.transient import InstationaryStepping
+
+INF = math.inf
+
+
+def mirrored(surface: Surface) -> Surface:
+    """The surface ``Z(-X)``: odd polynomial terms and sine amplitudes change sign."""
+    return Surface(polynomial=tuple(c if j % 2 == 0 else -c for j, c in enumerate(surface.polynomial)),
+                   harmonics=tuple(Harmonic(h.wavenumber, h.cos_amplitude, -h.sin_amplitude)
+                                   for h in surface.harmonics))
+
+
+class ContactModel(InstationaryStepping):
+    """Quasi-steady 2D rolling contact of a wheel on a (corrugated) surface, advanced one step at a time.
+
+    Parameters
+    ----------
+    parameters : ContactParameters, optional
+        Fixed parameters (defaults when omitted).
+    start_time : float
+        Time [s] of the initial state.
+
+    Raises
+    ------
+    ModelError
+        A parameter is out of range, the scene file cannot be read, or the requested method cannot treat the
+        scene (e.g. ``method`` = 1 on a corrugated surface, or a method that is not registered).
+
+    Notes
+    -----
+    With ``method`` = 0 (auto) each step uses the cheapest model the scene needs: the closed forms
+    (:func:`rollcontact.closed_form.hertz`, :func:`rollcontact.closed_form.carter`, called with precomputed
+    constants) for a flat surface with constant friction; otherwise ``"polynomial"`` and then ``"discretised"``,
+    whichever are registered in :data:`rollcontact.METHODS`, the first that accepts the scene and succeeds.
+    An explicit method is used as it is or the step fails with a :class:`ModelError`.
+    """
+
+    def __init__(self, parameters: ContactParameters | None = None, *, start_time: float = 0.0):
+        p = ContactParameters() if parameters is None else parameters
+        if not isinstance(p, ContactParameters):
+            raise TypeError(f"parameters must be ContactParameters, got {type(p).__name__}")
+        self.parameters = p
+        material, radius, friction, surface, notices = contact_bodies(p)
+        notices += self.setup_instationary(p, material, radius, friction, surface)
+        self.notices: tuple[str, ...] = tuple(notices)
+        """Messages worth showing once (e.g. in an FMU log): ignored parameters, modes not implemented."""
+        self.material = material
+        self.radius = float(radius)
+        self.friction = friction
+        self.surface = surface
+        self.scene_surface = mirrored(surface)
+        self.velocity_dependent = not friction.is_constant
+        self.closed_form, self.candidates = self.methods_for(p, surface, friction)
+        self.options = {OPTION_NAMES[name]: getattr(p, name) for name in OPTION_NAMES if getattr(p, name) != 0}
+        """Options of the parameters that ``rollcontact.solve`` passes to the methods that accept them."""
+
+        # constants of the closed-form path (no Scene is built there)
+        self.contact_modulus = material.contact_modulus
+        self.mu = friction.static_coefficient
+        self.width = p.contact_width
+        self.per_width = 1.0 / p.contact_width
+        slope = surface.polynomial[1] if len(surface.polynomial) > 1 else 0.0
+        self.flat_offset = self.radius * slope  # uphill by R alpha (docs/physics.md, the tilted surface)
+        self.saturation_per_half_width = self.mu / self.radius  # Carter saturation creep over a
+        self.length_cache = (math.nan, 0.0)  # (N', zero_force_length(N'))
+        self.state = ModelState.initial(start_time, p.initial_position)
+
+    @staticmethod
+    def methods_for(p: ContactParameters, surface: Surface, friction) -> tuple[bool, tuple[str, ...]]:
+        """Whether the steps take the closed forms, else the registered methods they may use (auto: polynomial,
+        then discretised).
+
+        Raises
+        ------
+        ModelError
+            ``method`` = 1 on a scene the closed forms cannot treat, or no method of the family is registered.
+        """
+        flat_reason = None
+        if not surface.is_flat:
+            flat_reason = "the surface is not flat (corrugation, harmonics or polynomial terms of degree >= 2)"
+        elif not friction.is_constant:
+            flat_reason = "friction depends on slip velocity"
+        if p.method == 1 and flat_reason is not None:
+            raise ModelError(f"method = 1 (closed form) cannot solve this scene: {flat_reason}; "
+                             "use method = 0 (auto), 2 (polynomial) or 3 (discretised)")
+        if p.method == 1 or (p.method == AUTO and flat_reason is None):
+            return True, ()
+        codes = (2, 3) if p.method == AUTO else (p.method,)
+        candidates = registered_methods(codes)
+        if not candidates:
+            wanted = " or ".join(f"{c} ({METHOD_NAMES[c]})" for c in codes)
+            why = f"{flat_reason}, which needs" if p.method == AUTO else "it needs"
+            raise ModelError(f"method = {p.method}: {why} method {wanted}, but no such method is registered "
+                             f"in rollcontact.METHODS (registered: {sorted(METHODS)})")
+        return False, candidates
+
+    def reset(self, start_time: float = 0.0) -> None:
+        """Back to the initial state at ``start_time`` [s]."""
+        self.state = ModelState.initial(start_time, self.parameters.initial_position)
+
+    def get_state(self) -> ModelState:
+        """A copy of the current state."""
+        return self.state.copy()
+
+    def set_state(self, state: ModelState) -> None:
+        """Continue from (a copy of) ``state``."""
+        if not isinstance(state, ModelState):
+            raise TypeError(f"state must be a ModelState, got {type(state).__name__}")
+        self.state = state.copy()
+
+    def scene(self, axis_position: float, normal_load: float, creep: float, velocity: float) -> Scene:
+        """The scene solved for axis position X [m], load N [N], creep [1] and speed V [m/s].
+
+        It is in the package's frame (mirrored surface, axis at ``-X``, see the module docstring) with the load
+        per unit length ``N / contact_width``.
+        """
+        return Scene(normal_load_per_length=normal_load * self.per_width, creep=creep, radius=self.radius,
+                     material=self.material, friction=self.friction, surface=self.scene_surface,
+                     axis_position=-axis_position, rolling_speed=velocity, name="RollingContact2D")
+
+    def step(self, current_time: float, step_size: float, normal_load: float, creep: float,
+             velocity: float) -> StepOutputs:
+        """Advance to ``current_time`` and evaluate the contact for the inputs sampled there.
+
+        Parameters
+        ----------
+        current_time : float
+            Communication point t_n [s], not before the previous one.
+        step_size : float
+            h [s] > 0 (the host reads the outputs at t_n + h).
+        normal_load : float
+            N [N] >= 0 (0: no contact, all outputs 0).
+        creep : float
+            xi [1], any finite value (beyond saturation: full slip).
+        velocity : float
+            Rolling speed V [m/s] >= 0.
+
+        Returns
+        -------
+        StepOutputs
+            Also kept in ``state.outputs``.
+
+        Raises
+        ------
+        ModelError
+            Non-finite or out-of-range input, time going backwards, or no allowed method solves the scene.  The
+            state is left unchanged, so the model stays usable.
+        """
+        if not (0.0 <= normal_load < INF and -INF < creep < INF and 0.0 <= velocity < INF
+                and 0.0 < step_size < INF and -INF < current_time < INF):
+            raise ModelError(input_problem(current_time, step_size, normal_load, creep, velocity))
+        state = self.state
+        dt = current_time - state.time
+        if dt < 0.0:
+            raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
+                             f"{state.time!r} s; restore a saved state to step from an earlier time")
+        previous = state.previous
+        # trapezoid of V between the communication points, Neumaier-compensated accumulation of X
+        increment = 0.5 * ((velocity if previous is None else previous[3]) + velocity) * dt
+        high = state.position + increment
+        if abs(state.position) >= abs(increment):
+            low = state.position_error + ((state.position - high) + increment)
+        else:
+            low = state.position_error + ((increment - high) + state.position)
+        x = high + low
+
+        lag = None
+        if normal_load == 0.0:
+            outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
+            state.creep_envelope = None
+        elif self.instationary is not None:
+            outputs, lag = self.instationary_step(x, normal_load, creep, velocity, step_size)
+        elif self.closed_form:
+            outputs = self.closed_form_step(x, normal_load, creep, velocity)
+        else:
+            outputs = self.solve_step(x, normal_load, creep, velocity)
+
+        state.instationary = lag
+        state.time = current_time
+        state.position = high
+        state.position_error = low
+        state.older = previous
+        state.previous = (x, normal_load, creep, velocity)
+        state.steps += 1
+        state.outputs = outputs
+        return outputs
+
+    def closed_form_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
+        """Outputs of Hertz and Carter (closed forms, no Scene built) at axis position x [m]."""
+        n = normal_load * self.per_width
+        a, p0 = hertz(n, self.radius, self.contact_modulus)
+        t, a_star, stiffness = carter(n, creep, self.radius, self.contact_modulus, self.mu)
+        force = t * self.width
+        return new_tuple(StepOutputs, (force, t / n, a, a_star, self.flat_offset, p0, velocity * creep * force,
+                                       stiffness * self.width, self.stationarity(x, normal_load, creep, velocity, a),
+                                       1, x))
+
+    def solve_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
+        """Outputs of ``rollcontact.solve`` among the model's methods (auto: polynomial, then discretised as the
+        fallback) at axis position x [m].
+
+        With ``tolerance`` > 0 the method runs with its cheapest setting whose error estimate (relative error of T'
+        and p0) meets it; without, only the part of the estimate that costs nothing is checked (``estimate="free"``:
+        the polynomial slip iteration's would cost a Newton step per FMU step).
+        """
+        scene = self.scene(x, normal_load, creep, velocity)
+        tolerance = self.parameters.tolerance or None
+        try:
+            result = solve(scene, methods=self.candidates, tolerance=tolerance, estimate="free", **self.options)
+            name = result.method
+            if not result.success:
+                raise ModelError(f"{name} failed: {result.message}")
+            why = unresolved(result)
+            if why is not None:
+                raise ModelError(f"{name}: {why}")
+            stiffness = float(result.creep_stiffness_per_length)
+            if not math.isfinite(stiffness):
+                options = result.info.get("setting") or used_options(METHODS[name], self.options)
+                stiffness = self.creep_stiffness_by_difference(scene, name, result, options)
+        except (ValueError, ArithmeticError) as exc:
+            raise ModelError(f"no method solved the scene at X = {x!r} m (N = {normal_load!r} N, creep = {creep!r}, "
+                             f"V = {velocity!r} m/s): {exc}") from None
+        force = float(result.tangential_force_per_length) * self.width
+        a = float(result.contact_half_width)
+        return StepOutputs(force, float(result.traction_coefficient), a, float(result.stick_half_width),
+                           0.0 - float(result.contact_offset), float(result.max_pressure),
+                           velocity * creep * force, stiffness * self.width,
+                           self.stationarity(x, normal_load, creep, velocity, a), method_code(name), x)
+
+    def creep_stiffness_by_difference(self, scene: Scene, name: str, result, options: dict) -> float:
+        """dT'/dxi [N/m] by a one-sided difference, for methods that do not return it.
+
+        The step is 1e-6 of the Carter saturation creep ``mu a / R``, taken towards zero creep so that it does
+        not cross into full slip.
+        """
+        delta = 1e-6 * self.saturation_per_half_width * max(result.contact_half_width, 1e-12)
+        delta = -math.copysign(delta, scene.creep) if scene.creep != 0.0 else delta
+        other = solve(scene.replace(creep=scene.creep + delta), method=name, **options)
+        if not other.success:
+            raise ModelError(f"{name} failed at the creep {scene.creep + delta!r} of the creep-stiffness "
+                             f"difference: {other.message}")
+        return float(other.tangential_force_per_length - result.tangential_force_per_length) / delta
+
+    def stationarity(self, x: float, normal_load: float, creep: float, velocity: float,
+                     half_width: float) -> float:
+        """Wavelength of the fastest input variation over the contact half-width [1].
+
+        :func:`rollcontact.instationary.stationarity_of_samples` along the axis position X of the current and the
+        two previous communication points, with Carter's saturation creep ``mu a / R`` as the creep scale and the
+        speed counted only with velocity-dependent friction.  The corrugation is geometry, not an input, and does
+        not enter.
+        """
+        state = self.state
+        previous = state.previous
+        if previous is None:
+            return STATIONARY
+        current = (x, normal_load, creep, velocity)
+        return stationarity_of_samples((previous, current) if state.older is None else (state.older, previous, current),
+                                       half_width, self.saturation_per_half_width * half_width,
+                                       self.velocity_dependent)

@@ -1,0 +1,345 @@
+"""Stepping contact model for co-simulation: parameters -> (state, inputs, step) -> outputs.
+
+This is the library half of the ``RollingContact2D`` FMU: the FMU's slave only maps its variables to a
+:class:`ContactModel` and back, so everything here can be used and tested without any FMI tool.
+
+* :class:`ContactParameters` holds the fixed parameters (FMU parameters of the same names) and checks them.
+* :class:`ContactModel` precomputes what does not change between steps and evaluates one communication step
+  with :meth:`ContactModel.step` (inputs in N, 1 and m/s; outputs in SI units, see :class:`StepOutputs`).
+* :class:`ModelState` is everything the model remembers between steps: axis position, the input history of the
+  stationarity measure and the last outputs.  It is a plain dataclass that can be copied, turned into a JSON
+  dict or bytes and restored; restore -> step -> restore -> step gives identical outputs.
+
+Frames and signs
+----------------
+The model's axis position ``X`` [m] runs in the rolling direction: ``X(t) = initial_position + int V dt`` with
+the rolling speed ``V >= 0``.  The package's scene frame runs the other way (its cylinder rolls towards -x, see
+:mod:`rollcontact`), so a surface ``Z(X)`` given to the model is solved as the mirrored scene
+``Z_scene(x') = Z(-x')`` with the axis at ``x' = -X`` (:meth:`ContactModel.scene`): the corrugation is met in the
+right order and the stick zone stays at the leading edge.  ``contact_offset`` is reported in the model's frame
+(positive ahead of the axis, e.g. ``+R alpha`` uphill on a surface rising with slope ``alpha``).  Creep and
+tangential force keep the package's meaning (xi > 0 gives T > 0).
+
+Time stepping
+-------------
+Inputs are sampled at the communication points.  ``step(t_n, h, N_n, xi_n, V_n)`` first advances the axis to
+``X(t_n)`` with the trapezoid of the velocity samples at ``t_(n-1)`` and ``t_n`` (accumulated as a compensated
+sum, so there is no drift over long runs), then evaluates the quasi-steady contact for the inputs sampled at
+``t_n`` at ``X(t_n)``.  Those are the outputs a host reads at ``t_n + h``.
+
+Instationary rolling
+--------------------
+``transient`` = 2 (always) evaluates every loaded step with :class:`rollcontact.instationary.InstationaryModel`,
+which rolls the distance ``V_n h`` with the inputs sampled at ``t_n`` held (zero-order hold, the host's view of
+the step): the relaxation model (the lag (R1) around Carter, ``method_used`` 4) or, with ``method`` = 3, the
+discretised transient in creep control (``method_used`` 5).  ``transient`` = 1 (auto) stays quasi-steady while
+the inputs vary slowly and switches the instationary model in when the stationarity measure
+(:func:`rollcontact.instationary.stationarity_of_samples`) falls below :meth:`ContactModel.transient_threshold`,
+starting from the previous step's quasi-steady state (:meth:`ContactModel.switch_in`), and switches back once the
+inputs are slow again and its force is back within the tolerance of the quasi-steady one.  The relaxation lag errs
+by up to 2.6 % of the creep swing (in saturation creeps), at most :data:`RELAXATION_ACCURACY` mu N as measured: it is
+the default (``tolerance`` = 0), which promises no accuracy.  For a ``tolerance`` below that bound, with ``method`` =
+0, ``transient`` = 1 bounds the lag's error by the creep swing of the last few relaxation lengths
+(:func:`rollcontact.instationary.lag_error_bound` of the envelope in ``state.creep_envelope``) and runs the lag
+while that bound meets the tolerance, the discretised transient where it does not (:meth:`ContactModel.choose_model`):
+the cheapest transient whose modelled error meets the tolerance (:func:`transient_setting`: in practice the
+extrapolating pair of nested grids, at most :data:`EXTRAPOLATED_MAX_ELEMENTS`; ``elements`` > 0 runs one grid of
+that many), switched in from steady rolling on its grid at the previous creep, or at the lag's equivalent creep when
+it takes over from the lag; it hands back to the lag once the swing has died down.  So stationary inputs stay on the
+cheap closed form and small swings on the lag.  Both models assume a flat
+surface and Coulomb friction: on other scenes ``transient`` = 2 is refused and ``transient`` = 1 stays quasi-steady
+(:attr:`ContactModel.notices` says so).  With ``method`` = 3, ``transient`` = 1 behaves as 2: the discretised
+method was asked for on every step, and its transient is exact in steady rolling too.
+
+Frictional power
+----------------
+For every quasi-steady solution the power dissipated by slip per unit length is
+``V int q(x) s(x) dx = V xi T'``: with ``s = xi + du/dx`` and ``du/dx = (2/(pi E*)) PV-int q(z)/(x - z) dz``
+the double integral ``int int q(x) q(z)/(x - z) dz dx`` vanishes by antisymmetry.  Hence
+``frictional_power = V xi T`` [W], the rigid-body creep power; the tests check it against quadrature of the
+Carter distributions.  In instationary rolling ``V xi T`` is reported too: it is the power the creep puts into the
+contact, which there also includes the rate of change of the stored elastic energy.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from rollcontact.checks import SceneError, check_real
+from rollcontact.dispatch import METHODS
+from rollcontact.friction import Coulomb, ExponentialFalling, FrictionLaw
+from rollcontact.scene import Harmonic, Material, Surface, load_scene
+
+AUTO = 0
+"""``method`` code of the automatic choice."""
+
+
+METHOD_NAMES = {1: "closed_form", 2: "polynomial", 3: "discretised"}
+"""``method`` / ``method_used`` codes and the method families they stand for (0 is auto, resp. no contact);
+``method_used`` adds :data:`INSTATIONARY_CODES`.
+
+A registered method belongs to a family when its registry name starts with the family's name (e.g.
+``"polynomial_friction"`` is a polynomial method, code 2); methods of no family are not used by the model.
+"""
+
+
+STATIONARY = 1e9
+"""``stationarity`` reported when nothing varies (constant inputs or no contact); also its upper bound."""
+
+
+INSTATIONARY_CODES = {"relaxation": 4, "transient": 5}
+"""``method_used`` of the instationary models: 4 relaxation (lag around Carter), 5 discretised transient."""
+
+
+TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
+
+
+FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
+
+
+OPTION_NAMES = {"polynomial_order": "order", "elements": "elements", "datum": "datum_length"}
+"""Parameter -> the option under which it is passed to a method that lists it in its ``options``.
+
+A parameter equal to 0 is not passed (the method's default applies).  ``tolerance`` is not an option: it is the
+requested accuracy of :func:`rollcontact.solve`, which picks each method's cheapest setting that meets it; these
+explicit parameters then override that setting.
+"""
+
+
+new_tuple = tuple.__new__
+"""``new_tuple(StepOutputs, values)`` builds outputs without ``NamedTuple.__new__``'s extra Python frame (the
+closed-form step's hot path)."""
+
+
+class ModelError(ValueError):
+    """An input or parameter the model cannot use, or a scene no allowed method solves; the message says why."""
+
+
+class StepOutputs(NamedTuple):
+    """Outputs of one step (SI units; forces over the whole contact width).
+
+    Attributes
+    ----------
+    tangential_force : float
+        T [N], the sign of the creep in steady rolling.
+    traction_coefficient : float
+        T/N [1] (0 without load).
+    contact_half_width : float
+        a [m].
+    stick_half_width : float
+        a* [m], stick zone at the leading edge (0 in full slip).
+    contact_offset : float
+        Contact centre minus axis position [m] in the model's frame (positive ahead of the axis).
+    max_pressure : float
+        Peak pressure [Pa].
+    frictional_power : float
+        Power dissipated by slip, ``V xi T`` [W] (module docstring).
+    creep_stiffness : float
+        dT/dxi [N] at this state.
+    stationarity : float
+        Wavelength of the fastest input variation over a [1] (:meth:`ContactModel.stationarity`).
+    method_used : int
+        1 closed form, 2 polynomial, 3 discretised, 4 instationary relaxation, 5 instationary discretised
+        transient, 0 no contact.
+    axis_position : float
+        X [m] at which the contact was evaluated.
+    """
+
+    tangential_force: float
+    traction_coefficient: float
+    contact_half_width: float
+    stick_half_width: float
+    contact_offset: float
+    max_pressure: float
+    frictional_power: float
+    creep_stiffness: float
+    stationarity: float
+    method_used: int
+    axis_position: float
+
+
+@dataclass(frozen=True)
+class ContactParameters:
+    """Fixed parameters of a :class:`ContactModel` (the FMU parameters of the same names), checked on creation.
+
+    Parameters
+    ----------
+    youngs_modulus : float
+        E [Pa] > 0 of both bodies.
+    poisson_ratio : float
+        nu [1], 0 <= nu < 0.5.
+    radius : float
+        Effective wheel radius R [m] > 0.
+    contact_width : float
+        Lateral length b [m] > 0 of the line contact; per-length quantities are force / b.
+    friction_coefficient : float
+        mu at zero slip velocity [1] > 0.
+    friction_law : int
+        0 Coulomb (mu constant), 1 exponential falling ``mu(v) = mu [(1 - A) exp(-B v) + A]``.
+    friction_kinetic_ratio : float
+        A [1] in (0, 1] of the exponential law.
+    friction_decay : float
+        B [s/m] >= 0 of the exponential law.
+    corrugation_wavelength : float
+        Wavelength [m] > 0 of ``Z(X) = amplitude cos(2 pi X / wavelength + phase)``.
+    corrugation_amplitude : float
+        Amplitude [m] >= 0; 0 means a smooth surface.
+    corrugation_phase : float
+        Phase [rad].
+    initial_position : float
+        Axis position X [m] at the start time.
+    scene_file : str
+        TOML scene (:func:`rollcontact.load_scene`, so it must be a complete scene including ``[load]``); when
+        given, its material, radius, friction and surface replace the scalar parameters above (the surface is
+        read in the model's frame), while its load, creep, axis position and speed are replaced by the inputs.
+        Empty: unused.
+    method : int
+        0 auto, 1 closed form, 2 polynomial, 3 discretised.
+    tolerance : float
+        Requested relative error [1] >= 0 of T' and p0: each step's method runs with its cheapest setting whose
+        error estimate meets it (:func:`rollcontact.api.setting_for`, as ``rollcontact.solve(scene,
+        tolerance=...)``); with ``transient`` = 1 also the error of T' (of mu N) it tolerates before the
+        instationary model takes over.  It sets the grids of the discretised transient
+        (:func:`transient_setting`) with ``method`` = 3, and with ``method`` = 0 below
+        :data:`RELAXATION_ACCURACY`, where ``transient`` = 1 uses that transient wherever the relaxation lag's bound
+        for the creep swing does not meet the tolerance.  0: the methods' defaults and
+        :data:`DEFAULT_TRANSIENT_TOLERANCE`.
+    polynomial_order : int
+        Polynomial order >= 0 for methods that accept it (0: the method's default).
+    elements : int
+        Element count >= 0 for methods that accept it and for the discretised transient (0: the method's
+        default; the transient's grids are chosen from ``tolerance``, else one grid of 100; > 0: one grid).
+    transient : int
+        0 quasi-static, 1 auto (instationary model only while the stationarity measure calls for it), 2 always
+        (module docstring, "Instationary rolling").
+    datum : float
+        Datum distance L [m] >= 0 of instationary rolling, for methods that accept it (0: the method's default).
+    """
+
+    youngs_modulus: float = 210e9
+    poisson_ratio: float = 0.28
+    radius: float = 0.46
+    contact_width: float = 0.02
+    friction_coefficient: float = 0.3
+    friction_law: int = 0
+    friction_kinetic_ratio: float = 0.4
+    friction_decay: float = 0.6
+    corrugation_wavelength: float = 0.04
+    corrugation_amplitude: float = 0.0
+    corrugation_phase: float = 0.0
+    initial_position: float = 0.0
+    scene_file: str = ""
+    method: int = AUTO
+    tolerance: float = 0.0
+    polynomial_order: int = 0
+    elements: int = 0
+    transient: int = 0
+    datum: float = 0.0
+
+    def __post_init__(self):
+        set_ = object.__setattr__
+        for name, lower, upper, lower_open, upper_open in (
+                ("youngs_modulus", 0.0, None, True, False),
+                ("poisson_ratio", 0.0, 0.5, False, True),
+                ("radius", 0.0, None, True, False),
+                ("contact_width", 0.0, None, True, False),
+                ("friction_coefficient", 0.0, None, True, False),
+                ("friction_kinetic_ratio", 0.0, 1.0, True, False),
+                ("friction_decay", 0.0, None, False, False),
+                ("corrugation_wavelength", 0.0, None, True, False),
+                ("corrugation_amplitude", 0.0, None, False, False),
+                ("corrugation_phase", None, None, False, False),
+                ("initial_position", None, None, False, False),
+                ("tolerance", 0.0, None, False, False),
+                ("datum", 0.0, None, False, False)):
+            try:
+                value = check_real(name, getattr(self, name), lower=lower, upper=upper, lower_open=lower_open,
+                                   upper_open=upper_open)
+            except SceneError as exc:
+                raise ModelError(str(exc)) from None
+            set_(self, name, value)
+        for name, allowed in (("friction_law", FRICTION_LAWS), ("method", {AUTO: "auto", **METHOD_NAMES}),
+                              ("transient", TRANSIENT_MODES)):
+            value = getattr(self, name)
+            if value not in allowed:
+                choices = ", ".join(f"{k} {v}" for k, v in allowed.items())
+                raise ModelError(f"{name} = {value!r} is out of range: it must be one of {choices}")
+            set_(self, name, int(value))
+        for name in ("polynomial_order", "elements"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
+                raise ModelError(f"{name} = {value!r} is out of range: it must be an integer >= 0 "
+                                 "(0: the method's default)")
+            set_(self, name, int(value))
+        if not isinstance(self.scene_file, str):
+            raise ModelError(f"scene_file must be a string (a path or empty), got {self.scene_file!r}")
+
+
+def method_code(name: str) -> int:
+    """``method_used`` code of a registry name (0 when it belongs to no family of :data:`METHOD_NAMES`)."""
+    return next((code for code, family in METHOD_NAMES.items() if name.startswith(family)), 0)
+
+
+def registered_methods(codes: tuple[int, ...]) -> tuple[str, ...]:
+    """Registered methods of the families ``codes``, in that family order and by rank within a family."""
+    specs = sorted((s for s in METHODS.values() if method_code(s.name) in codes),
+                   key=lambda s: (codes.index(method_code(s.name)), s.rank))
+    return tuple(s.name for s in specs)
+
+
+def input_problem(current_time, step_size, normal_load, creep, velocity) -> str:
+    """The message for the first invalid step argument (what, which value, which limit)."""
+    checks = (
+        ("current_time", current_time, "s", None),
+        ("step_size", step_size, "s", "> 0"),
+        ("normal_load", normal_load, "N", ">= 0"),
+        ("creep", creep, "1", None),
+        ("velocity", velocity, "m/s", ">= 0"),
+    )
+    for name, value, unit, bound in checks:
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            return f"{name} must be a real number, got {value!r}"
+        if not math.isfinite(v):
+            return f"{name} = {v!r} is not finite"
+        if (bound == "> 0" and not v > 0.0) or (bound == ">= 0" and not v >= 0.0):
+            return f"{name} = {v!r} {unit} is out of range: it must be {bound}"
+    return "invalid step arguments"
+
+
+def contact_bodies(p: ContactParameters) -> tuple[Material, float, FrictionLaw, Surface, list[str]]:
+    """Material, radius [m], friction law and surface (in the model's frame) of the parameters, or of their
+    ``scene_file``, and the notices that go with them.
+
+    Raises
+    ------
+    ModelError
+        The scene file cannot be read, or the parameters make no valid material, law or surface.
+    """
+    if p.scene_file:
+        try:
+            base = load_scene(p.scene_file)
+        except SceneError as exc:
+            raise ModelError(f"scene_file: {exc}") from None
+        notice = (f"scene_file {p.scene_file!r} sets material, radius, friction and surface; the scalar parameters "
+                  "for them are ignored, and the inputs replace its load, creep and speed")
+        return base.material, base.radius, base.friction, base.surface, [notice]
+    try:
+        material = Material(p.youngs_modulus, p.poisson_ratio)
+        if p.friction_law == 0:
+            friction = Coulomb(p.friction_coefficient)
+        else:
+            friction = ExponentialFalling(p.friction_coefficient, p.friction_kinetic_ratio, p.friction_decay)
+        harmonics = ()
+        if p.corrugation_amplitude != 0.0:
+            harmonics = (Harmonic.from_wavelength(p.corrugation_wavelength, p.corrugation_amplitude,
+                                                  p.corrugation_phase),)
+        surface = Surface(harmonics=harmonics)
+    except ValueError as exc:
+        raise ModelError(str(exc)) from None
+    return material, p.radius, friction, surface, []
