@@ -473,6 +473,7 @@ def test_polynomial_on_corrugation_succeeds_or_says_why(data, case, order, axis_
 
 @settings(PROFILE, max_examples=60)
 @given(st.data(), contacts, st.floats(-1.0, 1.0))
+@pytest.mark.slow
 def test_polynomial_creep_curve_on_corrugation_is_monotone(data, contact, axis_fraction):
     """Coulomb friction: more creep never gives less force, and no stick zone means T' = mu N' sign(xi) exactly
     (a falling law's creep curve has a maximum, so this is for Coulomb only)."""

@@ -140,6 +140,7 @@ def mindlin_cycle_dissipation(peak):
     return float(np.sum(0.5 * (np.array(gap[1:]) + np.array(gap[:-1])) * np.diff(forces)))
 
 
+@pytest.mark.slow
 def test_static_limit_is_cattaneo_mindlin_with_datum_free_hysteresis():
     force = OscillatingForce(0.0, 0.6 * LIMIT, 0.0)
     energies = []

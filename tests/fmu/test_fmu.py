@@ -25,7 +25,7 @@ import rollcontact
 from rollcontact.method import MethodSpec
 from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, StepOutputs
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 DISCARD = 2
 H = 1e-3
 OUTPUTS = StepOutputs._fields
@@ -177,7 +177,6 @@ def test_simulate_fmu_with_input_signals(unzipped):
     assert np.all(result["stationarity"][3:] < STATIONARY), "ramped inputs are not stationary"
 
 
-@pytest.mark.skipif("polynomial" not in rollcontact.METHODS, reason="the polynomial method is not registered")
 def test_corrugated_surface_uses_the_polynomial_method(instance):
     p = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04, "corrugation_phase": 0.3}
     fmu = instance(**p)
@@ -200,7 +199,6 @@ def test_corrugated_surface_uses_the_polynomial_method(instance):
     assert_allclose(x, 3 * H * 5.0, rtol=1e-14, err_msg="the corrugation phase moves with X")
 
 
-@pytest.mark.skipif("polynomial" not in rollcontact.METHODS, reason="the polynomial method is not registered")
 def test_split_contact_through_the_fmu_is_solved_with_several_patches(instance):
     """10 mm / 20 um corrugation, axis where the contact splits: the FMU's steps are the polynomial method's
     several-patch solutions (rollcontact.multipatch), method_used 2, for auto and for method = 2."""
@@ -224,7 +222,6 @@ def test_split_contact_through_the_fmu_is_solved_with_several_patches(instance):
                             err_msg=f"method {method}, X = {x}: FMU against rollcontact.solve(method='polynomial')")
 
 
-@pytest.mark.skipif("discretised" not in rollcontact.METHODS, reason="the discretised method is not registered")
 @pytest.mark.parametrize(("method", "used"), [(0, 2), (3, 3)], ids=["auto: polynomial", "discretised"])
 def test_falling_friction_on_a_split_contact_through_the_fmu(instance, method, used):
     """The same split contact with a falling law: auto's step is the polynomial slip iteration on both patches
@@ -240,7 +237,6 @@ def test_falling_friction_on_a_split_contact_through_the_fmu(instance, method, u
         assert 0.0 < abs(out.tangential_force) <= 0.3 * 1e6 * b, out
 
 
-@pytest.mark.skipif("discretised" not in rollcontact.METHODS, reason="the discretised method is not registered")
 def test_explicit_discretised_method_through_the_fmu(instance):
     fmu = instance(method=3, corrugation_amplitude=20e-6, elements=100)
     out = fmu.step(0.0, H, 2e4, 1e-3, 5.0)

@@ -97,7 +97,7 @@ if __name__ == "__main__" and sys.argv[1:] == ["--record"]:
 
     from fmpy import extract, read_model_description
 
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[2]
     dest = Path(tempfile.mkdtemp())
     subprocess.run([sys.executable, str(root / "build_fmu.py"), "--dest", str(dest)], check=True)
     unzipped = extract(str(dest / "RollingContact2D.fmu"))

@@ -24,6 +24,7 @@ Budget: derandomised hypothesis (``extremes.PROFILE``), 60 instances of 3 steps;
 
 from __future__ import annotations
 
+import pytest
 from extremes import PROFILE, check_outputs, model_inputs, model_parameters
 from fmpy.fmi1 import FMICallException
 from hypothesis import event, given, settings
@@ -48,6 +49,7 @@ def step_or_discard(fmu: Instance, t: float, h: float, row) -> tuple[int, object
 
 @settings(PROFILE, max_examples=60)
 @given(model_parameters(), st.data())
+@pytest.mark.slow
 def test_fmu_steps_end_in_valid_outputs_or_a_logged_discard(unzipped, description, case, data):
     parameters, bad_parameter = case
     fmu = Instance(unzipped, description, name="properties", **parameters)

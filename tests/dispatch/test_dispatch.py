@@ -164,6 +164,7 @@ UNRESOLVED_CORRUGATION = Scene(1000.0, creep=1e-7, radius=1.0, material=rollcont
                                surface=Surface(harmonics=(Harmonic(5857.780147685687, 2.0975242650564358e-06, 0.0),)))
 
 
+@pytest.mark.slow
 def test_auto_falls_back_where_the_error_estimate_says_nothing():
     """An answer whose own error estimate is >= 1 (api.UNRESOLVED) is treated as a failure: auto falls back to the
     discretised solver and says why; asked for explicitly, the polynomial method still answers, its estimate
@@ -323,6 +324,7 @@ def test_each_models_floor_is_below_every_cost_it_models(name):
         assert model.floor <= min(costs), f"{name}: {spec.name} floor {model.floor:.3g} s > cost {min(costs):.3g} s"
 
 
+@pytest.mark.slow
 def test_auto_reports_a_tolerance_it_cannot_reach():
     """Only the discretised solver treats UNSOLVED_SPLIT, and none of its settings certifies 1e-4."""
     scene = UNSOLVED_SPLIT
@@ -337,6 +339,7 @@ def test_auto_reports_a_tolerance_it_cannot_reach():
 
 
 @pytest.mark.parametrize("tolerance, extrapolate", [(3e-2, False), (1e-2, None), (3e-3, True), (1e-3, True)])
+@pytest.mark.slow
 def test_discretised_setting_is_the_fewest_elements_whose_bound_meets_the_tolerance(tolerance, extrapolate):
     """Any count between the ladder's ends, not only its rungs (the bound is within 1.3-2x of the worst-placement
     error, so the next rung could cost 4-8x), of the cheapest kind by the cost model: a single grid, or from ~1e-2

@@ -247,9 +247,7 @@ def test_foreign_state_versions_are_refused():
 # scenes of the non-closed-form methods
 def test_scene_is_the_mirror_image_in_the_package_frame():
     p = ContactParameters(corrugation_amplitude=20e-6, corrugation_wavelength=0.04, corrugation_phase=0.7)
-    model = ContactModel(p) if model_can_be_built(p) else None
-    if model is None:
-        pytest.skip("no method for corrugated surfaces is registered")
+    model = ContactModel(p)
     x_axis = 0.013
     scene = model.scene(x_axis, 2e4, 1e-3, 20.0)
     X = np.linspace(-0.05, 0.05, 101)
@@ -259,15 +257,6 @@ def test_scene_is_the_mirror_image_in_the_package_frame():
     assert_allclose(scene.normal_load_per_length, 2e4 / p.contact_width, rtol=1e-15, err_msg="N' = N / b")
 
 
-def model_can_be_built(p: ContactParameters) -> bool:
-    try:
-        ContactModel(p)
-    except ModelError:
-        return False
-    return True
-
-
-@pytest.mark.skipif("polynomial" not in rollcontact.METHODS, reason="the polynomial method is not registered")
 def test_corrugated_steps_equal_the_polynomial_solve():
     p = ContactParameters(corrugation_amplitude=20e-6, corrugation_wavelength=0.04, corrugation_phase=0.3)
     model = ContactModel(p)
@@ -322,7 +311,6 @@ def test_auto_falls_back_to_the_discretised_family_and_reports_it(monkeypatch):
     assert strict.state.steps == 0, "a failed solve must not advance the state"
 
 
-@pytest.mark.skipif("discretised" not in rollcontact.METHODS, reason="the discretised method is not registered")
 def test_explicit_discretised_method_with_its_creep_stiffness(monkeypatch):
     """The discretised method returns dT'/dxi (its stick block's K_SS^-1 1): no second solve for a difference."""
     p = ContactParameters(corrugation_amplitude=20e-6, method=3, elements=120)
@@ -346,8 +334,6 @@ def test_explicit_discretised_method_with_its_creep_stiffness(monkeypatch):
 
 def test_falling_friction_needs_more_than_the_closed_form():
     falling = ContactParameters(friction_law=1, friction_kinetic_ratio=0.4, friction_decay=0.6)
-    if not model_can_be_built(falling):
-        pytest.skip("no method for velocity-dependent friction is registered")
     out = ContactModel(falling).step(0.0, H, 1e5, 1e-3, 5.0)
     assert out.method_used in (2, 3), f"falling friction must not use the closed form, used {out.method_used}"
     coulomb = ContactModel(dataclasses.replace(falling, friction_kinetic_ratio=1.0)).step(0.0, H, 1e5, 1e-3, 5.0)
@@ -722,6 +708,7 @@ def test_tight_tolerance_runs_the_lag_while_its_bound_meets_it():
     assert error[-50:].max() <= bound + 16 / 200**2, f"lag error {error[-50:].max():.2e} mu N, bound {bound:.2e}"
 
 
+@pytest.mark.slow
 def test_tight_tolerance_hands_between_lag_and_transient_as_the_swing_grows_and_shrinks():
     """At tolerance 5e-3 a creep swing around 0.3 mu a/R growing from 0.02 to 0.6 mu a/R (lambda/a = 10): the lag
     until its bound passes the tolerance, then the transient pair from the lag's force; the swing back at 0.05: the
@@ -770,6 +757,7 @@ def unresolved_corrugation_model(**parameters) -> ContactModel:
 
 
 @pytest.mark.parametrize("tolerance", [1e-3, 0.0])
+@pytest.mark.slow
 def test_an_answer_whose_estimate_says_nothing_falls_through(tolerance):
     """The corrugation of tests/test_api.py::UNRESOLVED_CORRUGATION (k a = 293, the polynomial method's truncation
     estimate 49): the model, like solve(), takes the discretised answer, with a tolerance and without one (then it
