@@ -1,6 +1,6 @@
 """rollcontact: fast, accurate 2D rolling contact of quasi-identical elastic bodies.
 
-Conventions (used by every module; physics.md section 1)
+Conventions (used by every module; docs/physics.md, Conventions)
 ---------------------------------------------------------
 * 2D plane strain, half-space theory, quasi-identical bodies: the normal problem is solved first, the
   tangential one on top of it.  Contact modulus ``E* = E / (2 (1 - nu^2))``.

@@ -1,7 +1,7 @@
-"""Module paths of an earlier layout, importable for one release with a DeprecationWarning.
+"""Deprecated module paths (the package's flat layout), importable for one release with a DeprecationWarning.
 
-The package's modules moved into ``methods/``, ``halfspace/``, ``instationary/`` and ``stepping/``.  A program that
-imports one of the old paths below gets a module that forwards every attribute to the new modules (first match in
+The package's modules live in ``methods/``, ``halfspace/``, ``instationary/`` and ``stepping/``.  A program that
+imports one of the deprecated paths below gets a module that forwards every attribute to the new modules (first match in
 the listed order) and a DeprecationWarning that names them.  Names that moved out of a module that still exists are
 forwarded by that module's ``__getattr__`` (:func:`moved_attribute`).
 """
@@ -30,7 +30,7 @@ MODULES = {
     "rollcontact.velocity_friction": ("rollcontact.methods.polynomial.slip",),
     "rollcontact.split_friction": ("rollcontact.methods.polynomial.patches_slip",),
 }
-"""Old module path -> the modules that hold its names now."""
+"""Deprecated module path -> the modules that hold its names now."""
 
 ATTRIBUTES = {
     "rollcontact.closed_form": {"solve_closed_form": "rollcontact.methods.closed_form",
@@ -40,7 +40,7 @@ ATTRIBUTES = {
 
 
 class MovedModule(types.ModuleType):
-    """Stands for an old module path: forwards attribute reads to the modules that hold the names now."""
+    """Stands for a deprecated module path: forwards attribute reads to the modules that hold the names now."""
 
     def __getattr__(self, name: str):
         for target in MODULES[self.__name__]:
@@ -52,7 +52,7 @@ class MovedModule(types.ModuleType):
 
 
 class MovedFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """Finds the old module paths of :data:`MODULES` (installed on ``sys.meta_path`` by ``rollcontact``)."""
+    """Finds the deprecated module paths of :data:`MODULES` (installed on ``sys.meta_path`` by ``rollcontact``)."""
 
     def find_spec(self, fullname, path=None, target=None):
         if fullname in MODULES:

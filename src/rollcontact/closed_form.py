@@ -19,7 +19,7 @@ def hertz(normal_load_per_length: float, radius: float, contact_modulus: float) 
     """Hertz line contact: half-width and peak pressure.
 
     Implements ``a = sqrt(4 N' R / (pi E*))`` and ``p0 = 2 N' / (pi a)`` (paper eqs 10-11 with
-    ``E* = E / (2 (1 - nu^2))``; physics.md section 2); ``p(x) = p0 sqrt(1 - x^2/a^2)`` (eq 9).
+    ``E* = E / (2 (1 - nu^2))``; docs/physics.md, Closed forms); ``p(x) = p0 sqrt(1 - x^2/a^2)`` (eq 9).
 
     Parameters
     ----------
@@ -87,7 +87,7 @@ def carter(normal_load_per_length: float, creep: float, radius: float, contact_m
 
 
 def cattaneo_traction(x, a: float, p0: float, mu: float, force_ratio: float):
-    """Cattaneo's static shift (loading), physics.md section 2.
+    """Cattaneo's static shift (loading), docs/physics.md, Closed forms.
 
     ``q = mu p0 [sqrt(1 - x^2/a^2) - (c/a) sqrt(1 - x^2/c^2)]``, ``c/a = sqrt(1 - Q'/(mu N'))`` with
     ``force_ratio = Q'/(mu N')`` in [0, 1]; each root only inside its own zone.  x [m] from the centre.
@@ -98,7 +98,7 @@ def cattaneo_traction(x, a: float, p0: float, mu: float, force_ratio: float):
 
 
 def mindlin_unloading_traction(x, a: float, p0: float, mu: float, peak_ratio: float, force_ratio: float):
-    """Mindlin-Deresiewicz unloading from Q* to Q (physics.md section 2), ratios to mu N'.
+    """Mindlin-Deresiewicz unloading from Q* to Q (docs/physics.md, Closed forms), ratios to mu N'.
 
     ``q = -mu p0 [sqrt(1-x^2/a^2) - 2 (b/a) sqrt(1-x^2/b^2) + (c/a) sqrt(1-x^2/c^2)]`` with
     ``b/a = sqrt(1 - (Q* - Q)/(2 mu N'))`` and ``c/a = sqrt(1 - Q*/(mu N'))``.

@@ -1,31 +1,37 @@
 """One dispatcher, a registry of methods and the automatic choice (in the manner of scipy's root_scalar).
 
+Without a tolerance
+-------------------
+``solve(scene)`` (method ``"auto"``) takes the lowest-ranked registered method that can treat the scene, with its
+defaults: the cheapest exact method (closed form, then the polynomial method, then the discretised one).
+
 Tolerance-aware choice
 ----------------------
-``solve(scene, tolerance=t)`` (method ``"auto"``) takes, over every method that can treat the scene, the cheapest
-*setting* whose error estimate is at most t.  Each registered method may carry an :class:`AccuracyModel` that
-lists its settings for a scene (option sets such as a polynomial tolerance, a node count or an element count) and
-gives, for each, the predicted error and a modelled cost:
-
-* error: the larger of the relative errors of T' and of the peak pressure p0, from measured convergence
-  (the discretised T' is first order in the elements across the contact, the polynomial method's truncation is
-  controlled by its coefficient decay, its slip iteration is bounded a priori by beta/N^2 in the node count N
-  and, after the solve, by its own a-posteriori estimate, from which ``auto`` escalates the node count until the
-  tolerance is met (:func:`run_to_tolerance`, ``benchmarks/bench_slip_nodes.py``);
-* cost: modelled seconds per solve from operation counts (n^3 for a dense factorisation, nodes^2 per slip
-  iteration, iteration counts growing with the friction law's sharpness), with constants measured by
-  ``benchmarks/pareto.py``, which also checks the model against measured times.  Only the ranking matters.
+``solve(scene, tolerance=t)`` takes, over every method that can treat the scene, the cheapest *setting* whose error
+estimate is at most t (:func:`choose_setting`).  Each registered method may carry an
+:class:`~rollcontact.method.AccuracyModel` that lists its settings for a scene (option sets such as a polynomial
+truncation, a node count or an element count) and gives, for each, the predicted relative error of T' and p0 and a
+modelled cost; only the ranking of the costs matters.  The models and their calibrations live with their methods
+(:mod:`rollcontact.methods.polynomial.accuracy`, :mod:`rollcontact.methods.discretised.accuracy`,
+:mod:`rollcontact.methods.closed_form`).  Where a method's result carries an a-posteriori estimate that misses t,
+``auto`` runs the finer settings its model names until one meets t (:func:`run_to_tolerance`).
 
 The result reports ``info["error_estimate"]`` (the method's estimate for the options actually used, a posteriori
-where the method returns one, e.g. the polynomial truncation residual or the discretised grid), and with a
-tolerance also ``info["tolerance"]``, ``info["tolerance_met"]`` and ``info["setting"]``.  When no setting meets
-the tolerance, the most accurate one is used and the message says so.  Without a tolerance ``auto`` behaves as
-before: the cheapest exact method with its defaults.
+where the method returns one), and with a tolerance also ``info["tolerance"]``, ``info["tolerance_met"]`` and
+``info["setting"]``.  When no setting meets the tolerance, the most accurate one is used and the message says so.
+
+Fallback
+--------
+When the chosen method's answer fails (its validity checks, its convergence, an arithmetic error) or its error
+estimate says nothing (:data:`~rollcontact.method.UNRESOLVED`), ``auto`` runs the cheapest method of higher rank
+registered as a fallback (``"discretised"``), with a tolerance at its cheapest setting that meets it, and reports
+``info["fallback_from"]`` and ``info["fallback_reason"]``.  A named method never falls back.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from rollcontact.method import AccuracyModel, MethodSpec, Setting, check_tolerance, nan_last, unresolved
 from rollcontact.methods import closed_form, discretised, polynomial
@@ -75,7 +81,7 @@ def by_rank() -> list[MethodSpec]:
     return RANKED[1]
 
 
-RANKED: list = [None, []]  # (registry content it was sorted from, sorted specs)
+RANKED: list = [None, []]  # (registry content it is sorted from, sorted specs)
 
 
 def choose_method(scene: Scene, tolerance: float | None = None, names=None) -> str:
@@ -318,7 +324,10 @@ def annotate(spec: MethodSpec, scene: Scene, options: dict, result: ContactResul
              tolerance: float | None = None, estimate: str = "full") -> ContactResult:
     """Put the method's error estimate for the options used into ``result.info`` (a fresh dict per result); with
     a ``tolerance``, one that need only tell whether the result meets it (:meth:`AccuracyModel.achieved`); with
-    ``estimate="free"`` and no tolerance, only the part that costs nothing (:meth:`AccuracyModel.free_estimate`)."""
+    ``estimate="free"`` and no tolerance, only the part that costs nothing (:meth:`AccuracyModel.free_estimate`).
+    ``result.method`` is the registry name (a function registered under another name reports this one)."""
+    if isinstance(result, ContactResult) and result.method != spec.name:
+        result = replace(result, method=spec.name)
     if spec.accuracy is not None and isinstance(result, ContactResult):
         result.info["error_estimate"] = (spec.accuracy.free_estimate(result) if estimate == "free" and tolerance is None
                                          else spec.accuracy.achieved(scene, options, result, tolerance))

@@ -1,4 +1,4 @@
-"""Friction laws mu(v) of the slip velocity v = V |s| [m/s] (physics.md section 5).
+"""Friction laws mu(v) of the slip velocity v = V |s| [m/s] (docs/physics.md, Velocity-dependent friction).
 
 Every law is a small frozen dataclass with ``coefficient(slip_velocity)`` (vectorised) and
 ``static_coefficient`` (mu at v = 0).  ``is_constant`` tells solvers when the Coulomb closed forms apply.

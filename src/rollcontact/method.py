@@ -1,4 +1,11 @@
-"""What a method is."""
+"""What a method is: the registry entry :class:`MethodSpec`, the accuracy-model interface :class:`AccuracyModel`
+and the :class:`Setting` it proposes, with the helpers the accuracy models share.
+
+A module of its own so that the method packages (:mod:`rollcontact.methods`) and the dispatcher
+(:mod:`rollcontact.dispatch`) both depend on it and not on each other.  An accuracy model predicts the larger
+relative error of T' and of the peak pressure p0 of a setting, and its modelled cost; :data:`UNRESOLVED` is the
+estimate from which a result counts as saying nothing.
+"""
 
 from __future__ import annotations
 
@@ -20,16 +27,16 @@ ROUND_OFF = 1e-14
 
 UNRESOLVED = 1.0
 """A result whose error estimate (relative, T' and p0) is at least this says nothing reliable, not even the size of
-T' or p0: ``solve`` with ``"auto"`` treats it as a failure and falls back like one (a corrugation of k a = 293 on
-order 170 once reported success with an estimate of 49 and |q| above mu p by 1.4 % of mu p0;
-``tests/test_api.py``)."""
+T' or p0: ``solve`` with ``"auto"`` treats it as a failure and falls back like one (an error of the order of the
+answer itself leaves no digit to trust, whatever the method's own checks say;
+``tests/dispatch/test_dispatch.py::test_auto_falls_back_where_the_error_estimate_says_nothing``)."""
 
 
 class Setting(NamedTuple):
     """One way to run a method on a scene, with what it is predicted to achieve and to cost.
 
     Immutable; a named tuple rather than a frozen dataclass because ``auto`` builds one per solve and a frozen
-    dataclass costs ~2 us to construct, a quarter of a closed-form solve.
+    dataclass costs more to construct, a noticeable part of a closed-form solve.
 
     Attributes
     ----------

@@ -264,7 +264,7 @@ def scene_toml(scene: Scene) -> str:
 
     Harmonics are written by wavenumber and amplitudes (``[[surface.harmonics]]``), the friction law by its name in
     :data:`rollcontact.friction.LAWS` and its fields.  Use it to hand a scene to the FMU's ``scene_file`` parameter
-    (which reads the surface in the FMU's frame: ``rollcontact.model`` module docstring).
+    (which reads the surface in the FMU's frame: ``rollcontact.stepping.model`` module docstring).
 
     Parameters
     ----------

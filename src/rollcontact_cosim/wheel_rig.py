@@ -1,8 +1,8 @@
 """Host model of the co-simulation: a driven wheel on a rail carrying its share of the vehicle (no FMI here).
 
 The ``WheelRig`` FMU (``fmu_src/wheel_rig_slave.py``) only maps its variables to a :class:`WheelRigModel`, as the
-``RollingContact2D`` FMU does with :class:`rollcontact.model.ContactModel`; this module imports neither fmpy nor
-pythonfmu and is bundled in the FMU's resources.
+``RollingContact2D`` FMU does with :class:`rollcontact.stepping.model.ContactModel`; this module imports neither fmpy
+nor pythonfmu and is bundled in the FMU's resources.
 
 Equations (SI units; T is the tangential force of the rail on the wheel, positive forwards)
 -------------------------------------------------------------------------------------------
@@ -48,9 +48,9 @@ Integration
 method ``(I - h W) (y_(j+1) - y_j) = h f(t_(j+1), y_j)`` with ``y = (omega, v, x)`` and W the exact Jacobian of the
 right-hand side (including the linearised force) at ``y_j``.  On the linearised loop this is backward Euler:
 L-stable and stiffly accurate, so the stiff creep tracks its quasi-static equilibrium at ``t_(j+1)`` without lag
-(first order in the slow dynamics).  A two-stage L-stable Rosenbrock method (ROS2) was tried and rejected: it is
-not stiffly accurate, and its stiff component lags a moving equilibrium by ~0.7 h, a first-order creep error
-larger than Euler's.
+(first order in the slow dynamics).  A two-stage L-stable Rosenbrock method (ROS2) would not serve: it is not
+stiffly accurate, and its stiff component lags a moving equilibrium by ~0.7 h, a first-order creep error larger
+than Euler's.
 """
 
 from __future__ import annotations

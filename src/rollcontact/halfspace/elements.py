@@ -5,7 +5,7 @@ piecewise-constant element values on a uniform grid of ``n`` elements of width `
 ``[x_j - h/2, x_j + h/2]`` and every equation is collocated at the element centres ``x_i``.
 
 Influence coefficients (Kalker, *Three-Dimensional Elastic Bodies in Rolling Contact*, 1990, ch. 5, for the 2D
-half-plane; physics.md section 1 for the conventions):
+half-plane; docs/physics.md, Conventions):
 
 * displacement, log kernel: with ``F(y) = y ln|y| - y``,
   ``int_{z_j - h/2}^{z_j + h/2} ln(|x_i - z| / L) dz = h [F(k + 1/2) - F(k - 1/2) + ln(h / L)]``,
@@ -110,8 +110,8 @@ class FactorCache:
             return hit
         idx = np.flatnonzero(mask)
         sub = self.matrix[np.ix_(idx, idx)]
-        # the LAPACK solves directly: scipy's cho_solve/lu_solve wrappers cost ~12 us a call, several times the
-        # solve itself on the small stick sets of a transient substep (same routines, same results)
+        # the LAPACK solves directly: scipy's cho_solve/lu_solve wrappers cost several times the solve itself per
+        # call on the small stick sets of a transient substep (same routines, same results)
         if self.symmetric:
             factor, lower = linalg.cho_factor(sub, check_finite=False)
 
@@ -328,7 +328,7 @@ class Control:
     """Linear side condition ``alpha c + beta h sum(q) = gamma`` on the stick-zone constant c.
 
     Creep control in steady rolling: ``(1, 0, xi)``; force control: ``(0, 1, T')``.  In a transient step c is
-    the rigid shift corrected by the datum term: see :class:`rollcontact.discretised.TransientSolver`.
+    the rigid shift corrected by the datum term: see :class:`rollcontact.halfspace.solver.TransientSolver`.
     """
 
     alpha: float
@@ -356,7 +356,7 @@ def solve_stick_slip(matrix: np.ndarray, factors: FactorCache, b: np.ndarray, bo
 
     Unknowns q on the contact elements.  With ``slip = c + b - A q``: stick elements have ``slip = 0`` and
     ``|q| <= bound``; slip elements have ``q = bound sign`` and ``sign * slip >= 0`` (in slip q = mu p sign(s),
-    physics.md section 1).  Per set, ``A_SS q_S = b_S - A_SP q_P + c 1`` is solved with one (cached)
+    docs/physics.md, Conventions).  Per set, ``A_SS q_S = b_S - A_SP q_P + c 1`` is solved with one (cached)
     factorisation and c follows from the side condition.  Violations swap sets (traction above the bound:
     stick -> slip with the traction's sign; slip against the traction: slip -> stick) until none remain.
 

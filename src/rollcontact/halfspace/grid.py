@@ -1,4 +1,11 @@
-"""Grid."""
+"""Where the discretised half-space's elements go: the automatic grid of a scene, and the checks of grid options.
+
+:func:`automatic_grid` chooses a window from the Hertz width and the surface (at least
+:data:`ELEMENTS_PER_WAVELENGTH` elements per shortest surface wavelength) and :func:`patch_geometry` reads the
+contact's half-width, offset and patches off a solved grid.  A module of its own because the steady method, its
+accuracy model and the transient solver all place grids the same way, and the accuracy model needs the grid
+without the solver.
+"""
 
 from __future__ import annotations
 

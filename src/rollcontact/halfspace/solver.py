@@ -1,4 +1,25 @@
-"""Solver."""
+"""The discretised half-space solver that the methods and instationary rolling share: :class:`TransientSolver`.
+
+Kalker's transient rolling (TANG) on a fixed grid, one step of rolled distance per call, with its explicit
+:class:`TransientState`; ``ds = 0`` is a static step.  Steady rolling (:mod:`rollcontact.methods.discretised`) and
+creep-controlled instationary rolling (:mod:`rollcontact.instationary.model`) both run on it, which is why it lives
+here rather than in either.  :func:`fitted_normal` and :func:`contact_window` place the grid on the contact; the
+elements and the active-set solvers are :mod:`rollcontact.halfspace.elements`, the automatic grid
+:mod:`rollcontact.halfspace.grid`.
+
+* Normal problem (NORM): ``g = h0 + M p - c >= 0``, ``p >= 0``, ``p g = 0``, ``h sum p = N'`` with the
+  undeformed gap ``h0 = x^2/(2R) - Z(x + x_c)``, solved exactly by an active set for any gap, several patches
+  included; the certificate (load balance, gap >= 0, p >= 0, complementarity) is returned.
+* Tangential transient (TANG): per step of rolled distance ``ds = V dt`` the particle now at x_i was at
+  ``x_i - ds``, so the slip distance is ``S_i = w + u_new(x_i) - u_old(x_i - ds)`` (w = xi ds the rigid
+  shift); stick ``S = 0``, slip ``q = mu p sign(S)``.  This is the upwind (first-order) discretisation of
+  ``s = xi + (1/V) Du/Dt``; the old displacement at the shifted points is integrated exactly for any ds.
+
+Datum: in 2D the tangential displacement is defined relative to a datum distance L (docs/physics.md, Instationary
+rolling).  Force control is datum-free; creep control of a transient is not, and is well posed only for L above the
+logarithmic capacity of the grid, a quarter of its length.  The default datum is the cylinder radius R: the size of
+the body, beyond which the half-space idealisation that produces the logarithm fails.
+"""
 
 from __future__ import annotations
 
@@ -36,11 +57,11 @@ def contact_window(scene: Scene) -> tuple[float, float]:
     edge moves by less than one element between resolutions); :func:`automatic_grid`'s window without harmonics
     or when the search fails.
 
-    For references (:func:`extrapolated`): the rigid-gap window adds the corrugation's depth ``2 sum|Z_m|`` to the
-    Hertz depth and is 1.5-4.5 times wider than the contact on ``benchmarks/pareto.py``'s corrugations, so at the
-    same element count this window's elements are that much finer.  It is not the solver's default: the cost of a
-    solve grows with the elements in contact, not with those outside it, so at equal accuracy the fitted window
-    saved nothing and its search doubled the cost of a discretised FMU step (measured in ``benchmarks/pareto.py``).
+    For references (:func:`rollcontact.methods.discretised.steady.extrapolated`): the rigid-gap window adds the
+    corrugation's depth ``2 sum|Z_m|`` to the Hertz depth and is several times wider than the contact on
+    corrugations, so at the same element count this window's elements are that much finer.  It is not the solver's
+    default: the cost of a solve grows with the elements in contact, not with those outside it, so at equal accuracy
+    the fitted window saves nothing, and its search adds a normal solve to every discretised FMU step.
     """
     if scene.normal_load_per_length == 0.0 or not any(h.amplitude > 0.0 for h in scene.surface.harmonics):
         grid = automatic_grid(scene)
@@ -126,7 +147,7 @@ class StepResult:
     message : str
         Status.
     certificate : dict
-        See :func:`rollcontact._bem.tangential_certificate`.
+        See :func:`rollcontact.halfspace.elements.tangential_certificate`.
     """
 
     tangential_force_per_length: float
@@ -148,8 +169,9 @@ class TransientSolver:
     ``u = (2/(pi E*)) int q(z) ln(|x - z|/L) dz`` (the log kernel integrated exactly over each element, also at
     the shifted points), w = xi ds; stick ``S = 0`` and ``|q| <= mu p``, slip ``q = mu p sign(S)``.  Creep
     control (xi given) depends on the datum L, force control (T' given) does not: for a datum L,
-    ``xi_L = xi_Lw + (2/(pi E*)) ln(L/L_w) dT'/ds`` (physics.md section 6), which is how both are solved with
-    one SPD matrix of datum L_w.  ``ds = 0`` is a static step (Cattaneo, Mindlin-Deresiewicz); force control only.
+    ``xi_L = xi_Lw + (2/(pi E*)) ln(L/L_w) dT'/ds`` (docs/physics.md, Instationary rolling), which is how both are
+    solved with one SPD matrix of datum L_w.  ``ds = 0`` is a static step (Cattaneo, Mindlin-Deresiewicz); force
+    control only.
 
     Parameters
     ----------
@@ -168,7 +190,7 @@ class TransientSolver:
     datum_length : float, optional
         L [m] of the tangential displacement; default ``radius``.  Creep control needs ``L > grid.length / 4``.
     iteration_tolerance : float
-        Relative iteration_tolerance of the active sets.
+        Relative tolerance of the active-set iteration.
 
     Examples
     --------
@@ -182,7 +204,7 @@ class TransientSolver:
                  friction: FrictionLaw | None = None, rolling_speed: float = 1.0, datum_length=None,
                  iteration_tolerance: float = ITERATION_TOLERANCE):
         if not isinstance(grid, Grid):
-            raise TypeError(f"grid must be a rollcontact.discretised.Grid, got {type(grid).__name__}")
+            raise TypeError(f"grid must be a rollcontact.halfspace.grid.Grid, got {type(grid).__name__}")
         self.grid = grid
         self.contact_modulus = positive_length("contact_modulus", contact_modulus, "Pa")
         self.radius = positive_length("radius", radius)

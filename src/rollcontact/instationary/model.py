@@ -1,60 +1,34 @@
-"""Instationary rolling (paper section 4.3, physics.md section 6): force control, creep control, stationarity.
+"""Creep-controlled instationary rolling step by step (paper section 4.3; docs/physics.md, Instationary rolling).
 
-Conventions are the package's (see :mod:`rollcontact`): x fixed to the contact, material flows in +x, the
-leading edge is ``x = -a``, ``s = xi + du/dx + (1/V) du/dt``, in slip ``q = mu p sign(s)``.  ``sigma = V t`` is
-the rolled distance [m]; with it the slip is ``s = xi + du/dx + du/dsigma``.  Constant load, Hertz geometry
-and Coulomb friction throughout.
+:class:`InstationaryModel` is what an FMU calls each communication step, with an explicit
+:class:`InstationaryState` that can be copied, serialised and restored.  Conventions are the package's (see
+:mod:`rollcontact`): x fixed to the contact, material flows in +x, the leading edge is ``x = -a``,
+``s = xi + du/dx + (1/V) du/dt``, in slip ``q = mu p sign(s)``.  ``sigma = V t`` is the rolled distance [m]; with it
+the slip is ``s = xi + du/dx + du/dsigma``.  Constant load, Hertz geometry and Coulomb friction throughout.
 
-The datum
----------
-In 2D the tangential displacement ``u = (2/(pi E*)) int q(z) ln(|x - z|/L) dz`` is defined only relative to a
-datum distance L.  Changing L adds ``-(2/(pi E*)) ln(L2/L1) T'(sigma)`` to u everywhere, so
-
-* **force control** (T'(sigma) given) is datum-free: q(x, sigma) does not depend on L, and the creep found obeys
-  ``xi_L2 = xi_L1 + (2/(pi E*)) ln(L2/L1) dT'/dsigma`` (checked to 1e-9 in
-  ``tests/test_discretised.py::test_datum_relation_for_force_controlled_transient``);
-* **creep control** (xi(sigma) given, what a multibody host supplies) depends on L.  The same relation read
-  backwards is a first-order lag: if ``L_1`` is the datum for which the creep of a slowly varying force equals
-  the steady (Carter) creep, then for any datum L
-
-  ``xi = xi_steady(T') + (2/(pi E*)) ln(L/L_1) dT'/dsigma``,                                              (R1)
-
-  i.e. ``dT'/dsigma = (xi - xi_steady(T')) / (kappa ln(L/L_1))`` with ``kappa = 2/(pi E*)``.  Linearised at
-  T' = 0 (steady slope ``dT'/dxi = pi E* a/2 = a/kappa``) this is a relaxation length ``a ln(L/L_1)``, the
-  physics.md statement.  ``L_1`` was measured with the discretised force-controlled transient (slow sinusoidal
-  force, least-squares fit of ``xi_L - xi_steady`` against ``dT'/dsigma``): ``L_1 / a* = 0.834 ... 0.859``
-  with 100 elements and ``0.827 ... 0.838`` with 200 elements for ``T'/(mu N') = 0.1 ... 0.85`` (a* Carter's
-  stick half-width), converging towards ``sqrt(e)/2 = 0.8244``: ``L_1 = (sqrt(e)/2) a*`` is used
-  (:data:`RELAXATION_DATUM_RATIO`), floored at ``0.1 a`` near saturation where a* -> 0.
-
-Default datum.  ``L = R`` (the effective wheel radius), as for :class:`rollcontact.discretised.TransientSolver`:
+Default datum.  ``L = R`` (the effective wheel radius), as for :class:`rollcontact.halfspace.solver.TransientSolver`:
 the logarithm is a half-space idealisation that holds up to distances of the order of the body size and fails
 beyond it, so the body size is the natural place to anchor it.  It lies far above the quarter grid length the
 discretised creep control needs (grid length ~2.5 a, a << R).  With it the relaxation length at zero force is
-``a ln(2R/(sqrt(e) a))`` (about 4.4 a for a = 7 mm, R = 0.46 m).
+``a ln(2R/(sqrt(e) a))`` (about 4.4 a for a = 7 mm, R = 0.46 m; :mod:`rollcontact.instationary.relaxation`).
 
 Models
 ------
-* :class:`InstationaryModel` with ``mode="transient"``: the discretised :class:`TransientSolver` in creep
-  control (the reference; ~0.4 ms per step of one element width with n = 100-200).  The grid commits substeps of
-  exactly one element; a host step that ends between element boundaries leaves the rest of its roll pending for
-  the next, and its output is a provisional substep of that roll (:meth:`InstationaryModel.advance`).
-  ``mode="relaxation"``: the lag (R1) around Carter (~50 us per step, mostly bookkeeping).
-  :meth:`InstationaryModel.steady_state` gives steady rolling on the transient's grid as the fixed point of the
-  whole-element substeps, to switch the transient in mid-run without a jump.  With ``extrapolate=True`` the
-  transient runs on two nested grids (n/2 and n elements, both aligned by :func:`aligned_grid_load`, each
-  committing its own elements) and reports ``2 T'_n - T'_(n/2)``: their first-order errors cancel and the rest
-  falls as n^-2 (``benchmarks/bench_transient_pairs.py``).  Measured against each other
-  (``tests/test_instationary.py``, ``benchmarks/bench_instationary.py``): T' within 0.7 % of mu N' for
-  lambda/a >= 5 with the default datum (2 % with L = 10 a), where quasi-static Carter is off by 12-78 %.
-* Force control, oscillating force ``T' = T0 + T1 sin(2 pi sigma / lambda)``:
-  :func:`oscillating_force_chebyshev` (the paper's route: the stick-zone strain is a travelling wave,
-  eqs 32-35, solved with the Chebyshev/Jacobi-Anger machinery of the corrugation) and
-  :func:`oscillating_force_discretised` (the transient solver; lambda = 0 is the static limit, Cattaneo and
-  Mindlin-Deresiewicz).  :func:`quasi_steady_deviation` measures the L2 deviation of the oscillating part of q
-  from quasi-steady Carter, about ``2.5 a / lambda``.
-* :func:`stationarity`: the wavelength of the fastest input variation over a; stationary above
-  :data:`STATIONARITY_THRESHOLD` (20, the paper's rule).
+* ``mode="transient"``: the discretised :class:`~rollcontact.halfspace.solver.TransientSolver` in creep control
+  (the reference).  The grid commits substeps of exactly one element; a host step that ends between element
+  boundaries leaves the rest of its roll pending for the next, and its output is a provisional substep of that
+  roll (:meth:`InstationaryModel.advance`).  :meth:`InstationaryModel.steady_state` gives steady rolling on the
+  transient's grid as the fixed point of the whole-element substeps, to switch the transient in mid-run without a
+  jump.  With ``extrapolate=True`` the transient runs on two nested grids (n/2 and n elements, both aligned by
+  :func:`aligned_grid_load`, each committing its own elements) and reports ``2 T'_n - T'_(n/2)``: their
+  first-order errors cancel and the rest falls as n^-2 (``benchmarks/bench_transient_pairs.py``).
+* ``mode="relaxation"``: the lag (R1) around Carter (:mod:`rollcontact.instationary.relaxation`): closed-form
+  arithmetic per substep, no grid.  How closely it tracks the transient, and where quasi-static Carter fails, is
+  checked by ``tests/instationary/test_instationary.py::test_relaxation_model_tracks_creep_controlled_transient``
+  and measured by ``benchmarks/bench_relaxation.py`` and ``benchmarks/bench_instationary.py``.
+
+Oscillating force control is :mod:`rollcontact.instationary.oscillating`, the stationarity measure
+:mod:`rollcontact.instationary.stationarity`.
 """
 
 from __future__ import annotations
@@ -109,7 +83,7 @@ class InstationaryState:
         Steps taken.
     traction, stick, slip : ndarray
         Transient mode: q_i [Pa], stick mask and slip s_i [1] on the model's grid (see
-        :class:`rollcontact.discretised.TransientState`), committed at the last whole-element substep
+        :class:`rollcontact.halfspace.solver.TransientState`), committed at the last whole-element substep
         (:meth:`InstationaryModel.advance`); empty in relaxation mode.
     history : InputHistory
         Last input samples (for :func:`stationarity`).
@@ -278,7 +252,7 @@ class InstationaryModel:
         :meth:`TransientSolver.step` gives the slip ``S = xi h - (M - M_h) q`` (the datum term drops out), i.e. the
         steady slip ``s = xi - K_h q`` that :meth:`TransientSolver.steady_state` solves.  So a held step leaves the
         committed state unchanged to the solver's tolerance; its output, a provisional substep of the pending roll,
-        ripples with the phase of that roll by O(h^2) (``tests/test_instationary.py``).
+        ripples with the phase of that roll by O(h^2) (``tests/instationary/test_instationary.py``).
 
         Raises
         ------
@@ -379,26 +353,8 @@ class InstationaryModel:
                                       contact_half_width=0.0, contact_offset=0.0, stick_half_width=0.0,
                                       max_pressure=0.0, iterations=0, distributions=NoContact(), info=info)
         if self.mode == "relaxation":
-            return self.relaxation(state, load, xi, speed * dt, distance, history, a, p0, info)
+            return relaxation_result(self, state, load, xi, speed * dt, distance, history, a, p0, info)
         return self.transient(state, load, xi, speed * dt, distance, history, info)
-
-    def relaxation(self, state, load, xi, ds, distance, history, a, p0, info):
-        force, substeps = relaxation_step(state.tangential_force_per_length, xi, ds, load, self.radius,
-                                          self.contact_modulus, self.mu, self.datum_length)
-        a_star = stick_half_width(force, load, a, self.mu)
-        steady_creep = carter_creep(force, load, self.radius, self.contact_modulus, self.mu)
-        info |= {"relaxation_length": relaxation_length(force, load, self.radius, self.contact_modulus, self.mu,
-                                                        self.datum_length),
-                 "equivalent_steady_creep": steady_creep, "substeps": substeps}
-        new = InstationaryState("relaxation", force, distance, state.steps + 1, history=history)
-        # q(x): Carter's distribution for the current force (the lag models T', not the shape of q)
-        dist = CarterDistributions(a, p0, a_star, 0.0, self.mu, steady_creep if force != 0.0 else 1.0, self.radius)
-        return new, ContactResult(method="instationary_relaxation", success=True,
-                                  message="first-order lag around Carter (static: force held)" if ds == 0.0
-                                  else "first-order lag around Carter", normal_load_per_length=load,
-                                  tangential_force_per_length=force, creep=xi, contact_half_width=a,
-                                  contact_offset=0.0, stick_half_width=a_star, max_pressure=p0, iterations=substeps,
-                                  distributions=dist, info=info)
 
     def transient(self, state, load, xi, ds, distance, history, info):
         if self.solver is None or load > self.max_load * (1.0 + 1e-12):
@@ -467,8 +423,8 @@ class InstationaryModel:
         The grid commits substeps of exactly one element h: the convected traction then moves by whole elements,
         and the pair's extrapolation cancels the first-order error cleanly.  Substeps of a fraction r of an element
         (what splitting each host step into equal substeps gives) leave an O(h^2) bias that varies erratically with
-        r: on the same grids the pair's ``error n^2`` was 4.4-26 with equal substeps and is 2.5-5.3 with whole
-        elements (``benchmarks/bench_substep_rule.py``).  A host step that ends between element boundaries leaves
+        r, and with it the pair's ``error n^2`` (``benchmarks/bench_substep_rule.py``,
+        ``benchmarks/results/substep_rule.md``).  A host step that ends between element boundaries leaves
         a pending roll, its distance and rigid slip (the creep integrated over it, each host step's creep held over
         its part); the next steps complete it.  The step's output is a provisional substep of the pending roll from
         the committed state, not kept: its error is one step's, which ripples with the roll's phase by O(h^2) and
@@ -509,6 +465,28 @@ class InstationaryModel:
             current = run.add(*solver.step(current, p, 0.0, tangential_force=held))
         return Advance(current, (0.0, 0.0), current, max(1, run.substeps), run.iterations, run.dissipation,
                        run.converged, run.messages)
+
+
+def relaxation_result(model: InstationaryModel, state: InstationaryState, load, xi, ds, distance, history, a, p0,
+                      info) -> tuple[InstationaryState, ContactResult]:
+    """One step of ``model``'s relaxation lag (:func:`rollcontact.instationary.relaxation.relaxation_step`) over the
+    rolled distance ``ds`` [m]: the new state and the result, q(x) Carter's distribution for the lag's force."""
+    force, substeps = relaxation_step(state.tangential_force_per_length, xi, ds, load, model.radius,
+                                      model.contact_modulus, model.mu, model.datum_length)
+    a_star = stick_half_width(force, load, a, model.mu)
+    steady_creep = carter_creep(force, load, model.radius, model.contact_modulus, model.mu)
+    info |= {"relaxation_length": relaxation_length(force, load, model.radius, model.contact_modulus, model.mu,
+                                                    model.datum_length),
+             "equivalent_steady_creep": steady_creep, "substeps": substeps}
+    new = InstationaryState("relaxation", force, distance, state.steps + 1, history=history)
+    # q(x): Carter's distribution for the current force (the lag models T', not the shape of q)
+    dist = CarterDistributions(a, p0, a_star, 0.0, model.mu, steady_creep if force != 0.0 else 1.0, model.radius)
+    return new, ContactResult(method="instationary_relaxation", success=True,
+                              message="first-order lag around Carter (static: force held)" if ds == 0.0
+                              else "first-order lag around Carter", normal_load_per_length=load,
+                              tangential_force_per_length=force, creep=xi, contact_half_width=a,
+                              contact_offset=0.0, stick_half_width=a_star, max_pressure=p0, iterations=substeps,
+                              distributions=dist, info=info)
 
 
 class Advance(NamedTuple):

@@ -1,4 +1,17 @@
-"""Oscillating."""
+"""Force control with an oscillating force ``T' = T0 + T1 sin(2 pi sigma / lambda)`` (paper section 4.3, eqs 32-35).
+
+Two routes to the traction q(x) at phases of a cycle, which is datum-free under force control:
+
+* :func:`oscillating_force_chebyshev`, the paper's: the stick-zone strain is a travelling wave, solved with the
+  Chebyshev/Jacobi-Anger expansion the polynomial method uses for a corrugation;
+* :func:`oscillating_force_discretised`, the transient solver (:mod:`rollcontact.halfspace.solver`); lambda = 0 is
+  the static limit (Cattaneo and Mindlin-Deresiewicz).
+
+:func:`quasi_steady_deviation` measures the L2 deviation of the oscillating part of q from quasi-steady Carter,
+about ``2.5 a / lambda`` (the basis of the paper's stationarity threshold,
+:data:`rollcontact.instationary.stationarity.STATIONARITY_THRESHOLD`).  A module of its own: neither route steps
+creep-controlled rolling, which is :mod:`rollcontact.instationary.model`.
+"""
 
 from __future__ import annotations
 
@@ -165,7 +178,8 @@ class TravellingWave:
     ``du/dx = U'(x - sigma)`` (eqs 32-35), a travelling wave.  For a force of wavelength lambda
     (``k = 2 pi a / lambda``) it is ``U'(zeta) = -xi_bar + sum_m Re(C_m e^{i m k zeta})``.  With
     ``du/dx = (2/(pi E*)) PV-int q/(x - z) dz``, ``q = mu p + q2`` and ``x = -a + b (1 + t)`` on the stick zone
-    of half-width b, ``(1/pi) PV-int q2/(x - z) dz = sum d_n T_n(t)`` (chebyshev.py) gives, by Jacobi-Anger,
+    of half-width b, ``(1/pi) PV-int q2/(x - z) dz = sum d_n T_n(t)`` (:mod:`rollcontact.methods.polynomial.chebyshev`)
+    gives, by Jacobi-Anger,
 
     ``r_0 = -xi_bar - x_s + sum_m Re(C_m e^{i m k (x_s - sigma)}) J_0(m k b)``   (must vanish: bounded q2)
     ``r_n = sum_m Re(C_m e^{i m k (x_s - sigma)} 2 i^n J_n(m k b)) - b delta_n1``,  ``d_n = mu p0 r_n``,
@@ -238,8 +252,8 @@ def oscillating_force_chebyshev(normal_load_per_length: float, force: Oscillatin
     -------
     tuple of ContactResult
         One per output phase (method ``"instationary_chebyshev"``); ``creep`` is NaN (it needs a datum:
-        paper eq 33-34, physics.md section 6); ``info``: ``phase``, ``distance``, ``xi_bar`` (mean stick strain,
-        over mu a/R), ``wave`` (C_m), ``rear_boundary_speed`` (max 2 db/dsigma).
+        paper eq 33-34, docs/physics.md, Instationary rolling); ``info``: ``phase``, ``distance``, ``xi_bar``
+        (mean stick strain, over mu a/R), ``wave`` (C_m), ``rear_boundary_speed`` (max 2 db/dsigma).
     """
     load = check_real("normal_load_per_length", normal_load_per_length, lower=0.0, lower_open=True, unit="N/m")
     check_force(force, load, mu)
@@ -336,7 +350,7 @@ def oscillating_force_chebyshev(normal_load_per_length: float, force: Oscillatin
 
 def quasi_steady_deviation(results, mean_force: float, *, radius: float, contact_modulus: float, mu: float,
                            points: int = 801) -> float:
-    """L2 deviation of the oscillating part of q from quasi-steady Carter (physics.md section 6).
+    """L2 deviation of the oscillating part of q from quasi-steady Carter (docs/physics.md, Instationary rolling).
 
     ``||q(x, sigma) - q_C(x; T'(sigma))|| / ||q_C(x; T'(sigma)) - q_C(x; T0)||`` over the phases of ``results``
     and ``points`` points across the patch, q_C Carter's distribution at the same force (T'(sigma) is taken

@@ -1,4 +1,32 @@
-"""Relaxation."""
+"""The relaxation lag (R1): creep-controlled instationary rolling as a first-order lag around Carter.
+
+Closed-form pieces, no grid: the lag's step (:func:`relaxation_step`), its relaxation length, the creep envelope of
+the last few relaxation lengths and the lag's error bound for that swing (:func:`lag_error_bound`), used by
+:class:`~rollcontact.instationary.model.InstationaryModel` (``mode="relaxation"``) and by the FMU's stepping model
+to decide when the lag is accurate enough.
+
+The datum
+---------
+In 2D the tangential displacement ``u = (2/(pi E*)) int q(z) ln(|x - z|/L) dz`` is defined only relative to a
+datum distance L (docs/physics.md, Instationary rolling).  Changing L adds ``-(2/(pi E*)) ln(L2/L1) T'(sigma)`` to u
+everywhere, so
+
+* **force control** (T'(sigma) given) is datum-free: q(x, sigma) does not depend on L, and the creep found obeys
+  ``xi_L2 = xi_L1 + (2/(pi E*)) ln(L2/L1) dT'/dsigma`` (checked by
+  ``tests/methods/discretised/test_discretised.py::test_datum_relation_for_force_controlled_transient``);
+* **creep control** (xi(sigma) given, what a multibody host supplies) depends on L.  The same relation read
+  backwards is a first-order lag: if ``L_1`` is the datum for which the creep of a slowly varying force equals
+  the steady (Carter) creep, then for any datum L
+
+  ``xi = xi_steady(T') + (2/(pi E*)) ln(L/L_1) dT'/dsigma``,                                              (R1)
+
+  i.e. ``dT'/dsigma = (xi - xi_steady(T')) / (kappa ln(L/L_1))`` with ``kappa = 2/(pi E*)``.  Linearised at
+  T' = 0 (steady slope ``dT'/dxi = pi E* a/2 = a/kappa``) this is a relaxation length ``a ln(L/L_1)``.  ``L_1``
+  follows from the discretised force-controlled transient (slow sinusoidal force, least-squares fit of
+  ``xi_L - xi_steady`` against ``dT'/dsigma`` for ``T'/(mu N') = 0.1 ... 0.85``), which converges with the grid
+  towards ``(sqrt(e)/2) a* = 0.8244 a*`` (a* Carter's stick half-width): ``L_1 = (sqrt(e)/2) a*`` is used
+  (:data:`RELAXATION_DATUM_RATIO`), floored at ``0.1 a`` near saturation where a* -> 0.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +35,8 @@ import math
 from rollcontact.closed_form import carter, hertz
 
 RELAXATION_DATUM_RATIO = 0.5 * math.sqrt(math.e)
-"""``L_1 / a*``: the datum for which slowly varying force control reproduces the steady creep (module doc)."""
+"""``L_1 / a*``: the datum for which slowly varying force control reproduces the steady creep (module docstring,
+The datum)."""
 
 
 RELAXATION_FLOOR = 0.1
@@ -15,24 +44,24 @@ RELAXATION_FLOOR = 0.1
 
 
 LAG_ERROR_COEFFICIENT = 0.038
-"""C of :func:`lag_error_bound` [1 of mu N' per saturation creep]: 1.4 times the largest ratio, 0.027, of the lag's
-error less :data:`LAG_ERROR_FLOOR` to ``(high - low)/2 (1 - d)_+`` at any step of the measured cycle, over
-``benchmarks/bench_relaxation.py`` (creep control ``(mean + amplitude sin) mu a/R`` at lambda/a = 2..320, from
-``0.2 + 0.1 sin`` to ``10 sin``, near saturation and wholly in full slip; N' = 1e7 N/m, R = 0.46 m, datum R,
-where the relaxation length is 4.35 a).  The lag's error is linear in the swing: 0.7-2.6 % of its amplitude, most
-where the swing passes zero creep, 0.2-0.5 % near saturation and none wholly in full slip."""
+"""C of :func:`lag_error_bound` [1 of mu N' per saturation creep]: 1.4 times the largest ratio of the lag's error
+less :data:`LAG_ERROR_FLOOR` to ``(high - low)/2 (1 - d)_+`` at any step of the measured cycle ('ratio' in the table
+of ``benchmarks/bench_relaxation.py``: creep control ``(mean + amplitude sin) mu a/R`` at lambda/a = 2..320, from
+``0.2 + 0.1 sin`` to ``10 sin``, near saturation and wholly in full slip; N' = 1e7 N/m, R = 0.46 m, datum R).  The
+lag's error is linear in the swing, largest where the swing passes zero creep, small near saturation and none
+wholly in full slip."""
 
 
 LAG_ERROR_FLOOR = 1e-4
-"""e_0 of :func:`lag_error_bound` [1 of mu N']: below it the lag's error is not resolved (the reference pair
-200/400 erred by at most 6.2/400^2 = 3.9e-5 mu N' in ``benchmarks/bench_transient_pairs.py``, and its model allows
-30/400^2 = 1.9e-4); at lambda/a = 320 every swing that touched saturation measured 7.5e-5."""
+"""e_0 of :func:`lag_error_bound` [1 of mu N']: below it the lag's error is not resolved, being of the order of the
+error of the reference pair 200/400 of ``benchmarks/bench_relaxation.py`` (its model bound
+:data:`~rollcontact.stepping.transient.EXTRAPOLATED_ERROR_CONSTANT`/400^2, ``benchmarks/bench_transient_pairs.py``)."""
 
 
 LAG_MEMORY = 8.0
 """Memory of :func:`creep_envelope` in relaxation lengths at T' = 0 (about 35 a for a railway wheel): shorter memories
-forget the stiff part of a slow swing while its error persists (at lambda/a = 40, 4 lengths needed C/1.4 = 0.031,
-8 need 0.027, longer ones the same to 2 %)."""
+forget the stiff part of a slow swing while its error persists, and :data:`LAG_ERROR_COEFFICIENT` then has to be
+larger; longer ones do not lower it (``benchmarks/bench_relaxation.py``)."""
 
 
 CREEP_RATIO_CAP = 1e6
@@ -42,8 +71,8 @@ CREEP_RATIO_CAP = 1e6
 STEADY_AFTER = 30.0
 """A step that rolls more than this many relaxation lengths (at T' = 0, the longest) with the inputs held ends in
 steady rolling: Carter's force for the lag (:func:`relaxation_step`, exp(-30) of the lag left), and
-:meth:`InstationaryModel.steady_state` for the transient: from any start, the force was measured
-within 2e-13 mu N' of it after 25 lengths (n = 100, datum R and 100 m, xi from -0.9 to 0.5 of saturation)."""
+:meth:`InstationaryModel.steady_state` for the transient, the fixed point its force settles on, from any start, to
+round-off within fewer lengths."""
 
 
 # --------------------------------------------------------------------------------------------- closed-form pieces
@@ -67,7 +96,8 @@ def relaxation_length(tangential_force_per_length: float, normal_load_per_length
     """Relaxation length [m] of the lag (R1) at a force: ``kappa ln(L/L_1) dT'_steady/dxi``.
 
     ``L_1 = max(sqrt(e)/2 a*, 0.1 a)`` and ``dT'/dxi = 2 N' R a*/a^2`` (Carter), so at T' = 0 it is
-    ``a ln(2 L/(sqrt(e) a))``: physics.md section 6, "the datum acts like a relaxation length a ln(L/L1)".
+    ``a ln(2 L/(sqrt(e) a))``: docs/physics.md, Instationary rolling, "the datum acts like a relaxation length
+    a ln(L/L1)".
     """
     a = hertz(normal_load_per_length, radius, contact_modulus)[0]
     if a == 0.0:
@@ -97,7 +127,7 @@ def relaxation_step(force: float, creep: float, distance: float, load: float, ra
     varies only logarithmically); each substep is solved exactly: with ``beta = ds/C``, ``s = mu a/R`` and
     ``|T'| = mu N' (1 - r^2)``, ``T' + beta xi_steady(T') = T'_old + beta xi =: g`` is the quadratic
     ``mu N' r^2 + beta s r - (mu N' + beta s - |g|) = 0`` (sign of T' = sign of g), saturated where
-    ``|g| >= mu N' + beta s``.  Substeps of at most a/8 keep the first-order error below ~1 % of the lag.  A step
+    ``|g| >= mu N' + beta s``.  Substeps of at most a/8 keep the first-order error a small fraction of the lag.  A step
     rolling more than :data:`STEADY_AFTER` relaxation lengths ends on the lag's fixed point, Carter's force.
     """
     a = hertz(load, radius, contact_modulus)[0]

@@ -1,4 +1,10 @@
-"""Stationarity."""
+"""How fast the inputs vary over the contact width: the paper's stationarity measure lambda/a (section 4.3).
+
+:func:`stationarity` is the wavelength of the fastest input variation over the Hertz half-width a, from the first
+and second divided differences of the last few input samples (:class:`InputHistory`); above
+:data:`STATIONARITY_THRESHOLD` rolling counts as stationary and quasi-steady solutions hold.  A module of its own
+because the FMU's stepping model evaluates it every step, also where no instationary model runs.
+"""
 
 from __future__ import annotations
 
@@ -11,7 +17,7 @@ from rollcontact.checks import check_real
 
 STATIONARITY_THRESHOLD = 20.0
 """lambda/a above which rolling counts as stationary (paper section 4.3: the deviation of the oscillating part
-of q from quasi-steady Carter is then below about 2.5/20 = 13 %, physics.md section 6)."""
+of q from quasi-steady Carter is then below about 2.5/20 = 13 %, docs/physics.md, Instationary rolling)."""
 
 
 STATIONARY = 1e9
@@ -64,7 +70,8 @@ def stationarity_of_samples(samples, half_width: float, creep_scale: float, spee
 
     The one definition of the measure (the FMU's stepping model calls it with its own samples).  For each input u
     with a scale S the local wavenumber along the rolled distance is ``k = max(|u'| / S, sqrt(|u''| / S))`` with
-    u' and u'' divided differences of the last three samples (physics.md section 6; paper section 4.3).  Scales:
+    u' and u'' divided differences of the last three samples (docs/physics.md, Instationary rolling; paper
+    section 4.3).  Scales:
     the largest of the sampled loads (relative change), ``creep_scale`` for the creep (use Carter's saturation
     creep ``mu a / R``: a variation over it swings T' by mu N') and, with ``speed_varies``, the largest sampled
     speed.  For ``u = u0 + S sin(2 pi sigma / lambda)`` sampled finely, ``2 pi / k`` lies between 1 and 1.3 lambda
@@ -90,7 +97,7 @@ def stationarity_of_samples(samples, half_width: float, creep_scale: float, spee
         ``min(2 pi / (k a), STATIONARY)``; :data:`STATIONARY` (1e9) for constant inputs, fewer than two samples
         or no contact; 0 when an input changes while nothing rolls.
     """
-    # plain floats, no builtins in the arithmetic: this runs every FMU step, also on the ~1 us closed-form path
+    # plain floats, no builtins in the arithmetic: this runs every FMU step, also on the closed-form path, the cheapest
     if len(samples) < 2 or half_width <= 0.0:
         return STATIONARY
     s0, n0, xi0, v0 = samples[-1]

@@ -1,4 +1,10 @@
-"""Closed form method."""
+"""The closed-form method (``"closed_form"``): Hertz (paper eqs 9-11) and Carter (eqs 12-17) for a parabolic gap
+and constant friction, registered with its accuracy model.
+
+The lowest-ranked method, exact to round-off wherever it applies (:class:`ClosedFormAccuracy`).  The formulas are
+:mod:`rollcontact.closed_form`; this module wraps them as a method (:func:`solve_closed_form`, :func:`inapplicable`,
+:data:`METHOD`) for :mod:`rollcontact.dispatch`.
+"""
 
 from __future__ import annotations
 
@@ -10,7 +16,7 @@ from rollcontact.result import ContactResult, NoContact
 def solve_closed_form(scene, **options) -> ContactResult:
     """Hertz + Carter for a scene whose gap is parabolic (a linear surface tilt only moves the patch).
 
-    A surface slope ``Z' = alpha`` moves the contact uphill by ``Delta = R alpha`` (physics.md section 4
+    A surface slope ``Z' = alpha`` moves the contact uphill by ``Delta = R alpha`` (docs/physics.md, Corrugated surface
     check).  Raises ValueError when the scene is not Hertzian or the friction is not constant.
     """
     if options:
@@ -50,8 +56,8 @@ def inapplicable(scene) -> str | None:
 
 
 # ----------------------------------------------------------------------------- accuracy models of the methods
-# Constants measured by benchmarks/pareto.py (which prints fitted values and checks model against measurement):
-# times on one core of the 2.5 GHz Xeon of benchmarks/results/pareto.md; errors as bounds over its cases.
+# Cost constant checked by benchmarks/pareto.py (benchmarks/results/pareto.md, section "Cost and error models of auto",
+# which fits it and checks the cost model's ranking against measured times).
 CLOSED_FORM_COST = 8.8e-6  # s, Hertz + Carter through solve()
 
 

@@ -1,4 +1,70 @@
-"""Model."""
+"""Stepping contact model for co-simulation: parameters -> (state, inputs, step) -> outputs.
+
+This is the library half of the ``RollingContact2D`` FMU: the FMU's slave only maps its variables to a
+:class:`ContactModel` and back, so everything here can be used and tested without any FMI tool.
+
+* :class:`~rollcontact.stepping.parameters.ContactParameters` holds the fixed parameters (FMU parameters of the
+  same names) and checks them.
+* :class:`ContactModel` precomputes what does not change between steps and evaluates one communication step
+  with :meth:`ContactModel.step` (inputs in N, 1 and m/s; outputs in SI units, see
+  :class:`~rollcontact.stepping.parameters.StepOutputs`).
+* :class:`~rollcontact.stepping.state.ModelState` is everything the model remembers between steps: axis position,
+  the input history of the stationarity measure and the last outputs.  It is a plain dataclass that can be copied,
+  turned into a JSON dict or bytes and restored; restore -> step -> restore -> step gives identical outputs.
+* Its instationary half (the relaxation lag and the discretised transient switched in and out) is the mixin
+  :class:`~rollcontact.stepping.transient.InstationaryStepping`.
+
+Frames and signs
+----------------
+The model's axis position ``X`` [m] runs in the rolling direction: ``X(t) = initial_position + int V dt`` with
+the rolling speed ``V >= 0``.  The package's scene frame runs the other way (its cylinder rolls towards -x, see
+:mod:`rollcontact`), so a surface ``Z(X)`` given to the model is solved as the mirrored scene
+``Z_scene(x') = Z(-x')`` with the axis at ``x' = -X`` (:meth:`ContactModel.scene`): the corrugation is met in the
+right order and the stick zone stays at the leading edge.  ``contact_offset`` is reported in the model's frame
+(positive ahead of the axis, e.g. ``+R alpha`` uphill on a surface rising with slope ``alpha``).  Creep and
+tangential force keep the package's meaning (xi > 0 gives T > 0).
+
+Time stepping
+-------------
+Inputs are sampled at the communication points.  ``step(t_n, h, N_n, xi_n, V_n)`` first advances the axis to
+``X(t_n)`` with the trapezoid of the velocity samples at ``t_(n-1)`` and ``t_n`` (accumulated as a compensated
+sum, so there is no drift over long runs), then evaluates the quasi-steady contact for the inputs sampled at
+``t_n`` at ``X(t_n)``.  Those are the outputs a host reads at ``t_n + h``.
+
+Instationary rolling
+--------------------
+``transient`` = 2 (always) evaluates every loaded step with :class:`rollcontact.instationary.InstationaryModel`,
+which rolls the distance ``V_n h`` with the inputs sampled at ``t_n`` held (zero-order hold, the host's view of
+the step): the relaxation model (the lag (R1) around Carter, ``method_used`` 4) or, with ``method`` = 3, the
+discretised transient in creep control (``method_used`` 5).  ``transient`` = 1 (auto) stays quasi-steady while
+the inputs vary slowly and switches the instationary model in when the stationarity measure
+(:func:`rollcontact.instationary.stationarity_of_samples`) falls below :meth:`ContactModel.transient_threshold`,
+starting from the previous step's quasi-steady state (:meth:`ContactModel.switch_in`), and switches back once the
+inputs are slow again and its force is back within the tolerance of the quasi-steady one.  The relaxation lag's
+error grows with the creep swing, up to its bound :data:`~rollcontact.stepping.transient.RELAXATION_ACCURACY` mu N
+(calibrated by ``benchmarks/bench_relaxation.py``): it is the default (``tolerance`` = 0), which promises no
+accuracy.  For a ``tolerance`` below that bound, with ``method`` = 0, ``transient`` = 1 bounds the lag's error by
+the creep swing of the last few relaxation lengths (:func:`rollcontact.instationary.lag_error_bound` of the
+envelope in ``state.creep_envelope``) and runs the lag while that bound meets the tolerance, the discretised
+transient where it does not (:meth:`ContactModel.choose_model`): the cheapest transient whose modelled error meets
+the tolerance (:func:`~rollcontact.stepping.transient.transient_setting`: in practice the extrapolating pair of
+nested grids, at most :data:`~rollcontact.stepping.transient.EXTRAPOLATED_MAX_ELEMENTS`; ``elements`` > 0 runs one
+grid of that many), switched in from steady rolling on its grid at the previous creep, or at the lag's equivalent
+creep when it takes over from the lag; it hands back to the lag once the swing has died down.  So stationary inputs
+stay on the cheap closed form and small swings on the lag.  Both models assume a flat
+surface and Coulomb friction: on other scenes ``transient`` = 2 is refused and ``transient`` = 1 stays quasi-steady
+(:attr:`ContactModel.notices` says so).  With ``method`` = 3, ``transient`` = 1 behaves as 2: the discretised
+method is asked for on every step, and its transient is exact in steady rolling too.
+
+Frictional power
+----------------
+For every quasi-steady solution the power dissipated by slip per unit length is
+``V int q(x) s(x) dx = V xi T'``: with ``s = xi + du/dx`` and ``du/dx = (2/(pi E*)) PV-int q(z)/(x - z) dz``
+the double integral ``int int q(x) q(z)/(x - z) dz dx`` vanishes by antisymmetry.  Hence
+``frictional_power = V xi T`` [W], the rigid-body creep power; the tests check it against quadrature of the
+Carter distributions.  In instationary rolling ``V xi T`` is reported too: it is the power the creep puts into the
+contact, which there also includes the rate of change of the stored elastic energy.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,10 @@
-"""State."""
+"""The stepping model's state: :class:`ModelState`, everything a :class:`~rollcontact.stepping.model.ContactModel`
+remembers between communication points.
+
+A module of its own because the FMU saves and restores it (FMI ``getFMUstate``/``setFMUstate`` and serialisation):
+it is a plain dataclass, copied, turned into a JSON dict or bytes and read back, with a layout version
+(:data:`STATE_VERSION`) checked on reading.
+"""
 
 from __future__ import annotations
 
@@ -13,7 +19,7 @@ from rollcontact.stepping.parameters import STATIONARY, ModelError, StepOutputs
 STATE_VERSION = 3
 
 
-READABLE_STATE_VERSIONS = (1, 2, 3)  # 1 had no instationary state (reads as quasi-steady history), 2 no envelope
+READABLE_STATE_VERSIONS = (1, 2, 3)  # 1: no instationary state (read as quasi-steady history); 2: no creep envelope
 
 
 @dataclass(slots=True)

@@ -1,4 +1,13 @@
-"""Transient."""
+"""The instationary side of the stepping model: which instationary model a step runs, and their error models.
+
+``transient`` = 1 runs quasi-static steps while the inputs vary slowly (stationarity above
+:meth:`InstationaryStepping.transient_threshold`), then the relaxation lag (R1) while its error bound for the creep
+swing seen (:func:`rollcontact.instationary.lag_error_bound`) meets the tolerance, else the discretised transient
+on the cheapest grid, or extrapolating pair of nested grids, whose error model ``C / n^p`` meets it
+(:func:`transient_setting`).  The constants of those error models are calibrated by
+``benchmarks/bench_transient_auto.py`` and ``benchmarks/bench_transient_pairs.py``.  A module of its own so that
+:mod:`rollcontact.stepping.model` keeps the quasi-steady step and this the instationary models and their choice.
+"""
 
 from __future__ import annotations
 
@@ -25,13 +34,12 @@ DEFAULT_TRANSIENT_TOLERANCE = 1e-2
 
 RELAXATION_ACCURACY = 0.21
 """Error bound [1 of mu N] of the relaxation lag: 1.4 times the largest error against the discretised transient
-measured by ``benchmarks/bench_relaxation.py`` over lambda/a = 1..40 and creep swings up to 10 saturation creeps
-(0.15 mu N at lambda/a = 2 for ``10 sin``).  The lag's error grows with the swing, up to 2.6 % of its amplitude in
-saturation creeps: 3e-3 mu N on the Pareto study's ``(0.5 + 0.3 sin) mu a/R``, 2.3e-2 for a reversal ``0.9 sin`` at
-lambda/a = 5.  So ``transient`` = 1 with ``method`` = 0 and a ``tolerance`` below this runs the lag only while its
-bound for the swing actually seen (:func:`rollcontact.instationary.lag_error_bound`) meets the tolerance and the
-discretised transient (:func:`transient_setting`) otherwise; the lag runs unconditionally with ``tolerance`` = 0 (the
-cheap default, no accuracy promised) or ``transient`` = 2."""
+measured by ``benchmarks/bench_relaxation.py`` (its table) over lambda/a = 1..40 and creep swings up to 10
+saturation creeps.  The lag's error grows with the swing, most where it passes zero creep.  So ``transient`` = 1
+with ``method`` = 0 and a ``tolerance`` below this runs the lag only while its bound for the swing actually seen
+(:func:`rollcontact.instationary.lag_error_bound`) meets the tolerance and the discretised transient
+(:func:`transient_setting`) otherwise; the lag runs unconditionally with ``tolerance`` = 0 (the cheap default, no
+accuracy promised) or ``transient`` = 2."""
 
 
 LAG_RETURN = 0.5
@@ -46,56 +54,56 @@ sqrt(2) times; :func:`rollcontact.instationary.aligned_grid_load`)."""
 
 TRANSIENT_ERROR_ORDER = 1.0
 """p of the discretised transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
-(:func:`transient_error`; n elements on the model's grid): with whole-element substeps ``error n`` is 0.49-0.58
-for n = 50..500 on every signal of ``benchmarks/bench_transient_pairs.py``, and the order observed in
-``benchmarks/bench_transient_auto.py`` is 0.97-0.98 (least squares over n = 50..600: 1.00)."""
+(:func:`transient_error`; n elements on the model's grid): with whole-element substeps ``error n`` is regular
+in n on every signal of ``benchmarks/bench_transient_pairs.py`` (``benchmarks/results/transient_pairs.md``), and
+``benchmarks/bench_transient_auto.py`` observes first order (``benchmarks/results/transient_auto.md``, section (3)
+Error model)."""
 
 
 TRANSIENT_ERROR_CONSTANT = 0.82
-"""C of that error model: 1.4 times the largest ``error n`` measured, 0.58 (lambda/a = 40, n = 50; the single grids
-of ``benchmarks/bench_transient_pairs.py`` against the pair 500/1000, lambda/a = 1..40 and creep reversals,
-n = 50..500).  With the equal substeps of sessions 12-14 it was 1.3 (0.94 at lambda/a = 1, n = 50, erratic);
-committing whole elements made the error regular: the quasi-steady bias, steady rolling on the grid being off
-Carter by 0.57/n (``benchmarks/bench_transient_auto.py``), which also bounds the switch-in and hand-back jumps.
-``bench_transient_auto.py`` measured at most 0.58 up to n = 600 against a Richardson 400/800 (lambda/a = 5..40)."""
+"""C of that error model: 1.4 times the largest ``error n`` measured by ``benchmarks/bench_transient_pairs.py``
+(the single grids of ``benchmarks/results/transient_pairs.md`` against the pair 500/1000, lambda/a = 1..40 and creep
+reversals, n = 50..500), checked up to n = 600 against a Richardson 400/800 by ``benchmarks/bench_transient_auto.py``
+(``benchmarks/results/transient_auto.md``, section (3)).  Whole-element substeps keep the error regular: what remains
+is the quasi-steady bias of steady rolling on the grid against Carter (section (2) of the same results), which also
+bounds the switch-in and hand-back jumps."""
 
 
 TRANSIENT_MIN_ELEMENTS = 50
 """Fewest elements (of a single grid, or the finer of a pair) the models choose: the coarsest grid their error models
-were measured on."""
+are calibrated on."""
 
 
 TRANSIENT_MAX_ELEMENTS = 800
-"""Most elements :func:`transient_elements` chooses: the finest grid measured (its error model is not extrapolated)
-and already 30-210 ms per host step in that benchmark (lambda/a = 5..40; the cost grows about as n^2.5)."""
+"""Most elements :func:`transient_elements` chooses: the finest grid the error model was calibrated on (it is not
+extrapolated); the cost per host step grows about as n^2.5 (``benchmarks/results/transient_auto.md``, section (1))."""
 
 
 EXTRAPOLATED_ERROR_ORDER = 2.0
 """p of the extrapolating transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
 (:func:`transient_model_error`; n the finer grid's elements): the first-order errors of the nested grids cancel
-and what remains falls as n^-2 (``benchmarks/bench_transient_pairs.py``: ``error n^2`` between 1.1 and 4.7 for
-n = 50..500).  Each grid commits whole-element substeps (:meth:`InstationaryModel.advance`); with equal substeps
-of a fraction r of an element per host step (sessions 12-14) ``error n^2`` was erratic in r, 1.0 to 21.4
-(``benchmarks/bench_substep_rule.py``)."""
+and what remains falls as n^-2 (``benchmarks/bench_transient_pairs.py``, ``benchmarks/results/transient_pairs.md``).
+Each grid commits whole-element substeps (:meth:`InstationaryModel.advance`): with equal substeps of a fraction r of
+an element per host step ``error n^2`` is erratic in r (``benchmarks/bench_substep_rule.py``,
+``benchmarks/results/substep_rule.md``)."""
 
 
 EXTRAPOLATED_ERROR_CONSTANT = 6.6
-"""C of that model: 1.4 times the largest ``error n^2`` measured by ``benchmarks/bench_transient_pairs.py``, 4.69 at
-lambda/a = 1, n = 460 (4.05 at lambda/a = 40, n = 460; at most 2.2 for the creep reversals), against the pair
-500/1000, over lambda/a = 1..40, ``(0.5 + 0.3 sin) mu a/R`` and a creep reversal ``0.9 sin`` at lambda/a = 5 and
-20, n = 50..500 (14 values).  It was 30 with equal substeps (16 until session 14).  The pair 129/258 certifies
-1e-4 mu N'; the finest measured, 250/500, reaches 2.6e-5."""
+"""C of that model: 1.4 times the largest ``error n^2`` measured by ``benchmarks/bench_transient_pairs.py``
+(``benchmarks/results/transient_pairs.md``) against the pair 500/1000, over lambda/a = 1..40,
+``(0.5 + 0.3 sin) mu a/R`` and a creep reversal ``0.9 sin`` at lambda/a = 5 and 20, n = 50..500.  By this model the
+pair 129/258 certifies 1e-4 mu N'."""
 
 
 EXTRAPOLATED_MAX_ELEMENTS = 500
-"""Most elements (of the finer grid) :func:`transient_setting` chooses for a pair: the finest pair measured against a
+"""Most elements (of the finer grid) :func:`transient_setting` chooses for a pair: the finest pair calibrated against a
 finer reference (the pair 500/1000)."""
 
 
 EXTRAPOLATION_COST = 1.4
-"""Time per step of a pair over the single grid of n elements: median 1.41 over ``benchmarks/bench_transient_pairs.py``
-(1.08-2.0 between the 10th and 90th percentiles, a loaded machine): the coarse grid adds about 2^-2.5 of the cost
-(it grows as n^2.5) and one provisional substep per host step."""
+"""Time per step of a pair over the single grid of n elements: the median of the ratio of the pair's to the plain
+transient's time per step in ``benchmarks/results/transient_pairs.md`` (``benchmarks/bench_transient_pairs.py``):
+the coarse grid adds about 2^-2.5 of the cost (it grows as n^2.5) and one provisional substep per host step."""
 
 
 def transient_error(elements: int) -> float:
@@ -133,7 +141,8 @@ def transient_setting(tolerance: float) -> tuple[int, bool]:
     The fewest plain elements (:func:`transient_elements`) against the fewest of an extrapolating pair (even, from
     :data:`TRANSIENT_MIN_ELEMENTS` to :data:`EXTRAPOLATED_MAX_ELEMENTS`), by their cost per step ``n^2.5`` (the
     pair's times :data:`EXTRAPOLATION_COST`); when neither meets the tolerance, the more accurate.  Below about 1.4e-2
-    the pair wins: 82 elements meet 1e-3 where a single grid would need 820, beyond the 800 measured.
+    the pair wins: by the models 82 elements meet 1e-3 where a single grid would need 820, beyond
+    :data:`TRANSIENT_MAX_ELEMENTS`.
     """
     plain = transient_elements(tolerance)
     needed = (EXTRAPOLATED_ERROR_CONSTANT / tolerance) ** (1.0 / EXTRAPOLATED_ERROR_ORDER)
@@ -373,8 +382,8 @@ class InstationaryStepping:
         oscillation over Carter's saturation creep and wavelength lambda = stationarity * a, the quasi-steady force
         then errs by about ``2 (2 pi l / lambda)`` mu N' (the Carter slope at zero force is 2 mu N' per saturation
         creep), so the threshold is ``4 pi (l / a) / tolerance``, at least :data:`STATIONARITY_THRESHOLD` (the
-        paper's 20, a rule for force control that creep control would miss: quasi-static Carter was measured
-        12-37 % off for lambda/a = 5..50, ``benchmarks/bench_instationary.py``).
+        paper's 20, a rule for force control that creep control would miss: ``benchmarks/bench_instationary.py``
+        compares quasi-static Carter with the transient for lambda/a = 5..50).
         """
         return max(STATIONARITY_THRESHOLD,
                    4.0 * math.pi * self.zero_force_length(load) / (half_width * self.transient_tolerance))

@@ -1,4 +1,14 @@
-"""Accuracy."""
+"""Accuracy model of the discretised method: its settings (one grid of n elements, or an extrapolated pair n/2n
+over m placements), their error bounds and their modelled cost.
+
+:class:`DiscretisedAccuracy` is what ``auto`` asks (:mod:`rollcontact.dispatch`): T' is first order and p0 second
+order in the elements across the contact, ``max(c w/n, 3 (w/n)^2)`` with w the window over the Hertz width 2a; a
+result's estimate puts in its patches' widths (:func:`patch_widths`).  A module of its own so that the solver
+modules do not carry the calibration.  The error constants are calibrated by
+``benchmarks/bench_discretised_estimate.py`` (its Summary, and table C for the extrapolated pair) and checked on
+several patches by ``benchmarks/bench_multipatch.py`` (table B); the cost constants against
+``benchmarks/pareto.py`` (``benchmarks/results/pareto.md``, section "Cost and error models of auto").
+"""
 
 from __future__ import annotations
 
@@ -13,7 +23,7 @@ from rollcontact.method import AccuracyModel, Setting, friction_sharpness, hertz
 from rollcontact.methods.discretised.steady import DISCRETISED_ELEMENTS
 from rollcontact.result import ContactResult
 
-DIRECT_COST = (1.7e-3, 2.8e-8, 0.0)  # s: discretised Coulomb, a + b n^2 + c n^3 (c fits 0 up to n = 1600)
+DIRECT_COST = (1.7e-3, 2.8e-8, 0.0)  # s: discretised Coulomb, a + b n^2 + c n^3 (c = 0: n^2 dominates to n = 1600)
 
 
 STRUCTURED_ITERATIONS = (20.0, 85.0)  # Newton iterations of the discretised velocity-dependent solve ~ 20 + 85 beta
@@ -22,9 +32,8 @@ STRUCTURED_ITERATIONS = (20.0, 85.0)  # Newton iterations of the discretised vel
 STRUCTURED_COST = (1.5e-4, 9.6e-9, 8.9e-12)  # s per such Newton iteration, a + b n^2 + c n^3
 
 
-# relative T' error <= 4.0 w/n (w = window over the Hertz width 2a): the largest coefficient measured by
-# benchmarks/bench_discretised_estimate.py is 3.0 (the split contact at 1e-3 of the saturation creep, n = 800; at
-# creeps near saturation it stays below 1.7)
+# relative T' error <= 4.0 w/n (w = window over the Hertz width 2a): a margin over the largest coefficient measured
+# by benchmarks/bench_discretised_estimate.py (its Summary; the largest is on the split contact at small creep)
 DISCRETISED_FORCE_ERROR = 4.0
 
 
@@ -33,9 +42,9 @@ DISCRETISED_PRESSURE_ERROR = 3.0  # relative p0 error <= 3 (w/n)^2
 
 # The extrapolated setting (solve_discretised(extrapolate=m)): T' from n and 2n elements, each level the mean over m
 # grid placements.  Relative T' error <= 3.2 w/(m n) (n the coarser level): the placement mean leaves a first-order
-# residue that falls like 1/m (benchmarks/bench_discretised_estimate.py, table C: m c = err m n / w at most 2.12,
-# on the split contact near full stick, the worst case, scanned at n = 50..400; m = 2, 4, 8, 16 alike; the bound on
-# the automatic window is >= 2.03 times every one of 450 errors); p0 is the finer level's, <= 3 (w/2n)^2.
+# residue that falls like 1/m (benchmarks/bench_discretised_estimate.py, table C: m c = err m n / w, largest on the
+# split contact near full stick, scanned densely at n = 50..400; m = 2, 4, 8, 16 alike; table C also gives the
+# bound's margin over every error on the automatic window); p0 is the finer level's, <= 3 (w/2n)^2.
 # Calibrated for m in [2, 16]; auto offers m = 8 and 16
 EXTRAPOLATION_PLACEMENTS = (8, 16)
 
@@ -43,7 +52,7 @@ EXTRAPOLATION_PLACEMENTS = (8, 16)
 EXTRAPOLATED_FORCE_ERROR = 3.2
 
 
-EXTRAPOLATION_CALIBRATED = (2, 16)  # the range of m the bound was measured for
+EXTRAPOLATION_CALIBRATED = (2, 16)  # the range of m the bound is calibrated for (table C)
 
 
 class DiscretisedAccuracy(AccuracyModel):
@@ -52,15 +61,14 @@ class DiscretisedAccuracy(AccuracyModel):
     The bound ``max(4.0 w/n, 3 (w/n)^2)`` (w the grid length over the Hertz width 2a, n the elements) holds
     for every case of ``benchmarks/bench_discretised_estimate.py`` (Hertz/Carter at three loads on a fixed window
     and six creeps of both signs, corrugations up to a split contact at four creeps, a quartic profile,
-    falling friction).  The first-order coefficient varies 0-3 with where the patch edges fall on the grid and
-    with the creep (largest on the split contact at small creep), so the bound is several times pessimistic in
-    the median.  The bound uses the Hertz width 2a and holds where the patches are about as wide; a result's
-    estimate (:meth:`achieved`) puts in its patches' widths where they are narrower (:func:`patch_widths`): on short
-    corrugations with small satellite patches the Hertz-width bound was exceeded by T' (up to 2.9 times for one
-    grid, 5 times for the extrapolated pair; measured against the polynomial method's several patches on 64 scenes
-    of 4-10 mm / 10-40 um corrugation, ``benchmarks/bench_multipatch.py``), the estimate is not (at most 0.58), and
-    ``auto`` escalates while it misses the tolerance (:meth:`escalation`).  No estimate from the solution's
-    convergence replaces the bound:
+    falling friction).  The first-order coefficient varies with where the patch edges fall on the grid and with
+    the creep (largest on the split contact at small creep), so the bound is several times pessimistic in the
+    median.  The bound uses the Hertz width 2a and holds where the patches are about as wide; a result's estimate
+    (:meth:`achieved`) puts in its patches' widths where they are narrower (:func:`patch_widths`): on short
+    corrugations with small satellite patches T' can exceed the Hertz-width bound, not the estimate
+    (``benchmarks/bench_multipatch.py``, table B: against the polynomial method's several patches on 4-10 mm /
+    10-40 um corrugations), and ``auto`` escalates while the estimate misses the tolerance (:meth:`escalation`).
+    No estimate from the solution's convergence replaces the bound:
     the answer at n itself moves by up to the error when the grid moves by half an element, and the two-grid
     estimate (3 times the largest difference to two solves of n/2 elements at different placements) bounds the
     error but is larger than this bound in the median (same benchmark).  Element counts below the automatic
@@ -70,14 +78,14 @@ class DiscretisedAccuracy(AccuracyModel):
     placements and removes the smooth first-order part by Richardson extrapolation from n and 2n elements: its
     bound is ``max(3.2 w/(m n), 3 (w/2n)^2)`` (:data:`EXTRAPOLATED_FORCE_ERROR`), w from the automatic window,
     which is at least as long as the fitted window it runs on; m outside :data:`EXTRAPOLATION_CALIBRATED` has no
-    calibrated bound (NaN).  It costs ``m`` solves at n and at 2n, and pays where a single grid would need more
-    than ~3 times 2n elements: tolerances below ~1e-2 on a scene only this method treats (a split contact).
+    calibrated bound (NaN).  It costs ``m`` solves at n and at 2n, and pays where a single grid would need several
+    times 2n elements: tight tolerances on a scene only this method treats (a split contact).
     Offered with m = :data:`EXTRAPOLATION_PLACEMENTS`, its finer level at most the largest single grid offered,
-    for constant friction (with velocity-dependent friction each of the 2m structured solves costs ~20-100 Newton
-    iterations).
+    for constant friction (with velocity-dependent friction each of the 2m structured solves costs
+    :data:`STRUCTURED_ITERATIONS` Newton iterations).
     """
 
-    floor = DIRECT_COST[0]  # the structured (velocity-dependent) solve's ~20 iterations cost more
+    floor = DIRECT_COST[0]  # the structured (velocity-dependent) solve's iterations cost more
 
     def ladder(self, scene):
         needed = self.resolution(scene)
@@ -127,8 +135,9 @@ class DiscretisedAccuracy(AccuracyModel):
         whose bounds meet the tolerance, any count from the ladder's first to its last (at least the surface
         resolution); when none does, the most accurate of them at their largest counts, with its bound.
 
-        Not only the ladder's rungs: the bounds are within 1.35-2 times the worst measured error, so the next rung
-        up, up to twice the elements needed, would cost up to 4-8 times (n^2 to n^3).
+        Not only the ladder's rungs: the bounds are within a small factor of the worst error measured
+        (``benchmarks/bench_discretised_estimate.py``), so the next rung up, up to twice the elements needed, would
+        cost up to 4-8 times (n^2 to n^3).
         """
         if scene.normal_load_per_length == 0.0:
             return super().setting_for(name, scene, tolerance)
@@ -201,7 +210,7 @@ class DiscretisedAccuracy(AccuracyModel):
     def retry(self, scene, options, result) -> dict | None:
         """After a failed slip iteration (velocity-dependent friction) on a single grid, twice the elements, up to
         the largest offered: the failure is mostly a slip zone shorter than an element at a patch end (see
-        :func:`rollcontact.discretised.solve_discretised`, which does the same on its automatic grid)."""
+        :func:`rollcontact.methods.discretised.steady.solve_discretised`, which does the same on its automatic grid)."""
         elements = options.get("elements")
         if scene.friction.is_constant or not elements or options.get("extrapolate") \
                 or 2 * elements > DISCRETISED_ELEMENTS[-1]:
@@ -266,11 +275,10 @@ def patch_widths(result: ContactResult, hertz_width: float) -> PatchWidths:
     first order, its edges and its stick zone lying anywhere within their elements, so relative to T' the error is
     ~ ``h/W_T`` with ``1/W_T = sum_k |T'_k| / (w_k |T'|)``.  A small satellite patch beside the main one weighs by
     its force: at small creep it slips fully while |T'| is small.  p0 (second order): the width of the patch that
-    holds the largest pressure.  ``benchmarks/bench_multipatch.py`` (table B) measures the T' coefficient
-    ``error W_T/h`` against the polynomial method's several patches: at most 1.3 for one grid, 1.9/m for the pair
-    over m placements, under the bounds' 4.0 and 3.2/m (the Hertz width alone let the error reach 2.9 and 5
-    times the bound); the p0 errors stay below 0.03 of the estimate.  Without traction (zero creep, a failed
-    solve) W_T is the Hertz width.
+    holds the largest pressure.  ``benchmarks/bench_multipatch.py`` (table B, ``benchmarks/results/multipatch.md``)
+    measures the T' and p0 errors over this estimate against the polynomial method's several patches, for one grid
+    and for the pair over m placements; with the Hertz width alone a small satellite patch lets the T' error exceed
+    the bound.  Without traction (zero creep, a failed solve) W_T is the Hertz width.
     """
     fields = result.distributions
     x, p, q = np.asarray(fields.x), np.asarray(fields.p), np.asarray(fields.q)

@@ -1,4 +1,10 @@
-"""Rolling."""
+"""Rolling over a surface as a true transient: :func:`roll_over_surface` and its :class:`RollingHistory`.
+
+The cylinder rolls over ``scene.surface`` step by step on an axis-fixed grid, the normal problem solved afresh at
+each axis position and the tangential one by :class:`~rollcontact.halfspace.solver.TransientSolver`, in force or
+creep control.  It is the reference for the quasi-steady corrugation formulas (paper eqs 28-31), which freeze the
+geometry; a module of its own because it is no steady solve and is not registered as a method.
+"""
 
 from __future__ import annotations
 
@@ -63,8 +69,8 @@ def roll_over_surface(scene: Scene, distance: float, steps: int, *, tangential_f
     normal problem there (quasi-static, no memory) and takes one :meth:`TransientSolver.step` (material convected
     by ds through the axis-fixed grid).  Control: T' fixed (``tangential_force_per_length``, datum-free as long
     as T' is constant) or ``scene.creep``.  This is the reference for the quasi-steady corrugation formulas
-    (paper eqs 28-31 as corrected in physics.md section 4): with the patch centre moving as ``Delta(x_c)`` the
-    creep for a given T' is close to the frozen-geometry value times ``1 + dDelta/dx_c``.
+    (paper eqs 28-31 as corrected in docs/physics.md, Corrugated surface): with the patch centre moving as
+    ``Delta(x_c)`` the creep for a given T' is close to the frozen-geometry value times ``1 + dDelta/dx_c``.
 
     Parameters
     ----------
@@ -77,7 +83,8 @@ def roll_over_surface(scene: Scene, distance: float, steps: int, *, tangential_f
     tangential_force_per_length : float, optional
         T' [N/m] for force control.
     elements, window, datum_length, iteration_tolerance
-        As in :func:`solve_discretised`; the automatic window covers every axis position of the roll.
+        As in :func:`rollcontact.methods.discretised.steady.solve_discretised`; the automatic window covers every axis
+        position of the roll.
     """
     distance = positive_length("distance", distance)
     check_count("steps", steps, 1)

@@ -1,35 +1,26 @@
-"""Discretised reference solver (Kalker-type boundary elements), registered as method ``"discretised"``.
+"""Steady rolling by the discretised method (Kalker-type boundary elements), registered as method ``"discretised"``.
 
 The accuracy yardstick for the polynomial method and the fallback where it cannot apply (split contacts, rough
-profiles, velocity-dependent friction, instationary rolling).  Conventions are the package's (physics.md
-section 1): x is fixed to the cylinder axis (``x = X - x_c``), material flows in +x, the leading edge is
-``x = Delta - a``, ``du/dx = +(2/(pi E*)) PV-int q(z)/(x - z) dz``, ``s = xi + du/dx + (1/V) du/dt`` and in
-slip ``q = mu p sign(s)``.
+profiles, velocity-dependent friction).  Conventions are the package's (docs/physics.md, Conventions): x is fixed to
+the cylinder axis (``x = X - x_c``), material flows in +x, the leading edge is ``x = Delta - a``,
+``s = xi + du/dx + (1/V) du/dt`` and in slip ``q = mu p sign(s)``.  The grid, the normal problem (NORM) and the
+transient stepper (TANG) this builds on are :mod:`rollcontact.halfspace`.
 
-Discretisation (Kalker, *Three-Dimensional Elastic Bodies in Rolling Contact*, Kluwer 1990, ch. 5):
-piecewise-constant p and q on a uniform grid of n elements, influence coefficients integrated exactly over each
-element (log kernel for displacements, Cauchy kernel for gradients), collocation at the element centres.
+* Steady rolling: the fixed point of the transient stepper for ``ds = h``, ``s = xi - K q`` with
+  ``K = (M - M_1)/h``, solved directly by the same active set, or reached by marching (``steady="march"``,
+  :func:`march_to_steady`).
+* Velocity-dependent friction (``steady="structured"``, :func:`steady_leading_edge_stick`): a stick zone at the
+  leading edge of each patch, slip behind it with ``q = mu(V |s|) p sign(xi)`` (paper section 4.2); Newton on the
+  slip for each set of stick lengths, bisection on each patch's stick length (the shortest stick zone behind which
+  the material slips in the traction's direction), the patches' zones in turn until none changes.  With
+  dmu/dv < 0 the transient problem is ill-posed, so this is the only way to that steady state (docs/physics.md,
+  Velocity-dependent friction).
+* :func:`extrapolated`: T' by Richardson extrapolation from two grids, each the mean over several grid placements
+  (the converged references, and the ``extrapolate`` setting ``auto`` offers).
 
-* Normal problem (NORM): ``g = h0 + M p - c >= 0``, ``p >= 0``, ``p g = 0``, ``h sum p = N'`` with the
-  undeformed gap ``h0 = x^2/(2R) - Z(x + x_c)``, solved exactly by an active set for any gap, several patches
-  included; the certificate (load balance, gap >= 0, p >= 0, complementarity) is returned.
-* Tangential transient (TANG): per step of rolled distance ``ds = V dt`` the particle now at x_i was at
-  ``x_i - ds``, so the slip distance is ``S_i = w + u_new(x_i) - u_old(x_i - ds)`` (w = xi ds the rigid
-  shift); stick ``S = 0``, slip ``q = mu p sign(S)``.  This is the upwind (first-order) discretisation of
-  ``s = xi + (1/V) Du/Dt``; the old displacement at the shifted points is integrated exactly for any ds.
-* Steady rolling: the fixed point of that stepper for ``ds = h``, ``s = xi - K q`` with ``K = (M - M_1)/h``,
-  solved directly by the same active set, or reached by marching (``steady="march"``).
-* Velocity-dependent friction (``steady="structured"``): a stick zone at the leading edge of each patch, slip
-  behind it with ``q = mu(V |s|) p sign(xi)`` (paper section 4.2); Newton on the slip for each set of stick
-  lengths, bisection on each patch's stick length (the shortest stick zone behind which the material slips in the
-  traction's direction), the patches' zones in turn until none changes.
-  With dmu/dv < 0 the transient problem is ill-posed, so this is the only way to that steady state
-  (physics.md section 5).
-
-Datum: in 2D the tangential displacement is defined relative to a datum distance L (physics.md section 6).
-Force control is datum-free; creep control of a transient is not, and is well posed only for L above the
-logarithmic capacity of the grid, a quarter of its length.  The default ``datum_length`` is the cylinder
-radius R: the size of the body, beyond which the half-space idealisation that produces the logarithm fails.
+The steady state does not depend on the datum L of the tangential displacement (docs/physics.md, Instationary
+rolling); only the marching's approach to it does.  The settings ``auto`` chooses from, and their error bounds,
+are :mod:`rollcontact.methods.discretised.accuracy`.
 """
 
 from __future__ import annotations
@@ -76,7 +67,8 @@ class StructuredSteady:
 
 
 def steady_leading_edge_stick(ops: Operators, pressure: np.ndarray, creep: float, law: FrictionLaw,
-                              speed: float, iteration_tolerance: float, stick_fraction: float = 0.5) -> StructuredSteady:
+                              speed: float, iteration_tolerance: float,
+                              stick_fraction: float = 0.5) -> StructuredSteady:
     """Steady rolling with ``q = mu(V |s|) p sign(xi)`` in slip and a stick zone at the leading edge of each patch.
 
     For stick zones S (in patch k, m_k elements starting j0_k elements behind its leading edge; j0_k > 0 only
@@ -280,7 +272,7 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, iteration_tol
         Grid window (x_min, x_max) [m] in the axis coordinate; default from the Hertz width and the surface,
         widened automatically (up to 3 times) when a patch reaches its edge.
     iteration_tolerance : float
-        Relative iteration_tolerance of the active sets and certificates, in [1e-14, 1e-3].
+        Relative tolerance of the active-set iteration and certificates, in [1e-14, 1e-3].
     steady : {"direct", "march", "structured"}, optional
         How the steady state is found: ``"direct"`` (default for constant friction) the active set on the
         steady operator; ``"march"`` Kalker's transient marching with ``ds = h`` until the slip pattern
@@ -288,9 +280,10 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, iteration_tol
         velocity-dependent friction) a stick zone at the leading edge of each patch, Newton on the slip
         (:func:`steady_leading_edge_stick`).  Where it fails on the automatic grid (no ``elements``, no
         ``window``), once more on twice the elements, up to the largest grid ``auto`` offers
-        (:data:`rollcontact.api.DISCRETISED_ELEMENTS`, as its :meth:`~rollcontact.api.DiscretisedAccuracy.retry`
-        does for a grid chosen for a iteration_tolerance): a slip zone shorter than an element at a patch end leaves a
-        stick element above mu p, or one slipping against the traction; the message says so.
+        (:data:`DISCRETISED_ELEMENTS`, as
+        :meth:`~rollcontact.methods.discretised.accuracy.DiscretisedAccuracy.retry` does for a grid chosen for a
+        tolerance): a slip zone shorter than an element at a patch end leaves a stick element above mu p, or one
+        slipping against the traction; the message says so.
     finish : bool
         With ``steady="march"``: polish the marched state by the direct steady solve.
     datum_length : float, optional
@@ -320,8 +313,8 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, iteration_tol
                              "control: it takes neither window nor tangential_force_per_length")
         n = check_count("elements", DEFAULT_ELEMENTS if elements is None else elements, MIN_ELEMENTS,
                         MAX_ELEMENTS // 2, " with extrapolate (the finer level has twice as many)")
-        return extrapolated(scene, (n, 2 * n), extrapolate, iteration_tolerance=iteration_tolerance, steady=steady, finish=finish,
-                            datum_length=datum_length)
+        return extrapolated(scene, (n, 2 * n), extrapolate, iteration_tolerance=iteration_tolerance, steady=steady,
+                            finish=finish, datum_length=datum_length)
     iteration_tolerance = check_iteration_tolerance(iteration_tolerance)
     constant = scene.friction.is_constant
     if steady is None:
@@ -337,7 +330,8 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, iteration_tol
                          "constant friction")
     if scene.normal_load_per_length == 0.0:
         return no_contact_result(scene)
-    grid, solver, normal = fitted_normal(scene, elements, window, datum_length=datum_length, iteration_tolerance=iteration_tolerance)
+    grid, solver, normal = fitted_normal(scene, elements, window, datum_length=datum_length,
+                                         iteration_tolerance=iteration_tolerance)
     a, offset, patches = patch_geometry(grid, normal.contact)
     p = normal.pressure
     info = {"grid": grid, "patches": patches, "normal_certificate": normal.certificate,
@@ -374,8 +368,8 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, iteration_tol
                 and 2 * grid.elements <= DISCRETISED_ELEMENTS[-1]:
             # the automatic grid leaves a slip zone shorter than an element at a patch end (a stick element
             # above mu p, or one slipping against the traction): twice the elements resolve it
-            finer = solve_discretised(scene, elements=2 * grid.elements, iteration_tolerance=iteration_tolerance, steady=steady,
-                                      datum_length=datum_length)
+            finer = solve_discretised(scene, elements=2 * grid.elements, iteration_tolerance=iteration_tolerance,
+                                      steady=steady, datum_length=datum_length)
             return replace(finer, message=f"{finer.message} (refined from the automatic grid of {grid.elements} "
                                           f"elements, where the structure failed: {sol.message})")
         return result(sol.converged, message, sol.traction, sol.slip, sol.stick, t, scene.creep,
@@ -420,11 +414,11 @@ def extrapolated(scene: Scene, elements: tuple[int, int] = (1000, 2000), placeme
     by ``j h_k / m``, j = 0..m-1 (m = ``placements``).  The answer at one n moves by about its error with where the
     patch edges fall in their elements (``benchmarks/bench_discretised_estimate.py``): that part of the error is
     periodic in the shift, the mean over m placements is its trapezoidal average, and extrapolation alone would
-    amplify it.  The smooth first-order part is then removed by the extrapolation.  Measured over the cases of
-    ``benchmarks/bench_discretised_estimate.py`` (table C, n_2 = 2 n_1) the error is at most ``c w/(m n_1)`` (w the
-    window over the Hertz width 2a) with c = 2.12 for m = 2 to 16 (erratic in n), largest on a split contact at
-    small creep.  The other fields are the finer level's first placement; p0 (second order) is the
-    finer level's mean.
+    amplify it.  The smooth first-order part is then removed by the extrapolation.  The error is bounded by
+    ``c w/(m n_1)`` (w the window over the Hertz width 2a), erratic in n and largest on a split contact at small
+    creep, with c calibrated for m = 2 to 16 by ``benchmarks/bench_discretised_estimate.py`` (table C, n_2 = 2 n_1;
+    :data:`rollcontact.methods.discretised.accuracy.EXTRAPOLATED_FORCE_ERROR`).  The other fields are the finer
+    level's first placement; p0 (second order) is the finer level's mean.
 
     Parameters
     ----------
@@ -474,8 +468,8 @@ def march_to_steady(solver: TransientSolver, pressure: np.ndarray, control: dict
                     iteration_tolerance: float) -> tuple[TransientState, StepResult]:
     """Kalker's marching to steady rolling: steps of ``ds = h`` from q = 0 until the slip pattern settles.
 
-    Settled means: the stick set unchanged and ``|dT'| <= iteration_tolerance mu N'`` for as many consecutive steps as the
-    patch has elements (one passage of material).  At most 20 n steps.
+    Settled means: the stick set unchanged and ``|dT'| <= iteration_tolerance mu N'`` for as many consecutive steps
+    as the patch has elements (one passage of material).  At most 20 n steps.
     """
     h = solver.grid.element_width
     contact = pressure > 0

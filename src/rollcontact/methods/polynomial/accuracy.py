@@ -1,4 +1,15 @@
-"""Accuracy."""
+"""Accuracy model of the polynomial method: its settings, their predicted error and their modelled cost.
+
+:class:`PolynomialAccuracy` is what ``auto`` asks (:mod:`rollcontact.dispatch`): with constant friction T', a, Delta
+and a* are exact (Bessel moments, paper eqs 28-31) and the ``truncation`` bounds the p0 error; with
+velocity-dependent friction the slip iteration's node count N sets the T' error, bounded a priori by
+``SLIP_NODE_ERROR beta/N^2`` and a posteriori by the result's own estimate.  A module of its own so that the solver
+modules do not carry the calibration, and the dispatcher does not import the solvers to rank settings.
+
+Calibration: the cost constants (:data:`POLYNOMIAL_COST`, :data:`POLYNOMIAL_HARMONIC_COST`, :data:`SLIP_COST`) are
+checked against ``benchmarks/pareto.py`` (``benchmarks/results/pareto.md``, section "Cost and error models of
+auto"); the slip iteration's constants by ``benchmarks/bench_slip_nodes.py`` (tables C and E).
+"""
 
 from __future__ import annotations
 
@@ -12,7 +23,7 @@ from rollcontact.methods.polynomial.slip import DEFAULT_NODES
 from rollcontact.methods.polynomial.solver import TRUNCATION
 from rollcontact.scene import Scene
 
-POLYNOMIAL_COST = 7.5e-5  # s, normal Newton, tangential root and validity checks (order-independent to ~10 %)
+POLYNOMIAL_COST = 7.5e-5  # s, normal Newton, tangential root and validity checks (about independent of the order)
 
 
 POLYNOMIAL_HARMONIC_COST = 7.5e-5  # s per surface harmonic
@@ -32,8 +43,9 @@ TRUNCATIONS = tuple(10.0**-k for k in range(2, 13))
 SLIP_NODES = (8, 16, 32, 64, 128, 256, 512)  # requested; the ladder offers the distinct counts that run
 
 
-# Slip-iteration T' error against the nodes N that run (benchmarks/bench_slip_nodes.py, 1024-node references):
-SLIP_NODE_ERROR = 1.5  # relative T' error <= SLIP_NODE_ERROR * sharpness / N^2 (largest measured 0.96)
+# Slip-iteration T' error against the nodes N that run (benchmarks/bench_slip_nodes.py, table C, 1024-node
+# references): the bound with a margin over the largest ``error N^2/beta`` measured there
+SLIP_NODE_ERROR = 1.5  # relative T' error <= SLIP_NODE_ERROR * sharpness / N^2
 
 
 SLIP_CONVERGENCE = 2.0  # escalation aims at N (estimate / t)^(1/2): the estimate's typical decay
@@ -47,8 +59,8 @@ class PolynomialAccuracy(AccuracyModel):
     iteration's ``nodes``.  Counts are the nodes N that run (:func:`slip_nodes`: requests below the law's and the
     pressure's floor run the floor, so the ladder offers each count once).  A priori the T' error is below
     ``SLIP_NODE_ERROR * beta / N^2`` with the law's sharpness ``beta`` (:func:`friction_sharpness`), a bound over
-    ``benchmarks/bench_slip_nodes.py``'s cases but mostly 10-100 times pessimistic; a result carries the slip
-    iteration's a-posteriori estimate (:func:`rollcontact.velocity_friction.force_error_estimate`), which
+    ``benchmarks/bench_slip_nodes.py``'s cases but mostly pessimistic (its table A); a result carries the slip
+    iteration's a-posteriori estimate (:func:`rollcontact.methods.polynomial.slip.force_error_estimate`), which
     :meth:`achieved` reports.  So :meth:`setting_for` starts at the cheapest count and :meth:`escalation` names
     the count to run next while the estimate misses the tolerance.  An explicit ``order`` has no prediction
     (NaN); the result's truncation residual then gives the estimate.
@@ -86,7 +98,7 @@ class PolynomialAccuracy(AccuracyModel):
         :func:`slip_estimate`); with a ``tolerance`` that the a-priori bound ``SLIP_NODE_ERROR beta/N^2`` of the
         nodes that ran already meets (a converged result), that bound instead: as certain as the estimate (both
         are calibrated on ``benchmarks/bench_slip_nodes.py``'s cases, the discretised method is certified by its
-        bound alone) and free, where the estimate is ~20 % of the solve (:func:`ran_slip_bound`)."""
+        bound alone) and free, where the estimate costs a Newton step (:func:`ran_slip_bound`)."""
         # residual: the first neglected coefficients relative to the leading one (inf when the solve failed)
         if not math.isfinite(result.residual):
             return math.nan
@@ -108,13 +120,13 @@ class PolynomialAccuracy(AccuracyModel):
         moves up while the result's estimate misses the tolerance), with the bound of the largest count, which the
         path can reach, as its error; otherwise the cheapest setting whose bound meets the tolerance.
 
-        Starting at the floor rather than where the bound meets t is cheaper: the bound is 10-100 times pessimistic
-        for most laws, and escalation from the floor costs 1.0-1.4 times the cheapest count whose estimate meets t
-        on average (``benchmarks/bench_slip_nodes.py``, table C).
+        Starting at the floor rather than where the bound meets t is cheaper: the bound is pessimistic for most
+        laws, and escalation from the floor costs little more than the cheapest count whose estimate meets t
+        (``benchmarks/bench_slip_nodes.py``, table C, the replay of the adaptive path).
         """
         if scene.friction.is_constant:
             # every truncation tolerance costs the same and bounds the error by itself: the loosest one <= t (the
-            # ladder walk's answer without its 22 model calls, ~25 us per auto solve)
+            # ladder walk's answer without its model calls, per auto solve)
             loosest = next((t for t in TRUNCATIONS if t <= tolerance), TRUNCATIONS[-1])
             options = {"truncation": loosest}
             return Setting(name, options, self.error(scene, options), self.cost(scene, options))
@@ -151,7 +163,7 @@ class PolynomialAccuracy(AccuracyModel):
 def slip_estimate(result) -> float:
     """The slip iteration's a-posteriori relative T' error of a polynomial result (NaN when it did not converge;
     0 when it did not run: Coulomb friction, zero creep, or the polynomial method's Coulomb reduction; and 0 on
-    several patches, whose estimate is the result's residual, :mod:`rollcontact.split_friction`)."""
+    several patches, whose estimate is the result's residual, :mod:`rollcontact.methods.polynomial.patches_slip`)."""
     from rollcontact.methods.polynomial.slip import VelocityFrictionDistributions
 
     dist = result.distributions
@@ -176,7 +188,7 @@ def slip_nodes(scene, nodes: int) -> int:
 
 @lru_cache(maxsize=64)
 def slip_floor(scene) -> int:
-    """Fewest nodes the slip iteration runs for the scene (:func:`rollcontact.velocity_friction.effective_nodes`
+    """Fewest nodes the slip iteration runs for the scene (:func:`rollcontact.methods.polynomial.slip.effective_nodes`
     with the scene's pressure; 0 without a polynomial normal solution).  Cached: every rung of a ladder asks."""
     from rollcontact.methods.polynomial.slip import effective_nodes
 

@@ -1,4 +1,4 @@
-"""Chebyshev machinery of the polynomial method (physics.md section 3).
+"""Chebyshev machinery of the polynomial method (docs/physics.md, Polynomial method).
 
 On an interval of half-width ``h`` centred at ``c`` write ``x = c + h t``, ``t = cos(theta)``.  The finite
 Hilbert transform pairs used throughout:
@@ -19,7 +19,7 @@ arithmetic: the scalar paths use plain floats (``math`` and the Cython scalar ``
 :mod:`scipy.special.cython_special`, the same functions as the ufuncs without their dispatch), and every table that
 depends only on sizes (angle grids, sine/cosine tables, their index vectors) is built once in a bounded
 module-level cache keyed by those sizes and returned read-only, so no call can alter what another call sees.
-Products are ``ndarray.dot``: the BLAS call of ``@`` (the same bits) without the gufunc dispatch (~1 us a call).
+Products are ``ndarray.dot``: the BLAS call of ``@`` (the same bits) without the gufunc dispatch's per-call overhead.
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ def read_only(*arrays: np.ndarray):
 
 @lru_cache(maxsize=64)
 def unit_grid(m: int) -> np.ndarray:
-    """m equally spaced points on [0, 1] (cached: numpy's linspace costs ~15 us per call)."""
+    """m equally spaced points on [0, 1] (cached: numpy's linspace costs more per call than the arithmetic it does)."""
     return read_only(np.arange(m, dtype=float) / (m - 1))
 
 
@@ -108,7 +108,7 @@ def power_to_chebyshev(size: int) -> np.ndarray:
     """The (size, size) matrix taking power coefficients in t to Chebyshev coefficients (cached).
 
     Its entries are dyadic rationals, exact in floats; one product replaces ``npcheb.poly2cheb``, whose argument
-    checks and series arithmetic cost ~100 us per call for a quartic.
+    checks and series arithmetic cost far more per call than the product for a quartic.
     """
     m = np.zeros((size, size))
     for j in range(size):
@@ -135,8 +135,8 @@ def slope_tables(polynomial: tuple, origin: float = 0.0) -> tuple:
     ``curvature_poly`` are the coefficients of ``Z''`` without trailing zeros
     (:meth:`SlopeExpansion.curvature_bound`).
     """
-    # the derivatives on lists, the products of numpy's polyder (j c_j) without its ~20 us of argument handling per
-    # call: with the axis moving every FMU step, the origin changes and the cache cannot serve
+    # the derivatives on lists, the products of numpy's polyder (j c_j) without its argument handling per call: with
+    # the axis moving every FMU step, the origin changes and the cache cannot serve
     derivs = [derivative(taylor_shift(tuple(float(c) for c in polynomial), origin))]
     for _ in range(len(derivs[0]) + 1):
         d = derivs[-1]
@@ -256,10 +256,10 @@ class SlopeExpansion:
         Returns
         -------
         m0, m1, dm0_dh, dm0_dc, dm1_dh, dm1_dc : float
-            For a harmonic (physics.md eqs 28-31): ``m0 = k J0(kh) (Psi cos kc - Phi sin kc)``,
-            ``m1 = -2 k J1(kh) (Phi cos kc + Psi sin kc)``; for the polynomial part the Taylor coefficients
-            ``e_j = h^j Q^(j)(c)/j!`` of ``Q = Z'`` about c weighted by the means of t^j, ``(j-1)!!/j!!`` (even j),
-            and the first moments ``2 j!!/(j+1)!!`` (odd j).
+            For a harmonic (eqs 28-31, docs/physics.md, Corrugated surface):
+            ``m0 = k J0(kh) (Psi cos kc - Phi sin kc)``, ``m1 = -2 k J1(kh) (Phi cos kc + Psi sin kc)``; for the
+            polynomial part the Taylor coefficients ``e_j = h^j Q^(j)(c)/j!`` of ``Q = Z'`` about c weighted by the
+            means of t^j, ``(j-1)!!/j!!`` (even j), and the first moments ``2 j!!/(j+1)!!`` (odd j).
         """
         m0 = m1 = d0h = d0c = d1h = d1c = 0.0
         if self.has_poly:
@@ -429,7 +429,8 @@ class SlopeExpansion:
 @lru_cache(maxsize=32)
 def axis_surface(polynomial: tuple, axis_position: float, harmonic_list: tuple) -> Surface:
     """:meth:`SlopeExpansion.axis_surface` of the polynomial in surface coordinates and the ``(k, Phi, Psi)``
-    harmonics already in axis coordinates (cached: building a validated Surface costs ~60 us)."""
+    harmonics already in axis coordinates (cached: building a validated Surface costs more than the arithmetic that
+    uses it)."""
     return Surface(taylor_shift(polynomial, axis_position),
                    tuple(Harmonic(k, phi, psi) for k, phi, psi in harmonic_list))
 
@@ -481,8 +482,8 @@ def outer_transform(coefficients: np.ndarray, t) -> np.ndarray:
 
 def surface_height(surface, x: np.ndarray) -> np.ndarray:
     """``surface.height(x)`` for an array x by the same operations, so to the same bits, with the polynomial part by
-    Horner's rule written out: ``numpy.polynomial.polynomial.polyval``'s argument handling costs ~15 us a call,
-    several times its arithmetic on the few dozen points of :func:`rollcontact.polynomial.outside_gap`.
+    Horner's rule written out: ``numpy.polynomial.polynomial.polyval``'s argument handling per call costs several
+    times its arithmetic on the few dozen points of :func:`rollcontact.methods.polynomial.validity.outside_gap`.
 
     Parameters
     ----------
@@ -513,7 +514,7 @@ def pressure_samples(c_n: np.ndarray) -> tuple[int, np.ndarray]:
 
     ``m = max(64, 4 (order + 1))``: four samples per term; one product with the cached
     :func:`pressure_table`, shared by :func:`max_pressure` and the validity checks of
-    :mod:`rollcontact.polynomial` and :mod:`rollcontact.multipatch`.
+    :mod:`rollcontact.methods.polynomial.solver` and :mod:`rollcontact.methods.polynomial.patches`.
     """
     m = max(64, 4 * c_n.size)
     return m, pressure_table(m, c_n.size - 1)[0].dot(c_n[1:])

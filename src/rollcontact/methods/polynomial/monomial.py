@@ -1,4 +1,10 @@
-"""Monomial."""
+"""The paper's monomial formulation of the polynomial method (eqs 19-26), kept to measure its conditioning.
+
+:func:`monomial_matrix` is the matrix of eq 21 and :func:`monomial_density` the pressure coefficients ``B_n`` it
+gives; the solver uses them with ``basis="monomial"`` (:data:`BASES`).  Their conditioning degrades as a^(2n), which
+is why the solver's default is the stable Chebyshev basis (:mod:`rollcontact.methods.polynomial.chebyshev`).  Note
+eq 26 needs ``A_n^-1 = +(1/pi) a^(2n-2)/(2n-3) prod...`` for n >= 2: the printed minus sign is wrong.
+"""
 
 from __future__ import annotations
 

@@ -1,24 +1,25 @@
 """Contacts of several patches by the polynomial method (an extension of paper section 4.1).
 
 A corrugation short against the contact (``k a`` above about 1) splits the contact: the single-patch solution of
-:mod:`rollcontact.polynomial` turns the pressure negative between two load-bearing lobes.  Each patch ``I_k = c_k
-+ h_k t`` then carries its own bounded density ``p_k = (E*/2) sum_{n>=1} g_kn sin(n theta)``, and the patches act
-on each other through the smooth field each one produces outside itself.
+:mod:`rollcontact.methods.polynomial.solver` turns the pressure negative between two load-bearing lobes.  Each patch
+``I_k = c_k + h_k t`` then carries its own bounded density ``p_k = (E*/2) sum_{n>=1} g_kn sin(n theta)``, and the
+patches act on each other through the smooth field each one produces outside itself.
 
 Fields.  The density ``sin(n theta)`` on ``[-1, 1]`` has the finite Hilbert transform ``T_n(t)`` inside and
-``w^n`` outside, ``w = t - sign(t) sqrt(t^2 - 1)`` (``|w| < 1``; :func:`rollcontact.chebyshev.outer_transform`).
-So the elastic slope of patch j is ``v_j = sum_n g_jn T_n(t_j)`` on it and ``sum_n g_jn w_j^n`` elsewhere, and the
-slope ``h0'`` of the undeformed gap holds on every patch: ``sum_n g_kn T_n(t_k) = h0' - sum_{j != k} v_j`` on I_k.
+``w^n`` outside, ``w = t - sign(t) sqrt(t^2 - 1)`` (``|w| < 1``;
+:func:`rollcontact.methods.polynomial.chebyshev.outer_transform`). So the elastic slope of patch j is
+``v_j = sum_n g_jn T_n(t_j)`` on it and ``sum_n g_jn w_j^n`` elsewhere, and the slope ``h0'`` of the undeformed gap
+holds on every patch: ``sum_n g_kn T_n(t_k) = h0' - sum_{j != k} v_j`` on I_k.
 
 Normal problem.  With the Chebyshev coefficients of the right side on I_k (``h0'``: the exact Jacobi-Anger and
-Taylor forms of :meth:`~rollcontact.chebyshev.SlopeExpansion.gap_slope_coefficients`; ``v_j``: a discrete
-cosine transform of ``w_j^n`` at M + 8 Gauss-Chebyshev nodes of I_k, geometrically convergent because ``v_j``
-is analytic on I_k) the coefficients ``g_kn``, n = 1..M, solve one linear system for given patches.  The 2K
-edges follow from 2K equations: per patch the ``T_0`` coefficient vanishes (p bounded at both edges), the loads
-add up to N', and the deformed gap is zero at both edges of every gap between patches (one approach for all):
+Taylor forms of :meth:`~rollcontact.methods.polynomial.chebyshev.SlopeExpansion.gap_slope_coefficients`; ``v_j``: a
+discrete cosine transform of ``w_j^n`` at M + 8 Gauss-Chebyshev nodes of I_k, geometrically convergent because ``v_j``
+is analytic on I_k) the coefficients ``g_kn``, n = 1..M, solve one linear system for given patches.  The 2K edges follow
+from 2K equations: per patch the ``T_0`` coefficient vanishes (p bounded at both edges), the loads add up to N', and the
+deformed gap is zero at both edges of every gap between patches (one approach for all):
 ``h0(l_{k+1}) - h0(r_k) = sum_j h_j sum_n g_jn [I_n(w_j)]`` between the two edges, with the antiderivative
-``I_n(w) = (w^(n+1)/(n+1) - w^(n-1)/(n-1))/2`` of ``w^n`` in t (``(w^2/2 - ln|w|)/2`` for n = 1).  Newton on the
-edges, with a difference Jacobian.
+``I_n(w) = (w^(n+1)/(n+1) - w^(n-1)/(n-1))/2`` of ``w^n`` in t (``(w^2/2 - ln|w|)/2`` for n = 1).  Newton on the edges,
+with a difference Jacobian.
 
 Tangential problem (Coulomb, steady rolling).  Every patch sticks at its leading edge (material enters each patch
 free of traction): ``q = mu p + q2`` with ``q2_k = -(E*/2) mu sum G_kn sin(n phi)`` on ``S_k = [l_k, l_k +
@@ -33,17 +34,17 @@ the nearest edge of patch j: close patches need more terms.  T' is a difference 
 relative error grows like ``mu N'/|T'|`` at small creep: the target is the tolerance times Carter's ``|T'|/(mu
 N')``, and Newton stops at :data:`ACCEPTED_FRACTION` of it.  The result's residual is :data:`RESIDUAL_SAFETY`
 times the larger of the truncation and Newton's residuals, times ``mu N'/|T'|`` of the solution; it bounds the
-relative error of T' and p0 (``tests/test_multipatch.py``).
+relative error of T' and p0 (``tests/methods/polynomial/test_patches.py``).
 
 One patch (K = 1) is the same route: where Newton from the Hertz patch lands on a spurious single patch (across a
 crest, with a negative pressure), the discretised start often finds the one patch that is in contact.
 
 Validity (checked on the returned fields, each failure named): p >= 0 on every patch; the deformed gap open
 between and beyond the patches; ``|q| <= mu p`` in every stick zone; slip with the sign of the creep in every slip
-zone.  A falling friction law is solved on these patches by :mod:`rollcontact.split_friction`.  Outside the method
-(reported, left to the discretised solver): more than :data:`MAX_PATCHES` patches; a patch that slips at its
-leading edge and sticks behind it (the slip of the solution turns against the creep: 2 of the 864 scenes of
-``benchmarks/bench_multipatch.py``, both so in the discretised active set); patches so close that Newton stalls
+zone.  A falling friction law is solved on these patches by :mod:`rollcontact.methods.polynomial.patches_slip`.  Outside
+the method (reported, left to the discretised solver): more than :data:`MAX_PATCHES` patches; a patch that slips at its
+leading edge and sticks behind it (the slip of the solution turns against the creep; the discretised active set
+finds the same structure there, ``benchmarks/bench_multipatch.py`` table A); patches so close that Newton stalls
 (where the contact has only just split).
 """
 
@@ -70,6 +71,7 @@ from rollcontact.methods.polynomial.chebyshev import (
     sine_series,
     surface_height,
 )
+from rollcontact.methods.polynomial.newton import Leaving, quasi_newton
 from rollcontact.result import ContactResult, Distributions
 
 EXTRA_NODES = 8
@@ -126,7 +128,7 @@ def solve_densities(expansion: SlopeExpansion, intervals: list[tuple[float, floa
     Returns
     -------
     g : list of ndarray
-        ``[0, g_k1, .., g_km]`` per interval (index 0 is unused, as in :mod:`rollcontact.polynomial`).
+        ``[0, g_k1, .., g_km]`` per interval (index 0 is unused, as in :mod:`rollcontact.methods.polynomial.solver`).
     leftover : list of ndarray
         Per interval the Chebyshev coefficients 0 .. M + 7 of ``h0' + shift - sum_{j != k} v_j - sum g_kn T_n``:
         entry 0 must vanish for a bounded density (the interval's equation), entries above m are the truncation.
@@ -219,17 +221,14 @@ MAX_TERMS = 400
 
 
 MAX_UNKNOWNS = 512
-"""Largest number of coefficients K M of all patches together (the dense system of :func:`solve_densities`): a
-solve then costs at most ~0.1 s on the machines of ``benchmarks/results/pareto.md``, beyond which the discretised
-fallback is the better buy."""
+"""Largest number of coefficients K M of all patches together (the dense system of :func:`solve_densities`, whose
+cost grows as (K M)^3): beyond it the discretised fallback is the better buy (``benchmarks/bench_multipatch.py``,
+table A, and ``benchmarks/pareto.py`` compare the two)."""
 
 
 MAX_PATCHES = 8
 """More patches than this are left to the discretised solver (a corrugation much shorter than the contact)."""
 
-
-NEWTON_ITERATIONS = 40
-"""Newton steps (or Jacobian refreshes) of one iteration on the edges or on the zones."""
 
 
 ACCEPTED_FRACTION = 1e-3
@@ -239,13 +238,10 @@ ACCEPTED_FRACTION = 1e-3
 
 RESIDUAL_SAFETY = 10.0
 """Factor on the reported residual (the larger of the truncation and Newton's scaled residuals, times
-``mu N'/|T'|``): against solutions at tolerance 1e-13 the relative error of T' and p0 was at most 1.44 times the
-unfactored value (5 split scenes, creeps 1e-4 to 0.99 of saturation, tolerances 1e-2 to 1e-6)."""
+``mu N'/|T'|``): a margin over the largest ratio of the relative error of T' and p0, against solutions at tolerance
+1e-13, to the unfactored value on split scenes (creeps 1e-4 to 0.99 of saturation, tolerances 1e-2 to 1e-6;
+``tests/methods/polynomial/test_patches.py::test_reported_residual_bounds_the_error_at_every_tolerance``)."""
 
-
-MAX_EVALUATIONS = 60
-"""Evaluations of the residuals (Jacobian columns included) per Newton iteration on the edges or the zones; the
-converged cases measured need 6-15."""
 
 
 DIFFERENCE_STEP = 1e-7
@@ -254,8 +250,8 @@ DIFFERENCE_STEP = 1e-7
 
 def series_sum(intervals, coefficients, x, factor: float = 1.0) -> np.ndarray:
     """``sum_k factor sum_n c_kn sin(n theta_k)`` at ``x`` [m] over the ``intervals`` ``(centre, half-width)`` of
-    positive half-width (a density per patch or stick zone; :func:`rollcontact.chebyshev.sine_series`, 0 off the
-    interval)."""
+    positive half-width (a density per patch or stick zone;
+    :func:`rollcontact.methods.polynomial.chebyshev.sine_series`, 0 off the interval)."""
     x = np.asarray(x, dtype=float)
     total = np.zeros(x.shape)
     for (c, h), ck in zip(intervals, coefficients, strict=True):
@@ -387,74 +383,6 @@ def tail(leftover: list[np.ndarray], intervals, m: int, radius: float) -> float:
     """The first neglected coefficients, ``max |leftover_n|`` for n = M+1..M+4, relative to ``h_k/R``."""
     return max(float(np.abs(rest[m + 1:m + 5]).max()) * radius / h for rest, (_, h) in zip(leftover, intervals,
                                                                                          strict=True))
-
-
-class Leaving(Exception):
-    """Raised by a step limit of :func:`quasi_newton` when unknown ``index`` leaves the problem (a patch that slips
-    throughout)."""
-
-    def __init__(self, index: int):
-        super().__init__(index)
-        self.index = index
-
-
-def difference_jacobian(function, x: np.ndarray, f: np.ndarray, step: float) -> np.ndarray:
-    """Forward differences of the residuals of ``function`` at ``x`` (``f``: its residuals there) with the step
-    ``step`` (``function(x) -> (residuals, extras)``)."""
-    jac = np.empty((f.size, x.size))
-    for i in range(x.size):
-        shifted = x.copy()
-        shifted[i] += step
-        jac[:, i] = (function(shifted)[0] - f) / step
-    return jac
-
-
-def quasi_newton(function, x: np.ndarray, step: float, limit, tiny: float, accept: float = 1e-13):
-    """Solve ``residuals(x) = 0`` (scaled to order one) by Newton steps on a difference Jacobian kept up to date
-    by Broyden's update, refreshed when a step fails to reduce the residual.
-
-    ``function(x)`` returns ``(residuals, extras)``: what the evaluation computed on the way, handed back for the
-    solution so that it need not be evaluated again.  ``limit(x, dx)`` returns the step to take (it may shorten
-    it, or raise :class:`Leaving`).  Ends at residuals below ``accept`` (by default of round-off size) or after
-    a full step below ``tiny``.  Returns ``(x, f, extras, evaluations, failure)``; a singular Jacobian, non-finite
-    residuals and more than :data:`MAX_EVALUATIONS` evaluations are failures.
-    """
-    f, extras = function(x)
-    evaluations = 1
-    jac = None
-    fresh = False
-    for _ in range(NEWTON_ITERATIONS):
-        if evaluations > MAX_EVALUATIONS:
-            break
-        if not np.isfinite(f).all():
-            return x, f, extras, evaluations, f"non-finite residuals at {x.tolist()}"
-        if float(np.abs(f).max()) <= accept:
-            return x, f, extras, evaluations, ""
-        if jac is None:
-            jac = difference_jacobian(function, x, f, step)
-            evaluations += x.size
-            fresh = True
-        _, _, dx, info = lapack.dgesv(jac, -f)
-        if info != 0:
-            return x, f, extras, evaluations, "singular Jacobian"
-        limited = limit(x, dx)
-        trial, trial_extras = function(x + limited)
-        evaluations += 1
-        if not (np.isfinite(trial).all() and (fresh or np.linalg.norm(trial) < np.linalg.norm(f))):
-            if fresh:
-                return x, f, extras, evaluations, f"non-finite residuals at {(x + limited).tolist()}"
-            jac = None  # the secant model has gone stale: difference again at x
-            continue
-        length = float(limited @ limited)
-        if length == 0.0:  # a step below the resolution of x: nothing left to gain
-            return x, f, extras, evaluations, ""
-        jac += np.outer(trial - f - jac @ limited, limited) / length
-        fresh = False
-        x, f, extras = x + limited, trial, trial_extras
-        if limited is dx and float(np.abs(dx).max()) <= tiny:
-            return x, f, extras, evaluations, ""
-    return x, f, extras, evaluations, (f"no convergence in {evaluations} evaluations (largest residual "
-                                       f"{float(np.abs(f).max()):.3g})")
 
 
 def solve_edges(expansion: SlopeExpansion, edges: np.ndarray, load: float, estar: float, m: int, a_ref: float,
@@ -736,8 +664,8 @@ def split_normal(expansion: SlopeExpansion, load: float, estar: float, start: li
         edges, g, leftover, left, it, failure = solve_edges(expansion, edges, load, estar, m, a_ref, accept)
         iterations += it
         residual = max(tail(leftover, intervals_of(edges), m, radius), left) if not failure else math.inf
-        # converged but truncated: more terms from there (a failure is not retried: on the cases measured Newton
-        # stalled where the patches nearly touch, whatever the terms)
+        # converged but truncated: more terms from there (a failure is not retried: Newton stalls where the patches
+        # nearly touch, whatever the terms)
         if failure or order is not None or m >= largest or residual <= target:
             break
         m = min(2 * m, largest)

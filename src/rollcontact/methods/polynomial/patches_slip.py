@@ -1,33 +1,35 @@
 """Velocity-dependent friction on a contact of several patches (paper section 4.2 on the patches of
-:mod:`rollcontact.multipatch`).
+:mod:`rollcontact.methods.polynomial.patches`).
 
-A short corrugation splits the contact (:mod:`rollcontact.multipatch` solves its normal problem); with a friction
-law ``mu(V |s|)`` each patch k carries the slip iteration of :mod:`rollcontact.velocity_friction`: ``q1_k =
-mu(V s) p_k`` on the patch, a bounded correction ``q2_k`` on a stick zone at its leading edge, slip behind it.  The
-patches act on each other through the fields their tractions produce outside themselves: the density ``sin(n
-theta)`` on a patch has the slope ``w^n`` off it (:func:`rollcontact.multipatch.field_coefficients`), so on patch k
-the other patches add the smooth slope
+A short corrugation splits the contact (:mod:`rollcontact.methods.polynomial.patches` solves its normal problem); with a
+friction law ``mu(V |s|)`` each patch k carries the slip iteration of :mod:`rollcontact.methods.polynomial.slip`:
+``q1_k = mu(V s) p_k`` on the patch, a bounded correction ``q2_k`` on a stick zone at its leading edge, slip behind
+it.  The patches act on each other through the fields their tractions produce outside themselves: the density
+``sin(n theta)`` on a patch has the slope ``w^n`` off it
+(:func:`rollcontact.methods.polynomial.patches.field_coefficients`), so on patch k the other patches add the smooth
+slope
 
     ``E_k = sum_{j != k} [(2/E*) sum_n e_jn w_j^n - sum_n F_jn w_(S_j)^n]``
 
 (``e_j``: sine coefficients of ``q1_j`` on the patch ``I_j``; ``F_j``: those of the correction on its stick zone
-``S_j``), which enters patch k's equations as a known slope (:class:`~rollcontact.velocity_friction.SlipEquations`'
-``external``: its ``T_0`` coefficient acts as creep, the others add to H1's).
+``S_j``), which enters patch k's equations as a known slope
+(:class:`~rollcontact.methods.polynomial.slip.SlipEquations`' ``external``: its ``T_0`` coefficient acts as creep, the
+others add to H1's).
 
 Solution.  Block Gauss-Seidel over the patches, from Coulomb's solution with mu_s
-(:func:`rollcontact.multipatch.solve_stick`: stick zones and corrections, ``q1 = mu_s p``): each patch's slip
-iteration (Newton, warm-started from its last solution) with the others' fields frozen at their latest values, in
+(:func:`rollcontact.methods.polynomial.patches.solve_stick`: stick zones and corrections, ``q1 = mu_s p``): each patch's
+slip iteration (Newton, warm-started from its last solution) with the others' fields frozen at their latest values, in
 sweeps until no patch's external slope changes by more than :data:`SWEEP_TOLERANCE` of the Carter saturation creep
 ``mu_s a/R`` (each patch then solves its equations for the fields of the others' final state: the coupled discrete
 equations hold to the slip iteration's tolerance).  Every patch runs M nodes (the largest of
-:func:`rollcontact.velocity_friction.patch_nodes` over the patches); the external slopes are truncated at degree M,
-their first neglected coefficients are reported.
+:func:`rollcontact.methods.polynomial.slip.patch_nodes` over the patches); the external slopes are truncated at degree
+M, their first neglected coefficients are reported.
 
 Accuracy.  As for one patch, T' converges like M^-1.5 and erratically; the result is that of 2M nodes, with the
-relative T' error estimated as :data:`rollcontact.velocity_friction.ESTIMATE_SAFETY` times its difference to the
+relative T' error estimated as :data:`rollcontact.methods.polynomial.slip.ESTIMATE_SAFETY` times its difference to the
 M-node solution (plus the truncation of the external slopes and of the normal problem): against the solution on
-four times the nodes it bounds the error (``tests/test_split_friction.py``, exponential laws of 3 and 30 s/m at
-0.1 and 0.9 of saturation).  The discretised slip iteration on the same patches converges to it.
+four times the nodes it bounds the error (``tests/methods/polynomial/test_patches_slip.py``, exponential laws of 3 and
+30 s/m at 0.1 and 0.9 of saturation).  The discretised slip iteration on the same patches converges to it.
 
 Validity (checked on the returned fields, each failure named): the normal problem's (``p >= 0``, the deformed gap
 open); in every stick zone ``|q| <= mu_s p``; slip with the creep in every slip zone.  A patch whose slip turns
@@ -75,14 +77,14 @@ which the sweeps end."""
 
 
 STIFFNESS_STEP = 1e-5
-"""Creep step of the creep stiffness's difference, relative to the Carter saturation creep: on the two-patch scene
-of ``tests/test_split_friction.py`` (0.1-0.9 of saturation) the one-sided difference is within 9e-5 of the central
-one of steps 1e-5 and 1e-4 (which agree to 3e-4 and better); at 1e-6 the solves' tolerance shows (1e-4)."""
+"""Creep step of the creep stiffness's difference, relative to the Carter saturation creep: small enough that the
+one-sided difference agrees with central ones, large enough that the solves' tolerance does not show (checked on the
+two-patch scene of ``tests/methods/polynomial/test_patches_slip.py``, 0.1-0.9 of saturation)."""
 
 
 SLIP_TOLERANCE = 1e-9
 """Newton tolerance of each patch's slip iteration (that of
-:func:`~rollcontact.velocity_friction.solve_velocity_dependent`)."""
+:func:`~rollcontact.methods.polynomial.slip.solve_velocity_dependent`)."""
 
 
 SLIP_ITERATIONS = 200
@@ -170,10 +172,10 @@ def coupled_iteration(normal: SplitNormal, estar: float, friction, speed: float,
     It starts from the solution on fewer nodes ``coarser``: its nodal friction coefficients at the new nodes
     (``mu(V s)`` of its slip), its stick zones and corrections and its external slopes, which leaves the sweeps
     little to do; else from ``q1 = mu_s p`` with the stick zones and corrections of Coulomb's friction with mu_s
-    (``coulomb``: the half-widths a*_k and coefficients G_k of :func:`rollcontact.multipatch.solve_stick`, the
-    correction being ``F_n = mu_s G_kn``), or, without it, with no stick zones.  The first sweep's fields are then
-    those of a coupled solution: from full slip they can reverse a patch's creep at small creep, where its slip
-    iteration has no solution.
+    (``coulomb``: the half-widths a*_k and coefficients G_k of
+    :func:`rollcontact.methods.polynomial.patches.solve_stick`, the correction being ``F_n = mu_s G_kn``), or, without
+    it, with no stick zones.  The first sweep's fields are then those of a coupled solution: from full slip they can
+    reverse a patch's creep at small creep, where its slip iteration has no solution.
 
     Returns ``(patches, sweeps, slip iterations, tail, failure)``: the :class:`PatchSlip` of every patch, the
     sweeps and patch Newton iterations used, the largest first neglected coefficient of the external slopes
@@ -297,7 +299,7 @@ def solve_split_velocity(expansion, normal: SplitNormal, estar: float, friction,
     expansion : SlopeExpansion
         The gap of the scene (for the normal problem's validity checks).
     normal : SplitNormal
-        The patches and their pressure (:func:`rollcontact.multipatch.split_normal`, converged).
+        The patches and their pressure (:func:`rollcontact.methods.polynomial.patches.split_normal`, converged).
     estar : float
         E* [Pa].
     friction : FrictionLaw
@@ -363,7 +365,7 @@ def solve_split_velocity(expansion, normal: SplitNormal, estar: float, friction,
     if success:
         step = STIFFNESS_STEP * scale if xi < 2.0 * STIFFNESS_STEP * scale else -STIFFNESS_STEP * scale
         # the start re-samples mu(V s) with the perturbed creep: the result's own nodal mu would meet the slip
-        # iteration's tolerance before any step in full slip (the stiffness off by 1e-3 there, measured)
+        # iteration's tolerance before any step in full slip (the stiffness would be off there)
         perturbed, _, its, _, perturbed_failure = coupled_iteration(normal, estar, friction, speed, xi + step,
                                                                     2 * coarse, scale, patches)
         iterations += its

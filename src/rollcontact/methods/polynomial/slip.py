@@ -1,8 +1,8 @@
 """Steady rolling with velocity-dependent friction by the polynomial method (paper section 4.2).
 
-Structure (as the paper's, physics.md section 5): one stick zone at the leading edge, slip behind it.  The
-traction is ``q = q1 + q2`` with ``q1 = mu(V s(x)) p(x)`` over the whole patch (``mu_s p`` in the stick zone,
-where s = 0) and ``q2`` a bounded correction on the stick zone that cancels the slip there.
+Structure (as the paper's, docs/physics.md, Velocity-dependent friction): one stick zone at the leading edge, slip
+behind it.  The traction is ``q = q1 + q2`` with ``q1 = mu(V s(x)) p(x)`` over the whole patch (``mu_s p`` in the stick
+zone, where s = 0) and ``q2`` a bounded correction on the stick zone that cancels the slip there.
 
 Discrete equations.  On the patch ``t = cos(theta_j)``, ``theta_j = pi (j + 1/2)/M``, the nodal values
 ``Q_j = mu(V s_j) p_j`` define the sine series ``q1 = sum e_n sin(n theta)`` (a DST of ``Q``: the Chebyshev fit of
@@ -27,17 +27,15 @@ With dmu/dv < 0 the creep curve has a maximum and q a spike at the stick/slip bo
 
 Accuracy.  T' converges like M^-1.5 and erratically (it depends on where the stick/slip boundary falls between
 nodes), the slower the steeper the law: ``kappa = |dmu/dv(0)| V xi_sat / mu_s``, the fall of mu over the Carter
-saturation slip relative to mu_s, decides.  Measured against M = 256 (random exponential, rational and linear
-laws, creeps 0.01-3 saturation, flat and corrugated; ``benchmarks/bench_steady.py`` table C): M = 16 is within
-2e-4 for kappa < 0.3 (Polach's B = 0.6 s/m at 20 m/s has kappa = 0.01), M = 32 within 4e-4 for kappa < 1; for
-kappa >= 1 (e.g. B = 100 s/m at 20 m/s) M = 64 leaves ~3e-3 and small M can have several discrete solutions.
-:data:`NODES_BY_STEEPNESS` encodes this default.  Because the convergence is so erratic (M = 64 can err more
-than M = 32), every converged solution carries an a-posteriori estimate of its T' error, computed when first read
-(the distributions' ``force_error``), :func:`force_error_estimate` (one step of the fixed point on 2M and 6M nodes
-from the converged slip): against
-1024 nodes it bounds all 764 measured errors (exponential B = 1-100 s/m, rational and table laws, V = 1-50 m/s,
-creeps 0.1-5 saturation, flat and corrugated), at least 1.7 times, 2.2 times in the median and at most 5 times
-where the error exceeds 1e-5 (``benchmarks/bench_slip_nodes.py``).
+saturation slip relative to mu_s, decides (Polach's B = 0.6 s/m at 20 m/s has kappa = 0.01, B = 100 s/m at
+20 m/s kappa > 1).  :data:`NODES_BY_STEEPNESS` encodes the default counts per kappa, from the errors against
+M = 256 of ``benchmarks/bench_steady.py`` table C (random exponential, rational and linear laws, creeps 0.01-3
+saturation, flat and corrugated); for steep laws small M can have several discrete solutions.  Because the
+convergence is so erratic (a larger M can err more), every converged solution carries an a-posteriori estimate of
+its T' error, computed when first read (the distributions' ``force_error``), :func:`force_error_estimate` (one
+step of the fixed point on 2M and 6M nodes from the converged slip), calibrated by ``benchmarks/bench_slip_nodes.py``
+(table A) to bound every error against 1024 nodes over exponential B = 1-100 s/m, rational and table laws,
+V = 1-50 m/s, creeps 0.1-5 saturation, flat and corrugated (:data:`ESTIMATE_SAFETY`).
 
 Creep stiffness.  ``dT'/dxi`` of the discrete solution follows from the converged state by the implicit function
 theorem (:meth:`SlipEquations.force_slope`): one more Jacobian and linear solve, where a difference quotient would
@@ -64,7 +62,8 @@ DEFAULT_NODES = 16
 
 NODES_BY_STEEPNESS = ((0.3, DEFAULT_NODES), (1.0, 32), (math.inf, 64))
 """Patch nodes M by the law's steepness ``kappa`` (:func:`default_nodes`): the first M whose bound exceeds kappa.
-Measured against M = 256 on random laws, creeps and surfaces (module docstring, Accuracy)."""
+Calibrated against M = 256 on random laws, creeps and surfaces by ``benchmarks/bench_steady.py`` table C (module
+docstring, Accuracy)."""
 
 
 NEWTON_PATIENCE = 8
@@ -79,8 +78,8 @@ M and 3M often err alike).  ``benchmarks/bench_slip_nodes.py``, table B."""
 
 
 ESTIMATE_SAFETY = 2.0
-"""Factor on ``max_K |T'_K/T'_M - 1|`` in :func:`force_error_estimate`: the estimate is then at least 1.7 times
-the error against 1024 nodes in every case of ``benchmarks/bench_slip_nodes.py`` (table A)."""
+"""Factor on ``max_K |T'_K/T'_M - 1|`` in :func:`force_error_estimate`: with it the estimate exceeds the error against
+1024 nodes, with a margin, in every case of ``benchmarks/bench_slip_nodes.py`` (table A)."""
 
 
 @dataclass(frozen=True)
@@ -295,7 +294,8 @@ class SlipEquations:
     slips bounce.
 
     ``external`` (optional): Chebyshev coefficients ``0 .. M`` on the patch of a slope the patch does not produce
-    (the other patches of a split contact, :mod:`rollcontact.split_friction`), added to the slip everywhere.
+    (the other patches of a split contact, :mod:`rollcontact.methods.polynomial.patches_slip`), added to the slip
+    everywhere.
     """
 
     def __init__(self, ops: SlipOperators, p: np.ndarray, estar: float, friction, rolling_speed: float, xi: float,
@@ -751,7 +751,7 @@ def same_branch(one: SlipState, other: SlipState) -> bool:
 
 
 def solve_linear(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """``matrix^-1 rhs`` by LAPACK's gesv directly (numpy.linalg.solve costs ~2x more in call overhead)."""
+    """``matrix^-1 rhs`` by LAPACK's gesv directly (numpy.linalg.solve adds call overhead of its own)."""
     _, _, x, info = lapack.dgesv(matrix, rhs)
     if info != 0:
         raise np.linalg.LinAlgError("singular Newton matrix in the slip iteration")

@@ -2,13 +2,13 @@
 
 Normal problem.  On the patch ``X = X0 + a t`` (``X0 = x_c + Delta``) the pressure is the bounded density
 ``p = sum_{n>=1} c_n sin(n theta)``, ``t = cos(theta)``, which answers ``(2/(pi E*)) PV-int p/(x-z) dz =
-(2/E*) sum c_n T_n(t)`` (chebyshev.py).  Matching the gap slope ``h0'`` gives ``c_n = (E*/2) g_n`` with ``g_n``
+(2/E*) sum c_n T_n(t)`` (:mod:`.chebyshev`).  Matching the gap slope ``h0'`` gives ``c_n = (E*/2) g_n`` with ``g_n``
 the Chebyshev coefficients of ``h0'(X0 + a t)``; a bounded solution needs ``g_0 = 0`` (fixes Delta) and the
 load is ``N' = (pi a / 2) c_1`` (fixes a).  For harmonics ``g_0`` and ``g_1`` are the exact Bessel forms of
-physics.md eqs 28-29 (corrected), so a and Delta carry no truncation error; the order only limits p(x).
-Every position is computed in axis coordinates ``u = X - x_c`` (the patch is ``u = Delta + a t``;
-:class:`~rollcontact.chebyshev.SlopeExpansion`), so the answer does not depend on how far along the surface the
-axis stands (surface coordinates would lose ``eps |x_c|`` in every ``X - x_c``).
+docs/physics.md (Corrugated surface) eqs 28-29 as corrected, so a and Delta carry no truncation error; the order only
+limits p(x). Every position is computed in axis coordinates ``u = X - x_c`` (the patch is ``u = Delta + a t``;
+:class:`~rollcontact.methods.polynomial.chebyshev.SlopeExpansion`), so the answer does not depend on how far along the
+surface the axis stands (surface coordinates would lose ``eps |x_c|`` in every ``X - x_c``).
 
 Tangential problem (Coulomb).  ``q = mu p + q2`` with ``q2 = sum d_n sin(n theta*)`` on the stick zone
 ``[X0 - a, X0 - a + 2 a*]`` (centre ``Xs``).  No slip there, ``xi + du/dx = 0``, gives
@@ -22,24 +22,26 @@ Coulomb friction (:func:`coulomb_reduction`), otherwise by the slip iteration of
 Validity (one patch, one stick zone at the leading edge) is checked on the returned fields: ``p >= 0``; the
 deformed gap stays open outside the patch; ``|q| <= mu p`` in the stick zone; slip has the sign of the traction
 in the slip zone.  A failed check gives ``success = False`` and a message naming it.  Where the contact has
-several patches (the pressure turns negative, or the gap closes outside the patch), :mod:`rollcontact.multipatch`
-solves it with one expansion per patch and stick zone (one stick zone at each patch's leading edge, checked
-likewise; a velocity-dependent law on its patches by :mod:`rollcontact.split_friction`), from the patches of a
-coarse discretised normal solve (which also finds the one patch in contact where Newton from the Hertz patch
-landed on a spurious one); only when that fails too is the result unsuccessful.
+several patches (the pressure turns negative, or the gap closes outside the patch),
+:mod:`rollcontact.methods.polynomial.patches` solves it with one expansion per patch and stick zone (one stick zone at
+each patch's leading edge, checked likewise; a velocity-dependent law on its patches by
+:mod:`rollcontact.methods.polynomial.patches_slip`), from the patches of a coarse discretised normal solve (which also
+finds the one patch in contact where Newton from the Hertz patch landed on a spurious one); only when that fails too is
+the result unsuccessful.
 
 The paper's monomial formulation (eqs 21-26; note eq 26 needs ``A_n^-1 = +(1/pi) a^(2n-2)/(2n-3) prod...``
 for n >= 2, the printed minus sign is wrong: ``A = -pi (1 - a^2 S)^(-1/2)`` so ``A^-1 = -(1/pi)(1 - a^2 S)^(1/2)``)
 is available as ``basis="monomial"`` to measure its conditioning.
 
 Cost.  A solve is a few dozen operations on vectors of ~10-60 entries, so per-call overhead decides the time:
-Newton iterations run on plain floats, tables that depend only on sizes are cached (:mod:`rollcontact.chebyshev`),
-and the pressure samples serve both the checks and ``max_pressure``.  Products of arrays are ``ndarray.dot``, the
-same BLAS call as ``@`` (the same bits) without the gufunc dispatch, which costs about a microsecond per product.
-Where the surface curvature allows, a theorem replaces sampling: with ``|Z''| < 1/R`` on the patch the creep
-``xi(a*)`` of eq 31 decreases (unique root, no scan) and the slip has the sign of the creep; with
-``|Z''| <= 1/(3R)`` the stick-zone traction bound holds; with ``Z'' < 1/R`` everywhere the deformed gap cannot close
-outside the patch (:func:`validity_failures`, :func:`outside_gap`).  Otherwise the checks sample as before.
+Newton iterations run on plain floats, tables that depend only on sizes are cached
+(:mod:`rollcontact.methods.polynomial.chebyshev`), and the pressure samples serve both the checks and
+``max_pressure``.  Products of arrays are ``ndarray.dot``, the same BLAS call as ``@`` (the same bits) without the
+gufunc dispatch, whose overhead is comparable to such small products.  Where the surface curvature allows, a theorem
+replaces sampling: with ``|Z''| < 1/R`` on the patch the creep ``xi(a*)`` of eq 31 decreases (unique root, no scan)
+and the slip has the sign of the creep; with ``|Z''| <= 1/(3R)`` the stick-zone traction bound holds; with
+``Z'' < 1/R`` everywhere the deformed gap cannot close outside the patch (:func:`validity_failures`,
+:func:`outside_gap`).  Otherwise the checks sample the fields.
 """
 
 from __future__ import annotations
@@ -160,7 +162,7 @@ def solve_polynomial(scene, *, order: int | None = None, truncation: float = TRU
     nodes : int
         Least number of Chebyshev nodes of the slip iteration for velocity-dependent friction (paper section
         4.2).  Raised to 32 or 64 for steep laws, which need them for 1e-3 in T'
-        (:func:`rollcontact.velocity_friction.default_nodes`, measured in ``benchmarks/bench_steady.py``), and to
+        (:func:`rollcontact.methods.polynomial.slip.default_nodes`, from ``benchmarks/bench_steady.py`` table C), and to
         twice the number of pressure terms.
     check : bool
         Run the validity checks (one patch, stick at the leading edge).  Only switch off when the caller has
@@ -173,9 +175,9 @@ def solve_polynomial(scene, *, order: int | None = None, truncation: float = TRU
         relative to the leading one); ``info`` holds the order, basis, coefficients and, for the monomial basis,
         the cancellation factor of the paper's power basis (``info["cancellation_factor"]``); for a
         velocity-dependent law solved as Coulomb friction, ``info["coulomb_reduction"]`` says why
-        (:func:`coulomb_reduction`).  Solved as several patches (:func:`rollcontact.multipatch.solve_split`):
-        ``info["patches"]`` and ``info["stick_zones"]`` (leading and trailing ends [m]), a and Delta from the outer
-        edges, the stick half-width the sum of the zones'.
+        (:func:`coulomb_reduction`).  Solved as several patches
+        (:func:`rollcontact.methods.polynomial.patches.solve_split`): ``info["patches"]`` and ``info["stick_zones"]``
+        (leading and trailing ends [m]), a and Delta from the outer edges, the stick half-width the sum of the zones'.
     """
     if basis not in BASES:
         raise ValueError(f"unknown basis {basis!r}; valid bases are {list(BASES)}")
@@ -269,13 +271,14 @@ solve_polynomial.options = ("order", "truncation", "basis", "max_iterations", "n
 
 def several_patches(scene, expansion: SlopeExpansion, truncation: float, order: int | None,
                     single: tuple | None, nodes: int) -> ContactResult:
-    """The scene as several patches from each start of :func:`rollcontact.multipatch.patch_starts` in turn: the
-    first success, else the last failure.  ``single`` is ``(offset, half-width, pressure samples)`` of the failed
-    single-patch solution, None where its normal problem did not converge.
+    """The scene as several patches from each start of :func:`rollcontact.methods.polynomial.patches.patch_starts` in
+    turn: the first success, else the last failure.  ``single`` is ``(offset, half-width, pressure samples)`` of the
+    failed single-patch solution, None where its normal problem did not converge.
 
-    Coulomb friction, and any law at zero creep (full stick, q = 0): :func:`rollcontact.multipatch.solve_split`.
-    A velocity-dependent law: the patches of :func:`rollcontact.multipatch.split_normal`, then the slip iteration
-    on them (:func:`rollcontact.split_friction.solve_split_velocity`, at least ``nodes`` nodes per patch).
+    Coulomb friction, and any law at zero creep (full stick, q = 0):
+    :func:`rollcontact.methods.polynomial.patches.solve_split`. A velocity-dependent law: the patches of
+    :func:`rollcontact.methods.polynomial.patches.split_normal`, then the slip iteration on them
+    (:func:`rollcontact.methods.polynomial.patches_slip.solve_split_velocity`, at least ``nodes`` nodes per patch).
     """
     load, estar, friction, xi = (scene.normal_load_per_length, scene.material.contact_modulus, scene.friction,
                                  scene.creep)
@@ -342,7 +345,7 @@ def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, truncatio
 
 def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check, nodes,
                                  samples, truncation, order):
-    """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.velocity_friction`, or,
+    """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.methods.polynomial.slip`, or,
     where the contact splits, on the patches of :func:`several_patches`; where those fail too, the failure (no
     slip iteration on a patch that is not the contact)."""
     estar = scene.material.contact_modulus

@@ -1,4 +1,12 @@
-"""Validity."""
+"""The polynomial method's assumptions, checked on its returned fields: one patch, p >= 0, the deformed gap open
+outside the patch, ``|q| <= mu p`` in the stick zone at the leading edge and slip with the sign of the creep behind
+it.
+
+:func:`validity_failures` names each failure; proven instead of sampled where the surface curvature allows
+(:data:`CONVEX`, :data:`STICK_PROVEN`).  Failures that mean several patches (:data:`SEVERAL`) hand the scene to
+:mod:`rollcontact.methods.polynomial.patches`.  A module of its own so that
+:mod:`rollcontact.methods.polynomial.solver` holds the solve and this module the checks of its answer.
+"""
 
 from __future__ import annotations
 
@@ -28,7 +36,7 @@ GAP_CLOSES = "the deformed gap closes outside the patch"
 
 SEVERAL = (SPLIT, GAP_CLOSES)
 """How :func:`validity_failures` begins the messages that mean several patches (a negative pressure, a gap that
-closes outside the patch): then :func:`rollcontact.multipatch.solve_split` takes over."""
+closes outside the patch): then :func:`rollcontact.methods.polynomial.patches.solve_split` takes over."""
 
 
 CONVEX = 0.99
