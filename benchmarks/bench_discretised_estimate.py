@@ -18,8 +18,8 @@ Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMEN
 References: Hertz/Carter closed forms; the polynomial method at tolerance 1e-12 (512 slip nodes for
 velocity-dependent friction) where it applies; for split contacts, which only the discretised solver treats, the
 first-order Richardson extrapolation ``2 T_4000 - T_2000`` of discretised solves on a window fitted to the
-patches, each the mean over two grid placements (shift 0 and h/2:
-``rollcontact.discretised.extrapolated``); its uncertainty u is the change from ``T_4000`` and an estimate counts as
+patches, each the mean over :data:`REFERENCE_PLACEMENTS` grid placements
+(``rollcontact.discretised.extrapolated``); its uncertainty u is the change from ``T_4000`` and an estimate counts as
 a bound only when it is >= error + u.
 
 Table C calibrates the extrapolated setting (``solve_discretised(..., extrapolate=m)``, :func:`extrapolated`): T'

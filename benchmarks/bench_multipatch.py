@@ -151,9 +151,9 @@ def main():
     for kind, count in sorted(counts.items(), key=lambda item: -item[1]):
         lines.append(f"| {kind} | {count} | {1e3 * float(np.median(times[kind])):.2f} ms |")
     solved = sum(c for k, c in counts.items() if not k.startswith("failed"))
-    lines += ["", f"The polynomial method answers {solved} of {total}; before `multipatch` it answered the "
-                  f"{counts['one patch (single-patch method)']} single-patch scenes and left the rest to the "
-                  "discretised solver.", "",
+    lines += ["", f"The polynomial method answers {solved} of {total}: "
+                  f"{counts['one patch (single-patch method)']} by the single-patch method, the rest by `multipatch`.",
+              "",
               f"## B. The discretised solver's T' and p0 bounds against the polynomial method ({sampled} scenes)",
               "", "The largest ratio of the relative error to the a-priori bound (`api.DiscretisedAccuracy.error`, "
               "the Hertz width) and to the a-posteriori estimate of the result (`info[\"error_estimate\"]`, the "

@@ -24,7 +24,7 @@ amplitude in saturation creeps, most where the swing passes zero creep (2.5 % at
 saturation, none wholly in full slip; 2.9-3.4e-3 mu N' on the Pareto study's ``0.5 + 0.3 sin`` (4.3e-4 at lambda/a
 = 320), 1.3-2.3e-2 for a reversal ``0.9 sin``, up to 0.15 mu N' (lambda/a = 2, ``10 sin``).  The largest ratio is
 0.027 (``3 sin`` at lambda/a = 5), so C = 0.038, and the bound is at least 1.41 times the error at every one of the
-72 x 64 measured steps.  With a memory of 4 relaxation lengths slow swings near saturation needed 0.031 (their
+72 x 64 measured steps.  A memory of 4 relaxation lengths would need 0.031 for slow swings near saturation (their
 stiff part is forgotten while its error persists).  At lambda/a = 320 every swing touching saturation is 7.5e-5 off
 the reference: that is the floor.
 """

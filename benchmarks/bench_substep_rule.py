@@ -3,13 +3,13 @@
 Run as ``.venv/bin/python benchmarks/bench_substep_rule.py [--signals 0,1,2]`` (about 4 minutes for all three
 signals, one BLAS thread; ``--signals`` picks some of :data:`SIGNALS`).  Prints a markdown table; asserts nothing.
 
-Question.  Until session 15 the model split each host step rolling ``ds`` into ``k = ceil(ds/h)`` equal substeps
-of ``d = ds/k``, a fraction ``r = d/h`` of the coarse element.  The extrapolating pair's error ``error n^2`` was
-erratic, 1 to 21 over n = 50..500 (``benchmarks/bench_transient_pairs.py`` then), largest where r was far from 1
-(at lambda/a = 2: 2.2 at n = 440, r = 0.97; 21.4 at n = 460, r = 0.68), and a steady analysis showed the pair's
-quasi-steady bias varying with r.  The model now commits substeps of exactly one element and carries the rest of
-the roll to the next host step (:meth:`rollcontact.instationary.InstationaryModel.advance`; the output is a
-provisional substep of that pending roll).  This benchmark measures both rules on the same grids.
+Question.  Two rules split a host step rolling ``ds``.  Equal substeps: ``k = ceil(ds/h)`` substeps of ``d = ds/k``,
+a fraction ``r = d/h`` of the coarse element; with them the extrapolating pair's ``error n^2`` is erratic in n,
+largest where r is far from 1 (``benchmarks/results/substep_rule.md``: at lambda/a = 2, 4.4 at n = 440, r = 0.97;
+26.2 at n = 460, r = 0.68), and the pair's quasi-steady bias varies with r.  Whole elements, the model's rule:
+substeps of exactly one element, the rest of the roll carried to the next host step
+(:meth:`rollcontact.instationary.InstationaryModel.advance`; the output is a provisional substep of that pending
+roll).  This benchmark measures both rules on the same grids.
 
 Method.  The Pareto study's instationary scenario (``pareto.creep_signal``: N' = 1e7 N/m, mu = 0.3, V = 10 m/s,
 64 host steps per cycle of ``xi = (0.5 + 0.3 sin) mu a/R``) at lambda/a = 1, 2, 5 (host steps of 0.016-0.08 a, up
@@ -39,7 +39,7 @@ from pareto import ESTAR, LOAD_I, MU_I, R_I, SPEED, creep_signal  # noqa: E402
 from rollcontact.instationary import InstationaryModel, aligned_grid_load  # noqa: E402
 from rollcontact.model import GRID_LOAD_FACTOR  # noqa: E402
 
-# (lambda/a, the pairs' n): n where the equal substeps' ratio r was far from 1 and, for contrast, near it
+# (lambda/a, the pairs' n): n where the equal substeps' ratio r is far from 1 and, for contrast, near it
 SIGNALS = ((1.0, (64, 128, 156, 300, 460)), (2.0, (100, 156, 300, 440, 460)), (5.0, (64, 100, 200, 300, 460)))
 REFERENCE = 600
 
@@ -61,8 +61,8 @@ def whole_elements(model: InstationaryModel, xi: np.ndarray, dt: float, first: i
 
 
 def equal_substeps(model: InstationaryModel, xi: np.ndarray, dt: float, first: int) -> np.ndarray:
-    """T' [N/m] of the same solvers with the superseded rule: ``k = ceil(ds/h_c)`` equal substeps on the coarse
-    grid and 2k on the fine one per host step, ``2 T'_n - T'_(n/2)``."""
+    """T' [N/m] of the same solvers with equal substeps: ``k = ceil(ds/h_c)`` equal substeps on the coarse grid and
+    2k on the fine one per host step, ``2 T'_n - T'_(n/2)``."""
     ds = SPEED * dt
     count = math.ceil(ds / model.coarse_solver.grid.element_width * (1.0 - 1e-12))
     solvers = {model.solver: 2 * count, model.coarse_solver: count}

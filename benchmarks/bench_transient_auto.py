@@ -14,10 +14,9 @@ switches the transient in).
 
 Reference: first-order Richardson extrapolation of n = 400/800, ``T'_ref = 2 T'_800 - T'_400``.  The order is
 observed from three grids n, 2n, 4n as ``log2(max|T'_2n - T'_n| / max|T'_4n - T'_2n|)`` (:func:`observed_order`),
-printed for n = 200/400/800: 0.97-0.98 with the whole-element substeps of session 15
-(``benchmarks/results/transient_auto.md``; 0.93-1.11 in session 13 with equal substeps per host step, which at
-lambda/a = 5 spoiled the estimate).  Error: ``max |T'_n - T'_ref|`` over the last cycle in units of mu N'; the
-n = 800 row is part of the extrapolation and left out of the fit.
+printed for n = 200/400/800 (0.97-0.98 in ``benchmarks/results/transient_auto.md``).  Error:
+``max |T'_n - T'_ref|`` over the last cycle in units of mu N'; the n = 800 row is part of the extrapolation and left
+out of the fit.
 
 Tables: (1) error, elements rolled and median time per host step for each lambda/a and n; (2) steady rolling on the grid
 against Carter, the force jump when the model switches the transient in or hands back; (3) the error model

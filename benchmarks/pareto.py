@@ -230,7 +230,7 @@ class Row:
 
 @dataclass
 class Reference:
-    """Converged reference of a case and how it was obtained."""
+    """Converged reference of a case and how it is obtained."""
 
     result: object
     how: str
@@ -464,7 +464,7 @@ def fmu_step_time(fmu: FmuBench | None, scene_file: str, scene: rc.Scene, parame
     """Seconds per fmpy step of a fresh contact FMU reading ``scene_file`` with ``parameters``, its axis at the
     scene's and its inputs the scene's load (over :data:`CONTACT_WIDTH`), creep and speed
     (:func:`_fmu_timing.steady_step_time`); NaN without an FMU, without parameters for the setting, or where a step
-    was discarded.
+    is discarded.
 
     The FMU's model runs in this process on the ``rollcontact`` imported here (the slave's module docstring), so
     every step of a setting that may run the discretised solver (``method`` 0 and 3) starts with the influence
@@ -691,7 +691,7 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
 
 def richardson(coarse: np.ndarray, fine: np.ndarray, refinement: float) -> np.ndarray:
     """T' extrapolated to zero element size from two grids, first order: the transient's observed order is
-    0.93-1.11 at lambda/a = 5..40 (``benchmarks/bench_transient_auto.py``, from n, 2n, 4n), the steady discretised
+    0.97-0.98 at lambda/a = 5..40 (``benchmarks/bench_transient_auto.py``, from n, 2n, 4n), the steady discretised
     T' is first order in the elements across the contact (``benchmarks/bench_discretised_estimate.py``)."""
     return fine + (fine - coarse) / (refinement - 1.0)
 
