@@ -33,19 +33,16 @@ Hertz/Carter cases use a fixed window (the automatic one of N' = 1 MN/m) for thr
 at different positions within the elements (with the automatic window, which scales with a, they would not).
 """
 
-import os
+import math
+import statistics
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 
-import math  # noqa: E402  (after the thread limits)
-import statistics  # noqa: E402
-import time  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
-from rollcontact import api  # noqa: E402
-from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.discretised import automatic_grid, contact_window, extrapolated, solve_discretised  # noqa: E402
+import rollcontact as rc
+from rollcontact import api
+from rollcontact.closed_form import carter, hertz
+from rollcontact.discretised import automatic_grid, contact_window, extrapolated, solve_discretised
 
 SAFETY = 3.0  # factor of the two-grid estimate: the largest error / raw difference measured here is 2.52
 RADIUS = 0.46

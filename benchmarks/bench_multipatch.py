@@ -22,19 +22,14 @@ of table A's scenes: ``solve(scene)``'s outcome by method and number of patches,
 
 from __future__ import annotations
 
-import os
+import collections
+import math
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
 
-import collections  # noqa: E402
-import math  # noqa: E402
-import time  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-import numpy as np  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
+import rollcontact as rc
 
 LOAD = 1e6  # N' [N/m]
 A_HERTZ = rc.hertz(LOAD, 0.46, rc.Scene(LOAD).material.contact_modulus)[0]
@@ -48,7 +43,7 @@ SPEED = 20.0  # m/s, table C
 DISCRETISED = ([{"elements": n} for n in (50, 100, 200, 400, 800)]
                + [{"elements": n, "extrapolate": m} for m in (8, 16) for n in (50, 100, 200, 400)])
 COLUMNS = ("T' / a priori", "T' / estimate", "p0 / a priori", "p0 / estimate")
-RESULTS = Path(__file__).resolve().parent / "results" / "multipatch.md"
+RESULTS = common.RESULTS / "multipatch.md"
 
 
 def scenes(every: int = 1):

@@ -31,17 +31,13 @@ the reference: that is the floor.
 
 from __future__ import annotations
 
-import os
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # noqa: F401  (before numpy: limits BLAS to one thread)
+import numpy as np
+from pareto import LOAD_I, MU_I, instationary_stepper, lag_bounds, pair_stepper, run_instationary
 
-import time  # noqa: E402
-
-import numpy as np  # noqa: E402
-from pareto import LOAD_I, MU_I, instationary_stepper, lag_bounds, pair_stepper, run_instationary  # noqa: E402
-
-from rollcontact.instationary import LAG_ERROR_COEFFICIENT, LAG_ERROR_FLOOR, LAG_MEMORY  # noqa: E402
+from rollcontact.instationary import LAG_ERROR_COEFFICIENT, LAG_ERROR_FLOOR, LAG_MEMORY
 
 SWINGS = ((0.5, 0.3), (0.0, 0.3), (0.2, 0.1), (0.7, 0.3), (0.8, 0.15), (0.9, 0.3), (0.95, 0.1), (1.2, 0.3),
           (2.0, 0.5), (0.0, 0.9), (0.0, 3.0), (0.0, 10.0))  # (mean, amplitude) / (mu a/R)

@@ -29,24 +29,20 @@ One BLAS thread per process (set before numpy loads).  Times are medians on a sh
 ratios from the same run.
 """
 
+import argparse
+import itertools
+import math
 import os
+import pickle
+from multiprocessing import Pool
+from pathlib import Path
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
+from scipy import optimize
 
-import argparse  # noqa: E402  (after the thread limits)
-import itertools  # noqa: E402
-import math  # noqa: E402
-import pickle  # noqa: E402
-from multiprocessing import Pool  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-import _timing  # noqa: E402
-import numpy as np  # noqa: E402
-from scipy import optimize  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
-from rollcontact import api, velocity_friction  # noqa: E402
+import rollcontact as rc
+from rollcontact import api, velocity_friction
 
 LOAD = 1e6  # N' [N/m]
 MU = 0.3
@@ -287,10 +283,10 @@ def table_d(quick: bool) -> None:
         for tolerance in (1e-2, 1e-3, 1e-4):
             prior = a_priori_choice(scene, tolerance)
             prior_result = rc.solve(scene, method="polynomial", **prior)
-            t_prior = _timing.median_time(lambda s=scene, t=tolerance: without_estimate(
+            t_prior = common.median_time(lambda s=scene, t=tolerance: without_estimate(
                 lambda: rc.solve(s, method="polynomial", **a_priori_choice(s, t))), *repeats)
             runs = adaptive(scene, tolerance)
-            t_adaptive = _timing.median_time(lambda s=scene, t=tolerance: adaptive(s, t), *repeats)
+            t_adaptive = common.median_time(lambda s=scene, t=tolerance: adaptive(s, t), *repeats)
             result = runs[-1][1]
             estimate = result.info["error_estimate"]
             print(f"| {label} | {tolerance:g} | {prior['nodes']} -> {prior_result.distributions.nodes} | "
@@ -310,14 +306,14 @@ def table_e(quick: bool) -> None:
     rows = []
     for scene in scenes:
         beta = api.friction_sharpness(scene)
-        base = _timing.median_time(lambda s=scene: rc.solve(s.replace(friction=MU), method="polynomial"), *repeats)
+        base = common.median_time(lambda s=scene: rc.solve(s.replace(friction=MU), method="polynomial"), *repeats)
         for n in nodes:
             if api.slip_nodes(scene, n) != n:
                 continue
             result = rc.solve(scene, method="polynomial", nodes=n)
             iterations = len(result.info["slip_iteration_history"]) - 1
-            time = _timing.median_time(lambda s=scene, n=n: rc.solve(s, method="polynomial", nodes=n), *repeats)
-            bare = _timing.median_time(lambda s=scene, n=n: without_estimate(
+            time = common.median_time(lambda s=scene, n=n: rc.solve(s, method="polynomial", nodes=n), *repeats)
+            bare = common.median_time(lambda s=scene, n=n: without_estimate(
                 lambda: rc.solve(s, method="polynomial", nodes=n)), *repeats)
             rows.append((beta, n, iterations, time - base, time - bare,
                          POLYNOMIAL.cost(scene, {"nodes": n}) - api.POLYNOMIAL_COST

@@ -24,20 +24,16 @@ the measured cycle [mu N'], shown as ``error n^2``.
 
 from __future__ import annotations
 
-import os
+import argparse
+import math
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # noqa: F401  (before numpy: limits BLAS to one thread)
+import numpy as np
+from pareto import ESTAR, LOAD_I, MU_I, R_I, SPEED, creep_signal
 
-import argparse  # noqa: E402  (after the thread limits)
-import math  # noqa: E402
-import time  # noqa: E402
-
-import numpy as np  # noqa: E402
-from pareto import ESTAR, LOAD_I, MU_I, R_I, SPEED, creep_signal  # noqa: E402
-
-from rollcontact.instationary import InstationaryModel, aligned_grid_load  # noqa: E402
-from rollcontact.model import GRID_LOAD_FACTOR  # noqa: E402
+from rollcontact.instationary import InstationaryModel, aligned_grid_load
+from rollcontact.model import GRID_LOAD_FACTOR
 
 # (lambda/a, the pairs' n): n where the equal substeps' ratio r is far from 1 and, for contrast, near it
 SIGNALS = ((1.0, (64, 128, 156, 300, 460)), (2.0, (100, 156, 300, 440, 460)), (5.0, (64, 100, 200, 300, 460)))

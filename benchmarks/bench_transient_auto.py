@@ -28,15 +28,11 @@ largest ``error n^p``, against the constants the model uses (:data:`rollcontact.
 
 from __future__ import annotations
 
-import os
+import argparse
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-
-import argparse  # noqa: E402  (after the thread limits)
-
-import numpy as np  # noqa: E402
-from pareto import (  # noqa: E402
+import common  # noqa: F401  (before numpy: limits BLAS to one thread)
+import numpy as np
+from pareto import (
     CONTACT_WIDTH,
     ESTAR,
     LOAD_I,
@@ -51,9 +47,9 @@ from pareto import (  # noqa: E402
     run_instationary,
 )
 
-from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.instationary import InstationaryModel, aligned_grid_load  # noqa: E402
-from rollcontact.model import (  # noqa: E402
+from rollcontact.closed_form import carter, hertz
+from rollcontact.instationary import InstationaryModel, aligned_grid_load
+from rollcontact.model import (
     GRID_LOAD_FACTOR,
     TRANSIENT_ERROR_CONSTANT,
     TRANSIENT_ERROR_ORDER,

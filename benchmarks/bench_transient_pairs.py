@@ -27,18 +27,14 @@ first-order Richardson extrapolation of plain transients on n = 800/1600 (non-ne
 
 from __future__ import annotations
 
-import os
+import argparse
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # noqa: F401  (before numpy: limits BLAS to one thread)
+import numpy as np
+from pareto import LOAD_I, MU_I, instationary_stepper, pair_stepper, richardson, run_instationary
 
-import argparse  # noqa: E402  (after the thread limits)
-import time  # noqa: E402
-
-import numpy as np  # noqa: E402
-from pareto import LOAD_I, MU_I, instationary_stepper, pair_stepper, richardson, run_instationary  # noqa: E402
-
-from rollcontact.model import EXTRAPOLATED_ERROR_CONSTANT  # noqa: E402
+from rollcontact.model import EXTRAPOLATED_ERROR_CONSTANT
 
 # (lambda/a, mean, amplitude) of the creep signal (mean + amplitude sin) mu a/R: the Pareto study's, then faster
 # oscillations and a creep reversal (the error is not monotone in lambda/a, so the model is checked beyond them)

@@ -31,54 +31,44 @@ the rows compare like for like.
 Time. Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the caches of
 influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per host
 step. FMU: microseconds per fmpy step (set inputs, doStep, get outputs) against an empty pythonfmu FMU built in the
-same run (``_fmu_timing.py``): for every steady setting that an FMU parameter selects (closed form: ``method`` = 1;
+same run (``common.py``): for every steady setting that an FMU parameter selects (closed form: ``method`` = 1;
 polynomial: 2 with its ``tolerance`` or ``polynomial_order``; discretised: 3 with ``elements``) and for auto
 (``method`` = 0, ``tolerance`` = t), a fresh contact FMU reading the case's scene from a scene file
-(``_fmu_timing.scene_toml``; its model solves exactly the case's scene) with the case's load, creep and speed as
-constant inputs, stepped by 1 ns so the axis stays where the case puts it (``steady_step_time``: caches warm after a
-first step, as along a run); and a few cases with varying inputs against the empty FMU (``fmu_study``). The machine
-is shared and noisy: compare ratios measured in the same run, not absolute times across runs. """
+(``common.scene_toml``; its model solves exactly the case's scene) with the case's load, creep and speed as
+constant inputs, stepped by 1 ns so the axis stays where the case puts it (``common.steady_step_time``: caches warm
+after a first step, as along a run); and a few cases with varying inputs against the empty FMU (``fmu_study``).  The
+machine is shared and noisy: compare ratios measured in the same run, not absolute times across runs.
+"""
 
 from __future__ import annotations
 
+import argparse
+import datetime
+import math
 import os
+import platform
+import statistics
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
+import scipy
+from scipy import optimize, stats
 
-import argparse  # noqa: E402  (after the thread limits)
-import datetime  # noqa: E402
-import math  # noqa: E402
-import platform  # noqa: E402
-import statistics  # noqa: E402
-import sys  # noqa: E402
-import tempfile  # noqa: E402
-import time  # noqa: E402
-from dataclasses import dataclass  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-import numpy as np  # noqa: E402
-import scipy  # noqa: E402
-from scipy import optimize, stats  # noqa: E402
-
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "src"))
-
-from _fmu_timing import Case, build_and_extract, run_interleaved, scene_toml, steady_step_time  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
-from rollcontact import api  # noqa: E402
-from rollcontact._bem import operators_for  # noqa: E402
-from rollcontact.closed_form import hertz  # noqa: E402
-from rollcontact.instationary import (  # noqa: E402
+import rollcontact as rc
+from rollcontact import api
+from rollcontact.closed_form import hertz
+from rollcontact.instationary import (
     LAG_MEMORY,
     InstationaryModel,
     creep_envelope,
     lag_error_bound,
     relaxation_length,
 )
-from rollcontact.model import (  # noqa: E402
+from rollcontact.model import (
     INSTATIONARY_CODES,
     ContactModel,
     ContactParameters,
@@ -86,7 +76,7 @@ from rollcontact.model import (  # noqa: E402
     transient_setting,
 )
 
-RESULTS = ROOT / "benchmarks" / "results"
+RESULTS = common.RESULTS
 TOLERANCES = (1e-2, 1e-3, 1e-4)
 ERROR_FLOOR = 1e-16  # plotted instead of an exact 0
 LOWEST_COST_SLACK = 1.5  # auto's time within this factor of the cheapest measured setting counts as the lowest cost
@@ -94,7 +84,7 @@ ESTAR = rc.Material().contact_modulus
 LOAD = 1e6  # N' [N/m] of the steady cases
 A_HERTZ = hertz(LOAD, 0.46, ESTAR)[0]
 SATURATION = 0.3 * A_HERTZ / 0.46  # Carter's saturation creep mu a / R
-CONTACT_WIDTH = 0.02  # m, the FMU's default lateral width
+CONTACT_WIDTH = common.CONTACT_WIDTH  # m, the FMU's default lateral width
 
 
 # ------------------------------------------------------------------------------------------------ configuration
@@ -174,31 +164,15 @@ def steady_cases(config: Config) -> dict[str, list[tuple[str, rc.Scene]]]:
 
 
 # ------------------------------------------------------------------------------------------------------ timing
-def median_time(fn, budget: float, min_samples: int = 3) -> float:
-    """Median time per call [s]: timeit-style samples of ``number`` calls (>= ~2 ms each) within ``budget``."""
-    t0 = time.perf_counter()
-    fn()  # warm-up (imports, caches) and a first estimate
-    single = max(time.perf_counter() - t0, 1e-7)
-    number = max(1, int(2e-3 / single))
-    samples = []
-    start = time.perf_counter()
-    while len(samples) < min_samples or (time.perf_counter() - start < budget and len(samples) < 200):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        samples.append((time.perf_counter() - t0) / number)
-    return statistics.median(samples)
+BATCH_SECONDS = 2e-3  # s: the least duration of one timing sample (timeit-style batches of calls)
 
 
-def cold(method: str, fn):
-    """The discretised solver timed as a first solve on its grid (influence matrices rebuilt)."""
-    if method != "discretised":
-        return fn
-
-    def run():
-        operators_for.cache_clear()
-        return fn()
-    return run
+def solve_time(function, budget: float) -> float:
+    """Median time per call [s] of ``function`` as the study times a solve: after a warm-up call, samples of
+    batches of calls lasting at least ~2 ms (:data:`BATCH_SECONDS`), at least 3 and up to 200 within ``budget`` [s]
+    (:func:`common.median_time`)."""
+    return common.median_time(function, min_repeats=3, min_seconds=budget, warmups=1, batch_seconds=BATCH_SECONDS,
+                              max_repeats=200)
 
 
 # --------------------------------------------------------------------------------------------------- records
@@ -437,10 +411,10 @@ class FmuBench:
     folder: Path
 
     def scene_file(self, scene: rc.Scene) -> str:
-        """Path of a TOML scene file the contact FMU reads as ``scene``'s (:func:`_fmu_timing.scene_toml`)."""
+        """Path of a TOML scene file the contact FMU reads as ``scene``'s (:func:`common.scene_toml`)."""
         handle, path = tempfile.mkstemp(suffix=".toml", dir=self.folder)
         with os.fdopen(handle, "w") as file:
-            file.write(scene_toml(scene))
+            file.write(common.scene_toml(scene))
         return path
 
 
@@ -463,20 +437,20 @@ def fmu_step_time(fmu: FmuBench | None, scene_file: str, scene: rc.Scene, parame
                   config: Config) -> float:
     """Seconds per fmpy step of a fresh contact FMU reading ``scene_file`` with ``parameters``, its axis at the
     scene's and its inputs the scene's load (over :data:`CONTACT_WIDTH`), creep and speed
-    (:func:`_fmu_timing.steady_step_time`); NaN without an FMU, without parameters for the setting, or where a step
-    is discarded.
+    (:func:`common.steady_step_time`); NaN without an FMU, without parameters for the setting, or where a step is
+    discarded.
 
     The FMU's model runs in this process on the ``rollcontact`` imported here (the slave's module docstring), so
     every step of a setting that may run the discretised solver (``method`` 0 and 3) starts with the influence
-    matrices emptied, as :func:`cold` times its solve(): a first solve on its grid, as along a run on a corrugation,
-    where the grid moves with the patch."""
+    matrices emptied, as :func:`common.cold` times its solve(): a first solve on its grid, as along a run on a
+    corrugation, where the grid moves with the patch."""
     if fmu is None or parameters is None:
         return math.nan
-    us, discards = steady_step_time(
+    us, discards = common.steady_step_time(
         fmu.contact, {"scene_file": scene_file, "initial_position": -scene.axis_position,
                       "contact_width": CONTACT_WIDTH, **parameters},
         (scene.normal_load_per_length * CONTACT_WIDTH, scene.creep), scene.rolling_speed, config.budget,
-        before_step=operators_for.cache_clear if parameters["method"] in (0, 3) else None)
+        before_step=common.influence_cache_clear() if parameters["method"] in (0, 3) else None)
     return math.nan if discards else us * 1e-6
 
 
@@ -494,7 +468,7 @@ def measure_case(family: str, label: str, scene: rc.Scene, config: Config,
             continue
         ef, ep = worst_placement_errors(scene, method, options, result, ref.result)
         model = rc.METHODS[method].accuracy
-        t = median_time(cold(method, lambda m=method, o=options: rc.solve(scene, method=m, **o)), config.budget)
+        t = solve_time(common.cold(lambda m=method, o=options: rc.solve(scene, method=m, **o), method), config.budget)
         rows.append(Row(family, label, method, setting_label(method, options), options, ef, ep, t,
                         model.cost(scene, options), model.error(scene, options),
                         harmonics=len(scene.surface.harmonics),
@@ -506,12 +480,13 @@ def measure_case(family: str, label: str, scene: rc.Scene, config: Config,
         auto = rc.solve(scene, tolerance=tolerance)
         ef, ep = worst_placement_errors(scene, auto.method, auto.info["setting"], auto, ref.result)
         options = auto.info["setting"]
+
         def auto_timer(method=auto.method, tol=tolerance):
-            return median_time(cold(method, lambda: rc.solve(scene, tolerance=tol)), config.budget)
+            return solve_time(common.cold(lambda: rc.solve(scene, tolerance=tol), method), config.budget)
 
         def timer(row):
-            return median_time(cold(row.method, lambda: rc.solve(scene, method=row.method, **row.options)),
-                               config.budget)
+            return solve_time(common.cold(lambda: rc.solve(scene, method=row.method, **row.options), row.method),
+                              config.budget)
 
         choice = AutoChoice(family, label, tolerance, auto.method, setting_label(auto.method, options), max(ef, ep),
                             auto_timer(), auto.info["error_estimate"], auto.info["tolerance_met"],
@@ -699,27 +674,26 @@ def richardson(coarse: np.ndarray, fine: np.ndarray, refinement: float) -> np.nd
 # ---------------------------------------------------------------------------------------------------- FMU steps
 def fmu_study(config: Config, fmu: FmuBench) -> list[tuple[str, float, float, int, set]]:
     """(label, median us/step, ratio to the empty FMU, discarded steps, method_used codes) per case."""
-    corrugation = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04}
+    corrugation, case = common.FMU_CORRUGATION, common.Case
     empty, contact = fmu.empty, fmu.contact
-    cases = [Case("empty pythonfmu FMU", empty, {}, 200, 1.0),
-             Case("closed form (method 1)", contact, {"method": 1}, 200, 20.0),
-             Case("polynomial, corrugation 40 mm / 20 um (method 2)", contact, {"method": 2, **corrugation},
-                  10, 1.0),
-             Case("auto, corrugation, tolerance 1e-3 (method 0)", contact,
+    cases = [case("empty pythonfmu FMU", empty, {}, 200, 1.0),
+             case("closed form (method 1)", contact, {"method": 1}, 200, 20.0),
+             case("polynomial, corrugation 40 mm / 20 um (method 2)", contact, {"method": 2, **corrugation}, 10, 1.0),
+             case("auto, corrugation, tolerance 1e-3 (method 0)", contact,
                   {"method": 0, "tolerance": 1e-3, **corrugation}, 10, 1.0),
-             Case("falling friction, auto (method 0)", contact, {"method": 0, "friction_law": 1}, 2, 20.0),
-             Case("falling friction, auto, tolerance 1e-3 (method 0)", contact,
+             case("falling friction, auto (method 0)", contact, {"method": 0, "friction_law": 1}, 2, 20.0),
+             case("falling friction, auto, tolerance 1e-3 (method 0)", contact,
                   {"method": 0, "friction_law": 1, "tolerance": 1e-3}, 2, 20.0),
-             Case("discretised, corrugation (method 3)", contact, {"method": 3, **corrugation}, 2, 1.0),
-             Case("relaxation lag (transient 2)", contact, {"transient": 2}, 50, 20.0),
-             Case("discretised transient n = 100 (method 3, transient 2)", contact,
+             case("discretised, corrugation (method 3)", contact, {"method": 3, **corrugation}, 2, 1.0),
+             case("relaxation lag (transient 2)", contact, {"transient": 2}, 50, 20.0),
+             case("discretised transient n = 100 (method 3, transient 2)", contact,
                   {"method": 3, "transient": 2}, 5, 20.0)]
-    run_interleaved(cases, config.fmu_rounds)
+    common.run_interleaved(cases, config.fmu_rounds)
     floor = statistics.median(cases[0].times)
     out = [(c.label, statistics.median(c.times), statistics.median(c.times) / floor, c.discards,
             c.methods_used) for c in cases]
-    for case in cases:
-        case.free()
+    for c in cases:
+        c.free()
     return out
 
 
@@ -1136,7 +1110,7 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, load, pat
     lines += ["## Every setting", "",
               "error: the larger of the T' and p0 errors (instationary: T' in units of mu N').  time: per solve() "
               "(instationary: per step of the FMU's model).  FMU step: the contact FMU running the same setting on "
-              "the same scene, per fmpy step (set 3 inputs, doStep, get 11 outputs; `_fmu_timing.steady_step_time`): "
+              "the same scene, per fmpy step (set 3 inputs, doStep, get 11 outputs; `common.steady_step_time`): "
               "'-' where no FMU parameter selects the setting (the slip iteration's nodes, the extrapolated "
               "discretised pairs) and for the instationary rows, whose times are already model steps.  model: the "
               "cost model of `api.py` [s] and the predicted error bound; 'front': on the case's Pareto front; "
@@ -1197,7 +1171,7 @@ def main(argv: list[str] | None = None) -> None:
             from build_fmu import build
 
             print("building the FMUs", flush=True)
-            bench = FmuBench(*build_and_extract(Path(tmp), build), Path(tmp))
+            bench = FmuBench(*common.build_and_extract(Path(tmp), build), Path(tmp))
         rows, choices, references = [], [], {}
         for family, cases in steady_cases(config).items():
             for label, scene in cases:
