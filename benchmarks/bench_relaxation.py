@@ -3,14 +3,14 @@
 Run as ``.venv/bin/python benchmarks/bench_relaxation.py`` (about 10 minutes, most of it in the reference at
 lambda/a >= 80).  Prints a markdown table; asserts nothing.  One BLAS thread.
 
-Scenario: the instationary study of ``benchmarks/pareto.py`` (N' = 1e7 N/m, mu = 0.3, R = 0.46 m, V = 10 m/s,
-64 host steps per cycle, at least 40 a rolled before the measured last cycle) under creep control
-``xi = (mean + amplitude sin(2 pi sigma/lambda)) mu a/R`` for lambda/a = 2..40 and swings from ``0.2 + 0.1 sin``
-to creep reversals far beyond saturation (``10 sin``), near saturation and wholly in full slip (``2 + 0.5 sin``);
-slow swings (lambda/a = 80..320) near zero creep and near saturation.  Each setting steps the FMU's model: the lag
-(``transient`` = 2), quasi-static Carter (``transient`` = 0).  Reference: the extrapolating transient pair 200/400
-(error <= 16/400^2 = 1e-4 mu N', ``benchmarks/bench_transient_pairs.py``).  Error: ``|T' - T'_ref|`` in units of
-mu N' at each step of the last cycle.
+Scenario: the instationary study of ``benchmarks/pareto.py`` (``instationary_case.py``: N' = 1e7 N/m, mu = 0.3,
+R = 0.46 m, V = 10 m/s, 64 host steps per cycle, at least 40 a rolled before the measured last cycle) under creep
+control ``xi = (mean + amplitude sin(2 pi sigma/lambda)) mu a/R`` for lambda/a = 2..40 and swings from
+``0.2 + 0.1 sin`` to creep reversals far beyond saturation (``10 sin``), near saturation and wholly in full slip
+(``2 + 0.5 sin``); slow swings (lambda/a = 80..320) near zero creep and near saturation.  Each setting steps the
+FMU's model: the lag (``transient`` = 2), quasi-static Carter (``transient`` = 0).  Reference: the extrapolating
+transient pair 200/400 (error <= 16/400^2 = 1e-4 mu N', ``benchmarks/bench_transient_pairs.py``).  Error:
+``|T' - T'_ref|`` in units of mu N' at each step of the last cycle.
 
 Calibration of :func:`rollcontact.instationary.lag_error_bound`: at each step the creep envelope of the FMU's
 model (:func:`rollcontact.instationary.creep_envelope`, memory :data:`~rollcontact.instationary.LAG_MEMORY`
@@ -35,7 +35,7 @@ import time
 
 import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 import numpy as np
-from pareto import LOAD_I, MU_I, instationary_stepper, lag_bounds, pair_stepper, run_instationary
+from instationary_case import LIMIT, instationary_stepper, lag_bounds, pair_stepper, run_instationary
 
 from rollcontact.instationary import LAG_ERROR_COEFFICIENT, LAG_ERROR_FLOOR, LAG_MEMORY
 
@@ -53,7 +53,6 @@ def envelope_widths(wavelength: float, mean: float, amplitude: float) -> np.ndar
 
 
 def main() -> None:
-    limit = MU_I * LOAD_I
     start = time.perf_counter()
     worst, where, tightest = 0.0, "", np.inf
     print("| lambda/a | xi / (mu a/R) | lag error [mu N'] | error / amplitude | ratio | margin | quasi-static error |")
@@ -63,7 +62,7 @@ def main() -> None:
         reference, _ = run_instationary(pair_stepper(REFERENCE), *signal)
         lag, _ = run_instationary(instationary_stepper("relaxation"), *signal)
         quasi, _ = run_instationary(instationary_stepper("quasi-static"), *signal)
-        errors = np.abs(lag - reference) / limit
+        errors = np.abs(lag - reference) / LIMIT
         widths = envelope_widths(*signal)
         excess = np.maximum(0.0, errors - LAG_ERROR_FLOOR)
         ratio = float(np.max(np.where(excess > 0.0, excess / np.where(widths > 0.0, widths, np.nan), 0.0)))
@@ -74,7 +73,7 @@ def main() -> None:
             worst, where = ratio, f"lambda/a = {wavelength:g}, {mean:g} + {amplitude:g} sin"
         print(f"| {wavelength:g} | {mean:g} + {amplitude:g} sin | {errors.max():.2e} | "
               f"{errors.max() / amplitude:.4f} | {ratio:.4f} | {margin:.2f} | "
-              f"{np.abs(quasi - reference).max() / limit:.2e} |", flush=True)
+              f"{np.abs(quasi - reference).max() / LIMIT:.2e} |", flush=True)
     print(f"\nLargest ratio {worst:.4g} ({where}), x {SAFETY} = {SAFETY * worst:.3g}; LAG_ERROR_COEFFICIENT = "
           f"{LAG_ERROR_COEFFICIENT:g} (memory {LAG_MEMORY:g} relaxation lengths, floor {LAG_ERROR_FLOOR:g}); "
           f"the bound is >= {tightest:.2f} times the error at every measured step")

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import common  # before numpy: limits BLAS to one thread
 import numpy as np
+from pareto_cases import FULL, steady_cases
 from scipy import optimize
 
 import rollcontact as rc
@@ -59,12 +60,7 @@ CREEPS = (0.1, 0.3, 0.6, 0.95, 2.0, 5.0)  # of Carter's saturation creep
 MAX_NODES = 128  # largest rung measured in A-C
 REFINEMENTS = (2, 3, 4, 6)  # single fine grids K/M measured for table B
 TOLERANCES = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
-PARETO = {"exponential B = 30 s/m, V = 20 m/s": rc.Scene(LOAD, creep=1e-3, rolling_speed=20.0,
-                                                         friction=rc.ExponentialFalling(MU, 0.4, 30.0)),
-          "exponential B = 3 s/m, V = 20 m/s": rc.Scene(LOAD, creep=0.3 * SATURATION, rolling_speed=20.0,
-                                                        friction=rc.ExponentialFalling(MU, 0.4, 3.0)),
-          "rational, V = 10 m/s": rc.Scene(LOAD, creep=0.7 * SATURATION, rolling_speed=10.0,
-                                           friction=rc.RationalFalling(MU, 0.2, 0.5))}
+PARETO = dict(steady_cases(FULL)["velocity-dependent friction"][:3])  # the Pareto study's one-patch cases
 POLYNOMIAL = api.METHODS["polynomial"].accuracy
 
 

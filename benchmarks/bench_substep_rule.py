@@ -11,15 +11,15 @@ substeps of exactly one element, the rest of the roll carried to the next host s
 (:meth:`rollcontact.instationary.InstationaryModel.advance`; the output is a provisional substep of that pending
 roll).  This benchmark measures both rules on the same grids.
 
-Method.  The Pareto study's instationary scenario (``pareto.creep_signal``: N' = 1e7 N/m, mu = 0.3, V = 10 m/s,
-64 host steps per cycle of ``xi = (0.5 + 0.3 sin) mu a/R``) at lambda/a = 1, 2, 5 (host steps of 0.016-0.08 a, up
-to several coarse elements), from no traction, the last cycle measured.  Grids: the model's for the pair
-(:func:`rollcontact.instationary.aligned_grid_load` with ``multiple`` = 2).  Whole-element commits: the library's
-:class:`rollcontact.instationary.InstationaryModel` with ``extrapolate=True``.  Equal substeps: the same solvers
-stepped ``ceil(ds/h_c)`` (coarse) and twice that (fine) equal substeps per host step (:func:`equal_substeps`).
-Reference: the library's pair at :data:`REFERENCE` elements; the same pair with equal substeps is printed against
-it (both rules converge to the same solution of the host's zero-order-hold creep).  Error: max |T' - T'_ref| over
-the measured cycle [mu N'], shown as ``error n^2``.
+Method.  The Pareto study's instationary scenario (``instationary_case.creep_signal``: N' = 1e7 N/m, mu = 0.3,
+V = 10 m/s, 64 host steps per cycle of ``xi = (0.5 + 0.3 sin) mu a/R``) at lambda/a = 1, 2, 5 (host steps of
+0.016-0.08 a, up to several coarse elements), from no traction, the last cycle measured.  Grids: the model's for the
+pair (:func:`rollcontact.instationary.aligned_grid_load` with ``multiple`` = 2).  Whole-element commits: the
+library's :class:`rollcontact.instationary.InstationaryModel` with ``extrapolate=True``.  Equal substeps: the same
+solvers stepped ``ceil(ds/h_c)`` (coarse) and twice that (fine) equal substeps per host step
+(:func:`equal_substeps`).  Reference: the library's pair at :data:`REFERENCE` elements; the same pair with equal
+substeps is printed against it (both rules converge to the same solution of the host's zero-order-hold creep).
+Error: max |T' - T'_ref| over the measured cycle [mu N'], shown as ``error n^2``.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ import time
 
 import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 import numpy as np
-from pareto import ESTAR, LOAD_I, MU_I, R_I, SPEED, creep_signal
+from instationary_case import ESTAR, LIMIT, LOAD_I, MU_I, R_I, SPEED, creep_signal
 
 from rollcontact.instationary import InstationaryModel, aligned_grid_load
 from rollcontact.model import GRID_LOAD_FACTOR
@@ -79,7 +79,6 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--signals", default="0,1,2", help="indices into SIGNALS, comma-separated")
     args = parser.parse_args()
-    limit = MU_I * LOAD_I
     start = time.perf_counter()
     print("| lambda/a | n | ds / h_c | r (equal substeps) | equal substeps: error n^2 | whole elements: error n^2 |")
     print("|---|---|---|---|---|---|")
@@ -87,13 +86,13 @@ def main() -> None:
         xi, dt, first = creep_signal(wavelength, 0.5, 0.3)
         reference = pair(REFERENCE)
         ref = whole_elements(reference, xi, dt, first)
-        other = float(np.abs(equal_substeps(reference, xi, dt, first) - ref).max() / limit)
+        other = float(np.abs(equal_substeps(reference, xi, dt, first) - ref).max() / LIMIT)
         print(f"| {wavelength:g} | {REFERENCE} (reference) | | | {other * REFERENCE**2:.2f} | 0 |", flush=True)
         for n in pairs:
             model = pair(n)
             ratio = SPEED * dt / model.coarse_solver.grid.element_width
             r = ratio / math.ceil(ratio * (1.0 - 1e-12))
-            errors = (float(np.abs(run(model, xi, dt, first) - ref).max() / limit) * n * n
+            errors = (float(np.abs(run(model, xi, dt, first) - ref).max() / LIMIT) * n * n
                       for run in (equal_substeps, whole_elements))
             print(f"| {wavelength:g} | {n} | {ratio:.3f} | {r:.2f} | {next(errors):.2f} | {next(errors):.2f} |",
                   flush=True)

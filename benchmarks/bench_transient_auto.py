@@ -4,8 +4,8 @@ Run as ``.venv/bin/python benchmarks/bench_transient_auto.py [--quick | --order-
 minutes; ``--quick``: lambda/a = 10 only, reference from n = 200/400).  Prints markdown tables; asserts nothing.
 One BLAS thread.
 
-Scenario: the instationary study of ``benchmarks/pareto.py`` (its signal and helpers are imported, so both measure
-the same thing): N' = 1e7 N/m, mu = 0.3, R = 0.46 m, V = 10 m/s, creep control
+Scenario: the instationary study of ``benchmarks/pareto.py`` (its signal and steppers, ``instationary_case.py``, so
+both measure the same thing): N' = 1e7 N/m, mu = 0.3, R = 0.46 m, V = 10 m/s, creep control
 ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps per cycle, lambda/a = 5, 10, 20, 40, at least 40 a
 rolled before the measured last cycle.  The transient runs on the grid the FMU's model builds
 (:data:`rollcontact.model.GRID_LOAD_FACTOR`: window +-1.25 a(2 N'), n elements) and starts from steady rolling at
@@ -30,24 +30,25 @@ from __future__ import annotations
 
 import argparse
 
-import common  # noqa: F401  (before numpy: limits BLAS to one thread)
+import common  # before numpy: limits BLAS to one thread
 import numpy as np
-from pareto import (
-    CONTACT_WIDTH,
+from instationary_case import (
+    A_I,
     ESTAR,
+    LIMIT,
     LOAD_I,
     MU_I,
     R_I,
     SATURATION_I,
     SPEED,
     STEPS_PER_CYCLE,
-    TOLERANCES,
     instationary_stepper,
     richardson,
     run_instationary,
 )
+from pareto_cases import TOLERANCES
 
-from rollcontact.closed_form import carter, hertz
+from rollcontact.closed_form import carter
 from rollcontact.instationary import InstationaryModel, aligned_grid_load
 from rollcontact.model import (
     GRID_LOAD_FACTOR,
@@ -56,9 +57,6 @@ from rollcontact.model import (
     ContactModel,
     ContactParameters,
 )
-
-LIMIT = MU_I * LOAD_I
-A_I = hertz(LOAD_I, R_I, ESTAR)[0]
 
 
 def grid_model(elements: int) -> InstationaryModel:
@@ -162,7 +160,7 @@ def main(argv=None) -> None:
     for wavelength in wavelengths:
         ref = references[wavelength]
         for tolerance in TOLERANCES:
-            model = ContactModel(ContactParameters(radius=R_I, contact_width=CONTACT_WIDTH,
+            model = ContactModel(ContactParameters(radius=R_I, contact_width=common.CONTACT_WIDTH,
                                                    friction_coefficient=MU_I, transient=1, tolerance=tolerance))
             n = model.instationary.elements
             choice = ("relaxation" if model.instationary.mode != "transient" else
