@@ -14,14 +14,12 @@ from __future__ import annotations
 import argparse
 import sys
 import tempfile
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "src"))
+import common  # noqa: F401  (before numpy: limits BLAS to one thread; puts the checkout's src/ on sys.path)
 
-from rollcontact_cosim.master import ensure_fmus, run_cosimulation  # noqa: E402  (after the path set-up)
-from rollcontact_cosim.scenes import ALGORITHMS, SCENE_NAMES, load_cosim_scene  # noqa: E402
-from rollcontact_cosim.stability import largest_stable_step  # noqa: E402
+from rollcontact_cosim.master import ensure_fmus, run_cosimulation
+from rollcontact_cosim.scenes import ALGORITHMS, SCENE_NAMES, load_cosim_scene
+from rollcontact_cosim.stability import largest_stable_step
 
 
 def milliseconds(step: float | None) -> str:

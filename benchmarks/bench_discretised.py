@@ -6,19 +6,13 @@ section 7: 2D Carter about 2 ms with 100 elements, 0.29 s with 800; velocity-dep
 not suffer from thread oversubscription on a shared machine.  Machines are noisy: medians of repeated runs.
 """
 
-import os
+import math
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # before numpy: limits BLAS to one thread
 
-import math  # noqa: E402  (after the thread limits)
-
-from _timing import median_time  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
-from rollcontact._bem import operators_for  # noqa: E402
-from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.discretised import TransientSolver, automatic_grid, solve_discretised  # noqa: E402
+import rollcontact as rc
+from rollcontact.closed_form import carter, hertz
+from rollcontact.discretised import TransientSolver, automatic_grid, solve_discretised
 
 LOAD = 1e7  # N' [N/m]
 MU = 0.3
@@ -37,14 +31,6 @@ def contact_time_ms(n):
     return CONTACT_MS[100] * (n / 100) ** exponent
 
 
-def cold(function):
-    """``function`` with the cache of influence matrices and factorisations emptied first (a first solve)."""
-    def run():
-        operators_for.cache_clear()
-        return function()
-    return run
-
-
 def normal_only(n):
     grid = automatic_grid(SCENE, n)
     return TransientSolver.from_scene(SCENE, grid).normal(LOAD)
@@ -57,16 +43,17 @@ def main():
     for n in SIZES:
         normal = normal_only(n)
         p0_error = normal.pressure.max() / P0 - 1
-        t_normal = median_time(cold(lambda n=n: normal_only(n)))
+        t_normal = common.median_time(common.cold(lambda n=n: normal_only(n)))
 
         steady = solve_discretised(SCENE.replace(creep=CREEP), elements=n)
         t_error = steady.tangential_force_per_length / t_exact - 1
-        t_steady = median_time(cold(lambda n=n: solve_discretised(SCENE.replace(creep=CREEP), elements=n)))
-        t_warm = median_time(lambda n=n: solve_discretised(SCENE.replace(creep=CREEP), elements=n))
+        t_steady = common.median_time(common.cold(lambda n=n: solve_discretised(SCENE.replace(creep=CREEP),
+                                                                                 elements=n)))
+        t_warm = common.median_time(lambda n=n: solve_discretised(SCENE.replace(creep=CREEP), elements=n))
 
         falling = solve_discretised(FALLING, elements=n)
         f_error = falling.tangential_force_per_length / reference_falling - 1
-        t_falling = median_time(cold(lambda n=n: solve_discretised(FALLING, elements=n)))
+        t_falling = common.median_time(common.cold(lambda n=n: solve_discretised(FALLING, elements=n)))
 
         solver = TransientSolver.from_scene(SCENE, elements=n)
         pressure = solver.normal(LOAD).pressure
@@ -74,7 +61,7 @@ def main():
         state = solver.initial_state()
         for _ in range(2 * n):  # near the steady state, where the stick set and its factorisation repeat
             state, _ = solver.step(state, pressure, h, creep=CREEP)
-        t_step = median_time(lambda solver=solver, state=state, pressure=pressure, h=h:
+        t_step = common.median_time(lambda solver=solver, state=state, pressure=pressure, h=h:
                              solver.step(state, pressure, h, creep=CREEP))
 
         rows.append((n, t_normal, p0_error, t_steady, t_warm, t_error, contact_time_ms(n) / (1e3 * t_steady),

@@ -18,8 +18,8 @@ Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMEN
 References: Hertz/Carter closed forms; the polynomial method at tolerance 1e-12 (512 slip nodes for
 velocity-dependent friction) where it applies; for split contacts, which only the discretised solver treats, the
 first-order Richardson extrapolation ``2 T_4000 - T_2000`` of discretised solves on a window fitted to the
-patches, each the mean over two grid placements (shift 0 and h/2:
-``rollcontact.discretised.extrapolated``); its uncertainty u is the change from ``T_4000`` and an estimate counts as
+patches, each the mean over :data:`REFERENCE_PLACEMENTS` grid placements
+(``rollcontact.discretised.extrapolated``); its uncertainty u is the change from ``T_4000`` and an estimate counts as
 a bound only when it is >= error + u.
 
 Table C calibrates the extrapolated setting (``solve_discretised(..., extrapolate=m)``, :func:`extrapolated`): T'
@@ -33,19 +33,16 @@ Hertz/Carter cases use a fixed window (the automatic one of N' = 1 MN/m) for thr
 at different positions within the elements (with the automatic window, which scales with a, they would not).
 """
 
-import os
+import math
+import statistics
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 
-import math  # noqa: E402  (after the thread limits)
-import statistics  # noqa: E402
-import time  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
-from rollcontact import api  # noqa: E402
-from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.discretised import automatic_grid, contact_window, extrapolated, solve_discretised  # noqa: E402
+import rollcontact as rc
+from rollcontact import api
+from rollcontact.closed_form import carter, hertz
+from rollcontact.discretised import automatic_grid, contact_window, extrapolated, solve_discretised
 
 SAFETY = 3.0  # factor of the two-grid estimate: the largest error / raw difference measured here is 2.52
 RADIUS = 0.46

@@ -5,7 +5,7 @@ real and 1 integer outputs (fmpy's ``FMU2Slave``).  The empty FMU has the same i
 ``do_step`` that only returns True: its time is the floor of any pythonfmu FMU.  Cases: the closed form (smooth
 surface, Coulomb friction), and the polynomial and discretised methods (corrugated surface) when registered.
 Batches of steps of all cases are interleaved and the table shows medians, so that a noisy machine affects every
-case alike.  Usage: ``python benchmarks/bench_fmu.py [--rounds N]``.
+case alike.  One BLAS thread (``common.py``).  Usage: ``python benchmarks/bench_fmu.py [--rounds N]``.
 """
 
 from __future__ import annotations
@@ -16,16 +16,10 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "src"))
+import common  # before numpy: limits BLAS to one thread; puts the checkout on sys.path
 
-from _fmu_timing import Case, build_and_extract, run_interleaved  # noqa: E402
-
-import rollcontact  # noqa: E402  (after the path set-up, as a script)
-from build_fmu import build  # noqa: E402
-
-CORRUGATION = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04}
+import rollcontact
+from build_fmu import build
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -33,14 +27,14 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=int, default=30, help="interleaved rounds (default 30)")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="bench_fmu_") as tmp:
-        empty_dir, contact_dir = build_and_extract(Path(tmp), build)
-        cases = [Case("empty pythonfmu", empty_dir, {}, 200, 1.0),
-                 Case("closed form", contact_dir, {"method": 1}, 200, 20.0)]
+        empty_dir, contact_dir = common.build_and_extract(Path(tmp), build)
+        cases = [common.Case("empty pythonfmu", empty_dir, {}, 200, 1.0),
+                 common.Case("closed form", contact_dir, {"method": 1}, 200, 20.0)]
         if "polynomial" in rollcontact.METHODS:
-            cases.append(Case("polynomial", contact_dir, {"method": 2, **CORRUGATION}, 10, 1.0))
+            cases.append(common.Case("polynomial", contact_dir, {"method": 2, **common.FMU_CORRUGATION}, 10, 1.0))
         if "discretised" in rollcontact.METHODS:
-            cases.append(Case("discretised", contact_dir, {"method": 3, **CORRUGATION}, 2, 1.0))
-        run_interleaved(cases, args.rounds)
+            cases.append(common.Case("discretised", contact_dir, {"method": 3, **common.FMU_CORRUGATION}, 2, 1.0))
+        common.run_interleaved(cases, args.rounds)
         floor = statistics.median(cases[0].times)
         print(f"fmpy {__import__('fmpy').__version__}, Python {sys.version.split()[0]}, {args.rounds} rounds; "
               "one step = setReal(3) + doStep + getReal(10) + getInteger(1)\n")

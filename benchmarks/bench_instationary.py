@@ -13,20 +13,16 @@ Run as ``python benchmarks/bench_instationary.py``.  Prints markdown tables; ass
    Carter, paper's route and discretised transient (200 elements), against the rule 2.5 a / lambda.
 """
 
-import os
+import math
+import statistics
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
 
-import math  # noqa: E402  (after the thread limits)
-import statistics  # noqa: E402
-import time  # noqa: E402
-
-import numpy as np  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
-from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.instationary import (  # noqa: E402
+import rollcontact as rc
+from rollcontact.closed_form import carter, hertz
+from rollcontact.instationary import (
     InstationaryModel,
     OscillatingForce,
     oscillating_force_chebyshev,
@@ -54,15 +50,13 @@ def step_time(mode, elements):
     state = model.initial_state()
     for k in range(2 * elements):
         state, _ = model.step(state, LOAD, SATURATION * (0.4 + 0.2 * math.sin(0.05 * k)), SPEED, dt)
-    times = []
-    start = time.perf_counter()
     k = 0
-    while len(times) < 50 or time.perf_counter() - start < 0.5:
+
+    def step():
+        nonlocal state, k
         k += 1
-        t0 = time.perf_counter()
         state, _ = model.step(state, LOAD, SATURATION * (0.4 + 0.2 * math.sin(0.05 * k)), SPEED, dt)
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
+    return common.median_time(step, min_repeats=50, min_seconds=0.5, warmups=0)
 
 
 def creep_run(mode, mean, amplitude, wavelength, elements=200):

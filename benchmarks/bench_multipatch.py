@@ -22,19 +22,14 @@ of table A's scenes: ``solve(scene)``'s outcome by method and number of patches,
 
 from __future__ import annotations
 
-import os
+import collections
+import math
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
 
-import collections  # noqa: E402
-import math  # noqa: E402
-import time  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-import numpy as np  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
+import rollcontact as rc
 
 LOAD = 1e6  # N' [N/m]
 A_HERTZ = rc.hertz(LOAD, 0.46, rc.Scene(LOAD).material.contact_modulus)[0]
@@ -48,7 +43,7 @@ SPEED = 20.0  # m/s, table C
 DISCRETISED = ([{"elements": n} for n in (50, 100, 200, 400, 800)]
                + [{"elements": n, "extrapolate": m} for m in (8, 16) for n in (50, 100, 200, 400)])
 COLUMNS = ("T' / a priori", "T' / estimate", "p0 / a priori", "p0 / estimate")
-RESULTS = Path(__file__).resolve().parent / "results" / "multipatch.md"
+RESULTS = common.RESULTS / "multipatch.md"
 
 
 def scenes(every: int = 1):
@@ -151,9 +146,9 @@ def main():
     for kind, count in sorted(counts.items(), key=lambda item: -item[1]):
         lines.append(f"| {kind} | {count} | {1e3 * float(np.median(times[kind])):.2f} ms |")
     solved = sum(c for k, c in counts.items() if not k.startswith("failed"))
-    lines += ["", f"The polynomial method answers {solved} of {total}; before `multipatch` it answered the "
-                  f"{counts['one patch (single-patch method)']} single-patch scenes and left the rest to the "
-                  "discretised solver.", "",
+    lines += ["", f"The polynomial method answers {solved} of {total}: "
+                  f"{counts['one patch (single-patch method)']} by the single-patch method, the rest by `multipatch`.",
+              "",
               f"## B. The discretised solver's T' and p0 bounds against the polynomial method ({sampled} scenes)",
               "", "The largest ratio of the relative error to the a-priori bound (`api.DiscretisedAccuracy.error`, "
               "the Hertz width) and to the a-posteriori estimate of the result (`info[\"error_estimate\"]`, the "

@@ -3,14 +3,14 @@
 Run as ``.venv/bin/python benchmarks/bench_relaxation.py`` (about 10 minutes, most of it in the reference at
 lambda/a >= 80).  Prints a markdown table; asserts nothing.  One BLAS thread.
 
-Scenario: the instationary study of ``benchmarks/pareto.py`` (N' = 1e7 N/m, mu = 0.3, R = 0.46 m, V = 10 m/s,
-64 host steps per cycle, at least 40 a rolled before the measured last cycle) under creep control
-``xi = (mean + amplitude sin(2 pi sigma/lambda)) mu a/R`` for lambda/a = 2..40 and swings from ``0.2 + 0.1 sin``
-to creep reversals far beyond saturation (``10 sin``), near saturation and wholly in full slip (``2 + 0.5 sin``);
-slow swings (lambda/a = 80..320) near zero creep and near saturation.  Each setting steps the FMU's model: the lag
-(``transient`` = 2), quasi-static Carter (``transient`` = 0).  Reference: the extrapolating transient pair 200/400
-(error <= 16/400^2 = 1e-4 mu N', ``benchmarks/bench_transient_pairs.py``).  Error: ``|T' - T'_ref|`` in units of
-mu N' at each step of the last cycle.
+Scenario: the instationary study of ``benchmarks/pareto.py`` (``instationary_case.py``: N' = 1e7 N/m, mu = 0.3,
+R = 0.46 m, V = 10 m/s, 64 host steps per cycle, at least 40 a rolled before the measured last cycle) under creep
+control ``xi = (mean + amplitude sin(2 pi sigma/lambda)) mu a/R`` for lambda/a = 2..40 and swings from
+``0.2 + 0.1 sin`` to creep reversals far beyond saturation (``10 sin``), near saturation and wholly in full slip
+(``2 + 0.5 sin``); slow swings (lambda/a = 80..320) near zero creep and near saturation.  Each setting steps the
+FMU's model: the lag (``transient`` = 2), quasi-static Carter (``transient`` = 0).  Reference: the extrapolating
+transient pair 200/400 (error <= 16/400^2 = 1e-4 mu N', ``benchmarks/bench_transient_pairs.py``).  Error:
+``|T' - T'_ref|`` in units of mu N' at each step of the last cycle.
 
 Calibration of :func:`rollcontact.instationary.lag_error_bound`: at each step the creep envelope of the FMU's
 model (:func:`rollcontact.instationary.creep_envelope`, memory :data:`~rollcontact.instationary.LAG_MEMORY`
@@ -24,24 +24,20 @@ amplitude in saturation creeps, most where the swing passes zero creep (2.5 % at
 saturation, none wholly in full slip; 2.9-3.4e-3 mu N' on the Pareto study's ``0.5 + 0.3 sin`` (4.3e-4 at lambda/a
 = 320), 1.3-2.3e-2 for a reversal ``0.9 sin``, up to 0.15 mu N' (lambda/a = 2, ``10 sin``).  The largest ratio is
 0.027 (``3 sin`` at lambda/a = 5), so C = 0.038, and the bound is at least 1.41 times the error at every one of the
-72 x 64 measured steps.  With a memory of 4 relaxation lengths slow swings near saturation needed 0.031 (their
+72 x 64 measured steps.  A memory of 4 relaxation lengths would need 0.031 for slow swings near saturation (their
 stiff part is forgotten while its error persists).  At lambda/a = 320 every swing touching saturation is 7.5e-5 off
 the reference: that is the floor.
 """
 
 from __future__ import annotations
 
-import os
+import time
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # noqa: F401  (before numpy: limits BLAS to one thread)
+import numpy as np
+from instationary_case import LIMIT, instationary_stepper, lag_bounds, pair_stepper, run_instationary
 
-import time  # noqa: E402
-
-import numpy as np  # noqa: E402
-from pareto import LOAD_I, MU_I, instationary_stepper, lag_bounds, pair_stepper, run_instationary  # noqa: E402
-
-from rollcontact.instationary import LAG_ERROR_COEFFICIENT, LAG_ERROR_FLOOR, LAG_MEMORY  # noqa: E402
+from rollcontact.instationary import LAG_ERROR_COEFFICIENT, LAG_ERROR_FLOOR, LAG_MEMORY
 
 SWINGS = ((0.5, 0.3), (0.0, 0.3), (0.2, 0.1), (0.7, 0.3), (0.8, 0.15), (0.9, 0.3), (0.95, 0.1), (1.2, 0.3),
           (2.0, 0.5), (0.0, 0.9), (0.0, 3.0), (0.0, 10.0))  # (mean, amplitude) / (mu a/R)
@@ -57,7 +53,6 @@ def envelope_widths(wavelength: float, mean: float, amplitude: float) -> np.ndar
 
 
 def main() -> None:
-    limit = MU_I * LOAD_I
     start = time.perf_counter()
     worst, where, tightest = 0.0, "", np.inf
     print("| lambda/a | xi / (mu a/R) | lag error [mu N'] | error / amplitude | ratio | margin | quasi-static error |")
@@ -67,7 +62,7 @@ def main() -> None:
         reference, _ = run_instationary(pair_stepper(REFERENCE), *signal)
         lag, _ = run_instationary(instationary_stepper("relaxation"), *signal)
         quasi, _ = run_instationary(instationary_stepper("quasi-static"), *signal)
-        errors = np.abs(lag - reference) / limit
+        errors = np.abs(lag - reference) / LIMIT
         widths = envelope_widths(*signal)
         excess = np.maximum(0.0, errors - LAG_ERROR_FLOOR)
         ratio = float(np.max(np.where(excess > 0.0, excess / np.where(widths > 0.0, widths, np.nan), 0.0)))
@@ -78,7 +73,7 @@ def main() -> None:
             worst, where = ratio, f"lambda/a = {wavelength:g}, {mean:g} + {amplitude:g} sin"
         print(f"| {wavelength:g} | {mean:g} + {amplitude:g} sin | {errors.max():.2e} | "
               f"{errors.max() / amplitude:.4f} | {ratio:.4f} | {margin:.2f} | "
-              f"{np.abs(quasi - reference).max() / limit:.2e} |", flush=True)
+              f"{np.abs(quasi - reference).max() / LIMIT:.2e} |", flush=True)
     print(f"\nLargest ratio {worst:.4g} ({where}), x {SAFETY} = {SAFETY * worst:.3g}; LAG_ERROR_COEFFICIENT = "
           f"{LAG_ERROR_COEFFICIENT:g} (memory {LAG_MEMORY:g} relaxation lengths, floor {LAG_ERROR_FLOOR:g}); "
           f"the bound is >= {tightest:.2f} times the error at every measured step")

@@ -18,10 +18,10 @@ C. The a-priori bound of ``api.py``: the largest ``error N^2/beta`` (SLIP_NODE_E
    and a replay of the adaptive path (start, escalate by ``PolynomialAccuracy.escalation``) on every case at
    t = 1e-2 .. 1e-6, its modelled cost against the cheapest rung whose estimate meets t, starting at the floor or
    where the bound meets t, for several SLIP_CONVERGENCE.
-D. auto on the three velocity-dependent cases of ``benchmarks/pareto.py`` at t = 1e-2, 1e-3, 1e-4: the previous
-   choice (the cheapest requested node count whose bound ``1.0 beta/N^2`` meets t; requests below the floor ran
-   the floor) against the adaptive path (``setting_for``, then ``escalation`` until None, the loop ``solve`` is to
-   run), with median times, errors against 1024 nodes and estimates.
+D. auto on the three one-patch velocity-dependent cases of ``benchmarks/pareto.py`` at t = 1e-2, 1e-3, 1e-4: the
+   a-priori choice (the cheapest requested node count whose bound ``1.0 beta/N^2`` meets t, solved without the
+   a-posteriori estimate; requests below the floor run the floor) against the adaptive path (``setting_for``, then
+   ``escalation`` until None, the loop ``solve`` runs), with median times, errors against 1024 nodes and estimates.
 E. The cost model: Newton iterations against beta (SLIP_ITERATIONS) and the time per iteration against N
    (SLIP_COST), least squares on timed solves.
 
@@ -29,24 +29,21 @@ One BLAS thread per process (set before numpy loads).  Times are medians on a sh
 ratios from the same run.
 """
 
+import argparse
+import itertools
+import math
 import os
+import pickle
+from multiprocessing import Pool
+from pathlib import Path
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
+from pareto_cases import FULL, steady_cases
+from scipy import optimize
 
-import argparse  # noqa: E402  (after the thread limits)
-import itertools  # noqa: E402
-import math  # noqa: E402
-import pickle  # noqa: E402
-from multiprocessing import Pool  # noqa: E402
-from pathlib import Path  # noqa: E402
-
-import _timing  # noqa: E402
-import numpy as np  # noqa: E402
-from scipy import optimize  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
-from rollcontact import api, velocity_friction  # noqa: E402
+import rollcontact as rc
+from rollcontact import api, velocity_friction
 
 LOAD = 1e6  # N' [N/m]
 MU = 0.3
@@ -63,12 +60,7 @@ CREEPS = (0.1, 0.3, 0.6, 0.95, 2.0, 5.0)  # of Carter's saturation creep
 MAX_NODES = 128  # largest rung measured in A-C
 REFINEMENTS = (2, 3, 4, 6)  # single fine grids K/M measured for table B
 TOLERANCES = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
-PARETO = {"exponential B = 30 s/m, V = 20 m/s": rc.Scene(LOAD, creep=1e-3, rolling_speed=20.0,
-                                                         friction=rc.ExponentialFalling(MU, 0.4, 30.0)),
-          "exponential B = 3 s/m, V = 20 m/s": rc.Scene(LOAD, creep=0.3 * SATURATION, rolling_speed=20.0,
-                                                        friction=rc.ExponentialFalling(MU, 0.4, 3.0)),
-          "rational, V = 10 m/s": rc.Scene(LOAD, creep=0.7 * SATURATION, rolling_speed=10.0,
-                                           friction=rc.RationalFalling(MU, 0.2, 0.5))}
+PARETO = dict(steady_cases(FULL)["velocity-dependent friction"][:3])  # the Pareto study's one-patch cases
 POLYNOMIAL = api.METHODS["polynomial"].accuracy
 
 
@@ -247,8 +239,8 @@ def table_c(records: list[dict]) -> None:
     print()
 
 
-def previous_choice(scene: rc.Scene, tolerance: float) -> dict:
-    """Before: the cheapest requested count whose bound 1.0 beta/N^2 meets t (the floor then runs instead)."""
+def a_priori_choice(scene: rc.Scene, tolerance: float) -> dict:
+    """The cheapest requested count whose bound 1.0 beta/N^2 meets t (a request below the floor runs the floor)."""
     beta = api.friction_sharpness(scene)
     return next(({"nodes": n} for n in api.SLIP_NODES if beta / n**2 <= tolerance), {"nodes": api.SLIP_NODES[-1]})
 
@@ -265,7 +257,7 @@ def adaptive(scene: rc.Scene, tolerance: float) -> list[tuple[dict, rc.ContactRe
 
 
 def without_estimate(function):
-    """``function()`` with the a-posteriori estimate switched off, as the slip iteration ran before it existed."""
+    """``function()`` with the slip iteration's a-posteriori estimate switched off."""
     real = velocity_friction.force_error_estimate
     velocity_friction.force_error_estimate = lambda *args: math.nan
     try:
@@ -276,26 +268,27 @@ def without_estimate(function):
 
 def table_d(quick: bool) -> None:
     print("## D. auto on the Pareto study's velocity-dependent cases\n")
-    print("Before: the previous choice and code (no a-posteriori estimate); nodes requested -> run.  After: the "
-          "adaptive path with its estimate; nodes of each run.  Times: medians of the choice and the solve(s).\n")
-    print("| case | t | before: nodes | time | error | after: nodes | time | error | estimate | meets t |")
+    print("A priori: the choice by the bound alone, solved without the a-posteriori estimate; nodes requested -> "
+          "run.  Adaptive: the adaptive path with its estimate; nodes of each run.  Times: medians of the choice and "
+          "the solve(s).\n")
+    print("| case | t | a priori: nodes | time | error | adaptive: nodes | time | error | estimate | meets t |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     repeats = (3, 0.05) if quick else (9, 1.0)
     for label, scene in PARETO.items():
         t_ref, _ = reference(scene, 512 if quick else 1024)
         for tolerance in (1e-2, 1e-3, 1e-4):
-            old = previous_choice(scene, tolerance)
-            before = rc.solve(scene, method="polynomial", **old)
-            t_before = _timing.median_time(lambda s=scene, t=tolerance: without_estimate(
-                lambda: rc.solve(s, method="polynomial", **previous_choice(s, t))), *repeats)
+            prior = a_priori_choice(scene, tolerance)
+            prior_result = rc.solve(scene, method="polynomial", **prior)
+            t_prior = common.median_time(lambda s=scene, t=tolerance: without_estimate(
+                lambda: rc.solve(s, method="polynomial", **a_priori_choice(s, t))), *repeats)
             runs = adaptive(scene, tolerance)
-            t_after = _timing.median_time(lambda s=scene, t=tolerance: adaptive(s, t), *repeats)
-            after = runs[-1][1]
-            estimate = after.info["error_estimate"]
-            print(f"| {label} | {tolerance:g} | {old['nodes']} -> {before.distributions.nodes} | "
-                  f"{1e3 * t_before:.2f} ms | {abs(before.tangential_force_per_length / t_ref - 1):.1e} | "
-                  f"{' -> '.join(str(r.distributions.nodes) for _, r in runs)} | {1e3 * t_after:.2f} ms | "
-                  f"{abs(after.tangential_force_per_length / t_ref - 1):.1e} | {estimate:.1e} | "
+            t_adaptive = common.median_time(lambda s=scene, t=tolerance: adaptive(s, t), *repeats)
+            result = runs[-1][1]
+            estimate = result.info["error_estimate"]
+            print(f"| {label} | {tolerance:g} | {prior['nodes']} -> {prior_result.distributions.nodes} | "
+                  f"{1e3 * t_prior:.2f} ms | {abs(prior_result.tangential_force_per_length / t_ref - 1):.1e} | "
+                  f"{' -> '.join(str(r.distributions.nodes) for _, r in runs)} | {1e3 * t_adaptive:.2f} ms | "
+                  f"{abs(result.tangential_force_per_length / t_ref - 1):.1e} | {estimate:.1e} | "
                   f"{'yes' if estimate <= tolerance else 'no'} |")
     print()
 
@@ -309,14 +302,14 @@ def table_e(quick: bool) -> None:
     rows = []
     for scene in scenes:
         beta = api.friction_sharpness(scene)
-        base = _timing.median_time(lambda s=scene: rc.solve(s.replace(friction=MU), method="polynomial"), *repeats)
+        base = common.median_time(lambda s=scene: rc.solve(s.replace(friction=MU), method="polynomial"), *repeats)
         for n in nodes:
             if api.slip_nodes(scene, n) != n:
                 continue
             result = rc.solve(scene, method="polynomial", nodes=n)
             iterations = len(result.info["slip_iteration_history"]) - 1
-            time = _timing.median_time(lambda s=scene, n=n: rc.solve(s, method="polynomial", nodes=n), *repeats)
-            bare = _timing.median_time(lambda s=scene, n=n: without_estimate(
+            time = common.median_time(lambda s=scene, n=n: rc.solve(s, method="polynomial", nodes=n), *repeats)
+            bare = common.median_time(lambda s=scene, n=n: without_estimate(
                 lambda: rc.solve(s, method="polynomial", nodes=n)), *repeats)
             rows.append((beta, n, iterations, time - base, time - bare,
                          POLYNOMIAL.cost(scene, {"nodes": n}) - api.POLYNOMIAL_COST

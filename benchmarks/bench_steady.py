@@ -21,24 +21,19 @@ BLAS is limited to one thread (before numpy loads): the matrices are small, and 
 shared machine.  Machines here are noisy: medians, and ratios from the same run.
 """
 
-import os
+import argparse
+import math
+import platform
+from functools import partial
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
 
-import argparse  # noqa: E402  (after the thread limits)
-import math  # noqa: E402
-import platform  # noqa: E402
-from functools import partial  # noqa: E402
+import rollcontact as rc
+from rollcontact import polynomial
+from rollcontact.velocity_friction import solve_velocity_dependent
 
-import _timing  # noqa: E402
-import numpy as np  # noqa: E402
-
-import rollcontact as rc  # noqa: E402
-from rollcontact import polynomial  # noqa: E402
-from rollcontact.velocity_friction import solve_velocity_dependent  # noqa: E402
-
-median_time = partial(_timing.median_time, warmups=3)  # the polynomial paths fill size-keyed caches
+median_time = partial(common.median_time, warmups=3)  # the polynomial paths fill size-keyed caches
 
 LOAD = 1e6  # N' [N/m]
 MU = 0.3

@@ -4,8 +4,8 @@ Run as ``.venv/bin/python benchmarks/bench_transient_auto.py [--quick | --order-
 minutes; ``--quick``: lambda/a = 10 only, reference from n = 200/400).  Prints markdown tables; asserts nothing.
 One BLAS thread.
 
-Scenario: the instationary study of ``benchmarks/pareto.py`` (its signal and helpers are imported, so both measure
-the same thing): N' = 1e7 N/m, mu = 0.3, R = 0.46 m, V = 10 m/s, creep control
+Scenario: the instationary study of ``benchmarks/pareto.py`` (its signal and steppers, ``instationary_case.py``, so
+both measure the same thing): N' = 1e7 N/m, mu = 0.3, R = 0.46 m, V = 10 m/s, creep control
 ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda)) mu a/R``, 64 host steps per cycle, lambda/a = 5, 10, 20, 40, at least 40 a
 rolled before the measured last cycle.  The transient runs on the grid the FMU's model builds
 (:data:`rollcontact.model.GRID_LOAD_FACTOR`: window +-1.25 a(2 N'), n elements) and starts from steady rolling at
@@ -14,10 +14,9 @@ switches the transient in).
 
 Reference: first-order Richardson extrapolation of n = 400/800, ``T'_ref = 2 T'_800 - T'_400``.  The order is
 observed from three grids n, 2n, 4n as ``log2(max|T'_2n - T'_n| / max|T'_4n - T'_2n|)`` (:func:`observed_order`),
-printed for n = 200/400/800: 0.97-0.98 with the whole-element substeps of session 15
-(``benchmarks/results/transient_auto.md``; 0.93-1.11 in session 13 with equal substeps per host step, which at
-lambda/a = 5 spoiled the estimate).  Error: ``max |T'_n - T'_ref|`` over the last cycle in units of mu N'; the
-n = 800 row is part of the extrapolation and left out of the fit.
+printed for n = 200/400/800 (0.97-0.98 in ``benchmarks/results/transient_auto.md``).  Error:
+``max |T'_n - T'_ref|`` over the last cycle in units of mu N'; the n = 800 row is part of the extrapolation and left
+out of the fit.
 
 Tables: (1) error, elements rolled and median time per host step for each lambda/a and n; (2) steady rolling on the grid
 against Carter, the force jump when the model switches the transient in or hands back; (3) the error model
@@ -29,41 +28,35 @@ largest ``error n^p``, against the constants the model uses (:data:`rollcontact.
 
 from __future__ import annotations
 
-import os
+import argparse
 
-os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-os.environ.setdefault("OMP_NUM_THREADS", "1")
-
-import argparse  # noqa: E402  (after the thread limits)
-
-import numpy as np  # noqa: E402
-from pareto import (  # noqa: E402
-    CONTACT_WIDTH,
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
+from instationary_case import (
+    A_I,
     ESTAR,
+    LIMIT,
     LOAD_I,
     MU_I,
     R_I,
     SATURATION_I,
     SPEED,
     STEPS_PER_CYCLE,
-    TOLERANCES,
     instationary_stepper,
     richardson,
     run_instationary,
 )
+from pareto_cases import TOLERANCES
 
-from rollcontact.closed_form import carter, hertz  # noqa: E402
-from rollcontact.instationary import InstationaryModel, aligned_grid_load  # noqa: E402
-from rollcontact.model import (  # noqa: E402
+from rollcontact.closed_form import carter
+from rollcontact.instationary import InstationaryModel, aligned_grid_load
+from rollcontact.model import (
     GRID_LOAD_FACTOR,
     TRANSIENT_ERROR_CONSTANT,
     TRANSIENT_ERROR_ORDER,
     ContactModel,
     ContactParameters,
 )
-
-LIMIT = MU_I * LOAD_I
-A_I = hertz(LOAD_I, R_I, ESTAR)[0]
 
 
 def grid_model(elements: int) -> InstationaryModel:
@@ -167,7 +160,7 @@ def main(argv=None) -> None:
     for wavelength in wavelengths:
         ref = references[wavelength]
         for tolerance in TOLERANCES:
-            model = ContactModel(ContactParameters(radius=R_I, contact_width=CONTACT_WIDTH,
+            model = ContactModel(ContactParameters(radius=R_I, contact_width=common.CONTACT_WIDTH,
                                                    friction_coefficient=MU_I, transient=1, tolerance=tolerance))
             n = model.instationary.elements
             choice = ("relaxation" if model.instationary.mode != "transient" else
