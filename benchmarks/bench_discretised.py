@@ -12,7 +12,9 @@ import common  # before numpy: limits BLAS to one thread
 
 import rollcontact as rc
 from rollcontact.closed_form import carter, hertz
-from rollcontact.discretised import TransientSolver, automatic_grid, solve_discretised
+from rollcontact.halfspace.grid import automatic_grid
+from rollcontact.halfspace.solver import TransientSolver
+from rollcontact.methods.discretised.steady import solve_discretised
 
 LOAD = 1e7  # N' [N/m]
 MU = 0.3

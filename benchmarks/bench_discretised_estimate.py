@@ -4,9 +4,9 @@ Run as ``.venv/bin/python benchmarks/bench_discretised_estimate.py`` (about a mi
 markdown tables; asserts nothing.
 
 Error: the larger relative error of T' and of the peak pressure p0 (the contract of ``solve(scene, tolerance=t)``).
-Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMENTS``:
+Estimates compared with it, for each element count n of ``DISCRETISED_ELEMENTS``:
 
-* bound: ``DiscretisedAccuracy.error``, ``max(c w/n, 3 (w/n)^2)`` with ``c = api.DISCRETISED_FORCE_ERROR`` (w the
+* bound: ``DiscretisedAccuracy.error``, ``max(c w/n, 3 (w/n)^2)`` with ``c = DISCRETISED_FORCE_ERROR`` (w the
   automatic window over the Hertz width 2a);
 * two-grid: ``SAFETY * max_c max(|T'_n/T'_c - 1|, |p0_n/p0_c - 1|)`` over two coarse solves c of n/2 elements on
   the same window, one of them shifted by one fine element (so its edges fall elsewhere within the coarse
@@ -15,17 +15,16 @@ Estimates compared with it, for each element count n of ``api.DISCRETISED_ELEMEN
   moves by half an element.  No estimate computed from this grid and coarser ones can tell the placement it got,
   so none can certify an error below this spread.
 
-References: Hertz/Carter closed forms; the polynomial method at tolerance 1e-12 (512 slip nodes for
-velocity-dependent friction) where it applies; for split contacts, which only the discretised solver treats, the
-first-order Richardson extrapolation ``2 T_4000 - T_2000`` of discretised solves on a window fitted to the
-patches, each the mean over :data:`REFERENCE_PLACEMENTS` grid placements
-(``rollcontact.discretised.extrapolated``); its uncertainty u is the change from ``T_4000`` and an estimate counts as
-a bound only when it is >= error + u.
+References: Hertz/Carter closed forms; the polynomial method at tolerance 1e-12 (512 slip nodes for velocity-dependent
+friction) where it applies; for split contacts, which only the discretised solver treats, the first-order Richardson
+extrapolation ``2 T_4000 - T_2000`` of discretised solves on a window fitted to the patches, each the mean over
+:data:`REFERENCE_PLACEMENTS` grid placements (``rollcontact.methods.discretised.steady.extrapolated``); its uncertainty
+u is the change from ``T_4000`` and an estimate counts as a bound only when it is >= error + u.
 
 Table C calibrates the extrapolated setting (``solve_discretised(..., extrapolate=m)``, :func:`extrapolated`): T'
 from n and 2n elements on a window fitted to the patches, each level the mean over m placements, for m = 2, 4, 8,
 16, against the same references; ``m c = err m n / w`` with w the fitted window over 2a (the placement mean's
-first-order residue falls like 1/m), and the model's bound (``api.EXTRAPOLATED_FORCE_ERROR``, on the automatic
+first-order residue falls like 1/m), and the model's bound (``EXTRAPOLATED_FORCE_ERROR``, on the automatic
 window, which is at least as long).  Its error is erratic in n, so on the worst case (the split contact near full
 stick) n also runs densely from 50 to 400 (:data:`DENSE_ELEMENTS`) for the m auto offers.
 
@@ -40,9 +39,16 @@ import time
 import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 
 import rollcontact as rc
-from rollcontact import api
 from rollcontact.closed_form import carter, hertz
-from rollcontact.discretised import automatic_grid, contact_window, extrapolated, solve_discretised
+from rollcontact.halfspace.grid import automatic_grid
+from rollcontact.halfspace.solver import contact_window
+from rollcontact.methods.discretised.accuracy import (
+    DISCRETISED_FORCE_ERROR,
+    EXTRAPOLATED_FORCE_ERROR,
+    EXTRAPOLATION_PLACEMENTS,
+    DiscretisedAccuracy,
+)
+from rollcontact.methods.discretised.steady import DISCRETISED_ELEMENTS, extrapolated, solve_discretised
 
 SAFETY = 3.0  # factor of the two-grid estimate: the largest error / raw difference measured here is 2.52
 RADIUS = 0.46
@@ -97,7 +103,7 @@ def reference(scene):
     if scene.surface.is_flat and scene.friction.is_constant:
         return (carter(scene.normal_load_per_length, scene.creep, RADIUS, ESTAR, MU)[0],
                 hertz(scene.normal_load_per_length, RADIUS, ESTAR)[1], "closed form", 0.0)
-    poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=512)
+    poly = rc.solve(scene, method="polynomial", truncation=1e-12, nodes=512)
     if poly.success:
         return poly.tangential_force_per_length, poly.max_pressure, "polynomial 1e-12", 0.0
     ref = extrapolated(scene, REFERENCE_ELEMENTS, REFERENCE_PLACEMENTS)
@@ -134,7 +140,7 @@ def extrapolated_rows(label, scene, force, pressure, uncertainty, model):
     sizes = EXTRAPOLATED_ELEMENTS if scene.friction.is_constant else EXTRAPOLATED_ELEMENTS[:3]
     runs = [(n, m) for n in sizes for m in PLACEMENT_COUNTS]
     if all(part in label for part in DENSE_CASE):
-        runs += [(n, m) for m in api.EXTRAPOLATION_PLACEMENTS for n in DENSE_ELEMENTS if n not in sizes]
+        runs += [(n, m) for m in EXTRAPOLATION_PLACEMENTS for n in DENSE_ELEMENTS if n not in sizes]
     for n, m in runs:
         t0 = time.perf_counter()
         result = solve_discretised(scene, elements=n, extrapolate=m)
@@ -150,14 +156,14 @@ def extrapolated_rows(label, scene, force, pressure, uncertainty, model):
 
 def main():
     start = time.perf_counter()
-    model = api.DiscretisedAccuracy()
+    model = DiscretisedAccuracy()
     rows = []
     table_c = []
     for label, scene, window in cases():
         force, pressure, how, uncertainty = reference(scene)
         if not label.startswith("Carter") or "N' = 1.0" in label:  # the fitted window scales with a: loads alike
             table_c += extrapolated_rows(label, scene, force, pressure, uncertainty, model)
-        sizes = api.DISCRETISED_ELEMENTS if scene.friction.is_constant else STRUCTURED_ELEMENTS
+        sizes = DISCRETISED_ELEMENTS if scene.friction.is_constant else STRUCTURED_ELEMENTS
         for n in sizes:
             if n < model.resolution(scene):
                 continue
@@ -176,7 +182,7 @@ def main():
             coefficient = relative(result.tangential_force_per_length, force) * 2.0 * half_width * n / grid.length
             rows.append((label, how, n, error, uncertainty, estimate, bound, spread, coefficient))
         print(f"<!-- {label}: {time.perf_counter() - start:.0f} s -->", flush=True)
-    print(f"\nTwo-grid estimate (SAFETY = {SAFETY:g}) and a-priori bound (c = {api.DISCRETISED_FORCE_ERROR:g}) against "
+    print(f"\nTwo-grid estimate (SAFETY = {SAFETY:g}) and a-priori bound (c = {DISCRETISED_FORCE_ERROR:g}) against "
           "the true error of T' and p0.  u: the reference's uncertainty (0 for exact references).\n")
     print("| case | reference | n | error | u | two-grid estimate | estimate / error | bound | bound / error | "
           "shift spread | c = err_T' n / w |")
@@ -193,7 +199,7 @@ def main():
               + (", ".join(f"{r[0]} n = {r[2]} ({r[column]:.2e} < {r[3]:.2e} + {r[4]:.1e})" for r in misses)
                  or "none"))
     print(f"* largest first-order coefficient c = err_T' n / w: {max(row[8] for row in rows):.2f} "
-          f"(the a-priori bound uses {api.DISCRETISED_FORCE_ERROR:g})")
+          f"(the a-priori bound uses {DISCRETISED_FORCE_ERROR:g})")
     print(f"* shift spread over error: median {statistics.median(r[7] / r[3] for r in rows):.2f}, "
           f"max {max(r[7] / r[3] for r in rows):.2f}")
     print("\n## C. Extrapolated settings: n/2n, each level the mean over m placements\n")
@@ -210,7 +216,7 @@ def main():
               f"{statistics.median(r[5] for r in picked):.3g} over {len(picked)} results")
     bounded = [r for r in table_c if math.isfinite(r[6])]
     misses = [r for r in bounded if not r[6] >= r[3] + r[4]]
-    print(f"* bound max({api.EXTRAPOLATED_FORCE_ERROR:g} w/(m n), 3 (w/2n)^2) on the automatic window: bound / error "
+    print(f"* bound max({EXTRAPOLATED_FORCE_ERROR:g} w/(m n), 3 (w/2n)^2) on the automatic window: bound / error "
           f"min {min(r[6] / r[3] for r in bounded):.2f}, median {statistics.median(r[6] / r[3] for r in bounded):.2f} "
           f"over {len(bounded)} results; below error + u: "
           + (", ".join(f"{r[0]} n = {r[1]}, m = {r[2]} ({r[6]:.2e} < {r[3]:.2e} + {r[4]:.1e})" for r in misses)

@@ -1,7 +1,7 @@
-"""Several contact patches by the polynomial method (``rollcontact.multipatch``): where it applies, what it costs,
-and what it shows about the discretised solver's error bounds on such scenes.
+"""Several contact patches by the polynomial method (``rollcontact.methods.polynomial.patches``): where it
+applies, what it costs, and what it shows about the discretised solver's error bounds on such scenes.
 
-Run ``.venv/bin/python benchmarks/bench_multipatch.py``: writes ``benchmarks/results/multipatch.md`` (~4 min).
+Run ``.venv/bin/python benchmarks/bench_multipatch.py``: writes ``benchmarks/results/patches.md`` (~4 min).
 
 Scenes: N' = 1 MN/m, R = 0.46 m, steel, mu = 0.3, a corrugation of wavelength 4, 5, 8, 10 mm and amplitude 10,
 20, 40 um (k a = 0.7-3.6), creep 0.1, 0.5, 0.9 of Carter's saturation creep, the axis at 24 positions over a
@@ -13,8 +13,8 @@ several patches by ``multipatch`` (where the single patch failed), or failed (wh
 Table B: the discretised solver's settings (one grid of n = 50..800 elements; the extrapolated pair n/2n over m = 8,
 16 placements) against the polynomial method at tolerance 1e-12 on every three-patch scene of table A and a random
 sample of the two- and one-patch ones: the largest ratio of the relative T' and p0 errors to the setting's a-priori
-bound (``api.DiscretisedAccuracy.error``, the Hertz width) and to the result's a-posteriori estimate (the patch
-widths, ``api.patch_widths``), by number of patches.
+bound (``DiscretisedAccuracy.error``, the Hertz width) and to the result's a-posteriori estimate (the patch
+widths, ``patch_widths``), by number of patches.
 
 Table C: a falling friction law (exponential, mu_k/mu_s = 0.4, 3 s/m, V = 20 m/s) on every other axis position
 of table A's scenes: ``solve(scene)``'s outcome by method and number of patches, median time.  One BLAS thread.
@@ -43,7 +43,7 @@ SPEED = 20.0  # m/s, table C
 DISCRETISED = ([{"elements": n} for n in (50, 100, 200, 400, 800)]
                + [{"elements": n, "extrapolate": m} for m in (8, 16) for n in (50, 100, 200, 400)])
 COLUMNS = ("T' / a priori", "T' / estimate", "p0 / a priori", "p0 / estimate")
-RESULTS = common.RESULTS / "multipatch.md"
+RESULTS = common.RESULTS / "patches.md"
 
 
 def scenes(every: int = 1):
@@ -91,7 +91,7 @@ def table_b(found):
     model = rc.METHODS["discretised"].accuracy
     worst = {}
     for scene in sample:
-        reference = rc.solve(scene, method="polynomial", tolerance=1e-12)
+        reference = rc.solve(scene, method="polynomial", truncation=1e-12)
         patches = len(reference.info["patches"])
         for options in DISCRETISED:
             if options["elements"] < model.resolution(scene):
@@ -150,9 +150,9 @@ def main():
                   f"{counts['one patch (single-patch method)']} by the single-patch method, the rest by `multipatch`.",
               "",
               f"## B. The discretised solver's T' and p0 bounds against the polynomial method ({sampled} scenes)",
-              "", "The largest ratio of the relative error to the a-priori bound (`api.DiscretisedAccuracy.error`, "
+              "", "The largest ratio of the relative error to the a-priori bound (`DiscretisedAccuracy.error`, "
               "the Hertz width) and to the a-posteriori estimate of the result (`info[\"error_estimate\"]`, the "
-              "patch widths of `api.patch_widths`); where, at what creep / saturation.", "",
+              "patch widths of `patch_widths`); where, at what creep / saturation.", "",
               "| setting kind | patches | " + " | ".join(COLUMNS) + " | estimate / T' error, median (max) |",
               "|---|---|" + "---|" * (len(COLUMNS) + 1)]
     for (kind, patches), record in sorted(worst.items()):
@@ -163,12 +163,12 @@ def main():
     lines += ["", "A ratio above 1 is a bound exceeded.  The a-priori bounds use the Hertz width: where the "
                   "patches are narrower (small satellite patches, short corrugations) they are exceeded, and `auto`, "
                   "which chooses by them, escalates while the estimate misses the tolerance "
-                  "(`api.DiscretisedAccuracy.escalation`).", ""]
+                  "(`DiscretisedAccuracy.escalation`).", ""]
     total = sum(falling_counts.values())
     lines += [f"## C. Falling friction: `solve(scene)` on {total} of the scenes", "",
               f"Every other axis position of table A, with `{FALLING!r}` at V = {SPEED:g} m/s.  The polynomial method "
               "solves one patch, and several by each patch's slip iteration under the others' fields "
-              "(`split_friction.py`); where that fails auto falls back to the discretised slip iteration (a stick "
+              "(`patches_slip.py`); where that fails auto falls back to the discretised slip iteration (a stick "
               "zone at each patch's leading edge, on the automatic grid, refined once where the structure fails "
               "there).", "",
               "| outcome | scenes | median time |", "|---|---|---|"]

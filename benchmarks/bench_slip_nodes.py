@@ -4,20 +4,20 @@ Run: ``python benchmarks/bench_slip_nodes.py [--quick] [--jobs N] [--records FIL
 on two cores; ``--quick``: 48 cases against 512 nodes, ~1 min; ``--records`` keeps the measurements of A-C).
 Prints markdown tables:
 
-A. The a-posteriori estimate (:func:`rollcontact.velocity_friction.force_error_estimate`) against the true relative
-   T' error, over exponential laws (B = 1..100 s/m), two rational laws and a user table law, V = 1..50 m/s, creeps
-   0.1-0.95 of Carter's saturation creep and beyond the peak of the creep curve (2 and 5 times), on a flat and a
-   40 mm / 20 um corrugated surface, at every node count of auto's ladder up to 128.  True error: against the
-   slip iteration with 1024 nodes (``--quick``: 512); cases whose reference does not converge, or whose error is
-   below three times the reference's own estimate, are left out.  Per law family: how often the estimate is below
-   the error (misses), the smallest, median and largest ratio estimate/error, and the same for the a-priori bound
+A. The a-posteriori estimate (:func:`rollcontact.methods.polynomial.slip.force_error_estimate`) against the true
+   relative T' error, over exponential laws (B = 1..100 s/m), two rational laws and a user table law, V = 1..50 m/s,
+   creeps 0.1-0.95 of Carter's saturation creep and beyond the peak of the creep curve (2 and 5 times), on a flat and
+   a 40 mm / 20 um corrugated surface, at every node count of auto's ladder up to 128.  True error: against the slip
+   iteration with 1024 nodes (``--quick``: 512); cases whose reference does not converge, or whose error is below
+   three times the reference's own estimate, are left out.  Per law family: how often the estimate is below the error
+   (misses), the smallest, median and largest ratio estimate/error, and the same for the a-priori bound
    ``SLIP_NODE_ERROR beta/N^2``.  Summary by error level: the basis of ``ESTIMATE_SAFETY``.
 B. The fine grids of the estimate: the ratio ``|T'_K/T'_M - 1| / error`` for K = 2M, 3M, 4M, 6M and the larger
    of two (ESTIMATE_REFINEMENTS).
-C. The a-priori bound of ``api.py``: the largest ``error N^2/beta`` (SLIP_NODE_ERROR bounds it with a margin);
-   and a replay of the adaptive path (start, escalate by ``PolynomialAccuracy.escalation``) on every case at
-   t = 1e-2 .. 1e-6, its modelled cost against the cheapest rung whose estimate meets t, starting at the floor or
-   where the bound meets t, for several SLIP_CONVERGENCE.
+C. The a-priori bound of ``rollcontact.methods.polynomial.accuracy``: the largest ``error N^2/beta``
+   (SLIP_NODE_ERROR bounds it with a margin); and a replay of the adaptive path (start, escalate by
+   ``PolynomialAccuracy.escalation``) on every case at t = 1e-2 .. 1e-6, its modelled cost against the cheapest
+   rung whose estimate meets t, starting at the floor or where the bound meets t, for several SLIP_CONVERGENCE.
 D. auto on the three one-patch velocity-dependent cases of ``benchmarks/pareto.py`` at t = 1e-2, 1e-3, 1e-4: the
    a-priori choice (the cheapest requested node count whose bound ``1.0 beta/N^2`` meets t, solved without the
    a-posteriori estimate; requests below the floor run the floor) against the adaptive path (``setting_for``, then
@@ -43,7 +43,19 @@ from pareto_cases import FULL, steady_cases
 from scipy import optimize
 
 import rollcontact as rc
-from rollcontact import api, velocity_friction
+from rollcontact.dispatch import METHODS
+from rollcontact.method import friction_sharpness
+from rollcontact.methods.polynomial import accuracy as polynomial_accuracy
+from rollcontact.methods.polynomial import slip
+from rollcontact.methods.polynomial.accuracy import (
+    POLYNOMIAL_COST,
+    POLYNOMIAL_HARMONIC_COST,
+    SLIP_COST,
+    SLIP_ITERATIONS,
+    SLIP_NODE_ERROR,
+    SLIP_NODES,
+    slip_nodes,
+)
 
 LOAD = 1e6  # N' [N/m]
 MU = 0.3
@@ -61,7 +73,7 @@ MAX_NODES = 128  # largest rung measured in A-C
 REFINEMENTS = (2, 3, 4, 6)  # single fine grids K/M measured for table B
 TOLERANCES = (1e-2, 1e-3, 1e-4, 1e-5, 1e-6)
 PARETO = dict(steady_cases(FULL)["velocity-dependent friction"][:3])  # the Pareto study's one-patch cases
-POLYNOMIAL = api.METHODS["polynomial"].accuracy
+POLYNOMIAL = METHODS["polynomial"].accuracy
 
 
 def cases(quick: bool) -> list[tuple[tuple, rc.Scene]]:
@@ -82,8 +94,8 @@ def cases(quick: bool) -> list[tuple[tuple, rc.Scene]]:
 def reference(scene: rc.Scene, nodes: int) -> tuple[float, float]:
     """(T', its own error estimate) of the slip iteration with ``nodes`` nodes; NaN when it does not converge
     (steep laws at high speed: Newton stalls and the relaxed fixed point is given 40 iterations)."""
-    normal = rc.solve(scene.replace(friction=MU), method="polynomial", tolerance=1e-12)
-    out = velocity_friction.solve_velocity_dependent(
+    normal = rc.solve(scene.replace(friction=MU), method="polynomial", truncation=1e-12)
+    out = slip.solve_velocity_dependent(
         normal.info["pressure_coefficients"], normal.contact_half_width, normal.contact_offset,
         scene.material.contact_modulus, scene.friction, scene.rolling_speed, scene.creep, nodes=nodes,
         max_iterations=40)
@@ -94,29 +106,29 @@ def reference(scene: rc.Scene, nodes: int) -> tuple[float, float]:
 
 def with_refinement(factor: int, scene: rc.Scene, nodes: int) -> rc.ContactResult:
     """The polynomial solve with the estimate from the one fine grid K = ``factor`` M (this process only)."""
-    default = velocity_friction.ESTIMATE_REFINEMENTS
-    velocity_friction.ESTIMATE_REFINEMENTS = (factor,)
+    default = slip.ESTIMATE_REFINEMENTS
+    slip.ESTIMATE_REFINEMENTS = (factor,)
     try:
         return rc.solve(scene, method="polynomial", nodes=nodes)
     finally:
-        velocity_friction.ESTIMATE_REFINEMENTS = default
+        slip.ESTIMATE_REFINEMENTS = default
 
 
 def measure(job) -> dict:
     """One case: the reference and, per rung up to MAX_NODES, T', the estimate and the raw fine-grid differences."""
     (label, scene), reference_nodes = job
     t_ref, ref_estimate = reference(scene, reference_nodes)
-    beta = api.friction_sharpness(scene)
+    beta = friction_sharpness(scene)
     rungs = []
     for options in POLYNOMIAL.ladder(scene):
         if options["nodes"] > MAX_NODES:
             break
         result = rc.solve(scene, method="polynomial", **options)
-        if not (result.success and isinstance(result.distributions, velocity_friction.VelocityFrictionDistributions)):
+        if not (result.success and isinstance(result.distributions, slip.VelocityFrictionDistributions)):
             rungs.append({"nodes": options["nodes"], "failed": result.message})
             continue
         raw = {k: with_refinement(k, scene, options["nodes"]).distributions.force_error
-               / velocity_friction.ESTIMATE_SAFETY for k in REFINEMENTS}
+               / slip.ESTIMATE_SAFETY for k in REFINEMENTS}
         rungs.append({"nodes": result.distributions.nodes, "force": result.tangential_force_per_length, "raw": raw})
     return {"label": label, "scene": scene, "reference": t_ref, "reference_estimate": ref_estimate, "beta": beta,
             "rungs": rungs}
@@ -124,14 +136,14 @@ def measure(job) -> dict:
 
 def estimate(rung: dict) -> float:
     """The slip estimate of a measured rung with the current ESTIMATE_SAFETY and ESTIMATE_REFINEMENTS."""
-    return velocity_friction.ESTIMATE_SAFETY * max(rung["raw"][k] for k in velocity_friction.ESTIMATE_REFINEMENTS)
+    return slip.ESTIMATE_SAFETY * max(rung["raw"][k] for k in slip.ESTIMATE_REFINEMENTS)
 
 
 def measurable(record: dict) -> list[tuple[dict, float]]:
     """(rung, true error) of the rungs whose error the reference can resolve."""
     if not math.isfinite(record["reference"]):
         return []
-    floor = 3.0 * record["reference_estimate"] / velocity_friction.ESTIMATE_SAFETY  # the reference's own error
+    floor = 3.0 * record["reference_estimate"] / slip.ESTIMATE_SAFETY  # the reference's own error
     out = []
     for rung in record["rungs"]:
         if "force" in rung:
@@ -148,8 +160,8 @@ def quantiles(values) -> str:
 
 def table_a(records: list[dict]) -> None:
     print("## A. Estimate against the true error\n")
-    print(f"ESTIMATE_SAFETY = {velocity_friction.ESTIMATE_SAFETY}, K/M = {velocity_friction.ESTIMATE_REFINEMENTS}, "
-          f"a-priori bound SLIP_NODE_ERROR beta/N^2 with SLIP_NODE_ERROR = {api.SLIP_NODE_ERROR}.  Ratios: "
+    print(f"ESTIMATE_SAFETY = {slip.ESTIMATE_SAFETY}, K/M = {slip.ESTIMATE_REFINEMENTS}, "
+          f"a-priori bound SLIP_NODE_ERROR beta/N^2 with SLIP_NODE_ERROR = {SLIP_NODE_ERROR}.  Ratios: "
           "estimate (or bound) over the true error, min | median | max.\n")
     no_reference = [r["label"] for r in records if not math.isfinite(r["reference"])]
     failed = [(r["label"], g["nodes"]) for r in records for g in r["rungs"] if "failed" in g]
@@ -159,7 +171,7 @@ def table_a(records: list[dict]) -> None:
         rows = [(g, e, r["beta"]) for r in records if r["label"][0] == name and r["label"][3] == surface
                 for g, e in measurable(r)]
         ratio = [estimate(g) / e for g, e, _ in rows]
-        bound = [api.SLIP_NODE_ERROR * beta / g["nodes"] ** 2 / e for g, e, beta in rows]
+        bound = [SLIP_NODE_ERROR * beta / g["nodes"] ** 2 / e for g, e, beta in rows]
         print(f"| {name} | {surface} | {len(rows)} | {sum(x < 1.0 for x in ratio)} | {quantiles(ratio)} | "
               f"{quantiles(bound)} |")
     print("\n| true error above | rungs | misses | ratio < 1.5 | estimate / error |")
@@ -216,21 +228,21 @@ def table_c(records: list[dict]) -> None:
     print("## C. A-priori bound and the adaptive path\n")
     rows = [(g, e, r["beta"]) for r in records for g, e in measurable(r)]
     scaled = np.array([e * g["nodes"] ** 2 / beta for g, e, beta in rows])
-    print(f"error N^2/beta: largest {scaled.max():.3g} (SLIP_NODE_ERROR = {api.SLIP_NODE_ERROR}: margin "
-          f"{api.SLIP_NODE_ERROR / scaled.max():.2f}), median {np.median(scaled):.3g}.\n")
+    print(f"error N^2/beta: largest {scaled.max():.3g} (SLIP_NODE_ERROR = {SLIP_NODE_ERROR}: margin "
+          f"{SLIP_NODE_ERROR / scaled.max():.2f}), median {np.median(scaled):.3g}.\n")
     print("Replay of the adaptive path on the measured rungs: modelled cost over that of the cheapest rung whose "
           "estimate meets t (mean, max), and how many paths escalated once and more than once, by start and "
           "SLIP_CONVERGENCE; paths that leave the measured rungs (above 128 nodes) are left out.\n")
-    variants = [("floor", c) for c in (1.5, 2.0, 2.5)] + [("bound", api.SLIP_CONVERGENCE)]
+    variants = [("floor", c) for c in (1.5, 2.0, 2.5)] + [("bound", polynomial_accuracy.SLIP_CONVERGENCE)]
     print("| t | cases | " + " | ".join(f"{start}, {c}" for start, c in variants) + " |")
     print("|---|---|" + "---|" * len(variants))
-    default = api.SLIP_CONVERGENCE
+    default = polynomial_accuracy.SLIP_CONVERGENCE
     for tolerance in TOLERANCES:
         cells, count = [], 0
         for start, convergence in variants:
-            api.SLIP_CONVERGENCE = convergence
+            polynomial_accuracy.SLIP_CONVERGENCE = convergence  # read by PolynomialAccuracy.escalation
             played = [p for p in (replay(r, tolerance, start) for r in records) if p is not None]
-            api.SLIP_CONVERGENCE = default
+            polynomial_accuracy.SLIP_CONVERGENCE = default
             ratio = [c / best for c, best, _ in played]
             count = max(count, len(played))
             cells.append(f"{np.mean(ratio):.2f}, {max(ratio):.2g} ({sum(n == 1 for *_, n in played)}, "
@@ -241,8 +253,8 @@ def table_c(records: list[dict]) -> None:
 
 def a_priori_choice(scene: rc.Scene, tolerance: float) -> dict:
     """The cheapest requested count whose bound 1.0 beta/N^2 meets t (a request below the floor runs the floor)."""
-    beta = api.friction_sharpness(scene)
-    return next(({"nodes": n} for n in api.SLIP_NODES if beta / n**2 <= tolerance), {"nodes": api.SLIP_NODES[-1]})
+    beta = friction_sharpness(scene)
+    return next(({"nodes": n} for n in SLIP_NODES if beta / n**2 <= tolerance), {"nodes": SLIP_NODES[-1]})
 
 
 def adaptive(scene: rc.Scene, tolerance: float) -> list[tuple[dict, rc.ContactResult]]:
@@ -258,12 +270,12 @@ def adaptive(scene: rc.Scene, tolerance: float) -> list[tuple[dict, rc.ContactRe
 
 def without_estimate(function):
     """``function()`` with the slip iteration's a-posteriori estimate switched off."""
-    real = velocity_friction.force_error_estimate
-    velocity_friction.force_error_estimate = lambda *args: math.nan
+    real = slip.force_error_estimate
+    slip.force_error_estimate = lambda *args: math.nan
     try:
         return function()
     finally:
-        velocity_friction.force_error_estimate = real
+        slip.force_error_estimate = real
 
 
 def table_d(quick: bool) -> None:
@@ -301,10 +313,10 @@ def table_e(quick: bool) -> None:
     repeats = (3, 0.05) if quick else (5, 0.3)
     rows = []
     for scene in scenes:
-        beta = api.friction_sharpness(scene)
+        beta = friction_sharpness(scene)
         base = common.median_time(lambda s=scene: rc.solve(s.replace(friction=MU), method="polynomial"), *repeats)
         for n in nodes:
-            if api.slip_nodes(scene, n) != n:
+            if slip_nodes(scene, n) != n:
                 continue
             result = rc.solve(scene, method="polynomial", nodes=n)
             iterations = len(result.info["slip_iteration_history"]) - 1
@@ -312,8 +324,8 @@ def table_e(quick: bool) -> None:
             bare = common.median_time(lambda s=scene, n=n: without_estimate(
                 lambda: rc.solve(s, method="polynomial", nodes=n)), *repeats)
             rows.append((beta, n, iterations, time - base, time - bare,
-                         POLYNOMIAL.cost(scene, {"nodes": n}) - api.POLYNOMIAL_COST
-                         - api.POLYNOMIAL_HARMONIC_COST * len(scene.surface.harmonics)))
+                         POLYNOMIAL.cost(scene, {"nodes": n}) - POLYNOMIAL_COST
+                         - POLYNOMIAL_HARMONIC_COST * len(scene.surface.harmonics)))
     beta, n, iterations, extra, estimate_time, modelled = (np.array(c, dtype=float) for c in zip(*rows, strict=True))
     fitted_iterations = np.polyfit(beta, iterations, 1)[::-1]
     model_iterations = fitted_iterations[0] + fitted_iterations[1] * beta
@@ -325,8 +337,9 @@ def table_e(quick: bool) -> None:
                                                          columns @ fitted_cost, strict=True):
         print(f"| {b:.3g} | {m:.0f} | {it:.0f} | {1e3 * t:.2f} ms | {1e3 * t_estimate:.2f} ms | {1e3 * model:.2f} ms | "
               f"{1e3 * refitted:.2f} ms |")
-    print(f"\nSLIP_ITERATIONS: in api.py {api.SLIP_ITERATIONS}, fitted ({fitted_iterations[0]:.3g}, "
-          f"{fitted_iterations[1]:.3g}); SLIP_COST: in api.py {api.SLIP_COST}, fitted "
+    print(f"\nSLIP_ITERATIONS: in methods/polynomial/accuracy.py {SLIP_ITERATIONS}, fitted "
+          f"({fitted_iterations[0]:.3g}, {fitted_iterations[1]:.3g}); SLIP_COST: in methods/polynomial/accuracy.py "
+          f"{SLIP_COST}, fitted "
           f"({', '.join(f'{c:.3g}' for c in fitted_cost)})\n")
 
 

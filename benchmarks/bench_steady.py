@@ -15,7 +15,7 @@ B. Corrugation: T', p(x) and q(x) errors against order 80 and time, for orders 2
    exact at every order; the order only sets the fields, so the default (1e-10 fields) costs almost nothing more.
 C. Falling friction: the largest T' error against 256 nodes over creeps (1e-4 .. 5e-3) and surfaces (flat,
    40 mm corrugation) per law, and the time of the slip iteration, for 8 .. 64 nodes; then random laws binned by
-   their steepness kappa: the basis of velocity_friction.NODES_BY_STEEPNESS (16, 32, 64 nodes).
+   their steepness kappa: the basis of slip.NODES_BY_STEEPNESS (16, 32, 64 nodes).
 
 BLAS is limited to one thread (before numpy loads): the matrices are small, and threads only add overhead on a
 shared machine.  Machines here are noisy: medians, and ratios from the same run.
@@ -30,8 +30,8 @@ import common  # before numpy: limits BLAS to one thread
 import numpy as np
 
 import rollcontact as rc
-from rollcontact import polynomial
-from rollcontact.velocity_friction import solve_velocity_dependent
+from rollcontact.methods.polynomial import solver
+from rollcontact.methods.polynomial.slip import solve_velocity_dependent
 
 median_time = partial(common.median_time, warmups=3)  # the polynomial paths fill size-keyed caches
 
@@ -109,10 +109,10 @@ def table_a(quick: bool) -> None:
             variants.append(("no checks", {"check": False}))
         disc = discretised_costs(scene, t_ref, slow)
         for label, options in variants:
-            r = polynomial.solve_polynomial(scene, **options)
+            r = solver.solve_polynomial(scene, **options)
             assert r.success, f"{name}: {r.message}"
             err = abs(r.tangential_force_per_length / t_ref - 1.0)
-            t = median_time(lambda s=scene, o=options: polynomial.solve_polynomial(s, **o),
+            t = median_time(lambda s=scene, o=options: solver.solve_polynomial(s, **o),
                             *(fast if scene.friction.is_constant else slow))
             rows.append((f"polynomial, {name}, {label}", t, err, disc))
     print("## A. Time per solve\n")

@@ -33,7 +33,7 @@ import numpy as np
 from instationary_case import ESTAR, LIMIT, LOAD_I, MU_I, R_I, SPEED, creep_signal
 
 from rollcontact.instationary import InstationaryModel, aligned_grid_load
-from rollcontact.model import GRID_LOAD_FACTOR
+from rollcontact.stepping.transient import GRID_LOAD_FACTOR
 
 # (lambda/a, the pairs' n): n where the equal substeps' ratio r is far from 1 and, for contrast, near it
 SIGNALS = ((1.0, (64, 128, 156, 300, 460)), (2.0, (100, 156, 300, 440, 460)), (5.0, (64, 100, 200, 300, 460)))

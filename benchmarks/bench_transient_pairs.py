@@ -19,9 +19,9 @@ substeps, and ``T' = 2 T'_n - T'_(n/2)``. Reference: the pair 500/1000 (its own 
 the model, is a quarter of what the finest pair measured, 500, is allowed). Error: ``max |T' - T'_ref|``
 over the last cycle in units of mu N'. The plain transient on n elements is shown against the same reference.
 
-Tables: (1) per lambda/a and n, the pair's error, ``error n^2`` and time per host step, the plain transient's
-error and time; (2) the error model ``error <= C / n^2`` over the measured n: the largest ``error n^2`` and 1.4 times
-it, against :data:`rollcontact.model.EXTRAPOLATED_ERROR_CONSTANT`.  ``--crosscheck``: the reference against the
+Tables: (1) per lambda/a and n, the pair's error, ``error n^2`` and time per host step, the plain transient's error and
+time; (2) the error model ``error <= C / n^2`` over the measured n: the largest ``error n^2`` and 1.4 times it, against
+:data:`rollcontact.stepping.transient.EXTRAPOLATED_ERROR_CONSTANT`.  ``--crosscheck``: the reference against the
 first-order Richardson extrapolation of plain transients on n = 800/1600 (non-nested grids, an independent route).
 """
 
@@ -34,7 +34,7 @@ import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 import numpy as np
 from instationary_case import LIMIT, instationary_stepper, pair_stepper, richardson, run_instationary
 
-from rollcontact.model import EXTRAPOLATED_ERROR_CONSTANT
+from rollcontact.stepping.transient import EXTRAPOLATED_ERROR_CONSTANT
 
 # (lambda/a, mean, amplitude) of the creep signal (mean + amplitude sin) mu a/R: the Pareto study's, then faster
 # oscillations and a creep reversal (the error is not monotone in lambda/a, so the model is checked beyond them)

@@ -102,10 +102,10 @@ def influence_cache_clear() -> Callable[[], None]:
     Returns
     -------
     callable
-        ``rollcontact._bem.operators_for.cache_clear``: after it, a discretised solve builds its matrices again, as
-        the first solve on a grid does.
+        ``rollcontact.halfspace.elements.operators_for.cache_clear``: after it, a discretised solve builds its matrices
+        again, as the first solve on a grid does.
     """
-    from rollcontact._bem import operators_for
+    from rollcontact.halfspace.elements import operators_for
 
     return operators_for.cache_clear
 
@@ -346,8 +346,8 @@ def scene_toml(scene) -> str:
     """A scene as the TOML text of a scene file for the contact FMU's ``scene_file`` parameter.
 
     The FMU reads the file's surface in its own frame and solves the mirrored scene with the axis at ``-X``
-    (:mod:`rollcontact.model`), so the file holds the mirror of the scene's surface
-    (:func:`rollcontact.model.mirrored` is its own inverse); start the FMU at ``initial_position =
+    (:mod:`rollcontact.stepping`), so the file holds the mirror of the scene's surface
+    (:func:`rollcontact.stepping.mirrored` is its own inverse); start the FMU at ``initial_position =
     -scene.axis_position``.  The load, creep, axis and speed in the file are placeholders: the FMU's inputs replace
     them.
 
@@ -362,6 +362,6 @@ def scene_toml(scene) -> str:
         The file's text.
     """
     import rollcontact as rc
-    from rollcontact.model import mirrored
+    from rollcontact.stepping import mirrored
 
     return rc.scene_toml(scene.replace(surface=mirrored(scene.surface)))

@@ -18,14 +18,8 @@ from common import CONTACT_WIDTH
 
 import rollcontact as rc
 from rollcontact.closed_form import hertz
-from rollcontact.instationary import (
-    LAG_MEMORY,
-    InstationaryModel,
-    creep_envelope,
-    lag_error_bound,
-    relaxation_length,
-)
-from rollcontact.model import ContactModel, ContactParameters
+from rollcontact.instationary import LAG_MEMORY, InstationaryModel, creep_envelope, lag_error_bound, relaxation_length
+from rollcontact.stepping import ContactModel, ContactParameters
 
 ESTAR = rc.Material().contact_modulus  # Pa, steel on steel
 LOAD_I = 1e7  # N' [N/m]
@@ -92,13 +86,13 @@ def model_stepper(**parameters) -> Callable[[float, float], float]:
     Parameters
     ----------
     **parameters
-        :class:`rollcontact.model.ContactParameters` beyond the scenario's radius, width and friction.
+        :class:`rollcontact.stepping.ContactParameters` beyond the scenario's radius, width and friction.
 
     Returns
     -------
     callable
         ``step(xi [1], dt [s]) -> T' [N/m]`` at :data:`LOAD_I` and :data:`SPEED`; ``step.model`` is the
-        :class:`rollcontact.model.ContactModel`, ``step.used`` the ``method_used`` of every step.
+        :class:`rollcontact.stepping.ContactModel`, ``step.used`` the ``method_used`` of every step.
     """
     model = ContactModel(ContactParameters(radius=R_I, contact_width=CONTACT_WIDTH, friction_coefficient=MU_I,
                                            **parameters))

@@ -13,7 +13,14 @@ import numpy as np
 from pareto_cases import Row, fmt_error, fmt_time
 from scipy import optimize, stats
 
-from rollcontact import api
+from rollcontact.methods.closed_form import CLOSED_FORM_COST
+from rollcontact.methods.discretised.accuracy import DIRECT_COST, STRUCTURED_COST, STRUCTURED_ITERATIONS
+from rollcontact.methods.polynomial.accuracy import (
+    POLYNOMIAL_COST,
+    POLYNOMIAL_HARMONIC_COST,
+    SLIP_COST,
+    SLIP_ITERATIONS,
+)
 
 
 def pareto_front(rows: list[Row]) -> list[Row]:
@@ -93,7 +100,7 @@ def equal_accuracy_lines(rows: list[Row]) -> tuple[list[str], list[str]]:
 
 
 def fit_costs(rows: list[Row]) -> list[tuple[str, str, str]]:
-    """Least-squares constants of the cost model (relative residuals) next to the ones in api.py."""
+    """Least-squares constants of the cost model (relative residuals) next to the package's."""
 
     def fit(columns, times):
         a = np.column_stack(columns) / times[:, None]
@@ -103,36 +110,36 @@ def fit_costs(rows: list[Row]) -> list[tuple[str, str, str]]:
     rows = [r for r in rows if math.isfinite(r.time)]
     closed = [r.time for r in rows if r.method == "closed_form"]
     if closed:
-        out.append(("CLOSED_FORM_COST", f"{api.CLOSED_FORM_COST:.3g}", f"{statistics.median(closed):.3g}"))
+        out.append(("CLOSED_FORM_COST", f"{CLOSED_FORM_COST:.3g}", f"{statistics.median(closed):.3g}"))
     coulomb = [r for r in rows if r.method == "polynomial" and "nodes" not in r.options]
     if len(coulomb) > 2:
         harmonics = np.array([r.harmonics for r in coulomb], dtype=float)
         base, per = fit([np.ones(len(coulomb)), harmonics], np.array([r.time for r in coulomb]))
         out.append(("POLYNOMIAL_COST, POLYNOMIAL_HARMONIC_COST",
-                    f"{api.POLYNOMIAL_COST:.3g}, {api.POLYNOMIAL_HARMONIC_COST:.3g}", f"{base:.3g}, {per:.3g}"))
+                    f"{POLYNOMIAL_COST:.3g}, {POLYNOMIAL_HARMONIC_COST:.3g}", f"{base:.3g}, {per:.3g}"))
     direct = [r for r in rows if r.method == "discretised" and r.sharpness == 0.0 and not r.options.get("extrapolate")]
     if len(direct) > 3:
         n = np.array([r.options["elements"] for r in direct], dtype=float)
         fitted = fit([np.ones(n.size), n**2, n**3], np.array([r.time for r in direct]))
-        out.append(("DIRECT_COST (a, b, c)", ", ".join(f"{c:.3g}" for c in api.DIRECT_COST),
+        out.append(("DIRECT_COST (a, b, c)", ", ".join(f"{c:.3g}" for c in DIRECT_COST),
                     ", ".join(f"{c:.3g}" for c in fitted)))
     # velocity-dependent friction: times per modelled iteration (the iteration counts are part of the model)
     # on one patch: a split contact runs each patch's iteration in sweeps, which the model does not count
     structured = [r for r in rows if r.method == "discretised" and r.sharpness > 0.0 and r.patches == 1]
     if len(structured) > 3:
         n = np.array([r.options["elements"] for r in structured], dtype=float)
-        iterations = np.array([api.STRUCTURED_ITERATIONS[0] + api.STRUCTURED_ITERATIONS[1] * r.sharpness
+        iterations = np.array([STRUCTURED_ITERATIONS[0] + STRUCTURED_ITERATIONS[1] * r.sharpness
                                for r in structured])
         fitted = fit([np.ones(n.size), n**2, n**3], np.array([r.time for r in structured]) / iterations)
-        out.append(("STRUCTURED_COST (a, b, c) per iteration", ", ".join(f"{c:.3g}" for c in api.STRUCTURED_COST),
+        out.append(("STRUCTURED_COST (a, b, c) per iteration", ", ".join(f"{c:.3g}" for c in STRUCTURED_COST),
                     ", ".join(f"{c:.3g}" for c in fitted)))
     velocity = [r for r in rows if r.method == "polynomial" and "nodes" in r.options and r.patches == 1]
     if len(velocity) > 3:
         nodes = np.array([r.options["nodes"] for r in velocity], dtype=float)
-        iterations = np.array([api.SLIP_ITERATIONS[0] + api.SLIP_ITERATIONS[1] * r.sharpness for r in velocity])
-        extra = (np.array([r.time for r in velocity]) - api.POLYNOMIAL_COST) / iterations
+        iterations = np.array([SLIP_ITERATIONS[0] + SLIP_ITERATIONS[1] * r.sharpness for r in velocity])
+        extra = (np.array([r.time for r in velocity]) - POLYNOMIAL_COST) / iterations
         fitted = fit([np.ones(nodes.size), nodes**2, nodes**3], np.maximum(extra, 1e-7))
-        out.append(("SLIP_COST (a, b, c) per iteration", ", ".join(f"{c:.3g}" for c in api.SLIP_COST),
+        out.append(("SLIP_COST (a, b, c) per iteration", ", ".join(f"{c:.3g}" for c in SLIP_COST),
                     ", ".join(f"{c:.3g}" for c in fitted)))
     return out
 

@@ -11,8 +11,10 @@ from dataclasses import dataclass
 from instationary_case import ESTAR
 
 import rollcontact as rc
-from rollcontact import api
 from rollcontact.closed_form import hertz
+from rollcontact.methods.discretised.accuracy import DiscretisedAccuracy
+from rollcontact.methods.discretised.steady import DISCRETISED_ELEMENTS
+from rollcontact.methods.polynomial.accuracy import SLIP_NODES, TRUNCATIONS
 
 TOLERANCES = (1e-2, 1e-3, 1e-4)  # the tolerances requested of auto
 LOAD = 1e6  # N' [N/m] of the steady cases
@@ -43,8 +45,8 @@ class Config:
     fmu_rounds: int
 
 
-FULL = Config(False, 0.3, (1, 2, 4, 8, 16, 32), api.POLYNOMIAL_TOLERANCES, api.SLIP_NODES,
-              api.DISCRETISED_ELEMENTS, (50, 100, 200, 400, 800), 1024, (800, 1600), (2000, 4000),
+FULL = Config(False, 0.3, (1, 2, 4, 8, 16, 32), TRUNCATIONS, SLIP_NODES,
+              DISCRETISED_ELEMENTS, (50, 100, 200, 400, 800), 1024, (800, 1600), (2000, 4000),
               (50, 100, 200, 400, 800),
               ((5.0, 0.5, 0.3), (10.0, 0.5, 0.3), (20.0, 0.5, 0.3), (40.0, 0.5, 0.3), (5.0, 0.0, 0.9),
                (10.0, 0.5, 0.1)),
@@ -114,7 +116,7 @@ class Row:
     auto: tuple[float, ...] = ()  # tolerances at which auto chose exactly this setting
     note: str = ""
     harmonics: int = 0  # surface harmonics of the scene (a term of the polynomial cost model)
-    sharpness: float = 0.0  # api.friction_sharpness of the scene (sets the iteration counts of the cost model)
+    sharpness: float = 0.0  # friction_sharpness of the scene (sets the iteration counts of the cost model)
     patches: int = 1  # contact patches of the reference solution
     fmu_time: float = math.nan  # s per fmpy step of the contact FMU running this setting (pareto_measure.fmu_step_time)
 
@@ -173,12 +175,12 @@ SPLIT_REFERENCE_PLACEMENTS = 8
 
 
 def split_reference(scene: rc.Scene, sizes: tuple[int, int], why: str) -> Reference:
-    """A contact only the discretised solver treats: :func:`rollcontact.discretised.extrapolated` from n = sizes
-    (first-order Richardson extrapolation of T', each level the mean over :data:`SPLIT_REFERENCE_PLACEMENTS` grid
-    placements; p0, second order, the finer level's mean), at least twice as fine as every extrapolated setting
+    """A contact only the discretised solver treats: :func:`rollcontact.methods.discretised.steady.extrapolated` from n
+    = sizes (first-order Richardson extrapolation of T', each level the mean over :data:`SPLIT_REFERENCE_PLACEMENTS`
+    grid placements; p0, second order, the finer level's mean), at least twice as fine as every extrapolated setting
     measured; its uncertainty: the change from half the elements."""
-    ref = rc.discretised.extrapolated(scene, sizes, SPLIT_REFERENCE_PLACEMENTS)
-    half = rc.discretised.extrapolated(scene, tuple(n // 2 for n in sizes), SPLIT_REFERENCE_PLACEMENTS)
+    ref = rc.methods.discretised.steady.extrapolated(scene, sizes, SPLIT_REFERENCE_PLACEMENTS)
+    half = rc.methods.discretised.steady.extrapolated(scene, tuple(n // 2 for n in sizes), SPLIT_REFERENCE_PLACEMENTS)
     change = abs(half.tangential_force_per_length / ref.tangential_force_per_length - 1.0)
     return Reference(ref, f"Richardson extrapolation of the discretised solver, n = {sizes[0]}/{sizes[1]} on a window "
                           f"fitted to the patches, each level the mean of {SPLIT_REFERENCE_PLACEMENTS} grid placements "
@@ -198,7 +200,7 @@ def steady_reference(scene: rc.Scene, config: Config) -> Reference:
     nodes = config.reference_nodes
     if not scene.friction.is_constant and patch_count(rc.solve(scene, method="polynomial")) > 1:
         nodes = min(nodes, SPLIT_REFERENCE_NODES)
-    poly = rc.solve(scene, method="polynomial", tolerance=1e-12, nodes=nodes)
+    poly = rc.solve(scene, method="polynomial", truncation=1e-12, nodes=nodes)
     if not poly.success:
         return split_reference(scene, config.split_reference, poly.message)
     how = (f"polynomial, tolerance 1e-12, {nodes} slip nodes (estimate {poly.info['error_estimate']:.1e})"
@@ -209,7 +211,7 @@ def steady_reference(scene: rc.Scene, config: Config) -> Reference:
         return Reference(poly, f"{how}, {patch_count(poly)} patches", falling_split_check(scene, poly, config))
     if "patches" in poly.info:  # several patches: the split contacts' discretised reference is the cross-check
         sizes = config.split_reference
-        check = rc.discretised.extrapolated(scene, sizes, SPLIT_REFERENCE_PLACEMENTS)
+        check = rc.methods.discretised.steady.extrapolated(scene, sizes, SPLIT_REFERENCE_PLACEMENTS)
         diff = abs(check.tangential_force_per_length / poly.tangential_force_per_length - 1.0)
         return Reference(poly, f"{how}, {len(poly.info['patches'])} patches",
                          f"Richardson discretised n = {sizes[0]}/{sizes[1]}, each level the mean of "
@@ -237,7 +239,7 @@ def falling_split_check(scene: rc.Scene, poly, config: Config) -> str:
     n = config.richardson[1]
     coulomb = scene.replace(friction=rc.Coulomb(scene.friction.static_coefficient))
     disc, disc_c = (rc.solve(s, method="discretised", elements=n).tangential_force_per_length for s in (scene, coulomb))
-    scaled = disc * rc.solve(coulomb, method="polynomial", tolerance=1e-12).tangential_force_per_length / disc_c
+    scaled = disc * rc.solve(coulomb, method="polynomial", truncation=1e-12).tangential_force_per_length / disc_c
     diff = abs(scaled / poly.tangential_force_per_length - 1.0)
     raw = abs(disc / poly.tangential_force_per_length - 1.0)
     return (f"discretised slip iteration n = {n} (automatic grid): T' within {raw:.1e}, scaled by the ratio of the "
@@ -256,15 +258,15 @@ def steady_settings(scene: rc.Scene, config: Config, patches: int = 1) -> list[t
     if rc.METHODS["closed_form"].inapplicable(scene) is None:
         out.append(("closed_form", {}))
     if scene.friction.is_constant:
-        out += [("polynomial", {"tolerance": t}) for t in config.poly_tolerances]
+        out += [("polynomial", {"truncation": t}) for t in config.poly_tolerances]
         out += [("polynomial", {"order": n}) for n in config.poly_orders]
     else:
-        # the node counts that run (requests below the law's floor run the floor: api.slip_nodes)
+        # the node counts that run (requests below the law's floor run the floor: slip_nodes)
         largest = max(config.nodes) if patches == 1 else min(max(config.nodes), SPLIT_NODES)
         out += [("polynomial", options) for options in rc.METHODS["polynomial"].accuracy.ladder(scene)
                 if options["nodes"] <= largest]
     sizes = config.elements if scene.friction.is_constant else config.structured_elements
-    needed = api.DiscretisedAccuracy.resolution(scene)
+    needed = DiscretisedAccuracy.resolution(scene)
     out += [("discretised", {"elements": n}) for n in sizes if n >= needed]
     out += [("discretised", options) for options in rc.METHODS["discretised"].accuracy.ladder(scene)
             if options.get("extrapolate") and options["elements"] in config.extrapolated_elements]

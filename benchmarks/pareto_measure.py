@@ -38,8 +38,9 @@ from pareto_cases import (
 )
 
 import rollcontact as rc
-from rollcontact import api
-from rollcontact.model import INSTATIONARY_CODES, transient_model_error, transient_setting
+from rollcontact.method import friction_sharpness
+from rollcontact.stepping.parameters import INSTATIONARY_CODES
+from rollcontact.stepping.transient import transient_model_error, transient_setting
 
 # ------------------------------------------------------------------------------------------------------ timing
 BATCH_SECONDS = 2e-3  # s: the least duration of one timing sample (timeit-style batches of calls)
@@ -111,9 +112,9 @@ def fmu_parameters(method: str, options: dict) -> dict | None:
     (the slip iteration's nodes, the extrapolated discretised pairs)."""
     if method == "closed_form" and not options:
         return {"method": 1}
-    if method == "polynomial" and set(options) == {"tolerance"}:
-        # the FMU's tolerance picks the loosest truncation tolerance <= t: t itself for api.POLYNOMIAL_TOLERANCES
-        return {"method": 2, "tolerance": options["tolerance"]}
+    if method == "polynomial" and set(options) == {"truncation"}:
+        # the FMU's tolerance picks the loosest truncation <= t: t itself for TRUNCATIONS
+        return {"method": 2, "tolerance": options["truncation"]}
     if method == "polynomial" and set(options) == {"order"}:
         return {"method": 2, "polynomial_order": options["order"]}
     if method == "discretised" and set(options) == {"elements"}:
@@ -162,7 +163,7 @@ def measure_case(family: str, label: str, scene: rc.Scene, config: Config,
         rows.append(Row(family, label, method, setting_label(method, options), options, ef, ep, t,
                         model.cost(scene, options), model.error(scene, options),
                         harmonics=len(scene.surface.harmonics),
-                        sharpness=0.0 if scene.friction.is_constant else api.friction_sharpness(scene),
+                        sharpness=0.0 if scene.friction.is_constant else friction_sharpness(scene),
                         patches=patches,
                         fmu_time=fmu_step_time(fmu, scene_file, scene, fmu_parameters(method, options), config)))
     choices = []

@@ -262,7 +262,8 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, load, pat
     lines.append("")
     # auto
     lines += ["## auto at each requested tolerance", "",
-              "auto takes the cheapest setting (by the cost model of `api.py`) whose predicted error bound meets t.  "
+              "auto takes the cheapest setting (by the cost models of `methods/*/accuracy.py`) whose predicted "
+              "error bound meets t.  "
               "Steady: `solve(scene, tolerance=t)`; instationary: the FMU's stepping model with `transient = 1` "
               "(auto) and `tolerance = t` (it switches between quasi-static Carter, the relaxation lag while the "
               "lag's bound for the creep swing seen over the last 8 relaxation lengths meets t, and the discretised "
@@ -320,11 +321,11 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, load, pat
     # model checks
     steady = [r for r in rows if r.family != "instationary"]
     rho, agree, pairs = rank_agreement(steady)
-    lines += ["## Cost and error models of auto (`src/rollcontact/api.py`) against this run", "",
+    lines += ["## Cost and error models of auto (`src/rollcontact/methods/*/accuracy.py`) against this run", "",
               f"- Cost model vs measured time: Spearman rank correlation {rho:.3f} over {len(steady)} settings; "
               f"same-case pairs whose times differ by > 30 % ordered alike: {agree:.0%} of {pairs}.",
               "- Fitted constants (least squares on relative residuals; update `api.py` when the ranking drifts):",
-              "", "| constant | api.py | fitted here |", "|---|---|---|"]
+              "", "| constant | in the package | fitted here |", "|---|---|---|"]
     lines += [f"| {name} | {now} | {fitted} |" for name, now, fitted in fit_costs(steady)]
     violations = [r for r in rows if math.isfinite(r.bound) and math.isfinite(r.error) and r.error > r.bound]
     ratios = [r.bound / max(envelope(steady, r), 1e-15) for r in steady
