@@ -23,6 +23,12 @@ class FrictionLaw:
         """mu(0) [1]."""
         return float(self.coefficient(0.0))
 
+    @property
+    def maximum_coefficient(self) -> float:
+        """sup mu(v) [1] over v >= 0: the bound of ``|q| <= mu p`` and ``|T'| <= mu N'``; mu(0) for a law that
+        does not rise (a law that rises overrides it)."""
+        return self.static_coefficient
+
     def coefficient(self, slip_velocity):  # pragma: no cover - interface
         raise NotImplementedError
 
@@ -120,6 +126,10 @@ class RationalFalling(FrictionLaw):
     def static_coefficient(self) -> float:
         return self.mu_static
 
+    @property
+    def maximum_coefficient(self) -> float:
+        return max(self.mu_static, self.mu_kinetic)
+
     def coefficient(self, slip_velocity):
         v = np.asarray(slip_velocity, dtype=float)
         return self.mu_kinetic + (self.mu_static - self.mu_kinetic) / (1.0 + v / self.reference_velocity)
@@ -150,6 +160,10 @@ class LinearFalling(FrictionLaw):
     def static_coefficient(self) -> float:
         return self.mu_static
 
+    @property
+    def maximum_coefficient(self) -> float:
+        return max(self.mu_static, self.mu_kinetic)
+
     def coefficient(self, slip_velocity):
         v = np.asarray(slip_velocity, dtype=float)
         return np.maximum(self.mu_kinetic, self.mu_static - self.slope * v)
@@ -176,6 +190,10 @@ class TabulatedFriction(FrictionLaw):
     @property
     def is_constant(self) -> bool:
         return len(set(self.coefficients)) == 1
+
+    @property
+    def maximum_coefficient(self) -> float:
+        return max(self.coefficients)
 
     def coefficient(self, slip_velocity):
         return np.interp(np.asarray(slip_velocity, dtype=float), self.velocities, self.coefficients)

@@ -223,7 +223,7 @@ def reference(scene):
     (:func:`extrapolated`)."""
     if scene.surface.is_flat and scene.friction.is_constant:
         return solve(scene, method="closed_form")
-    poly = solve(scene, method="polynomial", tolerance=1e-12, nodes=512)
+    poly = solve(scene, method="polynomial", truncation=1e-12, nodes=512)
     return poly if poly.success else extrapolated(scene, (1000, 2000), placements=8)
 
 
@@ -441,7 +441,7 @@ def test_a_registered_method_with_its_own_accuracy_model_competes(monkeypatch):
             return 10.0 ** -options["level"]
 
     def surrogate(scene, level=1):
-        exact = solve(scene, method="polynomial", tolerance=1e-12)
+        exact = solve(scene, method="polynomial", truncation=1e-12)
         return ContactResult(**{**exact.__dict__, "method": "surrogate", "info": {"level": level}})
 
     surrogate.options = ("level",)
@@ -505,7 +505,7 @@ THREE_PATCHES = Scene(1e6, creep=0.1 * SATURATION, axis_position=0.0,
 
 @pytest.fixture(scope="module")
 def three_patches():
-    reference = solve(THREE_PATCHES, method="polynomial", tolerance=1e-12)
+    reference = solve(THREE_PATCHES, method="polynomial", truncation=1e-12)
     assert reference.success and len(reference.info["patches"]) == 3, reference.message
     return reference
 

@@ -496,21 +496,17 @@ def test_instationary_history_survives_restore_and_serialisation(parameters):
         "a state through bytes into a fresh model repeats exactly (grid rebuilt from the state)"
 
 
-def test_a_load_whose_contact_width_underflows_is_quasi_steady_or_a_model_error():
-    """N = 5e-324 N: the Hertz half-width is 0.  ``transient`` = 1 answers quasi-steadily (T = 0, the envelope
-    dropped), ``transient`` = 2 refuses it by name; both continue normally afterwards."""
+def test_a_load_whose_contact_width_underflows_is_no_contact_in_every_transient_mode():
+    """N = 5e-324 N: the Hertz half-width is 0.  Every mode answers it as no contact (T = 0, method_used 0, the
+    envelope and the instationary state dropped) and continues normally afterwards."""
     rows = [(1e5, 1e-3, 10.0), (5e-324, 1e-3, 10.0), (1e5, 2e-3, 10.0)]
     for parameters in (dict(transient=1, tolerance=1e-2), dict(transient=1), dict(transient=2),
                        dict(transient=2, method=3, elements=40)):
         model = ContactModel(ContactParameters(**parameters))
         model.step(0.0, H, *rows[0])
-        if parameters["transient"] == 1:
-            out = model.step(H, H, *rows[1])
-            assert out.method_used == 1 and out.tangential_force == 0.0, f"{parameters}: {out}"
-            assert model.state.creep_envelope is None and model.state.instationary is None, parameters
-        else:
-            with pytest.raises(ModelError, match=r"normal_load_per_length = .* underflows to 0"):
-                model.step(H, H, *rows[1])
+        out = model.step(H, H, *rows[1])
+        assert out.method_used == 0 and out.tangential_force == 0.0, f"{parameters}: {out}"
+        assert model.state.creep_envelope is None and model.state.instationary is None, parameters
         out = model.step(2 * H, H, *rows[2])
         assert out.tangential_force > 0.0 and math.isfinite(out.tangential_force), f"{parameters}: {out}"
 
@@ -637,7 +633,7 @@ def test_switching_the_transient_in_starts_from_steady_rolling_at_the_previous_i
     assert quasi.method_used == 1, "constant inputs are quasi-steady"
     per_length = load / model.width
     model.prepare_grid(per_length, None)
-    lag = model.switch_in(model.instationary)
+    lag = model.switch_in(model.instationary, per_length)
     limit = model.mu * per_length
     offset = abs(lag.tangential_force_per_length - quasi.tangential_force / model.width) / limit
     assert offset <= transient_error(80), f"steady start {offset:.2e} mu N' off Carter"
@@ -769,3 +765,56 @@ def test_an_answer_whose_estimate_says_nothing_falls_through(tolerance):
     assert 0.0 < out.traction_coefficient <= model.mu, out
     with pytest.raises(ModelError, match="polynomial: its error estimate 49"):
         unresolved_corrugation_model(tolerance=tolerance, method=2).step(0.0, 1e-9, 1000.0 * model.width, 1e-7, 1.0)
+
+
+@pytest.mark.parametrize("parameters", [{"transient": 1, "tolerance": 1e-3}, {"transient": 1, "tolerance": 1e-3,
+                                                                              "elements": 60}])
+def test_an_extreme_step_leaves_no_state_that_fails_ordinary_steps(parameters):
+    """A load whose contact no transient grid can hold with the datum (N = 1e12 N: a of metres) passes
+    quasi-steady; the transient that then switches in at ordinary loads starts from the current load, not from
+    that one."""
+    model = ContactModel(ContactParameters(**parameters))
+    outputs = run(model, [(1e12, 1e-3, 20.0)] + [(2e4, 1e-3, 20.0)] * 4, h=1e-4)
+    ordinary = ContactModel(ContactParameters(**parameters)).step(0.0, 1e-4, 2e4, 1e-3, 20.0)
+    for out in outputs[1:]:
+        assert out.method_used in (1, 4, 5), f"an ordinary step after the extreme one: {out}"
+        assert abs(out.tangential_force - ordinary.tangential_force) <= 1e-2 * 0.3 * 2e4, \
+            f"the ordinary steps continue near the steady force: {out.tangential_force} vs {ordinary.tangential_force}"
+
+
+@pytest.mark.parametrize(("parameters", "load", "creep", "speed", "named"), [
+    ({}, 1e308, 1e-3, 20.0, "normal_load = 1e+308 N"),
+    ({}, 1e300, 1e-3, 20.0, "creep_stiffness = inf"),
+    ({}, 5405.0, 1e300, 1e6, "frictional_power = inf"),
+])
+def test_a_step_whose_outputs_cannot_be_finite_is_refused_naming_the_value(parameters, load, creep, speed, named):
+    model = ContactModel(ContactParameters(**parameters))
+    with pytest.raises(ModelError, match=named.replace("+", r"\+")):
+        model.step(0.0, H, load, creep, speed)
+    assert model.state.steps == 0, "a refused step leaves the state"
+    assert model.step(0.0, H, 2e4, 1e-3, 20.0).tangential_force > 0.0, "and the model stays usable"
+
+
+@pytest.mark.parametrize("parameters", [{}, {"corrugation_amplitude": 2e-5}, {"friction_law": 1},
+                                        {"transient": 2}, {"method": 3, "elements": 40}])
+def test_a_subnormal_load_is_no_contact_on_every_path(parameters):
+    """N' below the smallest normal double: the Hertz width and pressure underflow on every method alike."""
+    for load in (5e-324, 1e-310):
+        out = ContactModel(ContactParameters(**parameters)).step(0.0, H, load, 1e-3, 20.0)
+        assert out.method_used == 0 and out.tangential_force == 0.0 and out.contact_half_width == 0.0, \
+            f"{parameters}, N = {load}: {out}"
+
+
+@pytest.mark.parametrize("parameters", [{}, {"friction_law": 1}, {"method": 2}])
+def test_the_force_never_exceeds_mu_n_not_even_by_rounding(parameters):
+    """In full slip the force per length is mu N' exactly; its conversion to the width, (mu N (1/b)) b, can round
+    above mu N: the outputs keep |T| <= mu N and |T/N| <= mu exactly."""
+    rng = np.random.default_rng(4)
+    model = ContactModel(ContactParameters(**parameters))
+    mu = model.friction_bound
+    loads = np.concatenate(([21892.15873656356], rng.uniform(1e3, 1e5, 60)))
+    for k, load in enumerate(loads):
+        for creep in (0.01, -0.05):
+            out = model.step(k * H, H, float(load), creep, 20.0)
+            assert abs(out.tangential_force) <= mu * load and abs(out.traction_coefficient) <= mu, \
+                f"N = {load!r}, creep {creep}: T = {out.tangential_force!r} > mu N = {mu * load!r}"

@@ -29,6 +29,10 @@ Models
 
 Oscillating force control is :mod:`rollcontact.instationary.oscillating`, the stationarity measure
 :mod:`rollcontact.instationary.stationarity`.
+
+Limits: ``V = 0`` is the static limit: nothing rolls, the creep has no effect and T' is held (capped by mu N'; the
+transient mode redistributes q by a static force-controlled step when N' changes).  ``N' = 0`` lifts the wheel:
+T' = 0 and the history of q is lost.
 """
 
 from __future__ import annotations
@@ -182,17 +186,8 @@ class InstationaryModel:
         Transient mode: grid elements n (default 100).
     extrapolate : bool
         Transient mode: also step a grid of n/2 elements on the same window (n even) and report the first-order
-        Richardson extrapolation ``2 T'_n - T'_(n/2)``, clipped to ``|T'| <= mu N'``.  The error of T' is first
-        order and regular on nested grids whose patch edges fall on element boundaries (``aligned_grid_load``
-        with ``multiple`` = 2), so the extrapolation is far more accurate than either grid (second order,
-        ``benchmarks/bench_transient_pairs.py``) for about 1.4 times (1.1-2.0) the cost of the finer one alone.
-        Distributions, a* and p0 are the finer grid's.
-
-    Notes
-    -----
-    ``V = 0`` is the static limit: nothing rolls, the creep has no effect and T' is held (capped by mu N'; the
-    transient mode redistributes q by a static force-controlled step when N' changes).  ``N' = 0`` lifts the
-    wheel: T' = 0 and the history of q is lost.
+        Richardson extrapolation ``2 T'_n - T'_(n/2)``, clipped to ``|T'| <= mu N'`` (second order on nested
+        grids aligned by :func:`aligned_grid_load`; module docstring).  Distributions, a* and p0 are the finer's.
     """
 
     def __init__(self, radius: float, contact_modulus: float, friction_coefficient: float, *,
@@ -223,7 +218,7 @@ class InstationaryModel:
         """Transient grid for loads up to ``load``: window +-1.25 a(load), datum checked here."""
         a_max = hertz(load, self.radius, self.contact_modulus)[0]
         grid = Grid(-WINDOW_FACTOR * a_max, WINDOW_FACTOR * a_max, self.elements)
-        if self.datum_length <= 0.25 * grid.length:
+        if not self.holds(load):
             raise ValueError(f"datum_length = {self.datum_length!r} m is out of range for the transient mode: it must "
                              f"exceed a quarter of the grid length ({0.25 * grid.length!r} m)")
         self.max_load = load
@@ -232,6 +227,12 @@ class InstationaryModel:
                             datum_length=self.datum_length) if g is not None else None
             for g in (grid, Grid(grid.x_min, grid.x_max, self.elements // 2) if self.extrapolate else None))
         self.pressure_cache = {}
+
+    def holds(self, load: float) -> bool:
+        """Whether the transient grid for loads up to ``load`` [N/m] is short enough for the datum: the datum length
+        must exceed a quarter of the grid length ``2 WINDOW_FACTOR a(load)`` (the logarithmic kernel's reference
+        distance lies outside the grid)."""
+        return self.datum_length > 0.5 * WINDOW_FACTOR * hertz(load, self.radius, self.contact_modulus)[0]
 
     def solvers(self) -> tuple[TransientSolver, ...]:
         """The transient solvers of the current grid: the model's, then the coarse one when extrapolating."""

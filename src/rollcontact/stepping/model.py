@@ -69,6 +69,8 @@ contact, which there also includes the rate of change of the stored elastic ener
 from __future__ import annotations
 
 import math
+import sys
+from math import isfinite
 
 from rollcontact.closed_form import carter, hertz
 from rollcontact.dispatch import METHODS, solve, used_options
@@ -93,6 +95,19 @@ from rollcontact.stepping.state import ModelState
 from rollcontact.stepping.transient import InstationaryStepping
 
 INF = math.inf
+
+
+RESOLVED_LOAD = sys.float_info.min
+"""Smallest load per length [N/m] a step resolves (the smallest normal double): a subnormal load is no contact, as
+zero is (its Hertz half-width and pressure underflow, so no method gives it a finite, meaningful answer)."""
+
+
+def non_finite(outputs: StepOutputs, normal_load: float, creep: float, velocity: float) -> str:
+    """The message for a step whose outputs are not all finite: which output, its value, the inputs, the limit."""
+    name, value = next((n, v) for n, v in zip(StepOutputs._fields, outputs, strict=True) if not isfinite(v))
+    return (f"{name} = {value!r} is not finite at N = {normal_load!r} N, creep = {creep!r}, V = {velocity!r} m/s: "
+            f"the inputs are beyond what the model represents in floating point (outputs up to "
+            f"{sys.float_info.max:.4g} in SI units)")
 
 
 def mirrored(surface: Surface) -> Surface:
@@ -149,6 +164,7 @@ class ContactModel(InstationaryStepping):
         # constants of the closed-form path (no Scene is built there)
         self.contact_modulus = material.contact_modulus
         self.mu = friction.static_coefficient
+        self.friction_bound = friction.maximum_coefficient
         self.width = p.contact_width
         self.per_width = 1.0 / p.contact_width
         slope = surface.polynomial[1] if len(surface.polynomial) > 1 else 0.0
@@ -257,9 +273,13 @@ class ContactModel(InstationaryStepping):
         x = high + low
 
         lag = None
-        if normal_load == 0.0:
+        load = normal_load * self.per_width
+        if load < RESOLVED_LOAD:  # zero, or subnormal: below what floating point resolves, no contact
             outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
             state.creep_envelope = None
+        elif load == INF:
+            raise ModelError(f"normal_load = {normal_load!r} N over contact_width = {self.width!r} m is beyond the "
+                             f"largest load per length a step represents ({sys.float_info.max:.4g} N/m)")
         elif self.instationary is not None:
             outputs, lag = self.instationary_step(x, normal_load, creep, velocity, step_size)
         elif self.closed_form:
@@ -267,6 +287,11 @@ class ContactModel(InstationaryStepping):
         else:
             outputs = self.solve_step(x, normal_load, creep, velocity)
 
+        if not (-self.friction_bound * normal_load <= outputs[0] <= self.friction_bound * normal_load
+                and -self.friction_bound <= outputs[1] <= self.friction_bound):
+            outputs = self.within_friction_bound(outputs, normal_load, creep, velocity)
+        if not all(map(isfinite, outputs)):
+            raise ModelError(non_finite(outputs, normal_load, creep, velocity))
         state.instationary = lag
         state.time = current_time
         state.position = high
@@ -276,6 +301,21 @@ class ContactModel(InstationaryStepping):
         state.steps += 1
         state.outputs = outputs
         return outputs
+
+    def within_friction_bound(self, outputs: StepOutputs, normal_load: float, creep: float,
+                              velocity: float) -> StepOutputs:
+        """The outputs with ``|T| <= mu_max N`` exactly (mu_max the law's largest coefficient).
+
+        The methods bound the force per length, ``|T'| <= mu_max N'``; its conversion to the whole width,
+        ``T = T' b`` with ``N' = N (1/b)``, can exceed ``mu_max N`` by the rounding of the two products (a few ulp).
+        Only that rounding is removed here: the force, the traction coefficient and the power take the bound.  A
+        NaN force stays NaN (the step is then refused).
+        """
+        if outputs[0] != outputs[0]:
+            return outputs
+        force = math.copysign(self.friction_bound * normal_load, outputs[0])
+        return outputs._replace(tangential_force=force, traction_coefficient=math.copysign(self.friction_bound, force),
+                                frictional_power=velocity * creep * force)
 
     def closed_form_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
         """Outputs of Hertz and Carter (closed forms, no Scene built) at axis position x [m]."""

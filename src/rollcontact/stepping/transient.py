@@ -280,7 +280,7 @@ class InstationaryStepping:
                 lag = None  # the model takes over from the other one's force (switch_in)
             grid_load, lag = self.prepare_grid(load, lag) if model.mode == "transient" else (0.0, lag)
             if lag is None:
-                lag = self.switch_in(model, handover) if quasi is not None else model.initial_state()
+                lag = self.switch_in(model, load, handover) if quasi is not None else model.initial_state()
             lag, result = model.step(lag, load, creep, velocity, step_size)
         except (ValueError, ArithmeticError) as exc:
             raise ModelError(f"instationary {model.mode} model at X = {x!r} m (N = {normal_load!r} N, creep = "
@@ -327,6 +327,8 @@ class InstationaryStepping:
         else:
             previous = 0.0 if state.previous is None else state.previous[1] * self.per_width
             grid_load = aligned_grid_load(max(load, previous), model.elements, GRID_LOAD_FACTOR, multiple)
+            if not model.holds(grid_load):  # a previous load beyond the datum's grid: start from this one
+                grid_load = aligned_grid_load(load, model.elements, GRID_LOAD_FACTOR, multiple)
         if model.solver is None or model.max_load != grid_load:
             model.build_solver(grid_load)
         if lag is not None and load > grid_load:
@@ -334,7 +336,7 @@ class InstationaryStepping:
             lag = model.regrid(lag, grid_load)
         return grid_load, lag
 
-    def switch_in(self, model: InstationaryModel, handover: bool = False) -> InstationaryState:
+    def switch_in(self, model: InstationaryModel, current_load: float, handover: bool = False) -> InstationaryState:
         """State of ``model`` that continues the previous step (quasi-steady, or the other model's) without a jump.
 
         Relaxation: the lag starts at the previous step's force.  Discretised transient: steady rolling at the
@@ -352,6 +354,8 @@ class InstationaryStepping:
         if previous is None or previous[1] == 0.0:
             return model.initial_state()
         load = previous[1] * self.per_width
+        if load > model.max_load:  # the grid cannot hold the previous contact (prepare_grid): start at this load
+            load = current_load
         creep = previous[2]
         if handover:
             creep = carter_creep(self.state.outputs.tangential_force * self.per_width, load, self.radius,

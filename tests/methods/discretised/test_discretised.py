@@ -115,7 +115,7 @@ def test_contact_window_fits_the_patches_of_a_corrugated_surface():
     must hold the patch with room to spare, so that a solve on it succeeds; without harmonics it is the rigid-gap
     window (Hertz + 15 %)."""
     scene = rc.Scene(1e6, creep=5e-4, surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.1, 50e-6),)))
-    exact = rc.solve(scene, method="polynomial", tolerance=1e-12)
+    exact = rc.solve(scene, method="polynomial", truncation=1e-12)
     wide = automatic_grid(scene)
     lo, hi = contact_window(scene)
     lead, trail = exact.contact_offset - exact.contact_half_width, exact.contact_offset + exact.contact_half_width
@@ -493,7 +493,7 @@ def test_the_a_priori_bound_holds_where_its_coefficient_peaks(elements):
     benchmarks/bench_discretised_estimate.py (T' error 1.68 w/n at n = 100 and 1600, above the former 1.4 w/n):
     the reported bound must still cover the error against the polynomial method (exact to 1e-12 here)."""
     scene = rc.Scene(1e6, creep=1e-3, surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.01, 20e-6),)))
-    exact = rc.solve(scene, method="polynomial", tolerance=1e-12)
+    exact = rc.solve(scene, method="polynomial", truncation=1e-12)
     assert exact.success, exact.message
     result = rc.solve(scene, method="discretised", elements=elements)
     error = max(abs(result.tangential_force_per_length / exact.tangential_force_per_length - 1.0),

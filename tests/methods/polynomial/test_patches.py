@@ -320,7 +320,7 @@ def test_reported_residual_bounds_the_error_at_every_tolerance(ratio):
     1e-13 is at most the reported residual, which meets t (T' = mu N' - ... loses accuracy like mu N'/|T'| at small
     creep: the residual carries that ratio, and the targets are tightened by it)."""
     scene = SPLIT.replace(creep=ratio * XI_SAT)
-    reference = solve(scene, method="polynomial", tolerance=1e-13)
+    reference = solve(scene, method="polynomial", truncation=1e-13)
     for tolerance in (1e-2, 1e-4, 1e-6):
         r = solve(scene, method="polynomial", tolerance=tolerance)
         error = max(abs(r.tangential_force_per_length / reference.tangential_force_per_length - 1.0),
