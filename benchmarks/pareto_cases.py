@@ -70,7 +70,9 @@ def steady_cases(config: Config) -> dict[str, list[tuple[str, rc.Scene]]]:
                          ("xi = 0.8 mu a/R", rc.Scene(LOAD, creep=0.8 * SATURATION))],
         "polynomial profile": [("quartic", rc.Scene(LOAD, creep=1e-3,
                                                     surface=rc.Surface(polynomial=(0, 0, 0, 0, -2e4)))),
-                               ("cubic", rc.Scene(LOAD, creep=-8e-4, surface=rc.Surface(polynomial=(0, 0, 0, 30.0))))],
+                               # a falling quartic keeps the gap open: a cubic alone closes it 36 mm from the axis
+                               ("cubic", rc.Scene(LOAD, creep=-8e-4,
+                                                  surface=rc.Surface(polynomial=(0, 0, 0, 30.0, -2e4))))],
         "corrugation": [(f"100 mm / 50 um, {ka(0.1)}", corrugated(0.1, 50e-6)),
                         (f"40 mm / 20 um, {ka(0.04)}", corrugated(0.04, 20e-6)),
                         (f"20 mm / 5 um, {ka(0.02)}", corrugated(0.02, 5e-6)),

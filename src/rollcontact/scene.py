@@ -210,6 +210,28 @@ class Scene:
         return replace(self, **changes)
 
 
+def far_gap_points(surface: Surface, radius: float, axis_position: float = 0.0) -> np.ndarray:
+    """Positions X [m] (surface coordinates) where the polynomial part of a surface, of degree >= 3, can close the
+    gap far from the contact: the minima of the undeformed gap ``(X - x_c)^2/2R - Z_poly(X)`` within
+    ``|X - x_c| <= R`` and the ends ``X = x_c +- R`` (empty for a polynomial part of degree <= 2).
+
+    Such a polynomial bends the surface back towards the cylinder (a quartic rising faster than the parabola closes
+    the gap at ``(X - x_c)^2 = 1/(2 R c4)``, however far that is): a gap that closes there closes in an interval, and
+    the interval holds a minimum of the gap or reaches ``|X - x_c| = R``.  Beyond the radius the parabola stands for
+    no cylinder, so nothing past it is a candidate.  Both methods check their deformed gap at these points
+    (docs/physics.md, Validity).
+    """
+    coefficients = surface.polynomial
+    if len(coefficients) <= 3 or not any(coefficients[3:]):
+        return np.empty(0)
+    gap = -np.array(coefficients, dtype=float)  # ascending powers of X
+    gap[:3] += np.array([axis_position * axis_position, -2.0 * axis_position, 1.0]) / (2.0 * radius)
+    critical = np.polynomial.polynomial.polyroots(np.polynomial.polynomial.polyder(gap))
+    x = np.concatenate((critical.real[np.abs(critical.imag) <= 1e-9 * np.abs(critical)],
+                        (axis_position - radius, axis_position + radius)))
+    return x[np.abs(x - axis_position) <= radius]
+
+
 def scene_from_dict(data: dict, *, name: str = "") -> Scene:
     """Build a Scene from the nested dict of a TOML scene file (see ``models/README.md``)."""
     data = dict(data)

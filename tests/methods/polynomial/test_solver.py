@@ -18,6 +18,7 @@ from quadrature import edge_quad, pressure_integral, pv_hilbert
 from scipy.optimize import minimize_scalar
 from scipy.special import j0, j1, jv
 
+import rollcontact as rc
 from rollcontact import (
     ExponentialFalling,
     Harmonic,
@@ -942,3 +943,30 @@ def test_cached_outside_points_match_their_definition_and_are_read_only():
     a, x0 = r.contact_half_width, r.contact_offset
     assert (validity.deformed_gap(r.distributions, e, a, x0, t, points).tobytes() ==
             validity.deformed_gap(r.distributions, e, a, x0, t).tobytes())
+
+
+@pytest.mark.parametrize("closing", [2.0, 3.0, 4.14, 6.0, 10.0, 15.0, 20.0])
+def test_a_gap_that_closes_far_outside_the_patch_is_never_a_silent_single_patch(closing):
+    """A positive quartic ``Z = c4 X^4`` closes the undeformed gap ``X^2/2R - c4 X^4`` at ``|X| = d`` however far d
+    lies (here 2a..20a, a the Hertz half-width) and keeps it closed beyond: the surface meets the cylinder there
+    too, and the contact there grows without bound: no finite answer exists.  The polynomial method (one patch or
+    several) and auto (the discretised fallback, whose window cannot hold it) must report failure."""
+    a = 5e-3
+    load = math.pi * E_STAR * a * a / (4 * RADIUS)
+    c4 = 1.0 / (2.0 * RADIUS * (closing * a) ** 2)
+    scene = Scene(load, creep=0.5 * MU * a / RADIUS, radius=RADIUS, material=MATERIAL, friction=rc.Coulomb(MU),
+                  surface=Surface(polynomial=(0.0, 0.0, 0.0, 0.0, c4)))
+    for method in ("polynomial", "auto"):
+        result = solve(scene, method=method)
+        assert not result.success, f"d = {closing} a, {method}: a converged answer ({result.message})"
+
+
+def test_a_gap_that_closes_beyond_the_radius_is_no_concern():
+    """Past |u| = R the parabola stands for no cylinder: a quartic closing there leaves the single patch valid."""
+    a = 5e-3
+    load = math.pi * E_STAR * a * a / (4 * RADIUS)
+    c4 = 1.0 / (2.0 * RADIUS * (1.5 * RADIUS) ** 2)
+    scene = Scene(load, creep=0.5 * MU * a / RADIUS, radius=RADIUS, material=MATERIAL, friction=rc.Coulomb(MU),
+                  surface=Surface(polynomial=(0.0, 0.0, 0.0, 0.0, c4)))
+    result = solve(scene, method="polynomial")
+    assert result.success, result.message

@@ -32,7 +32,7 @@ import numpy as np
 from scipy import linalg
 
 from rollcontact.friction import FrictionLaw
-from rollcontact.halfspace.elements import MAX_ELEMENTS, MIN_ELEMENTS, Operators, runs, tangential_certificate
+from rollcontact.halfspace.elements import MAX_ELEMENTS, MIN_ELEMENTS, Grid, Operators, runs, tangential_certificate
 from rollcontact.halfspace.grid import (
     DEFAULT_ELEMENTS,
     ITERATION_TOLERANCE,
@@ -43,7 +43,7 @@ from rollcontact.halfspace.grid import (
 )
 from rollcontact.halfspace.solver import StepResult, TransientSolver, TransientState, contact_window, fitted_normal
 from rollcontact.result import ContactResult, NoContact, TabulatedDistributions
-from rollcontact.scene import Scene
+from rollcontact.scene import Scene, far_gap_points
 
 STEADY_MODES = ("direct", "march", "structured")
 
@@ -257,6 +257,31 @@ def no_contact_result(scene: Scene) -> ContactResult:
                          distributions=NoContact())
 
 
+def far_gap_closing(scene: Scene, grid: Grid, pressure: np.ndarray, patches) -> tuple[float, float] | None:
+    """``(X, gap)`` [m] of a point beyond the window where the deformed gap closes, or None.
+
+    At the :func:`rollcontact.scene.far_gap_points` outside the window the deformed gap is, from the nearest outer
+    patch edge e, ``h(x) = h0(x) - h0(e) - (2/(pi E*)) sum_i p_i w ln|(x - z_i)/(e - z_i)|`` (x axis coordinates,
+    z_i the element centres, w their width): the undeformed gap less the elastic rise, the integral of the slope of
+    the normal displacement from e to x.
+    """
+    far = far_gap_points(scene.surface, scene.radius, scene.axis_position) - scene.axis_position
+    far = far[(far < grid.x_min) | (far > grid.x_max)]
+    if not far.size or not patches:
+        return None
+    edge = np.where(far < patches[0][0], patches[0][0], patches[-1][1])
+    z, w = grid.centres, grid.element_width
+    rise = (2.0 * w / (math.pi * scene.material.contact_modulus)) * (
+        np.log(np.abs(far[:, None] - z)) - np.log(np.abs(edge[:, None] - z))).dot(pressure)
+    h0 = far**2 / (2.0 * scene.radius) - scene.surface.height(far + scene.axis_position)
+    h0_edge = edge**2 / (2.0 * scene.radius) - scene.surface.height(edge + scene.axis_position)
+    gap = h0 - h0_edge - rise
+    i = int(gap.argmin())
+    if gap[i] < 0.0:
+        return float(far[i] + scene.axis_position), float(gap[i])
+    return None
+
+
 def solve_discretised(scene: Scene, *, elements=None, window=None, iteration_tolerance=ITERATION_TOLERANCE, steady=None,
                       finish: bool = True, datum_length=None, tangential_force_per_length=None,
                       extrapolate: int = 0) -> ContactResult:
@@ -354,6 +379,11 @@ def solve_discretised(scene: Scene, *, elements=None, window=None, iteration_tol
     if normal.contact[0] or normal.contact[-1]:
         return result(False, f"contact reaches the window edge ({grid.x_min!r}, {grid.x_max!r}) m: enlarge the "
                       "window", zeros, zeros, zeros, 0.0, scene.creep, normal.iterations, normal.residual)
+    closing = far_gap_closing(scene, grid, p, patches)
+    if closing is not None:
+        return result(False, f"the deformed gap closes outside the window (gap = {closing[1]:.3g} m at X = "
+                      f"{closing[0]:.6g} m): the surface meets the cylinder again there", zeros, zeros, zeros, 0.0,
+                      scene.creep, normal.iterations, normal.residual)
     control = ({"tangential_force": tangential_force_per_length} if force_control else {"creep": scene.creep})
     if steady == "structured":
         half = 0.5 * grid.element_width * normal.contact.sum()

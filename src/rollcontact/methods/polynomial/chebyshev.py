@@ -550,3 +550,4 @@ def max_pressure(c_n: np.ndarray, m: int, samples: np.ndarray) -> float:
         d2 = -float(sn.dot(nnc))
         d1 = float(np.cos(ang).dot(n * c))
     return max(best, value)
+

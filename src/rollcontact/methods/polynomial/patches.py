@@ -73,6 +73,7 @@ from rollcontact.methods.polynomial.chebyshev import (
 )
 from rollcontact.methods.polynomial.newton import Leaving, quasi_newton
 from rollcontact.result import ContactResult, Distributions
+from rollcontact.scene import far_gap_points
 
 EXTRA_NODES = 8
 """Gauss-Chebyshev nodes beyond M + 1 for the transforms of the fields: the coefficients M + 1 .. M + 4 that the
@@ -562,6 +563,10 @@ def validity_failures(expansion: SlopeExpansion, dist: PatchesDistributions, edg
         inner = 0.5 * (1.0 - np.cos(np.pi * np.arange(1, 32) / 32))
         points.append(lo + (hi - lo) * inner)
         references.append(np.where(inner < 0.5, lo, hi))
+    far = far_gap_points(expansion.axis_surface(), radius)
+    far = far[(far < lead) | (far > trail)]
+    points.append(far)
+    references.append(np.where(far < lead, lead, trail))
     u, reference = np.concatenate(points), np.concatenate(references)
     gap = deformed_gaps(expansion, g, intervals, u, reference)
     i = int(gap.argmin())

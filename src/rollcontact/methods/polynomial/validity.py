@@ -25,6 +25,7 @@ from rollcontact.methods.polynomial.chebyshev import (
     unit_grid,
 )
 from rollcontact.methods.polynomial.distributions import PolynomialDistributions
+from rollcontact.scene import far_gap_points
 
 # ---------------------------------------------------------------------------------------------------------------
 # fields on the patch, validity
@@ -172,22 +173,9 @@ def outside_gap(dist: PolynomialDistributions, e: SlopeExpansion, a, x0):
 
 
 def far_points(e: SlopeExpansion, a: float, x0: float) -> np.ndarray:
-    """Patch coordinates ``t`` (``|t| > 1``) beyond the sampled reach where a polynomial part of degree >= 3 can
-    make the gap close: the minima of its undeformed gap ``u^2/2R - Z(x_c + u)`` and the ends ``u = +-R``.
-
-    A polynomial of degree >= 3 bends the surface back towards the cylinder far from the patch (a quartic rising
-    faster than the parabola closes the gap at ``u^2 = 1/(2 R c4)``, however far that is): a gap that closes
-    there closes in an interval, and the interval holds a minimum of the gap or reaches ``u = +-R``.  Beyond the
-    radius the parabola stands for no cylinder, so no point past ``|u| = R`` is checked.
-    """
-    coefficients = e.axis_surface().polynomial
-    if len(coefficients) <= 3 or not any(coefficients[3:]):
-        return np.empty(0)
-    gap = -np.array(coefficients, dtype=float)  # ascending powers of u
-    gap[2] += 0.5 / e.radius
-    critical = np.polynomial.polynomial.polyroots(np.polynomial.polynomial.polyder(gap))
-    u = np.concatenate((critical.real[np.abs(critical.imag) <= 1e-9 * np.abs(critical)], (-e.radius, e.radius)))
-    t = (u[np.abs(u) <= e.radius] - x0) / a
+    """Patch coordinates ``t`` (``|t| > 1``) of :func:`rollcontact.scene.far_gap_points` (in axis coordinates):
+    where a polynomial part of degree >= 3 can close the gap beyond the sampled reach."""
+    t = (far_gap_points(e.axis_surface(), e.radius) - x0) / a
     return t[np.abs(t) > 1.0]
 
 
