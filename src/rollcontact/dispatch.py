@@ -31,8 +31,10 @@ registered as a fallback (``"discretised"``), with a tolerance at its cheapest s
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import replace
 
+from rollcontact.checks import check_real
 from rollcontact.method import AccuracyModel, MethodSpec, Setting, check_tolerance, nan_last, unresolved
 from rollcontact.methods import closed_form, discretised, polynomial
 from rollcontact.result import ContactResult
@@ -100,7 +102,7 @@ def choose_method(scene: Scene, tolerance: float | None = None, names=None) -> s
     raise ValueError("no registered method can solve this scene (" + "; ".join(reasons) + ")")
 
 
-def choose_setting(scene: Scene, tolerance: float, names=None) -> Setting:
+def choose_setting(scene: Scene, tolerance: float, names=None, budget: float | None = None) -> Setting:
     """The cheapest setting, over the applicable methods, whose error estimate is at most ``tolerance``.
 
     Parameters
@@ -111,27 +113,32 @@ def choose_setting(scene: Scene, tolerance: float, names=None) -> Setting:
         Requested relative error of T' and p0, > 0.
     names : iterable of str, optional
         Consider only these methods (default: all registered).
+    budget : float, optional
+        Consider only settings whose modelled cost [s] is at most this.
 
     Returns
     -------
     Setting
-        When no setting meets the tolerance, the most accurate one (``error_estimate > tolerance``); when no
-        method with an accuracy model applies, the cheapest exact method by rank with its defaults (NaN
-        estimates).
+        Its ``cost`` is the modelled time [s] of the solve, known before it starts.  When no setting meets the
+        tolerance, the most accurate one (``error_estimate > tolerance``); when no method with an accuracy model
+        applies, the cheapest exact method by rank with its defaults (NaN estimates).
 
     Raises
     ------
     ValueError
-        Invalid tolerance, or no considered method can treat the scene.
+        Invalid tolerance or budget, no considered method can treat the scene, or (:class:`OverBudget`) none
+        within the budget.
     """
-    return cheapest_setting(scene, check_tolerance(tolerance), names)
+    return cheapest_setting(scene, check_tolerance(tolerance), names, None if budget is None else Budget(budget))
 
 
-def cheapest_setting(scene: Scene, tolerance: float, names=None) -> Setting:
-    """:func:`choose_setting` for a tolerance already checked (``solve`` checks it once per call)."""
+def cheapest_setting(scene: Scene, tolerance: float, names=None, budget: Budget | None = None) -> Setting:
+    """:func:`choose_setting` for a tolerance already checked (``solve`` checks it once per call); with a
+    ``budget``, only settings whose modelled cost fits what is left of it (:func:`within_budget`)."""
     allowed = None if names is None else set(names)
     best = closest = None
     unmodelled = []
+    over = []
     for spec in by_rank():
         if allowed is not None and spec.name not in allowed:
             continue
@@ -145,6 +152,12 @@ def cheapest_setting(scene: Scene, tolerance: float, names=None) -> Setting:
             unmodelled.append(spec.name)
             continue
         setting = model.setting_for(spec.name, scene, tolerance)
+        if budget is not None and not budget.fits(setting.cost):
+            fitting = within_budget(model, spec.name, scene, budget.left())
+            if fitting is None:
+                over.append(f"{spec.name} (its cheapest setting is modelled at {model.minimum_cost(scene):.3g} s)")
+                continue
+            setting = fitting
         if setting.error_estimate <= tolerance:
             if best is None or setting.cost < best.cost:
                 best = setting
@@ -152,10 +165,53 @@ def cheapest_setting(scene: Scene, tolerance: float, names=None) -> Setting:
             closest = setting
     if best is not None or closest is not None:
         return best if best is not None else closest
-    if unmodelled:
+    if unmodelled:  # no cost model: nothing bounds its work, a budget included
         return Setting(unmodelled[0], {}, math.nan, math.nan)
+    if over:
+        raise OverBudget(f"no setting fits the budget of {budget.seconds:.3g} s: " + "; ".join(over))
     raise ValueError("no registered method can solve this scene"
                      + (f" among {sorted(allowed)}" if allowed is not None else ""))
+
+
+def within_budget(model: AccuracyModel, name: str, scene: Scene, left: float) -> Setting | None:
+    """The most accurate setting of the model's ladder whose modelled cost is at most ``left`` [s] (the cheaper of
+    equally accurate ones), or None when none is."""
+    best = None
+    for options in model.ladder(scene):
+        cost = model.cost(scene, options)
+        if cost <= left:
+            key = (nan_last(model.error(scene, options)), cost)
+            if best is None or key < best[0]:
+                best = (key, options)
+    if best is None:
+        return None
+    (error, cost), options = best
+    return Setting(name, options, error, cost)
+
+
+class OverBudget(ValueError):
+    """No setting of the methods that can treat the scene fits the caller's budget; the message names their
+    cheapest modelled costs."""
+
+
+class Budget:
+    """The time a solve may spend: a setting starts only while its modelled cost fits what is left.
+
+    The modelled cost is the accuracy models' (seconds on the machine of their calibration, ``benchmarks/pareto.py``),
+    what is left is ``seconds`` less the wall time since the solve started.
+    """
+
+    def __init__(self, seconds: float):
+        self.seconds = check_real("budget", seconds, lower=0.0, lower_open=True, unit="s")
+        self.start = time.perf_counter()
+
+    def left(self) -> float:
+        """Seconds [s] left."""
+        return self.seconds - (time.perf_counter() - self.start)
+
+    def fits(self, cost: float) -> bool:
+        """Whether a setting of modelled ``cost`` [s] may start (a NaN cost never does)."""
+        return cost <= self.left()
 
 
 def setting_for(name: str, scene: Scene, tolerance: float) -> Setting:
@@ -172,7 +228,7 @@ def setting_for(name: str, scene: Scene, tolerance: float) -> Setting:
 
 
 def solve(scene: Scene, method: str = "auto", *, tolerance: float | None = None, methods=None,
-          estimate: str = "full", **options) -> ContactResult:
+          estimate: str = "full", budget: float | None = None, **options) -> ContactResult:
     """Solve a steady 2D rolling-contact scene.
 
     Parameters
@@ -190,6 +246,15 @@ def solve(scene: Scene, method: str = "auto", *, tolerance: float | None = None,
         error estimate meets it, without fallback.
     methods : iterable of str, optional
         ``auto`` chooses and falls back only among these registered names (default: all).
+    budget : float, optional
+        The time [s] the solve may spend, by the accuracy models' cost (modelled seconds, calibrated by
+        ``benchmarks/pareto.py``): a setting starts only while its modelled cost fits what is left of the budget
+        after the wall time spent, so ``auto`` chooses, escalates and falls back within it.  With a tolerance: the
+        cheapest setting that meets it within the budget, else the most accurate that fits (the message says so);
+        without: the method's default setting when it fits, else the most accurate that does.  When none fits, an
+        unsuccessful result says why, and nothing is solved.  A method without an accuracy model has no cost
+        model: it runs unbounded.  :func:`choose_setting` gives the setting and its
+        modelled cost before solving; the result reports it as ``info["predicted_cost"]``.
     estimate : {"full", "free"}
         Without a tolerance, ``info["error_estimate"]`` is the method's full estimate (``"full"``), or only the part
         that costs nothing beyond the solve (``"free"``, :meth:`~rollcontact.method.AccuracyModel.free_estimate`: a
@@ -220,23 +285,28 @@ def solve(scene: Scene, method: str = "auto", *, tolerance: float | None = None,
     if method != "auto":
         if method not in METHODS:
             raise ValueError(f"unknown method {method!r}; valid methods are {['auto', *sorted(METHODS)]}")
-        if tolerance is None:
+        if tolerance is None and budget is None:
             spec = METHODS[method]
             return annotate(spec, scene, options, spec.function(scene, **options), estimate=estimate)
         methods, fallback = (method,), False
     else:
         fallback = True
     names = None if methods is None else tuple(methods)
+    budget = None if budget is None else Budget(budget)
     if tolerance is None:
         spec = METHODS[choose_method(scene, names=names)]
-        result = attempt(fallback, spec.name, lambda: call_with_known_options(spec, scene, options, estimate))
+        result = attempt(fallback, spec.name, lambda: run_default(spec, scene, options, estimate, budget))
     else:
         tolerance = check_tolerance(tolerance)
-        setting = cheapest_setting(scene, tolerance, names)
+        try:
+            setting = cheapest_setting(scene, tolerance, names, budget)
+        except OverBudget as exc:
+            return refused(scene, "auto", str(exc))
         spec = METHODS[setting.method]
-        result = attempt(fallback, spec.name, lambda: run_to_tolerance(setting, scene, options, tolerance)[1])
+        result = attempt(fallback, spec.name,
+                         lambda: run_to_tolerance(setting, scene, options, tolerance, budget)[1])
     reason = result.message if not result.success else unresolved(result)
-    if reason is None or not fallback:
+    if reason is None or not fallback or result.info.get("over_budget"):
         return result
     backups = [s for s in METHODS.values()
                if s.fallback and s.rank > spec.rank and (names is None or s.name in names)
@@ -245,16 +315,57 @@ def solve(scene: Scene, method: str = "auto", *, tolerance: float | None = None,
         return result
     if tolerance is None:
         backup_spec = min(backups, key=lambda s: s.rank)
-        backup = call_with_known_options(backup_spec, scene, options, estimate)
+        backup = run_default(backup_spec, scene, options, estimate, budget)
+        if backup.info.get("over_budget"):
+            return without_fallback(result, reason, backup.message)
     else:
         try:
-            setting = cheapest_setting(scene, tolerance, names=[s.name for s in backups])
+            setting = cheapest_setting(scene, tolerance, [s.name for s in backups], budget)
+        except OverBudget as exc:
+            return without_fallback(result, reason, str(exc))
         except ValueError:  # no fallback method can treat the scene either
             return result
-        backup_spec, backup = run_to_tolerance(setting, scene, options, tolerance)
+        backup_spec, backup = run_to_tolerance(setting, scene, options, tolerance, budget)
     info = dict(backup.info, fallback_from=spec.name, fallback_reason=reason)
     return type(backup)(**{**backup.__dict__, "info": info,
                            "message": f"{backup.message} (fallback: {spec.name} failed: {reason})"})
+
+
+def run_default(spec: MethodSpec, scene: Scene, options: dict, estimate: str, budget: Budget | None) -> ContactResult:
+    """The method with its default setting (and the caller's options); with a ``budget`` that its modelled cost
+    does not fit, the most accurate setting that fits (:func:`within_budget`), or, when none does, nothing: a
+    refusal (``info["over_budget"]``)."""
+    model = spec.accuracy
+    if budget is None or model is None:  # a method without a cost model runs as it is: no budget can bound it
+        return call_with_known_options(spec, scene, options, estimate)
+    used = used_options(spec, options)
+    cost = model.cost(scene, used)
+    if budget.fits(cost):
+        result = call_with_known_options(spec, scene, options, estimate)
+        result.info["predicted_cost"] = cost
+        return result
+    fitting = within_budget(model, spec.name, scene, budget.left())
+    if fitting is None:
+        cheapest = model.minimum_cost(scene)
+        return refused(scene, spec.name, f"{spec.name}'s cheapest setting is modelled at {cheapest:.3g} s, more than "
+                       f"the budget of {budget.seconds:.3g} s", over_budget=True)
+    result = call_with_known_options(spec, scene, {**fitting.options, **options}, estimate)
+    result.info["predicted_cost"] = fitting.cost
+    return type(result)(**{**result.__dict__, "message": f"{result.message} (budget: the default setting is modelled "
+                           f"at {cost:.3g} s, more than {budget.seconds:.3g} s; ran {fitting.options}, modelled at "
+                           f"{fitting.cost:.3g} s)"})
+
+
+def without_fallback(result: ContactResult, reason: str, why: str) -> ContactResult:
+    """The failed (or unresolved) ``result`` as a failure whose message says why no fallback ran (the budget)."""
+    return type(result)(**{**result.__dict__, "success": False, "message": f"{reason} (no fallback: {why})"})
+
+
+def refused(scene: Scene, name: str, message: str, over_budget: bool = True) -> ContactResult:
+    """An unsuccessful result of nothing solved, with the reason."""
+    nan = math.nan
+    return ContactResult(name, False, message, scene.normal_load_per_length, nan, scene.creep, nan, nan, nan, nan,
+                         info={"over_budget": over_budget})
 
 
 def attempt(fallback: bool, name: str, run) -> ContactResult:
@@ -269,25 +380,36 @@ def attempt(fallback: bool, name: str, run) -> ContactResult:
                              math.nan, math.nan, math.nan, math.nan)
 
 
-def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec,
-                                                                                               ContactResult]:
+def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float,
+                     budget: Budget | None = None) -> tuple[MethodSpec, ContactResult]:
     """:func:`run_setting`, then, while the result's a-posteriori estimate misses the tolerance, the settings the
     method's :meth:`AccuracyModel.escalation` names, and after a failure those its :meth:`AccuracyModel.retry`
-    names (each finer than the last, so the loop ends).  User options that fix the escalated option stop it."""
+    names (each finer than the last, so the loop ends).  User options that fix the escalated option stop it, and so
+    does a ``budget`` that the next setting's modelled cost does not fit (the message says so)."""
     spec, result = run_setting(setting, scene, options, tolerance)
+    result.info["predicted_cost"] = setting.cost
     failures = []
+    note = ""
     while spec.accuracy is not None:
         used = result.info["setting"]
         following = (spec.accuracy.escalation(scene, used, result.info["error_estimate"], tolerance)
                      if result.success else spec.accuracy.retry(scene, used, result))
         if following is None or any(key in options for key in following):
             break
+        cost = spec.accuracy.cost(scene, following)
+        if budget is not None and not budget.fits(cost):
+            note = (f" (budget: {following} is modelled at {cost:.3g} s, more than the {max(budget.left(), 0.0):.3g} s "
+                    f"left of {budget.seconds:.3g} s)")
+            break
         if not result.success:
             failures.append(f"{used}: {result.message}")
-        spec, result = run_setting(Setting(spec.name, following, math.nan, math.nan), scene, options, tolerance)
-    if failures:
-        result = type(result)(**{**result.__dict__, "message": f"{result.message} (after failing with "
-                                                                  + "; ".join(failures) + ")"})
+        spec, result = run_setting(Setting(spec.name, following, math.nan, cost), scene, options, tolerance)
+        result.info["predicted_cost"] = cost
+    if failures or note:
+        message = result.message + note
+        if failures:
+            message += " (after failing with " + "; ".join(failures) + ")"
+        result = type(result)(**{**result.__dict__, "message": message})
     return spec, result
 
 

@@ -601,3 +601,59 @@ def test_the_pressure_of_a_flat_surface_for_the_slip_floor_is_hertz(surface, loa
     else:
         np.testing.assert_allclose(fast, solved, rtol=1e-12, atol=1e-12 * float(np.abs(solved).max()),
                                    err_msg="Hertz's p0 sin(theta) against the polynomial normal solve")
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# a budget of modelled seconds
+SPLIT_CORRUGATION = Scene(1e6, creep=2e-4, axis_position=7e-4,
+                          surface=Surface(harmonics=(Harmonic.from_wavelength(0.004, 40e-6),)))
+
+
+def test_the_chosen_setting_and_its_modelled_cost_are_known_before_solving_and_fit_the_budget():
+    for budget in (5e-3, 5e-2, 5e-1):
+        setting = choose_setting(SPLIT_CORRUGATION, 1e-4, names=["discretised"], budget=budget)
+        assert setting.cost <= budget, f"budget {budget}: modelled cost {setting.cost}"
+        result = solve(SPLIT_CORRUGATION, methods=["discretised"], tolerance=1e-4, budget=budget)
+        assert result.info["predicted_cost"] <= budget, f"budget {budget}: {result.info['predicted_cost']}"
+        assert result.info["setting"] == setting.options, "solve runs the setting choose_setting names"
+    unlimited = choose_setting(SPLIT_CORRUGATION, 1e-4, names=["discretised"])
+    assert unlimited.cost > 5e-1, "the test's tolerance asks for more than the largest budget"
+
+
+def test_within_the_budget_the_most_accurate_setting_runs_and_the_message_says_the_tolerance_is_missed():
+    result = solve(SPLIT_CORRUGATION, methods=["discretised"], tolerance=1e-4, budget=2e-2)
+    fitting = [o for o in METHODS["discretised"].accuracy.ladder(SPLIT_CORRUGATION)
+               if METHODS["discretised"].accuracy.cost(SPLIT_CORRUGATION, o) <= 2e-2]
+    best = min(METHODS["discretised"].accuracy.error(SPLIT_CORRUGATION, o) for o in fitting)
+    assert result.info["error_estimate"] >= best * (1 - 1e-12) and not result.info["tolerance_met"], result.info
+    assert "not reached" in result.message, result.message
+
+
+def test_a_budget_no_setting_fits_solves_nothing_and_says_why(monkeypatch):
+    calls = []
+    spec = METHODS["polynomial"]
+    monkeypatch.setitem(METHODS, "polynomial", MethodSpec(
+        "polynomial", lambda scene, **o: calls.append(o) or spec.function(scene, **o), spec.inapplicable, spec.rank,
+        spec.fallback, spec.accuracy))
+    for tolerance in (None, 1e-3):
+        result = solve(CORRUGATED, tolerance=tolerance, budget=1e-7)
+        assert not result.success and "budget" in result.message and math.isnan(result.tangential_force_per_length), \
+            f"tolerance {tolerance}: {result.message}"
+    assert not calls, "nothing is solved when nothing fits"
+
+
+def test_escalation_stops_where_the_next_setting_would_exceed_the_budget():
+    scene = Scene(1e6, creep=1e-3, rolling_speed=20.0, friction=ExponentialFalling(0.3, 0.4, 30.0))
+    free = solve(scene, tolerance=1e-9)
+    assert free.info["setting"]["nodes"] >= 64, f"the tolerance escalates far without a budget: {free.info}"
+    budget = 1.5 * METHODS["polynomial"].accuracy.cost(scene, {"nodes": free.info["setting"]["nodes"] // 4})
+    result = solve(scene, tolerance=1e-9, budget=budget)
+    assert result.info["predicted_cost"] <= budget and "budget" in result.message, (result.info, result.message)
+
+
+def test_without_a_tolerance_a_default_beyond_the_budget_becomes_the_most_accurate_setting_within_it():
+    model = METHODS["discretised"].accuracy
+    default = model.cost(HERTZIAN, {})
+    result = solve(HERTZIAN, method="discretised", budget=0.8 * default)
+    assert result.success and result.info["predicted_cost"] <= 0.8 * default, result.info
+    assert "budget" in result.message and result.info["grid"].elements < 200, result.message
