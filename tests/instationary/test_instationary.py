@@ -510,3 +510,31 @@ def test_bad_inputs_raise_naming_the_value():
         oscillating_force_discretised(LOAD, OscillatingForce(0.8 * LIMIT, 0.3 * LIMIT, A), **KW)
     with pytest.raises(ValueError, match="wavelength = -1.0 m"):
         OscillatingForce(0.0, 0.0, -1.0)
+
+
+@pytest.mark.parametrize("extrapolate", [False, True])
+def test_a_step_beyond_max_substeps_forgets_only_what_its_bound_allows(extrapolate):
+    """A host step that rolls further than ``max_substeps`` elements marches only its last ones, from steady
+    rolling under its held inputs: at most that many substeps, and T' within ``memory_cut_bound`` of the full
+    march (the history before the cut decays over the relaxation length)."""
+    load, creep, speed = 1e6, 8e-4, 20.0
+    kwargs = dict(mode="transient", elements=60, extrapolate=extrapolate)
+    full = InstationaryModel(R, ESTAR, MU, **kwargs)
+    limited = InstationaryModel(R, ESTAR, MU, max_substeps=40, **kwargs)
+    grid_load = aligned_grid_load(load, 60, 2.0, 2 if extrapolate else 1)
+    for model in (full, limited):
+        model.build_solver(grid_load)
+    start = full.steady_state(load, -5e-4)  # steady at another creep: a history worth forgetting
+    h = full.solver.grid.element_width
+    for elements_rolled in (30, 150, 400):
+        dt = elements_rolled * h / speed
+        _, exact = full.step(start, load, creep, speed, dt)
+        _, cut = limited.step(start, load, creep, speed, dt)
+        assert cut.info["substeps"] <= 41, f"{elements_rolled} elements: {cut.info['substeps']} substeps"
+        bound = cut.info["memory_cut_bound"]
+        if elements_rolled <= 40:
+            assert bound == 0.0 and cut.tangential_force_per_length == exact.tangential_force_per_length, \
+                "no cut where the roll fits"
+        difference = abs(cut.tangential_force_per_length - exact.tangential_force_per_length)
+        assert difference <= bound + 1e-12 * MU * load, \
+            f"{elements_rolled} elements: |dT'| = {difference:.3g} above the bound {bound:.3g} N/m"

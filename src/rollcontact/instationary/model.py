@@ -188,11 +188,15 @@ class InstationaryModel:
         Transient mode: also step a grid of n/2 elements on the same window (n even) and report the first-order
         Richardson extrapolation ``2 T'_n - T'_(n/2)``, clipped to ``|T'| <= mu N'`` (second order on nested
         grids aligned by :func:`aligned_grid_load`; module docstring).  Distributions, a* and p0 are the finer's.
+    max_substeps : int, optional
+        Transient mode: the most whole-element substeps one step runs on a grid (a bound of its work).  A step that
+        rolls further starts its last ``max_substeps`` elements from steady rolling under its held inputs: the
+        history before them is forgotten, which changes T' by at most :meth:`memory_cut_bound`.  None: no limit.
     """
 
     def __init__(self, radius: float, contact_modulus: float, friction_coefficient: float, *,
                  mode: str = "relaxation", datum_length=None, max_normal_load_per_length: float = 0.0,
-                 elements: int = 100, extrapolate: bool = False):
+                 elements: int = 100, extrapolate: bool = False, max_substeps: int | None = None):
         if mode not in MODES:
             raise ValueError(f"unknown mode {mode!r}; valid modes are {list(MODES)}")
         if extrapolate and (mode != "transient" or elements % 2 or elements < 16):
@@ -207,6 +211,7 @@ class InstationaryModel:
         self.max_load = check_real("max_normal_load_per_length", max_normal_load_per_length, lower=0.0, unit="N/m")
         self.elements = elements
         self.extrapolate = bool(extrapolate)
+        self.max_substeps = max_substeps
         self.solver: TransientSolver | None = None
         self.coarse_solver: TransientSolver | None = None
         """Extrapolating: the solver on n/2 elements of the same window."""
@@ -227,6 +232,14 @@ class InstationaryModel:
                             datum_length=self.datum_length) if g is not None else None
             for g in (grid, Grid(grid.x_min, grid.x_max, self.elements // 2) if self.extrapolate else None))
         self.pressure_cache = {}
+
+    def memory_cut_bound(self, load: float, kept: float) -> float:
+        """Bound [N/m] of the change of T' when the history before the last ``kept`` [m] of a roll with held inputs
+        is replaced by steady rolling: ``2 mu N' exp(-kept/l)``, the largest force difference decaying over the
+        relaxation length l at zero force, the longest (:func:`rollcontact.instationary.relaxation.relaxation_length`,
+        the lag (R1) linearised)."""
+        length = relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu, self.datum_length)
+        return 2.0 * self.mu * load * math.exp(-kept / length)
 
     def holds(self, load: float) -> bool:
         """Whether the transient grid for loads up to ``load`` [N/m] is short enough for the datum: the datum length
@@ -378,12 +391,12 @@ class InstationaryModel:
         # the step ends in steady rolling: marching would cost ds/h substeps for nothing
         steady = ds > STEADY_AFTER * relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
                                                        self.datum_length)
-        fine = self.advance(solver, state.transient(), state.pending, load, creep, ds, steady)
+        fine = advance(self, solver, state.transient(), state.pending, load, creep, ds, steady)
         substeps, iterations, converged, messages = fine.substeps, fine.iterations, fine.converged, fine.messages
         force = fine.output.tangential_force_per_length
         coarse = None
         if self.extrapolate:
-            coarse = self.advance(self.coarse_solver, state.coarse, state.coarse_pending, load, creep, ds, steady)
+            coarse = advance(self, self.coarse_solver, state.coarse, state.coarse_pending, load, creep, ds, steady)
             iterations += coarse.iterations
             converged &= coarse.converged
             messages += coarse.messages
@@ -395,7 +408,8 @@ class InstationaryModel:
         p = self.pressure(load)
         h = solver.grid.element_width
         a, offset, _ = patch_geometry(solver.grid, p > 0)
-        info |= {"substeps": substeps, "dissipation": fine.dissipation, "grid": solver.grid}
+        info |= {"substeps": substeps, "dissipation": fine.dissipation, "grid": solver.grid,
+                 "memory_cut_bound": max(fine.cut_bound, 0.0 if coarse is None else coarse.cut_bound)}
         committed = fine.committed
         new = InstationaryState("transient", committed.tangential_force_per_length, distance, state.steps + 1,
                                 committed.traction, committed.stick, committed.slip, history,
@@ -416,56 +430,6 @@ class InstationaryModel:
                                   max_pressure=float(p.max()), iterations=iterations,
                                   distributions=TabulatedDistributions(solver.grid.centres, p, output.traction,
                                                                        slip), info=info)
-
-    def advance(self, solver: TransientSolver, current: TransientState, pending: tuple[float, float], load: float,
-                creep: float, ds: float, steady: bool) -> Advance:
-        """One step of ``solver`` rolling ``ds`` [m] from the committed state ``current`` and its ``pending`` roll.
-
-        The grid commits substeps of exactly one element h: the convected traction then moves by whole elements,
-        and the pair's extrapolation cancels the first-order error cleanly.  Substeps of a fraction r of an element
-        (what splitting each host step into equal substeps gives) leave an O(h^2) bias that varies erratically with
-        r, and with it the pair's ``error n^2`` (``benchmarks/bench_substep_rule.py``,
-        ``benchmarks/results/substep_rule.md``).  A host step that ends between element boundaries leaves
-        a pending roll, its distance and rigid slip (the creep integrated over it, each host step's creep held over
-        its part); the next steps complete it.  The step's output is a provisional substep of the pending roll from
-        the committed state, not kept: its error is one step's, which ripples with the roll's phase by O(h^2) and
-        does not accumulate.  ``ds`` = 0 (a static step) first commits the pending roll as one short substep, then
-        redistributes q at the held force.  ``steady``: straight to steady rolling, nothing pending.
-        """
-        p = self.pressure(load, solver)
-        h = solver.grid.element_width
-        if steady:
-            current = self.steady_on(solver, load, creep)
-            return Advance(current, (0.0, 0.0), current, 0, 0, ds * h * float(np.dot(current.traction, current.slip)),
-                           True, [])
-        run = Run()
-        distance, rigid = pending
-        if ds > 0.0:
-            rest = ds
-            while distance + rest >= h * (1.0 - 1e-12):
-                take = min(rest, max(0.0, h - distance))
-                distance, rigid, rest = distance + take, rigid + creep * take, rest - take
-                # exactly h (the roll may fall short by round-off): one convected matrix for every commit
-                current = run.add(*solver.step(current, p, h, creep=rigid / distance))
-                distance = rigid = 0.0
-            distance, rigid = distance + rest, rigid + creep * rest
-            output = current
-            if distance > 1e-9 * h:
-                output, res = solver.step(current, p, distance, creep=rigid / distance)
-                run.add(output, res, committed=False)
-            return Advance(current, (distance, rigid), output, run.substeps, run.iterations, run.dissipation,
-                           run.converged, run.messages)
-        if distance > 0.0:
-            current = run.add(*solver.step(current, p, distance, creep=rigid / distance))
-        held = current.tangential_force_per_length
-        if abs(held) >= FORCE_MARGIN * h * self.mu * p.sum():
-            # saturated: full slip, which force control (it needs a stick element) cannot represent
-            q = math.copysign(self.mu, held) * p
-            current = TransientState(q, np.zeros(q.size, dtype=bool), np.zeros(q.size), h * q.sum(), current.steps + 1)
-        else:
-            current = run.add(*solver.step(current, p, 0.0, tangential_force=held))
-        return Advance(current, (0.0, 0.0), current, max(1, run.substeps), run.iterations, run.dissipation,
-                       run.converged, run.messages)
 
 
 def relaxation_result(model: InstationaryModel, state: InstationaryState, load, xi, ds, distance, history, a, p0,
@@ -490,6 +454,67 @@ def relaxation_result(model: InstationaryModel, state: InstationaryState, load, 
                               distributions=dist, info=info)
 
 
+def advance(model: InstationaryModel, solver: TransientSolver, current: TransientState, pending: tuple[float, float],
+            load: float, creep: float, ds: float, steady: bool) -> Advance:
+    """One step of ``model``'s ``solver`` rolling ``ds`` [m] from the committed state ``current`` and its
+    ``pending`` roll.
+
+    The grid commits substeps of exactly one element h: the convected traction then moves by whole elements,
+    and the pair's extrapolation cancels the first-order error cleanly.  Substeps of a fraction r of an element
+    (what splitting each host step into equal substeps gives) leave an O(h^2) bias that varies erratically with
+    r, and with it the pair's ``error n^2`` (``benchmarks/bench_substep_rule.py``,
+    ``benchmarks/results/substep_rule.md``).  A host step that ends between element boundaries leaves
+    a pending roll, its distance and rigid slip (the creep integrated over it, each host step's creep held over
+    its part); the next steps complete it.  The step's output is a provisional substep of the pending roll from
+    the committed state, not kept: its error is one step's, which ripples with the roll's phase by O(h^2) and
+    does not accumulate.  ``ds`` = 0 (a static step) first commits the pending roll as one short substep, then
+    redistributes q at the held force.  ``steady``: straight to steady rolling, nothing pending.
+    """
+    p = model.pressure(load, solver)
+    h = solver.grid.element_width
+    if steady:
+        current = model.steady_on(solver, load, creep)
+        return Advance(current, (0.0, 0.0), current, 0, 0, ds * h * float(np.dot(current.traction, current.slip)),
+                       True, [])
+    run = Run()
+    distance, rigid = pending
+    cut = 0.0
+    if ds > 0.0:
+        rest = ds
+        commits = math.floor((distance + rest) / h * (1.0 + 1e-12))
+        if model.max_substeps is not None and commits > model.max_substeps:
+            # the history of the roll beyond its last max_substeps elements becomes steady rolling under the held
+            # inputs; the same pending roll remains at the end
+            rest = distance + rest - (commits - model.max_substeps) * h
+            distance = rigid = 0.0
+            current = model.steady_on(solver, load, creep)
+            cut = model.memory_cut_bound(load, model.max_substeps * h)
+        while distance + rest >= h * (1.0 - 1e-12):
+            take = min(rest, max(0.0, h - distance))
+            distance, rigid, rest = distance + take, rigid + creep * take, rest - take
+            # exactly h (the roll may fall short by round-off): one convected matrix for every commit
+            current = run.add(*solver.step(current, p, h, creep=rigid / distance))
+            distance = rigid = 0.0
+        distance, rigid = distance + rest, rigid + creep * rest
+        output = current
+        if distance > 1e-9 * h:
+            output, res = solver.step(current, p, distance, creep=rigid / distance)
+            run.add(output, res, committed=False)
+        return Advance(current, (distance, rigid), output, run.substeps, run.iterations, run.dissipation,
+                       run.converged, run.messages, cut)
+    if distance > 0.0:
+        current = run.add(*solver.step(current, p, distance, creep=rigid / distance))
+    held = current.tangential_force_per_length
+    if abs(held) >= FORCE_MARGIN * h * model.mu * p.sum():
+        # saturated: full slip, which force control (it needs a stick element) cannot represent
+        q = math.copysign(model.mu, held) * p
+        current = TransientState(q, np.zeros(q.size, dtype=bool), np.zeros(q.size), h * q.sum(), current.steps + 1)
+    else:
+        current = run.add(*solver.step(current, p, 0.0, tangential_force=held))
+    return Advance(current, (0.0, 0.0), current, max(1, run.substeps), run.iterations, run.dissipation,
+                   run.converged, run.messages)
+
+
 class Advance(NamedTuple):
     """What :meth:`InstationaryModel.advance` returns for one grid."""
 
@@ -509,6 +534,8 @@ class Advance(NamedTuple):
     """Every solve converged."""
     messages: list[str]
     """The messages of those that did not."""
+    cut_bound: float = 0.0
+    """Bound [N/m] of the force error of a memory cut (:attr:`InstationaryModel.max_substeps`); 0: none."""
 
 
 class Run:
