@@ -365,3 +365,27 @@ def scene_toml(scene) -> str:
     from rollcontact.stepping import mirrored
 
     return rc.scene_toml(scene.replace(surface=mirrored(scene.surface)))
+
+
+def machine(load: float) -> list[str]:
+    """The machine's description, markdown list lines; ``load``: the 1-minute load average read before the study
+    started (read at the end it would count the study's own process)."""
+    import platform
+
+    import numpy as np
+    import scipy
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            cpu = next(line.split(":", 1)[1].strip() for line in fh if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    blas = np.show_config(mode="dicts")["Build Dependencies"]["blas"]
+    return [f"- CPU: {cpu}, {os.cpu_count()} logical cores (shared with other jobs; load average at start "
+            f"{load:.2f})",
+            f"- Python {platform.python_version()} ({platform.python_implementation()}), numpy {np.__version__}, "
+            f"scipy {scipy.__version__}, {blas.get('name', '?')} {blas.get('version', '')}",
+            f"- BLAS threads: OPENBLAS_NUM_THREADS = {os.environ.get('OPENBLAS_NUM_THREADS')}, "
+            f"OMP_NUM_THREADS = {os.environ.get('OMP_NUM_THREADS')}",
+            f"- {platform.platform()}"]

@@ -7,13 +7,10 @@ from __future__ import annotations
 
 import datetime
 import math
-import os
-import platform
 import statistics
 from pathlib import Path
 
-import numpy as np
-import scipy
+import common
 from pareto_analysis import (
     envelope,
     equal_accuracy_lines,
@@ -27,25 +24,6 @@ from pareto_measure import PAIRED_ROUNDS
 
 ERROR_FLOOR = 1e-16  # plotted instead of an exact 0
 LOWEST_COST_SLACK = 1.5  # auto's time within this factor of the cheapest measured setting counts as the lowest cost
-
-
-def machine(load: float) -> list[str]:
-    """The machine's description; ``load``: the 1-minute load average read before the study started (read at the
-    end it would count the study's own process)."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as fh:
-            cpu = next(line.split(":", 1)[1].strip() for line in fh if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    blas = np.show_config(mode="dicts")["Build Dependencies"]["blas"]
-    return [f"- CPU: {cpu}, {os.cpu_count()} logical cores (shared with other jobs; load average at start "
-            f"{load:.2f})",
-            f"- Python {platform.python_version()} ({platform.python_implementation()}), numpy {np.__version__}, "
-            f"scipy {scipy.__version__}, {blas.get('name', '?')} {blas.get('version', '')}",
-            f"- BLAS threads: OPENBLAS_NUM_THREADS = {os.environ.get('OPENBLAS_NUM_THREADS')}, "
-            f"OMP_NUM_THREADS = {os.environ.get('OMP_NUM_THREADS')}",
-            f"- {platform.platform()}"]
 
 
 def plot(rows: list[Row], choices: list[AutoChoice], path: Path) -> None:
@@ -214,7 +192,7 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, load, pat
              f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} by "
              f"`.venv/bin/python benchmarks/pareto.py{' --quick' if config.quick else ''}` in {elapsed:.0f} s "
              "(figure: `pareto.png`).  Method and definitions: the docstring of `benchmarks/pareto.py`.", "",
-             "## Machine", "", *machine(load), "",
+             "## Machine", "", *common.machine(load), "",
              "Timings on this shared machine are noisy (other jobs run alongside): ratios measured in the same run "
              "are meaningful, absolute times only roughly.", ""]
     # headline ratios

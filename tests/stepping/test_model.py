@@ -759,12 +759,15 @@ def test_an_answer_whose_estimate_says_nothing_falls_through(tolerance):
     estimate 49): the model, like solve(), takes the discretised answer, with a tolerance and without one (then it
     checks only the part of the estimate that costs nothing, the truncation); the polynomial method alone ends in
     an error naming the estimate (a Discard in the FMU)."""
-    model = unresolved_corrugation_model(tolerance=tolerance)
+    model = unresolved_corrugation_model(tolerance=tolerance, step_budget=0.0)
     out = model.step(0.0, 1e-9, 1000.0 * model.width, 1e-7, 1.0)
     assert out.method_used == 3, f"tolerance {tolerance}: method_used {out.method_used}"
     assert 0.0 < out.traction_coefficient <= model.mu, out
     with pytest.raises(ModelError, match="polynomial: its error estimate 49"):
         unresolved_corrugation_model(tolerance=tolerance, method=2).step(0.0, 1e-9, 1000.0 * model.width, 1e-7, 1.0)
+    # the default step budget: the discretised grid this corrugation needs does not fit, and the step says so
+    with pytest.raises(ModelError, match="budget"):
+        unresolved_corrugation_model(tolerance=tolerance).step(0.0, 1e-9, 1000.0 * model.width, 1e-7, 1.0)
 
 
 @pytest.mark.parametrize("parameters", [{"transient": 1, "tolerance": 1e-3}, {"transient": 1, "tolerance": 1e-3,

@@ -172,6 +172,9 @@ class ContactModel(InstationaryStepping):
         self.saturation_per_half_width = self.mu / self.radius  # Carter saturation creep over a
         self.length_cache = (math.nan, 0.0)  # (N', zero_force_length(N'))
         self.state = ModelState.initial(start_time, p.initial_position)
+        self.messages: list[str] = []
+        """Messages of the steps not yet taken by :meth:`take_messages` (each kind once per model)."""
+        self.noticed: set[str] = set()
 
     @staticmethod
     def methods_for(p: ContactParameters, surface: Surface, friction) -> tuple[bool, tuple[str, ...]]:
@@ -201,6 +204,18 @@ class ContactModel(InstationaryStepping):
             raise ModelError(f"method = {p.method}: {why} method {wanted}, but no such method is registered "
                              f"in rollcontact.METHODS (registered: {sorted(METHODS)})")
         return False, candidates
+
+    def notice_once(self, kind: str, message: str) -> None:
+        """Queue ``message`` for :meth:`take_messages` the first time a step meets ``kind``."""
+        if kind not in self.noticed:
+            self.noticed.add(kind)
+            self.messages.append(message)
+
+    def take_messages(self) -> list[str]:
+        """The messages the steps queued since the last call (e.g. for an FMU log: a tolerance that the step
+        budget does not allow, said once)."""
+        messages, self.messages = self.messages, []
+        return messages
 
     def reset(self, start_time: float = 0.0) -> None:
         """Back to the initial state at ``start_time`` [s]."""
@@ -338,10 +353,14 @@ class ContactModel(InstationaryStepping):
         scene = self.scene(x, normal_load, creep, velocity)
         tolerance = self.parameters.tolerance or None
         try:
-            result = solve(scene, methods=self.candidates, tolerance=tolerance, estimate="free", **self.options)
+            result = solve(scene, methods=self.candidates, tolerance=tolerance, estimate="free",
+                           budget=self.parameters.step_budget or None, **self.options)
             name = result.method
             if not result.success:
                 raise ModelError(f"{name} failed: {result.message}")
+            if tolerance is not None and not result.info.get("tolerance_met", True):
+                self.notice_once("tolerance", f"tolerance = {tolerance!r} is not met within step_budget = "
+                                 f"{self.parameters.step_budget!r} s at X = {x!r} m: {result.message}")
             why = unresolved(result)
             if why is not None:
                 raise ModelError(f"{name}: {why}")

@@ -65,6 +65,11 @@ new_tuple = tuple.__new__
 closed-form step's hot path)."""
 
 
+DEFAULT_STEP_BUDGET = 0.05
+"""Default ``step_budget`` [s]: a few tens of milliseconds, what a host stepping a few contacts at 1 kHz in a
+soft real-time loop can give one contact; ``benchmarks/bench_step_budget.py`` measures the steps it bounds."""
+
+
 class ModelError(ValueError):
     """An input or parameter the model cannot use, or a scene no allowed method solves; the message says why."""
 
@@ -168,6 +173,12 @@ class ContactParameters:
         (module docstring, "Instationary rolling").
     datum : float
         Datum distance L [m] >= 0 of instationary rolling, for methods that accept it (0: the method's default).
+    step_budget : float
+        Work budget [s] >= 0 of one step, by the methods' cost models (modelled seconds): the steady solve runs the
+        most accurate setting that meets ``tolerance`` within it (``rollcontact.solve(..., budget=...)``), the
+        discretised transient at most as many substeps as fit (:func:`rollcontact.stepping.transient.max_substeps`);
+        where that costs accuracy, the model says so once (:meth:`ContactModel.take_messages`).  0: no budget, as
+        long as each step takes.
     """
 
     youngs_modulus: float = 210e9
@@ -189,6 +200,7 @@ class ContactParameters:
     elements: int = 0
     transient: int = 0
     datum: float = 0.0
+    step_budget: float = DEFAULT_STEP_BUDGET
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -205,7 +217,8 @@ class ContactParameters:
                 ("corrugation_phase", None, None, False, False),
                 ("initial_position", None, None, False, False),
                 ("tolerance", 0.0, None, False, False),
-                ("datum", 0.0, None, False, False)):
+                ("datum", 0.0, None, False, False),
+                ("step_budget", 0.0, None, False, False)):
             try:
                 value = check_real(name, getattr(self, name), lower=lower, upper=upper, lower_open=lower_open,
                                    upper_open=upper_open)

@@ -9,11 +9,15 @@ it is a plain dataclass, copied, turned into a JSON dict or bytes and read back,
 from __future__ import annotations
 
 import base64
+import binascii
 import dataclasses
 import json
+import math
 from dataclasses import dataclass
 
-from rollcontact.instationary.model import InstationaryState
+import numpy as np
+
+from rollcontact.instationary.model import MODES, InstationaryState
 from rollcontact.stepping.parameters import STATIONARY, ModelError, StepOutputs
 
 STATE_VERSION = 3
@@ -111,6 +115,52 @@ class ModelState:
         except (KeyError, TypeError, ValueError) as exc:
             raise ModelError(f"invalid model state: {exc!r}") from None
 
+    @classmethod
+    def parse(cls, data) -> ModelState:
+        """Strict inverse of :meth:`to_dict` for a dict from outside (e.g. an FMU state a host hands back).
+
+        Unlike :meth:`from_dict`, which converts whatever it can, every field is checked: only the keys of
+        :meth:`to_dict`, a readable ``version``, finite reals (``bool`` is no real), the ranges of the inputs in
+        ``previous``/``older`` (N, V >= 0), a whole ``steps`` >= 0, the outputs' count, types and ranges, and an
+        ``instationary`` string that is strict base64 of a state with a known mode, consistent shapes and finite
+        values.  Nothing is changed; raises ModelError naming the first problem.
+        """
+        if not isinstance(data, dict):
+            raise ModelError(f"a model state must be a dict, got {type(data).__name__}")
+        required = {"version", "time", "position", "position_error", "previous", "older", "steps", "outputs"}
+        optional = {"instationary", "grid_load", "creep_envelope"}
+        unknown = [k for k in data if k not in required | optional]
+        if unknown:
+            raise ModelError(f"model state: unknown key(s) {_short(sorted(map(str, unknown)))}")
+        missing = sorted(required - set(data))
+        if missing:
+            raise ModelError(f"model state: missing key(s) {missing}")
+        version = data["version"]
+        if type(version) is not int or version not in READABLE_STATE_VERSIONS:
+            raise ModelError(f"model state version {_short(version)} is not supported "
+                             f"(this rollcontact reads versions {READABLE_STATE_VERSIONS})")
+        time, position, error = (_finite(f"model state {k}", data[k]) for k in ("time", "position", "position_error"))
+        samples = [_samples(f"model state {k}", data[k]) for k in ("previous", "older")]
+        if samples[0] is None and samples[1] is not None:
+            raise ModelError("model state: 'older' is set but 'previous' is not")
+        steps = data["steps"]
+        if type(steps) is not int or steps < 0:
+            raise ModelError(f"model state steps = {_short(steps)} must be a whole number >= 0")
+        if (steps == 0) != (samples[0] is None):
+            raise ModelError(f"model state: steps = {steps} contradicts previous = {_short(data['previous'])}")
+        outputs = _outputs(data["outputs"])
+        grid_load = _finite("model state grid_load", data.get("grid_load", 0.0))
+        if grid_load < 0.0:
+            raise ModelError(f"model state grid_load = {grid_load!r} must be >= 0")
+        envelope = data.get("creep_envelope")
+        if envelope is not None:
+            if not isinstance(envelope, list | tuple) or len(envelope) != 2:
+                raise ModelError(f"model state creep_envelope must be null or two reals, got {_short(envelope)}")
+            envelope = tuple(_finite("model state creep_envelope", v) for v in envelope)
+        instationary = _instationary(data.get("instationary"))
+        return cls(time, position, error, samples[0], samples[1], steps, outputs, instationary, grid_load,
+                   envelope, STATE_VERSION)
+
     def to_bytes(self) -> bytes:
         """UTF-8 JSON of :meth:`to_dict`."""
         return json.dumps(self.to_dict()).encode("utf-8")
@@ -119,3 +169,80 @@ class ModelState:
     def from_bytes(cls, data: bytes) -> ModelState:
         """Inverse of :meth:`to_bytes`."""
         return cls.from_dict(json.loads(data.decode("utf-8")))
+
+
+def _short(value, limit: int = 80) -> str:
+    """``repr(value)`` cut to ``limit`` characters (messages must not carry a whole crafted state)."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _finite(name: str, value) -> float:
+    """``value`` as float if it is a finite int or float (not bool), else ModelError."""
+    if type(value) not in (int, float) or not math.isfinite(value):
+        raise ModelError(f"{name} = {_short(value)} must be a finite real number")
+    return float(value)
+
+
+def _samples(name: str, value) -> tuple[float, float, float, float] | None:
+    """None, or an input sample ``(X, N, xi, V)`` of four finite reals with N >= 0 and V >= 0."""
+    if value is None:
+        return None
+    if not isinstance(value, list | tuple) or len(value) != 4:
+        raise ModelError(f"{name} must be null or four reals (X, N, xi, V), got {_short(value)}")
+    sample = tuple(_finite(name, v) for v in value)
+    if sample[1] < 0.0 or sample[3] < 0.0:
+        raise ModelError(f"{name} = {_short(value)}: load and speed must be >= 0")
+    return sample
+
+
+def _outputs(value) -> StepOutputs:
+    """The outputs of a state: one finite real per field, a known ``method_used`` code, no negative magnitude."""
+    fields = StepOutputs._fields
+    if not isinstance(value, list | tuple) or len(value) != len(fields):
+        raise ModelError(f"model state outputs must be {len(fields)} values ({', '.join(fields)}), got "
+                         f"{_short(value)}")
+    values = []
+    for name, v in zip(fields, value, strict=True):
+        if name == "method_used":
+            if type(v) is not int or not 0 <= v <= 5:
+                raise ModelError(f"model state outputs: method_used = {_short(v)} must be a whole number 0 to 5")
+            values.append(v)
+            continue
+        x = _finite(f"model state outputs: {name}", v)
+        if name in ("contact_half_width", "stick_half_width", "max_pressure", "stationarity") and x < 0.0:
+            raise ModelError(f"model state outputs: {name} = {x!r} must be >= 0")
+        values.append(x)
+    return StepOutputs(*values)
+
+
+def _instationary(value) -> InstationaryState | None:
+    """None, or the InstationaryState packed as strict base64 (known mode, consistent shapes, finite values)."""
+    if value is None:
+        return None
+    if not isinstance(value, str):
+        raise ModelError(f"model state instationary must be null or a base64 string, got {type(value).__name__}")
+    try:
+        state = InstationaryState.from_bytes(base64.b64decode(value.encode("ascii"), validate=True))
+    except (UnicodeEncodeError, binascii.Error, ValueError) as exc:
+        raise ModelError(f"model state instationary: {str(exc)[:200]}") from None
+    if state.mode not in MODES:
+        raise ModelError(f"model state instationary: unknown mode {_short(state.mode)}")
+    scalars = (state.tangential_force_per_length, state.distance, *state.pending, *state.coarse_pending)
+    grids = [(state.traction, state.stick, state.slip)]
+    if state.coarse is not None:
+        scalars += (state.coarse.tangential_force_per_length,)
+        grids.append((state.coarse.traction, state.coarse.stick, state.coarse.slip))
+    history = state.history
+    arrays = [history.distance, history.normal_load_per_length, history.creep]
+    if not all(math.isfinite(v) for v in scalars) or state.steps < 0:
+        raise ModelError("model state instationary: a force, distance or pending roll is not finite")
+    for traction, stick, slip in grids:
+        if not (traction.ndim == stick.ndim == slip.ndim == 1 and traction.shape == stick.shape == slip.shape):
+            raise ModelError("model state instationary: traction, stick and slip differ in shape")
+        arrays += [traction, slip]
+    if len({a.shape for a in arrays[:3]}) != 1 or arrays[0].ndim != 1:
+        raise ModelError("model state instationary: the input history's arrays differ in shape")
+    if not all(bool(np.all(np.isfinite(a))) for a in arrays):
+        raise ModelError("model state instationary: an array holds a non-finite value")
+    return state

@@ -185,6 +185,26 @@ def instationary_unavailable(surface: Surface, friction) -> str | None:
     return None
 
 
+SUBSTEP_COST = (9e-5, 1.6e-9)
+"""Modelled time [s] of one whole-element substep of the discretised transient on n elements, ``a + b n^2``
+(the active-set solve on the stick block and the convected traction; measured and fitted by
+``benchmarks/bench_step_budget.py``, table A, which prints the fit next to these constants)."""
+
+
+def max_substeps(budget: float, elements: int, extrapolate: bool) -> int | None:
+    """The most whole-element substeps of one host step that fit ``budget`` [s] (0: None, no limit) on n =
+    ``elements`` (and n/2 when ``extrapolate``): :data:`SUBSTEP_COST` per substep, two of the budget's substeps kept
+    for the provisional substep and the steady start of a memory cut.  At least one."""
+    if not budget > 0.0:
+        return None
+    a, b = SUBSTEP_COST
+    cost = a + b * elements * elements
+    if extrapolate:
+        half = elements // 2
+        cost += a + b * half * half
+    return max(1, int(budget / cost) - 2)
+
+
 class InstationaryStepping:
     """The instationary half of :class:`rollcontact.stepping.model.ContactModel` (``transient`` = 1 or 2).
 
@@ -243,7 +263,8 @@ class InstationaryStepping:
         self.instationary = InstationaryModel(
             radius, material.contact_modulus, friction.static_coefficient,
             mode="transient" if discretised else "relaxation", datum_length=p.datum or None,
-            elements=elements, extrapolate=extrapolate)
+            elements=elements, extrapolate=extrapolate,
+            max_substeps=max_substeps(p.step_budget, elements, extrapolate) if discretised else None)
         if adaptive:
             self.lag = InstationaryModel(radius, material.contact_modulus, friction.static_coefficient,
                                          mode="relaxation", datum_length=p.datum or None)
@@ -287,6 +308,13 @@ class InstationaryStepping:
                              f"{creep!r}, V = {velocity!r} m/s): {exc}") from None
         if not result.success:
             raise ModelError(f"instationary {model.mode} model failed at X = {x!r} m: {result.message}")
+        cut = result.info.get("memory_cut_bound", 0.0)
+        if cut > self.transient_tolerance * self.mu * load:
+            self.notice_once("memory cut", f"step_budget = {self.parameters.step_budget!r} s: the discretised "
+                             f"transient runs at most {model.max_substeps} substeps per step, so a step that rolls "
+                             f"further (here at X = {x!r} m) forgets its history beyond them, an error of up to "
+                             f"{cut / (self.mu * load):.2g} mu N, above the tolerance {self.transient_tolerance!r}; "
+                             "a larger step_budget or smaller host steps avoid it")
         force_per_length = float(result.tangential_force_per_length)
         a = float(result.contact_half_width)
         if quasi is not None:
