@@ -83,7 +83,7 @@ def carter(normal_load_per_length: float, creep: float, radius: float, contact_m
     # only eps/u of relative accuracy (and lose the sign of T' once u < eps); u (2 - u) <= 1 in floating point
     u = slip_length / a
     return (math.copysign(mu * normal_load_per_length * (u * (2.0 - u)), creep), a_star,
-            2.0 * normal_load_per_length * radius * a_star / (a * a))
+            2.0 * radius * (normal_load_per_length / a) * (a_star / a))
 
 
 def cattaneo_traction(x, a: float, p0: float, mu: float, force_ratio: float):

@@ -240,6 +240,12 @@ def runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(edges[0::2].tolist(), edges[1::2].tolist(), strict=True))
 
 
+DEFLECTION_RANGE = (1e-290, 1e290)
+"""Range [m] of the deflection scale ``kappa N'`` that :func:`solve_normal` resolves: the gaps it certifies
+(metres at most) over that scale, and that scale over them, stay within floating point (a load per length of
+1e-280 N/m or 1e300 N/m is outside it, far outside any contact)."""
+
+
 def solve_normal(ops: Operators, gap0: np.ndarray, load: float, tolerance: float,
                  max_iterations: int) -> NormalSolution:
     """Normal contact by Kalker's NORM active set with the load constraint (unknown rigid approach).
@@ -265,6 +271,10 @@ def solve_normal(ops: Operators, gap0: np.ndarray, load: float, tolerance: float
     n = gap0.size
     h = ops.h
     gap_scale = ops.kappa * load
+    if not DEFLECTION_RANGE[0] <= gap_scale <= DEFLECTION_RANGE[1]:
+        raise ValueError(f"normal_load_per_length = {load!r} N/m is beyond what the discretised solver resolves: "
+                         f"its deflection scale kappa N' = {gap_scale:.3g} m lies outside [{DEFLECTION_RANGE[0]:g}, "
+                         f"{DEFLECTION_RANGE[1]:g}] m")
     # start from the elements the rigid profile would penetrate at the Hertz depth: usually one step away
     contact = gap0 <= gap0.min() + gap_scale
     seen = set()
@@ -313,7 +323,7 @@ def solve_normal(ops: Operators, gap0: np.ndarray, load: float, tolerance: float
         "penetration": max(0.0, -gap[~contact].min()) / gap_scale if (~contact).any() else 0.0,
         "gap_in_contact": np.abs(gap[contact]).max() / gap_scale if contact.any() else 0.0,
         "negative_pressure": negative_pressure,
-        "complementarity": float(np.abs(p * gap).max() / (pmax * gap_scale)) if pmax > 0 else 0.0,
+        "complementarity": float(np.abs((p / pmax) * (gap / gap_scale)).max()) if pmax > 0 else 0.0,
     }
     certified = settled and max(certificate.values()) <= 100.0 * tolerance
     if settled and not certified:

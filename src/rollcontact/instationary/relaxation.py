@@ -103,7 +103,7 @@ def relaxation_length(tangential_force_per_length: float, normal_load_per_length
     if a == 0.0:
         return 0.0
     a_star = stick_half_width(tangential_force_per_length, normal_load_per_length, a, mu)
-    stiffness = 2.0 * normal_load_per_length * radius * a_star / (a * a)
+    stiffness = 2.0 * radius * (normal_load_per_length / a) * (a_star / a)  # no underflow of N' a*
     return lag_compliance(a, a_star, contact_modulus, datum_length) * stiffness
 
 

@@ -97,9 +97,12 @@ from rollcontact.stepping.transient import InstationaryStepping
 INF = math.inf
 
 
-RESOLVED_LOAD = sys.float_info.min
-"""Smallest load per length [N/m] a step resolves (the smallest normal double): a subnormal load is no contact, as
-zero is (its Hertz half-width and pressure underflow, so no method gives it a finite, meaningful answer)."""
+def resolved_load(contact_modulus: float, radius: float) -> float:
+    """Smallest load per length [N/m] a step resolves: the smallest normal double, and the load whose squared Hertz
+    half-width ``a^2 = 4 N' R / (pi E*)`` is that double.  A smaller load is no contact, as zero is: its half-width
+    and pressure underflow, so no method gives it a finite, meaningful answer."""
+    tiny = sys.float_info.min
+    return max(tiny, tiny * math.pi * contact_modulus / (4.0 * radius))
 
 
 def non_finite(outputs: StepOutputs, normal_load: float, creep: float, velocity: float) -> str:
@@ -163,6 +166,7 @@ class ContactModel(InstationaryStepping):
 
         # constants of the closed-form path (no Scene is built there)
         self.contact_modulus = material.contact_modulus
+        self.resolved_load = resolved_load(material.contact_modulus, self.radius)
         self.mu = friction.static_coefficient
         self.friction_bound = friction.maximum_coefficient
         self.width = p.contact_width
@@ -289,7 +293,7 @@ class ContactModel(InstationaryStepping):
 
         lag = None
         load = normal_load * self.per_width
-        if load < RESOLVED_LOAD:  # zero, or subnormal: below what floating point resolves, no contact
+        if load < self.resolved_load:  # zero, or below what floating point resolves: no contact
             outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
             state.creep_envelope = None
         elif load == INF:

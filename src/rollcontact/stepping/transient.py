@@ -437,7 +437,7 @@ class InstationaryStepping:
         model to first order in the force change; for the discretised transient the same linearisation.
         """
         a_star = half_width * math.sqrt(max(0.0, 1.0 - abs(force) / (self.mu * load)))
-        steady = 2.0 * load * self.radius * a_star / (half_width * half_width)
+        steady = 2.0 * self.radius * (load / half_width) * (a_star / half_width)  # no underflow of N' a*
         length = relaxation_length(force, load, self.radius, self.contact_modulus, self.mu,
                                    self.instationary.datum_length)
         if length <= 0.0:
