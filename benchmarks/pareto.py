@@ -59,6 +59,8 @@ from pareto_cases import FULL, QUICK, steady_cases
 from pareto_measure import FmuBench, fmu_study, instationary_study, measure_case
 from pareto_report import plot, report
 
+from rollcontact_cosim.cli import Progress
+
 RESULTS = common.RESULTS
 
 
@@ -78,21 +80,25 @@ def main(argv: list[str] | None = None) -> None:
             print("building the FMUs", flush=True)
             bench = FmuBench(*common.build_and_extract(Path(tmp), build), Path(tmp))
         rows, choices, references = [], [], {}
-        for family, cases in steady_cases(config).items():
-            for label, scene in cases:
-                print(f"{family}: {label}", flush=True)
+        cases = [(family, label, scene) for family, listed in steady_cases(config).items() for label, scene in listed]
+        with Progress(len(cases) + 1 + (bench is not None), "cases") as progress:
+            for family, label, scene in cases:
+                progress.advance(0, f"{family}: {label}")
                 case_rows, case_choices, ref = measure_case(family, label, scene, config, bench)
                 rows += case_rows
                 choices += case_choices
                 references[(family, label)] = ref
-        print("instationary", flush=True)
-        inst_rows, inst_choices, inst_refs = instationary_study(config)
-        rows += inst_rows
-        choices += inst_choices
-        fmu = []
-        if bench is not None:
-            print("FMU steps", flush=True)
-            fmu = fmu_study(config, bench)
+                progress.advance()
+            progress.advance(0, "instationary")
+            inst_rows, inst_choices, inst_refs = instationary_study(config)
+            rows += inst_rows
+            choices += inst_choices
+            progress.advance()
+            fmu = []
+            if bench is not None:
+                progress.advance(0, "FMU steps")
+                fmu = fmu_study(config, bench)
+                progress.advance()
     RESULTS.mkdir(parents=True, exist_ok=True)
     plot(rows, choices, RESULTS / "pareto.png")
     report(config, rows, choices, references, inst_refs, fmu, time.perf_counter() - start, load,

@@ -11,6 +11,9 @@ import argparse
 import sys
 from pathlib import Path
 
+import numpy as np
+
+from rollcontact_cosim.cli import run
 from rollcontact_cosim.master import CosimResult, run_cosimulation, summarise
 from rollcontact_cosim.scenes import ALGORITHMS, DEFAULT_SCENE
 
@@ -33,28 +36,42 @@ LABELS = {  # variable -> axis label
 }
 
 
+METHOD_LABELS = {0: "none", 1: "closed form", 2: "polynomial", 3: "discretised", 4: "relaxation lag",
+                 5: "transient"}
+"""``method_used`` codes (the FMU's enumeration) and their names on the plot's axis."""
+
+STARTUP = 0.05
+"""Fraction of the run at its start that the time histories mark as start-up: their y-axes are scaled to the rest,
+so a start-up spike neither hides the run nor is hidden (it is clipped and the span shaded)."""
+
+
 def plot(result: CosimResult, path: Path | str) -> Path:
-    """PNG of every recorded variable against time (matplotlib, Agg backend)."""
+    """PNG of the run: the adhesion curve T/N against the creep (log creep, the peak marked) beside the time
+    histories of every recorded variable (matplotlib, Agg backend).
+
+    Time histories: integer outputs as steps with named levels, no offset on any axis, a constant drawn with zero
+    on its axis, the creep on a log (or symmetric log) axis, and the start-up (:data:`STARTUP`) shaded, the
+    y-axes scaled to the rest of the run.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    names = result.values.dtype.names[1:]
+    values = result.values
+    names = values.dtype.names[1:]
+    time = values["time"]
     columns = 2
     rows = (len(names) + columns - 1) // columns
-    fig, axes = plt.subplots(rows, columns, figsize=(11, 2.2 * rows), sharex=True, squeeze=False)
-    time = result.values["time"]
-    for ax, name in zip(axes.flat[:len(names)], names, strict=True):
-        ax.plot(time, result.values[name], lw=1.0)
-        ax.set_ylabel(LABELS.get(name, name), fontsize=8)
-        ax.grid(True, lw=0.3)
-        if name == "RollingContact2D.stationarity":
-            ax.set_yscale("log")
-    for ax in axes.flat[len(names):]:
-        ax.set_visible(False)
-    for ax in axes[-1]:
-        ax.set_xlabel("time [s]")
+    fig = plt.figure(figsize=(15, max(6.0, 2.0 * rows)))
+    grid = fig.add_gridspec(rows, 3, width_ratios=(1.25, 1, 1))
+    adhesion_curve(fig.add_subplot(grid[:, 0]), values)
+    start = time[0] + STARTUP * (time[-1] - time[0]) if time.size else 0.0
+    for k, name in enumerate(names):
+        ax = fig.add_subplot(grid[k // columns, 1 + k % columns])
+        time_history(ax, time, values[name], name, start)
+        if k // columns == rows - 1 or k + columns >= len(names):
+            ax.set_xlabel("time [s]")
     fig.suptitle(f"{result.scene}: {result.master} master, {result.algorithm}, H = {result.step_size:g} s")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -62,7 +79,76 @@ def plot(result: CosimResult, path: Path | str) -> Path:
     return Path(path)
 
 
+def adhesion_curve(ax, values) -> None:
+    """T/N against |creep| on a log axis, traction (creep > 0) and braking (creep < 0, -T/N) apart, the peak of
+    |T/N| marked with its value and creep."""
+    creep = values["WheelRig.creep"] if "WheelRig.creep" in values.dtype.names else None
+    traction = (values["RollingContact2D.traction_coefficient"]
+                if "RollingContact2D.traction_coefficient" in values.dtype.names else None)
+    ax.set_title("adhesion curve")
+    if creep is None or traction is None or not np.any(creep != 0.0):
+        ax.text(0.5, 0.5, "no creep and traction recorded", ha="center", va="center", transform=ax.transAxes)
+        return
+    for sign, label in ((1.0, "creep > 0"), (-1.0, "creep < 0 (braking: -T/N)")):
+        mask = sign * creep > 0.0
+        if mask.any():
+            order = np.argsort(sign * creep[mask])
+            ax.plot((sign * creep[mask])[order], (sign * traction[mask])[order], ".", ms=2.5, label=label)
+    peak = int(np.argmax(np.abs(traction) * (creep != 0.0)))
+    ax.plot(abs(creep[peak]), abs(traction[peak]), "o", mfc="none", mec="C3", ms=9)
+    ax.annotate(f"peak T/N = {abs(traction[peak]):.4f}\nat creep {abs(creep[peak]):.3g}",
+                (abs(creep[peak]), abs(traction[peak])), textcoords="offset points", xytext=(-14, 6),
+                ha="right", color="C3", bbox={"boxstyle": "round", "fc": "white", "ec": "C3", "lw": 0.5})
+    ax.set_xscale("log")
+    ax.set_xlabel("|creep| xi [1]")
+    ax.set_ylabel("traction coefficient T/N [1]")
+    ax.set_ylim(bottom=0.0)
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+
+
+def time_history(ax, time, series, name: str, start: float) -> None:
+    """One recorded variable against time, drawn as :func:`plot` describes."""
+    series = np.asarray(series, dtype=float)
+    if name.endswith("method_used"):
+        ax.step(time, series, where="post", lw=1.0)
+        levels = sorted({int(v) for v in series})
+        ax.set_yticks(levels, [METHOD_LABELS.get(v, str(v)) for v in levels], fontsize=7)
+        ax.set_ylim(min(levels) - 0.5, max(levels) + 0.5)
+    else:
+        ax.plot(time, series, lw=1.0)
+        ax.ticklabel_format(axis="y", useOffset=False)
+        steady = series[time >= start] if np.any(time >= start) else series
+        low, high = float(np.min(steady)), float(np.max(steady))
+        if name.endswith("creep") and np.all(series >= 0.0) and np.any(series > 0.0):
+            ax.set_yscale("log")
+        elif name.endswith("creep") and np.any(series < 0.0) and np.any(series > 0.0):
+            ax.set_yscale("symlog", linthresh=max(1e-6, 0.01 * np.max(np.abs(series))))
+        elif name.endswith("stationarity"):
+            ax.set_yscale("log")
+            if low > 0.0:
+                ax.set_ylim(low / 2.0, high * 2.0)
+                if np.max(series) > 2.0 * high:
+                    ax.axvspan(time[0], start, color="0.85", lw=0)
+                    ax.text(time[0], high * 2.0, " start-up (clipped)", fontsize=6, va="top")
+        elif high - low <= 1e-9 * max(abs(high), abs(low), 1e-300):  # constant: its value against zero
+            ax.set_ylim(min(0.0, 1.2 * low), max(0.0, 1.2 * high) or 1.0)
+        else:
+            margin = 0.08 * (high - low)
+            ax.set_ylim(low - margin, high + margin)
+            if np.min(series) < low - margin or np.max(series) > high + margin:
+                ax.axvspan(time[0], start, color="0.85", lw=0)
+                ax.text(time[0], high + margin, " start-up (clipped)", fontsize=6, va="top")
+    ax.set_ylabel(LABELS.get(name, name), fontsize=8)
+    ax.grid(True, lw=0.3)
+
+
 def main(argv: list[str] | None = None) -> int:
+    """The main job (module docstring); a bad scene or a missing optional dependency is one line and exit code 2."""
+    return run("python -m rollcontact_cosim", lambda: job(argv))
+
+
+def job(argv: list[str] | None) -> int:
     parser = argparse.ArgumentParser(prog="python -m rollcontact_cosim", description=__doc__.splitlines()[0])
     parser.add_argument("scene", nargs="?", default=DEFAULT_SCENE,
                         help=f"scene name in models/cosim or a TOML path (default {DEFAULT_SCENE})")

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rollcontact_cosim.cli import run
 from rollcontact_cosim.scenes import SCENE_NAMES, Band, CosimScene, load_cosim_scene
 
 __all__ = ["band_limits", "compare", "provenance", "read_reference", "regenerate", "write_reference"]
@@ -202,6 +203,11 @@ def regenerate(scenes=SCENE_NAMES, **run_options) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Regenerate or check the references; a bad scene is one line and exit code 2."""
+    return run("python -m rollcontact_cosim.reference", lambda: command(argv))
+
+
+def command(argv: list[str] | None) -> int:
     parser = argparse.ArgumentParser(prog="python -m rollcontact_cosim.reference",
                                      description="Regenerate or check the co-simulation reference results.")
     action = parser.add_mutually_exclusive_group(required=True)

@@ -30,6 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rollcontact_cosim.cli import Progress, run
 from rollcontact_cosim.master import MASTERS, ensure_fmus, run_cosimulation, summarise
 from rollcontact_cosim.scenes import SCENE_NAMES, load_cosim_scene
 
@@ -175,8 +176,15 @@ def is_fmu_resources(path: str) -> bool:
 
 
 def gather(client, function, arguments: list[tuple]) -> list:
+    """The results of ``function(*args)`` on the cluster, in the order of ``arguments``, with a progress bar on a
+    terminal."""
+    from dask.distributed import as_completed
+
     # pure=False: equal arguments are still separate runs (wall times are part of the result)
     futures = [client.submit(function, *args, pure=False) for args in arguments]
+    with Progress(len(futures), f"{function.__name__} runs") as progress:
+        for _ in as_completed(futures):
+            progress.advance()
     return client.gather(futures)
 
 
@@ -186,12 +194,18 @@ def parse_overrides(items: list[str], what: str) -> dict[str, list]:
     for item in items:
         name, sep, text = item.partition("=")
         if not sep or not text:
-            raise SystemExit(f"--{what} {item!r}: expected name=value[,value...]")
+            raise ValueError(f"--{what} {item!r}: expected name=value[,value...]")
         values[name] = [int(v) if v.lstrip("+-").isdigit() else float(v) for v in text.split(",")]
     return values
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The sweep or regression command (module docstring); a bad scene or value, or dask missing, is one line and
+    exit code 2."""
+    return run("python -m rollcontact_cosim.sweep", lambda: command(argv))
+
+
+def command(argv: list[str] | None) -> int:
     parser = argparse.ArgumentParser(prog="python -m rollcontact_cosim.sweep", description=__doc__.splitlines()[0])
     parser.add_argument("scene", nargs="?", default="traction_ramp", help="scene of the sweep (default traction_ramp)")
     parser.add_argument("--regression", action="store_true", help="check every scene and master against its reference")
