@@ -23,7 +23,7 @@ ESTAR = SCENE.material.contact_modulus
 A_H, P0 = hertz(LOAD, SCENE.radius, ESTAR)
 CREEP = 0.5 * MU * A_H / SCENE.radius  # half the Carter saturation creep
 FALLING = SCENE.replace(friction=rc.ExponentialFalling(MU, 0.4, 0.6), rolling_speed=30.0, creep=CREEP)
-CONTACT_MS = {100: 2.0, 800: 290.0}  # CONTACT, 2D Carter, one core (physics.md section 7)
+CONTACT_MS = {100: 2.0, 800: 290.0}  # CONTACT's quoted times [ms], 2D Carter on one core
 SIZES = (50, 100, 200, 400, 800)
 
 

@@ -279,7 +279,8 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, load, pat
               "the same scene, per fmpy step (set 3 inputs, doStep, get 11 outputs; `common.steady_step_time`): "
               "'-' where no FMU parameter selects the setting (the slip iteration's nodes, the extrapolated "
               "discretised pairs) and for the instationary rows, whose times are already model steps.  model: the "
-              "cost model of `api.py` [s] and the predicted error bound; 'front': on the case's Pareto front; "
+              "cost model of `methods/*/accuracy.py` [s] and the predicted error bound; 'front': on the case's Pareto "
+              "front; "
               "'auto': the tolerances at which auto chose this setting.", ""]
     for family in dict.fromkeys(r.family for r in rows):
         lines += [f"### {family}", "",
@@ -302,7 +303,8 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, load, pat
     lines += ["## Cost and error models of auto (`src/rollcontact/methods/*/accuracy.py`) against this run", "",
               f"- Cost model vs measured time: Spearman rank correlation {rho:.3f} over {len(steady)} settings; "
               f"same-case pairs whose times differ by > 30 % ordered alike: {agree:.0%} of {pairs}.",
-              "- Fitted constants (least squares on relative residuals; update `api.py` when the ranking drifts):",
+              "- Fitted constants (least squares on relative residuals; update the accuracy modules when the ranking "
+              "drifts):",
               "", "| constant | in the package | fitted here |", "|---|---|---|"]
     lines += [f"| {name} | {now} | {fitted} |" for name, now, fitted in fit_costs(steady)]
     violations = [r for r in rows if math.isfinite(r.bound) and math.isfinite(r.error) and r.error > r.bound]

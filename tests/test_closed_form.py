@@ -1,6 +1,6 @@
 """Closed forms: Hertz, Carter/Fromm, Cattaneo, Mindlin-Deresiewicz, checked against independent quadrature.
 
-Oracles are the integral equations themselves (physics.md section 1), evaluated with scipy's QUADPACK:
+Oracles are the integral equations themselves (docs/physics.md, Conventions), evaluated with scipy's QUADPACK:
 ``(2/(pi E*)) PV-int p(z)/(x - z) dz = h0'(x)`` in the patch, ``(2/(pi E*)) PV-int q(z)/(x - z) dz = -xi`` in the
 stick zone, ``s = xi + (2/(pi E*)) PV-int q(z)/(x - z) dz`` in the slip zone, plus load/force balance.
 Tolerances: identities and quadratures of smooth weights ~1e-12; principal values ~1e-9..1e-7; finite

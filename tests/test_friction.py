@@ -1,4 +1,4 @@
-"""Friction laws mu(v) (physics.md section 5)."""
+"""Friction laws mu(v) (docs/physics.md, Velocity-dependent friction)."""
 
 import numpy as np
 import pytest

@@ -1,6 +1,6 @@
-"""Instationary rolling (paper section 4.3, physics.md section 6): limits, the 2.5 a/lambda rule, the paper's route
-against the discretised transient, the relaxation model against creep-controlled transients, stationarity and
-state round trips.
+"""Instationary rolling (paper section 4.3, docs/physics.md, Instationary rolling): limits, the 2.5 a/lambda rule, the
+paper's route against the discretised transient, the relaxation model against creep-controlled transients, stationarity
+and state round trips.
 
 Tolerances are tiered: identities (closed-form inverses, mirror symmetry, restore/step, datum-free energy) ~1e-9;
 the paper's route vs the discretised transient at the discretisation level of steady Carter with 200 elements

@@ -87,8 +87,9 @@ def carter_creep(tangential_force_per_length: float, normal_load_per_length: flo
     limit = mu * normal_load_per_length
     if limit <= 0.0:
         return 0.0
-    r = math.sqrt(max(0.0, 1.0 - abs(tangential_force_per_length) / limit))
-    return math.copysign(mu * a / radius * (1.0 - r), tangential_force_per_length)
+    ratio = min(1.0, abs(tangential_force_per_length) / limit)
+    # 1 - sqrt(1 - y) = y / (1 + sqrt(1 - y)): no cancellation at small force
+    return math.copysign(mu * a / radius * ratio / (1.0 + math.sqrt(1.0 - ratio)), tangential_force_per_length)
 
 
 def relaxation_length(tangential_force_per_length: float, normal_load_per_length: float, radius: float,

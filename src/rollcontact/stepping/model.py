@@ -172,7 +172,7 @@ class ContactModel(InstationaryStepping):
         self.width = p.contact_width
         self.per_width = 1.0 / p.contact_width
         slope = surface.polynomial[1] if len(surface.polynomial) > 1 else 0.0
-        self.flat_offset = self.radius * slope  # uphill by R alpha (docs/physics.md, the tilted surface)
+        self.flat_offset = self.radius * slope  # uphill by R alpha (docs/physics.md, The tilted surface)
         self.saturation_per_half_width = self.mu / self.radius  # Carter saturation creep over a
         self.length_cache = (math.nan, 0.0)  # (N', zero_force_length(N'))
         self.state = ModelState.initial(start_time, p.initial_position)

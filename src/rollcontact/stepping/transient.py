@@ -255,11 +255,11 @@ class InstationaryStepping:
             self.settle_tolerance = max(self.transient_tolerance, transient_model_error(elements, extrapolate))
         elif not discretised and (tight or not p.tolerance):
             notices.append(f"tolerance = {p.tolerance!r}: the relaxation lag of transient = {p.transient} errs "
-                           "by up to 2.6 % of the creep swing in saturation creeps (3e-3 mu N for a swing of "
-                           f"0.3), at most {RELAXATION_ACCURACY!r} mu N as measured "
-                           "(benchmarks/bench_relaxation.py); for a modelled error use transient = 1 with "
-                           "method = 0 and a tolerance, which then runs the discretised transient with as "
-                           "many elements as the tolerance needs")
+                           f"by up to {LAG_ERROR_COEFFICIENT:g} mu N per saturation creep of half the creep swing "
+                           f"(rollcontact.instationary.lag_error_bound), at most {RELAXATION_ACCURACY!r} mu N "
+                           "(benchmarks/bench_relaxation.py); for an error within a tolerance use transient = 1 with "
+                           "method = 0 and a tolerance, which then runs the discretised transient with as many "
+                           "elements as the tolerance needs")
         self.instationary = InstationaryModel(
             radius, material.contact_modulus, friction.static_coefficient,
             mode="transient" if discretised else "relaxation", datum_length=p.datum or None,

@@ -285,7 +285,7 @@ def test_state_restore_then_step_is_reproducible():
 
 
 def test_datum_relation_for_force_controlled_transient():
-    """physics.md section 6: xi_L2 = xi_L1 + (2/(pi E*)) ln(L2/L1) dT'/ds, q independent of L."""
+    """docs/physics.md, Instationary rolling: xi_L2 = xi_L1 + (2/(pi E*)) ln(L2/L1) dT'/ds, q independent of L."""
     grid = Grid(-1.2 * A_H, 1.2 * A_H, 100)
     solvers = [TransientSolver(grid, contact_modulus=ESTAR, radius=SCENE.radius, datum_length=L)
                for L in (0.1, 1.0)]
@@ -370,7 +370,8 @@ def test_creep_control_needs_datum_above_quarter_grid_length():
 
 # -------------------------------------------------------------------------------------- corrugation, transient
 def quasi_steady_offset(scene, axis_position):
-    """Delta(x_c) from eqs 28-29 (physics.md section 4, corrected) for one harmonic, by fixed-point iteration."""
+    """Delta(x_c) from eqs 28-29 (docs/physics.md, Corrugated surface, corrected) for one harmonic, by fixed-point
+    iteration."""
     harmonic = scene.surface.harmonics[0]
     k, phi, psi, r = harmonic.wavenumber, harmonic.cos_amplitude, harmonic.sin_amplitude, scene.radius
 

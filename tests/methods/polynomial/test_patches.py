@@ -30,7 +30,7 @@ def corrugated(wavelength, axis_position, creep=1e-3, amplitude=20e-6, **extra):
                  surface=Surface(harmonics=(Harmonic.from_wavelength(wavelength, amplitude),)), **extra)
 
 
-SPLIT = corrugated(0.010, 0.0045)  # the 10 mm / 20 um corrugation of physics.md section 4: two patches
+SPLIT = corrugated(0.010, 0.0045)  # the 10 mm / 20 um corrugation of docs/physics.md, Corrugated surface: two patches
 SYMMETRIC = corrugated(0.005, 0.0025)  # the axis over a crest of the gap: two mirror-image patches
 A_REF = math.sqrt(4 * LOAD * RADIUS / (math.pi * SPLIT.material.contact_modulus))
 XI_SAT = MU * A_REF / RADIUS

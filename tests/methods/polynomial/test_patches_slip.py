@@ -25,7 +25,8 @@ STEEP = ExponentialFalling(0.3, 0.4, 30.0)
 
 
 def corrugated(wavelength=0.010, axis_position=0.0045, creep=1e-3, friction=LAW, **extra):
-    """Steel cylinder (R = 0.46 m) on a 20 um corrugation; by default the two-patch scene of physics.md section 4."""
+    """Steel cylinder (R = 0.46 m) on a 20 um corrugation; by default the two-patch scene of docs/physics.md,
+    Corrugated surface."""
     return Scene(LOAD, creep=creep, axis_position=axis_position, friction=friction, rolling_speed=SPEED,
                  surface=Surface(harmonics=(Harmonic.from_wavelength(wavelength, 20e-6),)), **extra)
 

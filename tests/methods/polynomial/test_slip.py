@@ -1,4 +1,5 @@
-"""Velocity-dependent friction by the polynomial method (paper section 4.2; physics.md section 5)."""
+"""Velocity-dependent friction by the polynomial method (paper section 4.2; docs/physics.md, Velocity-dependent
+friction)."""
 
 import math
 import warnings

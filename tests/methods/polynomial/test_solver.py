@@ -3,7 +3,7 @@
 Oracles: Hertz/Carter for a parabolic gap; for other gaps the integral equations themselves by QUADPACK
 (``(2/(pi E*)) PV-int p/(x - z) dz = h0'(x)`` in the patch, ``(2/(pi E*)) PV-int q/(x - z) dz = -xi`` in the stick
 zone), load/force balance, the friction bound, the slip sign, the deformed gap outside the patch, and the
-corrected closed formulas of physics.md section 4 (eqs 28-31) evaluated here with scipy.special.j0/j1.
+corrected closed formulas of docs/physics.md, Corrugated surface (eqs 28-31) evaluated here with scipy.special.j0/j1.
 Tolerances: parabolic identities 1e-12; quadrature of the integral equations 1e-8 of a/R (pressure) and 1e-7
 of xi (stick zone); truncation 1e-10 at the default order.
 """
@@ -144,7 +144,7 @@ def deformed_gap_minimum(result, scene, reach, m=120, nodes=800):
 
 
 def corrugation_closed_forms(scene, a, delta, a_star):
-    """Corrected eqs 28-31 of physics.md section 4 for the scene's harmonics (no polynomial part).
+    """Corrected eqs 28-31 of docs/physics.md, Corrugated surface for the scene's harmonics (no polynomial part).
 
     Parameters
     ----------
@@ -505,7 +505,8 @@ SPLIT = dict(radius=0.46, material=Material(210e9, 0.28), friction=0.3)
 
 
 def sweep(wavelength, creep, n=24):
-    """Solve the 20 um corrugation of physics.md section 4 at ``n`` axis positions over one wavelength."""
+    """Solve the 20 um corrugation of docs/physics.md, Corrugated surface at ``n`` axis positions over one
+    wavelength."""
     harmonic = Harmonic.from_wavelength(wavelength, 20e-6)
     out = []
     for xc in wavelength * np.arange(n) / n + 1e-4 * wavelength:
