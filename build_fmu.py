@@ -5,7 +5,10 @@ Usage: ``python build_fmu.py [--dest models]`` writes ``<dest>/RollingContact2D.
 FMU needs only numpy and scipy from the host's Python.  ``--all`` also writes ``<dest>/WheelRig.fmu``, the
 co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcontact_cosim``); ``--if-stale``
 builds only the FMUs that are missing or older than one of their sources.  Both FMUs can get, set and serialise
-their state; both bundle the shared modelDescription helper ``fmu_src/rollcontact_fmu_xml.py``.
+their state; both bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_xml.py``.
+The slave files are tiny entry modules that import the slave class from a bundled module
+(``fmu_src/rollcontact_fmu_contact.py``, ``fmu_src/rollcontact_fmu_wheel_rig.py``): pythonfmu re-executes the
+entry module on every instantiation (``fmu_src/rollcontact_fmu_slave.py``'s docstring).
 """
 
 from __future__ import annotations
@@ -22,9 +25,9 @@ PACKAGE = SOURCES / "rollcontact"
 HOST_SLAVE = ROOT / "fmu_src" / "wheel_rig_slave.py"
 HOST_PACKAGE = SOURCES / "rollcontact_cosim"
 
-FMUS = {  # model name -> (slave, bundled packages)
-    "RollingContact2D": (SLAVE, (PACKAGE,)),
-    "WheelRig": (HOST_SLAVE, (HOST_PACKAGE,)),
+FMUS = {  # model name -> (entry module, bundled packages and modules)
+    "RollingContact2D": (SLAVE, (PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_contact.py")),
+    "WheelRig": (HOST_SLAVE, (HOST_PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_wheel_rig.py")),
 }
 
 
@@ -50,7 +53,8 @@ def build(dest: Path | str = ROOT / "models") -> Path:
 def sources(model: str) -> list[Path]:
     """Files the FMU ``model`` is built from (its slave, the XML helper and the bundled packages' modules)."""
     slave, packages = FMUS[model]
-    return [slave, XML_HELPER, *(f for package in packages for f in package.rglob("*.py"))]
+    return [slave, XML_HELPER, *(f for package in packages
+                                 for f in ([package] if package.is_file() else package.rglob("*.py")))]
 
 
 def is_stale(model: str, dest: Path | str = ROOT / "models") -> bool:

@@ -5,14 +5,36 @@ pythonfmu 0.7 writes no units, bounds, UnitDefinitions or InitialUnknowns (``fmp
 slave that declares its variables in one table of rows ``(name, type, causality, variability, unit, start, min,
 max, description)`` (value references = row order) calls :func:`complete_model_description` from its
 ``to_xml`` to add them.
+
+What pythonfmu 0.7's C++ layer (``PySlaveInstance.cpp``, ``fmi2.cpp``) does with the slave, and how
+:class:`TableSlave` copes (``docs/fmu.md``, "Known limits of pythonfmu"):
+
+* Any exception escaping a slave method becomes fmi2Fatal, and ``handle_py_exception`` then releases the instance's
+  Python objects without forgetting them: every later call on the instance, ``fmi2FreeInstance`` included, is a
+  use after free (SIGSEGV).  So nothing may raise into pythonfmu: not the setters, getters, state methods or
+  ``do_step``.
+* Apart from that, only ``do_step`` has a status (False: fmi2Discard); every other call returns fmi2OK.  A call
+  FMI 2 answers with fmi2Error (a fixed parameter set after initialisation, an invalid FMU state, invalid
+  parameters at exitInitializationMode, an unknown value reference) is therefore logged with status Error and
+  puts the instance into an *emulated error state*: it keeps its previous values, and every ``do_step`` is
+  discarded with the reason until a valid state is set (``fmi2SetFMUstate``) or the instance is reset.
+* The FMU state object is the Python dict of ``_get_fmu_state``; ``_fmu_state_to_bytes`` and
+  ``_fmu_state_from_bytes`` (static, called on the class) serialise it as UTF-8 JSON with a SHA-256 checksum
+  (:func:`serialise_state`).  Bytes that are no such state (not UTF-8, not JSON, no or a wrong checksum) become a
+  marker dict that ``_set_fmu_state`` refuses, and a state is checked completely before anything is changed.
 """
 
 from __future__ import annotations
 
+import hashlib
+import json
+import math
+import sys
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Slave, Real
-from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status
+from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
+from pythonfmu.variables import Boolean, Integer, String
 
 UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
     "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "s/m": {"m": -1, "s": 1}, "rad": {"rad": 1},
@@ -22,9 +44,93 @@ UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
 }
 
 
+STATE_FORMAT = "rollcontact TableSlave FMU state"
+"""``format`` of every FMU state of a :class:`TableSlave`."""
+
+STATE_VERSION = 1
+"""Layout version of the FMU state (``version``); states of another version are refused."""
+
+UNDECODABLE = "undecodable FMU state"
+"""Key of the marker dict ``_fmu_state_from_bytes`` returns for bytes that are no serialised state."""
+
+CHECKSUM = "sha256"
+"""Key of the serialised state's checksum: SHA-256 of :func:`canonical_json` of the state without it."""
+
+NOT_INITIALISED = "the FMU is not initialised: exit initialisation mode before stepping"
+
+INT32 = (-(2**31), 2**31 - 1)
+
+
 def printf_safe(message: str) -> str:
     """The message as a literal printf format (pythonfmu's C side formats log messages)."""
     return message.replace("%", "%%")
+
+
+def short(value, limit: int = 80) -> str:
+    """``repr(value)`` cut to ``limit`` characters: a log message never carries a whole crafted state."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def canonical_json(value) -> str:
+    """The JSON text a state is serialised and checksummed as (sorted keys: the same text after a round trip)."""
+    return json.dumps(value, sort_keys=True)
+
+
+def serialise_state(state) -> bytes:
+    """UTF-8 JSON of the FMU state ``state`` (a dict) with its checksum added."""
+    return canonical_json({**state, CHECKSUM: hashlib.sha256(canonical_json(state).encode()).hexdigest()}).encode()
+
+
+def deserialise_state(data: bytes):
+    """The FMU state of :func:`serialise_state`'s bytes; ValueError (saying why) for anything else.
+
+    The checksum catches accidental corruption (a flipped digit still parses); the state's content is checked when
+    it is set, since anyone can compute a checksum.
+    """
+    try:
+        state = json.loads(bytes(data).decode("utf-8"))
+    except Exception as exc:  # noqa: BLE001 - UnicodeDecodeError, JSONDecodeError, RecursionError, ...
+        raise ValueError(f"the serialised FMU state ({len(data)} bytes) is not UTF-8 JSON: "
+                         f"{type(exc).__name__}: {clip(str(exc))}") from None
+    if not isinstance(state, dict) or not isinstance(state.get(CHECKSUM), str):
+        raise ValueError(f"the serialised FMU state ({len(data)} bytes) is no JSON object with a checksum")
+    digest = state.pop(CHECKSUM)
+    if hashlib.sha256(canonical_json(state).encode()).hexdigest() != digest:
+        raise ValueError(f"the serialised FMU state ({len(data)} bytes) does not match its checksum: it is corrupt")
+    return state
+
+
+def clip(text: str, limit: int = 200) -> str:
+    """``text`` cut to ``limit`` characters."""
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def same_value(a, b) -> bool:
+    """Equal numbers (both NaN included) or equal strings: a host re-setting the value in force changes nothing."""
+    if is_real(a) and is_real(b):
+        return a == b or (a != a and b != b)
+    return type(a) is type(b) and a == b
+
+
+def is_real(value) -> bool:
+    """An int or float, not a bool (JSON numbers)."""
+    return type(value) in (int, float)
+
+
+def drop_repeated_path(entry: str) -> None:
+    """Remove all but the first occurrence of ``entry`` from ``sys.path`` (the same list object).
+
+    pythonfmu's instance constructor inserts the resources folder at ``sys.path[0]`` on every instantiation and
+    never removes it: without this, ``sys.path`` grows by one entry per instance.
+    """
+    if entry in sys.path:
+        first = sys.path.index(entry)
+        sys.path[first + 1:] = [path for path in sys.path[first + 1:] if path != entry]
+
+
+class StateRefused(ValueError):
+    """An FMU state that cannot be set; the message says why."""
 
 
 def complete_model_description(root: Element, variables, initial_dependencies: str | None = "") -> Element:
@@ -77,10 +183,16 @@ class TableSlave(Fmi2Slave):
     """What both slaves do around their library model: variables from one table, do_step, state, XML.
 
     A subclass sets :attr:`VARIABLES` (rows as in the module docstring) and :attr:`INITIAL_DEPENDENCIES`, and gives
-    :meth:`new_model` (parameter values -> model and notices to log), :meth:`step_model` and
-    :meth:`restore_model`.  Bad parameters leave ``problem`` set: every ``do_step`` is then discarded with it; any
-    exception of the model becomes a logged Discard, never an escaping exception (pythonfmu would turn it into
-    fmi2Fatal).  The FMU state holds the non-output variables, the outputs and the model's state dict.
+    :meth:`new_model` (parameter values -> model and notices to log, without side effects), :meth:`step_model`,
+    :meth:`parse_model_state` (a model state dict -> the model's state object, checked completely) and
+    :meth:`restore_model`; :meth:`initial_outputs` and :meth:`restored_outputs` when the outputs follow the model.
+
+    Life cycle: parameters are set before ``exit_initialization_mode``, which builds the model (invalid parameters
+    leave ``problem`` set: every ``do_step`` is then discarded with it).  After it the parameters are fixed: a set
+    that changes one is refused (emulated fmi2Error, module docstring).  ``do_step`` accepts only the communication
+    point ``t_(n+1) = t_n + h_n`` (or the start time, or the time of a restored state), within rounding.  Any
+    exception of the model becomes a logged Discard, never an escaping exception.  The FMU state holds the
+    non-output variables, the outputs, the life-cycle fields and the model's state dict.
     """
 
     VARIABLES: tuple = ()
@@ -88,96 +200,349 @@ class TableSlave(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
+        if "logger" in kwargs and self.resources:  # instantiated by pythonfmu's binary (not by the builder)
+            drop_repeated_path(self.resources)
+        self.output_names = []
         outputs = []
         for name, kind, causality, variability, _unit, start, _lo, _hi, description in self.VARIABLES:
             if causality is Fmi2Causality.output:
                 getter = self.output_reader(len(outputs))
                 outputs.append(start)
+                self.output_names.append(name)
                 initial = Fmi2Initial.approx
             else:
                 setattr(self, name, start)
                 getter = initial = None
             self.register_variable(kind(name, causality=causality, variability=variability, initial=initial,
-                                        description=description, getter=getter))
+                                        description=description, getter=getter,
+                                        setter=self.variable_writer(name, kind, causality, variability)))
         self.outputs = tuple(outputs)
+        self.kinds = {row[0]: row[1] for row in self.VARIABLES}
+        self.state_variables = tuple(row[0] for row in self.VARIABLES if row[2] is not Fmi2Causality.output)
+        self.parameter_names = tuple(row[0] for row in self.VARIABLES if row[2] is Fmi2Causality.parameter)
         self.start_time = 0.0
+        self.initialised = False
+        self.next_time: float | None = None
         self.model = None
-        self.problem: str | None = "the FMU is not initialised: exit initialisation mode before stepping"
+        self.model_values: dict | None = None
+        self.problem: str | None = NOT_INITIALISED
+        self.error: str | None = None
 
     # hooks ------------------------------------------------------------------------------------------------------
-    def new_model(self, values: dict, fresh: bool):
-        """``(model, notices)`` for the parameter values; may keep ``self.model`` when not ``fresh``."""
+    def new_model(self, values: dict):
+        """``(model, notices)`` for the parameter values (raises for invalid ones); no side effects."""
         raise NotImplementedError
 
     def step_model(self, current_time: float, step_size: float) -> tuple:
         """The model's outputs after one step (table order); may raise."""
         raise NotImplementedError
 
-    def restore_model(self, data: dict) -> None:
-        """Set the model's state from its dict."""
+    def parse_model_state(self, data):
+        """The model's state object from its dict, every field checked (raises ValueError); no side effects."""
         raise NotImplementedError
+
+    def restore_model(self, state) -> None:
+        """Set the model's state to the object of :meth:`parse_model_state` (cannot fail)."""
+        self.model.set_state(state)
+
+    def step_messages(self) -> list[str]:
+        """Messages of the model's last step attempt, logged with status Warning (default: none)."""
+        return []
+
+    def initial_outputs(self, model) -> tuple | None:
+        """The outputs after initialisation with ``model`` (None: keep the start values)."""
+        return None
+
+    def restored_outputs(self, saved: tuple) -> tuple:
+        """The outputs after a state was restored into ``self.model`` (default: the saved ones)."""
+        return saved
 
     # FMI calls --------------------------------------------------------------------------------------------------
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
-        self.start_time = float(start_time)
+        if not self.initialised:
+            self.start_time = float(start_time)
 
     def exit_initialization_mode(self):
-        self.build_model(fresh=True)
+        if self.initialised:  # a state saved after initialisation was set in initialisation mode
+            return
+        self.initialised = True
+        self.next_time = self.start_time
+        values = self.parameter_values()
+        try:
+            model, notices = self.new_model(dict(values))
+        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
+            self.problem = f"invalid parameters: {exc}"
+            self.report(f"exitInitializationMode: {self.problem}; every do_step will be discarded (pythonfmu "
+                        "cannot return fmi2Error here): reset the instance and set valid parameters",
+                        Fmi2Status.error)
+            return
+        self.model, self.model_values, self.problem = model, values, None
+        outputs = self.initial_outputs(model)
+        if outputs is not None:
+            self.outputs = tuple(outputs)
+        for notice in notices:
+            self.report(notice, Fmi2Status.ok)
 
     def do_step(self, current_time, step_size):
+        if self.error is not None:
+            return self.discard(current_time, None, f"the instance is in error state since: {self.error}; set "
+                                "a valid saved state (setFMUstate) or reset the instance")
         if self.problem is not None:
-            self.log(printf_safe(f"do_step at t = {current_time!r} s discarded: {self.problem}"), Fmi2Status.discard)
-            return False
+            return self.discard(current_time, None, self.problem)
+        late = self.time_problem(current_time, step_size)
+        if late is not None:
+            return self.discard(current_time, step_size, late)
         try:
             outputs = self.step_model(current_time, step_size)
         except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.log(printf_safe(f"do_step at t = {current_time!r} s, h = {step_size!r} s discarded: {exc}"),
-                     Fmi2Status.discard)
-            return False
-        self.outputs = outputs
+            self.report_step_messages()
+            return self.discard(current_time, step_size, str(exc))
+        self.report_step_messages()
+        self.outputs = tuple(outputs)
+        self.next_time = current_time + step_size
         return True
+
+    def set_real(self, vrs, values):
+        self.write_values(vrs, values, Real, "setReal")
+
+    def set_integer(self, vrs, values):
+        self.write_values(vrs, values, Integer, "setInteger")
+
+    def set_boolean(self, vrs, values):
+        self.write_values(vrs, values, Boolean, "setBoolean")
+
+    def set_string(self, vrs, values):
+        self.write_values(vrs, values, String, "setString")
+
+    def get_real(self, vrs):
+        return self.read_values(vrs, Real, float, math.nan, "getReal")
+
+    def get_integer(self, vrs):
+        return self.read_values(vrs, Integer, int, 0, "getInteger")
+
+    def get_boolean(self, vrs):
+        return self.read_values(vrs, Boolean, bool, False, "getBoolean")
+
+    def get_string(self, vrs):
+        return self.read_values(vrs, String, str, "", "getString")
+
+    def _get_fmu_state(self):
+        return {"format": STATE_FORMAT, "version": STATE_VERSION, "fmu": self.modelName,
+                "variables": {name: getattr(self, name) for name in self.state_variables},
+                "outputs": list(self.outputs), "start_time": self.start_time, "initialised": self.initialised,
+                "next_time": self.next_time, "model": None if self.model is None else self.model.state.to_dict()}
+
+    def _set_fmu_state(self, state):
+        try:
+            checked = self.check_state(state)
+        except Exception as exc:  # noqa: BLE001 - StateRefused, or anything unforeseen: never fmi2Fatal
+            reason = str(exc) if isinstance(exc, StateRefused) else f"{type(exc).__name__}: {clip(str(exc), 200)}"
+            self.refuse(f"setFMUstate refused, the instance keeps its previous state: {reason}")
+            return
+        for name, value in checked["variables"].items():
+            setattr(self, name, value)
+        self.start_time, self.initialised, self.next_time = (checked[k] for k in ("start_time", "initialised",
+                                                                                    "next_time"))
+        self.model, self.model_values, self.problem = checked["model"], checked["values"], checked["problem"]
+        self.outputs = checked["outputs"]
+        if self.model is not None:
+            self.restore_model(checked["model_state"])
+            self.outputs = tuple(self.restored_outputs(self.outputs))
+        self.error = None
+
+    @staticmethod
+    def _fmu_state_to_bytes(state) -> bytes:
+        try:
+            return serialise_state(state)
+        except Exception as exc:  # noqa: BLE001 - never fmi2Fatal: the bytes are refused when set
+            return f"the FMU state could not be serialised: {clip(str(exc))}".encode()
+
+    @staticmethod
+    def _fmu_state_from_bytes(state):
+        try:
+            return deserialise_state(state)
+        except Exception as exc:  # noqa: BLE001 - never fmi2Fatal: the marker is refused when set
+            return {UNDECODABLE: str(exc)}
+
+    # helpers ----------------------------------------------------------------------------------------------------
+    def report(self, message: str, status: Fmi2Status) -> None:
+        """Log ``message`` (printf-safe) with ``status`` (its category: logStatusError etc., else logAll)."""
+        self.log(printf_safe(message), status)
+
+    def refuse(self, reason: str) -> None:
+        """Emulate fmi2Error (pythonfmu cannot return it): log the reason, enter the error state."""
+        self.report(f"{reason} [emulated fmi2Error: pythonfmu returns fmi2OK here; every do_step is discarded until "
+                    "a valid state is set or the instance is reset]", Fmi2Status.error)
+        if self.error is None:
+            self.error = reason
+
+    def report_step_messages(self) -> None:
+        try:
+            for message in self.step_messages():
+                self.report(message, Fmi2Status.warning)
+        except Exception as exc:  # noqa: BLE001 - never fmi2Fatal
+            self.report(f"the model's messages could not be read: {clip(str(exc))}", Fmi2Status.warning)
+
+    def discard(self, current_time, step_size, reason: str) -> bool:
+        """Log why the step is discarded (status Discard) and return False (fmi2Discard)."""
+        h = "" if step_size is None else f", h = {step_size!r} s"
+        self.report(f"do_step at t = {current_time!r} s{h} discarded: {reason}", Fmi2Status.discard)
+        return False
+
+    def time_problem(self, current_time: float, step_size: float) -> str | None:
+        """Why ``current_time`` is not the next communication point (None when it is, within rounding)."""
+        expected = self.next_time
+        if current_time == expected or not (math.isfinite(current_time) and math.isfinite(step_size)):
+            return None  # non-finite times and steps are the model's to report
+        tolerance = max(1e-9 * abs(step_size), 8.0 * math.ulp(max(abs(current_time), abs(expected))))
+        if abs(current_time - expected) <= tolerance:
+            return None
+        return (f"the communication point t = {current_time!r} s is not the end of the previous step, "
+                f"{expected!r} s: FMI 2 co-simulation steps from t_(n+1) = t_n + h_n (the start time first); "
+                "set a saved state (setFMUstate) to step from another time")
+
+    def parameter_values(self) -> dict:
+        return {name: getattr(self, name) for name in self.parameter_names}
+
+    def variable_writer(self, name: str, kind, causality, variability):
+        """The setter of variable ``name``: refuses outputs, and fixed parameters once initialised."""
+        if causality is Fmi2Causality.output:
+            return lambda value: self.refuse(f"set {name} = {short(value)} refused: {name} is an output")
+
+        def write(value):
+            if self.initialised and causality is Fmi2Causality.parameter and \
+                    variability in (Fmi2Variability.fixed, Fmi2Variability.constant):
+                current = getattr(self, name)
+                if not same_value(value, current):
+                    self.refuse(f"set {name} = {short(value)} refused: {name} is a fixed parameter and cannot change "
+                                f"after initialisation (the value in force stays {current!r})")
+                return
+            setattr(self, name, value)
+
+        return write
+
+    def write_values(self, vrs, values, kind, call: str) -> None:
+        for vr, value in zip(vrs, values, strict=False):
+            var = self.vars.get(vr)
+            if not isinstance(var, kind):
+                what = "no variable" if var is None else f"{var.name}, not a {kind.__name__}"
+                self.refuse(f"{call} of value reference {vr!r} refused: it is {what}")
+                continue
+            var.setter(value)
+
+    def read_values(self, vrs, kind, convert, placeholder, call: str) -> list:
+        values = []
+        for vr in vrs:
+            var = self.vars.get(vr)
+            if not isinstance(var, kind):
+                what = "no variable" if var is None else f"{var.name}, not a {kind.__name__}"
+                self.refuse(f"{call} of value reference {vr!r}: it is {what} (returned {placeholder!r})")
+                values.append(placeholder)
+                continue
+            try:
+                values.append(convert(var.getter()))
+            except Exception as exc:  # noqa: BLE001 - never fmi2Fatal
+                self.refuse(f"{call} of {var.name} failed: {clip(str(exc), 200)}")
+                values.append(placeholder)
+        return values
+
+    def check_state(self, state):
+        """Everything ``_set_fmu_state`` needs from ``state`` as a dict, checked completely; raises StateRefused
+        and changes nothing (a new model may be built, but is not installed)."""
+        if isinstance(state, dict) and set(state) == {UNDECODABLE}:
+            raise StateRefused(str(state[UNDECODABLE]))
+        if not isinstance(state, dict):
+            raise StateRefused(f"an FMU state is a JSON object, got {type(state).__name__} {short(state)}")
+        keys = {"format", "version", "fmu", "variables", "outputs", "start_time", "initialised", "next_time", "model"}
+        if state.get("format") != STATE_FORMAT:
+            raise StateRefused(f"not an FMU state of this FMU (format {short(state.get('format'))})")
+        version = state.get("version")
+        if type(version) is not int or version != STATE_VERSION:
+            raise StateRefused(f"FMU state version {short(version)} is not supported (this FMU reads version "
+                               f"{STATE_VERSION})")
+        if set(state) != keys:
+            unknown, missing = sorted(map(str, set(state) - keys)), sorted(keys - set(state))
+            raise StateRefused(f"unknown key(s) {short(unknown)}, missing key(s) {missing}")
+        if state["fmu"] != self.modelName:
+            raise StateRefused(f"the state belongs to the FMU {short(state['fmu'])}, not {self.modelName}")
+        variables = self.check_variables(state["variables"])
+        outputs = self.check_outputs(state["outputs"])
+        start_time, initialised, next_time = state["start_time"], state["initialised"], state["next_time"]
+        if not is_real(start_time) or not math.isfinite(start_time):
+            raise StateRefused(f"start_time = {short(start_time)} must be a finite real number")
+        if type(initialised) is not bool:
+            raise StateRefused(f"initialised = {short(initialised)} must be true or false")
+        if initialised != (next_time is not None) or (
+                next_time is not None and (not is_real(next_time) or not math.isfinite(next_time))):
+            raise StateRefused(f"next_time = {short(next_time)} must be a finite real number once initialised, "
+                               f"else null (initialised = {initialised})")
+        data = state["model"]
+        if data is not None and not isinstance(data, dict):
+            raise StateRefused(f"model must be null or an object, got {type(data).__name__}")
+        values = {name: variables[name] for name in self.parameter_names}
+        checked = {"variables": variables, "outputs": outputs, "start_time": float(start_time),
+                   "initialised": initialised, "next_time": None if next_time is None else float(next_time),
+                   "model": None, "model_state": None, "values": None, "problem": NOT_INITIALISED}
+        if not initialised:
+            if data is not None:
+                raise StateRefused("a state saved before initialisation holds no model state")
+            return checked
+        if self.model is not None and self.model_values is not None and all(
+                same_value(values[k], self.model_values[k]) for k in values):
+            model = self.model  # same parameters: the model is kept (only its state is set)
+        else:
+            try:
+                model, _ = self.new_model(dict(values))
+            except Exception as exc:  # noqa: BLE001 - the state's own parameters are invalid
+                if data is not None:
+                    raise StateRefused(f"its parameters are invalid ({clip(str(exc), 200)}) but it holds a model "
+                                       "state") from None
+                return {**checked, "values": values, "problem": f"invalid parameters: {exc}"}
+        if data is None:
+            raise StateRefused("an initialised state with valid parameters must hold the model's state")
+        try:
+            model_state = self.parse_model_state(data)
+        except Exception as exc:  # noqa: BLE001
+            raise StateRefused(clip(str(exc), 300)) from None
+        return {**checked, "model": model, "model_state": model_state, "values": values, "problem": None}
+
+    def check_variables(self, variables) -> dict:
+        """The state's variables: exactly the non-output variables, each of its type."""
+        if not isinstance(variables, dict):
+            raise StateRefused(f"variables must be an object, got {type(variables).__name__}")
+        unknown = [k for k in variables if k not in self.state_variables]
+        missing = [k for k in self.state_variables if k not in variables]
+        if unknown or missing:
+            raise StateRefused(f"variables: unknown {short(sorted(map(str, unknown)))}, missing {short(missing)} "
+                               "(a state holds exactly the FMU's input and parameter variables)")
+        checked = {}
+        for name in self.state_variables:
+            value, kind = variables[name], self.kinds[name]
+            if kind is Real and is_real(value):
+                checked[name] = float(value)
+            elif kind is Integer and type(value) is int and INT32[0] <= value <= INT32[1]:
+                checked[name] = value
+            elif kind is String and type(value) is str:
+                checked[name] = value
+            else:
+                raise StateRefused(f"variables: {name} = {short(value)} is not of type {kind.__name__}")
+        return checked
+
+    def check_outputs(self, outputs) -> tuple:
+        """The state's outputs: one finite value of its type per output."""
+        if not isinstance(outputs, list) or len(outputs) != len(self.output_names):
+            raise StateRefused(f"outputs must be a list of {len(self.output_names)} values, got {short(outputs)}")
+        for name, value in zip(self.output_names, outputs, strict=True):
+            ok = (is_real(value) and math.isfinite(value)) if self.kinds[name] is Real else \
+                (type(value) is int and INT32[0] <= value <= INT32[1])
+            if not ok:
+                raise StateRefused(f"outputs: {name} = {short(value)} is not a finite value of type "
+                                   f"{self.kinds[name].__name__}")
+        return tuple(float(v) if self.kinds[n] is Real else v for n, v in zip(self.output_names, outputs, strict=True))
 
     def output_reader(self, index):
         """Getter of output ``index`` of the last step (the outputs follow the table)."""
         return lambda: self.outputs[index]
-
-    def _get_fmu_state(self):
-        return {"variables": {row[0]: getattr(self, row[0]) for row in self.VARIABLES
-                              if row[2] is not Fmi2Causality.output},
-                "outputs": list(self.outputs), "start_time": self.start_time, "problem": self.problem,
-                "model": None if self.model is None else self.model.state.to_dict()}
-
-    def _set_fmu_state(self, state):
-        try:
-            for name, value in state["variables"].items():
-                setattr(self, name, value)
-            self.outputs = tuple(state["outputs"])
-            self.start_time = state["start_time"]
-            if state["model"] is None:  # saved before initialisation or with invalid parameters
-                self.model = None
-                self.problem = state["problem"]
-                return
-            self.build_model(fresh=False)
-            if self.model is not None:
-                self.restore_model(state["model"])
-        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.problem = f"the FMU state could not be restored: {exc}"
-            self.log(printf_safe(self.problem), Fmi2Status.error)
-
-    # helpers ----------------------------------------------------------------------------------------------------
-    def build_model(self, fresh: bool) -> None:
-        """(Re)build the model from the parameter variables; keep the problem for do_step when they are invalid."""
-        values = {row[0]: getattr(self, row[0]) for row in self.VARIABLES if row[2] is Fmi2Causality.parameter}
-        try:
-            self.model, notices = self.new_model(values, fresh)
-        except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
-            self.model = None
-            self.problem = f"invalid parameters: {exc}"
-            self.log(printf_safe(f"{self.problem}; every do_step will be discarded"), Fmi2Status.warning)
-            return
-        self.problem = None
-        for notice in notices:
-            self.log(printf_safe(notice), Fmi2Status.ok)
 
     def to_xml(self, model_options=None) -> Element:
         """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure."""
