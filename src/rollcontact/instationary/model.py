@@ -276,10 +276,16 @@ class InstationaryModel:
         if self.mode != "transient" or self.solver is None:
             raise ValueError("steady_state needs the transient mode with its grid built (build_solver)")
         load = check_real("normal_load_per_length", normal_load_per_length, lower=0.0, lower_open=True, unit="N/m")
-        xi = check_real("creep", creep, unit="1")
+        xi = self.capped(check_real("creep", creep, unit="1"))
         fine, *coarse = (self.steady_on(solver, load, xi) for solver in self.solvers())
         return InstationaryState("transient", fine.tangential_force_per_length, traction=fine.traction,
                                  stick=fine.stick, slip=fine.slip, coarse=coarse[0] if coarse else None)
+
+    def capped(self, creep: float) -> float:
+        """The creep within 1e6 saturation creeps of the grid's load: beyond, every element slips whatever the
+        elastic slip (~ mu a/R ln n), so the solution is the same, without overflow in products of the creep."""
+        cap = 1e6 * self.mu * hertz(self.max_load, self.radius, self.contact_modulus)[0] / self.radius
+        return max(-cap, min(cap, creep))
 
     def steady_on(self, solver: TransientSolver, load: float, xi: float) -> TransientState:
         """:meth:`steady_state` on one of the model's solvers."""
@@ -384,10 +390,7 @@ class InstationaryModel:
         if (state.coarse is None) == self.extrapolate:
             raise ValueError("state and model differ in extrapolation: a state of an extrapolating model carries the "
                              "coarse grid's traction, any other none")
-        # beyond 1e6 saturation creeps every element slips whatever the elastic slip (~ mu a/R ln n): the same
-        # step, without overflow in xi ds
-        cap = 1e6 * self.mu * hertz(self.max_load, self.radius, self.contact_modulus)[0] / self.radius
-        creep = max(-cap, min(cap, xi))
+        creep = self.capped(xi)
         # the step ends in steady rolling: marching would cost ds/h substeps for nothing
         steady = ds > STEADY_AFTER * relaxation_length(0.0, load, self.radius, self.contact_modulus, self.mu,
                                                        self.datum_length)

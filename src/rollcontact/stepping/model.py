@@ -72,6 +72,8 @@ import math
 import sys
 from math import isfinite
 
+import numpy as np
+
 from rollcontact.closed_form import carter, hertz
 from rollcontact.dispatch import METHODS, solve, used_options
 from rollcontact.instationary.stationarity import stationarity_of_samples
@@ -299,12 +301,20 @@ class ContactModel(InstationaryStepping):
         elif load == INF:
             raise ModelError(f"normal_load = {normal_load!r} N over contact_width = {self.width!r} m is beyond the "
                              f"largest load per length a step represents ({sys.float_info.max:.4g} N/m)")
-        elif self.instationary is not None:
-            outputs, lag = self.instationary_step(x, normal_load, creep, velocity, step_size)
-        elif self.closed_form:
+        elif self.closed_form and self.instationary is None:
             outputs = self.closed_form_step(x, normal_load, creep, velocity)
         else:
-            outputs = self.solve_step(x, normal_load, creep, velocity)
+            # a floating-point overflow or invalid operation in the solvers (inputs or parameters beyond what they
+            # represent) raises, and the step is refused with it, rather than a numpy warning in the host's streams
+            with np.errstate(over="raise", divide="raise", invalid="raise"):
+                try:
+                    if self.instationary is not None:
+                        outputs, lag = self.instationary_step(x, normal_load, creep, velocity, step_size)
+                    else:
+                        outputs = self.solve_step(x, normal_load, creep, velocity)
+                except FloatingPointError as exc:
+                    raise ModelError(f"the step at X = {x!r} m (N = {normal_load!r} N, creep = {creep!r}, V = "
+                                     f"{velocity!r} m/s) leaves the floating-point range: {exc}") from None
 
         if not (-self.friction_bound * normal_load <= outputs[0] <= self.friction_bound * normal_load
                 and -self.friction_bound <= outputs[1] <= self.friction_bound):

@@ -443,7 +443,8 @@ def solve_stick(expansion: SlopeExpansion, edges: np.ndarray, intervals, load: f
         lead_slopes = np.array([edges[2 * k] / radius - expansion.moments(0.0, edges[2 * k])[0]
                                 for k in range(len(intervals))])
         saturation = np.maximum(-mu * lead_slopes, 1e-300)
-        halves = widths * np.clip(1.0 - xi / saturation, 0.1, 1.0)
+        # Carter's a* = h (1 - xi/xi_k), at least 0.1 h (the ratio bounded first: no overflow at any creep)
+        halves = widths * np.where(xi >= 0.9 * saturation, 0.1, 1.0 - np.minimum(xi, 0.9 * saturation) / saturation)
 
     def evaluate(values, which):
         full = np.zeros(len(intervals))
