@@ -4,7 +4,9 @@ Usage: ``python build_fmu.py [--dest models]`` writes ``<dest>/RollingContact2D.
 ``fmu_src/rollcontact_fmu_slave.py`` and bundles the ``src/rollcontact`` package in the FMU's resources, so the
 FMU needs only numpy and scipy from the host's Python.  ``--all`` also writes ``<dest>/WheelRig.fmu``, the
 co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcontact_cosim``); ``--if-stale``
-builds only the FMUs that are missing or older than one of their sources.  Both FMUs can get, set and serialise
+builds only the FMUs that are missing or older than one of their sources; ``--integer-codes`` declares the
+enumerations' variables as plain Integer, for hosts without FMI enumerations (libcosim); ``--docs`` writes the
+variable table of ``docs/fmu.md`` from the slave's.  Both FMUs can get, set and serialise
 their state; both bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_xml.py``.
 The slave files are tiny entry modules that import the slave class from a bundled module
 (``fmu_src/rollcontact_fmu_contact.py``, ``fmu_src/rollcontact_fmu_wheel_rig.py``): pythonfmu re-executes the
@@ -14,6 +16,8 @@ entry module on every instantiation (``fmu_src/rollcontact_fmu_slave.py``'s docs
 from __future__ import annotations
 
 import argparse
+import os
+import subprocess
 import sys
 from pathlib import Path
 
@@ -31,8 +35,19 @@ FMUS = {  # model name -> (entry module, bundled packages and modules)
 }
 
 
-def build_model(model: str, dest: Path | str = ROOT / "models") -> Path:
-    """Build the FMU ``model`` (a key of :data:`FMUS`) into the folder ``dest`` [created if missing]; its path."""
+def build_model(model: str, dest: Path | str = ROOT / "models", integer_codes: bool = False) -> Path:
+    """Build the FMU ``model`` (a key of :data:`FMUS`) into the folder ``dest`` [created if missing]; its path.
+
+    ``integer_codes``: declare the enumerations' variables as plain Integer (for hosts without FMI enumerations,
+    such as libcosim); a build in a fresh process, since the slave module reads it when first imported.
+    """
+    if integer_codes:
+        done = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--dest", str(dest), "--only", model],
+                              env={**os.environ, "ROLLCONTACT_FMU_INTEGER_CODES": "1"}, capture_output=True,
+                              text=True, timeout=600)
+        if done.returncode != 0:
+            raise RuntimeError(f"build_fmu.py --integer-codes failed:\n{done.stdout}\n{done.stderr}")
+        return Path(dest) / f"{model}.fmu"
     slave, packages = FMUS[model]
     # the builder imports the slave, which imports the packages: use the copies that get bundled
     sys.path.insert(0, str(SOURCES))
@@ -66,10 +81,36 @@ def is_stale(model: str, dest: Path | str = ROOT / "models") -> bool:
     return any(f.stat().st_mtime > built for f in sources(model))
 
 
-def build_all(dest: Path | str = ROOT / "models", if_stale: bool = False) -> dict[str, Path]:
+def build_all(dest: Path | str = ROOT / "models", if_stale: bool = False,
+              integer_codes: bool = False) -> dict[str, Path]:
     """Build every FMU of :data:`FMUS` into ``dest`` (only the stale ones with ``if_stale``); model -> path."""
-    return {model: build_model(model, dest) if not if_stale or is_stale(model, dest) else Path(dest) / f"{model}.fmu"
-            for model in FMUS}
+    return {model: build_model(model, dest, integer_codes) if not if_stale or is_stale(model, dest)
+            else Path(dest) / f"{model}.fmu" for model in FMUS}
+
+
+DOCS = ROOT / "docs" / "fmu.md"
+BEGIN, END = "<!-- variables: written by build_fmu.py --docs -->", "<!-- end of variables -->"
+
+
+def variables_table() -> str:
+    """The RollingContact2D FMU's variables and enumerations as markdown, from the slave's single table."""
+    sys.path[:0] = [str(SOURCES), str(ROOT / "fmu_src")]
+    try:
+        import rollcontact_fmu_contact as contact
+        from rollcontact_fmu_xml import variables_markdown
+
+        return variables_markdown(contact.VARIABLES, contact.ENUMERATIONS)
+    finally:
+        del sys.path[:2]
+
+
+def write_docs(path: Path = DOCS) -> Path:
+    """Replace the variable table between the markers of docs/fmu.md with :func:`variables_table`."""
+    text = path.read_text()
+    head, _, rest = text.partition(BEGIN)
+    _, _, tail = rest.partition(END)
+    path.write_text(f"{head}{BEGIN}\n{variables_table()}{END}{tail}")
+    return path
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -78,10 +119,21 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--all", action="store_true", help="also build the WheelRig host FMU")
     parser.add_argument("--if-stale", action="store_true",
                         help="build only FMUs that are missing or older than their sources")
+    parser.add_argument("--docs", action="store_true", help="write the variable table of docs/fmu.md (no build)")
+    parser.add_argument("--integer-codes", action="store_true",
+                        help="plain Integer variables instead of FMI enumerations (for hosts such as libcosim)")
+    parser.add_argument("--only", choices=list(FMUS), help=argparse.SUPPRESS)  # one model (the integer-codes build)
     args = parser.parse_args(argv)
-    if args.all:
-        for path in build_all(args.dest, if_stale=args.if_stale).values():
+    if args.docs:
+        print(write_docs())
+        return
+    if args.only:
+        print(build_model(args.only, args.dest))
+    elif args.all:
+        for path in build_all(args.dest, if_stale=args.if_stale, integer_codes=args.integer_codes).values():
             print(path)
+    elif args.integer_codes:
+        print(build_model("RollingContact2D", args.dest, integer_codes=True))
     elif not args.if_stale or is_stale("RollingContact2D", args.dest):
         print(build(args.dest))
     else:

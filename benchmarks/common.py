@@ -227,7 +227,8 @@ class Case:
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
                              modelIdentifier=md.coSimulation.modelIdentifier, instanceName=label)
         self.fmu.instantiate()
-        setters = {"Integer": self.fmu.setInteger, "Real": self.fmu.setReal, "String": self.fmu.setString}
+        setters = {"Integer": self.fmu.setInteger, "Enumeration": self.fmu.setInteger, "Real": self.fmu.setReal,
+                   "String": self.fmu.setString}
         for name, value in parameters.items():
             setters[variables[name].type]([variables[name].valueReference], [value])
         self.fmu.setupExperiment(startTime=0.0)
@@ -236,7 +237,7 @@ class Case:
         self.inputs = [v.valueReference for v in md.modelVariables if v.causality == "input"]
         self.reals = [v.valueReference for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
         self.integers = [v.valueReference for v in md.modelVariables
-                         if v.causality == "output" and v.type == "Integer"]
+                         if v.causality == "output" and v.type in ("Integer", "Enumeration")]
         assert len(self.inputs) == 3 and len(self.reals) == 10 and len(self.integers) == 1, label
         self.n = 0
         self.times: list[float] = []  # microseconds per step of each timed batch

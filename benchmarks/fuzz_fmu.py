@@ -200,7 +200,7 @@ class Episode:
         self.fmu, self.index, self.slow = fmu, index, slow
         self.rng = np.random.default_rng([seed, index])
         self.vr = {v.name: v.valueReference for v in description.modelVariables}
-        self.types = {v.name: v.type for v in description.modelVariables}
+        self.types = {v.name: "Integer" if v.type == "Enumeration" else v.type for v in description.modelVariables}
         self.log: list[tuple[int, str]] = []
         self.findings: list[dict] = []
         self.steps = collections.Counter()

@@ -22,6 +22,7 @@ re-executes the entry module on every instantiation: see its docstring).  No phy
 
 from __future__ import annotations
 
+import math
 import os
 import re
 import stat
@@ -44,17 +45,22 @@ INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causal
 CONTINUOUS, DISCRETE, FIXED = Fmi2Variability.continuous, Fmi2Variability.discrete, Fmi2Variability.fixed
 DEFAULT = ContactParameters()
 
-# name, type, causality, variability, unit, start, min, max, description.  Append only: the value reference of a
-# variable is its row number (from 0).
+POSITIVE = math.nextafter(0.0, 1.0)
+"""``min`` of a parameter that must be > 0: FMI bounds are inclusive, and the smallest positive double is the first
+value above 0."""
+
+# name, type, causality, variability, unit, start, min, max, description (one line, at most 100 characters; the
+# rules are in docs/fmu.md, whose variable table build_fmu.py --docs writes from this one).  Append only: the value
+# reference of a variable is its row number (from 0).
 VARIABLES = (
     ("normal_load", Real, INPUT, CONTINUOUS, "N", 0.0, 0.0, None,
      "Normal load N pressing the wheel onto the surface (0: no contact)"),
     ("creep", Real, INPUT, CONTINUOUS, "1", 0.0, None, None,
-     "Longitudinal creep xi (rigid slip velocity over V); xi > 0 gives a positive tangential force"),
+     "Longitudinal creep xi, rigid slip velocity over V (xi > 0 gives T > 0)"),
     ("velocity", Real, INPUT, CONTINUOUS, "m/s", 0.0, 0.0, None,
-     "Rolling speed V; the wheel axis advances by the integral of V"),
+     "Rolling speed V; the wheel axis advances by its integral"),
     ("tangential_force", Real, OUTPUT, CONTINUOUS, "N", 0.0, None, None,
-     "Tangential (creep) force T over the contact width, the sign of the creep in steady rolling"),
+     "Tangential (creep) force T over the contact width, |T| <= mu N"),
     ("traction_coefficient", Real, OUTPUT, CONTINUOUS, "1", 0.0, None, None,
      "Traction coefficient T/N (0 without load)"),
     ("contact_half_width", Real, OUTPUT, CONTINUOUS, "m", 0.0, 0.0, None,
@@ -65,69 +71,83 @@ VARIABLES = (
      "Contact centre minus wheel axis position, positive ahead of the axis"),
     ("max_pressure", Real, OUTPUT, CONTINUOUS, "Pa", 0.0, 0.0, None,
      "Peak contact pressure"),
-    ("frictional_power", Real, OUTPUT, CONTINUOUS, "W", 0.0, 0.0, None,
-     "Power dissipated by slip, V xi T (the integral of q V s over the patch)"),
-    ("creep_stiffness", Real, OUTPUT, CONTINUOUS, "N", 0.0, 0.0, None,
-     "Creep stiffness dT/dxi at the current state"),
+    ("frictional_power", Real, OUTPUT, CONTINUOUS, "W", 0.0, None, None,
+     "Power V xi T the creep puts into the contact (dissipated by slip in steady rolling)"),
+    ("creep_stiffness", Real, OUTPUT, CONTINUOUS, "N", 0.0, None, None,
+     "Creep stiffness dT/dxi at the current state (negative past a falling-friction peak)"),
     ("stationarity", Real, OUTPUT, CONTINUOUS, "1", STATIONARY, 0.0, STATIONARY,
      "Wavelength of the fastest input variation over a (1e9: inputs constant or no contact)"),
     ("method_used", Integer, OUTPUT, DISCRETE, None, 0, 0, 5,
-     "Method of the last step: 1 closed form, 2 polynomial, 3 discretised, 4 instationary relaxation (lag around "
-     "Carter), 5 instationary discretised transient, 0 none (no contact)"),
+     "Method of the last step (MethodUsed)"),
     ("axis_position", Real, OUTPUT, CONTINUOUS, "m", DEFAULT.initial_position, None, None,
      "Wheel axis position X at which the contact was evaluated"),
-    ("youngs_modulus", Real, PARAMETER, FIXED, "Pa", DEFAULT.youngs_modulus, 0.0, None,
+    ("youngs_modulus", Real, PARAMETER, FIXED, "Pa", DEFAULT.youngs_modulus, POSITIVE, None,
      "Young's modulus E of wheel and surface (quasi-identical bodies), > 0"),
-    ("poisson_ratio", Real, PARAMETER, FIXED, "1", DEFAULT.poisson_ratio, 0.0, 0.5,
+    ("poisson_ratio", Real, PARAMETER, FIXED, "1", DEFAULT.poisson_ratio, 0.0, math.nextafter(0.5, 0.0),
      "Poisson's ratio nu of wheel and surface, 0 <= nu < 0.5"),
-    ("radius", Real, PARAMETER, FIXED, "m", DEFAULT.radius, 0.0, None,
-     "Effective wheel radius R (1/R = 1/R1 + 1/R2), > 0"),
-    ("contact_width", Real, PARAMETER, FIXED, "m", DEFAULT.contact_width, 0.0, None,
+    ("radius", Real, PARAMETER, FIXED, "m", DEFAULT.radius, POSITIVE, None,
+     "Effective radius R (1/R = 1/R1 + 1/R2), > 0"),
+    ("contact_width", Real, PARAMETER, FIXED, "m", DEFAULT.contact_width, POSITIVE, None,
      "Lateral length b of the line contact, > 0; per-length quantities are force / b"),
-    ("friction_coefficient", Real, PARAMETER, FIXED, "1", DEFAULT.friction_coefficient, 0.0, None,
+    ("friction_coefficient", Real, PARAMETER, FIXED, "1", DEFAULT.friction_coefficient, POSITIVE, None,
      "Friction coefficient mu at zero slip velocity, > 0"),
     ("friction_law", Integer, PARAMETER, FIXED, None, DEFAULT.friction_law, 0, 1,
-     "Friction law: 0 Coulomb, 1 exponential falling mu [(1 - A) exp(-B v) + A]"),
-    ("friction_kinetic_ratio", Real, PARAMETER, FIXED, "1", DEFAULT.friction_kinetic_ratio, 0.0, 1.0,
-     "A of the exponential falling law: mu(infinity)/mu, 0 < A <= 1"),
+     "Friction law (FrictionLaw)"),
+    ("friction_kinetic_ratio", Real, PARAMETER, FIXED, "1", DEFAULT.friction_kinetic_ratio, POSITIVE, 1.0,
+     "A of the exponential law mu [(1 - A) exp(-B v) + A]: mu(infinity)/mu, 0 < A <= 1"),
     ("friction_decay", Real, PARAMETER, FIXED, "s/m", DEFAULT.friction_decay, 0.0, None,
-     "B of the exponential falling law (slip velocity v in m/s), >= 0"),
-    ("corrugation_wavelength", Real, PARAMETER, FIXED, "m", DEFAULT.corrugation_wavelength, 0.0, None,
-     "Wavelength of the surface corrugation Z = amplitude cos(2 pi X / wavelength + phase), > 0"),
+     "B of the exponential law, per slip velocity v, >= 0"),
+    ("corrugation_wavelength", Real, PARAMETER, FIXED, "m", DEFAULT.corrugation_wavelength, POSITIVE, None,
+     "Wavelength of the corrugation Z = amplitude cos(2 pi X / wavelength + phase), > 0"),
     ("corrugation_amplitude", Real, PARAMETER, FIXED, "m", DEFAULT.corrugation_amplitude, 0.0, None,
-     "Amplitude of the surface corrugation (0: smooth surface)"),
+     "Amplitude of the corrugation (0: smooth surface)"),
     ("corrugation_phase", Real, PARAMETER, FIXED, "rad", DEFAULT.corrugation_phase, None, None,
-     "Phase of the surface corrugation at X = 0"),
+     "Phase of the corrugation at X = 0"),
     ("initial_position", Real, PARAMETER, FIXED, "m", DEFAULT.initial_position, None, None,
      "Wheel axis position X at the start time"),
     ("scene_file", String, PARAMETER, FIXED, None, DEFAULT.scene_file, None, None,
-     "TOML scene (rollcontact.load_scene) whose material, radius, friction and surface replace the scalar "
-     "parameters; relative paths are taken from the FMU's resources folder; empty: unused"),
+     "TOML scene replacing material, radius, friction and surface (empty: unused)"),
     ("method", Integer, PARAMETER, FIXED, None, DEFAULT.method, 0, 3,
-     "Method: 0 auto (cheapest the scene needs), 1 closed form, 2 polynomial, 3 discretised"),
+     "Method of the steady steps (Method)"),
     ("tolerance", Real, PARAMETER, FIXED, "1", DEFAULT.tolerance, 0.0, None,
-     "Requested relative error of T and p0: each method runs with its cheapest setting that meets it; with "
-     "transient = 1 also the error of T (of mu N) tolerated before the instationary model takes over: the "
-     "relaxation lag while its error bound for the creep swing meets it, else the discretised transient with the "
-     "elements the tolerance needs (0: defaults, the relaxation lag, whose error grows with the creep swing)"),
+     "Requested relative error of T and p0 (0: each method's defaults)"),
     ("polynomial_order", Integer, PARAMETER, FIXED, None, DEFAULT.polynomial_order, 0, None,
-     "Order of the polynomial method (0: chosen from the tolerance)"),
+     "Order of the polynomial method (0: chosen by the method)"),
     ("elements", Integer, PARAMETER, FIXED, None, DEFAULT.elements, 0, None,
-     "Number of elements of the discretised method (0: the method's default; for the discretised transient a "
-     "pair of nested grids extrapolated, chosen from the tolerance; > 0: one grid of this many)"),
+     "Elements of the discretised method and transient (0: chosen by the method)"),
     ("transient", Integer, PARAMETER, FIXED, None, DEFAULT.transient, 0, 2,
-     "Transient rolling (flat surface, Coulomb friction): 0 quasi-static, 1 auto (while the stationarity measure "
-     "is below its threshold: the relaxation model for tolerance 0 or >= 0.21 (its measured error bound), else the "
-     "relaxation model while its bound for the creep swing meets the tolerance and the discretised transient "
-     "where it does not; the discretised transient with method 3), 2 always (relaxation; discretised transient "
-     "with method 3)"),
+     "Instationary rolling (TransientMode); flat surface and Coulomb friction only"),
     ("datum", Real, PARAMETER, FIXED, "m", DEFAULT.datum, 0.0, None,
-     "Datum distance L of instationary rolling (creep control depends on it; 0: the effective radius)"),
+     "Datum distance L of instationary rolling (0: the radius R)"),
     ("step_budget", Real, PARAMETER, FIXED, "s", DEFAULT.step_budget, 0.0, None,
-     "Work budget of one step by the methods' cost models (modelled seconds): the steady solve runs the most "
-     "accurate setting that meets the tolerance within it, the discretised transient at most the substeps that "
-     "fit; where that costs accuracy the log says so once (status Warning).  0: no budget"),
+     "Work budget of one step, modelled seconds (0: no budget)"),
 )
+
+ENUMERATIONS = {
+    "method": ("Method", ((0, "auto", "the cheapest method the scene needs"),
+                          (1, "closed_form", "Hertz and Carter: flat surface, Coulomb friction"),
+                          (2, "polynomial", "the polynomial method"),
+                          (3, "discretised", "the discretised (boundary-element) method"))),
+    "friction_law": ("FrictionLaw", ((0, "coulomb", "constant mu"),
+                                     (1, "exponential_falling", "mu [(1 - A) exp(-B v) + A]"))),
+    "transient": ("TransientMode", ((0, "quasi_static", "every step steady"),
+                                    (1, "auto", "instationary while the inputs vary fast"),
+                                    (2, "always", "every loaded step instationary"))),
+    "method_used": ("MethodUsed", ((0, "none", "no contact"),
+                                   (1, "closed_form", "Hertz and Carter"),
+                                   (2, "polynomial", "the polynomial method"),
+                                   (3, "discretised", "the discretised method"),
+                                   (4, "relaxation_lag", "instationary: the relaxation lag around Carter"),
+                                   (5, "discretised_transient", "instationary: the discretised transient"))),
+}
+"""Integer variables declared as FMI enumerations: variable -> (type, items (value, name, description)).
+
+``build_fmu.py --integer-codes`` builds the FMU with plain Integer variables instead (their codes in the
+descriptions), for hosts that do not support FMI enumerations: libcosim does not list them, so it could neither set
+nor observe these variables (``rollcontact_cosim.osp`` uses that build)."""
+
+INTEGER_CODES = os.environ.get("ROLLCONTACT_FMU_INTEGER_CODES") == "1"
+"""Set by ``build_fmu.py --integer-codes`` while it builds: declare the enumerations' variables as Integer."""
 
 
 SCENE_SIZE_LIMIT = 1 << 20
@@ -138,6 +158,23 @@ SCENE_TABLES = frozenset(tomllib.loads(scene_toml(Scene(normal_load_per_length=1
 
 KINDS = {stat.S_IFCHR: "a character device", stat.S_IFBLK: "a block device", stat.S_IFIFO: "a FIFO",
          stat.S_IFSOCK: "a socket", stat.S_IFDIR: "a directory"}
+
+
+def resolved_scene_file(path: str, resources: str | None) -> str:
+    """The scene file a ``scene_file`` parameter names: the path itself when absolute, else the first that exists
+    of the path relative to the FMU's ``resources`` folder and to the current working directory.
+
+    Raises
+    ------
+    ModelError
+        None of them exists; the message names every path tried.
+    """
+    given = Path(path)
+    tried = [given] if given.is_absolute() else [*([Path(resources, path)] if resources else []), Path.cwd() / path]
+    found = next((candidate for candidate in tried if candidate.exists()), None)
+    if found is None:
+        raise ModelError(f"scene_file {path!r} was not found; tried " + ", ".join(str(c) for c in tried))
+    return str(found)
 
 
 def checked_scene_file(path: str) -> None:
@@ -183,18 +220,20 @@ class RollingContact2D(TableSlave):
     """2D wheel/rail rolling contact (Hertz/Carter, polynomial and discretised methods of rollcontact)."""
 
     author = "rollcontact"
-    description = ("Quasi-steady 2D rolling contact of a wheel on a smooth or corrugated surface: tangential force, "
-                   "contact geometry and frictional power from normal load, creep and rolling speed")
+    description = ("2D rolling contact of a wheel on a smooth or corrugated surface, steady or instationary: "
+                   "tangential force, contact geometry and frictional power from normal load, creep and speed")
     license = "MIT"
     version = ROLLCONTACT_VERSION
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
-    VARIABLES = VARIABLES
+    VARIABLES = VARIABLES if not INTEGER_CODES else tuple(
+        (*row[:8], f"{row[8].split(' (')[0]}: " + ", ".join(f"{v} {item}" for v, item, _ in ENUMERATIONS[row[0]][1]))
+        if row[0] in ENUMERATIONS else row for row in VARIABLES)
+    ENUMERATIONS = {} if INTEGER_CODES else ENUMERATIONS
 
     def new_model(self, values: dict):
         """A ContactModel and its notices; a relative ``scene_file`` is taken from the resources folder."""
         if values["scene_file"] and isinstance(values["scene_file"], str):
-            if self.resources:
-                values["scene_file"] = str(Path(self.resources, values["scene_file"]))
+            values["scene_file"] = resolved_scene_file(values["scene_file"], self.resources)
             checked_scene_file(values["scene_file"])
         model = ContactModel(ContactParameters(**values), start_time=self.start_time)
         return model, model.notices

@@ -133,8 +133,10 @@ class StateRefused(ValueError):
     """An FMU state that cannot be set; the message says why."""
 
 
-def complete_model_description(root: Element, variables, initial_dependencies: str | None = "") -> Element:
-    """Add units, min/max, UnitDefinitions and a complete ModelStructure to pythonfmu's ``root`` (returned).
+def complete_model_description(root: Element, variables, initial_dependencies: str | None = "",
+                               enumerations: dict | None = None) -> Element:
+    """Add units, min/max, UnitDefinitions, TypeDefinitions of the enumerations and a complete ModelStructure to
+    pythonfmu's ``root`` (returned).
 
     Parameters
     ----------
@@ -145,27 +147,43 @@ def complete_model_description(root: Element, variables, initial_dependencies: s
     initial_dependencies : str or None
         ``dependencies`` of every output in InitialUnknowns: ``""`` when the initial outputs are the start values
         (they depend on no known), None to omit the attribute (they depend on the parameters).
+    enumerations : dict, optional
+        Variable name -> ``(type name, ((value, item name, description), ...))``: the Integer variable becomes an
+        Enumeration of that declared type (pythonfmu 0.7 has no Enumeration variable; an FMI 2 host sets and gets
+        it with fmi2SetInteger/fmi2GetInteger as the slave's Integer).
 
     Outputs are computed in ``do_step`` only, so in ``Outputs`` they depend on no input (``dependencies=""``).
     """
     rows = {row[0]: row for row in variables}
+    enumerations = enumerations or {}
     used = []
     for variable in root.iter("ScalarVariable"):
-        _, kind, _, _, unit, _, lower, upper, _ = rows[variable.get("name")]
+        name = variable.get("name")
+        _, kind, _, _, unit, _, lower, upper, _ = rows[name]
         element = variable[0]
+        if name in enumerations:
+            element.tag = "Enumeration"
+            element.set("declaredType", enumerations[name][0])
         if unit is not None:
             element.set("unit", unit)
             if unit not in used:
                 used.append(unit)
         for attribute, bound in (("min", lower), ("max", upper)):
             if bound is not None:
-                element.set(attribute, f"{bound:.16g}" if kind is Real else str(bound))
+                element.set(attribute, repr(float(bound)) if kind is Real else str(bound))  # exact round trip
     units = Element("UnitDefinitions")
     for name in sorted(used, key=list(UNITS).index):
         unit = SubElement(units, "Unit", name=name)
         if UNITS[name]:
             SubElement(unit, "BaseUnit", {k: str(v) for k, v in UNITS[name].items()})
     root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
+    if enumerations:
+        types = Element("TypeDefinitions")
+        for type_name, items in dict(enumerations.values()).items():
+            enumeration = SubElement(SubElement(types, "SimpleType", name=type_name), "Enumeration")
+            for value, item, description in items:
+                SubElement(enumeration, "Item", name=item, value=str(value), description=description)
+        root.insert(list(root).index(units) + 1, types)
     root.remove(root.find("ModelStructure"))
     structure = SubElement(root, "ModelStructure")
     outputs = SubElement(structure, "Outputs")
@@ -177,6 +195,34 @@ def complete_model_description(root: Element, variables, initial_dependencies: s
             if initial_dependencies is not None:
                 unknown.set("dependencies", initial_dependencies)
     return root
+
+
+def variables_markdown(variables, enumerations: dict | None = None) -> str:
+    """The variable table of a slave as markdown (name, causality, type, unit, range, start, description), then its
+    enumerations: what ``build_fmu.py --docs`` writes into docs/fmu.md, so the documentation is the table."""
+    enumerations = enumerations or {}
+
+    def number(value, kind) -> str:
+        if value is None:
+            return ""
+        if kind is Real:
+            below = float(f"{value:.12g}")  # a bound just below a round value excludes it
+            if value == math.nextafter(0.0, 1.0):
+                return "> 0"
+            return f"< {below:g}" if value != below and math.nextafter(below, 0.0) == value else f"{value:.16g}"
+        return str(value)
+
+    lines = ["| variable | causality | type | unit | min | max | start | description |",
+             "|---|---|---|---|---|---|---|---|"]
+    for name, kind, causality, _variability, unit, start, lower, upper, description in variables:
+        type_name = enumerations[name][0] if name in enumerations else kind.__name__
+        low, high = number(lower, kind), number(upper, kind)
+        shown = repr(start) if isinstance(start, str) else number(start, kind)
+        lines.append(f"| `{name}` | {causality.name} | {type_name} | {unit or ''} | {low} | {high} | {shown} | "
+                     f"{description.replace('|', chr(92) + '|')} |")
+    for type_name, items in dict(enumerations.values()).items():
+        lines += ["", f"{type_name}: " + "; ".join(f"{value} `{item}` ({text})" for value, item, text in items) + "."]
+    return "\n".join(lines) + "\n"
 
 
 class TableSlave(Fmi2Slave):
@@ -196,6 +242,7 @@ class TableSlave(Fmi2Slave):
     """
 
     VARIABLES: tuple = ()
+    ENUMERATIONS: dict = {}
     INITIAL_DEPENDENCIES: str | None = ""
 
     def __init__(self, **kwargs):
@@ -547,4 +594,4 @@ class TableSlave(Fmi2Slave):
     def to_xml(self, model_options=None) -> Element:
         """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure."""
         root = super().to_xml({} if model_options is None else model_options)
-        return complete_model_description(root, self.VARIABLES, self.INITIAL_DEPENDENCIES)
+        return complete_model_description(root, self.VARIABLES, self.INITIAL_DEPENDENCIES, self.ENUMERATIONS)

@@ -87,15 +87,18 @@ def summarise(result: CosimResult) -> dict[str, float]:
     return out
 
 
-def ensure_fmus(fmu_dir: Path | str = FMU_DIR) -> dict[str, Path]:
-    """Paths of both FMUs in ``fmu_dir``, built by ``build_fmu.py --all --if-stale`` when missing or stale."""
-    fmu_dir = Path(fmu_dir)
+def ensure_fmus(fmu_dir: Path | str = FMU_DIR, integer_codes: bool = False) -> dict[str, Path]:
+    """Paths of both FMUs in ``fmu_dir``, built by ``build_fmu.py --all --if-stale`` when missing or stale; with
+    ``integer_codes`` the build for hosts without FMI enumerations (``build_fmu.py --integer-codes``), in the
+    folder ``integer_codes/`` below ``fmu_dir``."""
+    fmu_dir = Path(fmu_dir) / "integer_codes" if integer_codes else Path(fmu_dir)
     spec = importlib.util.spec_from_file_location("rollcontact_build_fmu", ROOT / "build_fmu.py")
     builder = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(builder)  # only for is_stale: the build itself runs in a subprocess
     if any(builder.is_stale(name, fmu_dir) for name in builder.FMUS):
         done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--all", "--if-stale", "--dest",
-                               str(fmu_dir)], capture_output=True, text=True, timeout=600)
+                               str(fmu_dir), *(["--integer-codes"] if integer_codes else [])],
+                              capture_output=True, text=True, timeout=600)
         if done.returncode != 0:
             raise RuntimeError(f"build_fmu.py --all failed:\n{done.stdout}\n{done.stderr}")
     return {name: fmu_dir / f"{name}.fmu" for name in (HOST, CONTACT)}

@@ -99,7 +99,7 @@ class Slave:
             kind = self.variables[name].type
             if kind == "Real":
                 self.fmu.setReal([vr], [float(value)])
-            elif kind == "Integer":
+            elif kind in ("Integer", "Enumeration"):
                 if isinstance(value, bool) or value != int(value):
                     raise ValueError(f"{self.name}.{name} is an Integer parameter, got {value!r}")
                 self.fmu.setInteger([vr], [int(value)])
@@ -188,8 +188,9 @@ def step_loop(scene: CosimScene, slaves: dict[str, Slave], algorithm: str, step:
         instance, variable = name.split(".", 1)
         vr = slaves[instance].reference(variable, "output")
         kind = slaves[instance].variables[variable].type
-        target = integers[instance] if kind == "Integer" else reals[instance]
-        columns.append((instance, kind == "Integer", len(target)))
+        integer = kind in ("Integer", "Enumeration")
+        target = integers[instance] if integer else reals[instance]
+        columns.append((instance, integer, len(target)))
         target.append(vr)
     n_host = len(wiring[HOST][0])
     n_contact = len(wiring[CONTACT][0])

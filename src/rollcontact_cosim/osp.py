@@ -119,7 +119,8 @@ def run_osp(scene: str | Path | CosimScene, step_size: float | None = None, *, a
         raise ValueError(f"step_size = {step!r} s is not a whole number of nanoseconds (libcosim's time unit)")
     start_values = {HOST: {**scene.host_parameters("jacobi"), **(host or {})},
                     CONTACT: {**scene.contact_parameters(), **(contact or {})}}
-    fmus = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir)
+    # libcosim lists no FMI enumeration variables: it runs the build with integer codes
+    fmus = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, integer_codes=True)
     log_output_level(log_level)
     with tempfile.TemporaryDirectory(prefix="rollcontact_osp_") as folder:
         config = write_config(Path(folder) / "OspSystemStructure.xml", scene.start_time, step, fmus)

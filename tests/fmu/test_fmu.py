@@ -59,7 +59,8 @@ class Instance:
     def set(self, **values):
         for name, value in values.items():
             v = self.variables[name]
-            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger, "String": self.fmu.setString}[v.type]
+            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger, "Enumeration": self.fmu.setInteger,
+                      "String": self.fmu.setString}[v.type]
             setter([v.valueReference], [value])
 
     def step(self, t, h, normal_load, creep, velocity) -> StepOutputs:
@@ -118,7 +119,7 @@ def test_fmu_validates_and_declares_units_bounds_and_starts(fmu_path, descriptio
     assert set(params) == set(ContactParameters.__dataclass_fields__), "one FMU parameter per ContactParameters field"
     for name, v in params.items():
         default = getattr(ContactParameters(), name)
-        start = {"Real": float, "Integer": int, "String": str}[v.type](v.start)
+        start = {"Real": float, "Integer": int, "Enumeration": int, "String": str}[v.type](v.start)
         assert start == default, f"start of {name} ({v.start}) differs from the library default {default}"
 
 
@@ -269,6 +270,56 @@ def test_relative_scene_file_is_read_from_the_resources_folder(instance, unzippe
     assert_allclose(out.contact_offset, 0.46e-3, rtol=1e-13, err_msg="the bundled tilted scene was used")
 
 
+def test_relative_scene_file_is_read_from_the_working_directory_and_a_missing_one_names_every_path(
+        instance, monkeypatch, tmp_path):
+    """``scene_file="models/corrugated.toml"`` from the project root (not in the resources folder): the working
+    directory's file; a name found nowhere: the error names the resources path and the working directory's."""
+    monkeypatch.chdir(ROOT)
+    out = instance(scene_file="models/corrugated.toml").step(0.0, H, 1e5, 1e-3, 20.0)
+    assert out.method_used == 2, f"the corrugated scene of models/ was used: {out}"
+    missing = instance(scene_file="models/no_such_scene.toml")
+    message = discarded(missing, 0.0, H, 1e5, 1e-3, 20.0)
+    assert "resources" in message and str(ROOT / "models" / "no_such_scene.toml") in message, message
+
+
+def test_enumerations_bounds_and_descriptions_say_what_the_model_accepts(description):
+    """method, friction_law, transient and method_used are FMI enumerations with the model's codes; every
+    description fits a tooltip; every declared min and max is a value the model accepts, and the next value beyond
+    it one it refuses (FMI bounds are inclusive: > 0 is declared as the smallest normal double)."""
+    from rollcontact.stepping.parameters import FRICTION_LAWS, INSTATIONARY_CODES, METHOD_NAMES, TRANSIENT_MODES
+
+    variables = {v.name: v for v in description.modelVariables}
+    types = {t.name: {item.value: item.name for item in t.items} for t in description.typeDefinitions}
+    expected = {"method": [0, *METHOD_NAMES], "friction_law": list(FRICTION_LAWS), "transient": list(TRANSIENT_MODES),
+                "method_used": [0, *METHOD_NAMES, *INSTATIONARY_CODES.values()]}
+    for name, codes in expected.items():
+        v = variables[name]
+        assert v.type == "Enumeration" and v.declaredType is not None, f"{name} is an enumeration"
+        assert sorted(int(value) for value in types[v.declaredType.name]) == sorted(codes), \
+            f"{name}: items {types[v.declaredType.name]} against the model's codes {codes}"
+    for v in description.modelVariables:
+        assert len(v.description) <= 100, f"{v.name}: a description of {len(v.description)} characters"
+    default = ContactParameters()
+    for v in description.modelVariables:
+        if v.causality != "parameter" or v.type == "String":
+            continue
+        for bound, direction in ((v.min, -math.inf), (v.max, math.inf)):
+            if bound is None:
+                continue
+            value = float(bound) if v.type == "Real" else int(bound)
+            ContactParameters(**{**default.__dict__, v.name: value})  # accepted
+            beyond = math.nextafter(value, direction) if v.type == "Real" else value + (1 if direction > 0 else -1)
+            with pytest.raises(ValueError):
+                ContactParameters(**{**default.__dict__, v.name: beyond})
+
+
+def test_the_documented_variable_table_is_the_slave_table():
+    import build_fmu
+
+    assert build_fmu.variables_table() in (ROOT / "docs" / "fmu.md").read_text(), \
+        "docs/fmu.md's variable table differs from the slave's: run python build_fmu.py --docs"
+
+
 def discarded(fmu: Instance, *args) -> str:
     """Step expecting a Discard; the logged message (printf-unescaped)."""
     before = len(fmu.log)
@@ -309,7 +360,7 @@ def test_bad_inputs_are_discarded_with_the_reason_and_restoring_a_state_recovers
     ({"contact_width": 0.0}, "contact_width = 0.0 is out of range"),
     ({"friction_law": 7}, "friction_law = 7 is out of range"),
     ({"method": 1, "corrugation_amplitude": 1e-5}, "method = 1 (closed form) cannot solve this scene"),
-    ({"scene_file": "/nonexistent/100%.toml"}, "cannot read scene file '/nonexistent/100%.toml'"),
+    ({"scene_file": "/nonexistent/100%.toml"}, "scene_file '/nonexistent/100%.toml' was not found"),
 ])
 def test_bad_parameters_are_discarded_with_the_reason(instance, parameters, reason):
     fmu = instance(**parameters)
@@ -556,3 +607,20 @@ def test_a_c_host_gets_the_same_numbers_as_fmpy(unzipped, description, instance,
         got = StepOutputs(*(int(line[-1]) if name == "method_used" else next(reals) for name in OUTPUTS))
         assert int(line[0]) == status, f"step {n}: C host status {line[0]}, fmpy {status}"
         assert got == expected, f"step {n}: the C host and fmpy must agree exactly:\n{got}\n{expected}"
+
+
+def test_the_integer_codes_build_serves_hosts_without_enumerations(tmp_path):
+    """``build_fmu.py --integer-codes``: the same FMU with plain Integer variables whose descriptions give the
+    codes (libcosim lists no enumeration variables); fmpy validates it."""
+    from fmpy import read_model_description
+
+    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--integer-codes", "--dest", str(tmp_path)],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    path = tmp_path / "RollingContact2D.fmu"
+    assert validate_fmu(str(path)) == [], "fmpy validates the integer-codes build"
+    variables = {v.name: v for v in read_model_description(str(path)).modelVariables}
+    for name, codes in (("method", "0 auto, 1 closed_form, 2 polynomial, 3 discretised"),
+                        ("transient", "0 quasi_static, 1 auto, 2 always")):
+        assert variables[name].type == "Integer" and codes in variables[name].description, \
+            f"{name}: {variables[name].type}, {variables[name].description!r}"
