@@ -1,4 +1,4 @@
-"""Shared test configuration and the session's FMU build.
+"""Shared test configuration and the FMU built once per test run.
 
 One BLAS thread: the discretised solver's small dense solves are 10-100x slower with OpenBLAS threads on the
 2-core machines here (it must be set before numpy is imported).
@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="session")
 def fmu_path(tmp_path_factory) -> Path:
-    """``python build_fmu.py --dest <tmp>``, once per session (the FMU tests of every module share it)."""
+    """``python build_fmu.py --dest <tmp>``, once per test run (the FMU tests of every module share it)."""
     dest = tmp_path_factory.mktemp("fmu")
     done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)], capture_output=True,
                           text=True, timeout=120)

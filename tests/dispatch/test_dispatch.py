@@ -157,8 +157,8 @@ def test_auto_falls_back_where_several_patches_break_the_polynomial_structure():
 
 
 # a soft roller (E = 1 MPa, a = 5 cm) on a corrugation of 1.07 mm wavelength (k a = 293, ~93 waves in the patch):
-# the polynomial method on order 170 once reported success with an error estimate of 49 and |q| above mu p by
-# 1.4 % of mu p0 (a randomised property run, session 15)
+# beyond what the polynomial method's order 170 resolves: its answer converges with an error estimate of 49 (and
+# |q| above mu p by 1.4 % of mu p0), which auto must take as a failure
 UNRESOLVED_CORRUGATION = Scene(1000.0, creep=1e-7, radius=1.0, material=rollcontact.Material(1e6, 0.0),
                                friction=rollcontact.Coulomb(0.001),
                                surface=Surface(harmonics=(Harmonic(5857.780147685687, 2.0975242650564358e-06, 0.0),)))

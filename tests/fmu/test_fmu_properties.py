@@ -1,6 +1,6 @@
 """Numerical stability at the extremes through the built FMU (issue 7): property-based tests driven by fmpy.
 
-The FMU is built once per session by ``build_fmu.py`` (the session fixtures of ``conftest.py``) and stepped through
+The FMU is built once per test run by ``build_fmu.py`` (the fixtures of ``conftest.py``) and stepped through
 fmpy's ``FMU2Slave`` with its logger captured (``test_fmu.Instance``).  Parameters and inputs come from the domain
 of ``extremes.py`` (E, R, mu, friction law, corrugation, method, order; load, creep, speed and step size at their
 extremes, with one draw in ten made invalid: NaN, inf, negative or zero where the model forbids it).

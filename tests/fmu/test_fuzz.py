@@ -1,9 +1,9 @@
-"""The quick fuzz campaign of ``benchmarks/fuzz_fmu.py`` against the session's FMU: no finding.
+"""The quick fuzz campaign of ``benchmarks/fuzz_fmu.py`` against the FMU built for the test run: no finding.
 
 ``--quick`` runs 150 seeded episodes of 12 operations (random valid, extreme and invalid inputs and parameters,
 state save/restore/serialise of valid, corrupted and crafted states, late parameters, communication points inside
 a step) and 60 instantiate/free cycles, in a worker subprocess (a crash is a finding, not the end of the test
-session).  A finding names its episode: ``python benchmarks/fuzz_fmu.py --seed 1 --steps 12 --episode K`` replays
+run).  A finding names its episode: ``python benchmarks/fuzz_fmu.py --seed 1 --steps 12 --episode K`` replays
 it.
 """
 
