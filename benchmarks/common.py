@@ -212,16 +212,19 @@ class Case:
         Communication step [s].
     before_step
         Called before each step, inside the timing; None: nothing.
+    signal
+        ``signal(n) -> (normal_load [N], creep [1])`` of step n, replacing the default varying inputs.
     """
 
     def __init__(self, label: str, unzipped: str, parameters: dict, steps_per_batch: int, velocity: float,
                  fixed: tuple[float, float] | None = None, step_size: float = 1e-3,
-                 before_step: Callable[[], object] | None = None):
+                 before_step: Callable[[], object] | None = None,
+                 signal: Callable[[int], tuple[float, float]] | None = None):
         from fmpy import read_model_description
         from fmpy.fmi2 import FMU2Slave
 
         self.label, self.steps_per_batch, self.velocity = label, steps_per_batch, velocity
-        self.fixed, self.step_size, self.before_step = fixed, step_size, before_step
+        self.fixed, self.step_size, self.before_step, self.signal = fixed, step_size, before_step, signal
         md = read_model_description(unzipped)
         variables = {v.name: v for v in md.modelVariables}
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
@@ -253,8 +256,12 @@ class Case:
         n0 = self.n
         used = []
         start = time.perf_counter()
+        signal = self.signal
         for n in range(n0, n0 + self.steps_per_batch):
-            if fixed is None:
+            if signal is not None:
+                load, creep = signal(n)
+                fmu.setReal(inputs, [load, creep, v])
+            elif fixed is None:
                 phase = 0.01 * n
                 fmu.setReal(inputs, [2e4 * (1.0 + 0.05 * math.sin(phase)), 1e-3 * math.cos(phase), v])
             else:

@@ -77,7 +77,7 @@ VARIABLES = (
      "Creep stiffness dT/dxi at the current state (negative past a falling-friction peak)"),
     ("stationarity", Real, OUTPUT, CONTINUOUS, "1", STATIONARY, 0.0, STATIONARY,
      "Wavelength of the fastest input variation over a (1e9: inputs constant or no contact)"),
-    ("method_used", Integer, OUTPUT, DISCRETE, None, 0, 0, 5,
+    ("method_used", Integer, OUTPUT, DISCRETE, None, 0, 0, 6,
      "Method of the last step (MethodUsed)"),
     ("axis_position", Real, OUTPUT, CONTINUOUS, "m", DEFAULT.initial_position, None, None,
      "Wheel axis position X at which the contact was evaluated"),
@@ -121,6 +121,8 @@ VARIABLES = (
      "Datum distance L of instationary rolling (0: the radius R)"),
     ("step_budget", Real, PARAMETER, FIXED, "s", DEFAULT.step_budget, 0.0, None,
      "Work budget of one step, modelled seconds (0: no budget)"),
+    ("table", Integer, PARAMETER, FIXED, None, DEFAULT.table, 0, 2,
+     "Certified table of falling friction on a flat surface (TableMode)"),
 )
 
 ENUMERATIONS = {
@@ -138,7 +140,11 @@ ENUMERATIONS = {
                                    (2, "polynomial", "the polynomial method"),
                                    (3, "discretised", "the discretised method"),
                                    (4, "relaxation_lag", "instationary: the relaxation lag around Carter"),
-                                   (5, "discretised_transient", "instationary: the discretised transient"))),
+                                   (5, "discretised_transient", "instationary: the discretised transient"),
+                                   (6, "table", "the certified table of the scene family"))),
+    "table": ("TableMode", ((0, "auto", "built when the run pays for it, within the step budget"),
+                            (1, "off", "every step solves exactly"),
+                            (2, "on", "built at the first loaded step"))),
 }
 """Integer variables declared as FMI enumerations: variable -> (type, items (value, name, description)).
 

@@ -286,12 +286,20 @@ def test_enumerations_bounds_and_descriptions_say_what_the_model_accepts(descrip
     """method, friction_law, transient and method_used are FMI enumerations with the model's codes; every
     description fits a tooltip; every declared min and max is a value the model accepts, and the next value beyond
     it one it refuses (FMI bounds are inclusive: > 0 is declared as the smallest normal double)."""
-    from rollcontact.stepping.parameters import FRICTION_LAWS, INSTATIONARY_CODES, METHOD_NAMES, TRANSIENT_MODES
+    from rollcontact.stepping.parameters import (
+        FRICTION_LAWS,
+        INSTATIONARY_CODES,
+        METHOD_NAMES,
+        TABLE_CODE,
+        TABLE_MODES,
+        TRANSIENT_MODES,
+    )
 
     variables = {v.name: v for v in description.modelVariables}
     types = {t.name: {item.value: item.name for item in t.items} for t in description.typeDefinitions}
     expected = {"method": [0, *METHOD_NAMES], "friction_law": list(FRICTION_LAWS), "transient": list(TRANSIENT_MODES),
-                "method_used": [0, *METHOD_NAMES, *INSTATIONARY_CODES.values()]}
+                "method_used": [0, *METHOD_NAMES, *INSTATIONARY_CODES.values(), TABLE_CODE],
+                "table": list(TABLE_MODES)}
     for name, codes in expected.items():
         v = variables[name]
         assert v.type == "Enumeration" and v.declaredType is not None, f"{name} is an enumeration"

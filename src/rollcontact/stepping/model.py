@@ -70,12 +70,14 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 from math import isfinite
 
 import numpy as np
 
 from rollcontact.closed_form import carter, hertz
 from rollcontact.dispatch import METHODS, solve, used_options
+from rollcontact.friction import ExponentialFalling
 from rollcontact.instationary.stationarity import stationarity_of_samples
 from rollcontact.method import unresolved
 from rollcontact.scene import Harmonic, Scene, Surface
@@ -84,6 +86,7 @@ from rollcontact.stepping.parameters import (
     METHOD_NAMES,
     OPTION_NAMES,
     STATIONARY,
+    TABLE_CODE,
     ContactParameters,
     ModelError,
     StepOutputs,
@@ -94,6 +97,8 @@ from rollcontact.stepping.parameters import (
     registered_methods,
 )
 from rollcontact.stepping.state import ModelState
+from rollcontact.stepping.table import TARGET as TABLE_TARGET
+from rollcontact.stepping.table import TableUse
 from rollcontact.stepping.transient import InstationaryStepping
 
 INF = math.inf
@@ -163,6 +168,11 @@ class ContactModel(InstationaryStepping):
         self.scene_surface = mirrored(surface)
         self.velocity_dependent = not friction.is_constant
         self.closed_form, self.candidates = self.methods_for(p, surface, friction)
+        self.table_use = (TableUse(friction, material, float(radius), p.table, p.step_budget)
+                          if p.table != 1 and isinstance(friction, ExponentialFalling) and surface.is_flat
+                          and p.method in (AUTO, 2) and self.instationary is None
+                          and (p.tolerance == 0.0 or p.tolerance >= TABLE_TARGET) else None)
+        """The certified table of falling friction on a flat surface and its build (None: not applicable)."""
         self.options = {OPTION_NAMES[name]: getattr(p, name) for name in OPTION_NAMES if getattr(p, name) != 0}
         """Options of the parameters that ``rollcontact.solve`` passes to the methods that accept them."""
 
@@ -236,6 +246,8 @@ class ContactModel(InstationaryStepping):
         if not isinstance(state, ModelState):
             raise TypeError(f"state must be a ModelState, got {type(state).__name__}")
         self.state = state.copy()
+        if self.table_use is not None:
+            self.table_use.restore(self.state.table_domain)
 
     def scene(self, axis_position: float, normal_load: float, creep: float, velocity: float) -> Scene:
         """The scene solved for axis position X [m], load N [N], creep [1] and speed V [m/s].
@@ -303,6 +315,8 @@ class ContactModel(InstationaryStepping):
                              f"largest load per length a step represents ({sys.float_info.max:.4g} N/m)")
         elif self.closed_form and self.instationary is None:
             outputs = self.closed_form_step(x, normal_load, creep, velocity)
+        elif self.table_use is not None and (table := self.table_step(x, normal_load, creep, velocity)) is not None:
+            outputs = table
         else:
             # a floating-point overflow or invalid operation in the solvers (inputs or parameters beyond what they
             # represent) raises, and the step is refused with it, rather than a numpy warning in the host's streams
@@ -322,6 +336,8 @@ class ContactModel(InstationaryStepping):
         if not all(map(isfinite, outputs)):
             raise ModelError(non_finite(outputs, normal_load, creep, velocity))
         state.instationary = lag
+        if self.table_use is not None and self.table_use.table is not None and self.table_use.table.ready:
+            state.table_domain = self.table_use.table.w_max
         state.time = current_time
         state.position = high
         state.position_error = low
@@ -364,6 +380,7 @@ class ContactModel(InstationaryStepping):
         and p0) meets it; without, only the part of the estimate that costs nothing is checked (``estimate="free"``:
         the polynomial slip iteration's would cost a Newton step per FMU step).
         """
+        started = time.perf_counter()
         scene = self.scene(x, normal_load, creep, velocity)
         tolerance = self.parameters.tolerance or None
         try:
@@ -387,10 +404,26 @@ class ContactModel(InstationaryStepping):
                              f"V = {velocity!r} m/s): {exc}") from None
         force = float(result.tangential_force_per_length) * self.width
         a = float(result.contact_half_width)
+        if self.table_use is not None:
+            self.table_use.exact_step_done(velocity, self.saturation_per_half_width * a, started)
         return StepOutputs(force, float(result.traction_coefficient), a, float(result.stick_half_width),
                            0.0 - float(result.contact_offset), float(result.max_pressure),
                            velocity * creep * force, stiffness * self.width,
                            self.stationarity(x, normal_load, creep, velocity, a), method_code(name), x)
+
+    def table_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs | None:
+        """The outputs from the certified table (:mod:`rollcontact.stepping.table`), or None where it has no answer:
+        T = sign(xi) tau mu N, a* = (a*/a) a, dT/dxi = kappa mu N / xi_sat; a and p0 are Hertz's (flat surface)."""
+        a, p0 = hertz(normal_load * self.per_width, self.radius, self.contact_modulus)
+        answer = self.table_use.answer(creep, velocity, self.saturation_per_half_width * a)
+        if answer is None:
+            return None
+        tau, alpha, kappa = answer
+        sign = 1.0 if creep >= 0.0 else -1.0
+        force = sign * tau * self.mu * normal_load
+        stiffness = kappa * self.mu * normal_load / (self.saturation_per_half_width * a)
+        return StepOutputs(force, sign * tau * self.mu, a, alpha * a, self.flat_offset, p0, velocity * creep * force,
+                           stiffness, self.stationarity(x, normal_load, creep, velocity, a), TABLE_CODE, x)
 
     def creep_stiffness_by_difference(self, scene: Scene, name: str, result, options: dict) -> float:
         """dT'/dxi [N/m] by a one-sided difference, for methods that do not return it.

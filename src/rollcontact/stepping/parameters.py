@@ -47,6 +47,13 @@ INSTATIONARY_CODES = {"relaxation": 4, "transient": 5}
 
 TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
 
+TABLE_MODES = {0: "auto", 1: "off", 2: "on"}
+"""``table``: a certified table of the scene family (:mod:`rollcontact.stepping.table`) built when the run pays for it
+(auto), never, or at the first loaded step (on)."""
+
+TABLE_CODE = 6
+"""``method_used`` of a step answered by the certified table."""
+
 
 FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
 
@@ -179,6 +186,12 @@ class ContactParameters:
         discretised transient at most as many substeps as fit (:func:`rollcontact.stepping.transient.max_substeps`);
         where that costs accuracy, the model says so once (:meth:`ContactModel.take_messages`).  0: no budget, as
         long as each step takes.
+    table : int
+        0 auto, 1 off, 2 on: where the scene family has a certified table (falling friction on a flat surface:
+        :class:`rollcontact.stepping.table.FallingFrictionTable`) and ``tolerance`` is 0 or at least its target,
+        the steps answer from the table once it is built: ``auto`` builds it a little in each exact step, within
+        ``step_budget``, once the exact steps have cost as much as the build (so a run pays at most twice what it
+        would have paid knowing its length); ``on`` builds it at the first loaded step, whatever that takes.
     """
 
     youngs_modulus: float = 210e9
@@ -201,6 +214,7 @@ class ContactParameters:
     transient: int = 0
     datum: float = 0.0
     step_budget: float = DEFAULT_STEP_BUDGET
+    table: int = 0
 
     def __post_init__(self):
         set_ = object.__setattr__
@@ -226,7 +240,7 @@ class ContactParameters:
                 raise ModelError(str(exc)) from None
             set_(self, name, value)
         for name, allowed in (("friction_law", FRICTION_LAWS), ("method", {AUTO: "auto", **METHOD_NAMES}),
-                              ("transient", TRANSIENT_MODES)):
+                              ("transient", TRANSIENT_MODES), ("table", TABLE_MODES)):
             value = getattr(self, name)
             if value not in allowed:
                 choices = ", ".join(f"{k} {v}" for k, v in allowed.items())

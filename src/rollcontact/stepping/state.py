@@ -20,10 +20,11 @@ import numpy as np
 from rollcontact.instationary.model import MODES, InstationaryState
 from rollcontact.stepping.parameters import STATIONARY, ModelError, StepOutputs
 
-STATE_VERSION = 3
+STATE_VERSION = 4
 
 
-READABLE_STATE_VERSIONS = (1, 2, 3)  # 1: no instationary state (read as quasi-steady history); 2: no creep envelope
+READABLE_STATE_VERSIONS = (1, 2, 3, 4)  # 1: no instationary state (quasi-steady history); 2: no creep
+# envelope; 3: no table
 
 
 @dataclass(slots=True)
@@ -55,6 +56,10 @@ class ModelState:
     creep_envelope : tuple or None
         ``(high, low)`` creep [1 of mu a/R] of :func:`rollcontact.instationary.creep_envelope`, kept by
         ``transient`` = 1 with a tolerance (the lag's error bound); None otherwise and after an unloaded step.
+    table_domain : float
+        ``w_max`` [1] of the certified table the steps answer from (:mod:`rollcontact.stepping.table`); 0: none.  A
+        model restored into this state builds the same table (a deterministic function of the parameters and of
+        this domain) before its next step, so restore -> step repeats the steps.
     version : int
         Layout version of this state; states of another version are refused by :meth:`from_dict`.
     """
@@ -69,6 +74,7 @@ class ModelState:
     instationary: InstationaryState | None = None
     grid_load: float = 0.0
     creep_envelope: tuple[float, float] | None = None
+    table_domain: float = 0.0
     version: int = STATE_VERSION
 
     @classmethod
@@ -92,7 +98,8 @@ class ModelState:
                 "instationary": None if self.instationary is None
                 else base64.b64encode(self.instationary.to_bytes()).decode("ascii"),
                 "grid_load": self.grid_load,
-                "creep_envelope": None if self.creep_envelope is None else list(self.creep_envelope)}
+                "creep_envelope": None if self.creep_envelope is None else list(self.creep_envelope),
+                "table_domain": self.table_domain}
 
     @classmethod
     def from_dict(cls, data: dict) -> ModelState:
@@ -111,7 +118,8 @@ class ModelState:
                        None if older is None else tuple(float(v) for v in older),
                        int(data["steps"]), StepOutputs(*data["outputs"]), instationary,
                        float(data.get("grid_load", 0.0)),
-                       None if envelope is None else (float(envelope[0]), float(envelope[1])), STATE_VERSION)
+                       None if envelope is None else (float(envelope[0]), float(envelope[1])),
+                       float(data.get("table_domain", 0.0)), STATE_VERSION)
         except (KeyError, TypeError, ValueError) as exc:
             raise ModelError(f"invalid model state: {exc!r}") from None
 
@@ -128,7 +136,7 @@ class ModelState:
         if not isinstance(data, dict):
             raise ModelError(f"a model state must be a dict, got {type(data).__name__}")
         required = {"version", "time", "position", "position_error", "previous", "older", "steps", "outputs"}
-        optional = {"instationary", "grid_load", "creep_envelope"}
+        optional = {"instationary", "grid_load", "creep_envelope", "table_domain"}
         unknown = [k for k in data if k not in required | optional]
         if unknown:
             raise ModelError(f"model state: unknown key(s) {_short(sorted(map(str, unknown)))}")
@@ -158,8 +166,11 @@ class ModelState:
                 raise ModelError(f"model state creep_envelope must be null or two reals, got {_short(envelope)}")
             envelope = tuple(_finite("model state creep_envelope", v) for v in envelope)
         instationary = _instationary(data.get("instationary"))
+        domain = _finite("model state table_domain", data.get("table_domain", 0.0))
+        if domain < 0.0:
+            raise ModelError(f"model state table_domain = {domain!r} must be >= 0")
         return cls(time, position, error, samples[0], samples[1], steps, outputs, instationary, grid_load,
-                   envelope, STATE_VERSION)
+                   envelope, domain, STATE_VERSION)
 
     def to_bytes(self) -> bytes:
         """UTF-8 JSON of :meth:`to_dict`."""
@@ -205,8 +216,8 @@ def _outputs(value) -> StepOutputs:
     values = []
     for name, v in zip(fields, value, strict=True):
         if name == "method_used":
-            if type(v) is not int or not 0 <= v <= 5:
-                raise ModelError(f"model state outputs: method_used = {_short(v)} must be a whole number 0 to 5")
+            if type(v) is not int or not 0 <= v <= 6:
+                raise ModelError(f"model state outputs: method_used = {_short(v)} must be a whole number 0 to 6")
             values.append(v)
             continue
         x = _finite(f"model state outputs: {name}", v)

@@ -1,0 +1,125 @@
+"""Real-time steps through the certified table: FMU steps through fmpy on varying signals against the empty step.
+
+Run: ``python benchmarks/bench_table.py [--quick]`` (a few minutes; ``--quick`` about a minute).  Writes
+``benchmarks/results/table.md`` and prints it.
+
+Every case drives the contact FMU through fmpy with a new load and creep at every step (so no cache of a repeated
+scene is hit), timed in interleaved batches with an empty pythonfmu FMU (the floor of any pythonfmu step), and
+reports the median microseconds per step (set the inputs, doStep, get the outputs) and their ratio to the empty step.
+Error: the largest |T - T_ref| / (mu N) over sampled steps, the reference the library's exact solve of that step's
+scene at tolerance 1e-5 (falling friction) or the closed form (Carter).  The table's build time (its first loaded
+step with ``table`` = on), its exact solves, its size and its certified bound come from the stepping model in this
+process.
+
+Families: falling friction on a flat rail (the exponential law at three laws and speeds, among them the issue's
+``mu_s 0.3, A 0.6, B ln2/0.1 s/m, V 45 m/s, N' 3.1e6 N/m, creep 2e-4..1.8e-3``) with the table on and off (tolerance
+1e-3); the Carter case as control; a corrugation 40 mm / 20 um at V = 30 m/s (no table: the exact path).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import common
+
+import rollcontact as rc
+from rollcontact.stepping import ContactModel, ContactParameters
+
+WIDTH = common.CONTACT_WIDTH
+LAWS = (  # (label, kinetic ratio A, decay B [s/m], speed V [m/s], load per length N' [N/m], creep range)
+    ("A 0.6, B ln2/0.1, V 45", 0.6, math.log(2.0) / 0.1, 45.0, 3.1e6, (2e-4, 1.8e-3)),
+    ("A 0.4, B 0.6, V 20", 0.4, 0.6, 20.0, 1e6, (1e-4, 3e-3)),
+    ("A 0.5, B 3, V 10", 0.5, 3.0, 10.0, 2e6, (1e-4, 4e-3)),
+)
+
+
+def signal(load_per_length: float, creeps: tuple[float, float]):
+    """``n -> (N [N], creep)``: a new load (+-5 %) and creep over the range at every step."""
+    low, high = creeps
+
+    def inputs(n: int) -> tuple[float, float]:
+        return (load_per_length * WIDTH * (1.0 + 0.05 * math.sin(0.37 * n)),
+                low + (high - low) * (0.5 + 0.5 * math.sin(0.61 * n + 0.3 * math.sin(0.07 * n))))
+    return inputs
+
+
+def reference_error(parameters: dict, inputs, speed: float, samples: int) -> float:
+    """Largest |T - T_ref| / (mu N) of the model with ``parameters`` against the exact solve at 1e-5."""
+    model = ContactModel(ContactParameters(**parameters))
+    worst = 0.0
+    for n in range(samples):
+        load, creep = inputs(n)
+        out = model.step(n * 1e-3, 1e-3, load, creep, speed)
+        scene = model.scene(out.axis_position, load, creep, speed)
+        exact = rc.solve(scene, tolerance=1e-5)
+        limit = model.mu * load
+        worst = max(worst, abs(out.tangential_force - exact.tangential_force_per_length * WIDTH) / limit)
+    return worst
+
+
+def table_build(parameters: dict, inputs, speed: float) -> tuple[float, int, int, float]:
+    """Seconds of the first loaded step with the table on, its exact solves, its size [bytes], its bound."""
+    model = ContactModel(ContactParameters(**parameters, table=2))
+    load, creep = inputs(0)
+    start = time.perf_counter()
+    model.step(0.0, 1e-3, load, creep, speed)
+    table = model.table_use.table
+    size = sum(a.nbytes for a in (table.partial, table.full, table.onsets, table.w_nodes, table.t_nodes,
+                                  table.r_nodes))
+    return time.perf_counter() - start, table.solves, size, table.bound
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="one law, fewer rounds and samples")
+    args = parser.parse_args()
+    laws = LAWS[:1] if args.quick else LAWS
+    rounds, steps, samples = (5, 200, 20) if args.quick else (15, 400, 60)
+    lines = ["# Real-time steps through the certified table", "", *common.machine(0.0), ""]
+    builds = []
+    with tempfile.TemporaryDirectory(prefix="bench_table_") as tmp:
+        from build_fmu import build
+
+        empty, contact = common.build_and_extract(Path(tmp), build)
+        carter = signal(1e6, (1e-4, 2e-3))
+        cases = [common.Case("empty", empty, {}, steps, 20.0, signal=carter)]  # the same per-step work of the host
+        cases.append(common.Case("Carter (closed form)", contact, {}, steps, 20.0, signal=carter))
+        errors = {"Carter (closed form)": reference_error({}, carter, 20.0, samples)}
+        for label, ratio, decay, speed, load, creeps in laws:
+            law = {"friction_law": 1, "friction_kinetic_ratio": ratio, "friction_decay": decay, "tolerance": 1e-3}
+            inputs = signal(load, creeps)
+            builds.append((label, *table_build(law, inputs, speed)))
+            for mode, name in ((2, "table"), (1, "exact, tolerance 1e-3")):
+                case = f"falling friction {label}: {name}"
+                cases.append(common.Case(case, contact, {**law, "table": mode}, steps, speed, signal=inputs))
+                errors[case] = reference_error({**law, "table": mode}, inputs, speed, samples)
+        corrugation = {**common.FMU_CORRUGATION, "tolerance": 1e-3}
+        cases.append(common.Case("corrugation 40 mm / 20 um (no table)", contact, corrugation, steps, 30.0,
+                                 signal=signal(1e6, (1.1e-3, 2.1e-3))))
+        common.run_interleaved(cases, rounds)
+        floor = statistics.median(cases[0].times)
+        lines += ["| case | us per step | over the empty step | error (mu N) | method_used |", "|---|---|---|---|---|"]
+        for case in cases:
+            median = statistics.median(case.times)
+            error = errors.get(case.label)
+            lines.append(f"| {case.label} | {median:.1f} | {median / floor:.2f} | "
+                         f"{'' if error is None else f'{error:.2g}'} | {sorted(case.methods_used)} |")
+        for case in cases:
+            case.free()
+    lines += ["", "## The tables", "", "| law | build (s) | exact solves | size (bytes) | certified bound (mu N) |",
+              "|---|---|---|---|---|"]
+    lines += [f"| {label} | {seconds:.2f} | {solves} | {size} | {bound:.2g} |"
+              for label, seconds, solves, size, bound in builds]
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if not args.quick:
+        (common.RESULTS / "table.md").write_text(text)
+
+
+if __name__ == "__main__":
+    main()
