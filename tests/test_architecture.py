@@ -123,7 +123,7 @@ def test_no_module_or_class_too_long_to_read(kind, limit):
             long += [f"{name}.{node.name}: {node.end_lineno - node.lineno + 1} lines"
                      for node in ast.walk(ast.parse(text))
                      if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > limit]
-    assert not long, f"{kind}s above {limit} lines: " + "; ".join(long)
+    assert not long, f"{ {'module': 'modules', 'class': 'classes'}[kind]} above {limit} lines: " + "; ".join(long)
 
 
 def test_old_module_paths_forward_with_a_deprecation_warning():

@@ -87,21 +87,38 @@ def summarise(result: CosimResult) -> dict[str, float]:
     return out
 
 
-def ensure_fmus(fmu_dir: Path | str = FMU_DIR, integer_codes: bool = False) -> dict[str, Path]:
+FMI_VERSIONS = (2, 3)
+"""FMI versions of the FMUs: 2 (FMI 2.0, pythonfmu; the default) or 3 (FMI 3.0, pythonfmu3)."""
+
+
+def check_fmi_version(fmi_version) -> int:
+    """``fmi_version`` if it is 2 or 3, else ValueError."""
+    if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
+        raise ValueError(f"fmi_version = {fmi_version!r} is unknown: use 2 (FMI 2.0) or 3 (FMI 3.0)")
+    return int(fmi_version)
+
+
+def ensure_fmus(fmu_dir: Path | str = FMU_DIR, integer_codes: bool = False, fmi_version: int = 2) -> dict[str, Path]:
     """Paths of both FMUs in ``fmu_dir``, built by ``build_fmu.py --all --if-stale`` when missing or stale; with
     ``integer_codes`` the build for hosts without FMI enumerations (``build_fmu.py --integer-codes``), in the
-    folder ``integer_codes/`` below ``fmu_dir``."""
+    folder ``integer_codes/`` below ``fmu_dir``; with ``fmi_version`` 3 the FMI 3.0 FMUs (``build_fmu.py --fmi
+    3``), in the folder ``fmi3/`` below ``fmu_dir``."""
+    fmi_version = check_fmi_version(fmi_version)
+    if integer_codes and fmi_version == 3:
+        raise ValueError("the integer-codes build (for libcosim) is an FMI 2.0 build: use fmi_version = 2")
     fmu_dir = Path(fmu_dir) / "integer_codes" if integer_codes else Path(fmu_dir)
     spec = importlib.util.spec_from_file_location("rollcontact_build_fmu", ROOT / "build_fmu.py")
     builder = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(builder)  # only for is_stale: the build itself runs in a subprocess
-    if any(builder.is_stale(name, fmu_dir) for name in builder.FMUS):
+    folder = builder.fmi_dest(fmu_dir, fmi_version)
+    if any(builder.is_stale(name, folder, fmi_version) for name in builder.FMUS):
         done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--all", "--if-stale", "--dest",
-                               str(fmu_dir), *(["--integer-codes"] if integer_codes else [])],
+                               str(fmu_dir), "--fmi", str(fmi_version),
+                               *(["--integer-codes"] if integer_codes else [])],
                               capture_output=True, text=True, timeout=600)
         if done.returncode != 0:
             raise RuntimeError(f"build_fmu.py --all failed:\n{done.stdout}\n{done.stderr}")
-    return {name: fmu_dir / f"{name}.fmu" for name in (HOST, CONTACT)}
+    return {name: folder / f"{name}.fmu" for name in (HOST, CONTACT)}
 
 
 

@@ -1,4 +1,4 @@
-"""Fixed-step co-simulation master on fmpy's ``FMU2Slave``: WheelRig host + RollingContact2D contact.
+"""Fixed-step co-simulation master on fmpy's ``FMU2Slave`` (or ``FMU3Slave``): WheelRig host + RollingContact2D contact.
 
 :func:`run_cosimulation` runs a scene (:mod:`rollcontact_cosim.scenes`) with macro step H from t_0 to
 t_end = t_0 + N H (communication points ``t_n = t_0 + n H``, never accumulated) and returns a
@@ -17,7 +17,9 @@ Result rows: row k holds ``t_k``, the host's outputs at t_k and the contact's ou
 (evaluated with the host's outputs at t_k); the contact is stepped once more at t_N to complete the last row.
 
 The FMUs are taken from ``models/`` (or ``fmu_dir``) and built first by ``build_fmu.py --all --if-stale`` (in a
-subprocess: the builder imports the slaves) when missing or older than their sources.
+subprocess: the builder imports the slaves) when missing or older than their sources.  ``fmi_version=3`` runs the
+FMI 3.0 pair of ``models/fmi3/`` (``build_fmu.py --fmi 3``) through fmpy's ``FMU3Slave`` behind the same calls
+(:class:`FMU3Calls`): the same results bit for bit.
 """
 
 from __future__ import annotations
@@ -32,8 +34,9 @@ import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
+from fmpy.fmi3 import FMU3Slave
 
-from rollcontact_cosim.fmus import FMU_DIR, CosimResult, ensure_fmus, summarise
+from rollcontact_cosim.fmus import FMU_DIR, CosimResult, check_fmi_version, ensure_fmus, summarise
 from rollcontact_cosim.scenes import (
     CONNECTIONS,
     CONTACT,
@@ -48,6 +51,9 @@ __all__ = ["FMU_DIR", "MASTERS", "CosimResult", "ensure_fmus", "run_cosimulation
 
 MASTERS = ("fmpy", "libcosim")
 STATUS = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
+REAL_TYPES = ("Real", "Float64")
+INTEGER_TYPES = ("Integer", "Enumeration", "Int32", "Int64")
+"""fmpy's variable types (FMI 2.0 and 3.0) read as floats and as integers."""
 
 
 _extracted: dict[tuple[str, float], str] = {}
@@ -63,8 +69,38 @@ def extracted(fmu: Path) -> str:
     return _extracted[key]
 
 
+class FMU3Calls(FMU3Slave):
+    """fmpy's ``FMU3Slave`` answering the ``FMU2Slave`` calls the master makes: Float64 as Real, Int32 and
+    Enumeration (Int64) as Integer, ``setupExperiment``'s start time passed on by ``enterInitializationMode``."""
+
+    def __init__(self, description, **kwargs):
+        super().__init__(**kwargs)
+        self.enumerations = {v.valueReference for v in description.modelVariables if v.type == "Enumeration"}
+        self.start_time = 0.0
+
+    setReal, getReal = FMU3Slave.setFloat64, FMU3Slave.getFloat64
+    getFMUstate, setFMUstate, freeFMUstate = FMU3Slave.getFMUState, FMU3Slave.setFMUState, FMU3Slave.freeFMUState
+
+    def setInteger(self, vr, values) -> None:
+        for ref, value in zip(vr, values, strict=True):
+            (self.setInt64 if ref in self.enumerations else self.setInt32)([ref], [value])
+
+    def getInteger(self, vr) -> list[int]:
+        if all(ref in self.enumerations for ref in vr):
+            return self.getInt64(vr)
+        return [(self.getInt64 if ref in self.enumerations else self.getInt32)([ref])[0] for ref in vr]
+
+    def setupExperiment(self, startTime: float = 0.0, **_) -> None:
+        self.start_time = startTime
+
+    def enterInitializationMode(self, tolerance=None, startTime=None, stopTime=None):
+        return super().enterInitializationMode(tolerance, self.start_time if startTime is None else startTime,
+                                               stopTime)
+
+
 class Slave:
-    """One instantiated FMU with name lookup and its log kept (the last messages explain a Discard)."""
+    """One instantiated FMU (FMI 2.0 or 3.0) with name lookup and its log kept (the last messages explain a
+    Discard); ``fmu`` answers the ``FMU2Slave`` calls in either version."""
 
     def __init__(self, fmu: Path, instance_name: str):
         unzipped = extracted(fmu)
@@ -72,6 +108,12 @@ class Slave:
         self.variables = {v.name: v for v in self.description.modelVariables}
         self.name = instance_name
         self.log: list[str] = []
+        if self.description.fmiVersion.startswith("3"):
+            self.fmu = FMU3Calls(self.description, guid=self.description.guid, unzipDirectory=unzipped,
+                                 modelIdentifier=self.description.coSimulation.modelIdentifier,
+                                 instanceName=instance_name)
+            self.fmu.instantiate(loggingOn=True, logMessage=self.logger3)
+            return
         self.callbacks = fmi2CallbackFunctions()
         self.callbacks.logger = fmi2CallbackLoggerTYPE(self.logger)  # referenced here so ctypes keeps it alive
         self.callbacks.allocateMemory = defaultCallbacks.allocateMemory
@@ -82,6 +124,11 @@ class Slave:
 
     def logger(self, environment, instance_name, status, category, message):
         self.log.append(f"{STATUS.get(status, status)}: {message.decode(errors='replace').replace('%%', '%')}")
+        del self.log[:-20]
+
+    def logger3(self, environment, status, category, message):
+        """FMI 3.0's logger: the message as it is (no printf format)."""
+        self.log.append(f"{STATUS.get(status, status)}: {message.decode(errors='replace')}")
         del self.log[:-20]
 
     def reference(self, name: str, causality: str | None = None) -> int:
@@ -97,9 +144,9 @@ class Slave:
         for name, value in values.items():
             vr = self.reference(name, "parameter")
             kind = self.variables[name].type
-            if kind == "Real":
+            if kind in REAL_TYPES:
                 self.fmu.setReal([vr], [float(value)])
-            elif kind in ("Integer", "Enumeration"):
+            elif kind in INTEGER_TYPES:
                 if isinstance(value, bool) or value != int(value):
                     raise ValueError(f"{self.name}.{name} is an Integer parameter, got {value!r}")
                 self.fmu.setInteger([vr], [int(value)])
@@ -116,7 +163,8 @@ class Slave:
 
 def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algorithm: str | None = None,
                      step_size: float | None = None, stop_time: float | None = None, host: dict | None = None,
-                     contact: dict | None = None, fmu_dir: Path | str | None = None) -> CosimResult:
+                     contact: dict | None = None, fmu_dir: Path | str | None = None,
+                     fmi_version: int = 2) -> CosimResult:
     """Co-simulate a scene with a fixed macro step.
 
     Parameters
@@ -134,6 +182,9 @@ def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algor
         Parameter values applied over the scene's ``[host]`` / ``[contact]`` tables (e.g. ``{"coupling": 0}``).
     fmu_dir : Path, optional
         Folder with (or for) the FMUs; ``models/`` when None.  Missing or stale FMUs are built first.
+    fmi_version : int
+        2: the FMI 2.0 FMUs of ``fmu_dir``; 3: the FMI 3.0 FMUs of ``fmu_dir/fmi3`` (fmpy master only: libcosim
+        loads FMI 2.0 FMUs only).
 
     Returns
     -------
@@ -143,6 +194,9 @@ def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algor
     scene = load_cosim_scene(scene)
     if master not in MASTERS:
         raise ValueError(f"master = {master!r} is unknown: use one of {', '.join(MASTERS)}")
+    if check_fmi_version(fmi_version) == 3 and master == "libcosim":
+        raise ValueError("the libcosim master runs the FMI 2.0 FMUs only (libcosim cannot load FMI 3.0 FMUs): "
+                         "use the fmpy master for FMI 3.0")
     if master == "libcosim":  # Jacobi only, whatever the scene says
         from rollcontact_cosim import osp
 
@@ -154,7 +208,7 @@ def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algor
     steps = macro_steps(scene.start_time, stop, step)
     host_values = {**scene.host_parameters(algorithm), **(host or {})}
     contact_values = {**scene.contact_parameters(), **(contact or {})}
-    paths = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir)
+    paths = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, fmi_version=fmi_version)
     slaves = {}
     try:
         for name in (HOST, CONTACT):
@@ -188,7 +242,7 @@ def step_loop(scene: CosimScene, slaves: dict[str, Slave], algorithm: str, step:
         instance, variable = name.split(".", 1)
         vr = slaves[instance].reference(variable, "output")
         kind = slaves[instance].variables[variable].type
-        integer = kind in ("Integer", "Enumeration")
+        integer = kind in INTEGER_TYPES
         target = integers[instance] if integer else reals[instance]
         columns.append((instance, integer, len(target)))
         target.append(vr)

@@ -83,7 +83,6 @@ from rollcontact.method import unresolved
 from rollcontact.scene import Harmonic, Scene, Surface
 from rollcontact.stepping.parameters import (
     AUTO,
-    METHOD_NAMES,
     OPTION_NAMES,
     STATIONARY,
     TABLE_CODE,
@@ -94,7 +93,7 @@ from rollcontact.stepping.parameters import (
     input_problem,
     method_code,
     new_tuple,
-    registered_methods,
+    step_methods,
 )
 from rollcontact.stepping.state import ModelState
 from rollcontact.stepping.table import TARGET as TABLE_TARGET
@@ -167,7 +166,7 @@ class ContactModel(InstationaryStepping):
         self.surface = surface
         self.scene_surface = mirrored(surface)
         self.velocity_dependent = not friction.is_constant
-        self.closed_form, self.candidates = self.methods_for(p, surface, friction)
+        self.closed_form, self.candidates = step_methods(p, surface, friction)
         self.table_use = (TableUse(friction, material, float(radius), p.table, p.step_budget)
                           if p.table != 1 and isinstance(friction, ExponentialFalling) and surface.is_flat
                           and p.method in (AUTO, 2) and self.instationary is None
@@ -191,35 +190,6 @@ class ContactModel(InstationaryStepping):
         self.messages: list[str] = []
         """Messages of the steps not yet taken by :meth:`take_messages` (each kind once per model)."""
         self.noticed: set[str] = set()
-
-    @staticmethod
-    def methods_for(p: ContactParameters, surface: Surface, friction) -> tuple[bool, tuple[str, ...]]:
-        """Whether the steps take the closed forms, else the registered methods they may use (auto: polynomial,
-        then discretised).
-
-        Raises
-        ------
-        ModelError
-            ``method`` = 1 on a scene the closed forms cannot treat, or no method of the family is registered.
-        """
-        flat_reason = None
-        if not surface.is_flat:
-            flat_reason = "the surface is not flat (corrugation, harmonics or polynomial terms of degree >= 2)"
-        elif not friction.is_constant:
-            flat_reason = "friction depends on slip velocity"
-        if p.method == 1 and flat_reason is not None:
-            raise ModelError(f"method = 1 (closed form) cannot solve this scene: {flat_reason}; "
-                             "use method = 0 (auto), 2 (polynomial) or 3 (discretised)")
-        if p.method == 1 or (p.method == AUTO and flat_reason is None):
-            return True, ()
-        codes = (2, 3) if p.method == AUTO else (p.method,)
-        candidates = registered_methods(codes)
-        if not candidates:
-            wanted = " or ".join(f"{c} ({METHOD_NAMES[c]})" for c in codes)
-            why = f"{flat_reason}, which needs" if p.method == AUTO else "it needs"
-            raise ModelError(f"method = {p.method}: {why} method {wanted}, but no such method is registered "
-                             f"in rollcontact.METHODS (registered: {sorted(METHODS)})")
-        return False, candidates
 
     def notice_once(self, kind: str, message: str) -> None:
         """Queue ``message`` for :meth:`take_messages` the first time a step meets ``kind``."""

@@ -320,3 +320,32 @@ def contact_bodies(p: ContactParameters) -> tuple[Material, float, FrictionLaw, 
     except ValueError as exc:
         raise ModelError(str(exc)) from None
     return material, p.radius, friction, surface, []
+
+
+def step_methods(p: ContactParameters, surface: Surface, friction) -> tuple[bool, tuple[str, ...]]:
+    """Whether the steps take the closed forms, else the registered methods they may use (auto: polynomial,
+    then discretised).
+
+    Raises
+    ------
+    ModelError
+        ``method`` = 1 on a scene the closed forms cannot treat, or no method of the family is registered.
+    """
+    flat_reason = None
+    if not surface.is_flat:
+        flat_reason = "the surface is not flat (corrugation, harmonics or polynomial terms of degree >= 2)"
+    elif not friction.is_constant:
+        flat_reason = "friction depends on slip velocity"
+    if p.method == 1 and flat_reason is not None:
+        raise ModelError(f"method = 1 (closed form) cannot solve this scene: {flat_reason}; "
+                         "use method = 0 (auto), 2 (polynomial) or 3 (discretised)")
+    if p.method == 1 or (p.method == AUTO and flat_reason is None):
+        return True, ()
+    codes = (2, 3) if p.method == AUTO else (p.method,)
+    candidates = registered_methods(codes)
+    if not candidates:
+        wanted = " or ".join(f"{c} ({METHOD_NAMES[c]})" for c in codes)
+        why = f"{flat_reason}, which needs" if p.method == AUTO else "it needs"
+        raise ModelError(f"method = {p.method}: {why} method {wanted}, but no such method is registered "
+                         f"in rollcontact.METHODS (registered: {sorted(METHODS)})")
+    return False, candidates
