@@ -80,6 +80,7 @@ class FMU3Calls(FMU3Slave):
 
     setReal, getReal = FMU3Slave.setFloat64, FMU3Slave.getFloat64
     getFMUstate, setFMUstate, freeFMUstate = FMU3Slave.getFMUState, FMU3Slave.setFMUState, FMU3Slave.freeFMUState
+    serializeFMUstate, deSerializeFMUstate = FMU3Slave.serializeFMUState, FMU3Slave.deserializeFMUState
 
     def setInteger(self, vr, values) -> None:
         for ref, value in zip(vr, values, strict=True):

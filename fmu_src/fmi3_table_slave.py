@@ -1,0 +1,227 @@
+"""The FMI 3.0 co-simulation binding of the project's slaves (pythonfmu3, bundled in each FMI 3.0 FMU's resources).
+
+:class:`TableSlave3` puts an FMI 2.0 slave of this project (a :class:`rollcontact_fmu_xml.TableSlave` with its
+model glue, e.g. ``rollcontact_fmu_contact.RollingContact2D``) on pythonfmu3: the same variable table (names,
+value references, units, ranges, enumerations, descriptions), the same ``do_step``, setters, checks and FMU state,
+none of it written twice.  An entry module names both and ``Fmi3Slave`` (``fmi3_rollcontact_slave.py``)::
+
+    class RollingContact2D(TableSlave3, RollingContact2DFmi2, Fmi3Slave):
+
+:class:`TableSlave3` comes first, so it answers every call pythonfmu3 makes and everything FMI 3.0 words
+differently: variables are registered as pythonfmu3's Float64 (Real), Int32 (Integer), Enumeration (an Integer of
+the table's ``ENUMERATIONS``; Int64 at the API) and String, plus the independent variable ``time`` that FMI 3.0
+requires (value reference after the table's); log messages are pythonfmu3's (literal text, not printf formats, and
+FMI 3.0 vocabulary); the model description is FMI 3.0's.  The table's types and causalities are pythonfmu's (FMI
+2.0) classes, so each FMI 3.0 FMU also bundles pythonfmu's Python files (not its binary).  The class's MRO holds
+``Fmi2Slave`` before ``Fmi3Slave``: ``Fmi2Slave.__init__`` runs instead of ``Fmi3SlaveBase.__init__`` (whose extra
+attributes :meth:`TableSlave3.__init__` sets), and :class:`TableSlave3` overrides every method that both define and
+pythonfmu3 or its builder calls (``register_variable``, ``log``, ``to_xml``) and every typed getter and setter.
+
+What pythonfmu3 0.3.4's C++ layer (``PySlaveInstance.cpp``, ``cppfmu/fmi_functions.cpp``, ``cppfmu_common.hpp``,
+shipped in the wheel under ``pythonfmu-export/``) does with a slave, and how this binding copes (``docs/fmu.md``,
+"FMI 3.0"):
+
+* Any exception escaping a slave method becomes fmi3Fatal, after ``handle_py_exception`` released the instance's
+  Python objects without forgetting them (``cleanPyObject``), as in pythonfmu 0.7: later calls are a use after free.
+  So nothing may raise into pythonfmu3; the shared slave logic already catches everything, and every getter and
+  setter pythonfmu3 can call is answered here (a wrong type or an unknown value reference is refused, not raised).
+* ``do_step`` may return a result with a ``status`` (any fmi3Status); every other call returns fmi3OK.  The FMUs
+  return fmi3OK or fmi3Discard from ``fmi3DoStep``, as their FMI 2.0 twins do, and emulate fmi3Error as those
+  emulate fmi2Error (logged with status Error, then every step discarded until a valid state is set or a reset).
+* A message logged with ``debug=False`` reaches the host's logger whether or not debug logging is on (FMI 3.0's
+  rule); the notices of status OK are logged with ``debug=True`` (only with debug logging).  Messages are passed as
+  they are: no ``%`` escaping.
+* ``fmi3EnterInitializationMode``'s ``startTime`` never reaches Python (pythonfmu3 calls no ``setup_experiment``):
+  the first ``fmi3DoStep``'s communication point, which FMI 3.0 makes the start time, sets it (see
+  :meth:`TableSlave3.do_step`).
+* The entry module is imported once per process (no re-execution per instance as in pythonfmu 0.7); the
+  constructor still inserts the resources folder into ``sys.path`` per instance (removed by the shared slave).
+* pythonfmu3's variables have no min/max and write starts with 16 digits; its XML writer writes
+  ``canHandleVariableCommunicationStepSize`` from another option's value (``build_fmu.py`` passes it explicitly).
+  :func:`complete_model_description3` adds the bounds, exact starts and the ModelStructure's dependencies.
+"""
+
+from __future__ import annotations
+
+import math
+from xml.etree.ElementTree import Element
+
+from pythonfmu import Real
+from pythonfmu.variables import Boolean as Boolean2
+from pythonfmu.variables import Integer as Integer2
+from pythonfmu.variables import String as String2
+from pythonfmu3 import Fmi3Causality, Fmi3Initial, Fmi3Status, Fmi3Variability
+from pythonfmu3.fmi3slave import Fmi3SlaveBase
+from pythonfmu3.unit import Unit
+from pythonfmu3.variable_types import EnumerationType
+from pythonfmu3.variables import Boolean, Enumeration, Float64, Int32, Int64, String, UInt64
+from rollcontact_fmu_xml import UNITS
+
+VOCABULARY = (("fmi2Error", "fmi3Error"), ("fmi2OK", "fmi3OK"), ("FMI 2 ", "FMI 3 "), ("pythonfmu ", "pythonfmu3 "),
+              ("setFMUstate", "setFMUState"))
+"""FMI 2.0 words of the shared slave's messages and their FMI 3.0 counterparts (:meth:`TableSlave3.report`)."""
+
+TIME_DESCRIPTION = "Simulation time, the independent variable (FMI 3.0 requires one)"
+
+
+def fmi3_variable(var, row, enumerations: dict):
+    """The pythonfmu3 variable of the shared slave's pythonfmu variable ``var`` (table row ``row``): same name,
+    causality, variability, initial, description, getter and setter; Real with its unit; an Integer of
+    ``enumerations`` as an Enumeration of its declared type."""
+    common = {"causality": Fmi3Causality[var.causality.name], "variability": Fmi3Variability[var.variability.name],
+              "initial": None if var.initial is None else Fmi3Initial[var.initial.name],
+              "description": var.description, "getter": var.getter, "setter": var.setter}
+    if isinstance(var, Real):
+        return Float64(var.name, unit=row[4], **common)
+    if isinstance(var, Integer2):
+        if var.name in enumerations:
+            return Enumeration(var.name, declared_type=enumerations[var.name][0], **common)
+        return Int32(var.name, **common)
+    if isinstance(var, String2):
+        return String(var.name, **common)
+    if isinstance(var, Boolean2):
+        return Boolean(var.name, **common)
+    raise TypeError(f"{var.name}: no FMI 3.0 type for {type(var).__name__}")  # a table row of an unknown type
+
+
+def complete_model_description3(root: Element, variables, initial_dependencies: str | None = "") -> Element:
+    """Add min/max, exact starts and the dependencies of the ModelStructure to pythonfmu3's ``root`` (returned).
+
+    Parameters
+    ----------
+    root : Element
+        ``Fmi3SlaveBase.to_xml()`` of the slave (units and type definitions registered through pythonfmu3).
+    variables : sequence of tuple
+        The slave's variable table (rows ``(name, type, causality, variability, unit, start, min, max,
+        description)``, value reference = row number).
+    initial_dependencies : str or None
+        ``dependencies`` of every output among the InitialUnknowns: ``""`` when the initial outputs are the start
+        values, None to omit the attribute (they depend on the parameters).
+
+    Outputs are computed in ``do_step`` only, so as ``Output`` they depend on no variable (``dependencies=""``).
+    """
+    rows = {row[0]: row for row in variables}
+    for element in root.find("ModelVariables"):
+        row = rows.get(element.get("name"))
+        if row is None:  # time
+            continue
+        kind, start, lower, upper = row[1], row[5], row[6], row[7]
+        exact = (lambda value: repr(float(value))) if kind is Real else str  # an exact round trip
+        for attribute, value in (("min", lower), ("max", upper)):
+            if value is not None:
+                element.set(attribute, exact(value))
+        if kind is Real and element.get("start") is not None:
+            element.set("start", exact(start))
+    for entry in root.find("ModelStructure"):
+        if entry.tag == "Output":
+            entry.set("dependencies", "")
+        elif entry.tag == "InitialUnknown" and initial_dependencies is not None:
+            entry.set("dependencies", initial_dependencies)
+    return root
+
+
+class TableSlave3:
+    """The FMI 3.0 side of a :class:`rollcontact_fmu_xml.TableSlave` (module docstring): put it first in the bases,
+    the FMI 2.0 slave class next and ``Fmi3Slave`` last."""
+
+    log_categories = Fmi3SlaveBase.log_categories
+
+    def __init__(self, **kwargs):
+        # what Fmi3SlaveBase.__init__ sets and the FMI 2.0 base's __init__, which runs instead, does not
+        self.event_indicators, self.type_definitions, self.units = [], {}, {}
+        super().__init__(**kwargs)  # the shared slave: registers the table through register_variable below
+        self.register_variable(Float64("time", causality=Fmi3Causality.independent, unit="s",
+                                       variability=Fmi3Variability.continuous, description=TIME_DESCRIPTION,
+                                       getter=self.current_time, setter=self.refuse_time))
+
+    def register_variable(self, var, nested: bool = True, var_type=None, has_event_indicator: bool = False):
+        """Register ``var``, a pythonfmu3 variable or a pythonfmu variable of the table (converted)."""
+        if not isinstance(var, Float64 | Int32 | Int64 | UInt64 | Enumeration | String | Boolean):
+            var = fmi3_variable(var, self.VARIABLES[len(self.vars)], self.ENUMERATIONS)  # row = value reference
+        Fmi3SlaveBase.register_variable(self, var, nested, var_type, has_event_indicator)
+
+    def current_time(self) -> float:
+        """The communication point the next step starts from (the start time before the first)."""
+        return self.start_time if self.next_time is None else self.next_time
+
+    def refuse_time(self, value) -> None:
+        self.refuse(f"set time = {value!r} refused: time is the independent variable")
+
+    # logging: pythonfmu3's messages, FMI 3.0's words ----------------------------------------------------------
+    def log(self, msg: str, status=Fmi3Status.ok, category: str | None = None, debug: bool = False) -> None:
+        Fmi3SlaveBase.log(self, msg, Fmi3Status(int(status)), category, debug)
+
+    def report(self, message: str, status) -> None:
+        """Log ``message`` as it is (FMI 3.0 messages are no printf formats) in FMI 3.0's words; status OK only
+        with debug logging, any other status always (the shared slave's ``report`` escapes ``%`` for FMI 2.0)."""
+        for fmi2, fmi3 in VOCABULARY:
+            message = message.replace(fmi2, fmi3)
+        status = Fmi3Status(int(status))
+        Fmi3SlaveBase.log(self, message, status, debug=status is Fmi3Status.ok)
+
+    # FMI calls --------------------------------------------------------------------------------------------------
+    def do_step(self, current_time, step_size):
+        """The shared slave's step; the first step of a model sets the start time to its communication point
+        (pythonfmu3 does not pass fmi3EnterInitializationMode's startTime)."""
+        model = self.model
+        if model is not None and self.error is None and model.state.steps == 0 and \
+                self.next_time == self.start_time != current_time and math.isfinite(current_time):
+            self.start_time = self.next_time = float(current_time)
+            model.reset(self.start_time)
+            outputs = self.initial_outputs(model)
+            if outputs is not None:
+                self.outputs = tuple(outputs)
+            self.report(f"start time {self.start_time!r} s taken from the first doStep (pythonfmu3 does not pass "
+                        "fmi3EnterInitializationMode's startTime)", Fmi3Status.ok)
+        return super().do_step(current_time, step_size)
+
+    def set_float64(self, vrs, values):
+        self.write_values(vrs, values, Float64, "setFloat64")
+
+    def set_int32(self, vrs, values):
+        self.write_values(vrs, values, Int32, "setInt32")
+
+    def set_int64(self, vrs, values):
+        self.write_values(vrs, values, Enumeration, "setInt64")
+
+    def set_uint64(self, vrs, values):
+        self.write_values(vrs, values, UInt64, "setUInt64")
+
+    def set_boolean(self, vrs, values):
+        self.write_values(vrs, values, Boolean, "setBoolean")
+
+    def set_string(self, vrs, values):
+        self.write_values(vrs, values, String, "setString")
+
+    def get_float64(self, vrs):
+        return self.read_values(vrs, Float64, float, math.nan, "getFloat64")
+
+    def get_int32(self, vrs):
+        return self.read_values(vrs, Int32, int, 0, "getInt32")
+
+    def get_int64(self, vrs):
+        return self.read_values(vrs, Enumeration, int, 0, "getInt64")
+
+    def get_uint64(self, vrs):
+        return self.read_values(vrs, UInt64, int, 0, "getUInt64")
+
+    def get_boolean(self, vrs):
+        return self.read_values(vrs, Boolean, bool, False, "getBoolean")
+
+    def get_string(self, vrs):
+        return self.read_values(vrs, String, str, "", "getString")
+
+    def to_xml(self, model_options=None) -> Element:
+        """pythonfmu3's model description of the table (units and enumeration types registered through pythonfmu3)
+        completed by :func:`complete_model_description3`."""
+        for attribute in ("author", "description", "license", "version", "copyright", "default_experiment"):
+            setattr(self, attribute, getattr(type(self), attribute, None))  # the FMI 2.0 base reset them to None
+        used = {row[4] for row in self.VARIABLES if row[4] is not None} | {"s"}
+        self.register_units([Unit(name, **UNITS[name]) for name in UNITS if name in used])
+        for type_name, items in dict(self.ENUMERATIONS.values()).items():
+            self.type_definitions[type_name] = enumeration = EnumerationType(type_name, values=())
+            for value, item, description in items:
+                enumeration.add_value(item, value, description)
+        root = Fmi3SlaveBase.to_xml(self, {} if model_options is None else model_options)
+        return complete_model_description3(root, self.VARIABLES, self.INITIAL_DEPENDENCIES)
+
