@@ -361,3 +361,26 @@ def test_an_exception_in_a_pythonfmu3_slave_is_fatal(tmp_path):
                           timeout=120, cwd=tmp_path)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.startswith(f"{FATAL} ") and "raised in do_step" in done.stdout, done.stdout
+
+
+@pytest.mark.parametrize("case", range(4), ids=["negative load", "NaN creep", "friction -0.1", "wavelength 0"])
+def test_each_bad_input_is_logged_through_simulate_fmu_without_debug_logging(fmu_folders, case):
+    """The issue's bad inputs and parameters through ``fmpy.simulate_fmu(..., debug_logging=False, logger=...)``:
+    the FMI 3.0 FMU hands every Discard and Error reason to the logger (the FMI 2.0 FMU cannot: pythonfmu 0.7,
+    ``tests/fmu/test_fmu_hardening.py``, a strict xfail)."""
+    from fmpy import simulate_fmu
+
+    folder = str(ROOT / "tests" / "fmu")
+    sys.path.insert(0, folder)
+    try:
+        import test_fmu_hardening
+    finally:
+        sys.path.remove(folder)
+    name, keywords, reason = test_fmu_hardening.bad_runs(None)[case]
+    log = []
+    try:
+        simulate_fmu(str(fmu_folders[3] / "RollingContact2D.fmu"), stop_time=1.0, output_interval=0.1,
+                     debug_logging=False, logger=lambda *args: log.append(args[-1].decode()), **keywords)
+    except Exception:  # noqa: BLE001 - fmpy raises on the Discard
+        pass
+    assert any(reason in message for message in log), f"{name}: {reason!r} not logged: {log}"
