@@ -124,10 +124,7 @@ def main() -> None:
     lines = ["# Work of one step under a budget", "", *common.machine(os.getloadavg()[0]), ""]
     lines += table_a(args.quick) + table_b(args.quick)
     lines.append(f"Run time {time.perf_counter() - start:.0f} s{' (--quick)' if args.quick else ''}.")
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if not args.quick:
-        (common.RESULTS / "step_budget.md").write_text(text)
+    common.publish(lines, "step_budget.md", args.quick)
 
 
 if __name__ == "__main__":

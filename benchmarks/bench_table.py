@@ -115,10 +115,7 @@ def main() -> None:
               "|---|---|---|---|---|"]
     lines += [f"| {label} | {seconds:.2f} | {solves} | {size} | {bound:.2g} |"
               for label, seconds, solves, size, bound in builds]
-    text = "\n".join(lines) + "\n"
-    print(text)
-    if not args.quick:
-        (common.RESULTS / "table.md").write_text(text)
+    common.publish(lines, "table.md", args.quick)
 
 
 if __name__ == "__main__":

@@ -397,3 +397,11 @@ def machine(load: float) -> list[str]:
             f"- BLAS threads: OPENBLAS_NUM_THREADS = {os.environ.get('OPENBLAS_NUM_THREADS')}, "
             f"OMP_NUM_THREADS = {os.environ.get('OMP_NUM_THREADS')}",
             f"- {platform.platform()}"]
+
+
+def publish(lines: list[str], name: str, quick: bool) -> None:
+    """Print a benchmark's markdown ``lines`` and, unless ``quick``, write them to ``RESULTS / name``."""
+    text = "\n".join(lines) + "\n"
+    print(text)
+    if not quick:
+        (RESULTS / name).write_text(text)
