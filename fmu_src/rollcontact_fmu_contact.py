@@ -122,7 +122,7 @@ VARIABLES = (
     ("step_budget", Real, PARAMETER, FIXED, "s", DEFAULT.step_budget, 0.0, None,
      "Work budget of one step, modelled seconds (0: no budget)"),
     ("table", Integer, PARAMETER, FIXED, None, DEFAULT.table, 0, 2,
-     "Certified table of falling friction on a flat surface (TableMode)"),
+     "Certified table of falling friction or a one-harmonic corrugation (TableMode)"),
 )
 
 ENUMERATIONS = {

@@ -1,108 +1,140 @@
-"""The certified table of falling friction on a flat surface (rollcontact.stepping.table): the scaling it rests on,
-its bound at random points, the exact fallback outside it, state restore with a table in use, independence of
-instances, and the incremental build of ``table`` = auto."""
+"""The stepping model's use of the certified tables (rollcontact.stepping.table), for both families (falling friction
+on a flat rail, a one-harmonic corrugation with Coulomb friction): steps within the bound, the exact fallback outside
+the domain, state restore with a table in use, independent instances, the incremental build of ``table`` = auto, the
+rebuild over a wider domain, the log, and a family the exact solver cannot tabulate."""
 
 from __future__ import annotations
 
 import math
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 import rollcontact as rc
-from rollcontact.stepping import ContactModel, ContactParameters
-from rollcontact.stepping import table as table_module
-from rollcontact.stepping.table import FallingFrictionTable
+from rollcontact.stepping import ContactModel, ContactParameters, ModelError, ModelState
+from rollcontact.stepping.table import CorrugationUse, FallingFrictionUse
 
-MU, A, R = 0.3, 0.6, 0.46
-E_STAR = rc.Material().contact_modulus
-LAW = {"friction_law": 1, "friction_kinetic_ratio": A, "friction_decay": math.log(2.0) / 0.1}
-
-
-@pytest.fixture(scope="module")
-def table() -> FallingFrictionTable:
-    return FallingFrictionTable(A, 1.5).build()
+H = 1e-3
+FAMILIES = {  # parameters, speed V [m/s], load N [N] (contact width 0.02 m), creeps, a step outside the domain
+    "falling friction": ({"friction_law": 1, "friction_kinetic_ratio": 0.6, "friction_decay": math.log(2.0) / 0.1},
+                         45.0, 3.1e6 * 0.02, (1e-3, 4e-4, 1.5e-3, 8e-4), {"velocity": 45.0 * 20.0}),
+    "corrugation": ({"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04}, 30.0, 1e6 * 0.02,
+                    (1.1e-3, 4e-4, 2.1e-3, -8e-4), {"normal_load": 1e6 * 0.02 * 2.0}),
+}
 
 
-def normalised(load: float, u: float, w: float, decay: float) -> tuple[float, float, float]:
-    a = rc.hertz(load, R, E_STAR)[0]
-    saturation = MU * a / R
-    scene = rc.Scene(load, creep=u * saturation, radius=R, friction=rc.ExponentialFalling(MU, A, decay),
-                     rolling_speed=w / (decay * saturation))
-    result = rc.solve(scene, method="polynomial", tolerance=1e-4)
-    return (result.tangential_force_per_length / (MU * load), result.stick_half_width / a,
-            result.creep_stiffness_per_length * saturation / (MU * load))
+def inputs(family: str, k: int) -> dict:
+    """The k-th step's inputs of a family's run: a new load (+-5 %) and creep at every step."""
+    _, speed, load, creeps, _ = FAMILIES[family]
+    return {"normal_load": load * (1.0 + 0.05 * math.sin(0.37 * k)), "creep": creeps[k % len(creeps)],
+            "velocity": speed}
 
 
-@pytest.mark.parametrize(("u", "w"), [(0.3, 0.4), (0.8, 1.2), (3.0, 0.7)])
-def test_the_normalised_solution_depends_on_u_and_w_alone(u, w):
-    one, other = normalised(1e6, u, w, 1.0), normalised(4e6, u, w, 7.0)
-    assert one == pytest.approx(other, rel=1e-9, abs=1e-12), f"u = {u}, w = {w}: {one} against {other}"
+def step(model: ContactModel, k: int, **kwargs):
+    return model.step(k * H, H, kwargs["normal_load"], kwargs["creep"], kwargs["velocity"])
 
 
-@settings(max_examples=25, deadline=None, derandomize=True)
-@given(u=st.floats(0.0, 12.0), w=st.floats(0.0, 1.5))
-def test_the_certified_bound_holds_at_random_points(table, u, w):
-    tau = table.evaluate(u, w)[0]
-    exact = table.exact(u, w).tau
-    assert abs(tau - exact) <= table.bound, f"u = {u}, w = {w}: |{tau} - {exact}| above the bound {table.bound:.3g}"
+@pytest.mark.parametrize("family", FAMILIES)
+def test_steps_answer_from_the_table_within_its_bound_and_fall_back_outside_it(family):
+    parameters, *_, beyond = FAMILIES[family]
+    model = ContactModel(ContactParameters(**parameters, table=2))
+    for k in range(8):
+        out = step(model, k, **inputs(family, k))
+        assert k == 0 or out.method_used == 6, f"step {k} answers from the table: {out}"
+        given = inputs(family, k)
+        exact = rc.solve(model.scene(out.axis_position, given["normal_load"], given["creep"], given["velocity"]),
+                         method="polynomial", tolerance=1e-7)
+        limit = model.mu * given["normal_load"]
+        error = abs(out.tangential_force - exact.tangential_force_per_length * 0.02) / limit
+        assert error <= model.table_use.table.bound + 1e-12, f"step {k}: error {error:.3g} mu N above the bound"
+    outside = step(model, 8, **{**inputs(family, 8), **beyond})
+    assert outside.method_used == 2, f"outside the domain the step solves exactly: {outside}"
 
 
-def test_the_bound_meets_the_target_and_the_domain_ends_at_w_max(table):
-    assert table.ready and table.bound <= table_module.TARGET, f"bound {table.bound}"
-    assert table.evaluate(0.5, 1.6) is None, "beyond w_max: no answer"
-
-
-def test_steps_answer_from_the_table_within_its_bound_and_fall_back_outside_it():
-    on = ContactModel(ContactParameters(**LAW, table=2))
-    off = ContactModel(ContactParameters(**LAW, table=1))
-    h, load = 1e-3, 3.1e6 * 0.02
-    for k, (creep, speed) in enumerate([(1e-3, 45.0), (4e-4, 45.0), (1.5e-3, 40.0), (8e-4, 45.0)]):
-        fast, exact = on.step(k * h, h, load, creep, speed), off.step(k * h, h, load, creep, speed)
-        assert abs(fast.tangential_force - exact.tangential_force) <= 2e-3 * MU * load, (fast, exact)
-        assert k == 0 or fast.method_used == 6, f"step {k} answers from the table: {fast}"
-    w_max = on.table_use.table.w_max
-    beyond = on.step(4 * h, h, load, 1e-3, 45.0 * 3.0 * w_max)  # w = B V xi_sat beyond the table
-    assert beyond.method_used == 2, f"outside the domain the step solves exactly: {beyond}"
-
-
-def test_restore_then_step_is_bit_identical_with_a_table_in_use():
-    first = ContactModel(ContactParameters(**LAW, table=2))
-    h, load = 1e-3, 6e4
+@pytest.mark.parametrize("family", FAMILIES)
+def test_restore_then_step_is_bit_identical_with_a_table_in_use(family):
+    parameters = FAMILIES[family][0]
+    first = ContactModel(ContactParameters(**parameters, table=2))
     for k in range(3):
-        first.step(k * h, h, load, 5e-4 + 1e-4 * k, 45.0)
+        step(first, k, **inputs(family, k))
     saved = first.get_state()
-    assert saved.table_domain > 0.0, "the state records the table in use"
-    ahead = [first.step((3 + k) * h, h, load, 9e-4 - 1e-4 * k, 45.0) for k in range(3)]
-    second = ContactModel(ContactParameters(**LAW, table=2))
-    second.set_state(type(saved).from_bytes(saved.to_bytes()))
-    again = [second.step((3 + k) * h, h, load, 9e-4 - 1e-4 * k, 45.0) for k in range(3)]
+    assert saved.table_domain == first.table_use.table.domain != (), "the state records the table in use"
+    ahead = [step(first, k, **inputs(family, k)) for k in range(3, 7)]
+    second = ContactModel(ContactParameters(**parameters, table=2))
+    second.set_state(ModelState.parse(saved.to_dict()))
+    again = [step(second, k, **inputs(family, k)) for k in range(3, 7)]
     assert again == ahead, "a fresh model restored into the state repeats the steps bit for bit"
+    assert {o.method_used for o in again} == {6}, "from the table"
 
 
-def test_two_instances_with_different_tables_stay_independent():
-    one = ContactModel(ContactParameters(**LAW, table=2))
-    other = ContactModel(ContactParameters(**{**LAW, "friction_kinetic_ratio": 0.3}, table=2))
-    h, load = 1e-3, 6e4
-    outs = [(one.step(k * h, h, load, 1.2e-3, 45.0), other.step(k * h, h, load, 1.2e-3, 45.0)) for k in range(3)]
-    assert one.table_use.table is not other.table_use.table, "each model has its own table"
-    assert outs[-1][0].tangential_force != outs[-1][1].tangential_force, "different laws, different forces"
-    alone = ContactModel(ContactParameters(**LAW, table=2))
-    assert [alone.step(k * h, h, load, 1.2e-3, 45.0) for k in range(3)] == [o for o, _ in outs], \
+@pytest.mark.parametrize(("family", "other"), [("falling friction", {"friction_kinetic_ratio": 0.3}),
+                                                ("corrugation", {"corrugation_amplitude": 10e-6})])
+def test_two_instances_with_different_tables_stay_independent(family, other):
+    parameters = FAMILIES[family][0]
+    one = ContactModel(ContactParameters(**parameters, table=2))
+    two = ContactModel(ContactParameters(**{**parameters, **other}, table=2))
+    outs = [(step(one, k, **inputs(family, k)), step(two, k, **inputs(family, k))) for k in range(4)]
+    assert one.table_use.table is not two.table_use.table, "each model has its own table"
+    assert outs[-1][0].tangential_force != outs[-1][1].tangential_force, "different scenes, different forces"
+    alone = ContactModel(ContactParameters(**parameters, table=2))
+    assert [step(alone, k, **inputs(family, k)) for k in range(4)] == [o for o, _ in outs], \
         "a model's outputs do not depend on another instance"
 
 
-def test_auto_builds_across_exact_steps_after_they_have_paid_for_it(monkeypatch):
-    monkeypatch.setattr(table_module, "NODE_COUNT", 3)
-    model = ContactModel(ContactParameters(**LAW, table=0, step_budget=0.01))
-    h, load = 1e-3, 6e4
+@pytest.mark.parametrize(("family", "use"), [("falling friction", FallingFrictionUse), ("corrugation", CorrugationUse)])
+def test_auto_builds_across_exact_steps_after_they_have_paid_for_it(monkeypatch, family, use):
+    monkeypatch.setattr(use, "expected_solves", 3)
+    model = ContactModel(ContactParameters(**FAMILIES[family][0], table=0, step_budget=0.005))
     used, ready_at = [], None
-    for k in range(3000):
-        out = model.step(k * h, h, load, 5e-4 + 1e-4 * math.sin(k), 45.0)
+    for k in range(5000):
+        out = step(model, k, **inputs(family, k))
         used.append(out.method_used)
         if out.method_used == 6:
             ready_at = k
             break
     assert ready_at is not None and ready_at > 10, f"the table is built over many steps, ready at step {ready_at}"
     assert set(used[:-1]) == {2}, "until it is ready the steps solve exactly"
+    log = " | ".join(model.take_messages())
+    assert "building a certified table" in log and "within step_budget" in log, log
+    assert "ready over" in log and "exact solves in" in log and "bytes, certified to" in log, log
+
+
+def test_steps_outside_the_domain_pay_for_a_table_over_the_wider_domain(monkeypatch):
+    monkeypatch.setattr(CorrugationUse, "expected_solves", 3)
+    parameters, *_ = FAMILIES["corrugation"]
+    model = ContactModel(ContactParameters(**parameters, table=2))
+    step(model, 0, **inputs("corrugation", 0))
+    low, high = model.table_use.table.domain
+    heavy = {**inputs("corrugation", 1), "normal_load": 2.0 * high * 0.02}
+    used = []
+    for k in range(1, 400):
+        used.append(step(model, k, **{**heavy, "creep": 1e-3 + 1e-4 * math.sin(k)}).method_used)
+        if used[-1] == 6:
+            break
+    assert used[-1] == 6 and len(used) > 4, f"the wider table is built within the budget over the steps: {used}"
+    assert set(used[:-1]) == {2}, "outside the domain: exact steps, while they pay for the wider table"
+    assert model.table_use.domain[1] > 2.0 * high and model.table_use.domain[0] == low, model.table_use.domain
+    assert step(model, 500, **inputs("corrugation", 5)).method_used == 6, "and it answers where the first one did"
+
+
+def test_a_family_the_solver_cannot_tabulate_stays_exact_and_says_why():
+    model = ContactModel(ContactParameters(corrugation_amplitude=20e-6, corrugation_wavelength=0.01, table=2))
+    outs = [step(model, k, **inputs("corrugation", k)) for k in range(3)]
+    assert {o.method_used for o in outs} == {2}, "exact steps"
+    log = " | ".join(model.take_messages())
+    assert "no certified table" in log and "patches" in log, log
+    assert model.get_state().table_domain == ()
+
+
+def test_a_state_from_before_corrugation_tables_and_a_foreign_domain():
+    parameters, *_ = FAMILIES["falling friction"]
+    model = ContactModel(ContactParameters(**parameters, table=2))
+    step(model, 0, **inputs("falling friction", 0))
+    data = model.get_state().to_dict()
+    old = {**data, "version": 4, "table_domain": data["table_domain"][0]}
+    assert ModelState.parse(old).table_domain == tuple(data["table_domain"]), "version 4: w_max as one real"
+    assert ModelState.parse({**old, "table_domain": 0.0}).table_domain == (), "version 4: 0 for none"
+    with pytest.raises(ModelError, match="not a domain of this model's table"):
+        model.set_state(ModelState.parse({**data, "table_domain": [1e5, 2e5]}))
+    for bad in ([1.0, 2.0, 3.0], [-1.0], ["1"], [math.nan]):
+        with pytest.raises(ModelError, match="table_domain"):
+            ModelState.parse({**data, "table_domain": bad})

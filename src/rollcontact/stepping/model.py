@@ -77,12 +77,10 @@ import numpy as np
 
 from rollcontact.closed_form import carter, hertz
 from rollcontact.dispatch import METHODS, solve, used_options
-from rollcontact.friction import ExponentialFalling
 from rollcontact.instationary.stationarity import stationarity_of_samples
 from rollcontact.method import unresolved
 from rollcontact.scene import Harmonic, Scene, Surface
 from rollcontact.stepping.parameters import (
-    AUTO,
     OPTION_NAMES,
     STATIONARY,
     TABLE_CODE,
@@ -96,8 +94,7 @@ from rollcontact.stepping.parameters import (
     step_methods,
 )
 from rollcontact.stepping.state import ModelState
-from rollcontact.stepping.table import TARGET as TABLE_TARGET
-from rollcontact.stepping.table import TableUse
+from rollcontact.stepping.table import table_use
 from rollcontact.stepping.transient import InstationaryStepping
 
 INF = math.inf
@@ -167,11 +164,11 @@ class ContactModel(InstationaryStepping):
         self.scene_surface = mirrored(surface)
         self.velocity_dependent = not friction.is_constant
         self.closed_form, self.candidates = step_methods(p, surface, friction)
-        self.table_use = (TableUse(friction, material, float(radius), p.table, p.step_budget)
-                          if p.table != 1 and isinstance(friction, ExponentialFalling) and surface.is_flat
-                          and p.method in (AUTO, 2) and self.instationary is None
-                          and (p.tolerance == 0.0 or p.tolerance >= TABLE_TARGET) else None)
-        """The certified table of falling friction on a flat surface and its build (None: not applicable)."""
+        self.table_use = table_use(p, material, float(radius), friction, surface,
+                                   lambda x, load, creep: self.scene_per_length(x, load, creep, 0.0),
+                                   self.instationary is not None, self.log)
+        """The certified table of the scene family and its build (:mod:`rollcontact.stepping.table`; None: not
+        applicable)."""
         self.options = {OPTION_NAMES[name]: getattr(p, name) for name in OPTION_NAMES if getattr(p, name) != 0}
         """Options of the parameters that ``rollcontact.solve`` passes to the methods that accept them."""
 
@@ -195,7 +192,11 @@ class ContactModel(InstationaryStepping):
         """Queue ``message`` for :meth:`take_messages` the first time a step meets ``kind``."""
         if kind not in self.noticed:
             self.noticed.add(kind)
-            self.messages.append(message)
+            self.log(message)
+
+    def log(self, message: str) -> None:
+        """Queue ``message`` for :meth:`take_messages`."""
+        self.messages.append(message)
 
     def take_messages(self) -> list[str]:
         """The messages the steps queued since the last call (e.g. for an FMU log: a tolerance that the step
@@ -225,9 +226,13 @@ class ContactModel(InstationaryStepping):
         It is in the package's frame (mirrored surface, axis at ``-X``, see the module docstring) with the load
         per unit length ``N / contact_width``.
         """
-        return Scene(normal_load_per_length=normal_load * self.per_width, creep=creep, radius=self.radius,
-                     material=self.material, friction=self.friction, surface=self.scene_surface,
-                     axis_position=-axis_position, rolling_speed=velocity, name="RollingContact2D")
+        return self.scene_per_length(axis_position, normal_load * self.per_width, creep, velocity)
+
+    def scene_per_length(self, axis_position: float, load: float, creep: float, velocity: float) -> Scene:
+        """:meth:`scene` for the load per length N' [N/m]."""
+        return Scene(normal_load_per_length=load, creep=creep, radius=self.radius, material=self.material,
+                     friction=self.friction, surface=self.scene_surface, axis_position=-axis_position,
+                     rolling_speed=velocity, name="RollingContact2D")
 
     def step(self, current_time: float, step_size: float, normal_load: float, creep: float,
              velocity: float) -> StepOutputs:
@@ -306,8 +311,8 @@ class ContactModel(InstationaryStepping):
         if not all(map(isfinite, outputs)):
             raise ModelError(non_finite(outputs, normal_load, creep, velocity))
         state.instationary = lag
-        if self.table_use is not None and self.table_use.table is not None and self.table_use.table.ready:
-            state.table_domain = self.table_use.table.w_max
+        if self.table_use is not None:
+            state.table_domain = self.table_use.domain
         state.time = current_time
         state.position = high
         state.position_error = low
@@ -375,7 +380,7 @@ class ContactModel(InstationaryStepping):
         force = float(result.tangential_force_per_length) * self.width
         a = float(result.contact_half_width)
         if self.table_use is not None:
-            self.table_use.exact_step_done(velocity, self.saturation_per_half_width * a, started)
+            self.table_use.exact_step_done(scene.normal_load_per_length, velocity, a, started)
         return StepOutputs(force, float(result.traction_coefficient), a, float(result.stick_half_width),
                            0.0 - float(result.contact_offset), float(result.max_pressure),
                            velocity * creep * force, stiffness * self.width,
@@ -383,17 +388,16 @@ class ContactModel(InstationaryStepping):
 
     def table_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs | None:
         """The outputs from the certified table (:mod:`rollcontact.stepping.table`), or None where it has no answer:
-        T = sign(xi) tau mu N, a* = (a*/a) a, dT/dxi = kappa mu N / xi_sat; a and p0 are Hertz's (flat surface)."""
-        a, p0 = hertz(normal_load * self.per_width, self.radius, self.contact_modulus)
-        answer = self.table_use.answer(creep, velocity, self.saturation_per_half_width * a)
+        T = T' b, dT/dxi = (dT'/dxi) b with the contact width b."""
+        load = normal_load * self.per_width
+        answer = self.table_use.answer(x, load, creep, velocity)
         if answer is None:
             return None
-        tau, alpha, kappa = answer
-        sign = 1.0 if creep >= 0.0 else -1.0
-        force = sign * tau * self.mu * normal_load
-        stiffness = kappa * self.mu * normal_load / (self.saturation_per_half_width * a)
-        return StepOutputs(force, sign * tau * self.mu, a, alpha * a, self.flat_offset, p0, velocity * creep * force,
-                           stiffness, self.stationarity(x, normal_load, creep, velocity, a), TABLE_CODE, x)
+        force, a, a_star, offset, p0, stiffness = answer
+        force_total = force * self.width
+        return StepOutputs(force_total, force / load, a, a_star, offset, p0, velocity * creep * force_total,
+                           stiffness * self.width, self.stationarity(x, normal_load, creep, velocity, a), TABLE_CODE,
+                           x)
 
     def creep_stiffness_by_difference(self, scene: Scene, name: str, result, options: dict) -> float:
         """dT'/dxi [N/m] by a one-sided difference, for methods that do not return it.

@@ -187,11 +187,12 @@ class ContactParameters:
         where that costs accuracy, the model says so once (:meth:`ContactModel.take_messages`).  0: no budget, as
         long as each step takes.
     table : int
-        0 auto, 1 off, 2 on: where the scene family has a certified table (falling friction on a flat surface:
-        :class:`rollcontact.stepping.table.FallingFrictionTable`) and ``tolerance`` is 0 or at least its target,
-        the steps answer from the table once it is built: ``auto`` builds it a little in each exact step, within
-        ``step_budget``, once the exact steps have cost as much as the build (so a run pays at most twice what it
-        would have paid knowing its length); ``on`` builds it at the first loaded step, whatever that takes.
+        0 auto, 1 off, 2 on: where the scene family has a certified table (falling friction on a flat surface, or
+        Coulomb friction on a corrugation of one harmonic: :mod:`rollcontact.stepping.table`) and ``tolerance`` is 0
+        or at least its target, the steps answer from the table once it is built: ``auto`` builds it a little in
+        each exact step, within ``step_budget``, once the exact steps have cost as much as the build (so a run pays
+        at most twice what it would have paid knowing its length); ``on`` builds it at the first loaded step,
+        whatever that takes.
     """
 
     youngs_modulus: float = 210e9

@@ -20,11 +20,11 @@ import numpy as np
 from rollcontact.instationary.model import MODES, InstationaryState
 from rollcontact.stepping.parameters import STATIONARY, ModelError, StepOutputs
 
-STATE_VERSION = 4
+STATE_VERSION = 5
 
 
-READABLE_STATE_VERSIONS = (1, 2, 3, 4)  # 1: no instationary state (quasi-steady history); 2: no creep
-# envelope; 3: no table
+READABLE_STATE_VERSIONS = (1, 2, 3, 4, 5)  # 1: no instationary state (quasi-steady history); 2: no creep
+# envelope; 3: no table; 4: the table domain as one real, w_max (0: none)
 
 
 @dataclass(slots=True)
@@ -56,10 +56,11 @@ class ModelState:
     creep_envelope : tuple or None
         ``(high, low)`` creep [1 of mu a/R] of :func:`rollcontact.instationary.creep_envelope`, kept by
         ``transient`` = 1 with a tolerance (the lag's error bound); None otherwise and after an unloaded step.
-    table_domain : float
-        ``w_max`` [1] of the certified table the steps answer from (:mod:`rollcontact.stepping.table`); 0: none.  A
-        model restored into this state builds the same table (a deterministic function of the parameters and of
-        this domain) before its next step, so restore -> step repeats the steps.
+    table_domain : tuple of float
+        Domain of the certified table the steps answer from (:mod:`rollcontact.stepping.table`: ``(w_max,)`` of
+        falling friction, ``(N_low, N_high)`` [N/m] of a corrugation); ``()``: none.  A model restored into this
+        state builds the same table (a deterministic function of the parameters and of this domain) before its next
+        step, so restore -> step repeats the steps.
     version : int
         Layout version of this state; states of another version are refused by :meth:`from_dict`.
     """
@@ -74,7 +75,7 @@ class ModelState:
     instationary: InstationaryState | None = None
     grid_load: float = 0.0
     creep_envelope: tuple[float, float] | None = None
-    table_domain: float = 0.0
+    table_domain: tuple[float, ...] = ()
     version: int = STATE_VERSION
 
     @classmethod
@@ -99,7 +100,7 @@ class ModelState:
                 else base64.b64encode(self.instationary.to_bytes()).decode("ascii"),
                 "grid_load": self.grid_load,
                 "creep_envelope": None if self.creep_envelope is None else list(self.creep_envelope),
-                "table_domain": self.table_domain}
+                "table_domain": list(self.table_domain)}
 
     @classmethod
     def from_dict(cls, data: dict) -> ModelState:
@@ -119,7 +120,7 @@ class ModelState:
                        int(data["steps"]), StepOutputs(*data["outputs"]), instationary,
                        float(data.get("grid_load", 0.0)),
                        None if envelope is None else (float(envelope[0]), float(envelope[1])),
-                       float(data.get("table_domain", 0.0)), STATE_VERSION)
+                       _domain(data.get("table_domain", [])), STATE_VERSION)
         except (KeyError, TypeError, ValueError) as exc:
             raise ModelError(f"invalid model state: {exc!r}") from None
 
@@ -166,9 +167,13 @@ class ModelState:
                 raise ModelError(f"model state creep_envelope must be null or two reals, got {_short(envelope)}")
             envelope = tuple(_finite("model state creep_envelope", v) for v in envelope)
         instationary = _instationary(data.get("instationary"))
-        domain = _finite("model state table_domain", data.get("table_domain", 0.0))
-        if domain < 0.0:
-            raise ModelError(f"model state table_domain = {domain!r} must be >= 0")
+        domain = data.get("table_domain", [])
+        if not (isinstance(domain, list | tuple) and len(domain) <= 2 or type(domain) in (int, float)):
+            raise ModelError(f"model state table_domain must be at most two reals, got {_short(domain)}")
+        domain = _domain([_finite("model state table_domain", v) for v in domain]
+                         if isinstance(domain, list | tuple) else _finite("model state table_domain", domain))
+        if any(v <= 0.0 for v in domain):
+            raise ModelError(f"model state table_domain = {list(domain)!r} must be positive")
         return cls(time, position, error, samples[0], samples[1], steps, outputs, instationary, grid_load,
                    envelope, domain, STATE_VERSION)
 
@@ -180,6 +185,13 @@ class ModelState:
     def from_bytes(cls, data: bytes) -> ModelState:
         """Inverse of :meth:`to_bytes`."""
         return cls.from_dict(json.loads(data.decode("utf-8")))
+
+
+def _domain(value) -> tuple[float, ...]:
+    """A table domain as a tuple: a list of reals (version 5), or the ``w_max`` of version 4 (0: none)."""
+    if isinstance(value, list | tuple):
+        return tuple(float(v) for v in value)
+    return (float(value),) if value else ()
 
 
 def _short(value, limit: int = 80) -> str:

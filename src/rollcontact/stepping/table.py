@@ -1,333 +1,277 @@
-"""Certified tables of a scene family: the exact steady solution interpolated over the inputs, for FMU steps that
-cost a fraction of a solve.
+"""When a :class:`rollcontact.stepping.ContactModel` answers from a certified table, and building it.
 
-Falling friction on a flat surface
-----------------------------------
-With the exponential law ``mu(v) = mu_s [(1 - A) exp(-B v) + A]`` on a flat surface, the steady problem scales with
-the Hertz half-width a: slip, traction and the slip velocities all scale with Carter's saturation creep
-``xi_sat = mu_s a / R``.  The normalised force ``tau = T'/(mu_s N')``, the stick fraction ``a*/a`` and the normalised
-creep stiffness ``kappa = (dT'/dxi) xi_sat / (mu_s N')`` are therefore functions of two numbers only,
+Two scene families have a table (each certified to :data:`~rollcontact.stepping.tabulation.TARGET` of mu N', the
+bound it reports):
 
-    ``u = |xi| / xi_sat``  and  ``w = B V xi_sat``,
+* the exponential falling law on a flat surface:
+  :class:`~rollcontact.stepping.falling_table.FallingFrictionTable` over ``u = |xi|/xi_sat`` and ``w = B V xi_sat``,
+  its domain ``w <= w_max`` (:class:`FallingFrictionUse`);
+* Coulomb friction on a surface of one harmonic (a corrugation):
+  :class:`~rollcontact.stepping.corrugation_table.CorrugationTable` over the phase of the axis, the load and the
+  creep, its domain the loads ``[N_low, N_high]`` (:class:`CorrugationUse`).
 
-for a given kinetic ratio A (``tests/stepping/test_table.py`` checks the scaling against the exact solver to
-round-off).  :class:`FallingFrictionTable` interpolates them over ``0 <= w <= w_max`` and every ``u >= 0``
-(T' is odd in the creep, a* and the stiffness even):
+A model uses one (:func:`table_use`) when the scene is of such a family, ``method`` is auto or polynomial, no
+instationary model runs, ``tolerance`` is 0 or at least the target and ``table`` is not off.
 
-* the onset of full slip ``u_fs(w)`` (where the stick zone vanishes) is found per w node and interpolated;
-* partial slip, ``t = u/u_fs in [0, 1]``, and full slip, ``r = u_fs/u in (0, 1]``, are separate tensor grids of
-  Chebyshev points (second kind, with their ends) in (t, w) and (r, w): the kink of the creep curve at the onset is
-  an edge of both, not inside either, so the barycentric interpolation converges fast on each;
-* in full slip the tables hold the difference to the asymptote of deep slip, ``tau -> (1 - A) exp(-w u) + A`` (the
-  slip velocity approaches ``V xi`` everywhere), which is exact at ``r = 0`` (no solve there).
+When to build
+-------------
+``table`` = auto starts building once the exact steps have cost as long as the build is modelled to take (its
+``EXPECTED_SOLVES`` exact solves, each exact step modelled to cost one solve), and builds in each following exact step
+for what is left of ``step_budget`` after it: a run pays at most about twice what it would knowing its length (the
+ski-rental rule), and no step takes longer than its budget.  ``table`` = on builds at the first loaded step, whatever
+it takes.  The domain is what the exact steps so far have met, widened (:meth:`TableUse.wanted_domain`).  A step
+outside the domain of the ready table solves exactly; once such steps have paid for a build again, a table over the
+union of both domains is built as auto builds (whatever ``table``), while the old one keeps answering.  A family the
+exact solver cannot tabulate to the target (a contact that splits, say) gives the table up: the steps stay exact.
+Every decision and the figures of every table built (domain, exact solves, seconds, bytes, bound) are logged once.
 
-The nodes are solved by the polynomial method (``rollcontact.solve(..., tolerance=NODE_TOLERANCE)``).  The table is
-certified a posteriori: the exact solution at the midpoints between nodes (in t or r and in w) is compared with the
-interpolant; while the largest difference of tau exceeds half the target the node counts grow, and the bound the
-table reports is ``2 max|difference| + the nodes' largest error estimate`` [1 of mu_s N'].  Outside its domain
-(w beyond ``w_max``) the step solves exactly.
+The state (:attr:`rollcontact.stepping.ModelState.table_domain`) records the domain of the table in use: a table is a
+deterministic function of the parameters and of its domain, so a restored model builds the same table before its
+next step and repeats the steps bit for bit.  A build in progress is not part of the state.
 """
 
 from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
-
-import numpy as np
+from abc import ABC, abstractmethod
+from collections.abc import Callable
 
 from rollcontact.closed_form import hertz
-from rollcontact.dispatch import solve
 from rollcontact.friction import ExponentialFalling
-from rollcontact.scene import Material, Scene
+from rollcontact.stepping import corrugation_table, falling_table
+from rollcontact.stepping.corrugation_table import CorrugationTable
+from rollcontact.stepping.falling_table import FallingFrictionTable
+from rollcontact.stepping.parameters import AUTO, ModelError
+from rollcontact.stepping.tabulation import TARGET
 
-NODE_TOLERANCE = 1e-4
-"""Requested accuracy of the exact solves at the nodes (relative error of T')."""
-
-TARGET = 1e-3
-"""Error of tau [1 of mu_s N'] the table must stay within (the FMU's real-time aim, docs/accuracy.md)."""
-
-NODES = (9, 13, 9)
-"""Starting node counts in w, in t (partial slip) and in r (full slip); doubled (less one) while the check fails."""
-
-MAX_NODES = 65
-"""Largest node count per direction: beyond it the table is given up (the step solves exactly)."""
-
-NODE_COUNT = 600
-"""Exact solves a build is modelled to take (its nodes, their onsets and the check; ``benchmarks/bench_table.py``
-reports the count): ``auto`` starts building after as many exact steps, each modelled to cost one solve."""
-
-REFERENCE_LOAD = 1e6
-"""N' [N/m] of the normalised scenes the nodes are solved on (any load gives the same normalised answer)."""
+LOAD_MARGIN = 1.5
+"""Factor by which the corrugation table's loads reach beyond the lowest and highest load per length met."""
 
 
-def chebyshev_points(n: int) -> np.ndarray:
-    """Chebyshev points of the second kind on [0, 1], both ends included, ascending."""
-    return 0.5 - 0.5 * np.cos(np.pi * np.arange(n) / (n - 1))
-
-
-def barycentric_weights(n: int) -> np.ndarray:
-    """Barycentric weights of the Chebyshev points of the second kind: (-1)^j, halved at the ends."""
-    weights = (-1.0) ** np.arange(n)
-    weights[[0, -1]] *= 0.5
-    return weights
-
-
-def basis(x: float, nodes: np.ndarray, weights: np.ndarray) -> np.ndarray:
-    """Normalised barycentric coefficients at x: the interpolant is ``coefficients @ values``."""
-    difference = x - nodes
-    nearest = int(np.abs(difference).argmin())
-    if abs(difference[nearest]) > 1e-13 * (nodes[-1] - nodes[0]):
-        c = weights / difference
-        return c / c.sum()
-    out = np.zeros(nodes.size)  # x at a node (to 1e-13 of the span): its value, no division by ~0
-    out[nearest] = 1.0
-    return out
-
-
-@dataclass(frozen=True)
-class Node:
-    """The normalised solution at one (u, w): tau, a*/a, kappa and the solve's error estimate."""
-
-    tau: float
-    alpha: float
-    kappa: float
-    estimate: float
-
-
-class FallingFrictionTable:
-    """tau, a*/a and kappa of the exponential falling law on a flat surface, interpolated over (u, w) (module
-    docstring).
+class TableUse(ABC):
+    """The table a model answers from, its build and the rule of when to build (module docstring).
 
     Parameters
     ----------
-    kinetic_ratio : float
-        A of the law, in (0, 1].
-    w_max : float
-        Largest ``B V xi_sat`` [1] the table covers.
-    material, radius, static_coefficient
-        Of the normalised scenes; the answer does not depend on them (the scaling), only their consistency does.
-
-    Attributes
-    ----------
-    bound : float
-        Certified error of tau [1 of mu_s N'] (NaN until built).
-    solves : int
-        Exact solves it took.
+    mode : int
+        0 auto, 1 off, 2 on (``table``).
+    budget : float
+        ``step_budget`` [s] (0: none).
+    log : callable
+        Takes each message to log once (the model's queue).
     """
 
-    def __init__(self, kinetic_ratio: float, w_max: float, material: Material | None = None, radius: float = 0.46,
-                 static_coefficient: float = 0.3):
-        self.kinetic_ratio = float(kinetic_ratio)
-        self.w_max = float(w_max)
-        self.material = Material() if material is None else material
-        self.radius = float(radius)
-        self.mu = float(static_coefficient)
-        a = hertz(REFERENCE_LOAD, self.radius, self.material.contact_modulus)[0]
-        self.saturation = self.mu * a / self.radius
-        self.bound = math.nan
-        self.solves = 0
-        self.ready = False
+    expected_solves = 0
+    """Exact solves a build of the family is modelled to take."""
 
-    # ---------------------------------------------------------------------------------------------- exact nodes
-    def exact(self, u: float, w: float) -> Node:
-        """The normalised solution at (u, w) by the polynomial method (one solve)."""
-        speed = w / self.saturation  # B = 1 s/m
-        scene = Scene(REFERENCE_LOAD, creep=u * self.saturation, radius=self.radius, material=self.material,
-                      friction=ExponentialFalling(self.mu, self.kinetic_ratio, 1.0), rolling_speed=speed)
-        result = solve(scene, method="polynomial", tolerance=NODE_TOLERANCE)
-        self.solves += 1
-        if not result.success:
-            raise ArithmeticError(f"table node u = {u:.6g}, w = {w:.6g}: {result.message}")
-        limit = self.mu * REFERENCE_LOAD
-        a = hertz(REFERENCE_LOAD, self.radius, self.material.contact_modulus)[0]
-        return Node(result.tangential_force_per_length / limit, result.stick_half_width / a,
-                    result.creep_stiffness_per_length * self.saturation / limit,
-                    float(result.info.get("error_estimate", 0.0)))
-
-    def node(self, u: float, w: float):
-        """:meth:`exact` as a step of a build: yields once after the solve, returns the node."""
-        node = self.exact(u, w)
-        yield
-        return node
-
-    def onset(self, w: float):
-        """u of the onset of full slip at w (a build step generator): Newton on a*/a from below (a*/a is smooth and
-        nearly linear in partial slip, Carter's ``1 - u``), kept in partial slip, then bisection to 1e-10."""
-        low, high = 0.0, None
-        u = 0.5
-        for _ in range(60):
-            node = yield from self.node(u, w)
-            if node.alpha > 0.0:
-                low = u
-                below = yield from self.node(u * (1.0 - 1e-4), w)
-                slope = (node.alpha - below.alpha) / (1e-4 * u)
-                u = u + (node.alpha / -slope if slope < 0.0 else u)
-                if high is not None and u >= high:
-                    u = 0.5 * (low + high)
-            else:
-                high = u
-                u = 0.5 * (low + high)
-            if high is not None and high - low <= 1e-10 * high:
-                return high
-        return high if high is not None else u
-
-    # ------------------------------------------------------------------------------------------------- build
-    def build(self) -> FallingFrictionTable:
-        """:meth:`build_steps` to the end: ready afterwards."""
-        for _ in self.build_steps():
-            pass
-        return self
-
-    def build_steps(self):
-        """Solve the nodes, check the midpoints, refine until the check meets :data:`TARGET`, one exact solve per
-        iteration (a caller can spread the build over many steps); ready at the end.
-
-        Raises
-        ------
-        ArithmeticError
-            A node the exact solver cannot solve, or :data:`MAX_NODES` reached without meeting the target.
-        """
-        n_w, n_t, n_r = NODES
-        while True:
-            yield from self.tabulate(n_w, n_t, n_r)
-            error = yield from self.check()
-            if error <= 0.5 * TARGET:
-                self.bound = 2.0 * error + self.node_error
-                self.ready = True
-                return
-            if max(n_w, n_t, n_r) * 2 - 1 > MAX_NODES:
-                raise ArithmeticError(f"the table does not meet {TARGET:g} mu N with {MAX_NODES} nodes per "
-                                      f"direction (check error {error:.3g})")
-            n_w, n_t, n_r = 2 * n_w - 1, 2 * n_t - 1, 2 * n_r - 1
-
-    def tabulate(self, n_w: int, n_t: int, n_r: int):
-        """The nodes (a build step generator): the onset per w node, partial slip on (t, w), full slip on (r, w) as
-        the difference to the deep-slip asymptote (zero at r = 0, not solved)."""
-        w_nodes = self.w_max * chebyshev_points(n_w)
-        t_nodes, r_nodes = chebyshev_points(n_t), chebyshev_points(n_r)
-        onsets = []
-        for w in w_nodes:
-            onsets.append((yield from self.onset(w)))
-        partial = np.zeros((3, n_t, n_w))
-        full = np.zeros((2, n_r, n_w))
-        estimates = [0.0]
-        for j, (w, u_fs) in enumerate(zip(w_nodes, onsets, strict=True)):
-            for i, t in enumerate(t_nodes):
-                node = yield from self.node(t * u_fs, w)
-                partial[:, i, j] = node.tau, node.alpha, node.kappa
-                estimates.append(node.estimate * abs(node.tau))
-            for i, r in enumerate(r_nodes[1:], start=1):
-                u = u_fs / r
-                node = yield from self.node(u, w)
-                tau, kappa = self.asymptote(u, w)
-                full[:, i, j] = node.tau - tau, node.kappa - kappa
-                estimates.append(node.estimate * abs(node.tau))
-        self.w_nodes, self.t_nodes, self.r_nodes = w_nodes, t_nodes, r_nodes
-        self.w_weights, self.t_weights, self.r_weights = (barycentric_weights(n) for n in (n_w, n_t, n_r))
-        self.onsets, self.partial, self.full = np.array(onsets), partial, full
-        self.node_error = max(estimates)
-
-    def check(self):
-        """Largest |tau - exact| [1 of mu_s N'] at the midpoints between the nodes, in t or r and in w (a build step
-        generator)."""
-        mid = lambda x: 0.5 * (x[1:] + x[:-1])  # noqa: E731 - a one-line helper
-        error = 0.0
-        for w in np.concatenate((mid(self.w_nodes), self.w_nodes[[0, -1]])):
-            u_fs = self.onset_at(w)
-            for u in np.concatenate((mid(self.t_nodes) * u_fs, u_fs / mid(self.r_nodes))):
-                node = yield from self.node(u, w)
-                error = max(error, abs(self.evaluate(u, w)[0] - node.tau))
-        return error
-
-    def asymptote(self, u: float, w: float) -> tuple[float, float]:
-        """tau and kappa of deep full slip: ``(1 - A) exp(-w u) + A`` and its u-derivative."""
-        decay = (1.0 - self.kinetic_ratio) * math.exp(-w * u)
-        return decay + self.kinetic_ratio, -w * decay
-
-    # ---------------------------------------------------------------------------------------------- evaluate
-    def onset_at(self, w: float) -> float:
-        """u_fs(w), interpolated."""
-        return float(basis(w, self.w_nodes, self.w_weights) @ self.onsets)
-
-    def evaluate(self, u: float, w: float) -> tuple[float, float, float] | None:
-        """(tau, a*/a, kappa) at u >= 0 and w, or None outside the domain (w beyond w_max)."""
-        if not 0.0 <= w <= self.w_max:
-            return None
-        bw = basis(w, self.w_nodes, self.w_weights)
-        u_fs = float(bw @ self.onsets)
-        if u <= u_fs:
-            values = self.partial @ bw
-            bt = basis(u / u_fs, self.t_nodes, self.t_weights)
-            tau, alpha, kappa = values @ bt
-            return float(tau), float(alpha), float(kappa)
-        values = self.full @ bw
-        br = basis(u_fs / u, self.r_nodes, self.r_weights)
-        tau, kappa = self.asymptote(u, w)
-        difference = values @ br
-        return tau + float(difference[0]), 0.0, kappa + float(difference[1])
-
-
-class TableUse:
-    """When a :class:`rollcontact.stepping.ContactModel` answers from a :class:`FallingFrictionTable`, and building it.
-
-    Applicable to the exponential falling law on a flat surface, ``method`` auto or polynomial, ``tolerance`` 0 or
-    at least :data:`TARGET`, ``table`` not off.  The domain ``w_max`` is twice the largest ``w`` of the steps so far
-    (at least 1) when the build starts.  ``auto`` (``table`` = 0) starts building once the exact steps have cost as
-    long as the build is modelled to take (:data:`NODE_COUNT` solves at the exact steps' mean time), and builds in
-    each following exact step for what is left of ``step_budget`` after it (a run then pays at most about twice
-    what it would knowing its length: the ski-rental rule); ``on`` builds at the first loaded step.
-    """
-
-    def __init__(self, friction: ExponentialFalling, material: Material, radius: float, mode: int, budget: float):
-        self.friction, self.material, self.radius = friction, material, radius
-        self.mode, self.budget = mode, budget
-        self.table: FallingFrictionTable | None = None
+    def __init__(self, mode: int, budget: float, log: Callable[[str], None]):
+        self.mode, self.budget, self.log = mode, budget, log
+        self.table = None
+        """The ready table the steps answer from (None: none yet)."""
+        self.pending = None
         self.builder = None
         self.exact_steps = 0
-        self.w_seen = 0.0
+        self.build_seconds = 0.0
 
-    def answer(self, creep: float, speed: float, saturation: float) -> tuple | None:
-        """``(tau, a*/a, kappa)`` of the ready table at the creep, the speed [m/s] and the saturation creep, or None
-        (no table, or outside its domain)."""
-        if self.table is None or not self.table.ready:
-            return None
-        return self.table.evaluate(abs(creep) / saturation, self.friction.decay * speed * saturation)
+    # ---------------------------------------------------------------------------------------- family interface
+    @abstractmethod
+    def lookup(self, table, x: float, load: float, creep: float, velocity: float) -> tuple | None:
+        """``(T' [N/m], a [m], a* [m], offset [m], p0 [Pa], dT'/dxi [N/m])`` from ``table``, or None outside its
+        domain."""
 
-    def exact_step_done(self, speed: float, saturation: float, started: float) -> None:
-        """Count an exact step (begun at ``started``, perf_counter seconds) and, when due, build within what is left
-        of the budget."""
+    @abstractmethod
+    def see(self, load: float, velocity: float, half_width: float) -> None:
+        """Record the extent of an exact step's inputs (N' [N/m], V [m/s], a [m])."""
+
+    @abstractmethod
+    def wanted_domain(self) -> tuple[float, ...]:
+        """The domain of the next table: what the exact steps met, widened, joined with the ready table's."""
+
+    @abstractmethod
+    def new_table(self, domain: tuple[float, ...]):
+        """A table of the family over ``domain``, not built."""
+
+    @abstractmethod
+    def valid_domain(self, domain: tuple[float, ...]) -> bool:
+        """Whether ``domain`` (from a state) is one of the family's."""
+
+    # --------------------------------------------------------------------------------------------- stepping
+    def answer(self, x: float, load: float, creep: float, velocity: float) -> tuple | None:
+        """The ready table's answer for the axis at X [m], N' [N/m], the creep and V [m/s], or None (no table, or
+        outside its domain)."""
+        return None if self.table is None else self.lookup(self.table, x, load, creep, velocity)
+
+    @property
+    def domain(self) -> tuple[float, ...]:
+        """The ready table's domain; () for none."""
+        return () if self.table is None else self.table.domain
+
+    def exact_step_done(self, load: float, velocity: float, half_width: float, started: float) -> None:
+        """Count an exact step (N' [N/m], V [m/s], a [m], begun at ``started``, perf_counter seconds) and, when due,
+        build within what is left of the budget."""
         self.exact_steps += 1
-        self.w_seen = max(self.w_seen, self.friction.decay * speed * saturation)
-        if self.table is None and (self.mode == 2 or self.exact_steps >= NODE_COUNT):
-            self.start(max(1.0, 2.0 * self.w_seen))
+        self.see(load, velocity, half_width)
+        first_on = self.mode == 2 and self.table is None
+        if self.pending is None and self.mode != 1 and (first_on or self.exact_steps >= self.expected_solves):
+            self.start(self.wanted_domain())
         if self.builder is None:
             return
-        if self.mode == 2 or not self.budget > 0.0:
-            deadline = math.inf
-        else:
-            deadline = started + self.budget
+        deadline = math.inf if first_on or not self.budget > 0.0 else started + self.budget
+        begun = time.perf_counter()
         try:
             while time.perf_counter() < deadline:
                 next(self.builder)
         except StopIteration:
-            self.builder = None
-        except ArithmeticError:  # no certified table for this scene family: the steps stay exact
-            self.builder, self.table, self.mode = None, None, 1
+            self.build_seconds += time.perf_counter() - begun
+            self.finish()
+        except ArithmeticError as exc:
+            self.log(f"table: no certified table of this scene family ({exc}); the steps solve exactly")
+            self.pending = self.builder = None
+            self.mode = 1
+        else:
+            self.build_seconds += time.perf_counter() - begun
 
-    def start(self, w_max: float) -> None:
-        """Begin building the table for ``w_max``."""
-        self.table = FallingFrictionTable(self.friction.kinetic_ratio, w_max, self.material, self.radius,
-                                          self.friction.static_coefficient)
-        self.builder = self.table.build_steps()
+    def start(self, domain: tuple[float, ...]) -> None:
+        """Begin building the table over ``domain``."""
+        self.pending = self.new_table(domain)
+        self.builder = self.pending.build_steps()
+        self.exact_steps = 0
+        self.build_seconds = 0.0
+        how = "now" if self.mode == 2 and self.table is None else "within step_budget, a little in each exact step"
+        self.log(f"table: building a certified table over {self.describe(domain)} {how} (modelled "
+                 f"{self.expected_solves} exact solves)")
 
-    def restore(self, w_max: float) -> None:
-        """Have the table of a restored state (``w_max`` > 0) ready, building it now if need be; none for 0."""
-        if w_max == 0.0:
-            self.table, self.builder = None, None
+    def finish(self) -> None:
+        """Answer from the table just built, and log its figures."""
+        table = self.pending
+        self.table, self.pending, self.builder = table, None, None
+        self.exact_steps = 0
+        self.log(f"table: ready over {self.describe(table.domain)}: {table.solves} exact solves in "
+                 f"{self.build_seconds:.3g} s, {table.nbytes} bytes, certified to {table.bound:.2g} mu N")
+
+    def describe(self, domain: tuple[float, ...]) -> str:
+        """The domain in words, for the log."""
+        return repr(domain)
+
+    def restore(self, domain: tuple[float, ...]) -> None:
+        """Have the table of a restored state ready (building it now if need be); none for ``()``.  A build in
+        progress is dropped.
+
+        Raises
+        ------
+        ModelError
+            ``domain`` is not one of this family's.
+        """
+        self.pending = self.builder = None
+        self.exact_steps = 0
+        if domain == ():
+            self.table = None
             return
-        if self.table is None or self.table.w_max != w_max or not self.table.ready:
-            self.start(w_max)
-            for _ in self.builder:
-                pass
-            self.builder = None
+        if not self.valid_domain(domain):
+            raise ModelError(f"model state table_domain = {domain!r} is not a domain of this model's table "
+                             f"({type(self).__name__})")
+        if self.table is None or self.table.domain != domain:
+            table = self.new_table(domain)
+            self.table = table.build()
+
+
+class FallingFrictionUse(TableUse):
+    """The table of the exponential falling law on a flat surface; its domain ``(w_max,)``: twice the largest
+    ``B V xi_sat`` met, at least 1."""
+
+    expected_solves = falling_table.EXPECTED_SOLVES
+
+    def __init__(self, friction: ExponentialFalling, material, radius: float, offset: float, mode: int,
+                 budget: float, log: Callable[[str], None]):
+        super().__init__(mode, budget, log)
+        self.friction, self.material, self.radius, self.offset = friction, material, radius, offset
+        self.saturation_per_half_width = friction.static_coefficient / radius
+        self.w_seen = 0.0
+
+    def lookup(self, table, x, load, creep, velocity):
+        """Hertz's a and p0; ``T' = sign(xi) tau mu N'``, ``a* = (a*/a) a``, ``dT'/dxi = kappa mu N' / xi_sat``."""
+        a, p0 = hertz(load, self.radius, self.material.contact_modulus)
+        saturation = self.saturation_per_half_width * a
+        answer = table.evaluate(abs(creep) / saturation, self.friction.decay * velocity * saturation)
+        if answer is None:
+            return None
+        tau, alpha, kappa = answer
+        limit = self.friction.static_coefficient * load
+        return (math.copysign(tau * limit, creep) if creep != 0.0 else 0.0, a, alpha * a, self.offset, p0,
+                kappa * limit / saturation)
+
+    def see(self, load, velocity, half_width):
+        self.w_seen = max(self.w_seen, self.friction.decay * velocity * self.saturation_per_half_width * half_width)
+
+    def wanted_domain(self):
+        return (max(1.0, 2.0 * self.w_seen, *self.domain),)
+
+    def new_table(self, domain):
+        return FallingFrictionTable(self.friction.kinetic_ratio, domain[0], self.material, self.radius,
+                                    self.friction.static_coefficient)
+
+    def valid_domain(self, domain):
+        return len(domain) == 1 and domain[0] > 0.0
+
+    def describe(self, domain):
+        return f"w = B V xi_sat <= {domain[0]:.4g}"
+
+
+class CorrugationUse(TableUse):
+    """The table of Coulomb friction on a surface of one harmonic; its domain ``(N_low, N_high)`` [N/m]: the loads
+    per length met, :data:`LOAD_MARGIN` beyond both ends."""
+
+    expected_solves = corrugation_table.EXPECTED_SOLVES
+
+    def __init__(self, scene: Callable, wavelength: float, radius: float, contact_modulus: float, mu: float,
+                 mode: int, budget: float, log: Callable[[str], None]):
+        super().__init__(mode, budget, log)
+        self.scene, self.wavelength = scene, wavelength
+        self.radius, self.contact_modulus, self.mu = radius, contact_modulus, mu
+        self.loads_seen = (math.inf, 0.0)
+
+    def lookup(self, table, x, load, creep, velocity):
+        """The table's answer with the offset in the model's frame (the scene's mirrored)."""
+        answer = table.evaluate(x, load, creep)
+        if answer is None:
+            return None
+        force, a, a_star, offset, p0, stiffness = answer
+        return force, a, a_star, 0.0 - offset, p0, stiffness
+
+    def see(self, load, velocity, half_width):
+        self.loads_seen = (min(self.loads_seen[0], load), max(self.loads_seen[1], load))
+
+    def wanted_domain(self):
+        low, high = self.loads_seen[0] / LOAD_MARGIN, self.loads_seen[1] * LOAD_MARGIN
+        if self.table is not None:
+            low, high = min(low, self.table.domain[0]), max(high, self.table.domain[1])
+        return (low, high)
+
+    def new_table(self, domain):
+        return CorrugationTable(self.scene, self.wavelength, domain, self.radius, self.contact_modulus, self.mu)
+
+    def valid_domain(self, domain):
+        return len(domain) == 2 and 0.0 < domain[0] < domain[1] < math.inf
+
+    def describe(self, domain):
+        return f"N' in [{domain[0]:.4g}, {domain[1]:.4g}] N/m, every phase of the corrugation and every creep"
+
+
+def table_use(p, material, radius: float, friction, surface, scene: Callable, instationary: bool,
+              log: Callable[[str], None]) -> TableUse | None:
+    """The certified table for the parameters ``p`` and the bodies, or None where the scene family has none or the
+    parameters rule it out (module docstring).
+
+    ``scene(X, N', xi)`` is the scene the model solves for the axis at X [m], N' [N/m] and the creep.
+    """
+    if p.table == 1 or p.method not in (AUTO, 2) or instationary or not (p.tolerance == 0.0 or p.tolerance >= TARGET):
+        return None
+    if isinstance(friction, ExponentialFalling) and surface.is_flat:
+        slope = surface.polynomial[1] if len(surface.polynomial) > 1 else 0.0
+        return FallingFrictionUse(friction, material, radius, radius * slope, p.table, p.step_budget, log)
+    if (friction.is_constant and len(surface.harmonics) == 1 and surface.harmonics[0].amplitude != 0.0
+            and all(c == 0.0 for c in surface.polynomial[1:])):
+        return CorrugationUse(scene, 2.0 * math.pi / surface.harmonics[0].wavenumber, radius,
+                              material.contact_modulus, friction.static_coefficient, p.table, p.step_budget, log)
+    return None

@@ -1,0 +1,224 @@
+"""The certified table of falling friction on a flat surface (used by :mod:`rollcontact.stepping.table`).
+
+With the exponential law ``mu(v) = mu_s [(1 - A) exp(-B v) + A]`` on a flat surface, the steady problem scales with
+the Hertz half-width a: slip, traction and the slip velocities all scale with Carter's saturation creep
+``xi_sat = mu_s a / R``.  The normalised force ``tau = T'/(mu_s N')``, the stick fraction ``a*/a`` and the normalised
+creep stiffness ``kappa = (dT'/dxi) xi_sat / (mu_s N')`` are therefore functions of two numbers only,
+
+    ``u = |xi| / xi_sat``  and  ``w = B V xi_sat``,
+
+for a given kinetic ratio A (``tests/stepping/test_falling_table.py`` checks the scaling against the exact solver to
+round-off).  :class:`FallingFrictionTable` interpolates them over ``0 <= w <= w_max`` and every ``u >= 0``
+(T' is odd in the creep, a* and the stiffness even):
+
+* the onset of full slip ``u_fs(w)`` (where the stick zone vanishes) is found per w node and interpolated;
+* partial slip, ``t = u/u_fs in [0, 1]``, and full slip, ``r = u_fs/u in (0, 1]``, are separate tensor grids of
+  Chebyshev points (second kind, with their ends) in (t, w) and (r, w): the kink of the creep curve at the onset is
+  an edge of both, not inside either, so the barycentric interpolation converges fast on each;
+* in full slip the tables hold the difference to the asymptote of deep slip, ``tau -> (1 - A) exp(-w u) + A`` (the
+  slip velocity approaches ``V xi`` everywhere), which is exact at ``r = 0`` (no solve there).
+
+The nodes are solved by the polynomial method (``rollcontact.solve(..., tolerance=NODE_TOLERANCE)``).  The table is
+certified a posteriori: the exact solution at the midpoints between nodes (in t or r and in w) is compared with the
+interpolant; while the largest difference of tau exceeds half the target the node counts grow, and the bound the
+table reports is ``2 max|difference| + the nodes' largest error estimate`` [1 of mu_s N'].  Outside its domain
+(w beyond ``w_max``) the step solves exactly.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from rollcontact.closed_form import hertz
+from rollcontact.dispatch import solve
+from rollcontact.friction import ExponentialFalling
+from rollcontact.scene import Material, Scene
+from rollcontact.stepping.tabulation import (
+    MAX_NODES,
+    NODE_TOLERANCE,
+    TARGET,
+    Node,
+    barycentric_weights,
+    basis,
+    chebyshev_points,
+    onset,
+)
+
+NODES = (9, 13, 9)
+"""Starting node counts in w, in t (partial slip) and in r (full slip); doubled (less one) while the check fails."""
+
+EXPECTED_SOLVES = 600
+"""Exact solves a build is modelled to take (its nodes, their onsets and the check; ``benchmarks/bench_table.py``
+reports the count)."""
+
+REFERENCE_LOAD = 1e6
+"""N' [N/m] of the normalised scenes the nodes are solved on (any load gives the same normalised answer)."""
+
+
+class FallingFrictionTable:
+    """tau, a*/a and kappa of the exponential falling law on a flat surface, interpolated over (u, w) (module
+    docstring).
+
+    Parameters
+    ----------
+    kinetic_ratio : float
+        A of the law, in (0, 1].
+    w_max : float
+        Largest ``B V xi_sat`` [1] the table covers.
+    material, radius, static_coefficient
+        Of the normalised scenes; the answer does not depend on them (the scaling), only their consistency does.
+
+    Attributes
+    ----------
+    bound : float
+        Certified error of tau [1 of mu_s N'] (NaN until built).
+    solves : int
+        Exact solves it took.
+    """
+
+    def __init__(self, kinetic_ratio: float, w_max: float, material: Material | None = None, radius: float = 0.46,
+                 static_coefficient: float = 0.3):
+        self.kinetic_ratio = float(kinetic_ratio)
+        self.w_max = float(w_max)
+        self.material = Material() if material is None else material
+        self.radius = float(radius)
+        self.mu = float(static_coefficient)
+        a = hertz(REFERENCE_LOAD, self.radius, self.material.contact_modulus)[0]
+        self.saturation = self.mu * a / self.radius
+        self.bound = math.nan
+        self.solves = 0
+        self.ready = False
+
+    @property
+    def domain(self) -> tuple[float]:
+        """``(w_max,)``: what, with the parameters, determines the table."""
+        return (self.w_max,)
+
+    @property
+    def nbytes(self) -> int:
+        """Size of the interpolation data [bytes]."""
+        return sum(a.nbytes for a in (self.partial, self.full, self.onsets, self.w_unit, self.t_nodes, self.r_nodes))
+
+    # ---------------------------------------------------------------------------------------------- exact nodes
+    def exact(self, u: float, w: float) -> Node:
+        """The normalised solution at (u, w) by the polynomial method (one solve)."""
+        speed = w / self.saturation  # B = 1 s/m
+        scene = Scene(REFERENCE_LOAD, creep=u * self.saturation, radius=self.radius, material=self.material,
+                      friction=ExponentialFalling(self.mu, self.kinetic_ratio, 1.0), rolling_speed=speed)
+        result = solve(scene, method="polynomial", tolerance=NODE_TOLERANCE)
+        self.solves += 1
+        if not result.success:
+            raise ArithmeticError(f"table node u = {u:.6g}, w = {w:.6g}: {result.message}")
+        limit = self.mu * REFERENCE_LOAD
+        a = hertz(REFERENCE_LOAD, self.radius, self.material.contact_modulus)[0]
+        return Node(result.tangential_force_per_length / limit, result.stick_half_width / a,
+                    result.creep_stiffness_per_length * self.saturation / limit,
+                    float(result.info.get("error_estimate", 0.0)))
+
+    def node(self, u: float, w: float):
+        """:meth:`exact` as a step of a build: yields once after the solve, returns the node."""
+        node = self.exact(u, w)
+        yield
+        return node
+
+    def onset(self, w: float):
+        """u of the onset of full slip at w (a build-step generator, :func:`~rollcontact.stepping.tabulation.onset`)."""
+        return (yield from onset(lambda u: self.node(u, w)))
+
+    # ------------------------------------------------------------------------------------------------- build
+    def build(self) -> FallingFrictionTable:
+        """:meth:`build_steps` to the end: ready afterwards."""
+        for _ in self.build_steps():
+            pass
+        return self
+
+    def build_steps(self):
+        """Solve the nodes, check the midpoints, refine until the check meets :data:`TARGET`, one exact solve per
+        iteration (a caller can spread the build over many steps); ready at the end.
+
+        Raises
+        ------
+        ArithmeticError
+            A node the exact solver cannot solve, or :data:`MAX_NODES` reached without meeting the target.
+        """
+        n_w, n_t, n_r = NODES
+        while True:
+            yield from self.tabulate(n_w, n_t, n_r)
+            error = yield from self.check()
+            if error <= 0.5 * TARGET:
+                self.bound = 2.0 * error + self.node_error
+                self.ready = True
+                return
+            if max(n_w, n_t, n_r) * 2 - 1 > MAX_NODES:
+                raise ArithmeticError(f"the table does not meet {TARGET:g} mu N with {MAX_NODES} nodes per "
+                                      f"direction (check error {error:.3g})")
+            n_w, n_t, n_r = 2 * n_w - 1, 2 * n_t - 1, 2 * n_r - 1
+
+    def tabulate(self, n_w: int, n_t: int, n_r: int):
+        """The nodes (a build step generator): the onset per w node, partial slip on (t, w), full slip on (r, w) as
+        the difference to the deep-slip asymptote (zero at r = 0, not solved)."""
+        w_nodes = self.w_max * chebyshev_points(n_w)
+        t_nodes, r_nodes = chebyshev_points(n_t), chebyshev_points(n_r)
+        onsets = []
+        for w in w_nodes:
+            onsets.append((yield from self.onset(w)))
+        partial = np.zeros((3, n_t, n_w))
+        full = np.zeros((2, n_r, n_w))
+        estimates = [0.0]
+        for j, (w, u_fs) in enumerate(zip(w_nodes, onsets, strict=True)):
+            for i, t in enumerate(t_nodes):
+                node = yield from self.node(t * u_fs, w)
+                partial[:, i, j] = node.tau, node.alpha, node.kappa
+                estimates.append(node.estimate * abs(node.tau))
+            for i, r in enumerate(r_nodes[1:], start=1):
+                u = u_fs / r
+                node = yield from self.node(u, w)
+                tau, kappa = self.asymptote(u, w)
+                full[:, i, j] = node.tau - tau, node.kappa - kappa
+                estimates.append(node.estimate * abs(node.tau))
+        self.w_nodes, self.t_nodes, self.r_nodes = w_nodes, t_nodes, r_nodes
+        self.w_unit = chebyshev_points(n_w)  # w / w_max at the nodes
+        self.w_weights, self.t_weights, self.r_weights = (barycentric_weights(n) for n in (n_w, n_t, n_r))
+        self.onsets, self.partial, self.full = np.array(onsets), partial, full
+        self.node_error = max(estimates)
+
+    def check(self):
+        """Largest |tau - exact| [1 of mu_s N'] at the midpoints between the nodes, in t or r and in w (a build step
+        generator)."""
+        mid = lambda x: 0.5 * (x[1:] + x[:-1])  # noqa: E731 - a one-line helper
+        error = 0.0
+        for w in np.concatenate((mid(self.w_nodes), self.w_nodes[[0, -1]])):
+            u_fs = self.onset_at(w)
+            for u in np.concatenate((mid(self.t_nodes) * u_fs, u_fs / mid(self.r_nodes))):
+                node = yield from self.node(u, w)
+                error = max(error, abs(self.evaluate(u, w)[0] - node.tau))
+        return error
+
+    def asymptote(self, u: float, w: float) -> tuple[float, float]:
+        """tau and kappa of deep full slip: ``(1 - A) exp(-w u) + A`` and its u-derivative."""
+        decay = (1.0 - self.kinetic_ratio) * math.exp(-w * u)
+        return decay + self.kinetic_ratio, -w * decay
+
+    # ---------------------------------------------------------------------------------------------- evaluate
+    def onset_at(self, w: float) -> float:
+        """u_fs(w), interpolated."""
+        return float(basis(w / self.w_max, self.w_unit, self.w_weights) @ self.onsets)
+
+    def evaluate(self, u: float, w: float) -> tuple[float, float, float] | None:
+        """(tau, a*/a, kappa) at u >= 0 and w, or None outside the domain (w beyond w_max)."""
+        if not 0.0 <= w <= self.w_max:
+            return None
+        bw = basis(w / self.w_max, self.w_unit, self.w_weights)
+        u_fs = float(bw @ self.onsets)
+        if u <= u_fs:
+            values = self.partial @ bw
+            bt = basis(u / u_fs, self.t_nodes, self.t_weights)
+            tau, alpha, kappa = values @ bt
+            return float(tau), float(alpha), float(kappa)
+        values = self.full @ bw
+        br = basis(u_fs / u, self.r_nodes, self.r_weights)
+        tau, kappa = self.asymptote(u, w)
+        difference = values @ br
+        return tau + float(difference[0]), 0.0, kappa + float(difference[1])
