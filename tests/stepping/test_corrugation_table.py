@@ -87,3 +87,14 @@ def test_the_table_is_a_deterministic_function_of_its_parameters(built):
     again = new_table()[0].build()
     assert again.data.tobytes() == table.data.tobytes() and again.bound == table.bound, "the same table, bit for bit"
     assert math.isfinite(again.bound)
+
+
+def test_the_step_path_and_the_general_interpolant_agree_at_the_ends_and_between(built):
+    table, _ = built
+    for x in (0.0, 0.0137, 0.04 - 1e-17):
+        at_end = table.evaluate(x, LOADS[0], 1e-3)  # l = 0: the general path
+        inside = table.evaluate(x, LOADS[0] * (1.0 + 1e-13), 1e-3)  # the step's path
+        assert inside == pytest.approx(at_end, rel=1e-9), f"X = {x}: {inside} against {at_end}"
+        still = table.evaluate(x, 1.1e6, 0.0)
+        moving = table.evaluate(x, 1.1e6, 1e-15)
+        assert moving == pytest.approx(still, rel=1e-9, abs=1e-6), f"X = {x}: creep 0 against 1e-15 (T' ~ 4e-7 N/m)"

@@ -198,6 +198,7 @@ class CorrugationTable:
         """The nodes (a build-step generator): per (theta, l) node the onset, the normal quantities and the t nodes."""
         self.theta_nodes, self.l_nodes, self.t_nodes = periodic_points(m), chebyshev_points(n_l), chebyshev_points(n_t)
         self.half_nodes, self.theta_signs = 0.5 * self.theta_nodes, (-1.0) ** np.arange(m)
+        self.node_set = {*self.theta_nodes.tolist(), *self.l_nodes.tolist(), *self.t_nodes.tolist()}
         self.l_weights, self.t_weights = barycentric_weights(n_l), barycentric_weights(n_t)
         data = np.ones((NORMAL + 4 * n_t, n_l, m))
         estimates = [0.0]
@@ -254,17 +255,17 @@ class CorrugationTable:
         creep, or None for a load outside the table's; the offset is the scene's (``Result.contact_offset``).
 
         The same interpolants as :meth:`interpolate` and :func:`~rollcontact.stepping.tabulation.basis`, written for
-        the step: the barycentric sums are normalised once, on the scalars, and the nodes' exact hits take the
-        general path.
+        the step: the barycentric sums are normalised once, on the scalars, and a coordinate at the ends or equal to
+        a node (of any direction: a set lookup) takes the general path.
         """
         ell = (math.log(load) - self.log_low) / self.log_span
         if not -1e-12 <= ell <= 1.0 + 1e-12:  # the ends' loads round-trip through exp and log within 1e-12
             return None
         theta = (x * self.wavenumber) % TWO_PI
-        half = np.sin(0.5 * theta - self.half_nodes)
-        difference = ell - self.l_nodes
-        if 1e-13 < ell < 1.0 - 1e-13 and 1e-13 < theta < TWO_PI - 1e-13 and half.all() and difference.all():
-            rows = (self.flat @ (self.theta_signs / half)).reshape(-1, difference.size) @ (self.l_weights / difference)
+        if (1e-13 < ell < 1.0 - 1e-13 and 1e-13 < theta < TWO_PI - 1e-13 and ell not in self.node_set
+                and theta not in self.node_set):
+            in_theta = self.flat @ (self.theta_signs / np.sin(0.5 * theta - self.half_nodes))
+            rows = in_theta.reshape(-1, self.l_nodes.size) @ (self.l_weights / (ell - self.l_nodes))
         else:
             rows = self.interpolate(theta, ell)
         v_fs, a, offset, p0, scale = rows[:NORMAL].tolist()
@@ -277,8 +278,8 @@ class CorrugationTable:
         t = abs(creep) / xi_fs
         if t >= 1.0:
             return math.copysign(limit, creep), a, 0.0, offset, p0, 0.0
-        if 1e-13 < t < 1.0 - 1e-13 and (difference := t - self.t_nodes).all():
-            tau, alpha, kappa, scale = (rows[NORMAL:].reshape(4, -1) @ (self.t_weights / difference)).tolist()
+        if 1e-13 < t < 1.0 - 1e-13 and t not in self.node_set:
+            tau, alpha, kappa, scale = (rows[NORMAL:].reshape(4, -1) @ (self.t_weights / (t - self.t_nodes))).tolist()
         else:
             tau, alpha, kappa, scale = (rows[NORMAL:].reshape(4, -1) @ basis(t, self.t_nodes, self.t_weights)).tolist()
         return (math.copysign(tau * limit / scale, creep) if creep != 0.0 else 0.0, a, alpha / scale * a, offset, p0,

@@ -99,7 +99,7 @@ class FallingFrictionTable:
     @property
     def nbytes(self) -> int:
         """Size of the interpolation data [bytes]."""
-        return sum(a.nbytes for a in (self.partial, self.full, self.onsets, self.w_unit, self.t_nodes, self.r_nodes))
+        return sum(a.nbytes for a in (self.rows, self.w_unit, self.t_nodes, self.r_nodes))
 
     # ---------------------------------------------------------------------------------------------- exact nodes
     def exact(self, u: float, w: float) -> Node:
@@ -180,8 +180,12 @@ class FallingFrictionTable:
                 estimates.append(node.estimate * abs(node.tau))
         self.w_nodes, self.t_nodes, self.r_nodes = w_nodes, t_nodes, r_nodes
         self.w_unit = chebyshev_points(n_w)  # w / w_max at the nodes
+        self.node_set = {*self.w_unit.tolist(), *t_nodes.tolist(), *r_nodes.tolist()}
         self.w_weights, self.t_weights, self.r_weights = (barycentric_weights(n) for n in (n_w, n_t, n_r))
         self.onsets, self.partial, self.full = np.array(onsets), partial, full
+        ones = lambda n: np.ones((1, n, n_w))  # noqa: E731 - a one-line helper
+        self.rows = np.vstack((self.onsets[None], np.concatenate((partial, ones(n_t))).reshape(-1, n_w),
+                               np.concatenate((full, ones(n_r))).reshape(-1, n_w)))
         self.node_error = max(estimates)
 
     def check(self):
@@ -207,18 +211,35 @@ class FallingFrictionTable:
         return float(basis(w / self.w_max, self.w_unit, self.w_weights) @ self.onsets)
 
     def evaluate(self, u: float, w: float) -> tuple[float, float, float] | None:
-        """(tau, a*/a, kappa) at u >= 0 and w, or None outside the domain (w beyond w_max)."""
+        """(tau, a*/a, kappa) at u >= 0 and w, or None outside the domain (w beyond w_max).
+
+        One contraction in w of all the tables at once (``rows``: the onsets; tau, a*/a, kappa and ones per t node;
+        the differences of tau and kappa and ones per r node), then one in t or r; the ones rows carry the
+        barycentric sums, so the interpolants are normalised once, on the scalars.  A coordinate at the ends or equal
+        to a node (of any direction: a set lookup) takes the general path.
+        """
         if not 0.0 <= w <= self.w_max:
             return None
-        bw = basis(w / self.w_max, self.w_unit, self.w_weights)
-        u_fs = float(bw @ self.onsets)
+        x = w / self.w_max
+        if 1e-13 < x < 1.0 - 1e-13 and x not in self.node_set:
+            values = self.rows @ (self.w_weights / (x - self.w_unit))
+        else:
+            values = self.rows @ basis(x, self.w_unit, self.w_weights)
+        split = 1 + 4 * self.t_nodes.size
+        u_fs = float(values[0] / values[split - 1])
         if u <= u_fs:
-            values = self.partial @ bw
-            bt = basis(u / u_fs, self.t_nodes, self.t_weights)
-            tau, alpha, kappa = values @ bt
-            return float(tau), float(alpha), float(kappa)
-        values = self.full @ bw
-        br = basis(u_fs / u, self.r_nodes, self.r_weights)
+            t = u / u_fs
+            if 1e-13 < t < 1.0 - 1e-13 and t not in self.node_set:
+                coefficients = self.t_weights / (t - self.t_nodes)
+            else:
+                coefficients = basis(t, self.t_nodes, self.t_weights)
+            tau, alpha, kappa, scale = (values[1:split].reshape(4, -1) @ coefficients).tolist()
+            return tau / scale, alpha / scale, kappa / scale
+        r = u_fs / u
+        if 1e-13 < r < 1.0 - 1e-13 and r not in self.node_set:
+            coefficients = self.r_weights / (r - self.r_nodes)
+        else:
+            coefficients = basis(r, self.r_nodes, self.r_weights)
+        d_tau, d_kappa, scale = (values[split:].reshape(3, -1) @ coefficients).tolist()
         tau, kappa = self.asymptote(u, w)
-        difference = values @ br
-        return tau + float(difference[0]), 0.0, kappa + float(difference[1])
+        return tau + d_tau / scale, 0.0, kappa + d_kappa / scale
