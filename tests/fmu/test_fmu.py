@@ -431,6 +431,35 @@ def test_two_instances_are_independent(instance):
         "instance b keeps its own parameters and state"
 
 
+CORRUGATION_TABLE = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04, "table": 2}
+
+
+def test_state_round_trips_and_instances_stay_independent_with_certified_tables_in_use(instance):
+    rows = [(2e4 * (1.0 + 0.05 * math.sin(n)), 1.1e-3 + 1e-3 * math.sin(0.6 * n) ** 2, 30.0) for n in range(9)]
+    fmu = instance(**CORRUGATION_TABLE)
+    for n, row in enumerate(rows[:3]):
+        fmu.step(n * H, H, *row)
+    state = fmu.fmu.getFMUstate()
+    first = [fmu.step((3 + n) * H, H, *row) for n, row in enumerate(rows[3:])]
+    assert {o.method_used for o in first} == {6}, "the steps answer from the table"
+    serialized = fmu.fmu.serializeFMUstate(state)
+    fmu.fmu.setFMUstate(state)
+    fmu.fmu.freeFMUstate(state)
+    assert [fmu.step((3 + n) * H, H, *row) for n, row in enumerate(rows[3:])] == first, "restore -> step repeats"
+    other = instance(table=1)  # the state brings its parameters and its table's domain
+    restored = other.fmu.deSerializeFMUstate(serialized)
+    other.fmu.setFMUstate(restored)
+    other.fmu.freeFMUstate(restored)
+    assert [other.step((3 + n) * H, H, *row) for n, row in enumerate(rows[3:])] == first, \
+        "a serialised state builds the same table in another instance and continues bit for bit"
+    assert first == model_outputs(CORRUGATION_TABLE, rows)[3:], "and equals ContactModel"
+    shallow = instance(**{**CORRUGATION_TABLE, "corrugation_amplitude": 10e-6})
+    outs = [shallow.step(n * H, H, *row) for n, row in enumerate(rows)]
+    assert outs == model_outputs({**CORRUGATION_TABLE, "corrugation_amplitude": 10e-6}, rows), \
+        "an instance with another table keeps its own"
+    assert [o.contact_half_width for o in outs[3:]] != [o.contact_half_width for o in first], "another contact"
+
+
 def test_load_free_load_and_independence_of_the_current_directory(unzipped, description, monkeypatch, tmp_path):
     rows = [(1e5, 1e-3, 20.0), (1.1e5, 2e-3, 10.0)]
     expected = model_outputs({}, rows)
