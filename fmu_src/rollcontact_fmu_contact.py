@@ -241,7 +241,7 @@ class RollingContact2D(TableSlave):
         if values["scene_file"] and isinstance(values["scene_file"], str):
             values["scene_file"] = resolved_scene_file(values["scene_file"], self.resources)
             checked_scene_file(values["scene_file"])
-        model = ContactModel(ContactParameters(**values), start_time=self.start_time)
+        model = ContactModel(ContactParameters(**values), start_time=self.start_time, stop_time=self.stop_time)
         return model, model.notices
 
     def step_model(self, current_time, step_size):

@@ -271,6 +271,7 @@ class TableSlave(Fmi2Slave):
         self.state_variables = tuple(row[0] for row in self.VARIABLES if row[2] is not Fmi2Causality.output)
         self.parameter_names = tuple(row[0] for row in self.VARIABLES if row[2] is Fmi2Causality.parameter)
         self.start_time = 0.0
+        self.stop_time = None  # the run's end from setupExperiment (None: not defined)
         self.initialised = False
         self.next_time: float | None = None
         self.model = None
@@ -311,6 +312,7 @@ class TableSlave(Fmi2Slave):
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
         if not self.initialised:
             self.start_time = float(start_time)
+            self.stop_time = None if stop_time is None else float(stop_time)
 
     def exit_initialization_mode(self):
         if self.initialised:  # a state saved after initialisation was set in initialisation mode

@@ -34,7 +34,7 @@ OUTPUTS = StepOutputs._fields
 class Instance:
     """One FMU2Slave instance, initialised, with its log messages captured."""
 
-    def __init__(self, unzipped: Path, description, name="rc", start_time=0.0, **parameters):
+    def __init__(self, unzipped: Path, description, name="rc", start_time=0.0, stop_time=None, **parameters):
         self.description = description
         self.variables = {v.name: v for v in description.modelVariables}
         self.log: list[tuple[int, str, str]] = []
@@ -46,7 +46,7 @@ class Instance:
                              modelIdentifier=description.coSimulation.modelIdentifier, instanceName=name)
         self.fmu.instantiate(callbacks=self.callbacks, loggingOn=True)
         self.set(**parameters)
-        self.fmu.setupExperiment(startTime=start_time)
+        self.fmu.setupExperiment(startTime=start_time, stopTime=stop_time)
         self.fmu.enterInitializationMode()
         self.fmu.exitInitializationMode()
         self.inputs = [self.variables[n].valueReference for n in ("normal_load", "creep", "velocity")]
@@ -458,6 +458,19 @@ def test_state_round_trips_and_instances_stay_independent_with_certified_tables_
     assert outs == model_outputs({**CORRUGATION_TABLE, "corrugation_amplitude": 10e-6}, rows), \
         "an instance with another table keeps its own"
     assert [o.contact_half_width for o in outs[3:]] != [o.contact_half_width for o in first], "another contact"
+
+
+@pytest.mark.parametrize(("stop_time", "builds"), [(10.0, True), (0.2, False)])
+def test_the_stop_time_of_setup_experiment_decides_whether_auto_builds_a_table(instance, stop_time, builds):
+    fmu = instance(stop_time=stop_time, step_budget=0.005, **{**CORRUGATION_TABLE, "table": 0})
+    used = [fmu.step(n * H, H, 2e4, 1.1e-3 + 1e-3 * math.sin(0.6 * n) ** 2, 30.0).method_used for n in range(200)]
+    log = " | ".join(message for _, _, message in fmu.log)
+    if builds:  # 10 000 steps pay for the build: it starts at once, not after a build's worth of exact steps
+        assert 6 in used and used[-1] == 6, f"the table is built within the budget over the first steps: {used}"
+        assert "building a certified table" in log and "ready over" in log, log
+    else:
+        assert set(used) == {2}, "200 steps do not pay for a build: exact steps"
+        assert "steps remain, fewer than" in log, log
 
 
 def test_load_free_load_and_independence_of_the_current_directory(unzipped, description, monkeypatch, tmp_path):

@@ -138,3 +138,19 @@ def test_a_state_from_before_corrugation_tables_and_a_foreign_domain():
     for bad in ([1.0, 2.0, 3.0], [-1.0], ["1"], [math.nan]):
         with pytest.raises(ModelError, match="table_domain"):
             ModelState.parse({**data, "table_domain": bad})
+
+
+@pytest.mark.parametrize(("steps", "builds"), [(20000, True), (300, False)])
+def test_a_known_end_builds_at_once_where_the_run_pays_and_never_where_it_does_not(steps, builds):
+    model = ContactModel(ContactParameters(**FAMILIES["corrugation"][0], table=0, step_budget=0.005),
+                         stop_time=steps * H)
+    used = [step(model, k, **inputs("corrugation", k)).method_used for k in range(300)]
+    log = " | ".join(model.take_messages())
+    if builds:
+        assert used[-1] == 6 and used.index(6) < CorrugationUse.expected_solves / 4, \
+            f"the build starts at the first step, ready at step {used.index(6) if 6 in used else None}"
+        assert "building a certified table" in log, log
+    else:
+        assert set(used) == {2} and "300 steps remain, fewer than the" in log, log
+    unknown = ContactModel(ContactParameters(**FAMILIES["corrugation"][0], table=0), stop_time=-1.0)
+    assert unknown.stop_time is None, "a stop time before the start is no known end"

@@ -116,6 +116,22 @@ def non_finite(outputs: StepOutputs, normal_load: float, creep: float, velocity:
             f"{sys.float_info.max:.4g} in SI units)")
 
 
+def within_friction_bound(outputs: StepOutputs, bound: float, normal_load: float, creep: float,
+                          velocity: float) -> StepOutputs:
+    """The outputs with ``|T| <= mu_max N`` exactly (``bound`` = mu_max, the law's largest coefficient).
+
+    The methods bound the force per length, ``|T'| <= mu_max N'``; its conversion to the whole width,
+    ``T = T' b`` with ``N' = N (1/b)``, can exceed ``mu_max N`` by the rounding of the two products (a few ulp).
+    Only that rounding is removed here: the force, the traction coefficient and the power take the bound.  A
+    NaN force stays NaN (the step is then refused).
+    """
+    if outputs[0] != outputs[0]:
+        return outputs
+    force = math.copysign(bound * normal_load, outputs[0])
+    return outputs._replace(tangential_force=force, traction_coefficient=math.copysign(bound, force),
+                            frictional_power=velocity * creep * force)
+
+
 def mirrored(surface: Surface) -> Surface:
     """The surface ``Z(-X)``: odd polynomial terms and sine amplitudes change sign."""
     return Surface(polynomial=tuple(c if j % 2 == 0 else -c for j, c in enumerate(surface.polynomial)),
@@ -132,6 +148,9 @@ class ContactModel(InstationaryStepping):
         Fixed parameters (defaults when omitted).
     start_time : float
         Time [s] of the initial state.
+    stop_time : float, optional
+        End time [s] of the run when known (an FMU's setupExperiment): ``table`` = auto then builds a certified table
+        only when the steps left pay for it (:mod:`rollcontact.stepping.table`).
 
     Raises
     ------
@@ -148,7 +167,8 @@ class ContactModel(InstationaryStepping):
     An explicit method is used as it is or the step fails with a :class:`ModelError`.
     """
 
-    def __init__(self, parameters: ContactParameters | None = None, *, start_time: float = 0.0):
+    def __init__(self, parameters: ContactParameters | None = None, *, start_time: float = 0.0,
+                 stop_time: float | None = None):
         p = ContactParameters() if parameters is None else parameters
         if not isinstance(p, ContactParameters):
             raise TypeError(f"parameters must be ContactParameters, got {type(p).__name__}")
@@ -169,6 +189,8 @@ class ContactModel(InstationaryStepping):
                                    self.instationary is not None, self.log)
         """The certified table of the scene family and its build (:mod:`rollcontact.stepping.table`; None: not
         applicable)."""
+        self.stop_time = stop_time if stop_time is not None and start_time < stop_time < INF else None
+        """End time [s] of the run, None when unknown (also for a stop time not after the start)."""
         self.options = {OPTION_NAMES[name]: getattr(p, name) for name in OPTION_NAMES if getattr(p, name) != 0}
         """Options of the parameters that ``rollcontact.solve`` passes to the methods that accept them."""
 
@@ -282,6 +304,8 @@ class ContactModel(InstationaryStepping):
 
         lag = None
         load = normal_load * self.per_width
+        if self.stop_time is not None and self.table_use is not None:
+            self.table_use.remaining = (self.stop_time - current_time) / step_size
         if load < self.resolved_load:  # zero, or below what floating point resolves: no contact
             outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
             state.creep_envelope = None
@@ -307,7 +331,7 @@ class ContactModel(InstationaryStepping):
 
         if not (-self.friction_bound * normal_load <= outputs[0] <= self.friction_bound * normal_load
                 and -self.friction_bound <= outputs[1] <= self.friction_bound):
-            outputs = self.within_friction_bound(outputs, normal_load, creep, velocity)
+            outputs = within_friction_bound(outputs, self.friction_bound, normal_load, creep, velocity)
         if not all(map(isfinite, outputs)):
             raise ModelError(non_finite(outputs, normal_load, creep, velocity))
         state.instationary = lag
@@ -321,21 +345,6 @@ class ContactModel(InstationaryStepping):
         state.steps += 1
         state.outputs = outputs
         return outputs
-
-    def within_friction_bound(self, outputs: StepOutputs, normal_load: float, creep: float,
-                              velocity: float) -> StepOutputs:
-        """The outputs with ``|T| <= mu_max N`` exactly (mu_max the law's largest coefficient).
-
-        The methods bound the force per length, ``|T'| <= mu_max N'``; its conversion to the whole width,
-        ``T = T' b`` with ``N' = N (1/b)``, can exceed ``mu_max N`` by the rounding of the two products (a few ulp).
-        Only that rounding is removed here: the force, the traction coefficient and the power take the bound.  A
-        NaN force stays NaN (the step is then refused).
-        """
-        if outputs[0] != outputs[0]:
-            return outputs
-        force = math.copysign(self.friction_bound * normal_load, outputs[0])
-        return outputs._replace(tangential_force=force, traction_coefficient=math.copysign(self.friction_bound, force),
-                                frictional_power=velocity * creep * force)
 
     def closed_form_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
         """Outputs of Hertz and Carter (closed forms, no Scene built) at axis position x [m]."""

@@ -15,15 +15,18 @@ instationary model runs, ``tolerance`` is 0 or at least the target and ``table``
 
 When to build
 -------------
-``table`` = auto starts building once the exact steps have cost as long as the build is modelled to take (its
-``EXPECTED_SOLVES`` exact solves, each exact step modelled to cost one solve), and builds in each following exact step
-for what is left of ``step_budget`` after it: a run pays at most about twice what it would knowing its length (the
-ski-rental rule), and no step takes longer than its budget.  ``table`` = on builds at the first loaded step, whatever
-it takes.  The domain is what the exact steps so far have met, widened (:meth:`TableUse.wanted_domain`).  A step
-outside the domain of the ready table solves exactly; once such steps have paid for a build again, a table over the
-union of both domains is built as auto builds (whatever ``table``), while the old one keeps answering.  A family the
-exact solver cannot tabulate to the target (a contact that splits, say) gives the table up: the steps stay exact.
-Every decision and the figures of every table built (domain, exact solves, seconds, bytes, bound) are logged once.
+``table`` = auto builds where the run pays for it, each exact step modelled to cost one exact solve and a table step
+nothing. When the run's end is known (the FMU's ``stopTime`` from setupExperiment: ``ContactModel(stop_time=)``), a
+build (``EXPECTED_SOLVES`` exact solves) starts at the first exact step if at least as many steps remain, and never
+otherwise. When it is not, the build starts once the exact steps have cost as long as the build is modelled to take: a
+run then pays at most about twice what it would knowing its length (the ski-rental rule). Either way it builds in each
+exact step for what is left of ``step_budget`` after it, so no step takes longer than its budget. ``table`` = on builds
+at the first loaded step, whatever it takes. The domain is what the exact steps so far have met, widened
+(:meth:`TableUse.wanted_domain`). A step outside the domain of the ready table solves exactly; once such steps have paid
+for a build again, a table over the union of both domains is built as auto builds (whatever ``table``), while the old
+one keeps answering. A family the exact solver cannot tabulate to the target (a contact that splits, say) gives the
+table up: the steps stay exact. Every decision and the figures of every table built (domain, exact solves, seconds,
+bytes, bound) are logged once.
 
 The state (:attr:`rollcontact.stepping.ModelState.table_domain`) records the domain of the table in use: a table is a
 deterministic function of the parameters and of its domain, so a restored model builds the same table before its
@@ -73,6 +76,9 @@ class TableUse(ABC):
         self.builder = None
         self.exact_steps = 0
         self.build_seconds = 0.0
+        self.remaining: float | None = None
+        """Steps left to the run's end when it is known (``(stop_time - t) / h``, set by the model each step)."""
+        self.declined = False
 
     # ---------------------------------------------------------------------------------------- family interface
     @abstractmethod
@@ -113,7 +119,7 @@ class TableUse(ABC):
         self.exact_steps += 1
         self.see(load, velocity, half_width)
         first_on = self.mode == 2 and self.table is None
-        if self.pending is None and self.mode != 1 and (first_on or self.exact_steps >= self.expected_solves):
+        if self.pending is None and self.mode != 1 and (first_on or self.due()):
             self.start(self.wanted_domain())
         if self.builder is None:
             return
@@ -131,6 +137,20 @@ class TableUse(ABC):
             self.mode = 1
         else:
             self.build_seconds += time.perf_counter() - begun
+
+    def due(self) -> bool:
+        """Whether a build is due now (``table`` = auto, or a rebuild): with the run's end unknown, once the exact
+        steps since the last build have cost as long as a build (the ski-rental rule); with :attr:`remaining`
+        known, at once if at least as many steps remain as a build costs, never otherwise (said once in the log)."""
+        if self.remaining is None:
+            return self.exact_steps >= self.expected_solves
+        pays = self.remaining >= self.expected_solves and (self.table is None or
+                                                          self.exact_steps >= self.expected_solves)
+        if not pays and self.table is None and not self.declined:
+            self.declined = True
+            self.log(f"table: {self.remaining:.0f} steps remain, fewer than the {self.expected_solves} exact solves "
+                     "a table costs: the steps solve exactly")
+        return pays
 
     def start(self, domain: tuple[float, ...]) -> None:
         """Begin building the table over ``domain``."""
