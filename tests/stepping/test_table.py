@@ -154,3 +154,17 @@ def test_a_known_end_builds_at_once_where_the_run_pays_and_never_where_it_does_n
         assert set(used) == {2} and "300 steps remain, fewer than the" in log, log
     unknown = ContactModel(ContactParameters(**FAMILIES["corrugation"][0], table=0), stop_time=-1.0)
     assert unknown.stop_time is None, "a stop time before the start is no known end"
+
+
+def test_a_state_whose_table_cannot_be_built_is_refused_and_the_model_stays_as_it_was():
+    model = ContactModel(ContactParameters(corrugation_amplitude=20e-6, corrugation_wavelength=0.01, table=1))
+    before = step(model, 0, **inputs("corrugation", 0))
+    crafted = model.get_state().to_dict()
+    crafted["table_domain"] = [1e5, 2e5]
+    other = ContactModel(ContactParameters(corrugation_amplitude=20e-6, corrugation_wavelength=0.01, table=2))
+    step(other, 0, **inputs("corrugation", 0))
+    kept = other.get_state()
+    with pytest.raises(ModelError, match="its table cannot be built .*patches"):
+        other.set_state(ModelState.parse(crafted))
+    assert other.get_state() == kept, "the refused state changed nothing"
+    assert step(other, 1, **inputs("corrugation", 1)).method_used == 2 and before.method_used == 2

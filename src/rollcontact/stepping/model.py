@@ -238,9 +238,10 @@ class ContactModel(InstationaryStepping):
         """Continue from (a copy of) ``state``."""
         if not isinstance(state, ModelState):
             raise TypeError(f"state must be a ModelState, got {type(state).__name__}")
-        self.state = state.copy()
-        if self.table_use is not None:
-            self.table_use.restore(self.state.table_domain)
+        state = state.copy()
+        if self.table_use is not None:  # first: a table that cannot be built refuses the state, leaving the model as is
+            self.table_use.restore(state.table_domain)
+        self.state = state
 
     def scene(self, axis_position: float, normal_load: float, creep: float, velocity: float) -> Scene:
         """The scene solved for axis position X [m], load N [N], creep [1] and speed V [m/s].

@@ -131,7 +131,7 @@ class TableUse(ABC):
         except StopIteration:
             self.build_seconds += time.perf_counter() - begun
             self.finish()
-        except ArithmeticError as exc:
+        except (ArithmeticError, ValueError) as exc:  # a node the solver refuses or cannot solve to the target
             self.log(f"table: no certified table of this scene family ({exc}); the steps solve exactly")
             self.pending = self.builder = None
             self.mode = 1
@@ -181,7 +181,7 @@ class TableUse(ABC):
         Raises
         ------
         ModelError
-            ``domain`` is not one of this family's.
+            ``domain`` is not one of this family's, or its table cannot be built.
         """
         self.pending = self.builder = None
         self.exact_steps = 0
@@ -192,8 +192,10 @@ class TableUse(ABC):
             raise ModelError(f"model state table_domain = {domain!r} is not a domain of this model's table "
                              f"({type(self).__name__})")
         if self.table is None or self.table.domain != domain:
-            table = self.new_table(domain)
-            self.table = table.build()
+            try:
+                self.table = self.new_table(domain).build()
+            except (ArithmeticError, ValueError) as exc:
+                raise ModelError(f"model state table_domain = {domain!r}: its table cannot be built ({exc})") from None
 
 
 class FallingFrictionUse(TableUse):
