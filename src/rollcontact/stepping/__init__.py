@@ -5,7 +5,10 @@
 * :mod:`.state`: :class:`ModelState`, everything a model remembers between steps (copyable, serialisable);
 * :mod:`.model`: :class:`ContactModel`, one quasi-steady communication step through ``rollcontact.solve`` (or the
   closed forms directly);
-* :mod:`.transient`: its instationary half, the relaxation lag and the discretised transient switched in and out.
+* :mod:`.transient`: its instationary half, the relaxation lag and the discretised transient switched in and out;
+* :mod:`.table`: when a step answers from a certified table and when the table is built; the tables of
+  :mod:`.falling_table` (falling friction on a flat surface) and :mod:`.corrugation_table` (a one-harmonic
+  corrugation with Coulomb friction), on the interpolation of :mod:`.tabulation`.
 """
 
 from rollcontact.stepping.model import ContactModel, mirrored
