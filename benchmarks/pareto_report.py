@@ -129,6 +129,11 @@ def aims_lines(rows: list[Row], choices: list[AutoChoice], fmu: list) -> list[st
     if closed:
         out.append(("closed-form FMU step within 1.5x an empty pythonfmu step", f"{closed[0]:.2f}x",
                     closed[0] <= 1.5))
+    tables = [(label.split(",")[0], ratio) for label, _, ratio, _, _ in fmu if "certified table" in label]
+    if tables:
+        out.append(("FMU steps of falling friction and corrugation within 3x an empty pythonfmu step (the certified "
+                    "table, 1e-3 mu N)", ", ".join(f"{family} {ratio:.2f}x" for family, ratio in tables),
+                    max(ratio for _, ratio in tables) <= 3.0))
     for family, what in (("corrugation", "corrugated"), ("velocity-dependent friction", "falling-friction")):
         values = auto_times(choices, rows, family)
         if values:
