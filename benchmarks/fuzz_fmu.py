@@ -235,7 +235,7 @@ class Episode:
             return function(*args)
         except FMICallException as exc:
             if exc.status >= ERROR:
-                self.find("fatal", f"{what}: status {exc.status}; log {self.log[-3:]}")
+                self.find("fatal", f"{what}: status {exc.status}; log {self.log[-1:]}")
                 self.dead = True
                 raise
             return None

@@ -292,9 +292,10 @@ class TableSlave(Fmi2Slave):
         """The model's state object from its dict, every field checked (raises ValueError); no side effects."""
         raise NotImplementedError
 
-    def restore_model(self, state) -> None:
-        """Set the model's state to the object of :meth:`parse_model_state` (cannot fail)."""
-        self.model.set_state(state)
+    def restore_model(self, model, state) -> None:
+        """Set ``model``'s state to the object of :meth:`parse_model_state`; may raise (e.g. a certified table the
+        state refers to cannot be built), leaving ``model`` as it was."""
+        model.set_state(state)
 
     def step_messages(self) -> list[str]:
         """Messages of the model's last step attempt, logged with status Warning (default: none)."""
@@ -387,6 +388,8 @@ class TableSlave(Fmi2Slave):
     def _set_fmu_state(self, state):
         try:
             checked = self.check_state(state)
+            if checked["model"] is not None:  # before anything changes: a refused model state changes nothing
+                self.restore_model(checked["model"], checked["model_state"])
         except Exception as exc:  # noqa: BLE001 - StateRefused, or anything unforeseen: never fmi2Fatal
             reason = str(exc) if isinstance(exc, StateRefused) else f"{type(exc).__name__}: {clip(str(exc), 200)}"
             self.refuse(f"setFMUstate refused, the instance keeps its previous state: {reason}")
@@ -398,7 +401,6 @@ class TableSlave(Fmi2Slave):
         self.model, self.model_values, self.problem = checked["model"], checked["values"], checked["problem"]
         self.outputs = checked["outputs"]
         if self.model is not None:
-            self.restore_model(checked["model_state"])
             self.outputs = tuple(self.restored_outputs(self.outputs))
         self.error = None
 

@@ -106,6 +106,13 @@ BAD_STATES = {  # name: (bytes from the saved bytes, what the logged reason says
     "no model state": (crafted(lambda s: s.update(model=None)), "must hold the model's state"),
     "scene file /dev/zero": (crafted(lambda s: s["variables"].update(scene_file="/dev/zero")),
                              "is a character device"),
+    "a table that splits": (crafted(lambda s: (s["variables"].update(corrugation_amplitude=20e-6,
+                                                                     corrugation_wavelength=0.01, table=2),
+                                               s["model"].update(table_domain=[1e5, 2e5]))),
+                            "its table cannot be built"),
+    "a table of another family": (crafted(lambda s: (s["variables"].update(friction_law=1),
+                                                     s["model"].update(table_domain=[1e5, 2e5]))),
+                                  "is not a domain of this model's table"),
 }
 
 

@@ -168,3 +168,19 @@ def test_a_state_whose_table_cannot_be_built_is_refused_and_the_model_stays_as_i
         other.set_state(ModelState.parse(crafted))
     assert other.get_state() == kept, "the refused state changed nothing"
     assert step(other, 1, **inputs("corrugation", 1)).method_used == 2 and before.method_used == 2
+
+
+def test_every_build_and_domain_is_bounded(monkeypatch):
+    from rollcontact.stepping import falling_table
+
+    monkeypatch.setattr(falling_table, "MAX_SOLVES", 40)
+    with pytest.raises(ArithmeticError, match="within 40 exact solves"):
+        falling_table.FallingFrictionTable(0.6, 1.0).build()
+    parameters = FAMILIES["falling friction"][0]
+    model = ContactModel(ContactParameters(**parameters, table=2))
+    step(model, 0, **inputs("falling friction", 0))
+    data = model.get_state().to_dict()
+    with pytest.raises(ModelError, match="not a domain of this model's table"):
+        model.set_state(ModelState.parse({**data, "table_domain": [falling_table.W_LIMIT * 1.5]}))
+    model.table_use.w_seen = 100.0  # steps far beyond: the next table stops at the limit
+    assert model.table_use.wanted_domain() == (falling_table.W_LIMIT,)

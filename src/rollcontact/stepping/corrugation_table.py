@@ -63,6 +63,9 @@ EXPECTED_SOLVES = 2200
 """Exact solves a build is modelled to take (its nodes, their onsets and the check; ``benchmarks/bench_table.py``
 reports the count)."""
 
+MAX_SOLVES = 10 * EXPECTED_SOLVES
+"""Exact solves after which a build is given up: bounds the work of any build (a state's domain included)."""
+
 NORMAL = 5
 """Rows of the (theta, l) quantities ahead of the t nodes: v_fs, a/a_H, offset/a_H, p0/p0_H and ones (the ones
 rows, here and after each t node's tau, a*/a and kappa, carry the barycentric normalisation through the
@@ -148,7 +151,10 @@ class CorrugationTable:
         return node, (a / a_h, result.contact_offset / a_h, result.max_pressure / p_h)
 
     def node(self, theta: float, ell: float, v: float):
-        """:meth:`exact` as a step of a build: yields once after the solve, returns its value."""
+        """:meth:`exact` as a step of a build: yields once after the solve, returns its value; the
+        :data:`MAX_SOLVES`-th solve gives the build up (ArithmeticError)."""
+        if self.solves >= MAX_SOLVES:
+            raise ArithmeticError(f"the table does not meet {TARGET:g} mu N within {MAX_SOLVES} exact solves")
         value = self.exact(theta, ell, v)
         yield
         return value

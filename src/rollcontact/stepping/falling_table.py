@@ -53,6 +53,14 @@ EXPECTED_SOLVES = 600
 """Exact solves a build is modelled to take (its nodes, their onsets and the check; ``benchmarks/bench_table.py``
 reports the count)."""
 
+MAX_SOLVES = 10 * EXPECTED_SOLVES
+"""Exact solves after which a build is given up: bounds the work of any build (a state's domain included)."""
+
+W_LIMIT = 5.0
+"""Largest ``w_max`` a table is built for; steps beyond it solve exactly.  Towards larger w the slip iteration's
+nodes cost more and then fail to converge (``benchmarks/bench_table.py`` times the build at this limit; a node at
+w = 7.8 fails)."""
+
 REFERENCE_LOAD = 1e6
 """N' [N/m] of the normalised scenes the nodes are solved on (any load gives the same normalised answer)."""
 
@@ -118,7 +126,10 @@ class FallingFrictionTable:
                     float(result.info.get("error_estimate", 0.0)))
 
     def node(self, u: float, w: float):
-        """:meth:`exact` as a step of a build: yields once after the solve, returns the node."""
+        """:meth:`exact` as a step of a build: yields once after the solve, returns the node; the
+        :data:`MAX_SOLVES`-th solve gives the build up (ArithmeticError)."""
+        if self.solves >= MAX_SOLVES:
+            raise ArithmeticError(f"the table does not meet {TARGET:g} mu N within {MAX_SOLVES} exact solves")
         node = self.exact(u, w)
         yield
         return node

@@ -120,7 +120,11 @@ class TableUse(ABC):
         self.see(load, velocity, half_width)
         first_on = self.mode == 2 and self.table is None
         if self.pending is None and self.mode != 1 and (first_on or self.due()):
-            self.start(self.wanted_domain())
+            domain = self.wanted_domain()
+            if domain == self.domain:  # the ready table is as wide as the family's tables go
+                self.exact_steps = 0
+            else:
+                self.start(domain)
         if self.builder is None:
             return
         deadline = math.inf if first_on or not self.budget > 0.0 else started + self.budget
@@ -200,7 +204,7 @@ class TableUse(ABC):
 
 class FallingFrictionUse(TableUse):
     """The table of the exponential falling law on a flat surface; its domain ``(w_max,)``: twice the largest
-    ``B V xi_sat`` met, at least 1."""
+    ``B V xi_sat`` met, at least 1 and at most :data:`~rollcontact.stepping.falling_table.W_LIMIT`."""
 
     expected_solves = falling_table.EXPECTED_SOLVES
 
@@ -227,14 +231,14 @@ class FallingFrictionUse(TableUse):
         self.w_seen = max(self.w_seen, self.friction.decay * velocity * self.saturation_per_half_width * half_width)
 
     def wanted_domain(self):
-        return (max(1.0, 2.0 * self.w_seen, *self.domain),)
+        return (min(falling_table.W_LIMIT, max(1.0, 2.0 * self.w_seen, *self.domain)),)
 
     def new_table(self, domain):
         return FallingFrictionTable(self.friction.kinetic_ratio, domain[0], self.material, self.radius,
                                     self.friction.static_coefficient)
 
     def valid_domain(self, domain):
-        return len(domain) == 1 and domain[0] > 0.0
+        return len(domain) == 1 and 0.0 < domain[0] <= falling_table.W_LIMIT
 
     def describe(self, domain):
         return f"w = B V xi_sat <= {domain[0]:.4g}"
