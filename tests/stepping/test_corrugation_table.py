@@ -98,3 +98,14 @@ def test_the_step_path_and_the_general_interpolant_agree_at_the_ends_and_between
         still = table.evaluate(x, 1.1e6, 0.0)
         moving = table.evaluate(x, 1.1e6, 1e-15)
         assert moving == pytest.approx(still, rel=1e-9, abs=1e-6), f"X = {x}: creep 0 against 1e-15 (T' ~ 4e-7 N/m)"
+
+
+@pytest.mark.parametrize(("x", "creep"), [(0.0137, 8e-4), (0.031, -1.4e-3)])
+def test_the_table_agrees_with_the_discretised_method_within_both_bounds(built, x, creep):
+    table, model = built
+    load = 1.1e6
+    discretised = rc.solve(model.scene_per_length(x, load, creep, 0.0), method="discretised", tolerance=2e-3)
+    tau = table.evaluate(x, load, creep)[0] / (model.mu * load)
+    reference = discretised.tangential_force_per_length / (model.mu * load)
+    allowed = table.bound + discretised.info["error_estimate"] * abs(reference)
+    assert abs(tau - reference) <= allowed, f"X = {x}, creep = {creep}: tau {tau} against discretised {reference}"
