@@ -173,7 +173,7 @@ def test_a_state_whose_table_cannot_be_built_is_refused_and_the_model_stays_as_i
 def test_every_build_and_domain_is_bounded(monkeypatch):
     from rollcontact.stepping import falling_table
 
-    monkeypatch.setattr(falling_table, "MAX_SOLVES", 40)
+    monkeypatch.setattr(falling_table.FallingFrictionTable, "max_solves", 40)
     with pytest.raises(ArithmeticError, match="within 40 exact solves"):
         falling_table.FallingFrictionTable(0.6, 1.0).build()
     parameters = FAMILIES["falling friction"][0]

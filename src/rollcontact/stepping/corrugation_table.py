@@ -45,6 +45,7 @@ from rollcontact.stepping.tabulation import (
     NODE_TOLERANCE,
     TARGET,
     TWO_PI,
+    CertifiedTable,
     Node,
     barycentric_weights,
     basis,
@@ -63,16 +64,13 @@ EXPECTED_SOLVES = 2200
 """Exact solves a build is modelled to take (its nodes, their onsets and the check; ``benchmarks/bench_table.py``
 reports the count)."""
 
-MAX_SOLVES = 10 * EXPECTED_SOLVES
-"""Exact solves after which a build is given up: bounds the work of any build (a state's domain included)."""
-
 NORMAL = 5
 """Rows of the (theta, l) quantities ahead of the t nodes: v_fs, a/a_H, offset/a_H, p0/p0_H and ones (the ones
 rows, here and after each t node's tau, a*/a and kappa, carry the barycentric normalisation through the
 contractions of :meth:`CorrugationTable.evaluate`)."""
 
 
-class CorrugationTable:
+class CorrugationTable(CertifiedTable):
     """T', a, a*, offset, p0 and dT'/dxi of Coulomb friction on a one-harmonic surface, interpolated over (theta,
     l, t) (module docstring).
 
@@ -94,6 +92,8 @@ class CorrugationTable:
     solves : int
         Exact solves it took.
     """
+
+    max_solves = 10 * EXPECTED_SOLVES
 
     def __init__(self, scene: Callable[[float, float, float], Scene], wavelength: float, loads: tuple[float, float],
                  radius: float, contact_modulus: float, friction_coefficient: float):
@@ -150,15 +150,6 @@ class CorrugationTable:
                     result.creep_stiffness_per_length * xi_h / limit, float(result.info.get("error_estimate", 0.0)))
         return node, (a / a_h, result.contact_offset / a_h, result.max_pressure / p_h)
 
-    def node(self, theta: float, ell: float, v: float):
-        """:meth:`exact` as a step of a build: yields once after the solve, returns its value; the
-        :data:`MAX_SOLVES`-th solve gives the build up (ArithmeticError)."""
-        if self.solves >= MAX_SOLVES:
-            raise ArithmeticError(f"the table does not meet {TARGET:g} mu N within {MAX_SOLVES} exact solves")
-        value = self.exact(theta, ell, v)
-        yield
-        return value
-
     def onset(self, theta: float, ell: float):
         """v_fs at (theta, l) (a build-step generator)."""
         return (yield from onset(lambda v: self.node_only(theta, ell, v), start=0.5))
@@ -168,12 +159,6 @@ class CorrugationTable:
         return (yield from self.node(theta, ell, v))[0]
 
     # ------------------------------------------------------------------------------------------------- build
-    def build(self) -> CorrugationTable:
-        """:meth:`build_steps` to the end: ready afterwards."""
-        for _ in self.build_steps():
-            pass
-        return self
-
     def build_steps(self):
         """Solve the nodes, check the joint midpoints, refine until the check meets
         :data:`~rollcontact.stepping.tabulation.TARGET`, one exact solve per iteration (a caller can spread the build

@@ -39,6 +39,7 @@ from rollcontact.stepping.tabulation import (
     MAX_NODES,
     NODE_TOLERANCE,
     TARGET,
+    CertifiedTable,
     Node,
     barycentric_weights,
     basis,
@@ -53,9 +54,6 @@ EXPECTED_SOLVES = 600
 """Exact solves a build is modelled to take (its nodes, their onsets and the check; ``benchmarks/bench_table.py``
 reports the count)."""
 
-MAX_SOLVES = 10 * EXPECTED_SOLVES
-"""Exact solves after which a build is given up: bounds the work of any build (a state's domain included)."""
-
 W_LIMIT = 5.0
 """Largest ``w_max`` a table is built for; steps beyond it solve exactly.  Towards larger w the slip iteration's
 nodes cost more and then fail to converge (``benchmarks/bench_table.py`` times the build at this limit; a node at
@@ -65,7 +63,7 @@ REFERENCE_LOAD = 1e6
 """N' [N/m] of the normalised scenes the nodes are solved on (any load gives the same normalised answer)."""
 
 
-class FallingFrictionTable:
+class FallingFrictionTable(CertifiedTable):
     """tau, a*/a and kappa of the exponential falling law on a flat surface, interpolated over (u, w) (module
     docstring).
 
@@ -85,6 +83,8 @@ class FallingFrictionTable:
     solves : int
         Exact solves it took.
     """
+
+    max_solves = 10 * EXPECTED_SOLVES
 
     def __init__(self, kinetic_ratio: float, w_max: float, material: Material | None = None, radius: float = 0.46,
                  static_coefficient: float = 0.3):
@@ -125,26 +125,11 @@ class FallingFrictionTable:
                     result.creep_stiffness_per_length * self.saturation / limit,
                     float(result.info.get("error_estimate", 0.0)))
 
-    def node(self, u: float, w: float):
-        """:meth:`exact` as a step of a build: yields once after the solve, returns the node; the
-        :data:`MAX_SOLVES`-th solve gives the build up (ArithmeticError)."""
-        if self.solves >= MAX_SOLVES:
-            raise ArithmeticError(f"the table does not meet {TARGET:g} mu N within {MAX_SOLVES} exact solves")
-        node = self.exact(u, w)
-        yield
-        return node
-
     def onset(self, w: float):
         """u of the onset of full slip at w (a build-step generator, :func:`~rollcontact.stepping.tabulation.onset`)."""
         return (yield from onset(lambda u: self.node(u, w)))
 
     # ------------------------------------------------------------------------------------------------- build
-    def build(self) -> FallingFrictionTable:
-        """:meth:`build_steps` to the end: ready afterwards."""
-        for _ in self.build_steps():
-            pass
-        return self
-
     def build_steps(self):
         """Solve the nodes, check the midpoints, refine until the check meets :data:`TARGET`, one exact solve per
         iteration (a caller can spread the build over many steps); ready at the end.

@@ -101,6 +101,32 @@ def periodic_tail(values: np.ndarray, axis: int) -> float:
     return float(np.take(spectrum, [top - 2, top - 1], axis=axis).max())
 
 
+class CertifiedTable:
+    """What both tables share: the driver of a build and its bound on the work.
+
+    A table defines ``exact(*coordinates)`` (one exact solve, counted in ``solves``), ``build_steps()`` (a
+    generator yielding once per solve, ready at its end) and ``max_solves``.
+    """
+
+    max_solves = 0
+    """Exact solves after which a build is given up: bounds the work of any build (a state's domain included)."""
+
+    def build(self):
+        """``build_steps`` to the end: ready afterwards."""
+        for _ in self.build_steps():
+            pass
+        return self
+
+    def node(self, *coordinates):
+        """``exact(*coordinates)`` as a step of a build: yields once after the solve, returns its value; the
+        ``max_solves``-th solve gives the build up (ArithmeticError)."""
+        if self.solves >= self.max_solves:
+            raise ArithmeticError(f"the table does not meet {TARGET:g} mu N within {self.max_solves} exact solves")
+        value = self.exact(*coordinates)
+        yield
+        return value
+
+
 @dataclass(frozen=True)
 class Node:
     """The normalised solution at one point of a table: tau, a*/a, kappa and the solve's error estimate (relative
