@@ -31,7 +31,6 @@ registered as a fallback (``"discretised"``), with a tolerance at its cheapest s
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import replace
 
 from rollcontact.checks import check_real
@@ -195,23 +194,31 @@ class OverBudget(ValueError):
 
 
 class Budget:
-    """The time a solve may spend: a setting starts only while its modelled cost fits what is left.
+    """The work a solve may do, in modelled seconds: a setting starts only while its modelled cost fits what is left.
 
-    The modelled cost is the accuracy models' (seconds on the machine of their calibration, ``benchmarks/pareto.py``),
-    what is left is ``seconds`` less the wall time since the solve started.
+    The modelled cost is the accuracy models' (seconds on the machine of their calibration, ``benchmarks/pareto.py``);
+    what is left is ``seconds`` less the modelled cost of the settings already run (:meth:`charge`).  No clock is
+    read: the same scene and budget run the same settings on any machine, however fast or loaded.
     """
 
     def __init__(self, seconds: float):
         self.seconds = check_real("budget", seconds, lower=0.0, lower_open=True, unit="s")
-        self.start = time.perf_counter()
+        self.spent = 0.0
+        """Modelled seconds [s] of the settings run so far."""
 
     def left(self) -> float:
-        """Seconds [s] left."""
-        return self.seconds - (time.perf_counter() - self.start)
+        """Modelled seconds [s] left."""
+        return self.seconds - self.spent
 
     def fits(self, cost: float) -> bool:
         """Whether a setting of modelled ``cost`` [s] may start (a NaN cost never does)."""
         return cost <= self.left()
+
+    def charge(self, cost: float) -> None:
+        """Count a setting of modelled ``cost`` [s] that ran (a NaN cost, of a method without a cost model, counts
+        nothing: no model bounds it)."""
+        if cost == cost:
+            self.spent += cost
 
 
 def setting_for(name: str, scene: Scene, tolerance: float) -> Setting:
@@ -247,14 +254,16 @@ def solve(scene: Scene, method: str = "auto", *, tolerance: float | None = None,
     methods : iterable of str, optional
         ``auto`` chooses and falls back only among these registered names (default: all).
     budget : float, optional
-        The time [s] the solve may spend, by the accuracy models' cost (modelled seconds, calibrated by
+        The work [s] the solve may do, in the accuracy models' modelled seconds (calibrated by
         ``benchmarks/pareto.py``): a setting starts only while its modelled cost fits what is left of the budget
-        after the wall time spent, so ``auto`` chooses, escalates and falls back within it.  With a tolerance: the
+        after the modelled costs of the settings already run, so ``auto`` chooses, escalates and falls back within
+        it, the same way on every machine (no clock is read).  With a tolerance: the
         cheapest setting that meets it within the budget, else the most accurate that fits (the message says so);
         without: the method's default setting when it fits, else the most accurate that does.  When none fits, an
         unsuccessful result says why, and nothing is solved.  A method without an accuracy model has no cost
         model: it runs unbounded.  :func:`choose_setting` gives the setting and its
-        modelled cost before solving; the result reports it as ``info["predicted_cost"]``.
+        modelled cost before solving; the result reports it as ``info["predicted_cost"]``, and the modelled cost
+        of everything the solve ran as ``info["modelled_cost"]``.
     estimate : {"full", "free"}
         Without a tolerance, ``info["error_estimate"]`` is the method's full estimate (``"full"``), or only the part
         that costs nothing beyond the solve (``"free"``, :meth:`~rollcontact.method.AccuracyModel.free_estimate`: a
@@ -293,6 +302,16 @@ def solve(scene: Scene, method: str = "auto", *, tolerance: float | None = None,
         fallback = True
     names = None if methods is None else tuple(methods)
     budget = None if budget is None else Budget(budget)
+    result = choose_and_run(scene, tolerance, names, fallback, budget, options, estimate)
+    if budget is not None:
+        result.info["modelled_cost"] = budget.spent
+    return result
+
+
+def choose_and_run(scene: Scene, tolerance: float | None, names: tuple[str, ...] | None, fallback: bool,
+                   budget: Budget | None, options: dict, estimate: str) -> ContactResult:
+    """What :func:`solve` does once the method's candidates are known: choose, run, escalate and fall back, all
+    within ``budget`` (each setting run is charged to it)."""
     if tolerance is None:
         spec = METHODS[choose_method(scene, names=names)]
         result = attempt(fallback, spec.name, lambda: run_default(spec, scene, options, estimate, budget))
@@ -341,6 +360,7 @@ def run_default(spec: MethodSpec, scene: Scene, options: dict, estimate: str, bu
     used = used_options(spec, options)
     cost = model.cost(scene, used)
     if budget.fits(cost):
+        budget.charge(cost)
         result = call_with_known_options(spec, scene, options, estimate)
         result.info["predicted_cost"] = cost
         return result
@@ -349,6 +369,7 @@ def run_default(spec: MethodSpec, scene: Scene, options: dict, estimate: str, bu
         cheapest = model.minimum_cost(scene)
         return refused(scene, spec.name, f"{spec.name}'s cheapest setting is modelled at {cheapest:.3g} s, more than "
                        f"the budget of {budget.seconds:.3g} s", over_budget=True)
+    budget.charge(fitting.cost)
     result = call_with_known_options(spec, scene, {**fitting.options, **options}, estimate)
     result.info["predicted_cost"] = fitting.cost
     return type(result)(**{**result.__dict__, "message": f"{result.message} (budget: the default setting is modelled "
@@ -386,6 +407,8 @@ def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: f
     method's :meth:`AccuracyModel.escalation` names, and after a failure those its :meth:`AccuracyModel.retry`
     names (each finer than the last, so the loop ends).  User options that fix the escalated option stop it, and so
     does a ``budget`` that the next setting's modelled cost does not fit (the message says so)."""
+    if budget is not None:
+        budget.charge(setting.cost)
     spec, result = run_setting(setting, scene, options, tolerance)
     result.info["predicted_cost"] = setting.cost
     failures = []
@@ -403,6 +426,8 @@ def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: f
             break
         if not result.success:
             failures.append(f"{used}: {result.message}")
+        if budget is not None:
+            budget.charge(cost)
         spec, result = run_setting(Setting(spec.name, following, math.nan, cost), scene, options, tolerance)
         result.info["predicted_cost"] = cost
     if failures or note:

@@ -83,7 +83,8 @@ def test_two_instances_with_different_tables_stay_independent(family, other):
 @pytest.mark.parametrize(("family", "use"), [("falling friction", FallingFrictionUse), ("corrugation", CorrugationUse)])
 def test_auto_builds_across_exact_steps_after_they_have_paid_for_it(monkeypatch, family, use):
     monkeypatch.setattr(use, "expected_solves", 3)
-    model = ContactModel(ContactParameters(**FAMILIES[family][0], table=0, step_budget=0.005))
+    budget = 0.02
+    model = ContactModel(ContactParameters(**FAMILIES[family][0], table=0, step_budget=budget))
     used, ready_at = [], None
     for k in range(5000):
         out = step(model, k, **inputs(family, k))
@@ -91,11 +92,58 @@ def test_auto_builds_across_exact_steps_after_they_have_paid_for_it(monkeypatch,
         if out.method_used == 6:
             ready_at = k
             break
-    assert ready_at is not None and ready_at > 10, f"the table is built over many steps, ready at step {ready_at}"
+    solves = model.table_use.table.solves
+    most_per_step = budget / use.solve_cost
+    assert ready_at is not None and ready_at >= solves / most_per_step, \
+        f"the table is built over many steps, at most {most_per_step:.0f} solves each: ready at step {ready_at}"
     assert set(used[:-1]) == {2}, "until it is ready the steps solve exactly"
     log = " | ".join(model.take_messages())
     assert "building a certified table" in log and "within step_budget" in log, log
-    assert "ready over" in log and "exact solves in" in log and "bytes, certified to" in log, log
+    assert "ready over" in log and "exact solves (modelled" in log and "bytes, certified to" in log, log
+
+
+@pytest.mark.parametrize("family", FAMILIES)
+def test_outputs_are_the_same_however_fast_the_machine_solves(monkeypatch, family):
+    """table = auto over a run that builds its table, once as it is and once with every exact solve delayed (a slow
+    or loaded machine): the same outputs bit for bit, the table taking over at the same step."""
+    import dataclasses
+    import time
+
+    from rollcontact import dispatch
+
+    monkeypatch.setattr(FallingFrictionUse, "expected_solves", 5)
+    monkeypatch.setattr(CorrugationUse, "expected_solves", 5)
+
+    def run():
+        model = ContactModel(ContactParameters(**FAMILIES[family][0], table=0, step_budget=0.05))
+        outs = []
+        for k in range(2000):
+            outs.append(step(model, k, **inputs(family, k)))
+            if [o.method_used for o in outs[-8:]] == [6] * 8:
+                break
+        return outs
+
+    fast = run()
+    spec = dispatch.METHODS["polynomial"]
+
+    def slow(scene, **options):
+        time.sleep(2e-4)
+        return spec.function(scene, **options)
+
+    slow.options = spec.function.options
+    monkeypatch.setitem(dispatch.METHODS, "polynomial", dataclasses.replace(spec, function=slow))
+    delayed = run()
+    assert [o.method_used for o in fast].count(6) > 5, "the run reaches the table"
+    assert delayed == fast, "the same inputs give the same outputs on a slower machine"
+
+
+def test_a_step_budget_without_room_for_the_build_says_so_and_stays_exact(monkeypatch):
+    monkeypatch.setattr(CorrugationUse, "expected_solves", 3)
+    model = ContactModel(ContactParameters(**FAMILIES["corrugation"][0], table=0, step_budget=2e-4))
+    used = {step(model, k, **inputs("corrugation", k)).method_used for k in range(30)}
+    log = " | ".join(model.take_messages())
+    assert used == {2}, f"exact steps: {used}"
+    assert "leaves no room for the table's exact solves" in log and "table = on" in log, log
 
 
 def test_steps_outside_the_domain_pay_for_a_table_over_the_wider_domain(monkeypatch):
@@ -182,5 +230,17 @@ def test_every_build_and_domain_is_bounded(monkeypatch):
     data = model.get_state().to_dict()
     with pytest.raises(ModelError, match="not a domain of this model's table"):
         model.set_state(ModelState.parse({**data, "table_domain": [falling_table.W_LIMIT * 1.5]}))
-    model.table_use.w_seen = 100.0  # steps far beyond: the next table stops at the limit
-    assert model.table_use.wanted_domain() == (falling_table.W_LIMIT,)
+    model.table_use.w_seen = 100.0  # steps far beyond: the next table stops at the limit of the kinetic ratio
+    limit = falling_table.w_limit(parameters["friction_kinetic_ratio"])
+    assert model.table_use.wanted_domain() == (limit,), "the domain stops at w_limit(A)"
+    assert limit == min(falling_table.W_LIMIT, falling_table.FALL_LIMIT / (1.0 - 0.6)), limit
+
+
+def test_a_node_that_does_not_converge_within_its_steps_gives_the_build_up(monkeypatch):
+    from rollcontact.stepping import falling_table
+
+    monkeypatch.setattr(falling_table, "NODE_ITERATIONS", 1)
+    table = falling_table.FallingFrictionTable(0.6, 1.0)
+    with pytest.raises(ArithmeticError, match="did not converge in"):
+        table.build()
+    assert table.solves < 20, f"given up at the first node that needs more steps, after {table.solves} solves"

@@ -64,6 +64,10 @@ EXPECTED_SOLVES = 2200
 """Exact solves a build is modelled to take (its nodes, their onsets and the check; ``benchmarks/bench_table.py``
 reports the count)."""
 
+SOLVE_COST = 1.2e-4
+"""Modelled time [s] of one exact solve of a build: the mean of a build's solves (``benchmarks/bench_table.py``,
+"Builds", seconds over solves), with which ``table`` = auto spreads a build over the exact steps."""
+
 NORMAL = 5
 """Rows of the (theta, l) quantities ahead of the t nodes: v_fs, a/a_H, offset/a_H, p0/p0_H and ones (the ones
 rows, here and after each t node's tau, a*/a and kappa, carry the barycentric normalisation through the

@@ -18,10 +18,11 @@ round-off).  :class:`FallingFrictionTable` interpolates them over ``0 <= w <= w_
 * in full slip the tables hold the difference to the asymptote of deep slip, ``tau -> (1 - A) exp(-w u) + A`` (the
   slip velocity approaches ``V xi`` everywhere), which is exact at ``r = 0`` (no solve there).
 
-The nodes are solved by the polynomial method (``rollcontact.solve(..., tolerance=NODE_TOLERANCE)``).  The table is
-certified a posteriori: the exact solution at the midpoints between nodes (in t or r and in w) is compared with the
-interpolant; while the largest difference of tau exceeds half the target the node counts grow, and the bound the
-table reports is ``2 max|difference| + the nodes' largest error estimate`` [1 of mu_s N'].  Outside its domain
+The nodes are solved by the polynomial method (``rollcontact.solve(..., tolerance=NODE_TOLERANCE)``, within
+:data:`NODE_NODES` nodes and :data:`NODE_ITERATIONS` steps).  The table is certified a posteriori: the exact solution
+at the midpoints between nodes (in t or r and in w) is compared with the interpolant, and the bound the table reports
+is ``2 max|difference| + the nodes' largest error estimate`` [1 of mu_s N']; while it exceeds the target the node
+counts grow (a table whose nodes' estimates alone take half the target is given up).  Outside its domain
 (w beyond ``w_max``) the step solves exactly.
 """
 
@@ -32,7 +33,7 @@ import math
 import numpy as np
 
 from rollcontact.closed_form import hertz
-from rollcontact.dispatch import solve
+from rollcontact.dispatch import METHODS, solve
 from rollcontact.friction import ExponentialFalling
 from rollcontact.scene import Material, Scene
 from rollcontact.stepping.tabulation import (
@@ -54,10 +55,37 @@ EXPECTED_SOLVES = 600
 """Exact solves a build is modelled to take (its nodes, their onsets and the check; ``benchmarks/bench_table.py``
 reports the count)."""
 
+SOLVE_COST = 2e-3
+"""Modelled time [s] of one exact solve of a build: about the mean of a build's solves over the kinetic ratios
+(``benchmarks/bench_table.py``, "Builds", seconds over solves), with which ``table`` = auto spreads a build over the
+exact steps."""
+
+NODE_NODES = 256
+"""Largest slip-iteration node count of a node's solve: its escalation stops there (the modelled budget of the solve
+admits the ladder's counts up to it), so no node costs the seconds of 512 nodes; the node's a-posteriori
+estimate, which enters the table's bound, says what that leaves."""
+
+NODE_ITERATIONS = 200
+"""Largest number of slip-iteration steps of a node's solve (Newton, and as many of the relaxed fixed point, which
+near the onset of full slip at large w needs about a hundred): a node that does not converge within them gives the
+table up rather than run on."""
+
 W_LIMIT = 5.0
-"""Largest ``w_max`` a table is built for; steps beyond it solve exactly.  Towards larger w the slip iteration's
-nodes cost more and then fail to converge (``benchmarks/bench_table.py`` times the build at this limit; a node at
-w = 7.8 fails)."""
+"""Largest ``w_max`` a table is built for, at any kinetic ratio (:func:`w_limit`)."""
+
+FALL_LIMIT = 0.8
+"""Largest ``(1 - A) w_max``, the fall of the friction coefficient over the saturation slip (in units of mu_s),
+a table is built for (:func:`w_limit`).  Beyond it the nodes' slip iterations need more than :data:`NODE_NODES`
+nodes to meet :data:`~rollcontact.stepping.tabulation.NODE_TOLERANCE`, or more than :data:`NODE_ITERATIONS` steps to
+converge, and the table would miss its target or take tens of seconds (``benchmarks/bench_table.py``, "Largest
+domains", builds at every kinetic ratio within the limit)."""
+
+
+def w_limit(kinetic_ratio: float) -> float:
+    """Largest ``w_max`` [1] of a table of the kinetic ratio A: ``min(W_LIMIT, FALL_LIMIT / (1 - A))``; steps beyond
+    it solve exactly."""
+    fall = 1.0 - kinetic_ratio
+    return W_LIMIT if fall * W_LIMIT <= FALL_LIMIT else FALL_LIMIT / fall
 
 REFERENCE_LOAD = 1e6
 """N' [N/m] of the normalised scenes the nodes are solved on (any load gives the same normalised answer)."""
@@ -115,7 +143,10 @@ class FallingFrictionTable(CertifiedTable):
         speed = w / self.saturation  # B = 1 s/m
         scene = Scene(REFERENCE_LOAD, creep=u * self.saturation, radius=self.radius, material=self.material,
                       friction=ExponentialFalling(self.mu, self.kinetic_ratio, 1.0), rolling_speed=speed)
-        result = solve(scene, method="polynomial", tolerance=NODE_TOLERANCE)
+        model = METHODS["polynomial"].accuracy
+        budget = sum(model.cost(scene, o) for o in model.ladder(scene) if o.get("nodes", 0) <= NODE_NODES)
+        result = solve(scene, method="polynomial", tolerance=NODE_TOLERANCE, budget=budget,
+                       slip_iterations=NODE_ITERATIONS)
         self.solves += 1
         if not result.success:
             raise ArithmeticError(f"table node u = {u:.6g}, w = {w:.6g}: {result.message}")
@@ -137,16 +168,20 @@ class FallingFrictionTable(CertifiedTable):
         Raises
         ------
         ArithmeticError
-            A node the exact solver cannot solve, or :data:`MAX_NODES` reached without meeting the target.
+            A node the exact solver cannot solve, :data:`MAX_NODES` reached without meeting the target, or the
+            nodes' own error estimates leaving a bound above the target.
         """
         n_w, n_t, n_r = NODES
         while True:
             yield from self.tabulate(n_w, n_t, n_r)
             error = yield from self.check()
-            if error <= 0.5 * TARGET:
+            if 2.0 * error + self.node_error <= TARGET:
                 self.bound = 2.0 * error + self.node_error
                 self.ready = True
                 return
+            if self.node_error >= 0.5 * TARGET:
+                raise ArithmeticError(f"the nodes' error estimates ({self.node_error:.3g} mu N) leave no room for "
+                                      f"the table's bound of {TARGET:g} mu N")
             if max(n_w, n_t, n_r) * 2 - 1 > MAX_NODES:
                 raise ArithmeticError(f"the table does not meet {TARGET:g} mu N with {MAX_NODES} nodes per "
                                       f"direction (check error {error:.3g})")

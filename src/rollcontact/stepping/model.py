@@ -70,7 +70,6 @@ from __future__ import annotations
 
 import math
 import sys
-import time
 from math import isfinite
 
 import numpy as np
@@ -95,6 +94,7 @@ from rollcontact.stepping.parameters import (
 )
 from rollcontact.stepping.state import ModelState
 from rollcontact.stepping.table import table_use
+from rollcontact.stepping.threads import one_blas_thread
 from rollcontact.stepping.transient import InstationaryStepping
 
 INF = math.inf
@@ -365,36 +365,43 @@ class ContactModel(InstationaryStepping):
         and p0) meets it; without, only the part of the estimate that costs nothing is checked (``estimate="free"``:
         the polynomial slip iteration's would cost a Newton step per FMU step).
         """
-        started = time.perf_counter()
         scene = self.scene(x, normal_load, creep, velocity)
         tolerance = self.parameters.tolerance or None
         try:
-            result = solve(scene, methods=self.candidates, tolerance=tolerance, estimate="free",
-                           budget=self.parameters.step_budget or None, **self.options)
-            name = result.method
-            if not result.success:
-                raise ModelError(f"{name} failed: {result.message}")
-            if tolerance is not None and not result.info.get("tolerance_met", True):
-                self.notice_once("tolerance", f"tolerance = {tolerance!r} is not met within step_budget = "
-                                 f"{self.parameters.step_budget!r} s at X = {x!r} m: {result.message}")
-            why = unresolved(result)
-            if why is not None:
-                raise ModelError(f"{name}: {why}")
-            stiffness = float(result.creep_stiffness_per_length)
-            if not math.isfinite(stiffness):
-                options = result.info.get("setting") or used_options(METHODS[name], self.options)
-                stiffness = self.creep_stiffness_by_difference(scene, name, result, options)
+            with one_blas_thread():
+                result, stiffness = self.solved(scene, x, tolerance)
         except (ValueError, ArithmeticError) as exc:
             raise ModelError(f"no method solved the scene at X = {x!r} m (N = {normal_load!r} N, creep = {creep!r}, "
                              f"V = {velocity!r} m/s): {exc}") from None
         force = float(result.tangential_force_per_length) * self.width
         a = float(result.contact_half_width)
         if self.table_use is not None:
-            self.table_use.exact_step_done(scene.normal_load_per_length, velocity, a, started)
+            self.table_use.exact_step_done(scene.normal_load_per_length, velocity, a,
+                                           result.info.get("modelled_cost", math.nan))
         return StepOutputs(force, float(result.traction_coefficient), a, float(result.stick_half_width),
                            0.0 - float(result.contact_offset), float(result.max_pressure),
                            velocity * creep * force, stiffness * self.width,
-                           self.stationarity(x, normal_load, creep, velocity, a), method_code(name), x)
+                           self.stationarity(x, normal_load, creep, velocity, a), method_code(result.method), x)
+
+    def solved(self, scene: Scene, x: float, tolerance: float | None):
+        """The result of ``rollcontact.solve`` for the step's scene and its dT'/dxi [N/m] (by a difference where the
+        method does not give it); a failed or unresolved result raises :class:`ModelError`."""
+        result = solve(scene, methods=self.candidates, tolerance=tolerance, estimate="free",
+                       budget=self.parameters.step_budget or None, **self.options)
+        name = result.method
+        if not result.success:
+            raise ModelError(f"{name} failed: {result.message}")
+        if tolerance is not None and not result.info.get("tolerance_met", True):
+            self.notice_once("tolerance", f"tolerance = {tolerance!r} is not met within step_budget = "
+                             f"{self.parameters.step_budget!r} s at X = {x!r} m: {result.message}")
+        why = unresolved(result)
+        if why is not None:
+            raise ModelError(f"{name}: {why}")
+        stiffness = float(result.creep_stiffness_per_length)
+        if not math.isfinite(stiffness):
+            options = result.info.get("setting") or used_options(METHODS[name], self.options)
+            stiffness = self.creep_stiffness_by_difference(scene, name, result, options)
+        return result, stiffness
 
     def table_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs | None:
         """The outputs from the certified table (:mod:`rollcontact.stepping.table`), or None where it has no answer:

@@ -36,7 +36,6 @@ next step and repeats the steps bit for bit.  A build in progress is not part of
 from __future__ import annotations
 
 import math
-import time
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 
@@ -47,6 +46,7 @@ from rollcontact.stepping.corrugation_table import CorrugationTable
 from rollcontact.stepping.falling_table import FallingFrictionTable
 from rollcontact.stepping.parameters import AUTO, ModelError
 from rollcontact.stepping.tabulation import TARGET
+from rollcontact.stepping.threads import one_blas_thread
 
 LOAD_MARGIN = 1.5
 """Factor by which the corrugation table's loads reach beyond the lowest and highest load per length met."""
@@ -68,6 +68,9 @@ class TableUse(ABC):
     expected_solves = 0
     """Exact solves a build of the family is modelled to take."""
 
+    solve_cost = math.inf
+    """Modelled time [s] of one exact solve of a build of the family."""
+
     def __init__(self, mode: int, budget: float, log: Callable[[str], None]):
         self.mode, self.budget, self.log = mode, budget, log
         self.table = None
@@ -75,7 +78,7 @@ class TableUse(ABC):
         self.pending = None
         self.builder = None
         self.exact_steps = 0
-        self.build_seconds = 0.0
+        self.starved = False
         self.remaining: float | None = None
         """Steps left to the run's end when it is known (``(stop_time - t) / h``, set by the model each step)."""
         self.declined = False
@@ -113,9 +116,9 @@ class TableUse(ABC):
         """The ready table's domain; () for none."""
         return () if self.table is None else self.table.domain
 
-    def exact_step_done(self, load: float, velocity: float, half_width: float, started: float) -> None:
-        """Count an exact step (N' [N/m], V [m/s], a [m], begun at ``started``, perf_counter seconds) and, when due,
-        build within what is left of the budget."""
+    def exact_step_done(self, load: float, velocity: float, half_width: float, exact_cost: float) -> None:
+        """Count an exact step (N' [N/m], V [m/s], a [m], its solve modelled at ``exact_cost`` [s]) and, when due,
+        advance the build by :meth:`solves_this_step` exact solves."""
         self.exact_steps += 1
         self.see(load, velocity, half_width)
         first_on = self.mode == 2 and self.table is None
@@ -127,20 +130,34 @@ class TableUse(ABC):
                 self.start(domain)
         if self.builder is None:
             return
-        deadline = math.inf if first_on or not self.budget > 0.0 else started + self.budget
-        begun = time.perf_counter()
+        solves = math.inf if first_on else self.solves_this_step(exact_cost)
         try:
-            while time.perf_counter() < deadline:
-                next(self.builder)
+            with one_blas_thread():
+                while solves > 0:
+                    next(self.builder)
+                    solves -= 1
         except StopIteration:
-            self.build_seconds += time.perf_counter() - begun
             self.finish()
         except (ArithmeticError, ValueError) as exc:  # a node the solver refuses or cannot solve to the target
             self.log(f"table: no certified table of this scene family ({exc}); the steps solve exactly")
             self.pending = self.builder = None
             self.mode = 1
-        else:
-            self.build_seconds += time.perf_counter() - begun
+
+    def solves_this_step(self, exact_cost: float) -> float:
+        """Exact solves of the build an exact step does: as many as fit what ``step_budget`` leaves after the
+        step's own solve (``exact_cost`` [s], modelled), at :attr:`solve_cost` each; all that are left without a
+        budget.  A fixed, modelled amount of work: the step at which the table is ready is the same on every
+        machine.  Where the budget leaves no room for one, the build does not advance (said once in the log)."""
+        if not self.budget > 0.0:
+            return math.inf
+        room = self.budget - (exact_cost if exact_cost == exact_cost else 0.0)
+        solves = int(room / self.solve_cost) if room > 0.0 else 0
+        if solves == 0 and not self.starved:
+            self.starved = True
+            self.log(f"table: step_budget = {self.budget!r} s leaves no room for the table's exact solves (modelled "
+                     f"at {self.solve_cost:.3g} s each) beside the step's own solve: the table is not built; a larger "
+                     "step_budget, or table = on, builds it")
+        return solves
 
     def due(self) -> bool:
         """Whether a build is due now (``table`` = auto, or a rebuild): with the run's end unknown, once the exact
@@ -161,7 +178,6 @@ class TableUse(ABC):
         self.pending = self.new_table(domain)
         self.builder = self.pending.build_steps()
         self.exact_steps = 0
-        self.build_seconds = 0.0
         how = "now" if self.mode == 2 and self.table is None else "within step_budget, a little in each exact step"
         self.log(f"table: building a certified table over {self.describe(domain)} {how} (modelled "
                  f"{self.expected_solves} exact solves)")
@@ -171,8 +187,8 @@ class TableUse(ABC):
         table = self.pending
         self.table, self.pending, self.builder = table, None, None
         self.exact_steps = 0
-        self.log(f"table: ready over {self.describe(table.domain)}: {table.solves} exact solves in "
-                 f"{self.build_seconds:.3g} s, {table.nbytes} bytes, certified to {table.bound:.2g} mu N")
+        self.log(f"table: ready over {self.describe(table.domain)}: {table.solves} exact solves (modelled "
+                 f"{table.solves * self.solve_cost:.3g} s), {table.nbytes} bytes, certified to {table.bound:.2g} mu N")
 
     def describe(self, domain: tuple[float, ...]) -> str:
         """The domain in words, for the log."""
@@ -197,16 +213,19 @@ class TableUse(ABC):
                              f"({type(self).__name__})")
         if self.table is None or self.table.domain != domain:
             try:
-                self.table = self.new_table(domain).build()
+                with one_blas_thread():
+                    self.table = self.new_table(domain).build()
             except (ArithmeticError, ValueError) as exc:
                 raise ModelError(f"model state table_domain = {domain!r}: its table cannot be built ({exc})") from None
 
 
 class FallingFrictionUse(TableUse):
     """The table of the exponential falling law on a flat surface; its domain ``(w_max,)``: twice the largest
-    ``B V xi_sat`` met, at least 1 and at most :data:`~rollcontact.stepping.falling_table.W_LIMIT`."""
+    ``B V xi_sat`` met, at least 1 and at most :func:`~rollcontact.stepping.falling_table.w_limit` of the kinetic
+    ratio."""
 
     expected_solves = falling_table.EXPECTED_SOLVES
+    solve_cost = falling_table.SOLVE_COST
 
     def __init__(self, friction: ExponentialFalling, material, radius: float, offset: float, mode: int,
                  budget: float, log: Callable[[str], None]):
@@ -214,6 +233,7 @@ class FallingFrictionUse(TableUse):
         self.friction, self.material, self.radius, self.offset = friction, material, radius, offset
         self.saturation_per_half_width = friction.static_coefficient / radius
         self.w_seen = 0.0
+        self.w_limit = falling_table.w_limit(friction.kinetic_ratio)
 
     def lookup(self, table, x, load, creep, velocity):
         """Hertz's a and p0; ``T' = sign(xi) tau mu N'``, ``a* = (a*/a) a``, ``dT'/dxi = kappa mu N' / xi_sat``."""
@@ -231,14 +251,14 @@ class FallingFrictionUse(TableUse):
         self.w_seen = max(self.w_seen, self.friction.decay * velocity * self.saturation_per_half_width * half_width)
 
     def wanted_domain(self):
-        return (min(falling_table.W_LIMIT, max(1.0, 2.0 * self.w_seen, *self.domain)),)
+        return (min(self.w_limit, max(1.0, 2.0 * self.w_seen, *self.domain)),)
 
     def new_table(self, domain):
         return FallingFrictionTable(self.friction.kinetic_ratio, domain[0], self.material, self.radius,
                                     self.friction.static_coefficient)
 
     def valid_domain(self, domain):
-        return len(domain) == 1 and 0.0 < domain[0] <= falling_table.W_LIMIT
+        return len(domain) == 1 and 0.0 < domain[0] <= self.w_limit
 
     def describe(self, domain):
         return f"w = B V xi_sat <= {domain[0]:.4g}"
@@ -249,6 +269,7 @@ class CorrugationUse(TableUse):
     per length met, :data:`LOAD_MARGIN` beyond both ends."""
 
     expected_solves = corrugation_table.EXPECTED_SOLVES
+    solve_cost = corrugation_table.SOLVE_COST
 
     def __init__(self, scene: Callable, wavelength: float, radius: float, contact_modulus: float, mu: float,
                  mode: int, budget: float, log: Callable[[str], None]):

@@ -61,7 +61,12 @@ from rollcontact.methods.polynomial.distributions import PolynomialDistributions
 from rollcontact.methods.polynomial.monomial import BASES, monomial_density
 from rollcontact.methods.polynomial.patches import patch_starts, solve_split, split_normal, split_target
 from rollcontact.methods.polynomial.patches_slip import solve_split_velocity
-from rollcontact.methods.polynomial.slip import DEFAULT_NODES, default_nodes, solve_velocity_dependent
+from rollcontact.methods.polynomial.slip import (
+    DEFAULT_NODES,
+    SLIP_ITERATIONS,
+    default_nodes,
+    solve_velocity_dependent,
+)
 from rollcontact.methods.polynomial.validity import CONVEX, SEVERAL, validity_failures
 from rollcontact.result import ContactResult, NoContact
 
@@ -141,7 +146,8 @@ def solve_normal(problem: NormalProblem, load: float, estar: float, a0: float, m
 
 
 def solve_polynomial(scene, *, order: int | None = None, truncation: float = TRUNCATION, basis: str = "chebyshev",
-                     max_iterations: int = 60, check: bool = True, nodes: int = DEFAULT_NODES) -> ContactResult:
+                     max_iterations: int = 60, check: bool = True, nodes: int = DEFAULT_NODES,
+                     slip_iterations: int = SLIP_ITERATIONS) -> ContactResult:
     """Polynomial method for a steady scene (paper sections 3, 4.1 and, for velocity-dependent friction, 4.2).
 
     Parameters
@@ -164,6 +170,10 @@ def solve_polynomial(scene, *, order: int | None = None, truncation: float = TRU
         4.2).  Raised to 32 or 64 for steep laws, which need them for 1e-3 in T'
         (:func:`rollcontact.methods.polynomial.slip.default_nodes`, from ``benchmarks/bench_steady.py`` table C), and to
         twice the number of pressure terms.
+    slip_iterations : int
+        Largest number of Newton iterations of the slip iteration, and as many again of its relaxed fixed point
+        where Newton stalls (:func:`rollcontact.methods.polynomial.slip.solve_velocity_dependent`): bounds the work
+        of a solve with velocity-dependent friction; a solve that does not converge within them fails and says so.
     check : bool
         Run the validity checks (one patch, stick at the leading edge).  Only switch off when the caller has
         established validity otherwise.
@@ -235,7 +245,7 @@ def solve_polynomial(scene, *, order: int | None = None, truncation: float = TRU
         tangential = coulomb_reduction(scene, expansion, a, x0, g, info, order, truncation)
         if tangential is None:
             return solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check,
-                                                nodes, (m, samples), truncation, order)
+                                                nodes, (m, samples), truncation, order, slip_iterations)
     stick, d_n, G, t_force, stiffness, tang_failure = tangential
     dist = PolynomialDistributions(a, x0, c_n, g, stick, x0 - a + stick, d_n, G, mu, xi, monomial_b)
     messages = []
@@ -266,7 +276,7 @@ def solve_polynomial(scene, *, order: int | None = None, truncation: float = TRU
                          distributions=dist, info=info)
 
 
-solve_polynomial.options = ("order", "truncation", "basis", "max_iterations", "nodes")
+solve_polynomial.options = ("order", "truncation", "basis", "max_iterations", "nodes", "slip_iterations")
 
 
 def several_patches(scene, expansion: SlopeExpansion, truncation: float, order: int | None,
@@ -344,7 +354,7 @@ def coulomb_reduction(scene, e: SlopeExpansion, a, x0, g, info, order, truncatio
 
 
 def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, residual, info, check, nodes,
-                                 samples, truncation, order):
+                                 samples, truncation, order, slip_iterations):
     """Normal problem done; tangential problem by the slip iteration of :mod:`rollcontact.methods.polynomial.slip`, or,
     where the contact splits, on the patches of :func:`several_patches`; where those fail too, the failure (no
     slip iteration on a patch that is not the contact)."""
@@ -371,7 +381,8 @@ def solve_with_velocity_friction(scene, expansion, a, x0, c_n, g, iterations, re
         stick, t_force, dist, it, stiffness = a, 0.0, zero, 0, dt / dxi if dxi != 0.0 else math.nan
     else:
         nodes = max(nodes, default_nodes(c_n, estar, scene.friction, scene.rolling_speed))
-        out = solve_velocity_dependent(c_n, a, x0, estar, scene.friction, scene.rolling_speed, xi, nodes=nodes)
+        out = solve_velocity_dependent(c_n, a, x0, estar, scene.friction, scene.rolling_speed, xi, nodes=nodes,
+                                       max_iterations=slip_iterations)
         stick, t_force, dist, it, stiffness = (out["stick_half_width"], out["tangential_force_per_length"],
                                                out["distributions"], out["iterations"],
                                                out["creep_stiffness_per_length"])
