@@ -22,7 +22,10 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import statistics
+import subprocess
+import sys
 import tempfile
 import time
 from pathlib import Path
@@ -32,6 +35,7 @@ import common
 import rollcontact as rc
 from rollcontact.stepping import ContactModel, ContactParameters, falling_table
 from rollcontact.stepping.falling_table import FallingFrictionTable
+from rollcontact.stepping.threads import one_blas_thread
 
 WIDTH = common.CONTACT_WIDTH
 LAWS = (  # (label, kinetic ratio A, decay B [s/m], speed V [m/s], load per length N' [N/m], creep range)
@@ -126,20 +130,86 @@ def main() -> None:
                          f"{'' if error is None else f'{error:.2g}'} | {sorted(case.methods_used)} |")
         for case in cases:
             case.free()
-    limit = FallingFrictionTable(LAWS[0][1], falling_table.W_LIMIT)
-    start = time.perf_counter()
-    limit.build()
-    builds.append((f"falling friction A {LAWS[0][1]} at the largest domain (W_LIMIT)", time.perf_counter() - start,
-                   limit.solves, limit.nbytes, limit.bound, f"{limit.w_max:.3g}"))
-    lines += ["", "## The tables", "",
+    lines += ["", "## Builds", "",
               "Built at the first loaded step (``table`` = on) over the domain that step implies (w_max of falling "
-              "friction; N_low, N_high [N/m] of a corrugation); the last falling-friction row is a table over the "
-              "largest domain a model builds (``falling_table.W_LIMIT``).", "",
-              "| scene | domain | build (s) | exact solves | size (bytes) | certified bound (mu N) |",
-              "|---|---|---|---|---|---|"]
-    lines += [f"| {label} | {domain} | {seconds:.2f} | {solves} | {size} | {bound:.2g} |"
+              "friction; N_low, N_high [N/m] of a corrugation). Seconds over solves is what ``SOLVE_COST`` of each "
+              "family models (2e-3 s falling friction, 1.2e-4 s corrugation).", "",
+              "| scene | domain | build (s) | exact solves | s per solve | size (bytes) | certified bound (mu N) |",
+              "|---|---|---|---|---|---|---|"]
+    lines += [f"| {label} | {domain} | {seconds:.2f} | {solves} | {seconds / solves:.2g} | {size} | {bound:.2g} |"
               for label, seconds, solves, size, bound, domain in builds]
+    lines += largest_domains(args.quick) + blas_threads()
     common.publish(lines, "table.md", args.quick)
+
+
+def largest_domains(quick: bool) -> list[str]:
+    """Falling-friction builds over the largest domain of each kinetic ratio (``w_limit(A)``), with one BLAS thread as
+    the model builds: solves, seconds, the slowest solve, the bound or why the build was given up."""
+    ratios = (0.05, 0.3, 0.6, 0.9) if quick else (0.01, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95)
+    lines = ["", "## Largest domains", "",
+             "Falling friction (exponential law): a table over the largest domain of each kinetic ratio A, "
+             "``w_max = w_limit(A) = min(5, 0.8 / (1 - A))``, built as a model builds it (one BLAS thread). The "
+             "work of any build is at most ``max_solves`` solves, each bounded by ``NODE_NODES`` and "
+             "``NODE_ITERATIONS``.", "",
+             "| A | w_max | exact solves | build (s) | slowest solve (s) | certified bound (mu N) |",
+             "|---|---|---|---|---|---|"]
+    for ratio in ratios:
+        table = FallingFrictionTable(ratio, falling_table.w_limit(ratio))
+        exact, slowest = table.exact, [0.0]
+
+        def timed(*coordinates, exact=exact, slowest=slowest):
+            start = time.perf_counter()
+            value = exact(*coordinates)
+            slowest[0] = max(slowest[0], time.perf_counter() - start)
+            return value
+
+        table.exact = timed
+        start = time.perf_counter()
+        try:
+            with one_blas_thread():
+                table.build()
+            outcome = f"{table.bound:.2g}"
+        except ArithmeticError as exc:
+            outcome = f"given up: {exc}"
+        lines.append(f"| {ratio} | {table.w_max:.3g} | {table.solves} | {time.perf_counter() - start:.2f} | "
+                     f"{slowest[0]:.3f} | {outcome} |")
+    return lines
+
+
+THREADS_SCRIPT = """
+import time
+from rollcontact.stepping.falling_table import FallingFrictionTable, w_limit
+from rollcontact.stepping.threads import one_blas_thread
+for limited in (False, True, False, True):
+    table = FallingFrictionTable(0.6, w_limit(0.6))
+    start = time.perf_counter()
+    if limited:
+        with one_blas_thread():
+            table.build()
+    else:
+        table.build()
+    print(limited, time.perf_counter() - start)
+"""
+
+
+def blas_threads() -> list[str]:
+    """One falling-friction build (A 0.6 at its largest domain) in a fresh process with the BLAS's default threads
+    (no ``OPENBLAS_NUM_THREADS``), without and with the model's one-thread limit, alternated twice."""
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")}
+    env["PYTHONPATH"] = str(common.ROOT / "src")
+    out = subprocess.run([sys.executable, "-c", THREADS_SCRIPT], env=env, capture_output=True, text=True,
+                         check=True).stdout.split()
+    times = {"True": [], "False": []}
+    for flag, seconds in zip(out[::2], out[1::2], strict=True):
+        times[flag].append(float(seconds))
+    free, limited = statistics.median(times["False"]), statistics.median(times["True"])
+    return ["", "## BLAS threads", "",
+            f"One build (A 0.6 at w_limit, {os.cpu_count()} cores) in a process with the BLAS's default threads: "
+            "as it is, and with the one-thread limit the model takes (``rollcontact.stepping.threads``); medians "
+            "of two each, alternated.", "",
+            "| BLAS threads | build (s) |", "|---|---|",
+            f"| default | {free:.2f} |", f"| one (the model's limit) | {limited:.2f} |",
+            f"| ratio default / one | {free / limited:.2f} |"]
 
 
 if __name__ == "__main__":

@@ -2,9 +2,12 @@
 
 ``tests/data/fmu_fingerprint.json`` holds every output of every step as ``repr`` strings, written by
 ``python tests/test_fmu_fingerprint.py --record``.  A refactoring must leave them bit for bit: the paths that are
-pure floating-point arithmetic in Python (closed form, relaxation lag) are compared exactly; the paths through
-LAPACK/BLAS (polynomial, discretised, transient) to 1e-12 of each output's scale, because another CPU may take
-another BLAS kernel with another rounding.
+pure floating-point arithmetic in Python (closed form, relaxation lag) are compared exactly; the steady paths through
+LAPACK/BLAS (polynomial, discretised) to 1e-12 of each output's scale, because another CPU may take another BLAS
+kernel with another rounding; the discretised transients to 1e-6 of it, because they iterate every substep to their
+iteration tolerance (``rollcontact.halfspace.grid.ITERATION_TOLERANCE``, 1e-9) and carry the state over the run, so
+another kernel's rounding moves each substep within that tolerance and the differences add up over the run's
+substeps.  On one machine every path repeats bit for bit (``tests/stepping/test_table.py``, the runs with delays).
 """
 
 from __future__ import annotations
@@ -21,22 +24,23 @@ DATA = Path(__file__).resolve().parent / "data" / "fmu_fingerprint.json"
 H = 2e-3
 STEPS = 24
 
-# name: (parameters, exact) -- exact: no linear algebra on the path
+# name: (parameters, tolerance) -- tolerance relative to each output's scale, 0: bit for bit (module docstring)
+BITS, KERNEL, ITERATED = 0.0, 1e-12, 1e-6
 CASES = {
-    "closed_form_auto": ({}, True),
-    "closed_form_explicit": ({"method": 1}, True),
-    "polynomial_flat": ({"method": 2}, False),
-    "discretised_flat": ({"method": 3, "elements": 60}, False),
-    "corrugated_auto": ({"corrugation_amplitude": 2e-5, "corrugation_wavelength": 0.04}, False),
+    "closed_form_auto": ({}, BITS),
+    "closed_form_explicit": ({"method": 1}, BITS),
+    "polynomial_flat": ({"method": 2}, KERNEL),
+    "discretised_flat": ({"method": 3, "elements": 60}, KERNEL),
+    "corrugated_auto": ({"corrugation_amplitude": 2e-5, "corrugation_wavelength": 0.04}, KERNEL),
     "corrugated_tolerance": ({"corrugation_amplitude": 2e-5, "corrugation_wavelength": 0.04, "tolerance": 1e-3},
-                             False),
-    "falling_friction_auto": ({"friction_law": 1}, False),
-    "falling_friction_tolerance": ({"friction_law": 1, "tolerance": 1e-3}, False),
-    "relaxation_always": ({"transient": 2}, True),
-    "relaxation_auto": ({"transient": 1}, True),
-    "transient_always": ({"transient": 2, "method": 3, "elements": 40}, False),
-    "transient_auto_tolerance": ({"transient": 1, "tolerance": 3e-3, "elements": 40}, False),
-    "discretised_transient_auto": ({"transient": 1, "method": 3, "elements": 40, "tolerance": 1e-2}, False),
+                             KERNEL),
+    "falling_friction_auto": ({"friction_law": 1}, KERNEL),
+    "falling_friction_tolerance": ({"friction_law": 1, "tolerance": 1e-3}, KERNEL),
+    "relaxation_always": ({"transient": 2}, BITS),
+    "relaxation_auto": ({"transient": 1}, BITS),
+    "transient_always": ({"transient": 2, "method": 3, "elements": 40}, ITERATED),
+    "transient_auto_tolerance": ({"transient": 1, "tolerance": 3e-3, "elements": 40}, ITERATED),
+    "discretised_transient_auto": ({"transient": 1, "method": 3, "elements": 40, "tolerance": 1e-2}, ITERATED),
 }
 
 
@@ -79,16 +83,16 @@ def run(unzipped, description, name: str, parameters: dict) -> list[list[float]]
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_outputs_equal_the_recorded_fingerprint(name, unzipped, description):
     recorded = json.loads(DATA.read_text())[name]
-    parameters, exact = CASES[name]
+    parameters, tolerance = CASES[name]
     got = np.array(run(unzipped, description, name, parameters))
     want = np.array([[float(v) for v in row] for row in recorded])
     assert got.shape == want.shape, f"{name}: {got.shape} outputs, recorded {want.shape}"
-    if exact:
+    if tolerance == BITS:
         assert np.array_equal(got, want), f"{name}: outputs differ from the recorded ones bit for bit"
     else:
         scale = np.maximum(np.abs(want).max(axis=0), 1e-300)
         worst = float(np.max(np.abs(got - want) / scale))
-        assert worst <= 1e-12, f"{name}: outputs differ from the recorded ones by {worst:.3g} of their scale"
+        assert worst <= tolerance, f"{name}: outputs differ from the recorded ones by {worst:.3g} of their scale"
 
 
 if __name__ == "__main__" and sys.argv[1:] == ["--record"]:
