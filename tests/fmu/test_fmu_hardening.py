@@ -18,7 +18,6 @@ import math
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -123,9 +122,7 @@ def test_an_invalid_state_is_refused_and_the_instance_keeps_its_state(instance, 
     fmu.step(0.0, H, *ROW)
     good = saved_state(fmu)
     before_outputs, before = fmu.outputs(), len(fmu.log)
-    started = time.perf_counter()
     set_serialised(fmu, make(good))  # fmi2OK (fmpy would raise otherwise): pythonfmu has no other status here
-    assert time.perf_counter() - started < 5.0, "refusing a state must not read devices"
     logged = errors(fmu, before)
     assert logged and reason in logged[0] and "setFMUstate refused" in logged[0], \
         f"{name}: the reason must be logged with status Error, got {logged or fmu.log[before:]}"
@@ -244,28 +241,28 @@ def test_invalid_parameters_at_initialisation_are_an_error_and_a_reset_recovers(
 
 # 3. scene files that are no scenes ----------------------------------------------------------------------------------
 SCENE_PROBE = """
-import json, sys, time
+import json, sys
 sys.path.insert(0, {tests!r})
 from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
 from test_fmu import Instance, H
 results = {{}}
 for path in {paths!r}:
-    started = time.perf_counter()
     fmu = Instance({unzipped!r}, read_model_description({unzipped!r}), scene_file=path)
-    seconds = time.perf_counter() - started
     try:
         fmu.step(0.0, H, 1e5, 1e-3, 20.0)
         status = 0
     except FMICallException as exc:
         status = exc.status
-    results[path] = [seconds, status, [m for _, _, m in fmu.log]]
+    results[path] = [status, [m for _, _, m in fmu.log]]
     fmu.free()
 print(json.dumps(results))
 """
 
 
-def test_devices_fifos_big_and_foreign_files_are_refused_quickly_without_echoing_them(unzipped, tmp_path):
+def test_devices_fifos_big_and_foreign_files_are_refused_unread_without_echoing_them(unzipped, tmp_path):
+    """Each is refused for what it is (a device, a FIFO, too big) before it is read: reading /dev/zero or a FIFO
+    without a writer never ends, which the probe's time-out would report."""
     fifo = tmp_path / "fifo.toml"
     os.mkfifo(fifo)
     big = tmp_path / "big.toml"
@@ -284,8 +281,7 @@ def test_devices_fifos_big_and_foreign_files_are_refused_quickly_without_echoing
     assert done.returncode == 0, done.stderr[-3000:]
     results = json.loads(done.stdout.splitlines()[-1])
     for path, reason in expected.items():
-        seconds, status, log = results[path]
-        assert seconds < 10.0, f"{path}: initialisation took {seconds:.1f} s"
+        status, log = results[path]
         assert status == DISCARD, f"{path}: the step must be discarded, got status {status}"
         assert any(reason in m for m in log), f"{path}: expected {reason!r} in the log {log}"
         assert not any("hunter2" in m or "secret_token" in m for m in log), f"{path}: the log echoes content: {log}"
