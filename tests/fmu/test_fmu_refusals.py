@@ -1,4 +1,4 @@
-"""A refused step or call of the FMI 2.0 FMU is visible by default (docs/fmu.md, "Why a step was refused").
+"""A refused step or call of the FMI 2.0 FMU is visible by default (docs/fmu.md, "Why a step is refused").
 
 pythonfmu 0.7 hands a message to the host's logger only for the categories the host switched on
 (``fmi2SetDebugLogging``); a refusal (status Discard or Error) the host's logger does not receive goes to standard
@@ -141,7 +141,7 @@ def test_simulate_fmu_with_categories_through_fmu_instance(unzipped, description
     """docs/fmu.md's recipe for the reasons alone in fmpy: instantiate with debug logging and a logger, switch on
     the Discard and Error categories, hand the instance to ``simulate_fmu``; the logger receives the reason once and
     nothing is repeated on standard error.  (The logger is given explicitly: fmpy's printf proxy keeps the last
-    logger it was given process-wide, so the default callbacks may call a logger of an earlier run.)"""
+    logger given to it process-wide, so the default callbacks may call a logger of an earlier run.)"""
     import numpy as np
 
     t = np.linspace(0.0, 1.0, 11)
