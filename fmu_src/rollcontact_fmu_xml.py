@@ -157,10 +157,13 @@ def logger_categories(address: int, instance_name: str):
     there is ``instance_name``, the flag is 0 or 1 and the vector is well formed; raises ValueError otherwise (another
     platform, compiler or pythonfmu version).
     """
-    if sys.platform != "linux" or ctypes.sizeof(ctypes.c_void_p) != 8 or not address:
+    if sys.platform != "linux" or ctypes.sizeof(ctypes.c_void_p) != 8:
         raise ValueError(f"the layout of pythonfmu's logger is known for 64-bit Linux only (this is {sys.platform})")
+    if not address:
+        raise ValueError("no logger object (address 0): unknown layout")
     name = instance_name.encode()
-    if string_at(address + 16) != name:
+    if ctypes.c_size_t.from_address(address + 24).value != len(name) or string_at(address + 16) != name:
+        # the size first: a pointer is followed only where the object already looks like the expected one
         raise ValueError("the instance name in pythonfmu's logger object does not match: unknown layout")
     flag = ctypes.c_uint8.from_address(address + 8).value
     begin, end, storage = (ctypes.c_size_t.from_address(address + offset).value for offset in (48, 56, 64))

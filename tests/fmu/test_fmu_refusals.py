@@ -196,3 +196,78 @@ def test_a_c_host_without_logging_sees_the_reason_on_its_standard_error(unzipped
     lines = shown(ran.stderr)
     assert [(i, s) for i, s, _ in lines] == [("c_host", "Discard")] and NEGATIVE_LOAD in lines[0][2], ran.stderr
     assert "[c_host|" not in ran.stderr, f"the host's logger (logging off) receives nothing:\n{ran.stderr}"
+
+
+# the reading of pythonfmu's logger object, on a block laid out as the GNU C++ library lays it out -----------------
+def slave_base():
+    """``fmu_src/rollcontact_fmu_xml.py`` under a name of its own (the FMUs of this process keep theirs)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "fmu_src" / "rollcontact_fmu_xml.py"
+    spec = importlib.util.spec_from_file_location("rollcontact_fmu_xml_under_test", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+class FakeLogger:
+    """A ``PyLogger`` as bytes: flag at 8, ``std::string`` name at 16, ``std::vector<std::string>`` at 48."""
+
+    def __init__(self, name: bytes, flag: int, categories: tuple[bytes, ...]):
+        import ctypes
+
+        self.block = ctypes.create_string_buffer(80)
+        self.strings = ctypes.create_string_buffer(32 * max(len(categories), 1))
+        self.heap = [ctypes.create_string_buffer(text) for text in (name, *categories)]  # long strings' storage
+        self.address = ctypes.addressof(self.block)
+        ctypes.c_uint8.from_address(self.address + 8).value = flag
+        self.write_string(self.address + 16, name, self.heap[0])
+        first = ctypes.addressof(self.strings)
+        for k, text in enumerate(categories):
+            self.write_string(first + 32 * k, text, self.heap[1 + k])
+        for offset, value in ((48, first), (56, first + 32 * len(categories)), (64, first + 32 * len(categories))):
+            ctypes.c_size_t.from_address(self.address + offset).value = value if categories else 0
+
+    @staticmethod
+    def write_string(address: int, text: bytes, storage) -> None:
+        import ctypes
+
+        local = len(text) <= 15
+        data = address + 16 if local else ctypes.addressof(storage)
+        ctypes.c_size_t.from_address(address).value = data
+        ctypes.c_size_t.from_address(address + 8).value = len(text)
+        if local:
+            ctypes.memmove(address + 16, text, len(text))
+        else:
+            ctypes.c_size_t.from_address(address + 16).value = len(text)  # capacity
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="the layout is read on 64-bit Linux only")
+@pytest.mark.parametrize(("name", "flag", "categories", "expected"), [
+    (b"rc", 0, (), None),
+    (b"rc", 1, (), ()),
+    (b"an instance name longer than fifteen bytes", 1, (b"logStatusError",), ("logStatusError",)),
+    (b"rc", 1, (b"logStatusDiscard", b"logStatusError"), ("logStatusDiscard", "logStatusError")),
+])
+def test_the_logger_object_is_read_as_pythonfmu_lays_it_out(name, flag, categories, expected):
+    fake = FakeLogger(name, flag, categories)
+    assert slave_base().logger_categories(fake.address, name.decode()) == expected
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="the layout is read on 64-bit Linux only")
+@pytest.mark.parametrize("case", ["another name", "flag 2", "vector ends before it begins", "no address"])
+def test_a_logger_object_of_another_layout_is_refused(case):
+    import ctypes
+
+    fake = FakeLogger(b"rc", 1, (b"logStatusError",))
+    name = "rc"
+    if case == "another name":
+        name = "rd"
+    elif case == "flag 2":
+        ctypes.c_uint8.from_address(fake.address + 8).value = 2
+    elif case == "vector ends before it begins":
+        ctypes.c_size_t.from_address(fake.address + 56).value -= 64
+    address = 0 if case == "no address" else fake.address
+    with pytest.raises(ValueError, match="layout"):
+        slave_base().logger_categories(address, name)
