@@ -6,24 +6,63 @@ implicit, Gauss-Seidel), then :func:`rollcontact_cosim.stability.largest_stable_
 "Stable" = the run completes and T/N stays within 5 % of max |T/N| of the fine run at every communication point
 but the first two (definition in :mod:`rollcontact_cosim.stability`).  Prints a markdown table and the deviation
 of every tried step.
-Usage: ``python benchmarks/bench_coupling.py [--scenes ...] [--algorithms ...] [--refine 10]``.
+
+``--oscillation H`` measures instead what one macro step H (e.g. 1e-3 s) does to the contact force of every scene,
+algorithm and coupling: the swing of T over the second half of the run, half the largest change of T from one
+communication point to the next (an explicit loop beyond its limit alternates between the saturations, so this is
+the amplitude of its limit cycle; a stable run changes T only as its excitation does), and the spread of T over
+that half.  It writes ``benchmarks/results/coupling_oscillation.md`` (``--quick``: print only).
+Usage: ``python benchmarks/bench_coupling.py [--scenes ...] [--algorithms ...] [--refine 10]
+[--oscillation H [--quick]]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import tempfile
 
-import common  # noqa: F401  (before numpy: limits BLAS to one thread; puts the checkout's src/ on sys.path)
+import common  # (before numpy: limits BLAS to one thread; puts the checkout's src/ on sys.path)
+import numpy as np
 
 from rollcontact_cosim.master import ensure_fmus, run_cosimulation
-from rollcontact_cosim.scenes import ALGORITHMS, SCENE_NAMES, load_cosim_scene
+from rollcontact_cosim.scenes import ALGORITHMS, CONTACT, SCENE_NAMES, load_cosim_scene
 from rollcontact_cosim.stability import largest_stable_step
+
+FORCE = f"{CONTACT}.tangential_force"
 
 
 def milliseconds(step: float | None) -> str:
     return "none" if step is None else f"{step * 1e3:g}"
+
+
+def oscillation(scenes: list[str], algorithms: list[str], step: float, quick: bool) -> None:
+    """The table of ``--oscillation`` (module docstring) at macro step ``step`` [s]."""
+    lines = [f"# Contact force at a macro step of {step * 1e3:g} ms: explicit and linearly implicit coupling", "",
+             f"`python benchmarks/bench_coupling.py --oscillation {step:g}`; fmpy master, every scene run over "
+             "its own duration at this step. Over the second half of each run: the swing, half the largest change of "
+             "the tangential force T between consecutive communication points (the amplitude of an explicit loop's "
+             "limit cycle between the saturations), and the range of T.", "",
+             "| scene | algorithm | coupling | completed | swing [kN] | T min [kN] | T max [kN] |",
+             "|---|---|---|---|---:|---:|---:|"]
+    load = os.getloadavg()[0]
+    with tempfile.TemporaryDirectory(prefix="bench_coupling_") as tmp:
+        ensure_fmus(tmp)
+        for name in scenes:
+            scene = load_cosim_scene(name)
+            for algorithm in algorithms:
+                for coupling, label in ((0, "explicit"), (1, "linearly implicit")):
+                    result = run_cosimulation(scene, algorithm=algorithm, step_size=step, host={"coupling": coupling},
+                                              fmu_dir=tmp)
+                    force = result.values[FORCE][len(result.values) // 2:] / 1e3
+                    swing = float(np.max(np.abs(np.diff(force)))) / 2 if force.size > 1 else float("nan")
+                    lines.append(f"| {name} | {algorithm} | {label} | "
+                                 f"{'yes' if result.success else 'no: ' + result.message[:60]} | {swing:.3g} | "
+                                 f"{force.min():.3g} | {force.max():.3g} |")
+                    print(lines[-1], flush=True)
+    lines += ["", *common.machine(load)]
+    common.publish(lines, "coupling_oscillation.md", quick)
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -32,7 +71,13 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--algorithms", nargs="*", default=list(ALGORITHMS), choices=ALGORITHMS)
     parser.add_argument("--refine", type=int, default=10, help="fine step = scene step / refine (default 10)")
     parser.add_argument("--tolerance", type=float, default=0.05, help="band [1 of max |T/N|] (default 0.05)")
+    parser.add_argument("--oscillation", type=float, metavar="H",
+                        help="only the contact force's swing at macro step H [s] per scene, algorithm and coupling")
+    parser.add_argument("--quick", action="store_true", help="with --oscillation: print, do not write the results")
     args = parser.parse_args(argv)
+    if args.oscillation is not None:
+        oscillation(args.scenes, args.algorithms, args.oscillation, args.quick)
+        return
     with tempfile.TemporaryDirectory(prefix="bench_coupling_") as tmp:
         ensure_fmus(tmp)
         rows, details = [], []

@@ -151,9 +151,10 @@ class TableSlave3:
     def log(self, msg: str, status=Fmi3Status.ok, category: str | None = None, debug: bool = False) -> None:
         Fmi3SlaveBase.log(self, msg, Fmi3Status(int(status)), category, debug)
 
-    def report(self, message: str, status) -> None:
+    def report(self, message: str, status, reason: str | None = None) -> None:
         """Log ``message`` as it is (FMI 3.0 messages are no printf formats) in FMI 3.0's words; status OK only
-        with debug logging, any other status always (the shared slave's ``report`` escapes ``%`` for FMI 2.0)."""
+        with debug logging, any other status always (the shared slave's ``report`` escapes ``%`` for FMI 2.0, and
+        echoes refusals the host's logger does not receive: pythonfmu3 passes them on, ``reason`` is unused)."""
         for fmi2, fmi3 in VOCABULARY:
             message = message.replace(fmi2, fmi3)
         status = Fmi3Status(int(status))

@@ -18,6 +18,11 @@ What pythonfmu 0.7's C++ layer (``PySlaveInstance.cpp``, ``fmi2.cpp``) does with
   parameters at exitInitializationMode, an unknown value reference) is therefore logged with status Error and
   puts the instance into an *emulated error state*: it keeps its previous values, and every ``do_step`` is
   discarded with the reason until a valid state is set (``fmi2SetFMUstate``) or the instance is reset.
+* pythonfmu 0.7 hands a message to the host's logger only while debug logging is on for its category
+  (``Logger.hpp``): without it a refusal would be silent.  A message of status Discard or Error that the host's
+  logger does not receive is written to the process's standard error instead (Python's ``sys.stderr``: fd 2 in a C
+  host, what the user sees in a Python host), once per distinct reason and instance (:meth:`TableSlave.echo`).
+  Whether the host receives it is read from pythonfmu's logger object (:func:`logger_categories`).
 * The FMU state object is the Python dict of ``_get_fmu_state``; ``_fmu_state_to_bytes`` and
   ``_fmu_state_from_bytes`` (static, called on the class) serialise it as UTF-8 JSON with a SHA-256 checksum
   (:func:`serialise_state`).  Bytes that are no such state (not UTF-8, not JSON, no or a wrong checksum) become a
@@ -26,6 +31,7 @@ What pythonfmu 0.7's C++ layer (``PySlaveInstance.cpp``, ``fmi2.cpp``) does with
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import json
 import math
@@ -57,6 +63,16 @@ CHECKSUM = "sha256"
 """Key of the serialised state's checksum: SHA-256 of :func:`canonical_json` of the state without it."""
 
 NOT_INITIALISED = "the FMU is not initialised: exit initialisation mode before stepping"
+
+REFUSAL_CATEGORIES = {Fmi2Status.discard: "logStatusDiscard", Fmi2Status.error: "logStatusError"}
+"""Status of a refusal -> the log category pythonfmu gives it; such a message the host's logger does not receive is
+written to standard error (:meth:`TableSlave.echo`)."""
+
+ECHO_LIMIT = 20
+"""Distinct refusal reasons one instance writes to standard error at most (then one line says the rest is not)."""
+
+TOLD_LIMIT = 256
+"""Refusal reasons one instance remembers as told (a host stepping on after refusals does not grow memory)."""
 
 INT32 = (-(2**31), 2**31 - 1)
 
@@ -127,6 +143,46 @@ def drop_repeated_path(entry: str) -> None:
     if entry in sys.path:
         first = sys.path.index(entry)
         sys.path[first + 1:] = [path for path in sys.path[first + 1:] if path != entry]
+
+
+def logger_categories(address: int, instance_name: str):
+    """What pythonfmu 0.7's logger object at ``address`` hands to the host's logger callback: None while debug
+    logging is off, ``()`` for every category, else the tuple of categories of ``fmi2SetDebugLogging``.
+
+    The object is a ``pythonfmu::PyLogger`` (``Logger.hpp``; ``fmi2.cpp``'s ``Fmi2Logger`` adds the callbacks
+    pointer), whose address pythonfmu passes to the slave as the keyword ``logger``.  With the GNU C++ library on a
+    64-bit platform its members lie at: 8 ``bool debugLogging_``, 16 ``std::string instanceName_`` (data pointer,
+    size, then the local buffer of short strings or the capacity), 48 ``std::vector<std::string> categories_``
+    (begin, end, end of storage; 32 bytes per string).  The layout is accepted only when the instance name read
+    there is ``instance_name``, the flag is 0 or 1 and the vector is well formed; raises ValueError otherwise (another
+    platform, compiler or pythonfmu version).
+    """
+    if sys.platform != "linux" or ctypes.sizeof(ctypes.c_void_p) != 8:
+        raise ValueError(f"the layout of pythonfmu's logger is known for 64-bit Linux only (this is {sys.platform})")
+    if not address:
+        raise ValueError("no logger object (address 0): unknown layout")
+    name = instance_name.encode()
+    if ctypes.c_size_t.from_address(address + 24).value != len(name) or string_at(address + 16) != name:
+        # the size first: a pointer is followed only where the object already looks like the expected one
+        raise ValueError("the instance name in pythonfmu's logger object does not match: unknown layout")
+    flag = ctypes.c_uint8.from_address(address + 8).value
+    begin, end, storage = (ctypes.c_size_t.from_address(address + offset).value for offset in (48, 56, 64))
+    if flag > 1 or not begin <= end <= storage or (end - begin) % 32 or (end - begin) // 32 > 64 or \
+            (end > begin and not begin):
+        raise ValueError("the debug flag or the categories in pythonfmu's logger object are malformed: unknown layout")
+    if not flag:
+        return None
+    return tuple(string_at(element).decode(errors="replace") for element in range(begin, end, 32))
+
+
+def string_at(address: int, limit: int = 1024) -> bytes:
+    """The bytes of the GNU C++ library's ``std::string`` at ``address`` (ValueError when it is none: a short string
+    not in its local buffer, a long one in it, or longer than ``limit``)."""
+    data, size, capacity = (ctypes.c_size_t.from_address(address + offset).value for offset in (0, 8, 16))
+    local = address + 16
+    if size > limit or (size <= 15) != (data == local) or (data != local and capacity < size):
+        raise ValueError(f"no std::string at {address:#x}")
+    return ctypes.string_at(data, size)
 
 
 class StateRefused(ValueError):
@@ -249,6 +305,9 @@ class TableSlave(Fmi2Slave):
         super().__init__(**kwargs)
         if "logger" in kwargs and self.resources:  # instantiated by pythonfmu's binary (not by the builder)
             drop_repeated_path(self.resources)
+        self.logger_address = kwargs.get("logger")  # pythonfmu's C++ logger object (logger_categories)
+        self.told: set[str] = set()  # refusal reasons the host's logger received or standard error showed
+        self.echoes = 0  # lines written to standard error
         self.output_names = []
         self.output_index: dict[int, int] = {}  # value reference -> position in the outputs
         self.output_plans: dict[tuple, list[int]] = {}  # (type, value references) read before -> positions
@@ -327,7 +386,7 @@ class TableSlave(Fmi2Slave):
             self.problem = f"invalid parameters: {exc}"
             self.report(f"exitInitializationMode: {self.problem}; every do_step will be discarded (pythonfmu "
                         "cannot return fmi2Error here): reset the instance and set valid parameters",
-                        Fmi2Status.error)
+                        Fmi2Status.error, self.problem)
             return
         self.model, self.model_values, self.problem = model, values, None
         outputs = self.initial_outputs(model)
@@ -339,7 +398,7 @@ class TableSlave(Fmi2Slave):
     def do_step(self, current_time, step_size):
         if self.error is not None:
             return self.discard(current_time, None, f"the instance is in error state since: {self.error}; set "
-                                "a valid saved state (setFMUstate) or reset the instance")
+                                "a valid saved state (setFMUstate) or reset the instance", self.error)
         if self.problem is not None:
             return self.discard(current_time, None, self.problem)
         late = self.time_problem(current_time, step_size)
@@ -419,14 +478,50 @@ class TableSlave(Fmi2Slave):
             return {UNDECODABLE: str(exc)}
 
     # helpers ----------------------------------------------------------------------------------------------------
-    def report(self, message: str, status: Fmi2Status) -> None:
-        """Log ``message`` (printf-safe) with ``status`` (its category: logStatusError etc., else logAll)."""
+    def report(self, message: str, status: Fmi2Status, reason: str | None = None) -> None:
+        """Log ``message`` (printf-safe) with ``status`` (its category: logStatusError etc., else logAll); a refusal
+        (status Discard or Error) is also echoed (:meth:`echo`) under ``reason`` (default: the message)."""
         self.log(printf_safe(message), status)
+        if status in REFUSAL_CATEGORIES:
+            self.echo(message, status, message if reason is None else reason)
+
+    def echo(self, message: str, status: Fmi2Status, reason: str) -> None:
+        """Write the refusal ``message`` to standard error unless the host's logger receives its category (module
+        docstring), once per ``reason`` and instance: a reason already told, through the host's logger or here, is not
+        repeated (the same reason at another time, or as the Discard that follows an Error).  At most
+        :data:`ECHO_LIMIT` lines, then one that says so; :data:`TOLD_LIMIT` reasons are remembered.  Never raises.
+
+        Not under pythonfmu's binary (no logger object: the builder, a Python caller reading the log queue) nothing
+        is written.  A logger object of an unknown layout counts as not receiving: a refusal may then be shown twice,
+        but never not at all.
+        """
+        if self.logger_address is None or reason in self.told or self.echoes > ECHO_LIMIT:
+            return
+        category = REFUSAL_CATEGORIES[status]
+        try:
+            categories = logger_categories(self.logger_address, self.instance_name)
+        except Exception:  # noqa: BLE001 - unknown layout: echo
+            categories = None
+        if len(self.told) < TOLD_LIMIT:
+            self.told.add(reason)
+        if categories is not None and (not categories or category in categories):
+            return
+        self.echoes += 1
+        line = (f"{self.modelName} (instance {self.instance_name!r}): {status.name.capitalize()}: {message} "
+                f"[on standard error because the host's logger does not receive {category}; once per reason]")
+        if self.echoes > ECHO_LIMIT:
+            line = (f"{self.modelName} (instance {self.instance_name!r}): more than {ECHO_LIMIT} distinct refusals: "
+                    "the others are not shown (enable the categories logStatusDiscard and logStatusError)")
+        try:
+            sys.stderr.write(line + "\n")
+            sys.stderr.flush()
+        except Exception:  # noqa: BLE001 - no standard error (None, closed): never fmi2Fatal
+            pass
 
     def refuse(self, reason: str) -> None:
         """Emulate fmi2Error (pythonfmu cannot return it): log the reason, enter the error state."""
         self.report(f"{reason} [emulated fmi2Error: pythonfmu returns fmi2OK here; every do_step is discarded until "
-                    "a valid state is set or the instance is reset]", Fmi2Status.error)
+                    "a valid state is set or the instance is reset]", Fmi2Status.error, reason)
         if self.error is None:
             self.error = reason
 
@@ -437,10 +532,12 @@ class TableSlave(Fmi2Slave):
         except Exception as exc:  # noqa: BLE001 - never fmi2Fatal
             self.report(f"the model's messages could not be read: {clip(str(exc))}", Fmi2Status.warning)
 
-    def discard(self, current_time, step_size, reason: str) -> bool:
-        """Log why the step is discarded (status Discard) and return False (fmi2Discard)."""
+    def discard(self, current_time, step_size, reason: str, cause: str | None = None) -> bool:
+        """Log why the step is discarded (status Discard) and return False (fmi2Discard); ``cause`` (default: the
+        reason) is what :meth:`echo` shows once."""
         h = "" if step_size is None else f", h = {step_size!r} s"
-        self.report(f"do_step at t = {current_time!r} s{h} discarded: {reason}", Fmi2Status.discard)
+        self.report(f"do_step at t = {current_time!r} s{h} discarded: {reason}", Fmi2Status.discard,
+                    reason if cause is None else cause)
         return False
 
     def time_problem(self, current_time: float, step_size: float) -> str | None:

@@ -101,7 +101,12 @@ class FMU3Calls(FMU3Slave):
 
 class Slave:
     """One instantiated FMU (FMI 2.0 or 3.0) with name lookup and its log kept (the last messages explain a
-    Discard); ``fmu`` answers the ``FMU2Slave`` calls in either version."""
+    Discard); ``fmu`` answers the ``FMU2Slave`` calls in either version.
+
+    Logging is on for every category: the refusals' ``logStatusDiscard`` and ``logStatusError`` reach :meth:`logger`
+    (pythonfmu 0.7 passes nothing without debug logging), and so do pythonfmu's own fmi2Fatal messages, which carry
+    no category and which a category list (``fmi2SetDebugLogging``) would drop (docs/fmu.md, "Why a step is
+    refused")."""
 
     def __init__(self, fmu: Path, instance_name: str):
         unzipped = extracted(fmu)

@@ -26,8 +26,10 @@ Rows
     are shifted back one row: the row convention of every master (``models/cosim/README.md``).
 Pitfalls
     libcosim's log level is process-wide and its default (debug) floods stderr; :func:`run_osp` sets
-    ``log_level``.  A Discard stops the execution with only "<instance>: Step not complete"; the FMU's own message
-    is logged at DEBUG level.
+    ``log_level``.  libcosim instantiates the FMUs with logging on and prints an FMU's Error message (an invalid
+    parameter, an emulated fmi2Error) at its error level, shown at the default WARNING; a Discard stops the execution
+    with only "<instance>: Step not complete" and the FMU's own message at DEBUG level, so the result's message
+    says how to get it (docs/fmu.md, "Why a step is refused").
 """
 
 from __future__ import annotations

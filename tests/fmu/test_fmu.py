@@ -648,6 +648,8 @@ def test_a_c_host_gets_the_same_numbers_as_fmpy(unzipped, description, instance,
     assert len(lines) == len(rows), f"one line per step expected:\n{ran.stdout}\n{ran.stderr}"
     assert "normal_load = -1.0 N is out of range" in ran.stderr, \
         f"the Discard reason must reach the C host's logger:\n{ran.stderr}"
+    assert "RollingContact2D (instance 'c_host')" not in ran.stderr, \
+        f"the logger received the reason: the FMU does not repeat it on standard error:\n{ran.stderr}"
     for n, (row, line) in enumerate(zip(rows, lines, strict=True)):
         try:
             expected, status = fmu.step(n * H, H, *row), 0

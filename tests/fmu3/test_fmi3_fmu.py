@@ -244,9 +244,9 @@ def test_the_host_fmu_discards_bad_inputs_and_repeats_restored_steps(make, fmi, 
 
 # what FMI 3.0 does better -------------------------------------------------------------------------------------------
 def test_fmi3_reasons_reach_the_logger_without_debug_logging_literally_and_in_fmi3_words(fmu_folders, tmp_path):
-    """pythonfmu 0.7 drops every message without debug logging (an xfail of the FMI 2.0 tests); pythonfmu3 passes
-    those of status Warning, Discard and Error regardless, as FMI 3.0 wants, and the notices (status OK) only with
-    debug logging.  Messages are literal text (no printf escaping) in FMI 3.0's words."""
+    """pythonfmu 0.7 drops every message without debug logging (the FMI 2.0 FMU writes its refusals to standard error
+    instead); pythonfmu3 passes those of status Warning, Discard and Error regardless, as FMI 3.0 wants, and the
+    notices (status OK) only with debug logging.  Messages are literal text (no printf escaping) in FMI 3.0's words."""
     from fmpy.fmi3 import FMU3Slave
 
     from rollcontact_cosim.master import extracted
@@ -364,10 +364,10 @@ def test_an_exception_in_a_pythonfmu3_slave_is_fatal(tmp_path):
 
 
 @pytest.mark.parametrize("case", range(4), ids=["negative load", "NaN creep", "friction -0.1", "wavelength 0"])
-def test_each_bad_input_is_logged_through_simulate_fmu_without_debug_logging(fmu_folders, case):
+def test_each_bad_input_is_logged_through_simulate_fmu_without_debug_logging(fmu_folders, case, capfd):
     """The issue's bad inputs and parameters through ``fmpy.simulate_fmu(..., debug_logging=False, logger=...)``:
-    the FMI 3.0 FMU hands every Discard and Error reason to the logger (the FMI 2.0 FMU cannot: pythonfmu 0.7,
-    ``tests/fmu/test_fmu_hardening.py``, a strict xfail)."""
+    the FMI 3.0 FMU hands every Discard and Error reason to the logger (the FMI 2.0 FMU cannot, pythonfmu 0.7: it
+    writes them to standard error, ``tests/fmu/test_fmu_hardening.py``)."""
     from fmpy import simulate_fmu
 
     folder = str(ROOT / "tests" / "fmu")
@@ -384,3 +384,4 @@ def test_each_bad_input_is_logged_through_simulate_fmu_without_debug_logging(fmu
     except Exception:  # noqa: BLE001 - fmpy raises on the Discard
         pass
     assert any(reason in message for message in log), f"{name}: {reason!r} not logged: {log}"
+    assert reason not in capfd.readouterr().err, f"{name}: the logger has it, standard error does not (FMI 3.0)"
