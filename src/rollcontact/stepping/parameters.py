@@ -181,18 +181,20 @@ class ContactParameters:
     datum : float
         Datum distance L [m] >= 0 of instationary rolling, for methods that accept it (0: the method's default).
     step_budget : float
-        Work budget [s] >= 0 of one step, by the methods' cost models (modelled seconds): the steady solve runs the
-        most accurate setting that meets ``tolerance`` within it (``rollcontact.solve(..., budget=...)``), the
-        discretised transient at most as many substeps as fit (:func:`rollcontact.stepping.transient.max_substeps`);
+        Work budget [s] >= 0 of one step, by the methods' cost models (modelled seconds, no clock: the same bound
+        on every machine): the steady solve runs the most accurate setting that meets ``tolerance`` within it
+        (``rollcontact.solve(..., budget=...)``), a table build the exact solves that fit what is left
+        (:mod:`rollcontact.stepping.table`), the discretised transient at most as many substeps as fit
+        (:func:`rollcontact.stepping.transient.max_substeps`);
         where that costs accuracy, the model says so once (:meth:`ContactModel.take_messages`).  0: no budget, as
         long as each step takes.
     table : int
         0 auto, 1 off, 2 on: where the scene family has a certified table (falling friction on a flat surface, or
-        Coulomb friction on a corrugation of one harmonic: :mod:`rollcontact.stepping.table`) and ``tolerance`` is 0
-        or at least its target, the steps answer from the table once it is built: ``auto`` builds it a little in
-        each exact step, within ``step_budget``, once the exact steps have cost as much as the build (so a run pays
-        at most twice what it would have paid knowing its length); ``on`` builds it at the first loaded step,
-        whatever that takes.
+        Coulomb friction on a corrugation of one harmonic: :mod:`rollcontact.stepping.table`) and ``tolerance`` is 0 or
+        at least its target, the steps answer from the table once it is built: ``auto`` builds it a little in each exact
+        step, within ``step_budget`` (modelled work), once the exact steps have cost as much as the build (so a run pays
+        at most twice what it would have paid knowing its length); ``on`` builds it at the first loaded step, whatever
+        that takes.
     """
 
     youngs_modulus: float = 210e9

@@ -19,14 +19,16 @@ When to build
 nothing. When the run's end is known (the FMU's ``stopTime`` from setupExperiment: ``ContactModel(stop_time=)``), a
 build (``EXPECTED_SOLVES`` exact solves) starts at the first exact step if at least as many steps remain, and never
 otherwise. When it is not, the build starts once the exact steps have cost as long as the build is modelled to take: a
-run then pays at most about twice what it would knowing its length (the ski-rental rule). Either way it builds in each
-exact step for what is left of ``step_budget`` after it, so no step takes longer than its budget. ``table`` = on builds
-at the first loaded step, whatever it takes. The domain is what the exact steps so far have met, widened
-(:meth:`TableUse.wanted_domain`). A step outside the domain of the ready table solves exactly; once such steps have paid
-for a build again, a table over the union of both domains is built as auto builds (whatever ``table``), while the old
-one keeps answering. A family the exact solver cannot tabulate to the target (a contact that splits, say) gives the
-table up: the steps stay exact. Every decision and the figures of every table built (domain, exact solves, seconds,
-bytes, bound) are logged once.
+run then pays at most about twice what it would knowing its length (the ski-rental rule). Either way each exact step
+advances the build by the solves that fit what ``step_budget`` leaves after the step's own solve, at the family's
+modelled cost per solve (:meth:`TableUse.solves_this_step`): a fixed amount of modelled work, so no step's modelled work
+exceeds its budget and the step at which the table takes over is the same on every machine, however fast or loaded.
+``table`` = on builds at the first loaded step, whatever it takes.  The domain is what the exact steps so far have met,
+widened (:meth:`TableUse.wanted_domain`). A step outside the domain of the ready table solves exactly; once such steps
+have paid for a build again, a table over the union of both domains is built as auto builds (whatever ``table``), while
+the old one keeps answering. A family the exact solver cannot tabulate to the target (a contact that splits, say) gives
+the table up: the steps stay exact. Every decision and the figures of every table built (domain, exact solves and their
+modelled seconds, bytes, bound) are logged once.
 
 The state (:attr:`rollcontact.stepping.ModelState.table_domain`) records the domain of the table in use: a table is a
 deterministic function of the parameters and of its domain, so a restored model builds the same table before its
