@@ -138,11 +138,14 @@ def run_regression(scenes: Iterable[str] = SCENE_NAMES, masters: Iterable[str] =
     return submit(check_case, list(itertools.product(scenes, masters)), client, scheduler, n_workers)
 
 
-def submit(function, arguments: list[tuple], client, scheduler: str | None, n_workers: int) -> list:
-    """``function(*args)`` for each tuple of ``arguments`` on the given, addressed or a new local cluster."""
+def submit(function, arguments: list[tuple], client, scheduler: str | None, n_workers: int, *,
+           fmus: bool = True) -> list:
+    """``function(*args)`` for each tuple of ``arguments`` on the given, addressed or a new local cluster; the FMUs
+    are built first unless ``fmus`` is False (tasks that run no FMU, such as the in-process wheelset runs)."""
     from dask.distributed import Client
 
-    ensure_fmus()
+    if fmus:
+        ensure_fmus()
     if client is not None:
         return gather(client, function, arguments)
     if scheduler is not None:

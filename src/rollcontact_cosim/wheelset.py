@@ -1,0 +1,530 @@
+"""Host model of the hunting scene: a suspended wheelset with conical wheels on straight track (no FMI here).
+
+A rigid wheelset runs on straight, rigid track with knife-edge rails; its centre follows a frame (bogie) that moves
+at the constant speed V along the track, attached to it by the primary suspension.  Degrees of freedom: the
+lateral displacement y [m] of the wheelset centre and its yaw angle psi [rad], state ``s = (y, psi, y', psi')``.
+The contact forces come from a creep-force law per contact (left, right): the in-process laws of this module
+(:class:`KalkerLinearLaw`, :class:`SaturatedKalkerLaw`) or, in the co-simulation, the contact FMU through its
+force and Jacobian outputs (:meth:`WheelsetModel.step`).
+
+Axes and signs
+--------------
+Track axes: x forwards (direction of travel), y to the left, z up; psi > 0 turns the wheelset's nose to the left.
+The left contact is at lateral position +e, the right one at -e (e: half the distance between the contact points).
+A contact's local axes are the wheel's: x along its rolling direction ``t = (cos psi, sin psi)``, y along the axle
+``n = (-sin psi, cos psi)``, z up, the same for both wheels (no mirroring).  Creepages are Kalker's: the rigid slip
+velocity of the wheel relative to the rail divided by V; forces and moments are those the wheel exerts on the
+rail, so that each creepage > 0 gives its force > 0 as in the contact FMUs (linear theory: ``Fx = f11 xi``,
+``Fy = f22 eta + f23 phi``, ``Mz = -f23 eta + f33 phi``; the wheel receives the opposite).
+
+Kinematics (Wickens; Knothe & Boehm; Iwnicki, Handbook of Railway Vehicle Dynamics, ch. stability)
+-------------------------------------------------------------------------------------------------
+Conical treads of equivalent conicity lambda: the rolling radii are ``r_L = r0 + lambda y`` and
+``r_R = r0 - lambda y`` (a displacement to the left moves the left contact towards the flange).  The axle turns at
+the nominal ``Omega = V / r0`` (the pitch rotation is not a degree of freedom).  The wheel's material point in a
+contact moves with the centre velocity ``(V, y')``, the yaw rate's ``-/+ e psi' t`` (left/right) and the rolling
+``-Omega r_(L,R) t``, hence
+
+* longitudinal: ``xi_(L,R) = (V cos psi + y' sin psi -/+ e psi' - Omega r_(L,R)) / V``
+  ``~ -/+ (lambda y / r0 + e psi' / V)``;
+* lateral: ``eta = (y' cos psi - V sin psi) / V ~ y'/V - psi`` (both contacts);
+* spin: ``phi_(L,R) = psi'/V -/+ delta0 / r0`` [1/m], the yaw rate plus the axle's rotation about the tilted
+  contact normal (contact angle delta0; a cone has ``tan delta0 = lambda``).  The conicity terms are equal and
+  opposite on the two wheels, so their forces cancel in the wheelset's equations at every amplitude of a
+  symmetric law; with a linear law they drop out of the linearised equations.
+
+Equations of motion
+-------------------
+With ``F_(x,y), M_z`` the forces and moment on the rail of each contact (wheel axes),
+
+* ``m y'' = -sum (Fx sin psi + Fy cos psi) - k_y y - c_y y'``
+* ``I psi'' = e (Fx_L - Fx_R) - (Mz_L + Mz_R) - k_psi psi - c_psi psi'``
+
+(the moment of ``-F`` at ``+/- e n`` about the centre is ``+/- e Fx``).  Linearised with the linear law this is
+Wickens' wheelset: ``m y'' + (2 f22/V) y' - 2 f22 psi + (2 f23/V) psi' + k_y y = 0`` and
+``I psi'' + (2 e^2 f11/V + 2 f33/V) psi' + (2 e f11 lambda/r0) y - (2 f23/V) y' + 2 f23 psi + k_psi psi = 0``
+(:func:`rollcontact_cosim.wheelset_stability.state_matrix`).  Gravitational stiffness is not modelled: with cones
+on knife-edge rails the contact angles do not change with y, so the lateral components of the normal loads
+cancel (no lateral gravitational stiffness); the yaw gravitational stiffness of profiled wheels is neglected.
+The normal load N per wheel is constant.
+
+Integration and coupling
+------------------------
+:meth:`WheelsetModel.step` advances one macro step with the forces ``F_n`` evaluated at the creepages of the step's
+start and their Jacobians ``K = dF/d(xi, eta, phi)`` (3x3 per contact): ``substeps`` steps of the linearly implicit
+trapezoidal rule (one-stage Rosenbrock method with gamma = 1/2) ``(I - h W / 2) (s_(j+1) - s_j) = h f(s_j)``,
+where W is the Jacobian of the right-hand side with the forces linearised, ``F = F_n + K (c(s) - c_n)``.
+It is second order, A-stable, and maps the imaginary axis onto the unit circle: an undamped linear mode stays
+undamped at any step, so the step does not move the stability boundary (explicit methods and backward Euler add
+or remove damping of order h), and the stiff creep modes (eigenvalues ~ -2 f22 / (m V)) decay at any step.
+With ``K = 0`` the forces are held over the step (explicit coupling).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple, Protocol
+
+import numpy as np
+from scipy.special import ellipe, ellipk
+
+__all__ = ["CONTACTS", "ContactForces", "CreepForceLaw", "KalkerLinearLaw", "SaturatedKalkerLaw", "WheelsetError",
+           "WheelsetModel", "WheelsetParameters", "creepage_jacobian", "creepages", "hertz_semi_axes",
+           "kalker_coefficients", "linear_law", "simulate", "state_fields"]
+
+CONTACTS = ("left", "right")
+"""Contact order everywhere (arrays of two contacts, the FMU's indices 1 and 2)."""
+SIDE = {"left": 1.0, "right": -1.0}
+"""Lateral side of each contact: position ``SIDE * e``."""
+
+KALKER_ASPECT_RATIOS = (0.1, 0.5, 1.0, 2.0, 10.0)
+KALKER_POISSON_RATIOS = (0.0, 0.25, 0.5)
+KALKER_TABLE = {  # Kalker 1990, Table E.3 (rows a/b, columns nu = 0, 0.25, 0.5)
+    "C11": ((2.51, 3.31, 4.85), (2.88, 3.62, 4.83), (3.40, 4.12, 5.20), (4.37, 5.10, 6.11), (10.7, 11.7, 12.9)),
+    "C22": ((2.51, 2.52, 2.53), (2.88, 3.01, 3.14), (3.40, 3.67, 3.98), (4.37, 4.90, 5.56), (10.7, 12.8, 16.0)),
+    "C23": ((0.334, 0.473, 0.731), (0.827, 0.929, 1.07), (1.33, 1.47, 1.63), (2.35, 2.62, 2.96),
+            (12.2, 14.6, 18.0)),
+}
+
+
+class WheelsetError(ValueError):
+    """A parameter, input or step the wheelset model cannot use; the message names the value and the limit."""
+
+
+class ContactForces(NamedTuple):
+    """Forces and moment on the rail of one contact (wheel axes) [N, N, N m]."""
+
+    longitudinal_force: float
+    lateral_force: float
+    spin_moment: float
+
+
+class CreepForceLaw(Protocol):
+    """A creep-force law of one contact: ``law(N, xi, eta, phi, V) -> ContactForces`` (force on the rail).
+
+    ``law.jacobian(N, xi, eta, phi, V)`` returns ``dF/d(xi, eta, phi)`` (3x3, rows Fx, Fy, Mz).
+    """
+
+    def __call__(self, normal_load: float, xi: float, eta: float, phi: float, velocity: float) -> ContactForces: ...
+
+    def jacobian(self, normal_load: float, xi: float, eta: float, phi: float, velocity: float) -> np.ndarray: ...
+
+
+# contact geometry and Kalker's coefficients (one place; the elliptic package offers the same) ------------------
+def hertz_semi_axes(normal_load: float, longitudinal_curvature: float, lateral_curvature: float,
+                    contact_modulus: float) -> tuple[float, float]:
+    """Semi-axes (a along x, b along y) [m] of Hertz's ellipse of the gap ``A x^2 + B y^2`` under ``normal_load``.
+
+    With ``e^2 = 1 - (b/a)^2`` for ``a >= b`` (A <= B), K and E the complete elliptic integrals of the parameter
+    ``m = e^2`` (Johnson, Contact Mechanics, 1985, section 4.2)::
+
+        B / A = ((a/b)^2 E - K) / (K - E),       a^3 = 3 N (K - E) / (2 pi E* m A),       b = a sqrt(1 - m)
+
+    and A = B gives the sphere ``a = b = (3 N R / (4 E*))^(1/3)``, ``R = 1 / (2 A)``, used with
+    ``R = 1 / (2 sqrt(A B))`` for ``B/A - 1 < 1e-6`` (where ``a/b - 1 ~ (B/A - 1) / 2`` < 1e-6 and ``K - E`` loses
+    its digits).  ``A > B`` swaps the axes.
+    ``contact_modulus`` is E* [Pa] (``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``), the curvatures are [1/m].
+    """
+    from scipy.optimize import brentq
+
+    for name, value in (("normal_load", normal_load), ("longitudinal_curvature", longitudinal_curvature),
+                        ("lateral_curvature", lateral_curvature), ("contact_modulus", contact_modulus)):
+        if not (math.isfinite(value) and value > 0.0):
+            raise WheelsetError(f"{name} = {value!r} is out of range: it must be finite and > 0")
+    small, large = sorted((longitudinal_curvature, lateral_curvature))
+    ratio = large / small
+    if ratio - 1.0 < 1e-6:
+        radius = 0.5 / math.sqrt(small * large)
+        a = (3.0 * normal_load * radius / (4.0 * contact_modulus)) ** (1.0 / 3.0)
+        return a, a
+
+    def mismatch(m):
+        k, e = ellipk(m), ellipe(m)
+        return (e / (1.0 - m) - k) / (k - e) - ratio
+
+    m = brentq(mismatch, 1e-7, 1.0 - 1e-15, xtol=1e-16, rtol=1e-15)
+    k, e = ellipk(m), ellipe(m)
+    major = (3.0 * normal_load * (k - e) / (2.0 * math.pi * contact_modulus * m * small)) ** (1.0 / 3.0)
+    minor = major * math.sqrt(1.0 - m)
+    return (major, minor) if longitudinal_curvature <= lateral_curvature else (minor, major)
+
+
+def kalker_coefficients(aspect_ratio: float, poisson_ratio: float) -> tuple[float, float, float]:
+    """Kalker's C11, C22, C23 [1] at ``a/b = aspect_ratio`` from Kalker's Table E.3 (Kalker 1990).
+
+    ``poisson_ratio`` must be a column of the table (0, 0.25, 0.5); between rows, log C is interpolated linearly
+    in log(a/b) (exact at the rows a/b = 0.1, 0.5, 1, 2, 10).
+    """
+    if poisson_ratio not in KALKER_POISSON_RATIOS:
+        raise WheelsetError(f"poisson_ratio = {poisson_ratio!r} is not a column of Kalker's table "
+                            f"{KALKER_POISSON_RATIOS}")
+    low, high = KALKER_ASPECT_RATIOS[0], KALKER_ASPECT_RATIOS[-1]
+    if not (low <= aspect_ratio <= high):
+        raise WheelsetError(f"aspect ratio a/b = {aspect_ratio!r} is outside Kalker's table [{low}, {high}]")
+    column = KALKER_POISSON_RATIOS.index(poisson_ratio)
+    log_rows = np.log(KALKER_ASPECT_RATIOS)
+    return tuple(float(np.exp(np.interp(math.log(aspect_ratio), log_rows,
+                                        np.log([row[column] for row in KALKER_TABLE[name]]))))
+                 for name in ("C11", "C22", "C23"))
+
+
+# creep-force laws -----------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class KalkerLinearLaw:
+    """Kalker's linear theory (force on the rail): ``Fx = f11 xi, Fy = f22 eta + f23 phi, Mz = -f23 eta + f33 phi``.
+
+    Attributes
+    ----------
+    f11, f22 : float
+        ``G c^2 C11``, ``G c^2 C22`` [N].
+    f23 : float
+        ``G c^3 C23`` [N m] (0: spin creep force omitted).
+    f33 : float
+        ``G c^4 C33`` [N m^2] (0: spin moment omitted).
+    """
+
+    f11: float
+    f22: float
+    f23: float = 0.0
+    f33: float = 0.0
+
+    def __call__(self, normal_load, xi, eta, phi, velocity) -> ContactForces:
+        return ContactForces(self.f11 * xi, self.f22 * eta + self.f23 * phi, -self.f23 * eta + self.f33 * phi)
+
+    def jacobian(self, normal_load, xi, eta, phi, velocity) -> np.ndarray:
+        return np.array([[self.f11, 0.0, 0.0], [0.0, self.f22, self.f23], [0.0, -self.f23, self.f33]])
+
+
+@dataclass(frozen=True)
+class SaturatedKalkerLaw:
+    """Kalker's linear forces saturated at ``mu N`` (Shen, Hedrick & Elkins 1983, Johnson-Vermeulen's cubic).
+
+    With ``F_lin = (f11 xi, f22 eta + f23 phi)``, ``u = |F_lin| / (mu N)`` the tangential force is scaled by
+    ``g(u) / u`` with ``g(u) = u - u^2/3 + u^3/27`` for ``u < 3`` and ``g = 1`` beyond; the spin moment by the
+    same factor.  Its Jacobian at zero creepage is the linear law's, so it serves as the nonlinear right-hand side
+    whose linearisation :mod:`rollcontact_cosim.wheelset_stability` must reproduce.  With spin terms (f23 > 0)
+    the conicity's spin ``-/+ delta0 / r0`` loads each contact laterally in the centred state and the saturation
+    lowers the slopes there: the linear analysis with Kalker's coefficients then describes the law only without
+    spin.
+    """
+
+    linear: KalkerLinearLaw
+    friction_coefficient: float = 0.3
+
+    def __call__(self, normal_load, xi, eta, phi, velocity) -> ContactForces:
+        fx, fy, mz = self.linear(normal_load, xi, eta, phi, velocity)
+        return ContactForces(*(value * self.factor(normal_load, fx, fy) for value in (fx, fy, mz)))
+
+    def factor(self, normal_load: float, fx: float, fy: float) -> float:
+        """``g(u) / u`` [1] at the linear tangential force (fx, fy) [N]."""
+        u = math.hypot(fx, fy) / (self.friction_coefficient * normal_load)
+        return 1.0 - u / 3.0 + u * u / 27.0 if u < 3.0 else 1.0 / u
+
+    def jacobian(self, normal_load, xi, eta, phi, velocity, step: float = 1e-7) -> np.ndarray:
+        """Central differences in each creepage (step relative to ``mu N / f11``)."""
+        h = step * self.friction_coefficient * normal_load / self.linear.f11
+        out = np.empty((3, 3))
+        for j in range(3):
+            plus, minus = [xi, eta, phi], [xi, eta, phi]
+            plus[j] += h
+            minus[j] -= h
+            out[:, j] = (np.array(self(normal_load, *plus, velocity)) - self(normal_load, *minus, velocity)) / (2 * h)
+        return out
+
+
+# parameters, state, kinematics ------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class WheelsetParameters:
+    """Fixed parameters of a :class:`WheelsetModel` (the host FMU's parameters of the same names).
+
+    Defaults: a passenger-coach wheelset (Iwnicki's handbook's orders of magnitude: m 1250 kg, I 700 kg m^2,
+    r0 0.46 m, e 0.75 m), conicity 0.15 and contact angle arctan(0.15) (a cone), 80 kN per wheel, primary
+    stiffnesses 1 MN/m laterally and 2 MN m/rad in yaw (the 2 MN m/rad bring the critical speed to about 75 m/s
+    with the default creep coefficients, :mod:`rollcontact_cosim.wheelset_stability`), no dampers.
+
+    Parameters
+    ----------
+    mass : float
+        m [kg] > 0.
+    yaw_inertia : float
+        I [kg m^2] > 0 about the vertical axis.
+    rolling_radius : float
+        r0 [m] > 0, centred.
+    contact_half_distance : float
+        e [m] > 0.
+    conicity : float
+        lambda [1] >= 0.
+    contact_angle : float or None
+        delta0 [rad] in [0, pi/2) of the spin creepage; None: arctan(conicity).
+    normal_load : float
+        N [N] > 0 per wheel.
+    lateral_stiffness, yaw_stiffness : float
+        k_y [N/m], k_psi [N m/rad] >= 0.
+    lateral_damping, yaw_damping : float
+        c_y [N s/m], c_psi [N m s/rad] >= 0.
+    speed : float
+        V [m/s] > 0.
+    initial_lateral_displacement, initial_yaw_angle : float
+        y [m] and psi [rad] at the start time.
+    initial_lateral_velocity, initial_yaw_rate : float
+        y' [m/s] and psi' [rad/s] at the start time.
+    substeps : int
+        Integration steps per macro step >= 1.
+    """
+
+    mass: float = 1250.0
+    yaw_inertia: float = 700.0
+    rolling_radius: float = 0.46
+    contact_half_distance: float = 0.75
+    conicity: float = 0.15
+    contact_angle: float | None = None
+    normal_load: float = 80e3
+    lateral_stiffness: float = 1e6
+    yaw_stiffness: float = 2e6
+    lateral_damping: float = 0.0
+    yaw_damping: float = 0.0
+    speed: float = 50.0
+    initial_lateral_displacement: float = 1e-3
+    initial_yaw_angle: float = 0.0
+    initial_lateral_velocity: float = 0.0
+    initial_yaw_rate: float = 0.0
+    substeps: int = 1
+
+    def __post_init__(self):
+        if self.contact_angle is None:
+            object.__setattr__(self, "contact_angle", math.atan(self.conicity)
+                               if isinstance(self.conicity, (int, float)) else self.conicity)
+        rules = {"mass": (0, "kg"), "yaw_inertia": (0, "kg m^2"), "rolling_radius": (0, "m"),
+                 "contact_half_distance": (0, "m"), "normal_load": (0, "N"), "speed": (0, "m/s"),
+                 "conicity": (1, "1"), "lateral_stiffness": (1, "N/m"), "yaw_stiffness": (1, "N m/rad"),
+                 "lateral_damping": (1, "N s/m"), "yaw_damping": (1, "N m s/rad"), "contact_angle": (1, "rad"),
+                 "initial_lateral_displacement": (2, "m"), "initial_yaw_angle": (2, "rad"),
+                 "initial_lateral_velocity": (2, "m/s"), "initial_yaw_rate": (2, "rad/s")}
+        for name, (kind, unit) in rules.items():
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise WheelsetError(f"{name} = {value!r} must be a finite real number [{unit}]")
+            if (kind == 0 and value <= 0.0) or (kind == 1 and value < 0.0):
+                raise WheelsetError(f"{name} = {value!r} {unit} is out of range: it must be "
+                                    f"{'> 0' if kind == 0 else '>= 0'}")
+            object.__setattr__(self, name, float(value))
+        if self.contact_angle >= math.pi / 2:
+            raise WheelsetError(f"contact_angle = {self.contact_angle!r} rad is out of range: it must be < pi/2")
+        if isinstance(self.substeps, bool) or not isinstance(self.substeps, int) or self.substeps < 1:
+            raise WheelsetError(f"substeps = {self.substeps!r} is out of range: it must be an integer >= 1")
+
+    @property
+    def initial_state(self) -> np.ndarray:
+        """``(y, psi, y', psi')`` at the start time."""
+        return np.array([self.initial_lateral_displacement, self.initial_yaw_angle, self.initial_lateral_velocity,
+                         self.initial_yaw_rate])
+
+
+def linear_law(parameters: WheelsetParameters | None = None, *, youngs_modulus: float = 210e9,
+               poisson_ratio: float = 0.25, rail_profile_radius: float | None = None,
+               spin: bool = False) -> KalkerLinearLaw:
+    """Kalker's linear law of one contact of the wheelset: Hertz's ellipse and Kalker's table.
+
+    The gap is ``A x^2 + B y^2`` with ``A = 1/(2 r0)`` (wheel rolling radius, straight rail) and
+    ``B = 1/(2 R_rail)`` (straight cone generatrix, rail head profile radius ``rail_profile_radius``, default r0:
+    a circular contact, a row of Kalker's table).  Identical steel bodies: ``E* = E / (2 (1 - nu^2))``,
+    ``G = E / (2 (1 + nu))``, ``c = sqrt(a b)``, ``f11 = G c^2 C11``, ``f22 = G c^2 C22`` and, with ``spin``,
+    ``f23 = G c^3 C23`` (the spin moment's ``f33`` is left out: the table has no C33).
+    """
+    p = WheelsetParameters() if parameters is None else parameters
+    rail = p.rolling_radius if rail_profile_radius is None else rail_profile_radius
+    a, b = hertz_semi_axes(p.normal_load, 0.5 / p.rolling_radius, 0.5 / rail,
+                           youngs_modulus / (2.0 * (1.0 - poisson_ratio ** 2)))
+    c11, c22, c23 = kalker_coefficients(a / b, poisson_ratio)
+    shear = youngs_modulus / (2.0 * (1.0 + poisson_ratio))
+    c2 = a * b
+    return KalkerLinearLaw(shear * c2 * c11, shear * c2 * c22, shear * c2 * math.sqrt(c2) * c23 if spin else 0.0)
+
+
+def creepages(parameters: WheelsetParameters, state) -> np.ndarray:
+    """Creepages ``(xi, eta, phi)`` [1, 1, 1/m] of the left and right contacts (rows) in the state (module docstring).
+
+    ``xi = (V cos psi + y' sin psi -/+ e psi' - (V / r0) r_(L,R)) / V``, ``eta = (y' cos psi - V sin psi) / V``,
+    ``phi = psi'/V -/+ delta0 / r0``, ``r_(L,R) = r0 +/- lambda y``.
+    """
+    y, psi, vy, rate = state
+    p = parameters
+    v, e, r0 = p.speed, p.contact_half_distance, p.rolling_radius
+    cos, sin = math.cos(psi), math.sin(psi)
+    common = cos + vy * sin / v - 1.0
+    rolling = p.conicity * y / r0 + e * rate / v
+    eta = vy * cos / v - sin
+    spin = p.contact_angle / r0
+    return np.array([[common - rolling, eta, rate / v - spin], [common + rolling, eta, rate / v + spin]])
+
+
+def creepage_jacobian(parameters: WheelsetParameters, state) -> np.ndarray:
+    """d(xi, eta, phi)/d(y, psi, y', psi') of both contacts (shape 2x3x4) in the state."""
+    y, psi, vy, rate = state
+    p = parameters
+    v, e, r0 = p.speed, p.contact_half_distance, p.rolling_radius
+    cos, sin = math.cos(psi), math.sin(psi)
+    out = np.zeros((2, 3, 4))
+    for k, side in enumerate((1.0, -1.0)):
+        out[k, 0] = (-side * p.conicity / r0, -sin + vy * cos / v, sin / v, -side * e / v)
+        out[k, 1] = (0.0, -vy * sin / v - cos, cos / v, 0.0)
+        out[k, 2] = (0.0, 0.0, 0.0, 1.0 / v)
+    return out
+
+
+# the model ----------------------------------------------------------------------------------------------------------
+class WheelsetModel:
+    """The suspended wheelset (module docstring), advanced one macro step at a time with given contact forces.
+
+    Parameters
+    ----------
+    parameters : WheelsetParameters, optional
+    start_time : float
+        t_0 [s].
+    """
+
+    def __init__(self, parameters: WheelsetParameters | None = None, *, start_time: float = 0.0):
+        p = WheelsetParameters() if parameters is None else parameters
+        if not isinstance(p, WheelsetParameters):
+            raise TypeError(f"parameters must be WheelsetParameters, got {type(p).__name__}")
+        self.parameters = p
+        self.reset(start_time)
+
+    def reset(self, start_time: float = 0.0) -> None:
+        """Back to the initial state at ``start_time`` [s]."""
+        self.time = float(start_time)
+        self.state = self.parameters.initial_state
+        self.steps = 0
+
+    def creepages(self, state=None) -> np.ndarray:
+        """:func:`creepages` in the current (or given) state, rows left and right."""
+        return creepages(self.parameters, self.state if state is None else state)
+
+    def rhs(self, state, forces) -> np.ndarray:
+        """``ds/dt`` with the contact forces ``forces`` (2x3: rows left, right; Fx, Fy, Mz on the rail)."""
+        p = self.parameters
+        y, psi, vy, rate = state
+        forces = np.asarray(forces, dtype=float)
+        cos, sin = math.cos(psi), math.sin(psi)
+        lateral = -float(np.sum(forces[:, 0]) * sin + np.sum(forces[:, 1]) * cos)
+        moment = p.contact_half_distance * (forces[0, 0] - forces[1, 0]) - forces[0, 2] - forces[1, 2]
+        return np.array([vy, rate,
+                         (lateral - p.lateral_stiffness * y - p.lateral_damping * vy) / p.mass,
+                         (moment - p.yaw_stiffness * psi - p.yaw_damping * rate) / p.yaw_inertia])
+
+    def rhs_jacobian(self, state, forces, force_jacobians) -> np.ndarray:
+        """Jacobian (4x4) of :meth:`rhs` with the forces ``F_n + K (c(s) - c_n)`` (``force_jacobians``: 2x3x3)."""
+        p = self.parameters
+        psi = state[1]
+        forces = np.asarray(forces, dtype=float)
+        cos, sin = math.cos(psi), math.sin(psi)
+        jac = np.zeros((4, 4))
+        jac[0, 2] = jac[1, 3] = 1.0
+        jac[2, 0] = -p.lateral_stiffness / p.mass
+        jac[2, 2] = -p.lateral_damping / p.mass
+        jac[3, 1] = -p.yaw_stiffness / p.yaw_inertia
+        jac[3, 3] = -p.yaw_damping / p.yaw_inertia
+        jac[2, 1] -= float(np.sum(forces[:, 0]) * cos - np.sum(forces[:, 1]) * sin) / p.mass
+        # d(accelerations)/d(forces) of each contact, times dF/dc, times dc/ds
+        dc_ds = creepage_jacobian(p, state)
+        for k, side in enumerate((1.0, -1.0)):
+            d_accel_d_force = np.array([[-sin / p.mass, -cos / p.mass, 0.0],
+                                        [side * p.contact_half_distance / p.yaw_inertia, 0.0, -1.0 / p.yaw_inertia]])
+            jac[2:] += d_accel_d_force @ np.asarray(force_jacobians[k], dtype=float) @ dc_ds[k]
+        return jac
+
+    def advance(self, state, h: float, forces, force_jacobians) -> np.ndarray:
+        """One linearly implicit trapezoidal step ``s + (I - h W/2)^(-1) h f(s)`` (module docstring)."""
+        w = self.rhs_jacobian(state, forces, force_jacobians)
+        return state + np.linalg.solve(np.eye(4) - 0.5 * h * w, h * self.rhs(state, forces))
+
+    def step(self, current_time: float, step_size: float, forces, force_jacobians=None) -> np.ndarray:
+        """Advance from ``current_time`` by ``step_size`` with the contact forces at the step's start; the state.
+
+        Parameters
+        ----------
+        current_time, step_size : float
+            t_n [s] (the model's time) and H [s] > 0.
+        forces : array_like (2, 3)
+            ``F_n``: Fx, Fy [N], Mz [N m] on the rail of the left and right contacts at the creepages of t_n.
+        force_jacobians : array_like (2, 3, 3), optional
+            ``dF/d(xi, eta, phi)`` per contact at those creepages; None: zero (the forces held over the step).
+
+        Raises
+        ------
+        WheelsetError
+            A non-finite argument or result, a time that is not the model's; the state is then unchanged.
+        """
+        forces = np.asarray(forces, dtype=float)
+        jacobians = np.zeros((2, 3, 3)) if force_jacobians is None else np.asarray(force_jacobians, dtype=float)
+        if forces.shape != (2, 3) or jacobians.shape != (2, 3, 3):
+            raise WheelsetError(f"forces must be 2x3 and force_jacobians 2x3x3, got {forces.shape} and "
+                                f"{jacobians.shape}")
+        for name, value in (("forces", forces), ("force_jacobians", jacobians)):
+            if not np.all(np.isfinite(value)):
+                raise WheelsetError(f"{name} = {value.tolist()!r} is not finite")
+        if not (math.isfinite(step_size) and step_size > 0.0):
+            raise WheelsetError(f"step_size = {step_size!r} s is out of range: it must be finite and > 0")
+        if not abs(current_time - self.time) <= 1e-9 * max(1.0, abs(self.time)):
+            raise WheelsetError(f"current_time = {current_time!r} s is not the model time {self.time!r} s")
+        # the forces are linearised about the creepages of t_n: F(c) = F_n + K (c - c_n)
+        reference = self.creepages()
+        h = step_size / self.parameters.substeps
+        state = self.state
+        for _ in range(self.parameters.substeps):
+            local = forces + np.einsum("kij,kj->ki", jacobians, self.creepages(state) - reference)
+            state = self.advance(state, h, local, jacobians)
+        if not np.all(np.isfinite(state)):
+            raise WheelsetError(f"the step from t = {current_time!r} s with H = {step_size!r} s gave the non-finite "
+                                f"state {state.tolist()!r}")
+        self.state = state
+        self.time = current_time + step_size
+        self.steps += 1
+        return state
+
+    def get_state(self) -> dict:
+        """The state as a JSON-compatible dict."""
+        return {"time": self.time, "state": [float(v) for v in self.state], "steps": self.steps}
+
+    def set_state(self, data: dict) -> None:
+        """Continue from a dict of :meth:`get_state` (WheelsetError when malformed)."""
+        try:
+            time, state, steps = float(data["time"]), np.array(data["state"], dtype=float), int(data["steps"])
+        except (KeyError, TypeError, ValueError) as exc:
+            raise WheelsetError(f"invalid wheelset state: {exc!r}") from None
+        if state.shape != (4,) or not np.all(np.isfinite(state)) or not math.isfinite(time) or steps < 0:
+            raise WheelsetError(f"invalid wheelset state: {data!r:.200}")
+        self.time, self.state, self.steps = time, state, steps
+
+
+def simulate(parameters: WheelsetParameters, law: CreepForceLaw, stop_time: float, step_size: float,
+             *, implicit: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """In-process run: times [s] and states (rows ``y, psi, y', psi'``) at every step of ``step_size`` [s].
+
+    Each step evaluates ``law`` (and its Jacobian when ``implicit``) at the step's creepages and calls
+    :meth:`WheelsetModel.step`: the sequence a Gauss-Seidel co-simulation master runs with a contact FMU.
+    """
+    model = WheelsetModel(parameters)
+    n = int(round(stop_time / step_size))
+    if n < 1 or abs(n * step_size - stop_time) > 1e-9 * stop_time:
+        raise WheelsetError(f"stop_time = {stop_time!r} s is not a positive multiple of step_size = {step_size!r} s")
+    p = parameters
+    states = np.empty((n + 1, 4))
+    states[0] = model.state
+    forces = np.empty((2, 3))
+    jacobians = np.zeros((2, 3, 3))
+    for i in range(n):
+        creep = model.creepages()
+        for k in range(2):
+            forces[k] = law(p.normal_load, *creep[k], p.speed)
+            if implicit:
+                jacobians[k] = law.jacobian(p.normal_load, *creep[k], p.speed)
+        states[i + 1] = model.step(i * step_size, step_size, forces, jacobians)
+    return np.arange(n + 1) * step_size, states
+
+
+def state_fields() -> tuple[str, ...]:
+    """Names of the state's components."""
+    return ("lateral_displacement", "yaw_angle", "lateral_velocity", "yaw_rate")
+
