@@ -1,5 +1,10 @@
 """Main job: ``python -m rollcontact_cosim [scene] [--plot out.png] [--algorithm A] [--step-size H] [--fmu-dir D]``.
 
+``--scene NAME`` is the same as the positional scene.  The scene ``wheelset_hunting`` runs in process
+(:func:`rollcontact_cosim.wheelset_study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
+speed sweep on a local dask cluster against the linear stability analysis, Klingel's wavelength), prints its
+tables and writes its figure; the co-simulation options do not apply to it.
+
 ``--fmi 3`` runs the FMI 3.0 FMUs (``models/fmi3/``, fmpy master) instead of the FMI 2.0 ones.  Builds the FMUs if
 needed, co-simulates the scene (default ``traction_ramp``) with the fmpy master, prints a
 summary (peak adhesion and the creep where it occurs, macro steps, wall time per step) and writes a PNG of the
@@ -144,6 +149,24 @@ def time_history(ax, time, series, name: str, start: float) -> None:
     ax.grid(True, lw=0.3)
 
 
+def wheelset_hunting(args) -> int:
+    """The ``wheelset_hunting`` scene in process: the tables on stdout, the figure to ``--plot``."""
+    from rollcontact_cosim.wheelset_study import report, run_hunting_study
+
+    if args.master != "fmpy" or args.fmi != 2 or args.algorithm or args.step_size or args.fmu_dir:
+        raise ValueError("the wheelset_hunting scene runs in process: --master, --fmi, --algorithm, --step-size "
+                         "and --fmu-dir do not apply")
+    path = args.plot or "cosim_wheelset_hunting.png"
+    sweep, klingel = run_hunting_study(path)
+    print(report(sweep, klingel))
+    print(f"plot: {path}")
+    return 0
+
+
+IN_PROCESS = {"wheelset_hunting": wheelset_hunting}
+"""Scenes run in process (no FMU), by name: a function of the parsed arguments returning the exit code."""
+
+
 def main(argv: list[str] | None = None) -> int:
     """The main job (module docstring); a bad scene or a missing optional dependency is one line and exit code 2."""
     return run("python -m rollcontact_cosim", lambda: job(argv))
@@ -153,6 +176,8 @@ def job(argv: list[str] | None) -> int:
     parser = argparse.ArgumentParser(prog="python -m rollcontact_cosim", description=__doc__.splitlines()[0])
     parser.add_argument("scene", nargs="?", default=DEFAULT_SCENE,
                         help=f"scene name in models/cosim or a TOML path (default {DEFAULT_SCENE})")
+    parser.add_argument("--scene", dest="scene_option", metavar="SCENE",
+                        help=f"the scene, as the positional argument; {', '.join(IN_PROCESS)} runs in process")
     parser.add_argument("--plot", help="PNG to write (default cosim_<scene>.png in the current folder)")
     parser.add_argument("--algorithm", choices=ALGORITHMS, help="master algorithm (default: the scene's)")
     parser.add_argument("--step-size", type=float, help="macro step [s] (default: the scene's)")
@@ -161,7 +186,10 @@ def job(argv: list[str] | None) -> int:
     parser.add_argument("--fmi", type=int, default=2, choices=(2, 3),
                         help="FMI version of the FMUs: 2 (default) or 3 (FMI 3.0, in <fmu-dir>/fmi3; fmpy master)")
     args = parser.parse_args(argv)
-    result = run_cosimulation(args.scene, master=args.master, algorithm=args.algorithm, step_size=args.step_size,
+    scene = args.scene_option or args.scene
+    if scene in IN_PROCESS:
+        return IN_PROCESS[scene](args)
+    result = run_cosimulation(scene, master=args.master, algorithm=args.algorithm, step_size=args.step_size,
                               fmu_dir=args.fmu_dir, fmi_version=args.fmi)
     s = summarise(result)
     version = " (FMI 3.0)" if args.fmi == 3 else ""

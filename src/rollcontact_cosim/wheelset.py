@@ -241,7 +241,8 @@ class WheelsetParameters:
     Defaults: a passenger-coach wheelset (Iwnicki's handbook's orders of magnitude: m 1250 kg, I 700 kg m^2,
     r0 0.46 m, e 0.75 m), conicity 0.15 and contact angle arctan(0.15) (a cone), 80 kN per wheel, primary
     stiffnesses 1 MN/m laterally and 2 MN m/rad in yaw (the 2 MN m/rad bring the critical speed to about 75 m/s
-    with the default creep coefficients, :mod:`rollcontact_cosim.wheelset_stability`), no dampers.
+    with the default creep coefficients, :mod:`rollcontact_cosim.wheelset_stability`), no dampers, starting
+    0.1 mm off the centre line.
 
     Parameters
     ----------
@@ -285,7 +286,7 @@ class WheelsetParameters:
     lateral_damping: float = 0.0
     yaw_damping: float = 0.0
     speed: float = 50.0
-    initial_lateral_displacement: float = 1e-3
+    initial_lateral_displacement: float = 1e-4
     initial_yaw_angle: float = 0.0
     initial_lateral_velocity: float = 0.0
     initial_yaw_rate: float = 0.0

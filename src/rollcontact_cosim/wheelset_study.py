@@ -42,8 +42,8 @@ from rollcontact_cosim.wheelset import (
 )
 from rollcontact_cosim.wheelset_stability import critical_speed, klingel_wavelength, least_damped, linearised
 
-__all__ = ["HuntingSweep", "KlingelPoint", "SpeedRun", "decay_rate", "hunting_sweep", "klingel_study",
-           "plot_hunting", "run_hunting_study", "run_speed", "wavelength"]
+__all__ = ["SPEEDS", "HuntingSweep", "KlingelPoint", "SpeedRun", "decay_rate", "hunting_sweep", "klingel_study",
+           "plot_hunting", "report", "run_hunting_study", "run_speed", "wavelength"]
 
 
 def upward_crossings(times: np.ndarray, signal: np.ndarray) -> np.ndarray:
@@ -64,18 +64,24 @@ def wavelength(times: np.ndarray, lateral: np.ndarray, speed: float, skip: int =
     return speed * (crossings[-1] - crossings[0]) / (crossings.size - 1)
 
 
-def decay_rate(times: np.ndarray, lateral: np.ndarray, start: float = 0.0) -> tuple[float, int]:
+def decay_rate(times: np.ndarray, lateral: np.ndarray, start: float = 0.0,
+               limit: float = math.inf) -> tuple[float, int]:
     """Decay rate sigma [1/s] of y (negative when it decays) and the number of peaks it is fitted to.
 
-    The peaks are the local extrema of |y| after ``start`` [s], each refined by the parabola through its three
-    samples; sigma is the slope of the least-squares line through ``(t_k, ln |y_k|)``, so that
-    ``|y| ~ exp(sigma t)``: the real part of the dominant eigenvalue.  Raises WheelsetError with fewer than 3 peaks.
+    The peaks are the local extrema of |y| after ``start`` [s] and before |y| first exceeds ``limit`` [m], each
+    refined by the parabola through its three samples; sigma is the slope of the least-squares line through
+    ``(t_k, ln |y_k|)``, so that ``|y| ~ exp(sigma t)``: the real part of the dominant eigenvalue.  Raises
+    WheelsetError with fewer than 3 peaks.
     """
     t, y = np.asarray(times), np.abs(np.asarray(lateral))
+    beyond = np.nonzero(y > limit)[0]
+    if beyond.size:
+        t, y = t[:beyond[0]], y[:beyond[0]]
     inner = (y[1:-1] > y[:-2]) & (y[1:-1] >= y[2:]) & (t[1:-1] >= start)
     k = np.nonzero(inner)[0] + 1
     if k.size < 3:
-        raise WheelsetError(f"{k.size} peaks of |y| after t = {start!r} s: too few for a decay rate; run longer")
+        raise WheelsetError(f"{k.size} peaks of |y| after t = {start!r} s with |y| <= {limit!r} m: too few for a "
+                            "decay rate; run longer, or start smaller when it grows")
     left, mid, right = y[k - 1], y[k], y[k + 1]
     curvature = left - 2.0 * mid + right
     shift = np.where(curvature != 0.0, 0.5 * (left - right) / np.where(curvature != 0.0, curvature, 1.0), 0.0)
@@ -142,15 +148,16 @@ class SpeedRun:
 
 
 def run_speed(parameters: WheelsetParameters, speed: float, law: CreepForceLaw, periods: int = 12,
-              steps_per_period: int = 200, settle: int = 2) -> SpeedRun:
+              steps_per_period: int = 200, settle: int = 2, amplitude_limit: float = 0.01) -> SpeedRun:
     """Simulate at ``speed`` for ``periods`` kinematic periods ``L / V``; the decay rate of y after ``settle``
-    periods (the stiff and the fast-decaying modes are gone by then) against the eigenvalues' (with the law's
-    Jacobian at zero creepage as the linear law)."""
+    periods (the stiff and the fast-decaying modes are gone by then) and while |y| <= ``amplitude_limit`` [m]
+    (default 10 mm, the order of the flange clearance, beyond which flangeless cones no longer model the wheelset)
+    against the eigenvalues' (with the law's Jacobian at zero creepage as the linear law)."""
     p = dataclasses.replace(parameters, speed=float(speed))
     period = klingel_wavelength(p) / speed
     step = period / steps_per_period
     times, states = simulate(p, law, step * steps_per_period * periods, step)
-    rate, peaks = decay_rate(times, states[:, 0], start=settle * period)
+    rate, peaks = decay_rate(times, states[:, 0], start=settle * period, limit=amplitude_limit)
     mode = least_damped(p, linearised(law, p))
     return SpeedRun(float(speed), rate, mode.real, peaks, mode.imag / (2.0 * math.pi))
 
@@ -248,17 +255,35 @@ def plot_hunting(sweep: HuntingSweep, path: Path | str, parameters: WheelsetPara
     return Path(path)
 
 
+SPEEDS = tuple(float(v) for v in range(30, 101, 10))
+"""Speeds [m/s] of the default sweep: 30 ... 100 m/s, independent of the prediction."""
+
+
 def run_hunting_study(plot: Path | str | None = "cosim_wheelset_hunting.png", parameters=None, law=None,
-                      speeds=None, **sweep_options) -> tuple[HuntingSweep, list[KlingelPoint]]:
-    """Both studies with the defaults (speeds 0.6 ... 1.4 V_c in steps of 0.1 V_c), the figure written to
-    ``plot`` (None: none); the in-process mode of the ``wheelset_hunting`` scene."""
+                      speeds=SPEEDS, **sweep_options) -> tuple[HuntingSweep, list[KlingelPoint]]:
+    """Both studies (the sweep over ``speeds`` with ``sweep_options`` of :func:`hunting_sweep`, Klingel's at its
+    defaults), the figure written to ``plot`` (None: none); the in-process mode of the ``wheelset_hunting``
+    scene."""
     p = WheelsetParameters() if parameters is None else parameters
     law = linear_law(p) if law is None else law
-    if speeds is None:
-        predicted = critical_speed(p, linearised(law, p))
-        speeds = [round(predicted * f, 1) for f in np.arange(0.6, 1.41, 0.1)]
     sweep = hunting_sweep(speeds, p, law, **sweep_options)
     klingel = klingel_study(p, linearised(law, p))
     if plot is not None:
         plot_hunting(sweep, plot, p, linearised(law, p))
     return sweep, klingel
+
+
+def report(sweep: HuntingSweep, klingel: list[KlingelPoint]) -> str:
+    """The studies' results as markdown tables (decay rates per speed, critical speeds, Klingel's wavelengths)."""
+    lines = ["| V [m/s] | simulated decay rate [1/s] | eigenvalue Re [1/s] | frequency [Hz] | peaks |",
+             "|---|---|---|---|---|"]
+    lines += [f"| {r.speed:g} | {r.simulated:+.4f} | {r.predicted:+.4f} | {r.frequency:.3f} | {r.peaks} |"
+              for r in sweep.runs]
+    simulated = ("none in the sweep" if sweep.simulated_critical_speed is None
+                 else f"{sweep.simulated_critical_speed:.2f} m/s ({100 * sweep.error:+.2f} %)")
+    lines += ["", f"critical speed: eigenvalues {sweep.predicted_critical_speed:.2f} m/s, simulation {simulated}",
+              "", "| V [m/s] | suspension scale | wavelength [m] | Klingel [m] | error | eigenvalues' [m] |",
+              "|---|---|---|---|---|---|"]
+    lines += [f"| {k.speed:g} | {k.suspension_scale:g} | {k.measured:.4f} | {k.klingel:.4f} | {100 * k.error:+.3f} % "
+              f"| {k.eigenvalue:.4f} |" for k in klingel]
+    return "\n".join(lines)
