@@ -70,8 +70,8 @@ import numpy as np
 from scipy.special import ellipe, ellipk
 
 __all__ = ["CONTACTS", "ContactForces", "CreepForceLaw", "KalkerLinearLaw", "SaturatedKalkerLaw", "WheelsetError",
-           "WheelsetModel", "WheelsetParameters", "creepage_jacobian", "creepages", "hertz_semi_axes",
-           "kalker_coefficients", "linear_law", "simulate", "state_fields"]
+           "WheelsetModel", "WheelsetParameters", "WheelsetState", "creepage_jacobian", "creepages", "hertz_semi_axes",
+           "kalker_coefficients", "linear_law", "simulate"]
 
 CONTACTS = ("left", "right")
 """Contact order everywhere (arrays of two contacts, the FMU's indices 1 and 2)."""
@@ -375,6 +375,50 @@ def creepage_jacobian(parameters: WheelsetParameters, state) -> np.ndarray:
 
 
 # the model ----------------------------------------------------------------------------------------------------------
+@dataclass(slots=True)
+class WheelsetState:
+    """Everything a :class:`WheelsetModel` remembers (plain, copyable, JSON-compatible via :meth:`to_dict`).
+
+    Attributes
+    ----------
+    time : float
+        Current communication point [s].
+    lateral_displacement, yaw_angle, lateral_velocity, yaw_rate : float
+        y [m], psi [rad], y' [m/s], psi' [rad/s].
+    steps : int
+        Successful steps taken.
+    """
+
+    time: float
+    lateral_displacement: float
+    yaw_angle: float
+    lateral_velocity: float
+    yaw_rate: float
+    steps: int = 0
+
+    @property
+    def vector(self) -> np.ndarray:
+        """``(y, psi, y', psi')``."""
+        return np.array([self.lateral_displacement, self.yaw_angle, self.lateral_velocity, self.yaw_rate])
+
+    def to_dict(self) -> dict:
+        """JSON-compatible dict (floats survive ``json`` exactly)."""
+        return {name: getattr(self, name) for name in self.__slots__}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> WheelsetState:
+        """Inverse of :meth:`to_dict`; every field checked (WheelsetError naming the first problem)."""
+        if not isinstance(data, dict) or set(data) != set(cls.__slots__):
+            raise WheelsetError(f"a wheelset state has the keys {list(cls.__slots__)}, got {data!r:.200}")
+        for name in cls.__slots__:
+            value = data[name]
+            ok = (type(value) is int and value >= 0) if name == "steps" else \
+                (type(value) in (int, float) and math.isfinite(value))
+            if not ok:
+                raise WheelsetError(f"wheelset state: {name} = {value!r:.80} is out of range or not a finite number")
+        return cls(*(float(data[name]) for name in cls.__slots__[:-1]), data["steps"])
+
+
 class WheelsetModel:
     """The suspended wheelset (module docstring), advanced one macro step at a time with given contact forces.
 
@@ -394,13 +438,29 @@ class WheelsetModel:
 
     def reset(self, start_time: float = 0.0) -> None:
         """Back to the initial state at ``start_time`` [s]."""
-        self.time = float(start_time)
-        self.state = self.parameters.initial_state
-        self.steps = 0
+        self.state = WheelsetState(float(start_time), *(float(v) for v in self.parameters.initial_state))
+
+    def get_state(self) -> WheelsetState:
+        """A copy of the current state."""
+        return WheelsetState(*(getattr(self.state, name) for name in WheelsetState.__slots__))
+
+    def set_state(self, state: WheelsetState) -> None:
+        """Continue from (a copy of) ``state``."""
+        if not isinstance(state, WheelsetState):
+            raise TypeError(f"state must be a WheelsetState, got {type(state).__name__}")
+        self.state = WheelsetState(*(getattr(state, name) for name in WheelsetState.__slots__))
 
     def creepages(self, state=None) -> np.ndarray:
-        """:func:`creepages` in the current (or given) state, rows left and right."""
-        return creepages(self.parameters, self.state if state is None else state)
+        """:func:`creepages` in the current state (or the state vector given), rows left and right."""
+        return creepages(self.parameters, self.state.vector if state is None else state)
+
+    def outputs(self) -> tuple[float, ...]:
+        """The host FMU's outputs: per contact (left, right) N [N], xi, eta [1], phi [1/m], V [m/s], then
+        y [m], psi [rad], y' [m/s], psi' [rad/s]."""
+        p = self.parameters
+        c = self.creepages()
+        per_contact = [value for k in range(2) for value in (p.normal_load, *map(float, c[k]), p.speed)]
+        return (*per_contact, *map(float, self.state.vector))
 
     def rhs(self, state, forces) -> np.ndarray:
         """``ds/dt`` with the contact forces ``forces`` (2x3: rows left, right; Fx, Fy, Mz on the rail)."""
@@ -467,36 +527,21 @@ class WheelsetModel:
                 raise WheelsetError(f"{name} = {value.tolist()!r} is not finite")
         if not (math.isfinite(step_size) and step_size > 0.0):
             raise WheelsetError(f"step_size = {step_size!r} s is out of range: it must be finite and > 0")
-        if not abs(current_time - self.time) <= 1e-9 * max(1.0, abs(self.time)):
-            raise WheelsetError(f"current_time = {current_time!r} s is not the model time {self.time!r} s")
+        now = self.state.time
+        if not abs(current_time - now) <= 1e-9 * max(1.0, abs(now)):
+            raise WheelsetError(f"current_time = {current_time!r} s is not the model time {now!r} s")
         # the forces are linearised about the creepages of t_n: F(c) = F_n + K (c - c_n)
         reference = self.creepages()
         h = step_size / self.parameters.substeps
-        state = self.state
+        state = self.state.vector
         for _ in range(self.parameters.substeps):
             local = forces + np.einsum("kij,kj->ki", jacobians, self.creepages(state) - reference)
             state = self.advance(state, h, local, jacobians)
         if not np.all(np.isfinite(state)):
             raise WheelsetError(f"the step from t = {current_time!r} s with H = {step_size!r} s gave the non-finite "
                                 f"state {state.tolist()!r}")
-        self.state = state
-        self.time = current_time + step_size
-        self.steps += 1
+        self.state = WheelsetState(current_time + step_size, *map(float, state), self.state.steps + 1)
         return state
-
-    def get_state(self) -> dict:
-        """The state as a JSON-compatible dict."""
-        return {"time": self.time, "state": [float(v) for v in self.state], "steps": self.steps}
-
-    def set_state(self, data: dict) -> None:
-        """Continue from a dict of :meth:`get_state` (WheelsetError when malformed)."""
-        try:
-            time, state, steps = float(data["time"]), np.array(data["state"], dtype=float), int(data["steps"])
-        except (KeyError, TypeError, ValueError) as exc:
-            raise WheelsetError(f"invalid wheelset state: {exc!r}") from None
-        if state.shape != (4,) or not np.all(np.isfinite(state)) or not math.isfinite(time) or steps < 0:
-            raise WheelsetError(f"invalid wheelset state: {data!r:.200}")
-        self.time, self.state, self.steps = time, state, steps
 
 
 def simulate(parameters: WheelsetParameters, law: CreepForceLaw, stop_time: float, step_size: float,
@@ -512,7 +557,7 @@ def simulate(parameters: WheelsetParameters, law: CreepForceLaw, stop_time: floa
         raise WheelsetError(f"stop_time = {stop_time!r} s is not a positive multiple of step_size = {step_size!r} s")
     p = parameters
     states = np.empty((n + 1, 4))
-    states[0] = model.state
+    states[0] = model.state.vector
     forces = np.empty((2, 3))
     jacobians = np.zeros((2, 3, 3))
     for i in range(n):
@@ -523,9 +568,3 @@ def simulate(parameters: WheelsetParameters, law: CreepForceLaw, stop_time: floa
                 jacobians[k] = law.jacobian(p.normal_load, *creep[k], p.speed)
         states[i + 1] = model.step(i * step_size, step_size, forces, jacobians)
     return np.arange(n + 1) * step_size, states
-
-
-def state_fields() -> tuple[str, ...]:
-    """Names of the state's components."""
-    return ("lateral_displacement", "yaw_angle", "lateral_velocity", "yaw_rate")
-
