@@ -3,7 +3,9 @@
 Usage: ``python build_fmu.py [--dest models]`` writes ``<dest>/RollingContact2D.fmu`` from the slave
 ``fmu_src/rollcontact_fmu_slave.py`` and bundles the ``src/rollcontact`` package in the FMU's resources, so the
 FMU needs only numpy and scipy from the host's Python.  ``--all`` also writes ``<dest>/WheelRig.fmu``, the
-co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcontact_cosim``); ``--if-stale``
+co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcontact_cosim``), and
+``<dest>/Wheelset.fmu``, the host of the wheelset hunting scene with two contacts (slave
+``fmu_src/wheelset_slave.py``, class in ``fmu_src/rollcontact_fmu_wheelset.py``); ``--if-stale``
 builds only the FMUs that are missing or older than one of their sources; ``--integer-codes`` declares the
 enumerations' variables as plain Integer, for hosts without FMI enumerations (libcosim); ``--docs`` writes the
 variable table of ``docs/fmu.md`` from the slave's.  Both FMUs can get, set and serialise
@@ -14,7 +16,8 @@ entry module on every instantiation (``fmu_src/rollcontact_fmu_slave.py``'s docs
 
 ``--fmi 3`` builds the FMI 3.0 co-simulation variants into ``<dest>/fmi3/`` with pythonfmu3 instead (``--fmi 2,3``
 both): the same slave classes, put on pythonfmu3 by ``fmu_src/fmi3_table_slave.py`` (entry modules
-``fmu_src/fmi3_rollcontact_slave.py``, ``fmu_src/fmi3_wheel_rig_slave.py``); they also bundle pythonfmu's Python
+``fmu_src/fmi3_rollcontact_slave.py``, ``fmu_src/fmi3_wheel_rig_slave.py``, ``fmu_src/fmi3_wheelset_slave.py``);
+they also bundle pythonfmu's Python
 files, in whose types the shared slave's variable table is written.  The default builds FMI 2.0 only.
 """
 
@@ -39,12 +42,15 @@ HOST_PACKAGE = SOURCES / "rollcontact_cosim"
 FMUS = {  # model name -> (entry module, bundled packages and modules)
     "RollingContact2D": (SLAVE, (PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_contact.py")),
     "WheelRig": (HOST_SLAVE, (HOST_PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_wheel_rig.py")),
+    "Wheelset": (ROOT / "fmu_src" / "wheelset_slave.py",
+                 (HOST_PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_wheelset.py")),
 }
 
 FMI3_HELPER = ROOT / "fmu_src" / "fmi3_table_slave.py"
 FMUS3 = {  # model name -> (FMI 3.0 entry module, bundled packages and modules besides the FMI 2.0 ones)
     "RollingContact2D": (ROOT / "fmu_src" / "fmi3_rollcontact_slave.py", (FMI3_HELPER,)),
     "WheelRig": (ROOT / "fmu_src" / "fmi3_wheel_rig_slave.py", (FMI3_HELPER,)),
+    "Wheelset": (ROOT / "fmu_src" / "fmi3_wheelset_slave.py", (FMI3_HELPER,)),
 }
 FMI_VERSIONS = (2, 3)
 FMI3_FOLDER = "fmi3"
@@ -181,7 +187,7 @@ def write_docs(path: Path = DOCS) -> Path:
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--dest", default=str(ROOT / "models"), help="output folder (default: models/)")
-    parser.add_argument("--all", action="store_true", help="also build the WheelRig host FMU")
+    parser.add_argument("--all", action="store_true", help="also build the host FMUs (WheelRig, Wheelset)")
     parser.add_argument("--if-stale", action="store_true",
                         help="build only FMUs that are missing or older than their sources")
     parser.add_argument("--docs", action="store_true", help="write the variable table of docs/fmu.md (no build)")

@@ -47,6 +47,8 @@ UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
     "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2}, "W": {"kg": 1, "m": 2, "s": -3},
     "s": {"s": 1}, "Hz": {"s": -1}, "kg": {"kg": 1}, "kg.m2": {"kg": 1, "m": 2}, "rad/s": {"rad": 1, "s": -1},
     "N.m": {"kg": 1, "m": 2, "s": -2}, "N.s/m": {"kg": 1, "s": -1}, "N.s2/m2": {"kg": 1, "m": -1},
+    "1/m": {"m": -1}, "N/m": {"kg": 1, "s": -2}, "N.m2": {"kg": 1, "m": 3, "s": -2},
+    "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1}, "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
 }
 
 

@@ -1,0 +1,138 @@
+"""The Wheelset FMU's slave class (FMI 2.0 co-simulation): the host of the hunting scene, two contacts.
+
+The FMU's entry module ``wheelset_slave.py`` only imports :class:`Wheelset` from here (pythonfmu re-executes the
+entry module on every instantiation: ``rollcontact_fmu_slave.py``'s docstring).
+
+A suspended wheelset with conical wheels on straight track (lateral displacement and yaw); no physics here: the
+parameters become a :class:`rollcontact_cosim.wheelset.WheelsetParameters` (equations, signs and integrator in
+that module's docstring), each ``do_step`` is one :meth:`rollcontact_cosim.wheelset.WheelsetModel.step` with the
+forces and Jacobians of the two contacts, and the outputs are :meth:`~rollcontact_cosim.wheelset.WheelsetModel.outputs`
+by position.  Contact 1 is the left wheel, 2 the right one; the per-contact variables follow the FMI 2.0 array
+convention ``name[1]``, ``name[2]``.  Forces are those the wheel exerts on the rail, in the wheel's axes (the
+contact FMUs' sign).  The variables are declared in the single table :data:`VARIABLES` (value references follow
+its order: append, never reorder).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
+from pythonfmu.default_experiment import DefaultExperiment
+from rollcontact_fmu_xml import TableSlave
+
+from rollcontact_cosim.wheelset import WheelsetModel, WheelsetParameters, WheelsetState
+
+INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
+CONTINUOUS, FIXED = Fmi2Variability.continuous, Fmi2Variability.fixed
+DEFAULT = WheelsetParameters()
+START = WheelsetModel(DEFAULT).outputs()
+CONTACTS = (1, 2)
+SIDES = {1: "left", 2: "right"}
+
+FORCES = (("longitudinal_force", "N", "Longitudinal force Fx of the wheel on the rail (wheel axes)"),
+          ("lateral_force", "N", "Lateral force Fy of the wheel on the rail (wheel axes)"),
+          ("spin_moment", "N.m", "Spin moment Mz of the wheel on the rail about the contact normal"))
+CREEPAGES = (("longitudinal_creep", "xi"), ("lateral_creep", "eta"), ("spin", "phi"))
+JACOBIAN = tuple((f"d{force}_d{symbol}", force, symbol) for force in ("Fx", "Fy", "Mz")
+                 for _, symbol in CREEPAGES)
+"""Jacobian inputs ``dFx_dxi`` ... ``dMz_dphi`` (row-major in (Fx, Fy, Mz) x (xi, eta, phi))."""
+JACOBIAN_UNITS = {(force, symbol): {("N", False): "N", ("N", True): "N.m", ("N.m", False): "N.m",
+                                    ("N.m", True): "N.m2"}[unit, symbol == "phi"]
+                  for force, unit in (("Fx", "N"), ("Fy", "N"), ("Mz", "N.m")) for _, symbol in CREEPAGES}
+"""Unit of each Jacobian entry: the force's unit, times m for the spin (phi in 1/m)."""
+
+OUTPUT_ROWS = []
+for k in CONTACTS:
+    side = SIDES[k]
+    OUTPUT_ROWS += [
+        (f"normal_load[{k}]", Real, OUTPUT, CONTINUOUS, "N", None, 0.0, None, f"Normal load N of the {side} wheel"),
+        (f"longitudinal_creep[{k}]", Real, OUTPUT, CONTINUOUS, "1", None, None, None,
+         f"Longitudinal creepage xi of the {side} contact (rigid slip of the wheel relative to the rail / V)"),
+        (f"lateral_creep[{k}]", Real, OUTPUT, CONTINUOUS, "1", None, None, None,
+         f"Lateral creepage eta of the {side} contact"),
+        (f"spin[{k}]", Real, OUTPUT, CONTINUOUS, "1/m", None, None, None,
+         f"Spin creepage phi of the {side} contact (yaw rate / V and the conicity's -+ delta0 / r0)"),
+        (f"velocity[{k}]", Real, OUTPUT, CONTINUOUS, "m/s", None, None, None, f"Rolling speed V of the {side} wheel"),
+    ]
+OUTPUT_ROWS += [
+    ("lateral_displacement", Real, OUTPUT, CONTINUOUS, "m", None, None, None, "Lateral displacement y (left > 0)"),
+    ("yaw_angle", Real, OUTPUT, CONTINUOUS, "rad", None, None, None, "Yaw angle psi (nose to the left > 0)"),
+    ("lateral_velocity", Real, OUTPUT, CONTINUOUS, "m/s", None, None, None, "Lateral velocity y'"),
+    ("yaw_rate", Real, OUTPUT, CONTINUOUS, "rad/s", None, None, None, "Yaw rate psi'"),
+]
+OUTPUT_ROWS = [(*row[:5], start, *row[6:]) for row, start in zip(OUTPUT_ROWS, START, strict=True)]
+
+INPUT_ROWS = [(f"{name}[{k}]", Real, INPUT, CONTINUOUS, unit, 0.0, None, None, f"{text}, contact {k} ({SIDES[k]})")
+              for k in CONTACTS for name, unit, text in FORCES]
+INPUT_ROWS += [(f"{name}[{k}]", Real, INPUT, CONTINUOUS, JACOBIAN_UNITS[force, symbol], 0.0, None, None,
+    f"d{force}/d{symbol} of contact {k} ({SIDES[k]}) at the creepages of the step's start (0: held forces)")
+    for k in CONTACTS for name, force, symbol in JACOBIAN]
+
+PARAMETER_TEXT = {
+    "mass": ("kg", 0.0, "Wheelset mass m, > 0"),
+    "yaw_inertia": ("kg.m2", 0.0, "Yaw moment of inertia I, > 0"),
+    "rolling_radius": ("m", 0.0, "Centred rolling radius r0, > 0"),
+    "contact_half_distance": ("m", 0.0, "Half the distance e between the contact points, > 0"),
+    "conicity": ("1", 0.0, "Equivalent conicity lambda, >= 0"),
+    "contact_angle": ("rad", 0.0, "Contact angle delta0 of the spin creepage (a cone: arctan(conicity))"),
+    "normal_load": ("N", 0.0, "Normal load N per wheel, > 0"),
+    "lateral_stiffness": ("N/m", 0.0, "Primary lateral stiffness k_y, >= 0"),
+    "yaw_stiffness": ("N.m/rad", 0.0, "Primary yaw stiffness k_psi, >= 0"),
+    "lateral_damping": ("N.s/m", 0.0, "Primary lateral damping c_y, >= 0"),
+    "yaw_damping": ("N.m.s/rad", 0.0, "Primary yaw damping c_psi, >= 0"),
+    "speed": ("m/s", 0.0, "Speed V of the frame along the track, > 0"),
+    "initial_lateral_displacement": ("m", None, "y at the start time"),
+    "initial_yaw_angle": ("rad", None, "psi at the start time"),
+    "initial_lateral_velocity": ("m/s", None, "y' at the start time"),
+    "initial_yaw_rate": ("rad/s", None, "psi' at the start time"),
+}
+PARAMETER_ROWS = [(f.name, Real, PARAMETER, FIXED, *PARAMETER_TEXT[f.name][:1], getattr(DEFAULT, f.name),
+                   PARAMETER_TEXT[f.name][1], None, PARAMETER_TEXT[f.name][2])
+                  for f in dataclasses.fields(WheelsetParameters) if f.name != "substeps"]
+PARAMETER_ROWS.append(("substeps", Integer, PARAMETER, FIXED, None, DEFAULT.substeps, 1, None,
+                       "Integration steps per macro step, >= 1"))
+
+# name, type, causality, variability, unit, start, min, max, description.  Append only: the value reference of a
+# variable is its row number (from 0).
+VARIABLES = tuple(INPUT_ROWS + OUTPUT_ROWS + PARAMETER_ROWS)
+FORCE_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in FORCES)
+JACOBIAN_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in JACOBIAN)
+
+
+class Wheelset(TableSlave):
+    """Suspended wheelset with conical wheels on straight track, host of a contact FMU with two contacts."""
+
+    author = "rollcontact"
+    description = ("Wheelset on straight track (lateral displacement and yaw, conical wheels, primary suspension "
+                   "to a frame at constant speed): outputs the creepages, loads and speeds of its two contacts, "
+                   "takes their forces and Jacobians")
+    license = "MIT"
+    version = "0.1.0"
+    default_experiment = DefaultExperiment(start_time=0.0, stop_time=2.0, step_size=1e-3)
+
+    VARIABLES = VARIABLES
+    INITIAL_DEPENDENCIES = None  # the initial outputs are computed from the parameters
+
+    def new_model(self, values: dict):
+        """A WheelsetModel at the start time."""
+        return WheelsetModel(WheelsetParameters(**values), start_time=self.start_time), ()
+
+    def initial_outputs(self, model):
+        return model.outputs()
+
+    def step_model(self, current_time, step_size):
+        forces = [[getattr(self, FORCE_INPUTS[3 * k + i]) for i in range(3)] for k in range(2)]
+        jacobians = [[[getattr(self, JACOBIAN_INPUTS[9 * k + 3 * i + j]) for j in range(3)] for i in range(3)]
+                     for k in range(2)]
+        self.model.step(current_time, step_size, forces, jacobians)
+        return self.model.outputs()
+
+    def parse_model_state(self, data):
+        try:
+            return WheelsetState.from_dict(data)
+        except ValueError as exc:
+            raise ValueError(str(exc)) from None
+
+    def restored_outputs(self, saved):
+        return self.model.outputs()
