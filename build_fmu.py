@@ -8,8 +8,8 @@ co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcon
 ``fmu_src/wheelset_slave.py``, class in ``fmu_src/rollcontact_fmu_wheelset.py``); ``--if-stale``
 builds only the FMUs that are missing or older than one of their sources; ``--integer-codes`` declares the
 enumerations' variables as plain Integer, for hosts without FMI enumerations (libcosim); ``--docs`` writes the
-variable table of ``docs/fmu.md`` from the slave's.  Both FMUs can get, set and serialise
-their state; both bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_xml.py``.
+variable table of ``docs/fmu.md`` from the slave's.  Every FMU can get, set and serialise
+their state; all bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_xml.py``.
 The slave files are tiny entry modules that import the slave class from a bundled module
 (``fmu_src/rollcontact_fmu_contact.py``, ``fmu_src/rollcontact_fmu_wheel_rig.py``): pythonfmu re-executes the
 entry module on every instantiation (``fmu_src/rollcontact_fmu_slave.py``'s docstring).
