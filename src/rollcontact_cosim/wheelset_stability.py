@@ -23,7 +23,8 @@ import numpy as np
 
 from rollcontact_cosim.wheelset import KalkerLinearLaw, WheelsetError, WheelsetParameters
 
-__all__ = ["critical_speed", "eigenvalues", "klingel_wavelength", "least_damped", "linearised", "state_matrix"]
+__all__ = ["critical_speed", "eigenvalues", "kinematic_frequency", "klingel_wavelength", "least_damped", "linearised",
+           "state_matrix"]
 
 
 def linearised(law, parameters: WheelsetParameters) -> KalkerLinearLaw:
@@ -93,3 +94,8 @@ def klingel_wavelength(parameters: WheelsetParameters) -> float:
     if not p.conicity > 0.0:
         raise WheelsetError(f"conicity = {p.conicity!r} is out of range: Klingel's wavelength needs lambda > 0")
     return 2.0 * math.pi * math.sqrt(p.rolling_radius * p.contact_half_distance / p.conicity)
+
+
+def kinematic_frequency(parameters: WheelsetParameters) -> float:
+    """Klingel's frequency ``V / L`` [Hz] at ``parameters.speed``: the hunting frequency in the kinematic limit."""
+    return parameters.speed / klingel_wavelength(parameters)

@@ -256,3 +256,56 @@ def test_the_scene_runs_in_process_and_refuses_the_cosimulation_options(capsys):
 
     assert main(["--scene", "wheelset_hunting", "--master", "libcosim"]) == 2, "exit code 2 for a bad option"
     assert "runs in process" in capsys.readouterr().err, "the message says why"
+
+
+def hurwitz(p: WheelsetParameters, law: KalkerLinearLaw, speed: float) -> float:
+    """Hurwitz's determinant ``a3 a2 a1 - a1^2 a4 - a3^2 a0`` of the characteristic polynomial, expanded by hand
+    (no spin terms): ``(m s^2 + a s + k_y)(I s^2 + b s + k_psi) + 4 f22 f11 e lambda / r0``,
+    ``a = 2 f22 / V + c_y``, ``b = 2 e^2 f11 / V + c_psi``; > 0 stable, < 0 unstable (all a_i > 0)."""
+    a = 2 * law.f22 / speed + p.lateral_damping
+    b = 2 * p.contact_half_distance ** 2 * law.f11 / speed + p.yaw_damping
+    a4, a3 = p.mass * p.yaw_inertia, p.mass * b + p.yaw_inertia * a
+    a2 = p.mass * p.yaw_stiffness + a * b + p.yaw_inertia * p.lateral_stiffness
+    a1 = a * p.yaw_stiffness + b * p.lateral_stiffness
+    a0 = p.lateral_stiffness * p.yaw_stiffness + 4 * law.f22 * law.f11 * p.contact_half_distance * p.conicity \
+        / p.rolling_radius
+    return a3 * a2 * a1 - a1 ** 2 * a4 - a3 ** 2 * a0
+
+
+@pytest.mark.parametrize("changes", [{}, {"yaw_stiffness": 5e6, "lateral_damping": 1e4}, {"conicity": 0.3}])
+def test_the_critical_speed_is_where_hurwitzs_determinant_vanishes(changes):
+    from scipy.optimize import brentq
+
+    p = dataclasses.replace(P, **changes)
+    expected = brentq(lambda v: hurwitz(p, LAW, v), 5.0, 300.0, rtol=1e-13)
+    assert critical_speed(p, LAW) == pytest.approx(expected, rel=1e-8), f"{changes}: eigenvalues against Hurwitz"
+
+
+def test_at_low_speed_the_hunting_frequency_is_klingels():
+    from rollcontact_cosim.wheelset_stability import kinematic_frequency
+
+    p = dataclasses.replace(P, speed=2.0, lateral_stiffness=0.0, yaw_stiffness=0.0)
+    mode = least_damped(p, LAW)
+    assert mode.imag / (2 * math.pi) == pytest.approx(kinematic_frequency(p), rel=1e-4), "Im / 2 pi = V / L"
+    assert kinematic_frequency(p) == pytest.approx(2.0 / klingel_wavelength(p), rel=1e-15)
+
+
+def test_the_simulated_critical_speed_does_not_depend_on_the_step():
+    coarse = hunting_sweep([60.0, 66.0], P, LAW, periods=10, steps_per_period=40, n_workers=0)
+    fine = hunting_sweep([60.0, 66.0], P, LAW, periods=10, steps_per_period=400, n_workers=0)
+    assert coarse.simulated_critical_speed == pytest.approx(fine.simulated_critical_speed, rel=2e-3), \
+        f"40 steps per period: {coarse.simulated_critical_speed}, 400: {fine.simulated_critical_speed} m/s"
+
+
+@pytest.mark.slow
+def test_the_sweep_on_dask_workers_equals_the_serial_sweep():
+    pytest.importorskip("dask.distributed")
+    from dask.distributed import Client
+
+    from rollcontact_cosim.sweep import local_cluster
+
+    speeds = [55.0, 65.0, 75.0]
+    with local_cluster(2) as cluster, Client(cluster) as client:
+        distributed = hunting_sweep(speeds, P, LAW, periods=8, client=client)
+    serial = hunting_sweep(speeds, P, LAW, periods=8, n_workers=0)
+    assert distributed == serial, "worker processes give the serial results bit for bit"
