@@ -69,14 +69,27 @@ from typing import NamedTuple, Protocol
 import numpy as np
 from scipy.special import ellipe, ellipk
 
-__all__ = ["CONTACTS", "ContactForces", "CreepForceLaw", "KalkerLinearLaw", "SaturatedKalkerLaw", "WheelsetError",
-           "WheelsetModel", "WheelsetParameters", "WheelsetState", "creepage_jacobian", "creepages", "hertz_semi_axes",
-           "kalker_coefficients", "linear_law", "simulate"]
+__all__ = ["CONNECTIONS", "CONTACT", "CONTACTS", "HOST", "ContactForces", "CreepForceLaw", "KalkerLinearLaw",
+           "SaturatedKalkerLaw", "WheelsetError", "WheelsetModel", "WheelsetParameters", "WheelsetState",
+           "creepage_jacobian", "creepages", "hertz_semi_axes", "kalker_coefficients", "linear_law", "simulate"]
 
 CONTACTS = ("left", "right")
 """Contact order everywhere (arrays of two contacts, the FMU's indices 1 and 2)."""
 SIDE = {"left": 1.0, "right": -1.0}
 """Lateral side of each contact: position ``SIDE * e``."""
+
+HOST, CONTACT = "Wheelset", "RollingContact3D"
+"""Instance (= model) names of the hunting scene's FMUs: this host and a contact FMU with two contacts."""
+CONNECTIONS = tuple(
+    [(f"{HOST}.{name}[{k}]", f"{CONTACT}.{name}[{k}]") for k in (1, 2)
+     for name in ("normal_load", "longitudinal_creep", "lateral_creep", "spin", "velocity")]
+    + [(f"{CONTACT}.{name}[{k}]", f"{HOST}.{name}[{k}]") for k in (1, 2)
+       for name in ("longitudinal_force", "lateral_force", "spin_moment")])
+"""(source output, target input) of the hunting scene: contact k = 1 left, 2 right, the same names on both sides
+(the host FMU declares the contact FMU's).  The host's Jacobian inputs ``dFx_dxi[k]`` ... ``dMz_dphi[k]`` take the
+contact's Jacobian outputs, whose names the contact FMU declares; unconnected they stay 0 (forces held over the
+step).  Both contacts use the same axes (x rolling direction, y to the left, z up): the right contact is not
+mirrored."""
 
 KALKER_ASPECT_RATIOS = (0.1, 0.5, 1.0, 2.0, 10.0)
 KALKER_POISSON_RATIOS = (0.0, 0.25, 0.5)
