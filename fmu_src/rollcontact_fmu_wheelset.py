@@ -89,9 +89,12 @@ PARAMETER_TEXT = {
 }
 PARAMETER_ROWS = [(f.name, Real, PARAMETER, FIXED, *PARAMETER_TEXT[f.name][:1], getattr(DEFAULT, f.name),
                    PARAMETER_TEXT[f.name][1], None, PARAMETER_TEXT[f.name][2])
-                  for f in dataclasses.fields(WheelsetParameters) if f.name != "substeps"]
-PARAMETER_ROWS.append(("substeps", Integer, PARAMETER, FIXED, None, DEFAULT.substeps, 1, None,
-                       "Integration steps per macro step, >= 1"))
+                  for f in dataclasses.fields(WheelsetParameters) if f.name not in ("substeps", "force_lag")]
+PARAMETER_ROWS += [("substeps", Integer, PARAMETER, FIXED, None, DEFAULT.substeps, 1, None,
+                    "Integration steps per macro step, >= 1"),
+                   ("force_lag", Integer, PARAMETER, FIXED, None, DEFAULT.force_lag, 0, 1,
+                    "Communication points by which the force inputs lag the creepage outputs: 0 Gauss-Seidel with "
+                    "the contact stepped first, 1 Jacobi (libcosim)")]
 
 # name, type, causality, variability, unit, start, min, max, description.  Append only: the value reference of a
 # variable is its row number (from 0).

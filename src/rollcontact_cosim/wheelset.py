@@ -53,7 +53,10 @@ Integration and coupling
 :meth:`WheelsetModel.step` advances one macro step with the forces ``F_n`` evaluated at the creepages of the step's
 start and their Jacobians ``K = dF/d(xi, eta, phi)`` (3x3 per contact): ``substeps`` steps of the linearly implicit
 trapezoidal rule (one-stage Rosenbrock method with gamma = 1/2) ``(I - h W / 2) (s_(j+1) - s_j) = h f(s_j)``,
-where W is the Jacobian of the right-hand side with the forces linearised, ``F = F_n + K (c(s) - c_n)``.
+where W is the Jacobian of the right-hand side with the forces linearised, ``F = F_n + K (c(s) - c_ref)``, and
+``c_ref`` the creepages the contact evaluated ``F_n`` at: those of t_n (``force_lag = 0``: Gauss-Seidel, contact
+stepped first) or of t_(n-1) (``force_lag = 1``: Jacobi, as libcosim's fixed-step algorithm, where every FMU steps
+from the previous outputs), so that either ordering integrates the same linearised force.
 It is second order, A-stable, and maps the imaginary axis onto the unit circle: an undamped linear mode stays
 undamped at any step, so the step does not move the stability boundary (explicit methods and backward Euler add
 or remove damping of order h), and the stiff creep modes (eigenvalues ~ -2 f22 / (m V)) decay at any step.
@@ -285,6 +288,8 @@ class WheelsetParameters:
         y' [m/s] and psi' [rad/s] at the start time.
     substeps : int
         Integration steps per macro step >= 1.
+    force_lag : int
+        0 or 1: communication points by which the force inputs lag the creepage outputs (module docstring).
     """
 
     mass: float = 1250.0
@@ -304,6 +309,7 @@ class WheelsetParameters:
     initial_lateral_velocity: float = 0.0
     initial_yaw_rate: float = 0.0
     substeps: int = 1
+    force_lag: int = 0
 
     def __post_init__(self):
         if self.contact_angle is None:
@@ -327,6 +333,9 @@ class WheelsetParameters:
             raise WheelsetError(f"contact_angle = {self.contact_angle!r} rad is out of range: it must be < pi/2")
         if isinstance(self.substeps, bool) or not isinstance(self.substeps, int) or self.substeps < 1:
             raise WheelsetError(f"substeps = {self.substeps!r} is out of range: it must be an integer >= 1")
+        if isinstance(self.force_lag, bool) or self.force_lag not in (0, 1):
+            raise WheelsetError(f"force_lag = {self.force_lag!r} is out of range: it must be 0 (Gauss-Seidel) or 1 "
+                                "(Jacobi)")
 
     @property
     def initial_state(self) -> np.ndarray:
@@ -400,6 +409,9 @@ class WheelsetState:
         y [m], psi [rad], y' [m/s], psi' [rad/s].
     steps : int
         Successful steps taken.
+    previous : tuple of float or None
+        ``(y, psi, y', psi')`` at the previous communication point (the reference of ``force_lag = 1``); None
+        before the first step.
     """
 
     time: float
@@ -408,6 +420,7 @@ class WheelsetState:
     lateral_velocity: float
     yaw_rate: float
     steps: int = 0
+    previous: tuple[float, float, float, float] | None = None
 
     @property
     def vector(self) -> np.ndarray:
@@ -416,20 +429,29 @@ class WheelsetState:
 
     def to_dict(self) -> dict:
         """JSON-compatible dict (floats survive ``json`` exactly)."""
-        return {name: getattr(self, name) for name in self.__slots__}
+        data = {name: getattr(self, name) for name in self.__slots__}
+        data["previous"] = None if self.previous is None else list(self.previous)
+        return data
 
     @classmethod
     def from_dict(cls, data: dict) -> WheelsetState:
         """Inverse of :meth:`to_dict`; every field checked (WheelsetError naming the first problem)."""
         if not isinstance(data, dict) or set(data) != set(cls.__slots__):
             raise WheelsetError(f"a wheelset state has the keys {list(cls.__slots__)}, got {data!r:.200}")
+        previous = data["previous"]
         for name in cls.__slots__:
             value = data[name]
-            ok = (type(value) is int and value >= 0) if name == "steps" else \
-                (type(value) in (int, float) and math.isfinite(value))
+            if name == "steps":
+                ok = type(value) is int and value >= 0
+            elif name == "previous":
+                ok = value is None or (isinstance(value, list) and len(value) == 4 and all(
+                    type(v) in (int, float) and math.isfinite(v) for v in value))
+            else:
+                ok = type(value) in (int, float) and math.isfinite(value)
             if not ok:
                 raise WheelsetError(f"wheelset state: {name} = {value!r:.80} is out of range or not a finite number")
-        return cls(*(float(data[name]) for name in cls.__slots__[:-1]), data["steps"])
+        return cls(*(float(data[name]) for name in cls.__slots__[:5]), data["steps"],
+                   None if previous is None else tuple(float(v) for v in previous))
 
 
 class WheelsetModel:
@@ -543,26 +565,32 @@ class WheelsetModel:
         now = self.state.time
         if not abs(current_time - now) <= 1e-9 * max(1.0, abs(now)):
             raise WheelsetError(f"current_time = {current_time!r} s is not the model time {now!r} s")
-        # the forces are linearised about the creepages of t_n: F(c) = F_n + K (c - c_n)
-        reference = self.creepages()
-        h = step_size / self.parameters.substeps
-        state = self.state.vector
-        for _ in range(self.parameters.substeps):
+        # the forces are linearised about the creepages they belong to: F(c) = F_n + K (c - c_ref)
+        p = self.parameters
+        before = self.state
+        lagged = p.force_lag == 1 and before.previous is not None
+        reference = self.creepages(np.array(before.previous) if lagged else None)
+        h = step_size / p.substeps
+        state = before.vector
+        for _ in range(p.substeps):
             local = forces + np.einsum("kij,kj->ki", jacobians, self.creepages(state) - reference)
             state = self.advance(state, h, local, jacobians)
         if not np.all(np.isfinite(state)):
             raise WheelsetError(f"the step from t = {current_time!r} s with H = {step_size!r} s gave the non-finite "
                                 f"state {state.tolist()!r}")
-        self.state = WheelsetState(current_time + step_size, *map(float, state), self.state.steps + 1)
+        self.state = WheelsetState(current_time + step_size, *map(float, state), before.steps + 1,
+                                   tuple(map(float, before.vector)))
         return state
 
 
 def simulate(parameters: WheelsetParameters, law: CreepForceLaw, stop_time: float, step_size: float,
-             *, implicit: bool = True) -> tuple[np.ndarray, np.ndarray]:
+             *, implicit: bool = True, jacobi: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """In-process run: times [s] and states (rows ``y, psi, y', psi'``) at every step of ``step_size`` [s].
 
     Each step evaluates ``law`` (and its Jacobian when ``implicit``) at the step's creepages and calls
-    :meth:`WheelsetModel.step`: the sequence a Gauss-Seidel co-simulation master runs with a contact FMU.
+    :meth:`WheelsetModel.step`: the sequence a Gauss-Seidel co-simulation master runs with a contact FMU.  With
+    ``jacobi`` the law is evaluated at the creepages of the previous communication point, and the first step sees
+    zero forces and Jacobians (a contact FMU's start values), as in a Jacobi master; set ``force_lag = 1`` then.
     """
     model = WheelsetModel(parameters)
     n = int(round(stop_time / step_size))
@@ -573,8 +601,16 @@ def simulate(parameters: WheelsetParameters, law: CreepForceLaw, stop_time: floa
     states[0] = model.state.vector
     forces = np.empty((2, 3))
     jacobians = np.zeros((2, 3, 3))
+    previous = None
     for i in range(n):
         creep = model.creepages()
+        if jacobi:
+            creep, previous = previous, creep
+        if creep is None:
+            forces[:] = 0.0
+            jacobians[:] = 0.0
+            states[i + 1] = model.step(i * step_size, step_size, forces, jacobians)
+            continue
         for k in range(2):
             forces[k] = law(p.normal_load, *creep[k], p.speed)
             if implicit:

@@ -309,3 +309,20 @@ def test_the_sweep_on_dask_workers_equals_the_serial_sweep():
         distributed = hunting_sweep(speeds, P, LAW, periods=8, client=client)
     serial = hunting_sweep(speeds, P, LAW, periods=8, n_workers=0)
     assert distributed == serial, "worker processes give the serial results bit for bit"
+
+
+def test_a_jacobi_master_with_force_lag_integrates_the_gauss_seidel_motion():
+    """Forces of the previous communication point, linearised about the creepages they belong to (force_lag = 1),
+    give the Gauss-Seidel motion (exactly, for a linear law, after the first step's zero forces); linearised about
+    the current ones (force_lag = 0) they lag a step and destabilise the coarse step."""
+    rates = {}
+    for label, jacobi, lag in (("gauss-seidel", False, 0), ("jacobi", True, 1), ("jacobi, no lag", True, 0)):
+        p = dataclasses.replace(P, speed=60.0, force_lag=lag)
+        period = klingel_wavelength(p) / p.speed
+        times, states = simulate(p, LAW, 0.005 * 320, 0.005, jacobi=jacobi)
+        rates[label] = decay_rate(times, states[:, 0], start=2 * period, limit=0.01)[0]
+    assert rates["gauss-seidel"] < 0.0, rates
+    assert rates["jacobi"] == pytest.approx(rates["gauss-seidel"], rel=1e-4), f"force_lag = 1: {rates}"
+    assert rates["jacobi, no lag"] > 0.0, f"force_lag = 0 under Jacobi with H = 5 ms must be unstable: {rates}"
+    with pytest.raises(WheelsetError, match="force_lag = 2"):
+        WheelsetParameters(force_lag=2)
