@@ -256,9 +256,10 @@ class WheelsetParameters:
 
     Defaults: a passenger-coach wheelset (Iwnicki's handbook's orders of magnitude: m 1250 kg, I 700 kg m^2,
     r0 0.46 m, e 0.75 m), conicity 0.15 and contact angle arctan(0.15) (a cone), 80 kN per wheel, primary
-    stiffnesses 1 MN/m laterally and 2 MN m/rad in yaw (the 2 MN m/rad bring the critical speed to about 75 m/s
-    with the default creep coefficients, :mod:`rollcontact_cosim.wheelset_stability`), no dampers, starting
-    0.1 mm off the centre line.
+    stiffnesses 1 MN/m laterally (two axle boxes of 0.5 MN/m) and 2 MN m/rad in yaw (``2 k_x b^2``, longitudinal
+    axle-box stiffness k_x = 1 MN/m at the lateral semi-spacing b = 1 m), which with the default creep
+    coefficients put the critical speed in the 30-150 m/s of passenger stock (``models/cosim/
+    wheelset_hunting_inprocess.md``), no dampers, starting 0.1 mm off the centre line.
 
     Parameters
     ----------
