@@ -42,8 +42,9 @@ from rollcontact_cosim.wheelset import (
 )
 from rollcontact_cosim.wheelset_stability import critical_speed, klingel_wavelength, least_damped, linearised
 
-__all__ = ["SPEEDS", "HuntingSweep", "KlingelPoint", "SpeedRun", "decay_rate", "hunting_sweep", "klingel_study",
-           "plot_hunting", "report", "run_hunting_study", "run_speed", "wavelength"]
+__all__ = ["REFERENCE", "SPEEDS", "HuntingSweep", "KlingelPoint", "SpeedRun", "decay_rate", "hunting_sweep",
+           "klingel_study", "plot_hunting", "report", "run_hunting_study", "run_speed", "wavelength",
+           "write_reference"]
 
 
 def upward_crossings(times: np.ndarray, signal: np.ndarray) -> np.ndarray:
@@ -255,6 +256,15 @@ def plot_hunting(sweep: HuntingSweep, path: Path | str, parameters: WheelsetPara
     return Path(path)
 
 
+REFERENCE = Path(__file__).resolve().parents[2] / "models" / "cosim" / "wheelset_hunting_inprocess.md"
+"""Reference results of the in-process study (:func:`write_reference`)."""
+REFERENCE_HEADER = """# wheelset_hunting: in-process reference results
+
+Written by `rollcontact_cosim.wheelset_study.write_reference()` (the study of `python -m rollcontact_cosim --scene
+wheelset_hunting`: default parameters of `rollcontact_cosim.wheelset`, Kalker's linear creep forces, 200 steps per
+kinematic period); every figure is a function of the parameters only.
+
+"""
 SPEEDS = tuple(float(v) for v in range(30, 101, 10))
 """Speeds [m/s] of the default sweep: 30 ... 100 m/s, independent of the prediction."""
 
@@ -287,3 +297,11 @@ def report(sweep: HuntingSweep, klingel: list[KlingelPoint]) -> str:
     lines += [f"| {k.speed:g} | {k.suspension_scale:g} | {k.measured:.4f} | {k.klingel:.4f} | {100 * k.error:+.3f} % "
               f"| {k.eigenvalue:.4f} |" for k in klingel]
     return "\n".join(lines)
+
+
+def write_reference(path: Path | str = REFERENCE, **sweep_options) -> Path:
+    """Run the default study (serial unless ``sweep_options`` say otherwise) and write its :func:`report` to
+    ``path`` below :data:`REFERENCE_HEADER`."""
+    sweep, klingel = run_hunting_study(None, **{"n_workers": 0, **sweep_options})
+    Path(path).write_text(REFERENCE_HEADER + report(sweep, klingel) + "\n")
+    return Path(path)

@@ -326,3 +326,12 @@ def test_a_jacobi_master_with_force_lag_integrates_the_gauss_seidel_motion():
     assert rates["jacobi, no lag"] > 0.0, f"force_lag = 0 under Jacobi with H = 5 ms must be unstable: {rates}"
     with pytest.raises(WheelsetError, match="force_lag = 2"):
         WheelsetParameters(force_lag=2)
+
+
+@pytest.mark.slow
+def test_the_reference_results_are_the_studys(tmp_path):
+    from rollcontact_cosim.wheelset_study import REFERENCE, write_reference
+
+    fresh = write_reference(tmp_path / "reference.md")
+    assert fresh.read_text() == REFERENCE.read_text(), \
+        "models/cosim/wheelset_hunting_inprocess.md is not what the study gives: rerun write_reference()"
