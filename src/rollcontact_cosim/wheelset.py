@@ -72,14 +72,9 @@ from typing import NamedTuple, Protocol
 import numpy as np
 from scipy.special import ellipe, ellipk
 
-__all__ = ["CONNECTIONS", "CONTACT", "CONTACTS", "HOST", "ContactForces", "CreepForceLaw", "KalkerLinearLaw",
+__all__ = ["CONNECTIONS", "CONTACT", "HOST", "ContactForces", "CreepForceLaw", "KalkerLinearLaw",
            "SaturatedKalkerLaw", "WheelsetError", "WheelsetModel", "WheelsetParameters", "WheelsetState",
            "creepage_jacobian", "creepages", "hertz_semi_axes", "kalker_coefficients", "linear_law", "simulate"]
-
-CONTACTS = ("left", "right")
-"""Contact order everywhere (arrays of two contacts, the FMU's indices 1 and 2)."""
-SIDE = {"left": 1.0, "right": -1.0}
-"""Lateral side of each contact: position ``SIDE * e``."""
 
 HOST, CONTACT = "Wheelset", "RollingContact3D"
 """Instance (= model) names of the hunting scene's FMUs: this host and a contact FMU with two contacts."""
