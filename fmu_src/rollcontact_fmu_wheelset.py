@@ -132,10 +132,7 @@ class Wheelset(TableSlave):
         return self.model.outputs()
 
     def parse_model_state(self, data):
-        try:
-            return WheelsetState.from_dict(data)
-        except ValueError as exc:
-            raise ValueError(str(exc)) from None
+        return WheelsetState.from_dict(data)  # a WheelsetError (ValueError) names the first bad field
 
     def restored_outputs(self, saved):
         return self.model.outputs()

@@ -201,9 +201,11 @@ class KalkerLinearLaw:
     f33: float = 0.0
 
     def __call__(self, normal_load, xi, eta, phi, velocity) -> ContactForces:
+        """The forces on the rail [N, N, N m] at the creepages [1, 1, 1/m] (load and speed do not enter)."""
         return ContactForces(self.f11 * xi, self.f22 * eta + self.f23 * phi, -self.f23 * eta + self.f33 * phi)
 
     def jacobian(self, normal_load, xi, eta, phi, velocity) -> np.ndarray:
+        """``d(Fx, Fy, Mz)/d(xi, eta, phi)``: the constant coefficient matrix."""
         return np.array([[self.f11, 0.0, 0.0], [0.0, self.f22, self.f23], [0.0, -self.f23, self.f33]])
 
 
@@ -224,6 +226,7 @@ class SaturatedKalkerLaw:
     friction_coefficient: float = 0.3
 
     def __call__(self, normal_load, xi, eta, phi, velocity) -> ContactForces:
+        """The saturated forces on the rail [N, N, N m] at the creepages [1, 1, 1/m] under ``normal_load`` [N]."""
         fx, fy, mz = self.linear(normal_load, xi, eta, phi, velocity)
         return ContactForces(*(value * self.factor(normal_load, fx, fy) for value in (fx, fy, mz)))
 

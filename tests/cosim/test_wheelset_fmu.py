@@ -100,3 +100,28 @@ def test_a_restored_state_repeats_the_steps(fmu):
         slave.fmu.freeFMUstate(saved)
     finally:
         slave.free()
+
+
+def test_a_malformed_model_state_is_refused_and_the_instance_keeps_its_own(fmu):
+    import hashlib
+    import json
+
+    slave = started(fmu, "refuse")
+    try:
+        slave.fmu.doStep(0.0, 1e-3)
+        good = slave.fmu.getFMUstate()
+        data = bytes(slave.fmu.serializeFMUstate(good))
+        before = slave.fmu.getReal([slave.reference(s) for s in STATES])
+        state = json.loads(data)
+        state.pop("sha256")
+        state["model"]["yaw_rate"] = "fast"
+        text = json.dumps(state, sort_keys=True)  # canonical_json of the shared slave
+        state["sha256"] = hashlib.sha256(text.encode()).hexdigest()  # a valid checksum: the content is refused
+        bad = slave.fmu.deSerializeFMUstate(json.dumps(state).encode())
+        slave.fmu.setFMUstate(bad)
+        assert any("yaw_rate = 'fast'" in line for line in slave.log), f"the reason names the field: {slave.log}"
+        assert slave.fmu.getReal([slave.reference(s) for s in STATES]) == before, "the refused state changes nothing"
+        slave.fmu.freeFMUstate(good)
+        slave.fmu.freeFMUstate(bad)
+    finally:
+        slave.free()
