@@ -61,7 +61,9 @@ OUTPUT_ROWS += [
     ("lateral_velocity", Real, OUTPUT, CONTINUOUS, "m/s", None, None, None, "Lateral velocity y'"),
     ("yaw_rate", Real, OUTPUT, CONTINUOUS, "rad/s", None, None, None, "Yaw rate psi'"),
 ]
-OUTPUT_ROWS = [(*row[:5], start, *row[6:]) for row, start in zip(OUTPUT_ROWS, START, strict=True)]
+# start values to 16 significant digits, as pythonfmu writes FMI 2.0 starts (FMI 3.0's keep 17): both
+# modelDescriptions then declare the same numbers (the outputs' initial values are approx, computed at initialisation)
+OUTPUT_ROWS = [(*row[:5], float(f"{start:.16g}"), *row[6:]) for row, start in zip(OUTPUT_ROWS, START, strict=True)]
 
 INPUT_ROWS = [(f"{name}[{k}]", Real, INPUT, CONTINUOUS, unit, 0.0, None, None, f"{text}, contact {k} ({SIDES[k]})")
               for k in CONTACTS for name, unit, text in FORCES]
@@ -75,7 +77,7 @@ PARAMETER_TEXT = {
     "rolling_radius": ("m", 0.0, "Centred rolling radius r0, > 0"),
     "contact_half_distance": ("m", 0.0, "Half the distance e between the contact points, > 0"),
     "conicity": ("1", 0.0, "Equivalent conicity lambda, >= 0"),
-    "contact_angle": ("rad", 0.0, "Contact angle delta0 of the spin creepage (a cone: arctan(conicity))"),
+    "contact_angle": ("rad", 0.0, "Contact angle delta0 of the spin creepage (a cone: the conicity, to first order)"),
     "normal_load": ("N", 0.0, "Normal load N per wheel, > 0"),
     "lateral_stiffness": ("N/m", 0.0, "Primary lateral stiffness k_y, >= 0"),
     "yaw_stiffness": ("N.m/rad", 0.0, "Primary yaw stiffness k_psi, >= 0"),

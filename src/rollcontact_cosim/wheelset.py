@@ -29,9 +29,9 @@ contact moves with the centre velocity ``(V, y')``, the yaw rate's ``-/+ e psi' 
   ``~ -/+ (lambda y / r0 + e psi' / V)``;
 * lateral: ``eta = (y' cos psi - V sin psi) / V ~ y'/V - psi`` (both contacts);
 * spin: ``phi_(L,R) = psi'/V -/+ delta0 / r0`` [1/m], the yaw rate plus the axle's rotation about the tilted
-  contact normal (contact angle delta0; a cone has ``tan delta0 = lambda``).  The conicity terms are equal and
-  opposite on the two wheels, so their forces cancel in the wheelset's equations at every amplitude of a
-  symmetric law; with a linear law they drop out of the linearised equations.
+  contact normal (contact angle delta0; a cone has ``tan delta0 = lambda``, ``delta0 = lambda`` to first order).
+  The conicity terms are equal and opposite on the two wheels, so their forces cancel in the wheelset's equations
+  at every amplitude of a symmetric law; with a linear law they drop out of the linearised equations.
 
 Equations of motion
 -------------------
@@ -253,7 +253,7 @@ class WheelsetParameters:
     """Fixed parameters of a :class:`WheelsetModel` (the host FMU's parameters of the same names).
 
     Defaults: a passenger-coach wheelset (Iwnicki's handbook's orders of magnitude: m 1250 kg, I 700 kg m^2,
-    r0 0.46 m, e 0.75 m), conicity 0.15 and contact angle arctan(0.15) (a cone), 80 kN per wheel, primary
+    r0 0.46 m, e 0.75 m), conicity 0.15 and contact angle 0.15 rad (a cone, to first order), 80 kN per wheel, primary
     stiffnesses 1 MN/m laterally (two axle boxes of 0.5 MN/m) and 2 MN m/rad in yaw (``2 k_x b^2``, longitudinal
     axle-box stiffness k_x = 1 MN/m at the lateral semi-spacing b = 1 m), which with the default creep
     coefficients put the critical speed in the 30-150 m/s of passenger stock (``models/cosim/
@@ -272,7 +272,8 @@ class WheelsetParameters:
     conicity : float
         lambda [1] >= 0.
     contact_angle : float or None
-        delta0 [rad] in [0, pi/2) of the spin creepage; None: arctan(conicity).
+        delta0 [rad] in [0, pi/2) of the spin creepage; None: the conicity (a cone's ``arctan(lambda)`` to first
+        order, the order of the cone geometry here).
     normal_load : float
         N [N] > 0 per wheel.
     lateral_stiffness, yaw_stiffness : float
@@ -312,8 +313,7 @@ class WheelsetParameters:
 
     def __post_init__(self):
         if self.contact_angle is None:
-            object.__setattr__(self, "contact_angle", math.atan(self.conicity)
-                               if isinstance(self.conicity, (int, float)) else self.conicity)
+            object.__setattr__(self, "contact_angle", self.conicity)
         rules = {"mass": (0, "kg"), "yaw_inertia": (0, "kg m^2"), "rolling_radius": (0, "m"),
                  "contact_half_distance": (0, "m"), "normal_load": (0, "N"), "speed": (0, "m/s"),
                  "conicity": (1, "1"), "lateral_stiffness": (1, "N/m"), "yaw_stiffness": (1, "N m/rad"),
