@@ -359,3 +359,16 @@ def test_main_job_prints_the_summary_and_writes_the_plot(fmu_dir, tmp_path, caps
 def test_unknown_override_is_refused_with_the_choices(fmu_dir):
     with pytest.raises(KeyError, match="WheelRig has no parameter 'mass' \\(choices: wheel_radius"):
         run_cosimulation("carter_sanity", fmu_dir=fmu_dir, host={"mass": 1e4})
+
+
+def test_every_invalid_wheel_rig_parameter_is_named_in_one_refusal():
+    from rollcontact_cosim.wheel_rig import WheelRigError
+
+    with pytest.raises(WheelRigError) as caught:
+        WheelRigParameters(wheel_radius=0.0, vehicle_mass=-1.0, substeps=0)
+    message = str(caught.value)
+    for part in ("wheel_radius = 0.0 m is out of range", "vehicle_mass = -1.0 kg is out of range",
+                 "substeps = 0 is out of range"):
+        assert part in message, f"the refusal {message!r} must name {part!r}"
+    with pytest.raises(WheelRigError, match="load_amplitude = 2.0 N is out of range: it must be <= static_load"):
+        WheelRigParameters(static_load=1.0, load_amplitude=2.0, substeps=0)

@@ -380,6 +380,20 @@ def test_bad_parameters_are_discarded_with_the_reason(instance, parameters, reas
     assert reason in discarded(fmu, 0.0, H, 1e5, 1e-3, 20.0), "a restored state keeps its parameter problem"
 
 
+@pytest.mark.parametrize("parameters", [
+    {"radius": -0.1, "friction_coefficient": 0.0},
+    {"poisson_ratio": 0.6, "contact_width": 0.0, "friction_law": 7},
+])
+def test_every_invalid_parameter_is_named_in_one_refusal(instance, parameters):
+    fmu = instance(**parameters)
+    message = discarded(fmu, 0.0, H, 1e5, 1e-3, 20.0)
+    for name, value in parameters.items():
+        assert f"{name} = {value!r} is out of range" in message, f"{message!r} must name {name} = {value!r}"
+    refusals = [m for s, _, m in fmu.log if s == 3 and "invalid parameters" in m]
+    assert len(refusals) == 1, f"one refusal at initialisation, naming all: {refusals}"
+    assert all(f"{name} = {value!r}" in refusals[0] for name, value in parameters.items()), refusals[0]
+
+
 def test_a_scene_the_method_cannot_solve_is_discarded(instance, monkeypatch):
     def failing(scene, **options):
         return rollcontact.ContactResult(method="polynomial", success=False, message="contact splits (test)",

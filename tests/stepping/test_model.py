@@ -61,6 +61,26 @@ def test_parameters_out_of_range_are_refused_by_name(field, value):
         ContactParameters(**{field: value})
 
 
+@pytest.mark.parametrize("invalid, expected", [
+    ({"youngs_modulus": 0.0, "radius": -0.1},
+     ("youngs_modulus = 0.0 is out of range: it must be > 0.0", "radius = -0.1 is out of range: it must be > 0.0")),
+    ({"poisson_ratio": 0.5, "friction_law": 9, "elements": -3},
+     ("poisson_ratio = 0.5 is out of range: it must be < 0.5", "friction_law = 9 is out of range: it must be one of",
+      "elements = -3 is out of range: it must be an integer >= 0")),
+])
+def test_every_invalid_parameter_is_named_in_one_refusal(invalid, expected):
+    with pytest.raises(ModelError) as caught:
+        ContactParameters(**invalid)
+    message = str(caught.value)
+    for part in expected:
+        assert part in message, f"the refusal {message!r} must name {part!r}"
+    assert message.count("; ") == len(invalid) - 1, f"{len(invalid)} problems, one per parameter: {message!r}"
+    for name, value in invalid.items():  # each alone: the same sentence as in the joint refusal
+        with pytest.raises(ModelError) as alone:
+            ContactParameters(**{name: value})
+        assert str(alone.value) in message, f"{name} alone says {alone.value!s}, not part of {message!r}"
+
+
 def test_unreadable_scene_file_is_a_model_error(tmp_path):
     with pytest.raises(ModelError, match="scene_file"):
         ContactModel(ContactParameters(scene_file=str(tmp_path / "missing.toml")))

@@ -218,7 +218,10 @@ class ContactParameters:
     table: int = 0
 
     def __post_init__(self):
+        """Check every parameter and raise one :class:`ModelError` naming each invalid value and its limit
+        (``"; "``-separated, in field order), so that a user corrects them all at once."""
         set_ = object.__setattr__
+        problems = []
         for name, lower, upper, lower_open, upper_open in (
                 ("youngs_modulus", 0.0, None, True, False),
                 ("poisson_ratio", 0.0, 0.5, False, True),
@@ -235,26 +238,29 @@ class ContactParameters:
                 ("datum", 0.0, None, False, False),
                 ("step_budget", 0.0, None, False, False)):
             try:
-                value = check_real(name, getattr(self, name), lower=lower, upper=upper, lower_open=lower_open,
-                                   upper_open=upper_open)
+                set_(self, name, check_real(name, getattr(self, name), lower=lower, upper=upper,
+                                            lower_open=lower_open, upper_open=upper_open))
             except SceneError as exc:
-                raise ModelError(str(exc)) from None
-            set_(self, name, value)
+                problems.append(str(exc))
         for name, allowed in (("friction_law", FRICTION_LAWS), ("method", {AUTO: "auto", **METHOD_NAMES}),
                               ("transient", TRANSIENT_MODES), ("table", TABLE_MODES)):
             value = getattr(self, name)
             if value not in allowed:
                 choices = ", ".join(f"{k} {v}" for k, v in allowed.items())
-                raise ModelError(f"{name} = {value!r} is out of range: it must be one of {choices}")
-            set_(self, name, int(value))
+                problems.append(f"{name} = {value!r} is out of range: it must be one of {choices}")
+            else:
+                set_(self, name, int(value))
         for name in ("polynomial_order", "elements"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
-                raise ModelError(f"{name} = {value!r} is out of range: it must be an integer >= 0 "
-                                 "(0: the method's default)")
-            set_(self, name, int(value))
+                problems.append(f"{name} = {value!r} is out of range: it must be an integer >= 0 "
+                                "(0: the method's default)")
+            else:
+                set_(self, name, int(value))
         if not isinstance(self.scene_file, str):
-            raise ModelError(f"scene_file must be a string (a path or empty), got {self.scene_file!r}")
+            problems.append(f"scene_file must be a string (a path or empty), got {self.scene_file!r}")
+        if problems:
+            raise ModelError("; ".join(problems))
 
 
 def method_code(name: str) -> int:
