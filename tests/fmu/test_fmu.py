@@ -238,6 +238,22 @@ def test_falling_friction_on_a_split_contact_through_the_fmu(instance, method, u
         assert 0.0 < abs(out.tangential_force) <= 0.3 * 1e6 * b, out
 
 
+@pytest.mark.parametrize("parameters", [
+    {"friction_law": 2, "friction_kinetic_ratio": 0.5, "friction_reference_velocity": 1.5},
+    {"friction_law": 3, "friction_kinetic_ratio": 0.5, "friction_slope": 0.05},
+], ids=["rational", "linear"])
+def test_the_rational_and_linear_laws_are_fmu_parameters(instance, parameters):
+    """Every falling law of the library without a scene file: the FMU's steps are the ContactModel's, whose law is
+    the library's (tests/stepping/test_model.py checks it against rollcontact.solve)."""
+    fmu = instance(**parameters)
+    rows = [(1e5, 1e-3, 20.0), (1e5, 3e-3, 20.0)]
+    outs = [fmu.step(n * H, H, *row) for n, row in enumerate(rows)]
+    assert outs == model_outputs(parameters, rows), f"FMU {outs} against the ContactModel"
+    coulomb = model_outputs({}, rows)
+    assert all(0.0 < o.tangential_force < c.tangential_force for o, c in zip(outs, coulomb, strict=True)), \
+        "a falling law lowers the force at the same creep"
+
+
 def test_explicit_discretised_method_through_the_fmu(instance):
     fmu = instance(method=3, corrugation_amplitude=20e-6, elements=100)
     out = fmu.step(0.0, H, 2e4, 1e-3, 5.0)

@@ -21,7 +21,7 @@ import numpy as np
 
 from rollcontact.checks import SceneError, check_real
 from rollcontact.dispatch import METHODS
-from rollcontact.friction import Coulomb, ExponentialFalling, FrictionLaw
+from rollcontact.friction import Coulomb, ExponentialFalling, FrictionLaw, LinearFalling, RationalFalling
 from rollcontact.scene import Harmonic, Material, Surface, load_scene
 
 AUTO = 0
@@ -55,7 +55,9 @@ TABLE_CODE = 6
 """``method_used`` of a step answered by the certified table."""
 
 
-FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
+FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling", 2: "rational falling", 3: "linear falling"}
+"""``friction_law`` codes (:func:`contact_bodies` builds the law); the tabulated law of
+:mod:`rollcontact.friction` needs a ``scene_file``."""
 
 
 OPTION_NAMES = {"polynomial_order": "order", "elements": "elements", "datum": "datum_length"}
@@ -141,9 +143,12 @@ class ContactParameters:
     friction_coefficient : float
         mu at zero slip velocity [1] > 0.
     friction_law : int
-        0 Coulomb (mu constant), 1 exponential falling ``mu(v) = mu [(1 - A) exp(-B v) + A]``.
+        0 Coulomb (mu constant), 1 exponential falling ``mu(v) = mu [(1 - A) exp(-B v) + A]``, 2 rational falling
+        ``mu(v) = A mu + (1 - A) mu / (1 + v / v_ref)``, 3 linear falling ``mu(v) = max(A mu, mu - c v)``
+        (:mod:`rollcontact.friction`; v the slip velocity [m/s], mu = ``friction_coefficient``).
     friction_kinetic_ratio : float
-        A [1] in (0, 1] of the exponential law.
+        A [1] in (0, 1]: mu(infinity)/mu of the falling laws (the kinetic coefficient A mu of the rational and
+        linear laws).
     friction_decay : float
         B [s/m] >= 0 of the exponential law.
     corrugation_wavelength : float
@@ -186,6 +191,10 @@ class ContactParameters:
         discretised transient at most as many substeps as fit (:func:`rollcontact.stepping.transient.max_substeps`);
         where that costs accuracy, the model says so once (:meth:`ContactModel.take_messages`).  0: no budget, as
         long as each step takes.
+    friction_reference_velocity : float
+        v_ref [m/s] > 0 of the rational law.
+    friction_slope : float
+        c [s/m] >= 0 of the linear law.
     table : int
         0 auto, 1 off, 2 on: where the scene family has a certified table (falling friction on a flat surface, or
         Coulomb friction on a corrugation of one harmonic: :mod:`rollcontact.stepping.table`) and ``tolerance`` is 0
@@ -216,6 +225,8 @@ class ContactParameters:
     datum: float = 0.0
     step_budget: float = DEFAULT_STEP_BUDGET
     table: int = 0
+    friction_reference_velocity: float = 2.0
+    friction_slope: float = 0.1
 
     def __post_init__(self):
         """Check every parameter and raise one :class:`ModelError` naming each invalid value and its limit
@@ -236,7 +247,9 @@ class ContactParameters:
                 ("initial_position", None, None, False, False),
                 ("tolerance", 0.0, None, False, False),
                 ("datum", 0.0, None, False, False),
-                ("step_budget", 0.0, None, False, False)):
+                ("step_budget", 0.0, None, False, False),
+                ("friction_reference_velocity", 0.0, None, True, False),
+                ("friction_slope", 0.0, None, False, False)):
             try:
                 set_(self, name, check_real(name, getattr(self, name), lower=lower, upper=upper,
                                             lower_open=lower_open, upper_open=upper_open))
@@ -315,10 +328,11 @@ def contact_bodies(p: ContactParameters) -> tuple[Material, float, FrictionLaw, 
         return base.material, base.radius, base.friction, base.surface, [notice]
     try:
         material = Material(p.youngs_modulus, p.poisson_ratio)
-        if p.friction_law == 0:
-            friction = Coulomb(p.friction_coefficient)
-        else:
-            friction = ExponentialFalling(p.friction_coefficient, p.friction_kinetic_ratio, p.friction_decay)
+        mu, ratio = p.friction_coefficient, p.friction_kinetic_ratio
+        laws = {0: lambda: Coulomb(mu), 1: lambda: ExponentialFalling(mu, ratio, p.friction_decay),
+                2: lambda: RationalFalling(mu, ratio * mu, p.friction_reference_velocity),
+                3: lambda: LinearFalling(mu, ratio * mu, p.friction_slope)}
+        friction = laws[p.friction_law]()
         harmonics = ()
         if p.corrugation_amplitude != 0.0:
             harmonics = (Harmonic.from_wavelength(p.corrugation_wavelength, p.corrugation_amplitude,
