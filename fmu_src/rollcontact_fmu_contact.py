@@ -91,7 +91,7 @@ VARIABLES = (
      "Lateral length b of the line contact, > 0; per-length quantities are force / b"),
     ("friction_coefficient", Real, PARAMETER, FIXED, "1", DEFAULT.friction_coefficient, POSITIVE, None,
      "Friction coefficient mu at zero slip velocity, > 0"),
-    ("friction_law", Integer, PARAMETER, FIXED, None, DEFAULT.friction_law, 0, 3,
+    ("friction_law", Integer, PARAMETER, FIXED, None, DEFAULT.friction_law, 0, 4,
      "Friction law (FrictionLaw)"),
     ("friction_kinetic_ratio", Real, PARAMETER, FIXED, "1", DEFAULT.friction_kinetic_ratio, POSITIVE, 1.0,
      "A of the falling laws: mu(infinity)/mu, 0 < A <= 1 (FrictionLaw)"),
@@ -127,6 +127,8 @@ VARIABLES = (
      None, "v_ref of the rational law A mu + (1 - A) mu / (1 + v / v_ref), > 0"),
     ("friction_slope", Real, PARAMETER, FIXED, "s/m", DEFAULT.friction_slope, 0.0, None,
      "c of the linear law max(A mu, mu - c v), >= 0"),
+    ("friction_table", String, PARAMETER, FIXED, None, DEFAULT.friction_table, None, None,
+     "Points 'v mu; v mu; ...' of the tabulated law, v [m/s] increasing, e.g. '0 0.3; 1 0.25; 5 0.12'"),
 )
 
 ENUMERATIONS = {
@@ -137,7 +139,8 @@ ENUMERATIONS = {
     "friction_law": ("FrictionLaw", ((0, "coulomb", "constant mu"),
                                      (1, "exponential_falling", "mu [(1 - A) exp(-B v) + A]"),
                                      (2, "rational_falling", "A mu + (1 - A) mu / (1 + v / v_ref)"),
-                                     (3, "linear_falling", "max(A mu, mu - c v)"))),
+                                     (3, "linear_falling", "max(A mu, mu - c v)"),
+                                     (4, "tabulated", "piecewise linear through friction_table"))),
     "transient": ("TransientMode", ((0, "quasi_static", "every step steady"),
                                     (1, "auto", "instationary while the inputs vary fast"),
                                     (2, "always", "every loaded step instationary"))),

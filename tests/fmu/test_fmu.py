@@ -241,8 +241,9 @@ def test_falling_friction_on_a_split_contact_through_the_fmu(instance, method, u
 @pytest.mark.parametrize("parameters", [
     {"friction_law": 2, "friction_kinetic_ratio": 0.5, "friction_reference_velocity": 1.5},
     {"friction_law": 3, "friction_kinetic_ratio": 0.5, "friction_slope": 0.05},
-], ids=["rational", "linear"])
-def test_the_rational_and_linear_laws_are_fmu_parameters(instance, parameters):
+    {"friction_law": 4, "friction_table": "0 0.3; 0.5 0.2; 4 0.15"},
+], ids=["rational", "linear", "tabulated"])
+def test_every_falling_law_is_an_fmu_parameter(instance, parameters):
     """Every falling law of the library without a scene file: the FMU's steps are the ContactModel's, whose law is
     the library's (tests/stepping/test_model.py checks it against rollcontact.solve)."""
     fmu = instance(**parameters)
@@ -331,7 +332,8 @@ def test_enumerations_bounds_and_descriptions_say_what_the_model_accepts(descrip
             if bound is None:
                 continue
             value = float(bound) if v.type == "Real" else int(bound)
-            ContactParameters(**{**default.__dict__, v.name: value})  # accepted
+            table = {"friction_table": "0 0.3"} if v.name == "friction_law" else {}  # the tabulated law's points
+            ContactParameters(**{**default.__dict__, **table, v.name: value})  # accepted
             beyond = math.nextafter(value, direction) if v.type == "Real" else value + (1 if direction > 0 else -1)
             with pytest.raises(ValueError):
                 ContactParameters(**{**default.__dict__, v.name: beyond})

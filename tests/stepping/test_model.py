@@ -54,7 +54,7 @@ def run(model: ContactModel, inputs, start=0.0, h=H):
     ("friction_coefficient", 0.0), ("friction_law", -1), ("friction_kinetic_ratio", 1.5), ("friction_decay", -1.0),
     ("corrugation_wavelength", 0.0), ("corrugation_amplitude", -1e-6), ("corrugation_phase", math.nan),
     ("initial_position", math.inf), ("method", 4), ("tolerance", -1e-9), ("polynomial_order", -1),
-    ("elements", 2.5), ("transient", 3), ("datum", -1.0), ("scene_file", 3), ("friction_law", 4),
+    ("elements", 2.5), ("transient", 3), ("datum", -1.0), ("scene_file", 3), ("friction_law", 5),
     ("friction_reference_velocity", 0.0), ("friction_slope", -0.1),
 ])
 def test_parameters_out_of_range_are_refused_by_name(field, value):
@@ -80,6 +80,18 @@ def test_every_invalid_parameter_is_named_in_one_refusal(invalid, expected):
         with pytest.raises(ModelError) as alone:
             ContactParameters(**{name: value})
         assert str(alone.value) in message, f"{name} alone says {alone.value!s}, not part of {message!r}"
+
+
+@pytest.mark.parametrize(("table", "says"), [
+    ("", "is not a friction table"), ("0 0.3; 1", "is not a friction table"), ("0 0.3; x 0.2", "could not convert"),
+    ("0 0.3; 0 0.2", "must increase strictly"), ("0 0.3; 1 0", "coefficient = 0.0 is out of range"),
+    ("0 nan", "is not finite"),
+])
+def test_a_friction_table_that_is_no_table_is_refused_with_its_form(table, says):
+    with pytest.raises(ModelError, match="friction_table") as caught:
+        ContactParameters(friction_law=4, friction_table=table)
+    assert says in str(caught.value) and "e.g. '0 0.3; 1 0.25; 5 0.12'" in str(caught.value), caught.value
+    ContactParameters(friction_law=1, friction_table=table)  # read only with the tabulated law
 
 
 def test_unreadable_scene_file_is_a_model_error(tmp_path):
@@ -365,12 +377,15 @@ def test_falling_friction_needs_more_than_the_closed_form():
 @pytest.mark.parametrize(("code", "law"), [
     (2, rollcontact.RationalFalling(0.3, 0.3 * 0.4, 1.5)),
     (3, rollcontact.LinearFalling(0.3, 0.3 * 0.4, 0.05)),
+    (4, rollcontact.TabulatedFriction((0.0, 0.5, 4.0), (0.3, 0.22, 0.15))),
 ])
 def test_every_falling_law_of_the_library_is_a_friction_law_parameter(code, law):
-    """friction_law 2 (rational) and 3 (linear): the library's law with mu = friction_coefficient, mu_k = A mu and
-    v_ref or c; a step equals rollcontact.solve on the same scene built with that law directly."""
+    """friction_law 2 (rational), 3 (linear) and 4 (tabulated): the library's law with mu = friction_coefficient,
+    mu_k = A mu and v_ref or c, or the points of friction_table; a step equals rollcontact.solve on the same scene
+    built with that law directly."""
     p = ContactParameters(friction_law=code, friction_coefficient=0.3, friction_kinetic_ratio=0.4,
-                          friction_reference_velocity=1.5, friction_slope=0.05)
+                          friction_reference_velocity=1.5, friction_slope=0.05,
+                          friction_table=" 0 0.3;0.5 0.22 ; 4 0.15; ")
     model = ContactModel(p)
     assert model.scene(0.0, 1e5, 1e-3, 20.0).friction == law, f"law {code}: {model.scene(0.0, 1e5, 1e-3, 20.0)}"
     out = model.step(0.0, H, 1e5, 1e-3, 20.0)

@@ -21,7 +21,14 @@ import numpy as np
 
 from rollcontact.checks import SceneError, check_real
 from rollcontact.dispatch import METHODS
-from rollcontact.friction import Coulomb, ExponentialFalling, FrictionLaw, LinearFalling, RationalFalling
+from rollcontact.friction import (
+    Coulomb,
+    ExponentialFalling,
+    FrictionLaw,
+    LinearFalling,
+    RationalFalling,
+    TabulatedFriction,
+)
 from rollcontact.scene import Harmonic, Material, Surface, load_scene
 
 AUTO = 0
@@ -55,9 +62,11 @@ TABLE_CODE = 6
 """``method_used`` of a step answered by the certified table."""
 
 
-FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling", 2: "rational falling", 3: "linear falling"}
-"""``friction_law`` codes (:func:`contact_bodies` builds the law); the tabulated law of
-:mod:`rollcontact.friction` needs a ``scene_file``."""
+FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling", 2: "rational falling", 3: "linear falling", 4: "tabulated"}
+"""``friction_law`` codes: every law of :mod:`rollcontact.friction` (:func:`contact_bodies` builds it)."""
+
+TABLE_LAW = 4
+"""``friction_law`` of the tabulated law, whose points ``friction_table`` gives (:func:`friction_table_points`)."""
 
 
 OPTION_NAMES = {"polynomial_order": "order", "elements": "elements", "datum": "datum_length"}
@@ -145,7 +154,8 @@ class ContactParameters:
     friction_law : int
         0 Coulomb (mu constant), 1 exponential falling ``mu(v) = mu [(1 - A) exp(-B v) + A]``, 2 rational falling
         ``mu(v) = A mu + (1 - A) mu / (1 + v / v_ref)``, 3 linear falling ``mu(v) = max(A mu, mu - c v)``
-        (:mod:`rollcontact.friction`; v the slip velocity [m/s], mu = ``friction_coefficient``).
+        (:mod:`rollcontact.friction`; v the slip velocity [m/s], mu = ``friction_coefficient``), 4 tabulated:
+        piecewise linear through the points of ``friction_table`` (``friction_coefficient`` is then unused).
     friction_kinetic_ratio : float
         A [1] in (0, 1]: mu(infinity)/mu of the falling laws (the kinetic coefficient A mu of the rational and
         linear laws).
@@ -195,6 +205,9 @@ class ContactParameters:
         v_ref [m/s] > 0 of the rational law.
     friction_slope : float
         c [s/m] >= 0 of the linear law.
+    friction_table : str
+        Points ``"v mu; v mu; ..."`` (v [m/s] increasing from >= 0, mu [1] > 0) of the tabulated law, e.g.
+        ``"0 0.3; 1 0.25; 5 0.12"``; mu is constant beyond the ends.  Read only with ``friction_law`` = 4.
     table : int
         0 auto, 1 off, 2 on: where the scene family has a certified table (falling friction on a flat surface, or
         Coulomb friction on a corrugation of one harmonic: :mod:`rollcontact.stepping.table`) and ``tolerance`` is 0
@@ -227,6 +240,7 @@ class ContactParameters:
     table: int = 0
     friction_reference_velocity: float = 2.0
     friction_slope: float = 0.1
+    friction_table: str = ""
 
     def __post_init__(self):
         """Check every parameter and raise one :class:`ModelError` naming each invalid value and its limit
@@ -272,8 +286,35 @@ class ContactParameters:
                 set_(self, name, int(value))
         if not isinstance(self.scene_file, str):
             problems.append(f"scene_file must be a string (a path or empty), got {self.scene_file!r}")
+        if not isinstance(self.friction_table, str):
+            problems.append(f"friction_table must be a string ('v mu; v mu; ...'), got {self.friction_table!r}")
+        elif self.friction_law == TABLE_LAW:
+            try:
+                friction_table_points(self.friction_table)
+            except ValueError as exc:
+                problems.append(str(exc))
         if problems:
             raise ModelError("; ".join(problems))
+
+
+def friction_table_points(text: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Velocities [m/s] and coefficients [1] of a ``friction_table`` ``"v mu; v mu; ..."``, checked as
+    :class:`rollcontact.friction.TabulatedFriction` checks them.
+
+    Raises
+    ------
+    ValueError
+        The text is no such table; the message shows the form and the first problem.
+    """
+    form = "write 'v mu' pairs (v [m/s] increasing, mu [1] > 0) separated by ';', e.g. '0 0.3; 1 0.25; 5 0.12'"
+    rows = [row.split() for row in text.split(";") if row.strip()]
+    if not rows or any(len(row) != 2 for row in rows):
+        raise ValueError(f"friction_table = {text[:80]!r} is not a friction table: {form}")
+    try:
+        law = TabulatedFriction(tuple(float(v) for v, _ in rows), tuple(float(mu) for _, mu in rows))
+    except ValueError as exc:
+        raise ValueError(f"friction_table = {text[:80]!r}: {exc}; {form}") from None
+    return law.velocities, law.coefficients
 
 
 def method_code(name: str) -> int:
@@ -331,7 +372,8 @@ def contact_bodies(p: ContactParameters) -> tuple[Material, float, FrictionLaw, 
         mu, ratio = p.friction_coefficient, p.friction_kinetic_ratio
         laws = {0: lambda: Coulomb(mu), 1: lambda: ExponentialFalling(mu, ratio, p.friction_decay),
                 2: lambda: RationalFalling(mu, ratio * mu, p.friction_reference_velocity),
-                3: lambda: LinearFalling(mu, ratio * mu, p.friction_slope)}
+                3: lambda: LinearFalling(mu, ratio * mu, p.friction_slope),
+                4: lambda: TabulatedFriction(*friction_table_points(p.friction_table))}
         friction = laws[p.friction_law]()
         harmonics = ()
         if p.corrugation_amplitude != 0.0:
