@@ -104,9 +104,15 @@ def plot(result: CosimResult, path: Path | str, friction: str = "") -> Path:
     return Path(path)
 
 
+LINEAR_SPAN = 4.0
+"""The linear adhesion curve shows |creep| up to this many times the creep of the peak (where the initial slope and
+the peak are; the log panel shows the whole run)."""
+
+
 def adhesion_curve(ax, values, log: bool) -> None:
-    """T/N against |creep|, on linear axes or (``log``) a log creep axis: traction (creep > 0, T/N) and braking
-    (creep < 0, -T/N) apart, the peak of |T/N| marked with its value and creep."""
+    """T/N against |creep|, on linear axes up to :data:`LINEAR_SPAN` times the peak's creep or (``log``) on a log
+    creep axis over the run: traction (creep > 0, T/N) and braking (creep < 0, -T/N) apart, the peak of |T/N|
+    marked with its value and creep."""
     creep = values["WheelRig.creep"] if "WheelRig.creep" in values.dtype.names else None
     traction = (values["RollingContact2D.traction_coefficient"]
                 if "RollingContact2D.traction_coefficient" in values.dtype.names else None)
@@ -122,13 +128,17 @@ def adhesion_curve(ax, values, log: bool) -> None:
     peak = int(np.argmax(np.abs(traction) * (creep != 0.0)))
     ax.plot(abs(creep[peak]), abs(traction[peak]), "o", mfc="none", mec="C3", ms=9)
     ax.annotate(f"peak T/N = {abs(traction[peak]):.4f}\nat creep {abs(creep[peak]):.3g}",
-                (abs(creep[peak]), abs(traction[peak])), textcoords="offset points", xytext=(-14, 6),
-                ha="right", color="C3", bbox={"boxstyle": "round", "fc": "white", "ec": "C3", "lw": 0.5})
+                (abs(creep[peak]), abs(traction[peak])), textcoords="offset points", xytext=(-14 if log else 14, 6),
+                ha="right" if log else "left", color="C3",
+                bbox={"boxstyle": "round", "fc": "white", "ec": "C3", "lw": 0.5})
+    span = min(float(np.max(np.abs(creep))), LINEAR_SPAN * abs(creep[peak]))
     if log:
         ax.set_xscale("log")
+        ax.set_xlabel("|creep| xi [1] (log axis)")
     else:
-        ax.set_xlim(left=0.0)
-    ax.set_xlabel("|creep| xi [1]" + (" (log axis)" if log else ""))
+        ax.set_xlim(0.0, span)
+        shown = "" if span >= float(np.max(np.abs(creep))) else f" up to {LINEAR_SPAN:g} x the peak's (all: below)"
+        ax.set_xlabel(f"|creep| xi [1]{shown}")
     ax.set_ylabel("traction coefficient T/N [1]")
     ax.set_ylim(0.0, 1.3 * abs(traction[peak]) or 1.0)  # room above the peak for its label
     ax.grid(True, which="both", lw=0.3)

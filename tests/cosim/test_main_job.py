@@ -39,12 +39,13 @@ def test_help_reads_as_text_and_opens_with_what_it_does(module, opens):
         assert "--step-size H         macro step H [s]" in text and "examples:\n  python -m rollcontact_cosim" in text
 
 
-def carter_run(mu=0.3, steps=200) -> CosimResult:
-    """A synthetic run: the creep ramps through Carter's curve (creep > 0, then its mirror, braking)."""
+def carter_run(mu=0.3, steps=200, reach=2.0) -> CosimResult:
+    """A synthetic run: the creep ramps through Carter's curve to ``reach`` saturation creeps (creep > 0, then its
+    mirror, braking)."""
     radius, load, width = 0.46, 98.1e3, 0.02
     modulus = Material(210e9, 0.28).contact_modulus
     a = hertz(load / width, radius, modulus)[0]
-    creep = np.concatenate([np.linspace(0.0, 2.0, steps), -np.linspace(0.0, 2.0, steps)]) * mu * a / radius
+    creep = np.concatenate([np.linspace(0.0, reach, steps), -np.linspace(0.0, reach, steps)]) * mu * a / radius
     traction = np.array([carter(load / width, x, radius, modulus, mu)[0] / (load / width) for x in creep])
     time = np.linspace(0.0, 1.0, creep.size)
     values = np.empty(time.size, dtype=[("time", float), ("WheelRig.creep", float),
@@ -82,3 +83,21 @@ def test_a_scene_file_friction_is_named_from_the_file(tmp_path):
     text = friction_title({"scene_file": str(scene)})
     assert text == ("friction: rational falling mu(v) = mu_k + (mu_s - mu_k) / (1 + v / v_ref), mu_s = 0.4, "
                     "mu_k = 0.2, v_ref = 0.5 m/s"), text
+
+
+def test_the_linear_curve_shows_the_start_and_the_peak_of_a_long_run():
+    """A run to 20 saturation creeps: the linear panel ends at LINEAR_SPAN times the peak's creep and says so, the
+    log panel spans the run."""
+    from rollcontact_cosim.__main__ import LINEAR_SPAN
+
+    result = carter_run(reach=20.0, steps=2000)
+    fig = figure(result)
+    try:
+        linear, log = [ax for ax in fig.axes if ax.get_title().startswith("adhesion curve")]
+        creep = result.values["WheelRig.creep"]
+        peak = abs(creep[int(np.argmax(np.abs(result.values["RollingContact2D.traction_coefficient"])))])
+        assert linear.get_xlim() == (0.0, LINEAR_SPAN * peak), (linear.get_xlim(), peak)
+        assert "up to 4 x the peak's" in linear.get_xlabel(), linear.get_xlabel()
+        assert log.get_xlim()[1] >= np.max(np.abs(creep)), "the log panel shows the whole run"
+    finally:
+        plt.close(fig)
