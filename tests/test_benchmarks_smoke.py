@@ -146,3 +146,11 @@ def test_run_and_publish_writes_what_was_printed_with_the_command_and_the_machin
         text = path.read_text()
         assert text.startswith("| a | b |\n|---|---|\n| 1 | 2 |\n\nRun by `python benchmarks/-c --rounds 3` on:"), text
         assert "- CPU: " in text and "logical cores" in text and "- Python " in text, text
+
+
+def test_links_to_results_files_resolve():
+    import re
+
+    for page in [BENCHMARKS / "README.md", *ROOT.glob("docs/*.md")]:
+        for link in re.findall(r"\]\(([^)#]*results/[^)#]+)\)", page.read_text()):
+            assert (page.parent / link).resolve().is_file(), f"{page.relative_to(ROOT)} links {link}, which is missing"
