@@ -4,6 +4,8 @@ Run as ``python benchmarks/bench_discretised.py``.  Prints a markdown table; ass
 to one thread (set before numpy loads) so the times compare with CONTACT's single-core figures (physics.md
 section 7: 2D Carter about 2 ms with 100 elements, 0.29 s with 800; velocity-dependent cases 7-20 ms) and do
 not suffer from thread oversubscription on a shared machine.  Machines are noisy: medians of repeated runs.
+
+What it prints goes to ``benchmarks/results/discretised.md`` with the machine (not after ``--quick``).
 """
 
 import math
@@ -83,4 +85,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "discretised.md")

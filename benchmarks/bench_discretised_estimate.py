@@ -30,6 +30,8 @@ stick) n also runs densely from 50 to 400 (:data:`DENSE_ELEMENTS`) for the m aut
 
 Hertz/Carter cases use a fixed window (the automatic one of N' = 1 MN/m) for three loads, so the patch edges fall
 at different positions within the elements (with the automatic window, which scales with a, they would not).
+
+What it prints goes to ``benchmarks/results/discretised_estimate.md`` with the machine (not after ``--quick``).
 """
 
 import math
@@ -225,4 +227,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "discretised_estimate.md")

@@ -7,6 +7,8 @@ and outputs and a ``do_step`` that only returns True: the floor of any pythonfmu
 empty FMUs, the closed form (smooth surface, Coulomb friction) and the polynomial method (corrugated surface), when
 registered.  Batches of all cases are interleaved and the table shows medians, so that a noisy machine affects
 every case alike; one BLAS thread (``common.py``).  Usage: ``python benchmarks/bench_fmi3.py [--rounds N]``.
+
+What it prints goes to ``benchmarks/results/fmi3.md`` with the machine (not after ``--quick``).
 """
 
 from __future__ import annotations
@@ -120,4 +122,4 @@ def main(argv: list[str] | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "fmi3.md")

@@ -6,6 +6,8 @@ real and 1 integer outputs (fmpy's ``FMU2Slave``).  The empty FMU has the same i
 surface, Coulomb friction), and the polynomial and discretised methods (corrugated surface) when registered.
 Batches of steps of all cases are interleaved and the table shows medians, so that a noisy machine affects every
 case alike.  One BLAS thread (``common.py``).  Usage: ``python benchmarks/bench_fmu.py [--rounds N]``.
+
+What it prints goes to ``benchmarks/results/fmu_steps.md`` with the machine (not after ``--quick``).
 """
 
 from __future__ import annotations
@@ -49,4 +51,4 @@ def main(argv: list[str] | None = None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "fmu_steps.md")

@@ -11,6 +11,8 @@ Run as ``python benchmarks/bench_instationary.py``.  Prints markdown tables; ass
    the transient with 200 elements.
 3. Force control, ``T' = (0.4 + 0.2 sin) mu N'``: L2 deviation of the oscillating part of q from quasi-steady
    Carter, paper's route and discretised transient (200 elements), against the rule 2.5 a / lambda.
+
+What it prints goes to ``benchmarks/results/instationary.md`` with the machine (not after ``--quick``).
 """
 
 import math
@@ -119,4 +121,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "instationary.md")

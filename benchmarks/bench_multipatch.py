@@ -1,7 +1,7 @@
 """Several contact patches by the polynomial method (``rollcontact.methods.polynomial.patches``): where it
 applies, what it costs, and what it shows about the discretised solver's error bounds on such scenes.
 
-Run ``.venv/bin/python benchmarks/bench_multipatch.py``: writes ``benchmarks/results/patches.md`` (~4 min).
+Run ``.venv/bin/python benchmarks/bench_multipatch.py``: writes ``benchmarks/results/multipatch.md`` (~4 min).
 
 Scenes: N' = 1 MN/m, R = 0.46 m, steel, mu = 0.3, a corrugation of wavelength 4, 5, 8, 10 mm and amplitude 10,
 20, 40 um (k a = 0.7-3.6), creep 0.1, 0.5, 0.9 of Carter's saturation creep, the axis at 24 positions over a
@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import collections
 import math
+import os
 import time
 
 import common  # before numpy: limits BLAS to one thread
@@ -43,7 +44,6 @@ SPEED = 20.0  # m/s, table C
 DISCRETISED = ([{"elements": n} for n in (50, 100, 200, 400, 800)]
                + [{"elements": n, "extrapolate": m} for m in (8, 16) for n in (50, 100, 200, 400)])
 COLUMNS = ("T' / a priori", "T' / estimate", "p0 / a priori", "p0 / estimate")
-RESULTS = common.RESULTS / "patches.md"
 
 
 def scenes(every: int = 1):
@@ -133,7 +133,7 @@ def table_c():
 
 
 def main():
-    start = time.time()
+    start, load = time.time(), os.getloadavg()[0]
     counts, times, found = table_a()
     sampled, worst = table_b(found)
     falling_counts, falling_times = table_c()
@@ -174,9 +174,8 @@ def main():
               "| outcome | scenes | median time |", "|---|---|---|"]
     for kind, count in sorted(falling_counts.items(), key=lambda item: -item[1]):
         lines.append(f"| {kind} | {count} | {1e3 * float(np.median(falling_times[kind])):.2f} ms |")
-    lines.append("")
-    RESULTS.write_text("\n".join(lines))
-    print("\n".join(lines))
+    lines += ["", *common.machine(load)]
+    common.publish(lines, "multipatch.md", quick=False)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,8 @@ saturation, none wholly in full slip; 2.9-3.4e-3 mu N' on the Pareto study's ``0
 72 x 64 measured steps.  A memory of 4 relaxation lengths would need 0.031 for slow swings near saturation (their
 stiff part is forgotten while its error persists).  At lambda/a = 320 every swing touching saturation is 7.5e-5 off
 the reference: that is the floor.
+
+What it prints goes to ``benchmarks/results/relaxation.md`` with the machine (not after ``--quick``).
 """
 
 from __future__ import annotations
@@ -81,4 +83,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "relaxation.md")

@@ -27,6 +27,8 @@ E. The cost model: Newton iterations against beta (SLIP_ITERATIONS) and the time
 
 One BLAS thread per process (set before numpy loads).  Times are medians on a shared, noisy machine: compare
 ratios from the same run.
+
+What it prints goes to ``benchmarks/results/slip_nodes.md`` with the machine (not after ``--quick``).
 """
 
 import argparse
@@ -366,4 +368,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "slip_nodes.md")

@@ -19,6 +19,8 @@ C. Falling friction: the largest T' error against 256 nodes over creeps (1e-4 ..
 
 BLAS is limited to one thread (before numpy loads): the matrices are small, and threads only add overhead on a
 shared machine.  Machines here are noisy: medians, and ratios from the same run.
+
+What it prints goes to ``benchmarks/results/steady.md`` with the machine (not after ``--quick``).
 """
 
 import argparse
@@ -250,4 +252,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "steady.md")

@@ -20,6 +20,8 @@ solvers stepped ``ceil(ds/h_c)`` (coarse) and twice that (fine) equal substeps p
 (:func:`equal_substeps`).  Reference: the library's pair at :data:`REFERENCE` elements; the same pair with equal
 substeps is printed against it (both rules converge to the same solution of the host's zero-order-hold creep).
 Error: max |T' - T'_ref| over the measured cycle [mu N'], shown as ``error n^2``.
+
+What it prints goes to ``benchmarks/results/substep_rule.md`` with the machine (not after ``--quick``).
 """
 
 from __future__ import annotations
@@ -100,4 +102,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "substep_rule.md")

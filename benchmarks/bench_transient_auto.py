@@ -24,6 +24,8 @@ C / n^p``: p fitted by least squares to log(max over lambda/a of the error) for 
 against the constants the model uses (:data:`rollcontact.stepping.transient.TRANSIENT_ERROR_CONSTANT`,
 :data:`rollcontact.stepping.transient.TRANSIENT_ERROR_ORDER`);
 (4) what ``transient`` = 1 chooses at tolerance 1e-2, 1e-3, 1e-4, its error and time per host step.
+
+What it prints goes to ``benchmarks/results/transient_auto.md`` with the machine (not after ``--quick``).
 """
 
 from __future__ import annotations
@@ -170,4 +172,4 @@ def main(argv=None) -> None:
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "transient_auto.md")

@@ -23,6 +23,8 @@ Tables: (1) per lambda/a and n, the pair's error, ``error n^2`` and time per hos
 time; (2) the error model ``error <= C / n^2`` over the measured n: the largest ``error n^2`` and 1.4 times it, against
 :data:`rollcontact.stepping.transient.EXTRAPOLATED_ERROR_CONSTANT`.  ``--crosscheck``: the reference against the
 first-order Richardson extrapolation of plain transients on n = 800/1600 (non-nested grids, an independent route).
+
+What it prints goes to ``benchmarks/results/transient_pairs.md`` with the machine (not after ``--quick``).
 """
 
 from __future__ import annotations
@@ -85,4 +87,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    main()
+    common.run_and_publish(main, "transient_pairs.md")

@@ -399,6 +399,42 @@ def machine(load: float) -> list[str]:
             f"- {platform.platform()}"]
 
 
+class Tee:
+    """A text stream writing to each of ``streams``."""
+
+    def __init__(self, *streams):
+        self.streams = streams
+
+    def write(self, text: str) -> int:
+        for stream in self.streams:
+            stream.write(text)
+        return len(text)
+
+    def flush(self) -> None:
+        for stream in self.streams:
+            stream.flush()
+
+
+def run_and_publish(main: Callable[[], object], name: str) -> None:
+    """Run the study ``main`` (a script that prints its markdown tables) and write what it printed to
+    ``RESULTS / name``, followed by the command that ran it and the machine (:func:`machine`, with the load average
+    read before the study).  Nothing is written after ``--quick`` or ``--help``, nor when the study fails."""
+    import contextlib
+    import io
+
+    load = os.getloadavg()[0]
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(Tee(sys.stdout, printed)):
+        main()
+    if any(arg in ("--quick", "-h", "--help") for arg in sys.argv[1:]):
+        return
+    command = " ".join(["python", f"benchmarks/{Path(sys.argv[0]).name}", *sys.argv[1:]])
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    (RESULTS / name).write_text(f"{printed.getvalue().rstrip()}\n\nRun by `{command}` on:\n\n"
+                                + "\n".join(machine(load)) + "\n")
+    print(f"wrote {RESULTS / name}")
+
+
 def publish(lines: list[str], name: str, quick: bool) -> None:
     """Print a benchmark's markdown ``lines`` and, unless ``quick``, write them to ``RESULTS / name``."""
     text = "\n".join(lines) + "\n"

@@ -51,7 +51,7 @@ import time
 import warnings
 from pathlib import Path
 
-import common  # noqa: F401 - the benchmarks' first import: one BLAS thread, the checkout on sys.path
+import common  # the benchmarks' first import: one BLAS thread, the checkout on sys.path
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results" / "fuzz.md"
@@ -653,11 +653,12 @@ def main(argv: list[str] | None = None) -> int:
         args.episodes = 150
     from fmpy import extract
 
+    load = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="fuzz_fmu_") as tmp:
         fmu = Path(args.fmu) if args.fmu else build(Path(tmp))
         unzipped = extract(str(fmu), unzipdir=str(Path(tmp) / "unzipped"))
         results = campaign(args, unzipped)
-    text = report(args, results)
+    text = report(args, results) + "\nRun on:\n\n" + "\n".join(common.machine(load)) + "\n"
     print(text)
     out = args.out or (None if args.quick or args.episode is not None else RESULTS)
     if out:

@@ -91,3 +91,66 @@ def test_every_module_imports_and_every_argparse_script_answers_help():
     # median_time: the warm-up calls, then one call per sample; batched samples hold several calls each
     assert report["calls"] == 2 + 4
     assert report["batched"] > 1 + 3
+
+
+def written_results() -> dict[str, str]:
+    """Results file -> the script that writes it (a name in a ``publish``, ``run_and_publish`` or results path)."""
+    import re
+
+    out = {}
+    for name in SCRIPTS:
+        text = MODULES[name].read_text()
+        for found in re.findall(r"(?:publish\([^\n]*?|RESULTS / |\"results\" / )\"([a-z_0-9]+\.(?:md|png))\"", text):
+            out[found] = name
+    return out
+
+
+def test_every_study_writes_a_results_file_and_the_readme_lists_it():
+    import re
+
+    written = written_results()
+    studies = SCRIPTS - {"common"}
+    assert studies <= set(written.values()), f"studies that write no results file: {studies - set(written.values())}"
+    readme = (BENCHMARKS / "README.md").read_text()
+    for name in studies:
+        assert f"python benchmarks/{name}.py" in readme, f"benchmarks/README.md does not list {name}.py"
+    cited = set()
+    for path in [*ROOT.glob("src/**/*.py"), *ROOT.glob("fmu_src/*.py"), *ROOT.glob("docs/*.md"), ROOT / "README.md",
+                 *BENCHMARKS.glob("*.py")]:
+        cited |= set(re.findall(r"results/([a-z_0-9]+\.(?:md|png))", path.read_text()))
+    orphans = sorted(c for c in cited if c not in written)
+    assert orphans == [], f"cited results files that no script writes: {orphans}"
+
+
+PUBLISH = """
+import sys
+sys.path.insert(0, "benchmarks")
+import common
+from pathlib import Path
+common.RESULTS = Path(sys.argv[1])
+sys.argv[1:] = sys.argv[2:]
+common.run_and_publish(lambda: print("| a | b |\\n|---|---|\\n| 1 | 2 |"), "study.md")
+"""
+
+
+def test_run_and_publish_writes_what_was_printed_with_the_command_and_the_machine(tmp_path):
+    for argv in (["--rounds", "3"], ["--quick"]):
+        folder = tmp_path / argv[0].strip("-")
+        done = subprocess.run([sys.executable, "-c", PUBLISH, str(folder), *argv], cwd=ROOT, capture_output=True,
+                              text=True, timeout=120)
+        assert done.returncode == 0 and "| 1 | 2 |" in done.stdout, done.stderr
+        path = folder / "study.md"
+        if argv == ["--quick"]:
+            assert not path.exists(), "--quick writes nothing"
+            continue
+        text = path.read_text()
+        assert text.startswith("| a | b |\n|---|---|\n| 1 | 2 |\n\nRun by `python benchmarks/-c --rounds 3` on:"), text
+        assert "- CPU: " in text and "logical cores" in text and "- Python " in text, text
+
+
+def test_links_to_results_files_resolve():
+    import re
+
+    for page in [BENCHMARKS / "README.md", *ROOT.glob("docs/*.md")]:
+        for link in re.findall(r"\]\(([^)#]*results/[^)#]+)\)", page.read_text()):
+            assert (page.parent / link).resolve().is_file(), f"{page.relative_to(ROOT)} links {link}, which is missing"

@@ -79,3 +79,15 @@ def test_falling_friction_law_drives_the_polynomial_solver():
     t_exp = rc.solve(base.replace(friction=exp_law)).tangential_force_per_length
     t_tab = rc.solve(base.replace(friction=table)).tangential_force_per_length
     np.testing.assert_allclose(t_tab, t_exp, rtol=1e-6, err_msg="table law vs exponential law")
+
+
+@pytest.mark.parametrize(("name", "says"), [
+    ("coulomb", ("Coulomb", "mu = 0.3")),
+    ("exponential", ("exponential falling", "mu_s = 0.3", "A = 0.4", "B = 0.6 s/m")),
+    ("rational", ("rational falling", "mu_s = 0.3", "mu_k = 0.15", "v_ref = 2 m/s")),
+    ("linear", ("linear falling", "mu_s = 0.3", "mu_k = 0.1", "c = 0.02 s/m")),
+    ("table", ("tabulated", "3 points", "0.3 at v = 0 m/s", "0.12 at 5 m/s")),
+])
+def test_describe_names_the_law_and_its_values_with_units(name, says):
+    text = LAWS[name].describe()
+    assert all(part in text for part in says) and "\n" not in text, f"{name}: {text!r} must say {says}"

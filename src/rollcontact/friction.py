@@ -32,6 +32,10 @@ class FrictionLaw:
     def coefficient(self, slip_velocity):  # pragma: no cover - interface
         raise NotImplementedError
 
+    def describe(self) -> str:  # pragma: no cover - interface
+        """The law's name, formula and values with their units, in one line (figure titles, summaries)."""
+        raise NotImplementedError
+
     def derivative(self, slip_velocity):
         """dmu/dv [s/m], by central differences unless a law overrides it."""
         v = np.asarray(slip_velocity, dtype=float)
@@ -52,6 +56,9 @@ class Coulomb(FrictionLaw):
     @property
     def static_coefficient(self) -> float:
         return self.mu
+
+    def describe(self) -> str:
+        return f"Coulomb, mu = {self.mu:g}"
 
     def coefficient(self, slip_velocity):
         return self.mu + 0.0 * np.asarray(slip_velocity, dtype=float)
@@ -99,6 +106,10 @@ class ExponentialFalling(FrictionLaw):
         v = np.asarray(slip_velocity, dtype=float)
         return self.mu_static * ((1.0 - self.kinetic_ratio) * np.exp(-self.decay * v) + self.kinetic_ratio)
 
+    def describe(self) -> str:
+        return (f"exponential falling mu(v) = mu_s [(1 - A) exp(-B v) + A], mu_s = {self.mu_static:g}, "
+                f"A = {self.kinetic_ratio:g}, B = {self.decay:g} s/m")
+
     def derivative(self, slip_velocity):
         v = np.asarray(slip_velocity, dtype=float)
         return -self.mu_static * (1.0 - self.kinetic_ratio) * self.decay * np.exp(-self.decay * v)
@@ -134,6 +145,10 @@ class RationalFalling(FrictionLaw):
         v = np.asarray(slip_velocity, dtype=float)
         return self.mu_kinetic + (self.mu_static - self.mu_kinetic) / (1.0 + v / self.reference_velocity)
 
+    def describe(self) -> str:
+        return (f"rational falling mu(v) = mu_k + (mu_s - mu_k) / (1 + v / v_ref), mu_s = {self.mu_static:g}, "
+                f"mu_k = {self.mu_kinetic:g}, v_ref = {self.reference_velocity:g} m/s")
+
     def derivative(self, slip_velocity):
         v = np.asarray(slip_velocity, dtype=float)
         return -(self.mu_static - self.mu_kinetic) / self.reference_velocity / (1.0 + v / self.reference_velocity) ** 2
@@ -168,6 +183,10 @@ class LinearFalling(FrictionLaw):
         v = np.asarray(slip_velocity, dtype=float)
         return np.maximum(self.mu_kinetic, self.mu_static - self.slope * v)
 
+    def describe(self) -> str:
+        return (f"linear falling mu(v) = max(mu_k, mu_s - c v), mu_s = {self.mu_static:g}, "
+                f"mu_k = {self.mu_kinetic:g}, c = {self.slope:g} s/m")
+
 
 @dataclass(frozen=True)
 class TabulatedFriction(FrictionLaw):
@@ -197,6 +216,10 @@ class TabulatedFriction(FrictionLaw):
 
     def coefficient(self, slip_velocity):
         return np.interp(np.asarray(slip_velocity, dtype=float), self.velocities, self.coefficients)
+
+    def describe(self) -> str:
+        return (f"tabulated mu(v) through {len(self.velocities)} points, mu = {self.coefficients[0]:g} at "
+                f"v = {self.velocities[0]:g} m/s to {self.coefficients[-1]:g} at {self.velocities[-1]:g} m/s")
 
 
 LAWS = {

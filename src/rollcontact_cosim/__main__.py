@@ -1,27 +1,28 @@
-"""Main job: ``python -m rollcontact_cosim [scene] [--plot out.png] [--algorithm A] [--step-size H] [--fmu-dir D]``.
+"""The main job, ``python -m rollcontact_cosim``: co-simulates a scene of ``models/cosim`` (default
+``traction_ramp``) with the WheelRig and RollingContact2D FMUs (built first when missing or stale), prints a summary
+(peak adhesion and the creep where it occurs, macro steps, wall time per step), writes a PNG of the adhesion curve
+and the recorded time histories, whose title names the friction law and its values (:func:`figure`), and with
+``--csv PATH`` the recorded time histories as CSV with their units in the header (:func:`write_csv`).
+``--fmi 3`` runs the FMI 3.0 FMUs (``models/fmi3/``, fmpy master) instead of the FMI 2.0 ones.
 
 ``--scene NAME`` is the same as the positional scene.  The scene ``wheelset_hunting`` runs in process
 (:func:`rollcontact_cosim.wheelset_study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
 speed sweep on a local dask cluster against the linear stability analysis, Klingel's wavelength), prints its
 tables and writes its figure; the co-simulation options do not apply to it.
-
-``--fmi 3`` runs the FMI 3.0 FMUs (``models/fmi3/``, fmpy master) instead of the FMI 2.0 ones.  Builds the FMUs if
-needed, co-simulates the scene (default ``traction_ramp``) with the fmpy master, prints a
-summary (peak adhesion and the creep where it occurs, macro steps, wall time per step) and writes a PNG of the
-recorded time histories (default ``cosim_<scene>.png`` in the current folder).
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
 import sys
 from pathlib import Path
 
 import numpy as np
 
 from rollcontact_cosim.cli import run
-from rollcontact_cosim.master import CosimResult, run_cosimulation, summarise
-from rollcontact_cosim.scenes import ALGORITHMS, DEFAULT_SCENE
+from rollcontact_cosim.master import FMU_DIR, CosimResult, ensure_fmus, run_cosimulation, summarise
+from rollcontact_cosim.scenes import ALGORITHMS, DEFAULT_SCENE, load_cosim_scene
 
 LABELS = {  # variable -> axis label
     "WheelRig.creep": "creep xi [1]",
@@ -33,10 +34,10 @@ LABELS = {  # variable -> axis label
     "WheelRig.distance": "distance [m]",
     "RollingContact2D.tangential_force": "tangential force T [N]",
     "RollingContact2D.traction_coefficient": "traction T/N [1]",
-    "RollingContact2D.creep_stiffness": "dT/dxi [N]",
-    "RollingContact2D.contact_half_width": "a [m]",
-    "RollingContact2D.stick_half_width": "a* [m]",
-    "RollingContact2D.stationarity": "lambda/a [1]",
+    "RollingContact2D.creep_stiffness": "creep stiffness dT/dxi [N]",
+    "RollingContact2D.contact_half_width": "contact half-width a [m]",
+    "RollingContact2D.stick_half_width": "stick-zone half-width a* [m]",
+    "RollingContact2D.stationarity": "stationarity lambda/a [1]",
     "RollingContact2D.method_used": "method used",
     "RollingContact2D.axis_position": "axis position [m]",
 }
@@ -51,9 +52,21 @@ STARTUP = 0.05
 so a start-up spike neither hides the run nor is hidden (it is clipped and the span shaded)."""
 
 
-def plot(result: CosimResult, path: Path | str) -> Path:
-    """PNG of the run: the adhesion curve T/N against the creep (log creep, the peak marked) beside the time
-    histories of every recorded variable (matplotlib, Agg backend).
+def friction_title(contact: dict) -> str:
+    """The friction law and its values of the RollingContact2D parameters ``contact`` (the scene's ``[contact]``
+    table over the FMU's defaults; a ``scene_file`` there is read), e.g. ``"friction: exponential falling mu(v) =
+    mu_s [(1 - A) exp(-B v) + A], mu_s = 0.35, A = 0.4, B = 0.6 s/m"``."""
+    from rollcontact.stepping.parameters import ContactParameters, contact_bodies
+
+    friction = contact_bodies(ContactParameters(**contact))[2]
+    return f"friction: {friction.describe()}"
+
+
+def figure(result: CosimResult, friction: str = ""):
+    """The figure of the run (matplotlib, Agg backend): the adhesion curve T/N against the creep on linear axes
+    (Carter's straight initial slope stays straight) above the same curve on a log creep axis (the small creeps
+    resolved), beside the time histories of every recorded variable; the title names the scene, the master and
+    ``friction`` (:func:`friction_title`).
 
     Time histories: integer outputs as steps with named levels, no offset on any axis, a constant drawn with zero
     on its axis, the creep on a log (or symmetric log) axis, and the start-up (:data:`STARTUP`) shaded, the
@@ -68,34 +81,51 @@ def plot(result: CosimResult, path: Path | str) -> Path:
     names = values.dtype.names[1:]
     time = values["time"]
     columns = 2
-    rows = (len(names) + columns - 1) // columns
-    fig = plt.figure(figsize=(15, max(6.0, 2.0 * rows)))
+    rows = max(2, (len(names) + columns - 1) // columns)
+    fig = plt.figure(figsize=(15, max(7.0, 2.0 * rows)))
     grid = fig.add_gridspec(rows, 3, width_ratios=(1.25, 1, 1))
-    adhesion_curve(fig.add_subplot(grid[:, 0]), values)
+    split = (rows + 1) // 2
+    adhesion_curve(fig.add_subplot(grid[:split, 0]), values, log=False)
+    adhesion_curve(fig.add_subplot(grid[split:, 0]), values, log=True)
     start = time[0] + STARTUP * (time[-1] - time[0]) if time.size else 0.0
     for k, name in enumerate(names):
         ax = fig.add_subplot(grid[k // columns, 1 + k % columns])
         time_history(ax, time, values[name], name, start)
         if k // columns == rows - 1 or k + columns >= len(names):
             ax.set_xlabel("time [s]")
-    fig.suptitle(f"{result.scene}: {result.master} master, {result.algorithm}, H = {result.step_size:g} s")
+    title = f"{result.scene}: {result.master} master, {result.algorithm}, H = {result.step_size:g} s"
+    fig.suptitle(f"{title}\n{friction}" if friction else title)
     fig.tight_layout()
+    return fig
+
+
+def plot(result: CosimResult, path: Path | str, friction: str = "") -> Path:
+    """PNG of :func:`figure` at ``path``."""
+    import matplotlib.pyplot as plt
+
+    fig = figure(result, friction)
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return Path(path)
 
 
-def adhesion_curve(ax, values) -> None:
-    """T/N against |creep| on a log axis, traction (creep > 0) and braking (creep < 0, -T/N) apart, the peak of
-    |T/N| marked with its value and creep."""
+LINEAR_SPAN = 4.0
+"""The linear adhesion curve shows |creep| up to this many times the creep of the peak (where the initial slope and
+the peak are; the log panel shows the whole run)."""
+
+
+def adhesion_curve(ax, values, log: bool) -> None:
+    """T/N against |creep|, on linear axes up to :data:`LINEAR_SPAN` times the peak's creep or (``log``) on a log
+    creep axis over the run: traction (creep > 0, T/N) and braking (creep < 0, -T/N) apart, the peak of |T/N|
+    marked with its value and creep."""
     creep = values["WheelRig.creep"] if "WheelRig.creep" in values.dtype.names else None
     traction = (values["RollingContact2D.traction_coefficient"]
                 if "RollingContact2D.traction_coefficient" in values.dtype.names else None)
-    ax.set_title("adhesion curve")
+    ax.set_title("adhesion curve, log creep axis" if log else "adhesion curve")
     if creep is None or traction is None or not np.any(creep != 0.0):
         ax.text(0.5, 0.5, "no creep and traction recorded", ha="center", va="center", transform=ax.transAxes)
         return
-    for sign, label in ((1.0, "creep > 0"), (-1.0, "creep < 0 (braking: -T/N)")):
+    for sign, label in ((1.0, "traction (creep xi > 0): T/N"), (-1.0, "braking (creep xi < 0): -T/N")):
         mask = sign * creep > 0.0
         if mask.any():
             order = np.argsort(sign * creep[mask])
@@ -103,14 +133,21 @@ def adhesion_curve(ax, values) -> None:
     peak = int(np.argmax(np.abs(traction) * (creep != 0.0)))
     ax.plot(abs(creep[peak]), abs(traction[peak]), "o", mfc="none", mec="C3", ms=9)
     ax.annotate(f"peak T/N = {abs(traction[peak]):.4f}\nat creep {abs(creep[peak]):.3g}",
-                (abs(creep[peak]), abs(traction[peak])), textcoords="offset points", xytext=(-14, 6),
-                ha="right", color="C3", bbox={"boxstyle": "round", "fc": "white", "ec": "C3", "lw": 0.5})
-    ax.set_xscale("log")
-    ax.set_xlabel("|creep| xi [1]")
+                (abs(creep[peak]), abs(traction[peak])), textcoords="offset points", xytext=(-14 if log else 14, 6),
+                ha="right" if log else "left", color="C3",
+                bbox={"boxstyle": "round", "fc": "white", "ec": "C3", "lw": 0.5})
+    span = min(float(np.max(np.abs(creep))), LINEAR_SPAN * abs(creep[peak]))
+    if log:
+        ax.set_xscale("log")
+        ax.set_xlabel("|creep| xi [1] (log axis)")
+    else:
+        ax.set_xlim(0.0, span)
+        shown = "" if span >= float(np.max(np.abs(creep))) else f" up to {LINEAR_SPAN:g} x the peak's (all: below)"
+        ax.set_xlabel(f"|creep| xi [1]{shown}")
     ax.set_ylabel("traction coefficient T/N [1]")
-    ax.set_ylim(bottom=0.0)
+    ax.set_ylim(0.0, 1.3 * abs(traction[peak]) or 1.0)  # room above the peak for its label
     ax.grid(True, which="both", lw=0.3)
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=8, loc="upper left" if log else "best")
 
 
 def time_history(ax, time, series, name: str, start: float) -> None:
@@ -153,9 +190,9 @@ def wheelset_hunting(args) -> int:
     """The ``wheelset_hunting`` scene in process: the tables on stdout, the figure to ``--plot``."""
     from rollcontact_cosim.wheelset_study import report, run_hunting_study
 
-    if args.master != "fmpy" or args.fmi != 2 or args.algorithm or args.step_size or args.fmu_dir:
-        raise ValueError("the wheelset_hunting scene runs in process: --master, --fmi, --algorithm, --step-size "
-                         "and --fmu-dir do not apply")
+    if args.master != "fmpy" or args.fmi != 2 or args.algorithm or args.step_size or args.fmu_dir or args.csv:
+        raise ValueError("the wheelset_hunting scene runs in process: --master, --fmi, --algorithm, --step-size, "
+                         "--fmu-dir and --csv do not apply")
     path = args.plot or "cosim_wheelset_hunting.png"
     sweep, klingel = run_hunting_study(path)
     print(report(sweep, klingel))
@@ -167,25 +204,78 @@ IN_PROCESS = {"wheelset_hunting": wheelset_hunting}
 """Scenes run in process (no FMU), by name: a function of the parsed arguments returning the exit code."""
 
 
+def recorded_units(names, fmu_dir=None, master: str = "fmpy", fmi_version: int = 2) -> dict[str, str]:
+    """The unit of each recorded ``"Instance.variable"`` of ``names`` as the FMUs declare it (``"1"`` for a
+    variable without unit: the integer codes), read from the modelDescription of the FMUs the run used."""
+    from fmpy import read_model_description
+
+    paths = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, integer_codes=master == "libcosim",
+                        fmi_version=fmi_version)
+    declared = {f"{instance}.{v.name}": v.unit for instance, path in paths.items()
+                for v in read_model_description(str(path)).modelVariables}
+    return {name: declared.get(name) or "1" for name in names}
+
+
+def write_csv(result: CosimResult, path: Path | str, units: dict[str, str]) -> Path:
+    """The recorded time histories of ``result`` as CSV at ``path``: a header ``time [s]``, ``Instance.variable
+    [unit]`` (``units``, :func:`recorded_units`), then one row per communication point, every digit of each value
+    (``repr``: they read back as the same floats)."""
+    names = result.values.dtype.names
+    with open(path, "w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(["time [s]", *(f"{name} [{units[name]}]" for name in names[1:])])
+        writer.writerows([repr(float(row[name])) for name in names] for row in result.values)
+    return Path(path)
+
+
+DESCRIPTION = "Co-simulate a wheel rig with a rolling contact (two FMUs), print the peak adhesion, plot the run."
+
+EPILOG = f"""\
+Scenes are TOML files of models/cosim (their format: models/cosim/README.md). The summary gives the
+peak traction coefficient T/N [1], the creep xi [1] and time [s] where it occurs, and the wall time per
+macro step [us]. The figure shows the adhesion curve (linear and log creep axes) and every recorded
+variable against time [s]; its title names the friction law and its values.
+
+The scene wheelset_hunting runs in process: a hunting wheelset's speed sweep against its linear
+stability analysis, and Klingel's wavelength.
+
+examples:
+  python -m rollcontact_cosim
+  python -m rollcontact_cosim --scene wheelset_hunting
+  python -m rollcontact_cosim {DEFAULT_SCENE} --step-size 2e-3 --plot ramp.png --csv ramp.csv
+"""
+
+
+def parser() -> argparse.ArgumentParser:
+    """The main job's options (``--help`` shows them with their units and examples)."""
+    p = argparse.ArgumentParser(prog="python -m rollcontact_cosim", description=DESCRIPTION, epilog=EPILOG,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scene", nargs="?", default=DEFAULT_SCENE,
+                   help=f"scene name in models/cosim or a TOML path (default {DEFAULT_SCENE})")
+    p.add_argument("--scene", dest="scene_option", metavar="SCENE",
+                   help=f"the scene, as the positional argument; {', '.join(IN_PROCESS)} runs in process")
+    p.add_argument("--plot", metavar="PNG", help="figure to write (default cosim_<scene>.png in the current folder)")
+    p.add_argument("--csv", metavar="PATH",
+                   help="also write the recorded time histories as CSV, units in the header (e.g. 'time [s]', "
+                        "'RollingContact2D.tangential_force [N]')")
+    p.add_argument("--algorithm", choices=ALGORITHMS, help="master algorithm (default: the scene's)")
+    p.add_argument("--step-size", type=float, metavar="H", help="macro step H [s] (default: the scene's)")
+    p.add_argument("--master", default="fmpy", choices=("fmpy", "libcosim"),
+                   help="co-simulation master (default fmpy; libcosim needs libcosimpy)")
+    p.add_argument("--fmu-dir", metavar="DIR",
+                   help="folder of the FMUs, built there if missing or stale (default: models/)")
+    p.add_argument("--fmi", type=int, default=2, choices=(2, 3),
+                   help="FMI version of the FMUs: 2 (default) or 3 (FMI 3.0, in <fmu-dir>/fmi3; fmpy master)")
+    return p
+
+
 def main(argv: list[str] | None = None) -> int:
     """The main job (module docstring); a bad scene or a missing optional dependency is one line and exit code 2."""
     return run("python -m rollcontact_cosim", lambda: job(argv))
 
 
 def job(argv: list[str] | None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m rollcontact_cosim", description=__doc__.splitlines()[0])
-    parser.add_argument("scene", nargs="?", default=DEFAULT_SCENE,
-                        help=f"scene name in models/cosim or a TOML path (default {DEFAULT_SCENE})")
-    parser.add_argument("--scene", dest="scene_option", metavar="SCENE",
-                        help=f"the scene, as the positional argument; {', '.join(IN_PROCESS)} runs in process")
-    parser.add_argument("--plot", help="PNG to write (default cosim_<scene>.png in the current folder)")
-    parser.add_argument("--algorithm", choices=ALGORITHMS, help="master algorithm (default: the scene's)")
-    parser.add_argument("--step-size", type=float, help="macro step [s] (default: the scene's)")
-    parser.add_argument("--master", default="fmpy", choices=("fmpy", "libcosim"), help="co-simulation master")
-    parser.add_argument("--fmu-dir", help="folder of the FMUs, built there if missing or stale (default: models/)")
-    parser.add_argument("--fmi", type=int, default=2, choices=(2, 3),
-                        help="FMI version of the FMUs: 2 (default) or 3 (FMI 3.0, in <fmu-dir>/fmi3; fmpy master)")
-    args = parser.parse_args(argv)
+    args = parser().parse_args(argv)
     scene = args.scene_option or args.scene
     if scene in IN_PROCESS:
         return IN_PROCESS[scene](args)
@@ -200,8 +290,12 @@ def job(argv: list[str] | None) -> int:
               f"(t = {s['time_at_peak']:.4g} s)")
     if not result.success:
         print(f"stopped early: {result.message}", file=sys.stderr)
-    path = plot(result, args.plot or f"cosim_{result.scene}.png")
+    friction = friction_title(load_cosim_scene(args.scene).contact_parameters())
+    path = plot(result, args.plot or f"cosim_{result.scene}.png", friction)
     print(f"plot: {path}")
+    if args.csv:
+        units = recorded_units(result.values.dtype.names[1:], args.fmu_dir, args.master, args.fmi)
+        print(f"csv: {write_csv(result, args.csv, units)}")
     return 0 if result.success else 1
 
 

@@ -166,7 +166,10 @@ class WheelRigParameters:
     substeps: int = 1
 
     def __post_init__(self):
+        """Check every parameter and raise one :class:`WheelRigError` naming each invalid value and its limit
+        (``"; "``-separated)."""
         positive, non_negative = (True, False), (False, False)
+        problems = []
         for name, unit, bounds in (
                 ("wheel_radius", "m", positive), ("wheel_inertia", "kg m^2", positive),
                 ("vehicle_mass", "kg", positive), ("resistance_constant", "N", non_negative),
@@ -179,22 +182,27 @@ class WheelRigParameters:
                 ("torque_frequency", "Hz", non_negative), ("creep_regularisation_velocity", "m/s", positive)):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-                raise WheelRigError(f"{name} = {value!r} must be a finite real number [{unit}]")
-            if bounds is not None and (value < 0.0 or (bounds[0] and value == 0.0)):
-                raise WheelRigError(f"{name} = {value!r} {unit} is out of range: it must be "
-                                    f"{'> 0' if bounds[0] else '>= 0'}")
-            object.__setattr__(self, name, float(value))
-        if self.load_amplitude > self.static_load:
-            raise WheelRigError(f"load_amplitude = {self.load_amplitude!r} N is out of range: it must be <= "
-                                f"static_load = {self.static_load!r} N so that the normal load stays >= 0")
+                problems.append(f"{name} = {value!r} must be a finite real number [{unit}]")
+            elif bounds is not None and (value < 0.0 or (bounds[0] and value == 0.0)):
+                problems.append(f"{name} = {value!r} {unit} is out of range: it must be "
+                                f"{'> 0' if bounds[0] else '>= 0'}")
+            else:
+                object.__setattr__(self, name, float(value))
+        loads_valid = not any(p.startswith(("static_load ", "load_amplitude ")) for p in problems)
+        if loads_valid and self.load_amplitude > self.static_load:
+            problems.append(f"load_amplitude = {self.load_amplitude!r} N is out of range: it must be <= "
+                            f"static_load = {self.static_load!r} N so that the normal load stays >= 0")
         for name, allowed in (("coupling", COUPLINGS), ("force_lag", {0: "Gauss-Seidel", 1: "Jacobi"})):
             value = getattr(self, name)
             if isinstance(value, bool) or value not in allowed:
                 choices = ", ".join(f"{k} ({v})" for k, v in allowed.items())
-                raise WheelRigError(f"{name} = {value!r} is out of range: it must be one of {choices}")
-            object.__setattr__(self, name, int(value))
+                problems.append(f"{name} = {value!r} is out of range: it must be one of {choices}")
+            else:
+                object.__setattr__(self, name, int(value))
         if isinstance(self.substeps, bool) or not isinstance(self.substeps, int) or self.substeps < 1:
-            raise WheelRigError(f"substeps = {self.substeps!r} is out of range: it must be an integer >= 1")
+            problems.append(f"substeps = {self.substeps!r} is out of range: it must be an integer >= 1")
+        if problems:
+            raise WheelRigError("; ".join(problems))
 
 
 @dataclass(slots=True)

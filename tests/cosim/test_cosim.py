@@ -356,6 +356,39 @@ def test_main_job_prints_the_summary_and_writes_the_plot(fmu_dir, tmp_path, caps
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", "the plot must be a PNG"
 
 
+def test_main_job_writes_the_run_as_csv_with_units(fmu_dir, run, tmp_path, capsys):
+    import csv
+
+    path = tmp_path / "carter.csv"
+    assert main_job(["carter_sanity", "--plot", str(tmp_path / "c.png"), "--csv", str(path),
+                     "--fmu-dir", str(fmu_dir)]) == 0, "main job failed"
+    assert f"csv: {path}" in capsys.readouterr().out
+    with open(path, newline="") as fh:
+        header, *rows = list(csv.reader(fh))
+    expected = run("carter_sanity").values
+    names = expected.dtype.names
+    assert header[0] == "time [s]" and f"{FORCE} [N]" in header and f"{CREEP} [1]" in header and \
+        f"{HOST}.velocity [m/s]" in header and f"{CONTACT}.contact_half_width [m]" in header, header
+    assert [h.split(" [")[0] for h in header] == list(names), "one column per recorded variable, in order"
+    table = np.genfromtxt(path, delimiter=",", skip_header=1)
+    assert table.shape == (expected.size, len(names)) and len(rows) == expected.size
+    for j, name in enumerate(names):
+        assert np.array_equal(table[:, j], expected[name]), f"{name}: the CSV holds other values than the run"
+
+
 def test_unknown_override_is_refused_with_the_choices(fmu_dir):
     with pytest.raises(KeyError, match="WheelRig has no parameter 'mass' \\(choices: wheel_radius"):
         run_cosimulation("carter_sanity", fmu_dir=fmu_dir, host={"mass": 1e4})
+
+
+def test_every_invalid_wheel_rig_parameter_is_named_in_one_refusal():
+    from rollcontact_cosim.wheel_rig import WheelRigError
+
+    with pytest.raises(WheelRigError) as caught:
+        WheelRigParameters(wheel_radius=0.0, vehicle_mass=-1.0, substeps=0)
+    message = str(caught.value)
+    for part in ("wheel_radius = 0.0 m is out of range", "vehicle_mass = -1.0 kg is out of range",
+                 "substeps = 0 is out of range"):
+        assert part in message, f"the refusal {message!r} must name {part!r}"
+    with pytest.raises(WheelRigError, match="load_amplitude = 2.0 N is out of range: it must be <= static_load"):
+        WheelRigParameters(static_load=1.0, load_amplitude=2.0, substeps=0)

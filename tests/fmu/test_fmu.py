@@ -238,6 +238,23 @@ def test_falling_friction_on_a_split_contact_through_the_fmu(instance, method, u
         assert 0.0 < abs(out.tangential_force) <= 0.3 * 1e6 * b, out
 
 
+@pytest.mark.parametrize("parameters", [
+    {"friction_law": 2, "friction_kinetic_ratio": 0.5, "friction_reference_velocity": 1.5},
+    {"friction_law": 3, "friction_kinetic_ratio": 0.5, "friction_slope": 0.05},
+    {"friction_law": 4, "friction_table": "0 0.3; 0.5 0.2; 4 0.15"},
+], ids=["rational", "linear", "tabulated"])
+def test_every_falling_law_is_an_fmu_parameter(instance, parameters):
+    """Every falling law of the library without a scene file: the FMU's steps are the ContactModel's, whose law is
+    the library's (tests/stepping/test_model.py checks it against rollcontact.solve)."""
+    fmu = instance(**parameters)
+    rows = [(1e5, 1e-3, 20.0), (1e5, 3e-3, 20.0)]
+    outs = [fmu.step(n * H, H, *row) for n, row in enumerate(rows)]
+    assert outs == model_outputs(parameters, rows), f"FMU {outs} against the ContactModel"
+    coulomb = model_outputs({}, rows)
+    assert all(0.0 < o.tangential_force < c.tangential_force for o, c in zip(outs, coulomb, strict=True)), \
+        "a falling law lowers the force at the same creep"
+
+
 def test_explicit_discretised_method_through_the_fmu(instance):
     fmu = instance(method=3, corrugation_amplitude=20e-6, elements=100)
     out = fmu.step(0.0, H, 2e4, 1e-3, 5.0)
@@ -315,7 +332,8 @@ def test_enumerations_bounds_and_descriptions_say_what_the_model_accepts(descrip
             if bound is None:
                 continue
             value = float(bound) if v.type == "Real" else int(bound)
-            ContactParameters(**{**default.__dict__, v.name: value})  # accepted
+            table = {"friction_table": "0 0.3"} if v.name == "friction_law" else {}  # the tabulated law's points
+            ContactParameters(**{**default.__dict__, **table, v.name: value})  # accepted
             beyond = math.nextafter(value, direction) if v.type == "Real" else value + (1 if direction > 0 else -1)
             with pytest.raises(ValueError):
                 ContactParameters(**{**default.__dict__, v.name: beyond})
@@ -378,6 +396,20 @@ def test_bad_parameters_are_discarded_with_the_reason(instance, parameters, reas
     fmu.fmu.setFMUstate(state)
     fmu.fmu.freeFMUstate(state)
     assert reason in discarded(fmu, 0.0, H, 1e5, 1e-3, 20.0), "a restored state keeps its parameter problem"
+
+
+@pytest.mark.parametrize("parameters", [
+    {"radius": -0.1, "friction_coefficient": 0.0},
+    {"poisson_ratio": 0.6, "contact_width": 0.0, "friction_law": 7},
+])
+def test_every_invalid_parameter_is_named_in_one_refusal(instance, parameters):
+    fmu = instance(**parameters)
+    message = discarded(fmu, 0.0, H, 1e5, 1e-3, 20.0)
+    for name, value in parameters.items():
+        assert f"{name} = {value!r} is out of range" in message, f"{message!r} must name {name} = {value!r}"
+    refusals = [m for s, _, m in fmu.log if s == 3 and "invalid parameters" in m]
+    assert len(refusals) == 1, f"one refusal at initialisation, naming all: {refusals}"
+    assert all(f"{name} = {value!r}" in refusals[0] for name, value in parameters.items()), refusals[0]
 
 
 def test_a_scene_the_method_cannot_solve_is_discarded(instance, monkeypatch):

@@ -51,14 +51,47 @@ def run(model: ContactModel, inputs, start=0.0, h=H):
 # parameters
 @pytest.mark.parametrize("field, value", [
     ("youngs_modulus", 0.0), ("poisson_ratio", 0.5), ("radius", -0.1), ("contact_width", 0.0),
-    ("friction_coefficient", 0.0), ("friction_law", 2), ("friction_kinetic_ratio", 1.5), ("friction_decay", -1.0),
+    ("friction_coefficient", 0.0), ("friction_law", -1), ("friction_kinetic_ratio", 1.5), ("friction_decay", -1.0),
     ("corrugation_wavelength", 0.0), ("corrugation_amplitude", -1e-6), ("corrugation_phase", math.nan),
     ("initial_position", math.inf), ("method", 4), ("tolerance", -1e-9), ("polynomial_order", -1),
-    ("elements", 2.5), ("transient", 3), ("datum", -1.0), ("scene_file", 3),
+    ("elements", 2.5), ("transient", 3), ("datum", -1.0), ("scene_file", 3), ("friction_law", 5),
+    ("friction_reference_velocity", 0.0), ("friction_slope", -0.1),
 ])
 def test_parameters_out_of_range_are_refused_by_name(field, value):
     with pytest.raises(ModelError, match=field):
         ContactParameters(**{field: value})
+
+
+@pytest.mark.parametrize("invalid, expected", [
+    ({"youngs_modulus": 0.0, "radius": -0.1},
+     ("youngs_modulus = 0.0 is out of range: it must be > 0.0", "radius = -0.1 is out of range: it must be > 0.0")),
+    ({"poisson_ratio": 0.5, "friction_law": 9, "elements": -3},
+     ("poisson_ratio = 0.5 is out of range: it must be < 0.5", "friction_law = 9 is out of range: it must be one of",
+      "elements = -3 is out of range: it must be an integer >= 0")),
+])
+def test_every_invalid_parameter_is_named_in_one_refusal(invalid, expected):
+    with pytest.raises(ModelError) as caught:
+        ContactParameters(**invalid)
+    message = str(caught.value)
+    for part in expected:
+        assert part in message, f"the refusal {message!r} must name {part!r}"
+    assert message.count("; ") == len(invalid) - 1, f"{len(invalid)} problems, one per parameter: {message!r}"
+    for name, value in invalid.items():  # each alone: the same sentence as in the joint refusal
+        with pytest.raises(ModelError) as alone:
+            ContactParameters(**{name: value})
+        assert str(alone.value) in message, f"{name} alone says {alone.value!s}, not part of {message!r}"
+
+
+@pytest.mark.parametrize(("table", "says"), [
+    ("", "is not a friction table"), ("0 0.3; 1", "is not a friction table"), ("0 0.3; x 0.2", "could not convert"),
+    ("0 0.3; 0 0.2", "must increase strictly"), ("0 0.3; 1 0", "coefficient = 0.0 is out of range"),
+    ("0 nan", "is not finite"),
+])
+def test_a_friction_table_that_is_no_table_is_refused_with_its_form(table, says):
+    with pytest.raises(ModelError, match="friction_table") as caught:
+        ContactParameters(friction_law=4, friction_table=table)
+    assert says in str(caught.value) and "e.g. '0 0.3; 1 0.25; 5 0.12'" in str(caught.value), caught.value
+    ContactParameters(friction_law=1, friction_table=table)  # read only with the tabulated law
 
 
 def test_unreadable_scene_file_is_a_model_error(tmp_path):
@@ -339,6 +372,31 @@ def test_falling_friction_needs_more_than_the_closed_form():
     coulomb = ContactModel(dataclasses.replace(falling, friction_kinetic_ratio=1.0)).step(0.0, H, 1e5, 1e-3, 5.0)
     assert coulomb.method_used == 1, "A = 1 is constant friction: closed form"
     assert out.tangential_force < coulomb.tangential_force, "falling friction lowers the force at the same creep"
+
+
+@pytest.mark.parametrize(("code", "law"), [
+    (2, rollcontact.RationalFalling(0.3, 0.3 * 0.4, 1.5)),
+    (3, rollcontact.LinearFalling(0.3, 0.3 * 0.4, 0.05)),
+    (4, rollcontact.TabulatedFriction((0.0, 0.5, 4.0), (0.3, 0.22, 0.15))),
+])
+def test_every_falling_law_of_the_library_is_a_friction_law_parameter(code, law):
+    """friction_law 2 (rational), 3 (linear) and 4 (tabulated): the library's law with mu = friction_coefficient,
+    mu_k = A mu and v_ref or c, or the points of friction_table; a step equals rollcontact.solve on the same scene
+    built with that law directly."""
+    p = ContactParameters(friction_law=code, friction_coefficient=0.3, friction_kinetic_ratio=0.4,
+                          friction_reference_velocity=1.5, friction_slope=0.05,
+                          friction_table=" 0 0.3;0.5 0.22 ; 4 0.15; ")
+    model = ContactModel(p)
+    assert model.scene(0.0, 1e5, 1e-3, 20.0).friction == law, f"law {code}: {model.scene(0.0, 1e5, 1e-3, 20.0)}"
+    out = model.step(0.0, H, 1e5, 1e-3, 20.0)
+    scene = rollcontact.Scene(normal_load_per_length=1e5 / p.contact_width, creep=1e-3, radius=p.radius,
+                              material=rollcontact.Material(p.youngs_modulus, p.poisson_ratio), friction=law,
+                              rolling_speed=20.0)
+    expected = rollcontact.solve(scene, method="polynomial")
+    assert out.method_used == 2 and out.tangential_force == expected.tangential_force_per_length * p.contact_width, \
+        f"law {code}: {out.tangential_force} against the library's {expected.tangential_force_per_length * 0.02}"
+    coulomb = ContactModel(ContactParameters(friction_coefficient=0.3)).step(0.0, H, 1e5, 1e-3, 20.0)
+    assert 0.0 < out.tangential_force < coulomb.tangential_force, "a falling law lowers the force at the same creep"
 
 
 def test_a_method_without_stiffness_gets_it_by_difference(monkeypatch):

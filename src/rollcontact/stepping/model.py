@@ -393,7 +393,9 @@ class ContactModel(InstationaryStepping):
             raise ModelError(f"{name} failed: {result.message}")
         if tolerance is not None and not result.info.get("tolerance_met", True):
             self.notice_once("tolerance", f"tolerance = {tolerance!r} is not met within step_budget = "
-                             f"{self.parameters.step_budget!r} s at X = {x!r} m: {result.message}")
+                             f"{self.parameters.step_budget!r} s (first at X = {x!r} m, estimated error "
+                             f"{result.info.get('error_estimate', math.nan):.2g}): the steps run the most accurate "
+                             "setting that fits. Raise step_budget (0: no budget) or the tolerance.")
         why = unresolved(result)
         if why is not None:
             raise ModelError(f"{name}: {why}")

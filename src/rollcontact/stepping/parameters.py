@@ -21,7 +21,14 @@ import numpy as np
 
 from rollcontact.checks import SceneError, check_real
 from rollcontact.dispatch import METHODS
-from rollcontact.friction import Coulomb, ExponentialFalling, FrictionLaw
+from rollcontact.friction import (
+    Coulomb,
+    ExponentialFalling,
+    FrictionLaw,
+    LinearFalling,
+    RationalFalling,
+    TabulatedFriction,
+)
 from rollcontact.scene import Harmonic, Material, Surface, load_scene
 
 AUTO = 0
@@ -55,7 +62,11 @@ TABLE_CODE = 6
 """``method_used`` of a step answered by the certified table."""
 
 
-FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling"}
+FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling", 2: "rational falling", 3: "linear falling", 4: "tabulated"}
+"""``friction_law`` codes: every law of :mod:`rollcontact.friction` (:func:`contact_bodies` builds it)."""
+
+TABLE_LAW = 4
+"""``friction_law`` of the tabulated law, whose points ``friction_table`` gives (:func:`friction_table_points`)."""
 
 
 OPTION_NAMES = {"polynomial_order": "order", "elements": "elements", "datum": "datum_length"}
@@ -141,9 +152,13 @@ class ContactParameters:
     friction_coefficient : float
         mu at zero slip velocity [1] > 0.
     friction_law : int
-        0 Coulomb (mu constant), 1 exponential falling ``mu(v) = mu [(1 - A) exp(-B v) + A]``.
+        0 Coulomb (mu constant), 1 exponential falling ``mu(v) = mu [(1 - A) exp(-B v) + A]``, 2 rational falling
+        ``mu(v) = A mu + (1 - A) mu / (1 + v / v_ref)``, 3 linear falling ``mu(v) = max(A mu, mu - c v)``
+        (:mod:`rollcontact.friction`; v the slip velocity [m/s], mu = ``friction_coefficient``), 4 tabulated:
+        piecewise linear through the points of ``friction_table`` (``friction_coefficient`` is then unused).
     friction_kinetic_ratio : float
-        A [1] in (0, 1] of the exponential law.
+        A [1] in (0, 1]: mu(infinity)/mu of the falling laws (the kinetic coefficient A mu of the rational and
+        linear laws).
     friction_decay : float
         B [s/m] >= 0 of the exponential law.
     corrugation_wavelength : float
@@ -188,6 +203,13 @@ class ContactParameters:
         (:func:`rollcontact.stepping.transient.max_substeps`);
         where that costs accuracy, the model says so once (:meth:`ContactModel.take_messages`).  0: no budget, as
         long as each step takes.
+    friction_reference_velocity : float
+        v_ref [m/s] > 0 of the rational law.
+    friction_slope : float
+        c [s/m] >= 0 of the linear law.
+    friction_table : str
+        Points ``"v mu; v mu; ..."`` (v [m/s] increasing from >= 0, mu [1] > 0) of the tabulated law, e.g.
+        ``"0 0.3; 1 0.25; 5 0.12"``; mu is constant beyond the ends.  Read only with ``friction_law`` = 4.
     table : int
         0 auto, 1 off, 2 on: where the scene family has a certified table (falling friction on a flat surface, or
         Coulomb friction on a corrugation of one harmonic: :mod:`rollcontact.stepping.table`) and ``tolerance`` is 0 or
@@ -218,9 +240,15 @@ class ContactParameters:
     datum: float = 0.0
     step_budget: float = DEFAULT_STEP_BUDGET
     table: int = 0
+    friction_reference_velocity: float = 2.0
+    friction_slope: float = 0.1
+    friction_table: str = ""
 
     def __post_init__(self):
+        """Check every parameter and raise one :class:`ModelError` naming each invalid value and its limit
+        (``"; "``-separated, in field order), so that a user corrects them all at once."""
         set_ = object.__setattr__
+        problems = []
         for name, lower, upper, lower_open, upper_open in (
                 ("youngs_modulus", 0.0, None, True, False),
                 ("poisson_ratio", 0.0, 0.5, False, True),
@@ -235,28 +263,60 @@ class ContactParameters:
                 ("initial_position", None, None, False, False),
                 ("tolerance", 0.0, None, False, False),
                 ("datum", 0.0, None, False, False),
-                ("step_budget", 0.0, None, False, False)):
+                ("step_budget", 0.0, None, False, False),
+                ("friction_reference_velocity", 0.0, None, True, False),
+                ("friction_slope", 0.0, None, False, False)):
             try:
-                value = check_real(name, getattr(self, name), lower=lower, upper=upper, lower_open=lower_open,
-                                   upper_open=upper_open)
+                set_(self, name, check_real(name, getattr(self, name), lower=lower, upper=upper,
+                                            lower_open=lower_open, upper_open=upper_open))
             except SceneError as exc:
-                raise ModelError(str(exc)) from None
-            set_(self, name, value)
+                problems.append(str(exc))
         for name, allowed in (("friction_law", FRICTION_LAWS), ("method", {AUTO: "auto", **METHOD_NAMES}),
                               ("transient", TRANSIENT_MODES), ("table", TABLE_MODES)):
             value = getattr(self, name)
             if value not in allowed:
                 choices = ", ".join(f"{k} {v}" for k, v in allowed.items())
-                raise ModelError(f"{name} = {value!r} is out of range: it must be one of {choices}")
-            set_(self, name, int(value))
+                problems.append(f"{name} = {value!r} is out of range: it must be one of {choices}")
+            else:
+                set_(self, name, int(value))
         for name in ("polynomial_order", "elements"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 0:
-                raise ModelError(f"{name} = {value!r} is out of range: it must be an integer >= 0 "
-                                 "(0: the method's default)")
-            set_(self, name, int(value))
+                problems.append(f"{name} = {value!r} is out of range: it must be an integer >= 0 "
+                                "(0: the method's default)")
+            else:
+                set_(self, name, int(value))
         if not isinstance(self.scene_file, str):
-            raise ModelError(f"scene_file must be a string (a path or empty), got {self.scene_file!r}")
+            problems.append(f"scene_file must be a string (a path or empty), got {self.scene_file!r}")
+        if not isinstance(self.friction_table, str):
+            problems.append(f"friction_table must be a string ('v mu; v mu; ...'), got {self.friction_table!r}")
+        elif self.friction_law == TABLE_LAW:
+            try:
+                friction_table_points(self.friction_table)
+            except ValueError as exc:
+                problems.append(str(exc))
+        if problems:
+            raise ModelError("; ".join(problems))
+
+
+def friction_table_points(text: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """Velocities [m/s] and coefficients [1] of a ``friction_table`` ``"v mu; v mu; ..."``, checked as
+    :class:`rollcontact.friction.TabulatedFriction` checks them.
+
+    Raises
+    ------
+    ValueError
+        The text is no such table; the message shows the form and the first problem.
+    """
+    form = "write 'v mu' pairs (v [m/s] increasing, mu [1] > 0) separated by ';', e.g. '0 0.3; 1 0.25; 5 0.12'"
+    rows = [row.split() for row in text.split(";") if row.strip()]
+    if not rows or any(len(row) != 2 for row in rows):
+        raise ValueError(f"friction_table = {text[:80]!r} is not a friction table: {form}")
+    try:
+        law = TabulatedFriction(tuple(float(v) for v, _ in rows), tuple(float(mu) for _, mu in rows))
+    except ValueError as exc:
+        raise ValueError(f"friction_table = {text[:80]!r}: {exc}; {form}") from None
+    return law.velocities, law.coefficients
 
 
 def method_code(name: str) -> int:
@@ -311,10 +371,12 @@ def contact_bodies(p: ContactParameters) -> tuple[Material, float, FrictionLaw, 
         return base.material, base.radius, base.friction, base.surface, [notice]
     try:
         material = Material(p.youngs_modulus, p.poisson_ratio)
-        if p.friction_law == 0:
-            friction = Coulomb(p.friction_coefficient)
-        else:
-            friction = ExponentialFalling(p.friction_coefficient, p.friction_kinetic_ratio, p.friction_decay)
+        mu, ratio = p.friction_coefficient, p.friction_kinetic_ratio
+        laws = {0: lambda: Coulomb(mu), 1: lambda: ExponentialFalling(mu, ratio, p.friction_decay),
+                2: lambda: RationalFalling(mu, ratio * mu, p.friction_reference_velocity),
+                3: lambda: LinearFalling(mu, ratio * mu, p.friction_slope),
+                4: lambda: TabulatedFriction(*friction_table_points(p.friction_table))}
+        friction = laws[p.friction_law]()
         harmonics = ()
         if p.corrugation_amplitude != 0.0:
             harmonics = (Harmonic.from_wavelength(p.corrugation_wavelength, p.corrugation_amplitude,

@@ -15,8 +15,6 @@ import math
 
 from rollcontact.instationary.model import InstationaryModel, InstationaryState, aligned_grid_load
 from rollcontact.instationary.relaxation import (
-    LAG_ERROR_COEFFICIENT,
-    LAG_ERROR_FLOOR,
     LAG_MEMORY,
     carter_creep,
     creep_envelope,
@@ -156,24 +154,19 @@ def transient_setting(tolerance: float) -> tuple[int, bool]:
 
 def transient_notice(tolerance: float, elements: int, given: bool, extrapolate: bool = False,
                      adaptive: bool = False) -> str:
-    """What the discretised transient chosen for ``tolerance`` reaches, and whether that meets it; ``adaptive``:
-    it runs only where the relaxation lag's bound does not meet the tolerance (:meth:`ContactModel.choose_model`)."""
+    """What the discretised transient chosen for ``tolerance`` reaches, whether that meets it and what to change if
+    not; ``adaptive``: it runs only where the relaxation lag's bound does not meet the tolerance
+    (:meth:`ContactModel.choose_model`).  The error models behind it are in docs/accuracy.md."""
     reached = transient_model_error(elements, extrapolate)
-    largest = EXTRAPOLATED_MAX_ELEMENTS if extrapolate else TRANSIENT_MAX_ELEMENTS
-    how = "as given" if given else f"chosen for the tolerance, at most {largest}"
-    grids = (f"elements = {elements // 2}/{elements} extrapolated ({how}), modelled error {reached:.2g} mu N "
-             "(benchmarks/bench_transient_pairs.py)" if extrapolate else
-             f"elements = {elements} ({how}), modelled error {reached:.2g} mu N (benchmarks/bench_transient_pairs.py)")
-    text = f"tolerance = {tolerance!r}: instationary steps run the discretised transient (method_used 5) with {grids}"
-    if adaptive:
-        text += (" where the relaxation lag (method_used 4) would not meet the tolerance: the lag runs while its "
-                 f"error bound for the creep swing over the last {LAG_MEMORY:g} relaxation lengths, "
-                 f"{LAG_ERROR_COEFFICIENT:g} mu N per saturation creep of half the swing (less where the swing stays "
-                 f"away from zero creep) + {LAG_ERROR_FLOOR:g} mu N (rollcontact.instationary.lag_error_bound, "
-                 "benchmarks/bench_relaxation.py), meets it")
-    if reached > tolerance:
-        return text + f"; the tolerance is NOT met, {reached:.2g} mu N is reached"
-    return text
+    grid = f"{elements // 2}/{elements} extrapolated" if extrapolate else f"{elements}"
+    where = ", where the relaxation lag would miss it" if adaptive else ""
+    text = (f"tolerance = {tolerance!r}: instationary steps run the discretised transient (method_used 5) on "
+            f"elements = {grid}, modelled error {reached:.2g} mu N{where}.")
+    if reached <= tolerance:
+        return text
+    fix = "set more elements (0: chosen from the tolerance)" if given else \
+        f"raise the tolerance to {reached:.2g} (the finest grid)"
+    return text + f" NOT met: {fix}."
 
 
 def instationary_unavailable(surface: Surface, friction) -> str | None:
@@ -254,12 +247,9 @@ class InstationaryStepping:
             # the transient settles on its own steady force, which is within its error of Carter's
             self.settle_tolerance = max(self.transient_tolerance, transient_model_error(elements, extrapolate))
         elif not discretised and (tight or not p.tolerance):
-            notices.append(f"tolerance = {p.tolerance!r}: the relaxation lag of transient = {p.transient} errs "
-                           f"by up to {LAG_ERROR_COEFFICIENT:g} mu N per saturation creep of half the creep swing "
-                           f"(rollcontact.instationary.lag_error_bound), at most {RELAXATION_ACCURACY!r} mu N "
-                           "(benchmarks/bench_relaxation.py); for an error within a tolerance use transient = 1 with "
-                           "method = 0 and a tolerance, which then runs the discretised transient with as many "
-                           "elements as the tolerance needs")
+            notices.append(f"tolerance = {p.tolerance!r}: instationary steps run the relaxation lag (method_used 4), "
+                           f"whose error grows with the creep swing, up to {RELAXATION_ACCURACY:g} mu N. For less, set "
+                           f"transient = 1, method = 0 and a tolerance below {RELAXATION_ACCURACY:g}.")
         self.instationary = InstationaryModel(
             radius, material.contact_modulus, friction.static_coefficient,
             mode="transient" if discretised else "relaxation", datum_length=p.datum or None,
@@ -310,11 +300,11 @@ class InstationaryStepping:
             raise ModelError(f"instationary {model.mode} model failed at X = {x!r} m: {result.message}")
         cut = result.info.get("memory_cut_bound", 0.0)
         if cut > self.transient_tolerance * self.mu * load:
-            self.notice_once("memory cut", f"step_budget = {self.parameters.step_budget!r} s: the discretised "
-                             f"transient runs at most {model.max_substeps} substeps per step, so a step that rolls "
-                             f"further (here at X = {x!r} m) forgets its history beyond them, an error of up to "
-                             f"{cut / (self.mu * load):.2g} mu N, above the tolerance {self.transient_tolerance!r}; "
-                             "a larger step_budget or smaller host steps avoid it")
+            self.notice_once("memory cut", f"step_budget = {self.parameters.step_budget!r} s allows "
+                             f"{model.max_substeps} substeps of the discretised transient per step: steps that roll "
+                             f"further (first at X = {x!r} m) err by up to {cut / (self.mu * load):.2g} mu N, above "
+                             f"the tolerance {self.transient_tolerance!r}. Raise step_budget or shorten the host "
+                             "steps.")
         force_per_length = float(result.tangential_force_per_length)
         a = float(result.contact_half_width)
         if quasi is not None:
