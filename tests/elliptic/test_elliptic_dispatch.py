@@ -73,7 +73,8 @@ def reference(scene, **options):
 @pytest.fixture
 def registered():
     register_elliptic_method("broken", broken, lambda s: None, -5)
-    register_elliptic_method("reference", reference, lambda s: None, 100, fallback=True, accuracy=Exact())
+    # rank 90: below the built-in discretised fallback (100), so that the fallback rule picks this one
+    register_elliptic_method("reference", reference, lambda s: None, 90, fallback=True, accuracy=Exact())
     yield
     del ELLIPTIC_METHODS["broken"], ELLIPTIC_METHODS["reference"]
 

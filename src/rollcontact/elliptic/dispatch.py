@@ -32,14 +32,14 @@ from rollcontact.dispatch import (
     within_budget,
     without_fallback,
 )
-from rollcontact.elliptic.methods import fastsim, linear
+from rollcontact.elliptic.methods import discretised, fastsim, linear
 from rollcontact.elliptic.result import EllipticResult
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.method import AccuracyModel, MethodSpec, check_tolerance, unresolved
 
 __all__ = ["BUILTIN", "ELLIPTIC_METHODS", "choose_elliptic_setting", "register_elliptic_method", "solve_elliptic"]
 
-BUILTIN: tuple[MethodSpec, ...] = (linear.METHOD, fastsim.METHOD)
+BUILTIN: tuple[MethodSpec, ...] = (linear.METHOD, fastsim.METHOD, discretised.METHOD)
 """The elliptic method table: the levels shipped with the package, one line each."""
 
 ELLIPTIC_METHODS: dict[str, MethodSpec] = {spec.name: spec for spec in BUILTIN}
