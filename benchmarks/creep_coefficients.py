@@ -8,7 +8,7 @@ aspect ratios, nu = 0.25, about ten seconds).  Writes ``benchmarks/results/creep
 Method.  At a creepage of 1e-9 no element slips and the tangential problem is linear (Kalker's linear theory):
 ``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^4 C33 phi`` (forces on the rail, c =
 sqrt(ab); :mod:`rollcontact.halfspace.rolling3d`).  Each coefficient is computed on square elements, N of them
-across the shorter axis (N = 16, 24, 32, 48, 64), and
+across the shorter axis (N = 24, 32, 48, 64, 96), and
 
 * scaled by the ratio of the ellipse's area ``pi a b`` to the area of the elements whose centres lie inside it,
   to the power of the coefficient's length dimension over two (1 for C11 and C22, 3/2 for C23, 2 for C33): the
@@ -22,6 +22,7 @@ they exist.
 
 import argparse
 import math
+import textwrap
 import time
 
 import common  # before numpy: limits BLAS to one thread
@@ -31,7 +32,7 @@ from rollcontact.friction import Coulomb
 from rollcontact.halfspace.rolling3d import ellipse_grid, hertz_pressure, solve_steady, total_forces
 from rollcontact.halfspace.surface3d import operator_for
 
-LEVELS = (16, 24, 32, 48, 64)
+LEVELS = (24, 32, 48, 64, 96)
 """Elements across the shorter axis of the ellipse, square elements."""
 
 
@@ -104,7 +105,7 @@ def table_module(table: dict) -> str:
              "",
              'SOURCE = "discretised 3D solver at vanishing creepage (benchmarks/creep_coefficients.py)"',
              "",
-             f"ASPECT_RATIOS = {tuple(ASPECT_RATIOS)!r}",
+             *textwrap.wrap(f"ASPECT_RATIOS = {tuple(ASPECT_RATIOS)!r}", 116, subsequent_indent=" " * 17),
              '"""a/b [1] of the rows."""',
              "",
              f"POISSON_RATIOS = {tuple(POISSON_RATIOS)!r}",

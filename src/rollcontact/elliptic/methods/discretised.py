@@ -43,22 +43,23 @@ NORMAL_MARGIN = 3
 """Elements around the ellipse where the discretised normal problem may put contact."""
 
 
-ERROR_PER_ELEMENT = 0.5
-"""The error [1] of Fx, Fy (over mu Fn) and Mz (over mu Fn c) is at most this over the element count across the
-shorter of nx, ny: a margin over the largest error times N of ``benchmarks/bench_elliptic.py``, table A (the
-case matrix a/b 0.2..5, pure and combined creepages up to 3 saturation creepages, N = 60)."""
+ERROR_PER_ELEMENT = 1.2
+"""The error [1] of Fx, Fy (over mu Fn) and Mz (over mu Fn c) on one grid is at most this over the element count
+across the shorter of nx, ny: a margin over the largest error times N in ``benchmarks/bench_elliptic.py``, section A
+(the case matrix a/b 0.2..5, pure and combined creepages up to 3 saturation creepages, N = 60; the largest is spin
+at a/b = 5, where the elements are five times longer than wide)."""
 
 
-PAIR_ERROR_PER_ELEMENT = 0.25
-"""The same for the Richardson pair ``2 F(N) - F(N/2)`` (``benchmarks/bench_elliptic.py``, table A, column
-'pair')."""
+PAIR_ERROR_PER_ELEMENT = 0.3
+"""The same for the Richardson pair ``2 F(N) - F(N/2)`` (``benchmarks/bench_elliptic.py``, section A, column
+'pair'); the pair converges faster than first order, so this bound grows more pessimistic with N."""
 
 
-SECONDS_AT_60 = 0.2
+SECONDS_AT_60 = 0.13
 COST_EXPONENT = 2.5
 """Modelled time of one solve [s]: ``SECONDS_AT_60 (sqrt(nx ny) / 60)^COST_EXPONENT`` (FFTs of n^2 log n per
-Krylov iteration, the iterations growing like sqrt(n)); ``benchmarks/bench_elliptic.py``, table A, median time at
-60 x 60."""
+Krylov iteration, the Krylov and Newton iterations growing with n): ``benchmarks/bench_elliptic.py``, the median
+time at 60 x 60 of section A and the exponent of section "Cost against the element count"."""
 
 
 LADDER = (16, 24, 32, 48, 60, 90, 120)
