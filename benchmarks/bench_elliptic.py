@@ -292,6 +292,8 @@ def plot(table, creeps, curve):
         left.semilogy(ratios, worst, "o-", label=label)
     left.axhline(0.01, color="k", lw=0.8, ls="--")
     left.set_xscale("log")
+    left.set_xticks(RATIOS, [f"{r:g}" for r in RATIOS])
+    left.minorticks_off()
     left.set_xlabel("a/b")
     left.set_ylabel("largest error (Fx, Fy / mu Fn; Mz / mu Fn c)")
     left.set_title("levels against the converged discretised solution")
