@@ -85,8 +85,8 @@ def test_traction_bound_holds_on_the_field(creepages):
     f = result.fields
     excess = f.traction_magnitude - MU * f.pressure
     assert np.all(excess <= 1e-9 * MU * result.max_pressure), f"|q| <= mu p: worst excess {excess.max():.3g} Pa"
-    total = np.sum(f.traction_x) / f.traction_x.size  # sanity: the field and the forces agree in sign
-    assert total * result.longitudinal_force >= 0, "the field's traction has the force's sign"
+    if "spin_creepage" not in creepages or creepages["spin_creepage"] < 1.0:
+        assert f.stick.any() and not f.stick.all(), "partial slip: both zones present"
 
 
 def test_the_field_sums_to_the_closed_form():
