@@ -32,15 +32,17 @@ from rollcontact.dispatch import (
     within_budget,
     without_fallback,
 )
-from rollcontact.elliptic.methods import discretised, fastsim, linear
+from rollcontact.elliptic.methods import discretised, fastsim, linear, strips
 from rollcontact.elliptic.result import EllipticResult
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.method import AccuracyModel, MethodSpec, check_tolerance, unresolved
 
 __all__ = ["BUILTIN", "ELLIPTIC_METHODS", "choose_elliptic_setting", "register_elliptic_method", "solve_elliptic"]
 
-BUILTIN: tuple[MethodSpec, ...] = (linear.METHOD, fastsim.METHOD, discretised.METHOD)
-"""The elliptic method table: the levels shipped with the package, one line each."""
+BUILTIN: tuple[MethodSpec, ...] = (strips.METHOD, fastsim.METHOD, linear.METHOD, discretised.METHOD)
+"""The elliptic method table: the levels shipped with the package, one line each.  Their ranks order ``auto``
+without a tolerance by expected accuracy: strips (10), FASTSIM (20), the linear theory (30); the discretised
+solver (100) is the fallback, above them."""
 
 ELLIPTIC_METHODS: dict[str, MethodSpec] = {spec.name: spec for spec in BUILTIN}
 """The registry :func:`solve_elliptic` dispatches over: :data:`BUILTIN` and what :func:`register_elliptic_method`

@@ -44,9 +44,11 @@ def linear_forces(scene: EllipticScene, c: CreepageCoefficients) -> tuple[float,
 
 
 def linear_ratio(scene: EllipticScene, c: CreepageCoefficients) -> float:
-    """``|F_linear| / (mu Fn)`` [1] of the tangential force of the linear theory (Fx and Fy, without the moment):
-    the creepage in units of saturation, what the accuracy models scale with."""
+    """``tau = (|(Fx, Fy)| + G c^3 C23 |phi|) / (mu Fn)`` [1] of the linear theory: the creepages in units of
+    saturation, what the accuracy models scale with (the spin counted by its lateral force even where it cancels
+    that of eta, since it also drives the moment)."""
     fx, fy, _ = linear_forces(scene, c._replace(c33=0.0))
     scale = scene.friction_coefficient * scene.normal_load
-    return math.hypot(fx, fy) / scale if scale > 0.0 else 0.0
+    spin = scene.shear_modulus * scene.hertz.c**3 * c.c23 * abs(scene.spin_creepage)
+    return (math.hypot(fx, fy) + spin) / scale if scale > 0.0 else 0.0
 
