@@ -105,3 +105,33 @@ def test_no_load_and_non_convergence_are_reported():
     stuck = solve_elliptic(scene(longitudinal_creepage=6e-4, spin_creepage=1.5), "discretised", elements=16,
                            max_iterations=1)
     assert not stuck.success and "did not converge" in stuck.message, stuck.message
+
+
+def test_falling_friction_agrees_with_strips_on_the_eurosprinter():
+    """Polach's exponential law on the Eurosprinter's ellipse (a/b 0.5, a 6.3 mm, 106.7 kN, V 10 m/s): strips and
+    the discretised pair within 0.02 mu_s Fn over the creep curve, through its peak and falling branch."""
+    law = ExponentialFalling(0.55, 0.4, 0.6)
+    curve = []
+    for creep in (0.001, 0.003, 0.006, 0.02, 0.08):
+        case = EllipticScene.from_semi_axes(106.7e3, 6.3e-3, 12.6e-3, friction=law, rolling_speed=10.0,
+                                            longitudinal_creepage=creep)
+        discretised = solve_elliptic(case, "discretised", elements=32)
+        strips = solve_elliptic(case, "strips")
+        assert discretised.success and strips.success, (discretised.message, strips.message)
+        gap = abs(discretised.force_coefficients[0] - strips.force_coefficients[0])
+        assert gap < 0.02, f"xi = {creep}: discretised {discretised.force_coefficients[0]:.4f}, strips " \
+                           f"{strips.force_coefficients[0]:.4f}"
+        curve.append(discretised.force_coefficients[0])
+    assert max(curve) > curve[-1] + 0.1, f"no falling branch on {curve}"
+
+
+@pytest.mark.parametrize("creepages", [(6e-4, 0.0, 0.0), (0.0, 5e-4, 0.0), (3e-4, 2e-4, 0.6)])
+def test_strips_are_within_both_error_estimates_of_the_discretised_solution(creepages):
+    xi, eta, phi = creepages
+    case = scene(ratio=0.4, longitudinal_creepage=xi, lateral_creepage=eta, spin_creepage=phi)
+    reference = solve_elliptic(case, "discretised", elements=40)
+    strips = solve_elliptic(case, "strips")
+    allowed = strips.info["error_estimate"] + reference.info["error_estimate"]
+    gap = np.abs(np.subtract(strips.force_coefficients, reference.force_coefficients)).max()
+    assert gap <= allowed, f"strips {strips.force_coefficients} vs discretised {reference.force_coefficients}: " \
+                           f"{gap:.4f} > {allowed:.4f}"
