@@ -219,3 +219,14 @@ def test_non_convergence_is_reported_not_hidden():
     assert "did not converge" in sol.message and "residual" in sol.message, sol.message
     empty = solve_steady(op, 0 * p, (0 * x, 0 * y), G, Coulomb(MU))
     assert not empty.converged and "no element in contact" in empty.message, empty.message
+
+
+def test_a_law_falling_faster_than_the_grid_resolves_is_reported():
+    """mu(v) = 0.4 (0.7 exp(-18 v) + 0.3) at 30 m/s: an element's slip equation ``|s| + g(|s|) / r`` is not monotone
+    where ``-(p / r) V dmu/dv > 1``; the solve stops on the stall and says why instead of iterating to the cap."""
+    grid, op, p, x, y = setup(1.5, 40)
+    law = ExponentialFalling(0.4, 0.3, 18.0)
+    sol = solve_steady(op, p, (0.001 + 0 * x, 0 * y), G, law, 30.0)
+    assert not sol.converged, "this law is beyond what the grid resolves, yet the solve reports convergence"
+    assert "stagnates" in sol.message and "not monotone" in sol.message, sol.message
+    assert sol.newton_iterations < 40, f"the stall took {sol.newton_iterations} Newton iterations to detect"

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import scipy.fft as sfft
@@ -335,18 +336,53 @@ def solve_steady(operator: SurfaceOperator, pressure: np.ndarray, rigid_slip: tu
         qx, qy = problem.full_stick()
     else:
         qx, qy = (np.where(problem.contact, q, 0.0) for q in initial)
+    run = _newton(problem, qx, qy, tolerance, max_iterations)
+    st = run.state
+    message = run.message
+    if not run.converged and not friction.is_constant:
+        sn = np.hypot(st["sx"], st["sy"])
+        falling = float(np.max(-friction.derivative(rolling_speed * sn) * rolling_speed * pressure / problem.r))
+        if falling > 1.0:
+            message += (f"; the friction law falls faster than the grid resolves: an element's slip equation is not "
+                        f"monotone where -(p / r) V dmu/dv = {falling:.3g} > 1 (r = G / K_ii), so the discrete "
+                        f"steady problem may have several solutions")
+    return SteadySolution3D(run.qx, run.qy, st["sx"], st["sy"], st["stick"], st["g"], run.iterations, run.linear,
+                            run.converged, message, run.residual)
+
+
+STALL_WINDOW = 10
+"""Newton stops when ``|F|_2`` has not halved over this many iterations (a stagnating iteration)."""
+
+
+class _Run(NamedTuple):
+    qx: np.ndarray
+    qy: np.ndarray
+    state: dict
+    iterations: int
+    linear: int
+    converged: bool
+    message: str
+    residual: float
+
+
+def _newton(problem: _Problem, qx, qy, tolerance: float, max_iterations: int) -> _Run:
+    """Semismooth Newton from ``(qx, qy)``: GMRES per step, backtracking on ``|F|_2``, stops at the tolerance,
+    the cap or a stall (:data:`STALL_WINDOW`)."""
     st = problem.state(qx, qy)
     scale = float(st["g"].max()) if st["g"].max() > 0.0 else 1.0
     norm = float(np.hypot(st["fx"], st["fy"]).max()) / scale
+    merit = float(np.sum(st["fx"] ** 2 + st["fy"] ** 2))
+    history = [merit]
     linear = 0
-    message = f"Newton did not converge in {max_iterations} iterations"
-    converged = False
-    iteration = 0
-    for iteration in range(1, max_iterations + 1):
+    for iteration in range(max_iterations + 1):
         if norm <= tolerance:
-            converged, message = True, "converged"
-            iteration -= 1
+            return _Run(qx, qy, st, iteration, linear, True, "converged", norm)
+        if iteration == max_iterations:
             break
+        if len(history) > STALL_WINDOW and history[-1] > 0.5 * history[-1 - STALL_WINDOW]:
+            return _Run(qx, qy, st, iteration, linear, False,
+                        f"Newton stagnates after {iteration} iterations: residual {norm:.2e} of max mu p "
+                        f"(tolerance {tolerance:.1e})", norm)
         jac, counter = problem.jacobian(st)
         rhs = -problem.pack(st["fx"], st["fy"])
         forcing = min(0.1, max(0.1 * tolerance, norm))  # inexact Newton: the linear solve only as tight as needed
@@ -356,23 +392,18 @@ def solve_steady(operator: SurfaceOperator, pressure: np.ndarray, rigid_slip: tu
         dx, dy = problem.unpack(step)
         # backtracking on the merit |F|_2: a full step first; one that does not decrease it is halved, at most 6 times
         t = 1.0
-        merit = float(np.sum(st["fx"] ** 2 + st["fy"] ** 2))
         for _ in range(7):
             trial = problem.state(qx + t * dx, qy + t * dy)
-            if float(np.sum(trial["fx"] ** 2 + trial["fy"] ** 2)) < (1.0 - 1e-4 * t) * merit:
+            trial_merit = float(np.sum(trial["fx"] ** 2 + trial["fy"] ** 2))
+            if trial_merit < (1.0 - 1e-4 * t) * merit:
                 break
             t *= 0.5
-        trial_norm = float(np.hypot(trial["fx"], trial["fy"]).max()) / scale
-        qx, qy, st, norm = qx + t * dx, qy + t * dy, trial, trial_norm
-    else:
-        converged = norm <= tolerance
-        if converged:
-            message = "converged"
-        else:
-            message = (f"Newton did not converge in {max_iterations} iterations: residual {norm:.2e} of max mu p "
-                       f"(tolerance {tolerance:.1e})")
-    return SteadySolution3D(qx, qy, st["sx"], st["sy"], st["stick"], st["g"], iteration, linear, converged, message,
-                            norm)
+        qx, qy, st, merit = qx + t * dx, qy + t * dy, trial, trial_merit
+        norm = float(np.hypot(st["fx"], st["fy"]).max()) / scale
+        history.append(merit)
+    return _Run(qx, qy, st, max_iterations, linear, False,
+                f"Newton did not converge in {max_iterations} iterations: residual {norm:.2e} of max mu p "
+                f"(tolerance {tolerance:.1e})", norm)
 
 
 def total_forces(grid: SurfaceGrid, qx: np.ndarray, qy: np.ndarray) -> tuple[float, float, float]:
