@@ -122,14 +122,14 @@ FASTSIM_THEORY_ERROR = 0.1
 """Largest error [1] of the simplified theory against the exact one over mu Fn (mu Fn c for Mz) between the linear
 range and saturation: against the discretised 3D solver over a/b 0.2..5, pure and combined creepages up to 9 mu Fn of
 linear force and spin, this FASTSIM (elliptic bound, 100 x 100) misses by up to 0.075 / 0.096 / 0.065 (Fx / Fy / Mz;
-``benchmarks/bench_elliptic.py``, the 3D study); the field's FASTSIM by up to 0.037 / 0.081 / 0.047 on the issue's
+``benchmarks/bench_elliptic_levels.py``, table B); the field's FASTSIM by up to 0.037 / 0.081 / 0.047 on the issue's
 matrix."""
 
 FASTSIM_GRID_ERROR = 0.5
 """The grid's error [1] is modelled as this over min(nx, ny) (first order in the step;
-``benchmarks/bench_elliptic_levels.py`` measures it against a 400 x 400 grid)."""
+``tests/elliptic/methods/test_fastsim.py`` checks it against a 320 x 320 grid)."""
 
-FASTSIM_COST_PER_STEP = 2e-5
+FASTSIM_COST_PER_STEP = 9e-6
 """Modelled time [s] per step along the strips (one vector operation over the ny strips;
 ``benchmarks/bench_elliptic_levels.py``)."""
 
