@@ -13,6 +13,9 @@ A. Median time per case [us] of each level through ``solve_elliptic(scene, name)
 B. (Only with a level named ``discretised`` registered.)  Largest error of Fx, Fy over mu Fn and Mz over mu Fn c of
    each level against the discretised level with its ``extrapolate=True`` (Richardson pair) on the same cases,
    without and with spin; the accuracy models' constants cite these figures.
+C. (Same condition.)  Falling friction on the Eurosprinter geometry (a/b 0.5, a 6.3 mm, Fn 106.7 kN, V 10 m/s,
+   Polach's exponential law mu = 0.36 ((1 - 0.4) exp(-0.6 w) + 0.4)): Fx/(mu_s Fn) of the strips and of the
+   discretised level over a creep curve, and their difference.
 
 BLAS is limited to one thread (before numpy loads).  Machines here are noisy: medians, ratios from the same run.
 """
@@ -104,6 +107,19 @@ def accuracy() -> list[str]:
             if n:
                 lines.append(f"| {name} | {group} | {n} | {worst[0]:.3f} | {worst[1]:.3f} | {worst[2]:.3f} | "
                              f"{ratio:.2f} |")
+    return lines + [""] + falling_curve()
+
+
+def falling_curve() -> list[str]:
+    law = rc.ExponentialFalling(0.36, 0.4, 0.6)
+    base = rc.EllipticScene.from_semi_axes(106.7e3, 6.3e-3, 12.6e-3, friction=law, rolling_speed=10.0)
+    lines = ["## C. Falling friction, Eurosprinter geometry: strips against the discretised level", "",
+             "| xi | strips Fx/(mu_s Fn) | discretised | difference |", "|---|---|---|---|"]
+    for xi in (0.0005, 0.001, 0.002, 0.004, 0.01, 0.03, 0.1):
+        s = base.replace(longitudinal_creepage=xi)
+        strips = rc.solve_elliptic(s, "strips").force_coefficients[0]
+        reference = rc.solve_elliptic(s, "discretised", extrapolate=True).force_coefficients[0]
+        lines.append(f"| {xi:g} | {strips:.4f} | {reference:.4f} | {strips - reference:+.4f} |")
     return lines + [""]
 
 

@@ -12,7 +12,8 @@ theory's Fx, Fy from xi, eta, phi is reproduced exactly).  Material enters the e
 (``x_m`` the middle of the step, exact for the slip linear in x), and where ``|q|`` exceeds the traction bound
 ``g = mu p`` the trial traction is scaled back onto it (slip in its direction).  The bound is Hertz's pressure,
 ``g = mu p0 sqrt(1 - x^2/a^2 - y^2/b^2)`` (``bound="elliptic"``, the default), or Kalker's original parabola of the
-same load ``g = mu (2 Fn / (pi a b)) (1 - x^2/a^2 - y^2/b^2)`` (``bound="parabolic"``).  Forces on the rail:
+same load ``g = mu (2 Fn / (pi a b)) (1 - x^2/a^2 - y^2/b^2)`` (``bound="parabolic"``), sampled at the cell
+centres and scaled so that the cells carry ``mu Fn`` (then ``|F| <= mu Fn`` holds exactly).  Forces on the rail:
 ``Fx = int q_x``, ``Fy = int q_y``, ``Mz = int (x q_y - y q_x)`` (midpoint rule over the cells: the tractions live on
 the cell centres, the first half a cell behind the leading edge).  Coulomb friction only.
 """
@@ -80,6 +81,7 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
     x = half * (1.0 - (2.0 * np.arange(nx)[:, None] + 1.0) / nx)  # cell centres from the leading edge, x[i, j]
     room = np.clip(1.0 - (x / h.a) ** 2 - (y / h.b) ** 2, 0.0, None)
     limit = peak * (np.sqrt(room) if bound == "elliptic" else room)
+    limit *= mu * scene.normal_load / float(np.sum(limit * dx) * dy)  # the cells carry mu Fn: |F| <= mu Fn exactly
     qx = np.empty((nx, ny))
     qy = np.empty((nx, ny))
     stick = np.empty((nx, ny), dtype=bool)
@@ -98,9 +100,8 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
     mz = float(np.sum((x * qy - y * qx) * area))
     field = None
     if fields:
-        p = h.pressure(x, np.broadcast_to(y, x.shape))
-        field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), p.T, qx.T.copy(), qy.T.copy(),
-                              stick.T.copy())
+        field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), (limit / mu).T.copy(), qx.T.copy(),
+                              qy.T.copy(), stick.T.copy())
     return EllipticResult.from_scene(scene, "fastsim", True, f"FASTSIM ({bound} bound, {nx} x {ny})", (fx, fy, mz),
                                      field, {"flexibilities": (l1, l2, l3), "stick_fraction": float(stick.mean())})
 

@@ -178,6 +178,7 @@ def marched(scene, model: StripModel, steps: int, d, kappa, lam, partial):
     dx = 2.0 * half / steps
     x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
     bound = model.mu * h.pressure(x, y)
+    bound *= model.mu * scene.normal_load / float(np.sum(bound * (dx * model.weights)))  # the cells carry mu Fn
     step_x = dx * (xi / l1 - phi * y / l3)  # the march's increment from cell i to i + 1 (midpoint x_i - dx/2)
     step_y = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
     trial_x = np.empty((steps, y.size))
