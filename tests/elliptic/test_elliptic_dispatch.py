@@ -113,3 +113,31 @@ def test_zero_load_gives_no_forces():
     result = solve_elliptic(EllipticScene(0.0, 1.0, 2.0, longitudinal_creepage=1e-3), "fastsim")
     assert result.success and result.longitudinal_force == 0.0 and result.force_coefficients == (0.0, 0.0, 0.0), \
         "no load, no contact"
+
+
+@pytest.mark.parametrize("name", ["strips", "fastsim"])
+def test_random_scenes_stay_within_the_friction_bound(name):
+    """200 random scenes (a/b 0.1..10, creepages 1e-7..1e-1 of both signs, spin alone, none, and psi at +-1 where strip
+    theory's stick zone vanishes): finite forces, success, and |(Fx, Fy)| <= mu Fn to round-off."""
+    import numpy as np
+
+    from rollcontact.elliptic.methods.strips import StripModel
+
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        g = math.exp(rng.uniform(math.log(0.1), math.log(10.0)))
+        s = EllipticScene.from_semi_axes(1e5, 5e-3 * math.sqrt(g), 5e-3 / math.sqrt(g), friction=0.3)
+        xi, eta, phi = rng.normal(size=3) * 10 ** rng.uniform(-7, -1) * (1.0, 1.0, 300.0)
+        kind = rng.integers(0, 4)
+        if kind == 1:
+            phi = 0.0
+        elif kind == 2:
+            xi = eta = 0.0
+        elif kind == 3:
+            phi = rng.choice([-1.0, 1.0]) * (1.0 + rng.choice([0.0, 1e-12, -1e-12])) / StripModel(
+                s.replace(spin_creepage=1.0), 4).psi
+        result = solve_elliptic(s.replace(longitudinal_creepage=xi, lateral_creepage=eta, spin_creepage=phi), name)
+        f = result.force_coefficients
+        assert result.success and all(math.isfinite(v) for v in f), f"{name} at {g, xi, eta, phi}: {result.message}"
+        total = math.hypot(f[0], f[1])
+        assert total <= 1.0 + 1e-12, f"{name}: |F| = {total} mu Fn at {g, xi, eta, phi}"

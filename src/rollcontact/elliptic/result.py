@@ -26,7 +26,8 @@ class TractionField:
     x, y : ndarray
         Positions [m] (x rolling direction, the leading edge at ``x = +a(y)``).
     pressure : ndarray
-        p [Pa].
+        p [Pa], the pressure the method bounds the traction with (Hertz's, sampled and scaled to the load on a
+        method's cells).
     traction_x, traction_y : ndarray
         Tangential traction [Pa] the wheel exerts on the rail.
     stick : ndarray of bool
