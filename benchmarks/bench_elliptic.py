@@ -193,6 +193,8 @@ def levels():
     out = [(name, name, {}) for name in sorted(ELLIPTIC_METHODS) if name != "discretised"]
     out += [("discretised 20", "discretised", {"elements": 20, "extrapolate": False}),
             ("discretised 60", "discretised", {"elements": 60, "extrapolate": False}),
+            ("discretised 8/16 pair", "discretised", {"elements": 16, "extrapolate": True}),
+            ("discretised 16/32 pair", "discretised", {"elements": 32, "extrapolate": True}),
             ("discretised 30/60 pair", "discretised", {"elements": 60, "extrapolate": True})]
     return out
 
