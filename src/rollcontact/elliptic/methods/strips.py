@@ -69,7 +69,7 @@ class StripModel:
         h = scene.hertz
         self.a, self.b, self.p0 = h.a, h.b, h.max_pressure
         self.mu = scene.friction_coefficient
-        c = coefficients(scene)
+        self.coefficients = c = coefficients(scene)
         g = scene.shear_modulus
         self.moduli = (4.0 * g * c.c11 / math.pi**2, 4.0 * g * c.c22 / math.pi**2,
                        3.0 * g * c.c23 * math.sqrt(self.b / self.a) / math.pi)
@@ -174,7 +174,7 @@ def marched(scene, model: StripModel, steps: int, d, kappa, lam, partial):
     of the simplified theory's traction (a FASTSIM march, :mod:`.fastsim`) in the slip zones."""
     h = scene.hertz
     xi, eta, phi = scene.creepages
-    l1, l2, l3 = blended_flexibilities(scene, coefficients(scene))
+    l1, l2, l3 = blended_flexibilities(scene, model.coefficients)
     y, half = model.y, model.half
     dx = 2.0 * half / steps
     x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
