@@ -263,7 +263,7 @@ lateral creepage; this bound keeps a margin over it and the reference's own erro
 SPIN_ONSET = 0.5
 """``|psi|`` up to which the spin's error grows linearly from :data:`STRIPS_ERROR` to :data:`STRIPS_SPIN_ERROR`."""
 
-STRIPS_COST = 9e-5
+STRIPS_COST = 6e-5
 STRIPS_COST_PER_CELL = 6e-6
 STRIPS_FALLING_COST_PER_STRIP = 5e-4
 """Modelled times [s]: the closed form, each cell of a march, each strip's 2D polynomial solve
