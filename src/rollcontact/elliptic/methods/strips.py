@@ -23,7 +23,8 @@ stick edge give ``kappa = X/d``, ``lambda = psi + Y/d``, ``kappa^2 + lambda^2 = 
   ``Fy(y) = (mu p0/a) (pi/2) (lambda a(y)^2 - (lambda - psi) a*^2)``,
   ``int x q_y dx = -(mu p0/a) (pi/2) (lambda - psi) d a*^2``;
 * with spin the direction turns along the strip; it is taken from the simplified theory (Kalker's FASTSIM march with
-  the elliptic bound, :mod:`.fastsim`), as FaStrip does, and the strip's tractions are summed over ``steps`` cells.
+  the elliptic bound and Vollebregt & Voltr's blended flexibilities, :mod:`.fastsim`), as FaStrip does, and the
+  strip's tractions are summed over ``steps`` cells.
 
 Over y the strip forces are summed by Gauss-Legendre in theta, ``y = b sin(theta)`` (``strips`` nodes);
 ``Mz = int (x q_y - y q_x)``.
@@ -42,7 +43,7 @@ import numpy as np
 from rollcontact.checks import check_real
 from rollcontact.dispatch import solve as solve_2d
 from rollcontact.elliptic.methods.common import coefficients, linear_ratio, no_load, outside_table
-from rollcontact.elliptic.methods.fastsim import flexibilities
+from rollcontact.elliptic.methods.fastsim import blended_flexibilities
 from rollcontact.elliptic.result import EllipticResult, TractionField
 from rollcontact.method import AccuracyModel, MethodSpec
 from rollcontact.scene import Material, Scene
@@ -68,7 +69,7 @@ class StripModel:
         h = scene.hertz
         self.a, self.b, self.p0 = h.a, h.b, h.max_pressure
         self.mu = scene.friction_coefficient
-        c = coefficients(scene)
+        self.coefficients = c = coefficients(scene)
         g = scene.shear_modulus
         self.moduli = (4.0 * g * c.c11 / math.pi**2, 4.0 * g * c.c22 / math.pi**2,
                        3.0 * g * c.c23 * math.sqrt(self.b / self.a) / math.pi)
@@ -173,7 +174,7 @@ def marched(scene, model: StripModel, steps: int, d, kappa, lam, partial):
     of the simplified theory's traction (a FASTSIM march, :mod:`.fastsim`) in the slip zones."""
     h = scene.hertz
     xi, eta, phi = scene.creepages
-    l1, l2, l3 = flexibilities(scene, coefficients(scene))
+    l1, l2, l3 = blended_flexibilities(scene, model.coefficients)
     y, half = model.y, model.half
     dx = 2.0 * half / steps
     x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
@@ -254,15 +255,15 @@ STRIPS_ERROR = 0.035
 a/b 0.2..5 and creepages up to 9 mu Fn of linear force, 0.018 / 0.018 / 0.034 (the largest: Mz of lateral
 creepage at a/b = 0.2 near saturation; ``benchmarks/bench_elliptic_levels.py``, table B)."""
 
-STRIPS_SPIN_ERROR = 0.11
+STRIPS_SPIN_ERROR = 0.1
 """Error [1] of the strips with spin beyond ``|psi|`` = :data:`SPIN_ONSET` (the slip directions of the simplified
-theory): against the same reference up to 0.066 / 0.098 / 0.050, Fy worst with spin and lateral creepage; this
-bound keeps a margin over it and the reference's own error."""
+theory): against the same reference up to 0.034 / 0.085 / 0.034, Fy worst near ``psi = 1`` at a/b = 0.2 with
+lateral creepage; this bound keeps a margin over it and the reference's own error."""
 
 SPIN_ONSET = 0.5
 """``|psi|`` up to which the spin's error grows linearly from :data:`STRIPS_ERROR` to :data:`STRIPS_SPIN_ERROR`."""
 
-STRIPS_COST = 9e-5
+STRIPS_COST = 6e-5
 STRIPS_COST_PER_CELL = 6e-6
 STRIPS_FALLING_COST_PER_STRIP = 5e-4
 """Modelled times [s]: the closed form, each cell of a march, each strip's 2D polynomial solve
