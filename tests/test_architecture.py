@@ -25,10 +25,16 @@ LAYERS = ("rollcontact._moved",
           "rollcontact.halfspace",
           "rollcontact.methods",
           "rollcontact.dispatch",
+          "rollcontact.elliptic.scene rollcontact.elliptic.hertz rollcontact.elliptic.result "
+          "rollcontact.elliptic.creep_table rollcontact.elliptic.creep_coefficients rollcontact.elliptic",
+          "rollcontact.elliptic.methods",
+          "rollcontact.elliptic.dispatch",
           "rollcontact.instationary",
           "rollcontact.stepping",
           "rollcontact rollcontact.__main__")
 """Layers from data up to the package's entry points: a module imports only from its own layer or those below.
+The elliptic (3D) package stands above the 2D dispatcher: it may use the 2D data, methods and dispatcher, and no 2D
+module may import it.
 ``rollcontact._moved`` (the old module paths) imports nothing of the package but by name, when a program asks."""
 
 

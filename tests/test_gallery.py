@@ -1,4 +1,5 @@
-"""Smoke tests of the figure gallery ``docs/figures/make_figures.py`` (paper figures 2-6), at small resolution.
+"""Smoke tests of the figure gallery ``docs/figures/make_figures.py`` (paper figures 2-6 and the elliptic figure 7),
+at small resolution.
 
 Each figure function is run with ``quick=True`` into a temporary directory: the PNG must exist and hold a real
 picture, and the key numbers it returns must show the physics the figure is about.  One test runs the command
@@ -111,13 +112,25 @@ def test_fig6_instationary_traction_deviates_from_carter_by_the_paper_rule(tmp_p
         f"the figure must show a difference from Carter, max |q - q_C| = {n['max_difference']} mu p0"
 
 
+def test_fig7_elliptic_traction_respects_the_bound_and_the_levels_follow_the_discretised_curve(tmp_path):
+    n = render(7, tmp_path)
+    assert n["success"], "every elliptic solve of the figure must succeed"
+    assert n["bound_excess"] <= 1e-9, f"|q| > mu p by {n['bound_excess']} mu p0"
+    assert 0.05 < n["stick_fraction"] < 0.95, f"the spin case must show stick and slip: {n['stick_fraction']}"
+    assert n["leading_stick"] > 0.6, f"the stick area must lie at the leading edge (x > 0): {n['leading_stick']}"
+    assert n["largest_force"] <= 1.0 + 1e-9, f"|Fy| exceeds mu Fn on the discretised curve: {n['largest_force']}"
+    gaps = n["level_gaps"]
+    assert gaps["fastsim"] < 0.1 and gaps["strips"] < 0.1, f"FASTSIM or strips far off the discretised curve: {gaps}"
+    assert gaps["linear"] > 0.5, f"beyond saturation the linear theory must leave the curve: {gaps}"
+
+
 def test_one_command_writes_the_gallery(tmp_path):
     run = subprocess.run([sys.executable, str(SCRIPT), "--quick", "--out", str(tmp_path)], capture_output=True,
                          text=True, timeout=120)
     assert run.returncode == 0, f"make_figures.py --quick failed:\n{run.stderr}"
     expected = ["fig2_carter_creep_curve.png", "fig3_corrugation.png", "fig4_falling_friction_creep_curve.png",
-                "fig5_stick_slip_spike.png", "fig6_instationary.png"]
+                "fig5_stick_slip_spike.png", "fig6_instationary.png", "fig7_elliptic_contact.png"]
     written = sorted(p.name for p in tmp_path.glob("*.png"))
     assert written == sorted(expected), f"the command wrote {written}, expected {expected}"
     assert all((tmp_path / name).stat().st_size > MIN_PNG_BYTES for name in expected), "a PNG is (nearly) empty"
-    assert "5 figures" in run.stdout, f"the command must report what it wrote:\n{run.stdout}"
+    assert "6 figures" in run.stdout, f"the command must report what it wrote:\n{run.stdout}"

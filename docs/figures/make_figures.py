@@ -1,6 +1,7 @@
-"""Gallery: the figures 2-6 of J.B. Nielsen's paper on 2D rolling contact, reproduced with rollcontact.
+"""Gallery: the figures 2-6 of J.B. Nielsen's paper on 2D rolling contact, reproduced with rollcontact, and figure 7,
+the elliptic (3D) contact.
 
-One command writes the five PNGs (default into this directory)::
+One command writes the six PNGs (default into this directory)::
 
     python docs/figures/make_figures.py [--quick] [--out DIR]
 
@@ -25,6 +26,7 @@ from typing import NamedTuple
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
 from scipy import optimize
 
 import rollcontact as rc
@@ -515,8 +517,106 @@ def figure_6(out: Path = HERE, quick: bool = False) -> Rendered:
     })
 
 
-FIGURES = {2: figure_2, 3: figure_3, 4: figure_4, 5: figure_5, 6: figure_6}
-"""The gallery, by the paper's figure number."""
+ELLIPSE = {"a": 5e-3, "b": 7e-3, "load": 80e3}
+"""Figure 7's contact: semi-axes a = 5 mm (rolling direction), b = 7 mm, Fn = 80 kN, steel, mu = 0.3."""
+
+
+def figure_7(out: Path = HERE, quick: bool = False) -> Rendered:
+    """Elliptic contact: the traction of a spin case by the discretised 3D method, beside each level's creep curve.
+
+    Left: stick and slip areas and the traction vectors of xi at 0.3 and phi at 0.6 of their saturation creepages
+    (where Kalker's linear theory reaches mu Fn).  Right: the lateral force of pure spin, Fy/(mu Fn) against phi,
+    by every elliptic level (linear theory, FASTSIM, strips, discretised).
+
+    Parameters
+    ----------
+    out : Path
+        Directory of the PNG.
+    quick : bool
+        Coarse grid and few creepages (smoke test).
+
+    Returns
+    -------
+    Rendered
+        ``fig7_elliptic_contact.png``; numbers: ``success`` (every solve), ``bound_excess`` (max (|q| - mu p) over
+        mu p0), ``stick_fraction``, ``leading_stick`` (share of the stick area ahead of the centre, x > 0),
+        ``largest_force`` (max |F|/(mu Fn) on the discretised curve), ``level_gaps`` (per level, the largest
+        |Fy| difference to the discretised curve over mu Fn, beyond the linear range).
+    """
+    e = ELLIPSE
+    base = rc.EllipticScene.from_semi_axes(e["load"], e["a"], e["b"], material=MATERIAL, friction=MU)
+    c, g = base.hertz.c, base.shear_modulus
+    coefficients = rc.creepage_coefficients(base.hertz.aspect_ratio, MATERIAL.poisson_ratio)
+    xi_sat = MU * e["load"] / (g * c * c * coefficients.c11)
+    phi_sat = MU * e["load"] / (g * c**3 * coefficients.c23)
+    elements = 20 if quick else 48
+    spin = rc.solve_elliptic(base.replace(longitudinal_creepage=0.3 * xi_sat, spin_creepage=0.6 * phi_sat),
+                             "discretised", elements=elements, extrapolate=False, fields=True)
+    f = spin.fields
+    contact = f.pressure > 0.0
+    p0 = f.pressure.max()
+
+    fig = new_figure(11.0, 4.6)
+    left, right = fig.subplots(1, 2, width_ratios=(1.0, 1.15))
+    theta = np.linspace(0.0, 2.0 * math.pi, 200)
+    left.plot(e["a"] * 1e3 * np.cos(theta), e["b"] * 1e3 * np.sin(theta), color="k", linewidth=1.0)
+    dx, dy = (f.x[1, 0] - f.x[0, 0]) * 1e3, (f.y[0, 1] - f.y[0, 0]) * 1e3
+    for mask, colour, label in ((f.stick & contact, "0.75", "stick"), (contact & ~f.stick, "#fde2c4", "slip")):
+        for x, y in zip(f.x[mask] * 1e3, f.y[mask] * 1e3, strict=True):
+            left.add_patch(Rectangle((x - dx / 2, y - dy / 2), dx, dy, color=colour, linewidth=0))
+        left.plot([], [], "s", color=colour, label=label)
+    step = max(1, elements // 16)
+    sub = (slice(None, None, step), slice(None, None, step))
+    show = contact[sub]
+    left.quiver(f.x[sub][show] * 1e3, f.y[sub][show] * 1e3, f.traction_x[sub][show] / (MU * p0),
+                f.traction_y[sub][show] / (MU * p0), angles="xy", scale_units="xy", scale=1.0 / (2.2 * dx * step),
+                width=0.004, color="C0", label=r"$q$ (on the rail)")
+    left.annotate("", xy=(e["a"] * 1.25e3, 0.0), xytext=(e["a"] * 0.95e3, 0.0),
+                  arrowprops={"arrowstyle": "->", "color": "k"})
+    left.text(e["a"] * 1.1e3, 0.4, "rolling", ha="center", fontsize=8)
+    left.set_aspect("equal")
+    left.set_xlim(-1.3 * e["a"] * 1e3, 1.35 * e["a"] * 1e3)
+    left.set_xlabel("x [mm] (the wheel rolls towards +x: leading edge right)")
+    left.set_ylabel("y [mm]")
+    left.legend(loc="lower left", fontsize=7)
+    left.set_title(rf"discretised: $\xi$ = 0.3 $\xi_s$, $\phi$ = 0.6 $\phi_s$; "
+                   rf"$F/\mu F_n$ = ({spin.force_coefficients[0]:.2f}, {spin.force_coefficients[1]:.2f})",
+                   fontsize=9)
+
+    levels = ("linear", "fastsim", "strips", "discretised")
+    phis = np.linspace(0.0, 3.0, 5 if quick else 16)[1:] * phi_sat
+    curves, success = {}, spin.success
+    for level in levels:
+        options = {"elements": elements} if level == "discretised" else {}
+        results = [rc.solve_elliptic(base.replace(spin_creepage=phi), level, **options) for phi in phis]
+        success = success and all(r.success for r in results)
+        curves[level] = np.array([r.force_coefficients[1] for r in results])
+        style = {"color": "k", "linewidth": 2.0} if level == "discretised" else {"linewidth": 1.2}
+        right.plot(phis / phi_sat, curves[level], "o-" if level == "discretised" else "-", label=level,
+                   markersize=3, **style)
+    right.set_ylim(0.0, 1.1)
+    right.set_xlabel(r"spin creepage $\phi / \phi_s$ ($\phi_s$: linear $F_y = \mu F_n$)")
+    right.set_ylabel(r"$F_y / (\mu F_n)$")
+    right.legend(fontsize=8)
+    right.set_title("pure spin: the lateral force of each level", fontsize=9)
+    fig.suptitle(f"Elliptic contact a = {e['a'] * 1e3:g} mm, b = {e['b'] * 1e3:g} mm, Fn = {e['load'] / 1e3:g} kN, "
+                 f"mu = {MU}", fontsize=10)
+    path = save(fig, out, "fig7_elliptic_contact.png")
+    beyond = phis > phi_sat
+    stick = f.stick & contact
+    return Rendered(path, {
+        "success": success,
+        "bound_excess": float(np.max(f.traction_magnitude[contact] - MU * f.pressure[contact]) / (MU * p0)),
+        "stick_fraction": float(stick.sum() / contact.sum()),
+        "leading_stick": float((stick & (f.x > 0)).sum() / max(stick.sum(), 1)),
+        "largest_force": float(np.abs(curves["discretised"]).max()),
+        "level_gaps": {level: float(np.abs(curves[level] - curves["discretised"])[beyond].max())
+                       for level in levels if level != "discretised"},
+    })
+
+
+FIGURES = {2: figure_2, 3: figure_3, 4: figure_4, 5: figure_5, 6: figure_6, 7: figure_7}
+"""The gallery, by the paper's figure number (7: the elliptic contact, beyond the paper)."""
 
 
 def make_all(out: Path = HERE, quick: bool = False) -> dict[int, Rendered]:
@@ -545,7 +645,8 @@ def make_all(out: Path = HERE, quick: bool = False) -> dict[int, Rendered]:
 
 def main(argv=None) -> int:
     """Command line: ``python docs/figures/make_figures.py [--quick] [--out DIR]``."""
-    parser = argparse.ArgumentParser(description="Reproduce figures 2-6 of Nielsen's paper with rollcontact.")
+    parser = argparse.ArgumentParser(description="Reproduce figures 2-6 of Nielsen's paper with rollcontact, and "
+                                                 "figure 7 (the elliptic contact).")
     parser.add_argument("--quick", action="store_true", help="few points (seconds; for the smoke tests)")
     parser.add_argument("--out", type=Path, default=HERE, help=f"output directory (default {HERE})")
     args = parser.parse_args(argv)

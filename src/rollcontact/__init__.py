@@ -16,12 +16,15 @@ Conventions (used by every module; docs/physics.md, Conventions)
   and in slip ``q = mu p sign(s)``.  Hence creep xi > 0 gives T' > 0, and Carter's ``a* = a - R xi / mu``.
 * Surface height ``Z(X)`` points towards the cylinder; the undeformed gap is ``(X - x_c)^2 / (2R) - Z(X)``.
 
-Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`ContactResult`.
+Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`ContactResult`; for the elliptic (3D)
+contact :class:`EllipticScene`, :func:`solve_elliptic`, :class:`EllipticResult` (:mod:`rollcontact.elliptic`).
 """
 
 from rollcontact import _moved
 from rollcontact.closed_form import carter, hertz
 from rollcontact.dispatch import METHODS, choose_method, register_method, solve
+from rollcontact.elliptic import EllipticResult, EllipticScene, HertzEllipse, creepage_coefficients, hertz_ellipse
+from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS, register_elliptic_method, solve_elliptic
 from rollcontact.friction import (
     Coulomb,
     ExponentialFalling,
@@ -41,9 +44,13 @@ __all__ = [
     "METHODS",
     "ContactResult",
     "Coulomb",
+    "ELLIPTIC_METHODS",
+    "EllipticResult",
+    "EllipticScene",
     "ExponentialFalling",
     "FrictionLaw",
     "Harmonic",
+    "HertzEllipse",
     "LinearFalling",
     "Material",
     "RationalFalling",
@@ -53,9 +60,13 @@ __all__ = [
     "TabulatedFriction",
     "carter",
     "choose_method",
+    "creepage_coefficients",
     "hertz",
+    "hertz_ellipse",
     "load_scene",
+    "register_elliptic_method",
     "register_method",
     "scene_toml",
     "solve",
+    "solve_elliptic",
 ]

@@ -74,24 +74,27 @@ def register_method(name: str, function, inapplicable, rank: int, *, fallback: b
     METHODS[name] = MethodSpec(name, function, inapplicable, rank, fallback, accuracy)
 
 
-def by_rank() -> list[MethodSpec]:
-    """The registered methods, lowest rank first (sorted once per registry content: auto asks per solve)."""
-    specs = tuple(METHODS.values())
-    if RANKED[0] != specs:
-        RANKED[:] = [specs, sorted(specs, key=lambda s: s.rank)]
-    return RANKED[1]
+def by_rank(registry: dict[str, MethodSpec] | None = None) -> list[MethodSpec]:
+    """The methods of ``registry`` (default :data:`METHODS`), lowest rank first (sorted once per registry content:
+    auto asks per solve)."""
+    registry = METHODS if registry is None else registry
+    specs = tuple(registry.values())
+    cached = RANKED.get(id(registry))
+    if cached is None or cached[0] != specs:
+        cached = RANKED[id(registry)] = (specs, sorted(specs, key=lambda s: s.rank))
+    return cached[1]
 
 
-RANKED: list = [None, []]  # (registry content it is sorted from, sorted specs)
+RANKED: dict[int, tuple] = {}  # id of a registry: (its content the order is sorted from, the sorted specs)
 
 
-def choose_method(scene: Scene, tolerance: float | None = None, names=None) -> str:
+def choose_method(scene: Scene, tolerance: float | None = None, names=None, registry=None) -> str:
     """Name of the lowest-ranked registered method (among ``names``, default all) that can treat the scene (or,
-    with a tolerance, of the method of :func:`choose_setting`)."""
+    with a tolerance, of the method of :func:`choose_setting`); ``registry`` defaults to :data:`METHODS`."""
     if tolerance is not None:
-        return choose_setting(scene, tolerance, names).method
+        return cheapest_setting(scene, check_tolerance(tolerance), names, registry=registry).method
     reasons = []
-    for spec in by_rank():
+    for spec in by_rank(registry):
         if names is not None and spec.name not in names:
             continue
         why = spec.inapplicable(scene)
@@ -131,14 +134,16 @@ def choose_setting(scene: Scene, tolerance: float, names=None, budget: float | N
     return cheapest_setting(scene, check_tolerance(tolerance), names, None if budget is None else Budget(budget))
 
 
-def cheapest_setting(scene: Scene, tolerance: float, names=None, budget: Budget | None = None) -> Setting:
+def cheapest_setting(scene: Scene, tolerance: float, names=None, budget: Budget | None = None,
+                     registry: dict[str, MethodSpec] | None = None) -> Setting:
     """:func:`choose_setting` for a tolerance already checked (``solve`` checks it once per call); with a
-    ``budget``, only settings whose modelled cost fits what is left of it (:func:`within_budget`)."""
+    ``budget``, only settings whose modelled cost fits what is left of it (:func:`within_budget`); over the methods
+    of ``registry`` (default :data:`METHODS`; the elliptic dispatcher passes its own)."""
     allowed = None if names is None else set(names)
     best = closest = None
     unmodelled = []
     over = []
-    for spec in by_rank():
+    for spec in by_rank(registry):
         if allowed is not None and spec.name not in allowed:
             continue
         model = spec.accuracy
@@ -402,14 +407,16 @@ def attempt(fallback: bool, name: str, run) -> ContactResult:
 
 
 def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float,
-                     budget: Budget | None = None) -> tuple[MethodSpec, ContactResult]:
+                     budget: Budget | None = None, registry: dict[str, MethodSpec] | None = None
+                     ) -> tuple[MethodSpec, ContactResult]:
     """:func:`run_setting`, then, while the result's a-posteriori estimate misses the tolerance, the settings the
     method's :meth:`AccuracyModel.escalation` names, and after a failure those its :meth:`AccuracyModel.retry`
     names (each finer than the last, so the loop ends).  User options that fix the escalated option stop it, and so
-    does a ``budget`` that the next setting's modelled cost does not fit (the message says so)."""
+    does a ``budget`` that the next setting's modelled cost does not fit (the message says so).  ``registry``
+    defaults to :data:`METHODS`."""
     if budget is not None:
         budget.charge(setting.cost)
-    spec, result = run_setting(setting, scene, options, tolerance)
+    spec, result = run_setting(setting, scene, options, tolerance, registry)
     result.info["predicted_cost"] = setting.cost
     failures = []
     note = ""
@@ -428,7 +435,7 @@ def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: f
             failures.append(f"{used}: {result.message}")
         if budget is not None:
             budget.charge(cost)
-        spec, result = run_setting(Setting(spec.name, following, math.nan, cost), scene, options, tolerance)
+        spec, result = run_setting(Setting(spec.name, following, math.nan, cost), scene, options, tolerance, registry)
         result.info["predicted_cost"] = cost
     if failures or note:
         message = result.message + note
@@ -438,9 +445,11 @@ def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: f
     return spec, result
 
 
-def run_setting(setting: Setting, scene: Scene, options: dict, tolerance: float) -> tuple[MethodSpec, ContactResult]:
-    """Run a chosen setting (user options override it) and record the tolerance outcome in the result."""
-    spec = METHODS[setting.method]
+def run_setting(setting: Setting, scene: Scene, options: dict, tolerance: float,
+                registry: dict[str, MethodSpec] | None = None) -> tuple[MethodSpec, ContactResult]:
+    """Run a chosen setting (user options override it) and record the tolerance outcome in the result;
+    ``registry`` defaults to :data:`METHODS`."""
+    spec = (METHODS if registry is None else registry)[setting.method]
     merged = (spec.accuracy.merged(setting.options, options) if spec.accuracy is not None
               else {**setting.options, **options}) if options else setting.options
     used = used_options(spec, merged)
@@ -472,10 +481,14 @@ def annotate(spec: MethodSpec, scene: Scene, options: dict, result: ContactResul
     """Put the method's error estimate for the options used into ``result.info`` (a fresh dict per result); with
     a ``tolerance``, one that need only tell whether the result meets it (:meth:`AccuracyModel.achieved`); with
     ``estimate="free"`` and no tolerance, only the part that costs nothing (:meth:`AccuracyModel.free_estimate`).
-    ``result.method`` is the registry name (a function registered under another name reports this one)."""
-    if isinstance(result, ContactResult) and result.method != spec.name:
+    ``result.method`` is the registry name (a function registered under another name reports this one).  Any
+    result dataclass with ``method`` and ``info`` (the 2D :class:`ContactResult`, the elliptic result) is
+    annotated; anything else passes unchanged."""
+    if not hasattr(result, "info"):
+        return result
+    if result.method != spec.name:
         result = replace(result, method=spec.name)
-    if spec.accuracy is not None and isinstance(result, ContactResult):
+    if spec.accuracy is not None:
         result.info["error_estimate"] = (spec.accuracy.free_estimate(result) if estimate == "free" and tolerance is None
                                          else spec.accuracy.achieved(scene, options, result, tolerance))
     return result

@@ -1,0 +1,138 @@
+"""Elliptic (3D) levels in-process: median time per case of the linear theory, FASTSIM (40 x 40 cells), the strips
+(Coulomb friction, with and without spin) and the strips with falling friction (Polach's exponential law), over
+creepages from the linear range to deep saturation; and, where the discretised 3D level is registered, each level's
+error against it.
+
+Run: ``python benchmarks/bench_elliptic_levels.py`` (``--quick``: fewer repeats, results not written).  Prints
+markdown tables and writes ``benchmarks/results/bench_elliptic_levels.md``:
+
+A. Median time per case [us] of each level through ``solve_elliptic(scene, name)`` and directly (the method's
+   function), per group of cases, with the ratio to the linear theory measured in the same run.  The cases
+   (:func:`cases`, 105): a/b 0.2, 0.5, 1, 2, 5; pure longitudinal, lateral and spin creepage at 0.05, 0.3, 1 and 3
+   times the creepage whose linear force is 3 mu Fn, and spin with longitudinal and/or lateral creepage.
+B. (Only with a level named ``discretised`` registered.)  Largest error of Fx, Fy over mu Fn and Mz over mu Fn c of
+   each level against the discretised level with its ``extrapolate=True`` (Richardson pair) on the same cases,
+   without and with spin; the accuracy models' constants cite these figures.
+C. (Same condition.)  Falling friction on the Eurosprinter geometry (a/b 0.5, a 6.3 mm, Fn 106.7 kN, V 10 m/s,
+   Polach's exponential law mu = 0.36 ((1 - 0.4) exp(-0.6 w) + 0.4)): Fx/(mu_s Fn) of the strips and of the
+   discretised level over a creep curve, and their difference.
+
+BLAS is limited to one thread (before numpy loads).  Machines here are noisy: medians, ratios from the same run.
+"""
+
+import argparse
+import math
+import os
+import statistics
+
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
+
+import rollcontact as rc
+from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS
+
+MU, LOAD, C = 0.3, 1e5, 6e-3  # Coulomb coefficient, Fn [N], c = sqrt(ab) [m]
+MATERIAL = rc.Material(2 * 82e9 * 1.28, 0.28)  # G = 82 GPa, nu = 0.28
+FACTORS = (0.05, 0.3, 1.0, 3.0)
+
+
+def cases(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), friction=MU):
+    """``(group, scene)`` pairs at a/b = ``ratios``: pure creepages at FACTORS and spin with half of xi or eta (or
+    0.3 xi and -0.5 eta) at the last three of FACTORS, in units of the creepage whose linear force is 3 mu Fn."""
+    out = []
+    for ratio in ratios:
+        base = rc.EllipticScene.from_semi_axes(LOAD, C * math.sqrt(ratio), C / math.sqrt(ratio), material=MATERIAL,
+                                               friction=friction)
+        k = rc.creepage_coefficients(ratio, MATERIAL.poisson_ratio)
+        g = base.shear_modulus
+        xi_s, eta_s = 3 * MU * LOAD / (g * C * C * k.c11), 3 * MU * LOAD / (g * C * C * k.c22)
+        phi_s = 3 * MU * LOAD / (g * C**3 * k.c23)
+        for f in FACTORS:
+            out += [("no spin", base.replace(longitudinal_creepage=f * xi_s)),
+                    ("no spin", base.replace(lateral_creepage=f * eta_s)),
+                    ("spin", base.replace(spin_creepage=f * phi_s))]
+        for f in FACTORS[1:]:
+            out += [("spin", base.replace(longitudinal_creepage=0.5 * f * xi_s, spin_creepage=f * phi_s)),
+                    ("spin", base.replace(lateral_creepage=0.5 * f * eta_s, spin_creepage=f * phi_s)),
+                    ("spin", base.replace(longitudinal_creepage=0.3 * f * xi_s, lateral_creepage=-0.5 * f * eta_s,
+                                          spin_creepage=f * phi_s))]
+    return out
+
+
+def timing(quick: bool) -> list[str]:
+    coulomb = cases()
+    falling = [(g, s.replace(friction=rc.ExponentialFalling(MU, 0.4, 0.6), rolling_speed=10.0)) for g, s in coulomb
+               if g == "no spin"]
+    levels = [("linear", "no spin", coulomb), ("fastsim", "no spin", coulomb), ("fastsim", "spin", coulomb),
+              ("strips", "no spin", coulomb), ("strips", "spin", coulomb),
+              ("strips", "no spin (falling friction)", falling)]
+    seconds = 0.02 if quick else 0.1
+    lines = ["## A. Median time per case", "",
+             "| level | cases | n | via solve_elliptic [us] | direct [us] | ratio to linear (via solve_elliptic) |",
+             "|---|---|---|---|---|---|"]
+    linear_time = None
+    for name, group, pool in levels:
+        scenes = [s for g, s in pool if g == group.split(" (")[0]]
+        function = ELLIPTIC_METHODS[name].function
+        via = statistics.median(common.median_time(lambda s=s, name=name: rc.solve_elliptic(s, name), min_repeats=3,
+                                                   min_seconds=seconds) for s in scenes)
+        direct = statistics.median(common.median_time(lambda s=s, f=function: f(s), min_repeats=3,
+                                                      min_seconds=seconds) for s in scenes)
+        linear_time = via if name == "linear" else linear_time
+        lines.append(f"| {name} | {group} | {len(scenes)} | {via * 1e6:.0f} | {direct * 1e6:.0f} | "
+                     f"{via / linear_time:.1f} |")
+    return lines + ["", "FASTSIM on its default 40 x 40 cells; strips on 24 strips (20 cells each where spin needs the "
+                    "march); falling friction: one 2D polynomial solve per strip.", ""]
+
+
+def accuracy() -> list[str]:
+    if "discretised" not in ELLIPTIC_METHODS:
+        return ["## B. Error against the discretised level", "", "Not run: no level named `discretised` is registered.",
+                ""]
+    pool = cases()
+    reference = [np.array(rc.solve_elliptic(s, "discretised", extrapolate=True).force_coefficients) for _, s in pool]
+    lines = ["## B. Largest error against the discretised level (Richardson pair, 60 elements)", "",
+             "| level | cases | n | Fx / (mu Fn) | Fy / (mu Fn) | Mz / (mu Fn c) | largest error / estimate |",
+             "|---|---|---|---|---|---|---|"]
+    for name in ("linear", "fastsim", "strips"):
+        for group in ("no spin", "spin"):
+            worst, ratio, n = np.zeros(3), 0.0, 0
+            for (g, s), ref in zip(pool, reference, strict=True):
+                if g != group or ELLIPTIC_METHODS[name].inapplicable(s) is not None:
+                    continue
+                result = rc.solve_elliptic(s, name)
+                error = np.abs(np.array(result.force_coefficients) - ref)
+                worst, n = np.maximum(worst, error), n + 1
+                ratio = max(ratio, error.max() / result.info["error_estimate"])
+            if n:
+                lines.append(f"| {name} | {group} | {n} | {worst[0]:.3f} | {worst[1]:.3f} | {worst[2]:.3f} | "
+                             f"{ratio:.2f} |")
+    return lines + [""] + falling_curve()
+
+
+def falling_curve() -> list[str]:
+    law = rc.ExponentialFalling(0.36, 0.4, 0.6)
+    base = rc.EllipticScene.from_semi_axes(106.7e3, 6.3e-3, 12.6e-3, friction=law, rolling_speed=10.0)
+    lines = ["## C. Falling friction, Eurosprinter geometry: strips against the discretised level", "",
+             "| xi | strips Fx/(mu_s Fn) | discretised | difference |", "|---|---|---|---|"]
+    for xi in (0.0005, 0.001, 0.002, 0.004, 0.01, 0.03, 0.1):
+        s = base.replace(longitudinal_creepage=xi)
+        strips = rc.solve_elliptic(s, "strips").force_coefficients[0]
+        reference = rc.solve_elliptic(s, "discretised", extrapolate=True).force_coefficients[0]
+        lines.append(f"| {xi:g} | {strips:.4f} | {reference:.4f} | {strips - reference:+.4f} |")
+    return lines + [""]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer repeats; results not written")
+    args = parser.parse_args()
+    load = os.getloadavg()[0]
+    lines = ["# Elliptic levels: time per case and error", "", *common.machine(load), "", *timing(args.quick)]
+    if not args.quick:
+        lines += accuracy()
+    common.publish(lines, "bench_elliptic_levels.md", args.quick)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,168 @@
+"""Kalker's creepage coefficients C11, C22, C23, C33 from the discretised 3D solver at vanishing creepage.
+
+Run: ``python benchmarks/creep_coefficients.py [--quick] [--write-table]`` (about ten minutes; ``--quick``: three
+aspect ratios, nu = 0.25, about ten seconds).  Writes ``benchmarks/results/creep_coefficients.md``; with
+``--write-table`` also the data module ``src/rollcontact/elliptic/creep_table.py`` that
+:mod:`rollcontact.elliptic.creep_coefficients` interpolates.
+
+Method.  At a creepage of 1e-9 no element slips and the tangential problem is linear (Kalker's linear theory):
+``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^4 C33 phi`` (forces on the rail, c =
+sqrt(ab); :mod:`rollcontact.halfspace.rolling3d`).  Each coefficient is computed on square elements, N of them
+across the shorter axis (N = 24, 32, 48, 64, 96), and
+
+* scaled by the ratio of the ellipse's area ``pi a b`` to the area of the elements whose centres lie inside it,
+  to the power of the coefficient's length dimension over two (1 for C11 and C22, 3/2 for C23, 2 for C33): the
+  staircase outline's area fluctuates from grid to grid, and this removes most of the fluctuation it causes;
+* extrapolated to zero element size by a least-squares line in h = 1/N through the five levels (the convergence
+  is first order); the spread to a quadratic fit is reported as the extrapolation's uncertainty.
+
+Kalker's published values (Kalker 1990, Table E.3, as reprinted in the project's elliptic notes) are compared where
+they exist.
+"""
+
+import argparse
+import math
+import textwrap
+import time
+
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
+
+from rollcontact.friction import Coulomb
+from rollcontact.halfspace.rolling3d import ellipse_grid, hertz_pressure, solve_steady, total_forces
+from rollcontact.halfspace.surface3d import operator_for
+
+LEVELS = (24, 32, 48, 64, 96)
+"""Elements across the shorter axis of the ellipse, square elements."""
+
+
+SHORT = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
+ASPECT_RATIOS = tuple(sorted({*SHORT, *(round(1.0 / g, 6) for g in SHORT)}))
+"""a/b of the table: g = a/b and g = b/a over Kalker's rows 0.1 ... 1."""
+
+
+POISSON_RATIOS = (0.0, 0.25, 0.5)
+
+
+KALKER = {  # a/b: {nu: (C11, C22, C23)}, Kalker 1990, Table E.3
+    0.1: {0.0: (2.51, 2.51, 0.334), 0.25: (3.31, 2.52, 0.473), 0.5: (4.85, 2.53, 0.731)},
+    0.5: {0.0: (2.88, 2.88, 0.827), 0.25: (3.62, 3.01, 0.929), 0.5: (4.83, 3.14, 1.07)},
+    1.0: {0.0: (3.40, 3.40, 1.33), 0.25: (4.12, 3.67, 1.47), 0.5: (5.20, 3.98, 1.63)},
+    2.0: {0.0: (4.37, 4.37, 2.35), 0.25: (5.10, 4.90, 2.62), 0.5: (6.11, 5.56, 2.96)},
+    10.0: {0.0: (10.7, 10.7, 12.2), 0.25: (11.7, 12.8, 14.6), 0.5: (12.9, 16.0, 18.0)},
+}
+
+
+CREEPAGE = 1e-9
+"""Small enough that no element slips (checked)."""
+
+
+def level(ratio: float, nu: float, n: int) -> np.ndarray:
+    """(C11, C22, C23, C33) on square elements, n across the shorter axis, area-corrected (module docstring)."""
+    a, b = math.sqrt(ratio), 1.0 / math.sqrt(ratio)  # c = 1, G = 1, Fn = 1, mu = 1
+    elements = (round(n * max(1.0, ratio)), round(n * max(1.0, 1.0 / ratio)))
+    grid = ellipse_grid(a, b, elements)
+    op = operator_for(grid, nu)
+    pressure = hertz_pressure(grid, a, b, 1.0)
+    x, y = grid.mesh()
+    e = CREEPAGE
+    forces = []
+    for xi, eta, phi in ((e, 0.0, 0.0), (0.0, e, 0.0), (0.0, 0.0, e)):
+        sol = solve_steady(op, pressure, (xi - phi * y, eta + phi * x), 1.0, Coulomb(1.0), tolerance=1e-10)
+        if not sol.converged or not sol.stick[pressure > 0].all():
+            raise RuntimeError(f"a/b = {ratio}, nu = {nu}, n = {n}: {sol.message}, "
+                               f"{int((~sol.stick & (pressure > 0)).sum())} elements slip")
+        forces.append(total_forces(grid, sol.traction_x, sol.traction_y))
+    raw = np.array([forces[0][0], forces[1][1], forces[2][1], forces[2][2]]) / e
+    area_ratio = math.pi * a * b / (np.count_nonzero(pressure) * grid.area)
+    return raw * area_ratio ** np.array([1.0, 1.0, 1.5, 2.0])
+
+
+def extrapolated(ratio: float, nu: float, levels=LEVELS) -> tuple[np.ndarray, np.ndarray]:
+    """The coefficients at zero element size (linear least squares in h = 1/N) and |linear - quadratic fit|."""
+    values = np.array([level(ratio, nu, n) for n in levels])
+    h = 1.0 / np.asarray(levels, dtype=float)
+    linear = np.linalg.lstsq(np.vstack([np.ones_like(h), h]).T, values, rcond=None)[0][0]
+    quadratic = np.linalg.lstsq(np.vstack([np.ones_like(h), h, h * h]).T, values, rcond=None)[0][0]
+    return linear, np.abs(linear - quadratic)
+
+
+def table_module(table: dict) -> str:
+    """The text of ``src/rollcontact/elliptic/creep_table.py`` for ``table[(ratio, nu)] = (C11, C22, C23, C33)``."""
+    lines = ['"""Kalker\'s creepage coefficients as a table: the data behind '
+             ':mod:`rollcontact.elliptic.creep_coefficients`.',
+             "",
+             "Written by ``benchmarks/creep_coefficients.py --write-table`` (do not edit by hand): the discretised 3D "
+             "solver",
+             "(:mod:`rollcontact.halfspace.rolling3d`) at vanishing creepage, extrapolated to zero element size; the "
+             "script's",
+             "results file ``benchmarks/results/creep_coefficients.md`` compares them with Kalker 1990, Table E.3.  "
+             "Layout:",
+             "``ASPECT_RATIOS`` (a/b, increasing), ``POISSON_RATIOS`` (increasing), and for each coefficient a tuple "
+             "per aspect",
+             "ratio of values per Poisson ratio.",
+             '"""',
+             "",
+             'SOURCE = "discretised 3D solver at vanishing creepage (benchmarks/creep_coefficients.py)"',
+             "",
+             *textwrap.wrap(f"ASPECT_RATIOS = {tuple(ASPECT_RATIOS)!r}", 116, subsequent_indent=" " * 17),
+             '"""a/b [1] of the rows."""',
+             "",
+             f"POISSON_RATIOS = {tuple(POISSON_RATIOS)!r}",
+             '"""nu [1] of the columns."""',
+             ""]
+    for k, name in enumerate(("C11", "C22", "C23", "C33")):
+        rows = [f"({', '.join(f'{table[(g, nu)][k]:.4f}' for nu in POISSON_RATIOS)})" for g in ASPECT_RATIOS]
+        lines.append(f"{name} = ({rows[0]},")
+        lines += [f"       {row}," for row in rows[1:-1]]
+        lines.append(f"       {rows[-1]})")
+        lines.append("")
+    return "\n".join(lines[:-1]) + "\n"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="a/b 0.5, 1, 2 at nu = 0.25 only; nothing written")
+    parser.add_argument("--write-table", action="store_true", help="also write src/rollcontact/elliptic/creep_table.py")
+    args = parser.parse_args()
+    ratios = (0.5, 1.0, 2.0) if args.quick else ASPECT_RATIOS
+    nus = (0.25,) if args.quick else POISSON_RATIOS
+    load = common.os.getloadavg()[0]
+    started = time.perf_counter()
+    table, spread = {}, {}
+    for g in ratios:
+        for nu in nus:
+            table[(g, nu)], spread[(g, nu)] = extrapolated(g, nu)
+    lines = ["# Kalker's creepage coefficients from the discretised 3D solver", "", *common.machine(load), "",
+             f"Square elements, N = {', '.join(map(str, LEVELS))} across the shorter axis, staircase area corrected, "
+             "extrapolated linearly in 1/N (benchmarks/creep_coefficients.py); 'spread' is |linear - quadratic fit|. "
+             f"Computed in {time.perf_counter() - started:.0f} s.", "",
+             "## Against Kalker 1990, Table E.3", "",
+             "| a/b | nu | C11 | Kalker | dev % | C22 | Kalker | dev % | C23 | Kalker | dev % |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    worst = 0.0
+    for g, by_nu in KALKER.items():
+        for nu, published in by_nu.items():
+            if (g, nu) not in table:
+                continue
+            cells = []
+            for k in range(3):
+                deviation = 100.0 * (table[(g, nu)][k] / published[k] - 1.0)
+                worst = max(worst, abs(deviation))
+                cells += [f"{table[(g, nu)][k]:.3f}", f"{published[k]:.3g}", f"{deviation:+.2f}"]
+            lines.append(f"| {g:g} | {nu:g} | " + " | ".join(cells) + " |")
+    lines += ["", f"Largest deviation from the published values: {worst:.2f} %.", "",
+              "## The table", "", "| a/b | nu | C11 | C22 | C23 | C33 | largest spread |",
+              "|---|---|---|---|---|---|---|"]
+    for (g, nu), values in table.items():
+        lines.append(f"| {g:g} | {nu:g} | " + " | ".join(f"{v:.4f}" for v in values)
+                     + f" | {spread[(g, nu)].max():.4f} |")
+    common.publish(lines, "creep_coefficients.md", args.quick)
+    if args.write_table and not args.quick:
+        path = common.ROOT / "src" / "rollcontact" / "elliptic" / "creep_table.py"
+        path.write_text(table_module(table))
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,83 @@
+"""Kalker's creepage coefficients C11, C22, C23, C33 as functions of a/b and nu, interpolated in the table of
+:mod:`rollcontact.elliptic.creep_table`.
+
+Interpolation (Kalker 1990, section E; the usual practice): in nu, ``1/C`` is the quadratic through the table's
+three Poisson ratios (Lagrange; exact at the nodes); in a/b, ``log C`` is a cubic spline in ``log(a/b)``
+(not-a-knot, through every row), smooth where the coefficients vary as powers of a/b.  The table's range of a/b
+is the range served: outside it a ValueError names the value and the limits.
+
+The linear theory of the forces on the RAIL (the library's sign, docs/physics.md) is
+``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import NamedTuple
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from rollcontact.checks import check_real
+from rollcontact.elliptic import creep_table
+
+__all__ = ["CreepageCoefficients", "aspect_ratio_range", "creepage_coefficients"]
+
+
+class CreepageCoefficients(NamedTuple):
+    """Kalker's creepage coefficients [1] at one a/b and nu; ``c33`` is NaN where the table has none."""
+
+    c11: float
+    c22: float
+    c23: float
+    c33: float
+
+
+def aspect_ratio_range() -> tuple[float, float]:
+    """(smallest, largest) a/b [1] of the table."""
+    return creep_table.ASPECT_RATIOS[0], creep_table.ASPECT_RATIOS[-1]
+
+
+def in_nu(values, nu: float) -> np.ndarray:
+    """Per row, the quadratic in nu through ``1/C`` at the table's Poisson ratios (Lagrange), as C."""
+    nodes = creep_table.POISSON_RATIOS
+    inverse = 1.0 / np.asarray(values, dtype=float)
+    weights = np.ones(len(nodes))
+    for i, ni in enumerate(nodes):
+        for j, nj in enumerate(nodes):
+            if i != j:
+                weights[i] *= (nu - nj) / (ni - nj)
+    return 1.0 / (inverse @ weights)
+
+
+@lru_cache(maxsize=32)
+def splines(nu: float) -> tuple:
+    """Cubic splines of log C in log(a/b) at this nu, one per coefficient (None where the table has none)."""
+    log_ratio = np.log(creep_table.ASPECT_RATIOS)
+    out = []
+    for table in (creep_table.C11, creep_table.C22, creep_table.C23, creep_table.C33):
+        out.append(None if table is None else CubicSpline(log_ratio, np.log(in_nu(table, nu))))
+    return tuple(out)
+
+
+def creepage_coefficients(aspect_ratio: float, poisson_ratio: float) -> CreepageCoefficients:
+    """Kalker's C11, C22, C23, C33 [1] at a/b = ``aspect_ratio`` and nu = ``poisson_ratio`` (module docstring).
+
+    Raises
+    ------
+    ValueError
+        a/b outside the table's range or nu outside [0, 0.5]; the message names the value and the limits.
+    """
+    low, high = aspect_ratio_range()
+    g = check_real("aspect ratio a/b", aspect_ratio, lower=low, upper=high, unit="(Kalker's table)")
+    nu = check_real("poisson_ratio", poisson_ratio, lower=creep_table.POISSON_RATIOS[0],
+                    upper=creep_table.POISSON_RATIOS[-1])
+    return interpolated(g, nu)
+
+
+@lru_cache(maxsize=1024)
+def interpolated(g: float, nu: float) -> CreepageCoefficients:
+    """The coefficients at checked a/b and nu (cached: a vehicle model asks for the same contacts every step)."""
+    log_g = math.log(g)
+    return CreepageCoefficients(*(math.nan if s is None else math.exp(float(s(log_g))) for s in splines(nu)))

@@ -1,0 +1,195 @@
+"""Kalker's FASTSIM (``"fastsim"``): the simplified theory of rolling contact (Kalker 1982, "A fast algorithm for
+the simplified theory of rolling contact", Vehicle System Dynamics 11) with an elliptic traction bound.
+
+Simplified theory: the surface displacement difference is ``u = L q`` with one flexibility per creepage,
+``L1 = 8a / (3 C11 G)``, ``L2 = 8a / (3 C22 G)``, ``L3 = pi a sqrt(a/b) / (4 C23 G)`` (chosen so that the linear
+theory's Fx, Fy from xi, eta, phi is reproduced exactly), by default blended towards one flexibility at large
+creepage (Vollebregt & Voltr, "Improved accuracy for FASTSIM using one or three flexibility values", Vehicle System
+Dynamics 61, 2023; :func:`blended_flexibilities`).  Material enters the ellipse at the leading edge
+``x = a(y) = a sqrt(1 - y^2/b^2)`` traction-free and moves towards -x; in stick the slip
+``s = w - du/dx`` (a particle's displacement grows with the rigid slip it meets) vanishes, so along each strip
+
+    ``q_x(x - dx) = q_x(x) + dx (xi / L1 - phi y / L3)``,  ``q_y(x - dx) = q_y(x) + dx (eta / L2 + phi x_m / L3)``
+
+(``x_m`` the middle of the step, exact for the slip linear in x), and where ``|q|`` exceeds the traction bound
+``g = mu p`` the trial traction is scaled back onto it (slip in its direction).  The bound is Hertz's pressure,
+``g = mu p0 sqrt(1 - x^2/a^2 - y^2/b^2)`` (``bound="elliptic"``, the default), or Kalker's original parabola of the
+same load ``g = mu (2 Fn / (pi a b)) (1 - x^2/a^2 - y^2/b^2)`` (``bound="parabolic"``), sampled at the cell
+centres and scaled so that the cells carry ``mu Fn`` (then ``|F| <= mu Fn`` holds exactly).  Forces on the rail:
+``Fx = int q_x``, ``Fy = int q_y``, ``Mz = int (x q_y - y q_x)`` (midpoint rule over the cells: the tractions live on
+the cell centres, the first half a cell behind the leading edge).  Coulomb friction only.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from rollcontact.checks import check_real
+from rollcontact.elliptic.methods.common import coefficients, linear_ratio, no_load, outside_table
+from rollcontact.elliptic.result import EllipticResult, TractionField
+from rollcontact.method import AccuracyModel, MethodSpec
+
+BOUNDS = ("elliptic", "parabolic")
+
+
+def flexibilities(scene, c) -> tuple[float, float, float]:
+    """Kalker's (L1, L2, L3) [m/Pa] of the simplified theory from C11, C22, C23 (module docstring)."""
+    a, b = scene.hertz.a, scene.hertz.b
+    g = scene.shear_modulus
+    return 8.0 * a / (3.0 * c.c11 * g), 8.0 * a / (3.0 * c.c22 * g), math.pi * a * math.sqrt(a / b) / (4.0 * c.c23 * g)
+
+
+def blended_flexibilities(scene, c) -> tuple[float, float, float]:
+    """Kalker's flexibilities blended towards one flexibility at large creepage (Vollebregt & Voltr 2023).
+
+    ``L_i' = (1 - w) L_i + w L``, with the creepage-weighted ``L = (xi^2 + eta^2 + (phi f)^2) / (xi^2/L1 + eta^2/L2 +
+    (phi f)^2/L3)``, ``f = (pi a^2/4) / (8a/3)``, and ``w = min(1, r/3)`` of the creepage in units of its
+    characteristic value, ``r = sqrt((xi^2 + eta^2) / (xi_c^2 + eta_c^2))``, ``xi_c = mu Fn / (G c^2 C11)``,
+    ``eta_c = mu Fn / (G c^2 C22)``: Kalker's three in the linear range, one flexibility from three times the
+    characteristic creepage on.
+    """
+    l1, l2, l3 = flexibilities(scene, c)
+    xi, eta, phi = scene.creepages
+    h = scene.hertz
+    spin = phi * (math.pi * h.a * h.a / 4.0) / (8.0 * h.a / 3.0)
+    denominator = xi * xi / l1 + eta * eta / l2 + spin * spin / l3
+    if denominator == 0.0:
+        return l1, l2, l3
+    single = (xi * xi + eta * eta + spin * spin) / denominator
+    scale = scene.friction_coefficient * scene.normal_load / (scene.shear_modulus * h.c * h.c)
+    characteristic = math.hypot(scale / c.c11, scale / c.c22)
+    weight = min(1.0, math.hypot(xi, eta) / characteristic / 3.0) if characteristic > 0.0 else 1.0
+    return tuple((1.0 - weight) * flex + weight * single for flex in (l1, l2, l3))
+
+
+FLEXIBILITIES = {"blended": blended_flexibilities, "kalker": flexibilities}
+
+
+def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic", flexibility: str = "blended",
+                  fields: bool = False) -> EllipticResult:
+    """FASTSIM on ``ny`` strips of ``nx`` steps each (module docstring).
+
+    Parameters
+    ----------
+    scene : EllipticScene
+        The case; Coulomb friction.
+    nx, ny : int
+        Steps along each strip and number of strips (>= 2).
+    bound : {"elliptic", "parabolic"}
+        The traction bound.
+    flexibility : {"blended", "kalker"}
+        Kalker's three flexibilities blended towards one at large creepage (:func:`blended_flexibilities`), or
+        Kalker's three alone.
+    fields : bool
+        Return the tractions on the grid nodes (``result.fields``).
+
+    Returns
+    -------
+    EllipticResult
+        ``info["flexibilities"]`` (L1, L2, L3) [m/Pa], ``info["stick_fraction"]`` (share of the nodes in stick).
+    """
+    why = inapplicable(scene)
+    if why is not None:
+        raise ValueError(f"fastsim cannot solve this scene: {why}")
+    nx = int(check_real("nx", nx, lower=2))
+    ny = int(check_real("ny", ny, lower=2))
+    if bound not in BOUNDS:
+        raise ValueError(f"bound = {bound!r} is not one of {BOUNDS}")
+    if flexibility not in FLEXIBILITIES:
+        raise ValueError(f"flexibility = {flexibility!r} is not one of {tuple(FLEXIBILITIES)}")
+    if scene.normal_load == 0.0:
+        return no_load(scene, "fastsim")
+    h = scene.hertz
+    mu = scene.friction_coefficient
+    l1, l2, l3 = FLEXIBILITIES[flexibility](scene, coefficients(scene))
+    xi, eta, phi = scene.creepages
+    dy = 2.0 * h.b / ny
+    y = -h.b + dy * (np.arange(ny) + 0.5)
+    half = h.a * np.sqrt(1.0 - (y / h.b) ** 2)  # a(y)
+    dx = 2.0 * half / nx
+    peak = mu * (h.max_pressure if bound == "elliptic" else 2.0 * scene.normal_load / (math.pi * h.a * h.b))
+    rate_x = xi / l1 - phi * y / l3  # dq_x per unit of travel, per strip
+    x = half * (1.0 - (2.0 * np.arange(nx)[:, None] + 1.0) / nx)  # cell centres from the leading edge, x[i, j]
+    room = np.clip(1.0 - (x / h.a) ** 2 - (y / h.b) ** 2, 0.0, None)
+    limit = peak * (np.sqrt(room) if bound == "elliptic" else room)
+    limit *= mu * scene.normal_load / float(np.sum(limit * dx) * dy)  # the cells carry mu Fn: |F| <= mu Fn exactly
+    qx = np.empty((nx, ny))
+    qy = np.empty((nx, ny))
+    stick = np.empty((nx, ny), dtype=bool)
+    tx, ty = 0.5 * dx * rate_x, 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)  # half a cell from the edge
+    for i in range(nx):
+        size = np.hypot(tx, ty)
+        over = size > limit[i]
+        scale = np.where(over, limit[i] / np.where(over, size, 1.0), 1.0)
+        qx[i], qy[i] = tx * scale, ty * scale
+        stick[i] = ~over
+        tx = qx[i] + dx * rate_x
+        ty = qy[i] + dx * (eta / l2 + phi * (x[i] - 0.5 * dx) / l3)
+    area = dx * dy  # midpoint rule over the cells
+    fx = float(np.sum(qx * area))
+    fy = float(np.sum(qy * area))
+    mz = float(np.sum((x * qy - y * qx) * area))
+    field = None
+    if fields:
+        field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), (limit / mu).T.copy(), qx.T.copy(),
+                              qy.T.copy(), stick.T.copy())
+    return EllipticResult.from_scene(scene, "fastsim", True, f"FASTSIM ({bound} bound, {flexibility} flexibilities, "
+                                     f"{nx} x {ny})", (fx, fy, mz),
+                                     field, {"flexibilities": (l1, l2, l3), "stick_fraction": float(stick.mean())})
+
+
+solve_fastsim.options = ("nx", "ny", "bound", "flexibility", "fields")
+
+
+def inapplicable(scene) -> str | None:
+    """Why FASTSIM cannot treat the scene (a/b outside the coefficient table, velocity-dependent friction)."""
+    why = outside_table(scene)
+    if why is not None:
+        return why
+    if not scene.friction.is_constant:
+        return "FASTSIM here takes Coulomb friction only"
+    return None
+
+
+FASTSIM_THEORY_ERROR = 0.1
+"""Largest error [1] of the simplified theory against the exact one over mu Fn (mu Fn c for Mz) between the linear
+range and saturation: against the discretised 3D solver over a/b 0.2..5, pure and combined creepages up to 9 mu Fn of
+linear force and spin, this FASTSIM (elliptic bound, blended flexibilities, 40 x 40) misses by up to
+0.027 / 0.085 / 0.047 (Fx / Fy / Mz; ``benchmarks/bench_elliptic_levels.py``, table B; with Kalker's three
+flexibilities alone 0.075 / 0.096 / 0.065); the field's FASTSIM by up to 0.037 / 0.081 / 0.047 on the issue's
+matrix."""
+
+FASTSIM_GRID_ERROR = 0.5
+"""The grid's error [1] is modelled as this over min(nx, ny) (first order in the step;
+``tests/elliptic/methods/test_fastsim.py`` checks it against a 320 x 320 grid)."""
+
+FASTSIM_COST_PER_STEP = 9e-6
+"""Modelled time [s] per step along the strips (one vector operation over the ny strips;
+``benchmarks/bench_elliptic_levels.py``)."""
+
+
+class FastsimAccuracy(AccuracyModel):
+    """The simplified theory's error (``3 tau`` times :data:`FASTSIM_THEORY_ERROR` up to it, tau of
+    :func:`~rollcontact.elliptic.methods.common.linear_ratio`: exact at vanishing creepage but for the spin moment,
+    whose linear coefficient the three flexibilities do not fit) plus the grid's (:data:`FASTSIM_GRID_ERROR` / n);
+    cost per step along x."""
+
+    floor = 10 * FASTSIM_COST_PER_STEP
+
+    def ladder(self, scene):
+        return ({"nx": 20, "ny": 20}, {"nx": 40, "ny": 40}, {"nx": 100, "ny": 100})
+
+    def cost(self, scene, options):
+        return FASTSIM_COST_PER_STEP * options.get("nx", 40) * (1.0 + options.get("ny", 40) / 400.0)
+
+    def error(self, scene, options):
+        if scene.normal_load == 0.0:
+            return 0.0
+        tau = linear_ratio(scene, coefficients(scene))
+        return (FASTSIM_THEORY_ERROR * min(1.0, 3.0 * tau)
+                + FASTSIM_GRID_ERROR / min(options.get("nx", 40), options.get("ny", 40)))
+
+
+METHOD = MethodSpec("fastsim", solve_fastsim, inapplicable, rank=20, accuracy=FastsimAccuracy())

@@ -1,0 +1,125 @@
+"""Strips against independent oracles: the 2D closed form (Carter, summed over the strips by adaptive quadrature) in
+the strip limit b >> a, Kalker's linear theory at vanishing creepage, saturation at mu Fn, the symmetries, the
+traction bound on the field, and, for velocity-dependent friction, the Coulomb strips where the law is nearly
+constant.  Tolerances: the strip limit within the coefficient table's difference from it at a/b = 0.1 (0.5 %, so
+0.01 mu Fn); the closed forms to 1e-10; the marched spin cases to their cells' midpoint error (1 %)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from rollcontact import Coulomb, EllipticScene, ExponentialFalling, carter, solve_elliptic
+from rollcontact.elliptic.creep_coefficients import creepage_coefficients
+
+MU, LOAD = 0.3, 1e5
+
+
+def scene(a=6e-3, b=4e-3, **fields):
+    return EllipticScene.from_semi_axes(LOAD, a, b, friction=MU, **fields)
+
+
+@pytest.mark.parametrize("fraction", [0.05, 0.3, 0.7, 1.0, 2.0])
+def test_strips_are_carter_in_the_strip_limit(fraction):
+    """a/b = 0.1, pure xi: each strip is Carter's 2D problem (N'(y) = pi a(y) p0(y) / 2, R = E* a / (2 p0))."""
+    s = scene(1e-3, 1e-2)
+    h, estar = s.hertz, s.material.contact_modulus
+    radius = estar * h.a / (2 * h.max_pressure)
+    xi = fraction * MU * h.a / radius  # Carter's saturation creepage of the central strip
+    s = s.replace(longitudinal_creepage=xi)
+
+    def per_length(y):
+        half = h.a * math.sqrt(max(0.0, 1 - (y / h.b) ** 2))
+        return carter(math.pi * half * half * h.max_pressure / (2 * h.a), xi, radius, estar, MU)[0]
+
+    expected = quad(per_length, -h.b, h.b, epsabs=0, epsrel=1e-10, limit=200)[0]
+    got = solve_elliptic(s, "strips").longitudinal_force
+    assert abs(got - expected) < 0.01 * MU * LOAD, f"strips {got:.6g} N vs Carter over the strips {expected:.6g} N"
+
+
+@pytest.mark.parametrize("ratio", [0.2, 1.0, 5.0])
+def test_linear_limit_reproduces_kalkers_coefficients(ratio):
+    s = scene(6e-3, 6e-3 / ratio)
+    g, c = s.shear_modulus, s.hertz.c
+    coefficients = creepage_coefficients(ratio, s.material.poisson_ratio)
+    # creepages small enough that even the shortest strips, near y = +-b, stick (their slip zone ~ creepage / a(y))
+    fx = solve_elliptic(s.replace(longitudinal_creepage=1e-10), "strips").longitudinal_force
+    fy = solve_elliptic(s.replace(lateral_creepage=1e-10), "strips").lateral_force
+    fy_spin = solve_elliptic(s.replace(spin_creepage=1e-8), "strips").lateral_force
+    assert math.isclose(fx, g * c * c * coefficients.c11 * 1e-10, rel_tol=1e-6), f"C11 slope at a/b = {ratio}"
+    assert math.isclose(fy, g * c * c * coefficients.c22 * 1e-10, rel_tol=1e-6), f"C22 slope at a/b = {ratio}"
+    assert math.isclose(fy_spin, g * c**3 * coefficients.c23 * 1e-8, rel_tol=0.01), f"C23 slope at a/b = {ratio}"
+
+
+@pytest.mark.parametrize(("creepages", "tolerance"), [({"longitudinal_creepage": 0.1}, 1e-10),
+                                                      ({"lateral_creepage": -0.1}, 1e-10),
+                                                      ({"longitudinal_creepage": 0.03, "lateral_creepage": 0.04},
+                                                       1e-10),
+                                                      ({"longitudinal_creepage": 0.05, "spin_creepage": 2.0}, 0.01)])
+def test_saturation_reaches_mu_fn(creepages, tolerance):
+    result = solve_elliptic(scene(**creepages), "strips")
+    total = math.hypot(result.longitudinal_force, result.lateral_force) / (MU * LOAD)
+    assert abs(total - 1.0) < tolerance, f"|F| -> mu Fn at large creepage: {total:.12f}"
+
+
+@pytest.mark.parametrize("spin", [0.0, 0.3, 3.0])
+def test_symmetries(spin):
+    def forces(xi, eta, phi):
+        return solve_elliptic(scene(longitudinal_creepage=xi, lateral_creepage=eta, spin_creepage=phi), "strips")
+
+    base, mirrored, flipped = forces(1e-3, 4e-4, spin), forces(-1e-3, 4e-4, spin), forces(1e-3, -4e-4, -spin)
+    scale = MU * LOAD
+    assert abs(mirrored.longitudinal_force + base.longitudinal_force) < 1e-12 * scale, "Fx odd in xi"
+    assert abs(flipped.lateral_force + base.lateral_force) < 1e-12 * scale, "Fy odd in (eta, phi)"
+    assert abs(flipped.spin_moment + base.spin_moment) < 1e-12 * scale * base.c, "Mz odd in (eta, phi)"
+
+
+@pytest.mark.parametrize("creepages", [{"longitudinal_creepage": 1e-3, "lateral_creepage": -5e-4},
+                                       {"lateral_creepage": 3e-4, "spin_creepage": 0.2},
+                                       {"longitudinal_creepage": 1e-3, "spin_creepage": 2.0}])
+def test_traction_bound_holds_on_the_field(creepages):
+    result = solve_elliptic(scene(**creepages), "strips", fields=True)
+    f = result.fields
+    excess = f.traction_magnitude - MU * f.pressure
+    assert np.all(excess <= 1e-9 * MU * result.max_pressure), f"|q| <= mu p: worst excess {excess.max():.3g} Pa"
+    if "spin_creepage" not in creepages or creepages["spin_creepage"] < 1.0:
+        assert f.stick.any() and not f.stick.all(), "partial slip: both zones present"
+
+
+def test_the_field_sums_to_the_closed_form():
+    s = scene(longitudinal_creepage=1e-3, lateral_creepage=-5e-4)
+    closed = solve_elliptic(s, "strips")
+    marched = solve_elliptic(s, "strips", fields=True, steps=400)
+    assert abs(marched.longitudinal_force - closed.longitudinal_force) < 2e-3 * MU * LOAD, "Fx of the cells"
+    assert abs(marched.spin_moment - closed.spin_moment) < 2e-3 * MU * LOAD * closed.c, "Mz of the cells"
+
+
+def test_nearly_constant_falling_friction_gives_the_coulomb_strips():
+    """The polynomial method per strip (its own path) against the closed form when mu barely falls."""
+    s = scene(longitudinal_creepage=8e-4, lateral_creepage=3e-4, rolling_speed=10.0)
+    coulomb = solve_elliptic(s, "strips")
+    falling = solve_elliptic(s.replace(friction=ExponentialFalling(MU, 0.999, 1e-3)), "strips")
+    assert falling.success, falling.message
+    for name in ("longitudinal_force", "lateral_force"):
+        assert abs(getattr(falling, name) - getattr(coulomb, name)) < 2e-3 * MU * LOAD, name
+    assert abs(falling.spin_moment - coulomb.spin_moment) < 5e-3 * MU * LOAD * coulomb.c, "Mz"
+
+
+def test_falling_friction_shows_the_falling_branch():
+    """Eurosprinter geometry (a/b 0.5, a 6.3 mm, Fn 106.7 kN, V 10 m/s) with Polach's exponential law."""
+    law = ExponentialFalling(0.36, 0.4, 0.6)
+    s = EllipticScene.from_semi_axes(106.7e3, 6.3e-3, 12.6e-3, friction=law, rolling_speed=10.0)
+    curve = [solve_elliptic(s.replace(longitudinal_creepage=xi), "strips") for xi in (0.002, 0.01, 0.05, 0.2)]
+    assert all(r.success for r in curve), [r.message for r in curve]
+    forces = [r.longitudinal_force for r in curve]
+    assert forces[1] > forces[2] > forces[3] > 0, f"past the peak the force falls: {forces}"
+
+
+def test_spin_with_falling_friction_is_refused_with_the_reason():
+    s = scene(spin_creepage=0.5).replace(friction=ExponentialFalling(MU))
+    with pytest.raises(ValueError, match="no spin"):
+        solve_elliptic(s, "strips")
+    assert solve_elliptic(s.replace(friction=Coulomb(MU)), "strips").success, "Coulomb spin is served"
