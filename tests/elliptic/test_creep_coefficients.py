@@ -9,7 +9,6 @@ import math
 
 import pytest
 
-from rollcontact.elliptic import creep_table
 from rollcontact.elliptic.creep_coefficients import creepage_coefficients
 
 KALKER_E3 = {  # a/b: {nu: (C11, C22, C23)}
@@ -60,11 +59,6 @@ def test_nu_zero_makes_c11_equal_c22():
     for g in (0.1, 0.3, 1.0, 3.0, 10.0):
         c = creepage_coefficients(g, 0.0)
         assert math.isclose(c.c11, c.c22, rel_tol=1e-12), f"C11 = C22 at nu = 0, a/b = {g}"
-
-
-def test_c33_is_nan_until_the_table_has_it():
-    c = creepage_coefficients(1.0, 0.25)
-    assert (creep_table.C33 is None) == math.isnan(c.c33), "C33 comes from the table or is NaN"
 
 
 @pytest.mark.parametrize(("g", "nu", "match"), [(0.05, 0.25, "a/b"), (20.0, 0.25, "a/b"), (1.0, 0.6, "poisson"),

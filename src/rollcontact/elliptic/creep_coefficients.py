@@ -53,11 +53,11 @@ def in_nu(values, nu: float) -> np.ndarray:
 
 @lru_cache(maxsize=32)
 def splines(nu: float) -> tuple:
-    """Cubic splines of log C in log(a/b) at this nu, one per coefficient (None where the table has none)."""
+    """Cubic splines of log C in log(a/b) at this nu, one per coefficient."""
     log_ratio = np.log(creep_table.ASPECT_RATIOS)
     out = []
     for table in (creep_table.C11, creep_table.C22, creep_table.C23, creep_table.C33):
-        out.append(None if table is None else CubicSpline(log_ratio, np.log(in_nu(table, nu))))
+        out.append(CubicSpline(log_ratio, np.log(in_nu(table, nu))))
     return tuple(out)
 
 
@@ -80,4 +80,4 @@ def creepage_coefficients(aspect_ratio: float, poisson_ratio: float) -> Creepage
 def interpolated(g: float, nu: float) -> CreepageCoefficients:
     """The coefficients at checked a/b and nu (cached: a vehicle model asks for the same contacts every step)."""
     log_g = math.log(g)
-    return CreepageCoefficients(*(math.nan if s is None else math.exp(float(s(log_g))) for s in splines(nu)))
+    return CreepageCoefficients(*(math.exp(float(s(log_g))) for s in splines(nu)))
