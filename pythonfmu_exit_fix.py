@@ -17,8 +17,9 @@ The fix redirects the static destructor's registration to ``finalizePythonInterp
 finalizePythonInterpreter(%rip), %rdi`` (``48 8d 3d`` + displacement), so ``exit()`` releases the shared state with
 ``pyState = nullptr``, which leaves the pointer empty, and the second call finds nothing to release.  The release
 happens once, at the same moment as before, so a C host whose interpreter pythonfmu started still gets
-``Py_Finalize`` (``~PyState`` asks its worker thread for it) with Python's atexit handlers and buffer flushes;
-at ``dlclose`` the order is reversed (``onLibraryUnload`` first) and both calls were already harmless.
+``Py_Finalize`` (``~PyState`` asks its worker thread for it) with Python's atexit handlers and buffer flushes.
+The binary has ``STB_GNU_UNIQUE`` symbols, so glibc never unloads it before exit and the order above holds in
+every process.
 
 :func:`patch_library` applies it to a library only if its SHA-256 is that of a pinned release
 (:data:`LIBRARIES`), and checks every byte it relies on through the ELF tables; anything else stops the build

@@ -26,6 +26,11 @@ from ``main`` (``exit()``, static destructors, ``Py_Finalize`` of the interprete
 reference at interpreter start (a ``sitecustomize`` on ``PYTHONPATH``: the workaround of docs/fmu.md, "Exit").
 Every variant's ``sitecustomize`` registers a Python ``atexit`` handler that writes a marker file: clean means exit
 code 0, one output line per step and the marker written (the embedded interpreter was finalised).
+``--valgrind N`` (needs valgrind) runs N more processes per variant (workloads ``slave2`` and ``slave3`` in turn)
+under memcheck with ``PYTHONMALLOC=malloc`` and counts their invalid accesses: those in
+``finalizePythonInterpreter`` (the double release) and any others, leaving out the dynamic loader's word-wise
+``strncmp`` reads in ``dl-load.c`` (reads within the words of valid strings, reported by memcheck whatever the
+FMU).  Whether the double release aborts a process depends on the heap layout; memcheck sees it in every process.
 Writes ``benchmarks/results/exit.md``.
 """
 
@@ -34,6 +39,7 @@ from __future__ import annotations
 import argparse
 import collections
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -176,20 +182,45 @@ def build(dest: Path) -> dict[str, dict[int, Path]]:
     return {variant: {2: dest / variant, 3: dest / variant / "fmi3"} for variant in ("fixed", "unfixed")}
 
 
-def run_one(variant: str, folders: dict[int, Path], workload: str, seed: int, process: int) -> dict:
+def run_one(variant: str, folders: dict[int, Path], workload: str, seed: int, process: int,
+            valgrind: bool = False) -> dict:
     command = [sys.executable, str(Path(__file__).resolve()), "--host", workload, "--fmi2", str(folders[2]),
                "--fmi3", str(folders[3]), "--seed", str(seed), "--process", str(process)]
+    env = dict(os.environ)
+    if valgrind:
+        command = ["valgrind", "--num-callers=12", *command]
+        env["PYTHONMALLOC"] = "malloc"  # every Python object a malloc block memcheck watches
     t0 = time.perf_counter()
     try:
-        done = subprocess.run(command, capture_output=True, text=True, timeout=TIMEOUT)
+        done = subprocess.run(command, capture_output=True, text=True, timeout=TIMEOUT * (10 if valgrind else 1),
+                              env=env)
         code, out, err = done.returncode, done.stdout, done.stderr
     except subprocess.TimeoutExpired:
         code, out, err = "hung", "", ""
     seconds = time.perf_counter() - t0
     printed = f"results {workload}" in out
     tail = err.strip().splitlines()[-1][:160] if err.strip() else ""
-    return {"variant": variant, "workload": workload, "process": process, "code": code, "printed": printed,
-            "seconds": seconds, "tail": tail}
+    run = {"variant": f"{variant} (memcheck)" if valgrind else variant, "workload": workload, "process": process,
+           "code": code, "printed": printed, "seconds": seconds, "tail": tail}
+    if valgrind:
+        run["invalid"] = invalid_accesses(err)
+    return run
+
+
+def invalid_accesses(log: str) -> collections.Counter:
+    """memcheck's invalid accesses in ``log`` by kind: ``finalizer`` (in ``finalizePythonInterpreter``) or
+    ``other``; the dynamic loader's ``strncmp`` word reads (``dl-load.c``) are left out (module docstring)."""
+    kinds: collections.Counter = collections.Counter()
+    blocks = log.split("== \n")
+    for block in blocks:
+        if "== Invalid " not in block:
+            continue
+        head = block[block.index("== Invalid "):]
+        if "finalizePythonInterpreter" in head:
+            kinds["finalizer"] += 1
+        elif not ("strncmp" in head and "dl-load.c" in head):
+            kinds["other"] += 1
+    return kinds
 
 
 def study(args) -> list[dict]:
@@ -199,6 +230,10 @@ def study(args) -> list[dict]:
         with ThreadPoolExecutor(args.workers) as pool:
             runs = list(pool.map(lambda job: run_one(job[0], variants[job[0]], WORKLOADS[job[1] % len(WORKLOADS)],
                                                      args.seed, job[1]), jobs))
+            if args.valgrind > 0 and shutil.which("valgrind"):
+                memcheck = [(variant, p) for p in range(args.valgrind) for variant in ("fixed", "unfixed")]
+                runs += list(pool.map(lambda job: run_one(job[0], variants[job[0]], ("slave2", "slave3")[job[1] % 2],
+                                                          args.seed, job[1], valgrind=True), memcheck))
         return runs + c_host_runs(args, Path(tmp), variants)
 
 
@@ -215,7 +250,6 @@ C_ROWS = ((1e5, 1e-3, 20.0), (2e5, -1e-3, 20.0), (1.5e5, 3e-3, 25.0))
 
 def c_host_runs(args, tmp: Path, variants: dict[str, dict[int, Path]]) -> list[dict]:
     """``args.c_host`` runs of the C host per variant (module docstring); [] without gcc or a shared libpython."""
-    import shutil
     import sysconfig
 
     from fmpy import extract, read_model_description
@@ -294,6 +328,14 @@ def report(runs: list[dict], args, load: float, seconds: float) -> list[str]:
             name = f"**{workload}**" if workload == "all" else workload
             lines.append(f"| {variant} | {name} | {len(group)} | {clean} | {text} | "
                          f"{statistics.median(r['seconds'] for r in group):.1f} s |")
+    checked = [r for r in runs if "invalid" in r]
+    if checked:
+        lines += ["", "Under memcheck (`PYTHONMALLOC=malloc`): invalid accesses per process, in "
+                  "`finalizePythonInterpreter` and elsewhere (the dynamic loader's `strncmp` word reads left out).",
+                  "", "| FMUs | workload | process | exit code | in finalizePythonInterpreter | elsewhere |",
+                  "|---|---|---:|---:|---:|---:|"]
+        lines += [f"| {r['variant']} | {r['workload']} | {r['process']} | {r['code']} | {r['invalid']['finalizer']} | "
+                  f"{r['invalid']['other']} |" for r in checked]
     failed = [r for r in runs if not (r["code"] == 0 and r["printed"])]
     if failed:
         lines += ["", "Processes that did not exit cleanly (last line of stderr):", ""]
@@ -307,6 +349,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--processes", type=int, default=200, help="host processes on the fixed FMUs")
     parser.add_argument("--unfixed", type=int, default=40, help="host processes on the unfixed FMUs")
     parser.add_argument("--c-host", type=int, default=40, help="C host processes per variant (0: none)")
+    parser.add_argument("--valgrind", type=int, default=2, help="processes per variant under memcheck (0: none)")
     parser.add_argument("--workers", type=int, default=2, help="processes run at a time")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--quick", action="store_true", help="8 processes, 4 unfixed, stdout only")
@@ -319,7 +362,7 @@ def main(argv: list[str] | None = None) -> int:
         host(args.host, {2: args.fmi2, 3: args.fmi3}, args.seed, args.process)
         return 0
     if args.quick:
-        args.processes, args.unfixed, args.c_host = 8, 4, 2
+        args.processes, args.unfixed, args.c_host, args.valgrind = 8, 4, 2, 0
     load = os.getloadavg()[0]
     t0 = time.perf_counter()
     runs = study(args)
