@@ -171,14 +171,19 @@ def patch_fmu(fmu: Path | str) -> list[str]:
         members = [(info, source.read(info)) for info in source.infolist()]
     fixed = []
     with tempfile.NamedTemporaryFile(dir=fmu.parent, suffix=".fmu", delete=False) as tmp:
-        with zipfile.ZipFile(tmp, "w") as target:
-            for info, data in members:
-                if info.filename.endswith(".so") and any(info.filename.startswith(lib.folder) for lib in LIBRARIES):
-                    data = patch_library(data, f"{fmu.name}:{info.filename}")
-                    fixed.append(info.filename)
-                target.writestr(info, data)
-    if not fixed:
-        Path(tmp.name).unlink()
-        raise RuntimeError(f"{fmu} holds no Linux export library of pythonfmu ({[lib.folder for lib in LIBRARIES]})")
+        try:
+            with zipfile.ZipFile(tmp, "w") as target:
+                for info, data in members:
+                    if info.filename.endswith(".so") and any(info.filename.startswith(lib.folder)
+                                                             for lib in LIBRARIES):
+                        data = patch_library(data, f"{fmu.name}:{info.filename}")
+                        fixed.append(info.filename)
+                    target.writestr(info, data)
+            if not fixed:
+                raise RuntimeError(f"{fmu} holds no Linux export library of pythonfmu "
+                                   f"({', '.join(lib.folder for lib in LIBRARIES)})")
+        except BaseException:
+            Path(tmp.name).unlink()
+            raise
     shutil.move(tmp.name, fmu)
     return fixed

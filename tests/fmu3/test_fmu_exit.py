@@ -8,6 +8,7 @@ independent of the module's ELF reader; every other byte must be the installed l
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import os
 import subprocess
@@ -82,6 +83,27 @@ def test_the_fix_refuses_other_bytes_and_keeps_fixed_ones():
     assert "pinned pythonfmu release" in str(refused.value) and "other.so" in str(refused.value), str(refused.value)
     with pytest.raises(ValueError, match="not an ELF64"):
         fix.ElfTables(b"MZ" + bytes(100))
+
+
+def test_an_fmu_with_another_library_is_left_as_it_was(fmu_folders, tmp_path):
+    """``patch_fmu`` of an FMU whose Linux binary is no pinned release's: RuntimeError, the file unchanged, no
+    temporary file left; an FMU without a Linux binary is refused too."""
+    source = fmu_folders[2] / "RollingContact2D.fmu"
+    altered, bare = tmp_path / "altered.fmu", tmp_path / "bare.fmu"
+    with zipfile.ZipFile(source) as fmu, zipfile.ZipFile(altered, "w") as out, zipfile.ZipFile(bare, "w") as empty:
+        for info in fmu.infolist():
+            data = fmu.read(info)
+            if info.filename.endswith(".so"):
+                out.writestr(info, data[:-1] + bytes([data[-1] ^ 1]))
+                continue
+            out.writestr(info, data)
+            empty.writestr(copy.copy(info), data)  # writestr records offsets in the ZipInfo: one per archive
+    before = {path: path.read_bytes() for path in (altered, bare)}
+    for path, reason in ((altered, "not that of a pinned pythonfmu release"), (bare, "holds no Linux export")):
+        with pytest.raises(RuntimeError, match=reason):
+            fix.patch_fmu(path)
+        assert path.read_bytes() == before[path], f"{path.name} must be left as it was"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["altered.fmu", "bare.fmu"], list(tmp_path.iterdir())
 
 
 HOST = """
