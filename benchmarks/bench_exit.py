@@ -164,11 +164,14 @@ def build(dest: Path) -> dict[str, dict[int, Path]]:
                            str(dest / "fixed")], capture_output=True, text=True, timeout=600)
     if done.returncode != 0:
         raise RuntimeError(f"build_fmu.py failed:\n{done.stdout}\n{done.stderr}")
-    import pythonfmu
-    import pythonfmu3
+    import importlib.metadata
 
-    originals = {"binaries/linux64/": Path(pythonfmu.__file__).parent / "resources/binaries/linux64",
-                 "binaries/x86_64-linux/": Path(pythonfmu3.__file__).parent / "resources/binaries/x86_64-linux"}
+    def installed(package: str, folder: str) -> Path:  # the installed distribution's file
+        return Path(importlib.metadata.distribution(package).locate_file(
+            Path(package, "resources", "binaries", folder)))
+
+    originals = {"binaries/linux64/": installed("pythonfmu", "linux64"),
+                 "binaries/x86_64-linux/": installed("pythonfmu3", "x86_64-linux")}
     for fmu in (dest / "fixed").rglob("*.fmu"):
         copy = dest / "unfixed" / fmu.relative_to(dest / "fixed")
         copy.parent.mkdir(parents=True, exist_ok=True)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 import hashlib
+import importlib.metadata
 import os
 import subprocess
 import sys
@@ -34,10 +35,15 @@ REDIRECTION = {
 }
 
 
+def installed(package: str, *parts: str) -> Path:
+    """A file of the installed distribution ``package`` (not of a copy an FMU put on ``sys.path``: the FMI 3.0
+    FMUs bundle pythonfmu's Python files, and pythonfmu puts an instance's resources first on ``sys.path``)."""
+    return Path(importlib.metadata.distribution(package).locate_file(Path(package, *parts)))
+
+
 def installed_library(package: str) -> bytes:
-    module = __import__(package)
     folder = "linux64" if package == "pythonfmu" else "x86_64-linux"
-    return (Path(module.__file__).parent / "resources" / "binaries" / folder / "libpythonfmu-export.so").read_bytes()
+    return installed(package, "resources", "binaries", folder, "libpythonfmu-export.so").read_bytes()
 
 
 @pytest.mark.parametrize("model", ["RollingContact2D", "WheelRig"])
@@ -56,7 +62,7 @@ def test_the_linux_binary_differs_from_the_release_by_the_redirection_only(fmu_f
         f"{model} FMI {fmi}: bytes changed at {[hex(i) for i in changed]}, expected within {offset:#x} + 7"
     assert binary[offset:offset + 7].hex() == after, \
         f"{model} FMI {fmi}: {binary[offset:offset + 7].hex()} at {offset:#x}, expected {after} (lea to the finaliser)"
-    windows_original = Path(__import__(package).__file__).parent / "resources" / "binaries"
+    windows_original = installed(package, "resources", "binaries")
     assert any(dll == path.read_bytes() for path in windows_original.rglob("*.dll")), \
         f"{model} FMI {fmi}: the Windows binary must be the release's, unchanged"
 
