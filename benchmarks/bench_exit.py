@@ -17,8 +17,8 @@ Every process is a fresh Python (``subprocess``) running one workload of this fi
 * ``wheelrig``: the WheelRig FMU (FMI 2.0) stepped beside a RollingContact2D instance.
 
 A process counts as clean when it exits with 0 and printed its results line.  ``--unfixed N`` runs N more processes
-(the same workloads in turn) on copies of the FMUs whose Linux binaries are replaced by the installed pythonfmu
-libraries, without the exit fix, for comparison.
+(the same workloads in turn, spread evenly among the others) on copies of the FMUs whose Linux binaries are
+replaced by the installed pythonfmu libraries, without the exit fix, for comparison.
 
 ``--c-host N`` (needs gcc and a shared libpython) runs the C host of ``tests/fmu/test_fmu.py``, changed to return
 from ``main`` (``exit()``, static destructors, ``Py_Finalize`` of the interpreter pythonfmu started) instead of
@@ -229,7 +229,9 @@ def invalid_accesses(log: str) -> collections.Counter:
 def study(args) -> list[dict]:
     with tempfile.TemporaryDirectory(prefix="rollcontact_exit_") as tmp:
         variants = build(Path(tmp))
-        jobs = [("fixed", p) for p in range(args.processes)] + [("unfixed", p) for p in range(args.unfixed)]
+        # the unfixed processes spread evenly among the fixed ones, so that both see the same machine load
+        jobs = sorted([("fixed", p, p / args.processes) for p in range(args.processes)]
+                      + [("unfixed", p, (p + 0.5) / args.unfixed) for p in range(args.unfixed)], key=lambda j: j[2])
         with ThreadPoolExecutor(args.workers) as pool:
             runs = list(pool.map(lambda job: run_one(job[0], variants[job[0]], WORKLOADS[job[1] % len(WORKLOADS)],
                                                      args.seed, job[1]), jobs))
