@@ -31,6 +31,7 @@ under memcheck with ``PYTHONMALLOC=malloc`` and counts their invalid accesses: t
 ``finalizePythonInterpreter`` (the double release) and any others, leaving out the dynamic loader's word-wise
 ``strncmp`` reads in ``dl-load.c`` (reads within the words of valid strings, reported by memcheck whatever the
 FMU).  Whether the double release aborts a process depends on the heap layout; memcheck sees it in every process.
+With ``--c-host``, it also runs the C host N times under memcheck, fixed and fixed with the ``_uarray`` type held.
 Writes ``benchmarks/results/exit.md``.
 """
 
@@ -211,8 +212,9 @@ def run_one(variant: str, folders: dict[int, Path], workload: str, seed: int, pr
 
 
 def invalid_accesses(log: str) -> collections.Counter:
-    """memcheck's invalid accesses in ``log`` by kind: ``finalizer`` (in ``finalizePythonInterpreter``) or
-    ``other``; the dynamic loader's ``strncmp`` word reads (``dl-load.c``) are left out (module docstring)."""
+    """memcheck's invalid accesses in ``log`` by kind: ``finalizer`` (in ``finalizePythonInterpreter``),
+    ``uarray`` (of a block scipy's ``_uarray`` freed, ``globals_free``) or ``other``; the dynamic loader's
+    ``strncmp`` word reads (``dl-load.c``) are left out (module docstring)."""
     kinds: collections.Counter = collections.Counter()
     blocks = log.split("== \n")
     for block in blocks:
@@ -221,6 +223,8 @@ def invalid_accesses(log: str) -> collections.Counter:
         head = block[block.index("== Invalid "):]
         if "finalizePythonInterpreter" in head:
             kinds["finalizer"] += 1
+        elif "globals_free" in head and "_uarray" in head:
+            kinds["uarray"] += 1
         elif not ("strncmp" in head and "dl-load.c" in head):
             kinds["other"] += 1
     return kinds
@@ -287,20 +291,29 @@ def c_host_runs(args, tmp: Path, variants: dict[str, dict[int, Path]]) -> list[d
            "OPENBLAS_NUM_THREADS": "1"}
 
     def one(job):
-        name, i = job
+        name, i, valgrind = job
         command, site = cases[name]
-        marker = tmp / f"marker_{site.name}_{i}"
+        marker = tmp / f"marker_{site.name}_{i}_{valgrind}"
+        extra = {"PYTHONMALLOC": "malloc"} if valgrind else {}
         t0 = time.perf_counter()
-        done = subprocess.run(command, input="".join(f"{n!r} {c!r} {v!r}\n" for n, c, v in C_ROWS),
-                              capture_output=True, text=True, timeout=TIMEOUT,
-                              env={**env, "EXIT_MARKER": str(marker),
+        done = subprocess.run(["valgrind", "--num-callers=12", *command] if valgrind else command,
+                              input="".join(f"{n!r} {c!r} {v!r}\n" for n, c, v in C_ROWS),
+                              capture_output=True, text=True, timeout=TIMEOUT * (10 if valgrind else 1),
+                              env={**env, **extra, "EXIT_MARKER": str(marker),
                                    "PYTHONPATH": f"{site}:{sysconfig.get_paths()['purelib']}"})
-        printed = len(done.stdout.splitlines()) == len(C_ROWS) and marker.is_file()
+        printed = len([line for line in done.stdout.splitlines() if line[:1].isdigit()]) == len(C_ROWS) \
+            and marker.is_file()
         tail = done.stderr.strip().splitlines()[-1][:160] if done.stderr.strip() else ""
-        return {"variant": f"C host, {name}", "workload": "c_host", "process": i, "code": done.returncode,
-                "printed": printed, "seconds": time.perf_counter() - t0, "tail": tail}
+        run = {"variant": f"C host, {name}" + (" (memcheck)" if valgrind else ""), "workload": "c_host",
+               "process": i, "code": done.returncode, "printed": printed, "seconds": time.perf_counter() - t0,
+               "tail": tail}
+        if valgrind:
+            run["invalid"] = invalid_accesses(done.stderr)
+        return run
 
-    jobs = [(name, i) for i in range(args.c_host) for name in cases]
+    jobs = [(name, i, False) for i in range(args.c_host) for name in cases]
+    if args.valgrind > 0 and shutil.which("valgrind"):
+        jobs += [(name, i, True) for i in range(args.valgrind) for name in ("fixed", "fixed, _uarray type held")]
     with ThreadPoolExecutor(args.workers) as pool:
         return list(pool.map(one, jobs))
 
@@ -336,11 +349,12 @@ def report(runs: list[dict], args, load: float, seconds: float) -> list[str]:
     checked = [r for r in runs if "invalid" in r]
     if checked:
         lines += ["", "Under memcheck (`PYTHONMALLOC=malloc`): invalid accesses per process, in "
-                  "`finalizePythonInterpreter` and elsewhere (the dynamic loader's `strncmp` word reads left out).",
-                  "", "| FMUs | workload | process | exit code | in finalizePythonInterpreter | elsewhere |",
-                  "|---|---|---:|---:|---:|---:|"]
+                  "`finalizePythonInterpreter`, of a block scipy's `_uarray` freed (`globals_free`), and elsewhere "
+                  "(the dynamic loader's `strncmp` word reads left out).", "",
+                  "| FMUs | workload | process | exit code | in finalizePythonInterpreter | freed by _uarray | "
+                  "elsewhere |", "|---|---|---:|---:|---:|---:|---:|"]
         lines += [f"| {r['variant']} | {r['workload']} | {r['process']} | {r['code']} | {r['invalid']['finalizer']} | "
-                  f"{r['invalid']['other']} |" for r in checked]
+                  f"{r['invalid']['uarray']} | {r['invalid']['other']} |" for r in checked]
     failed = [r for r in runs if not (r["code"] == 0 and r["printed"])]
     if failed:
         lines += ["", "Processes that did not exit cleanly (last line of stderr):", ""]
