@@ -81,8 +81,8 @@ def build_model(model: str, dest: Path | str = ROOT / "models", integer_codes: b
     try:
         from pythonfmu.builder import FmuBuilder
 
-        return Path(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, XML_HELPER],
-                                         canGetAndSetFMUstate=True, canSerializeFMUstate=True))
+        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, XML_HELPER],
+                                               canGetAndSetFMUstate=True, canSerializeFMUstate=True))
     finally:
         sys.path.remove(str(SOURCES))
 
@@ -106,11 +106,21 @@ def build_model3(model: str, dest: Path | str) -> Path:
             framework.mkdir()
             for source in Path(pythonfmu.__file__).parent.glob("*.py"):
                 shutil.copy2(source, framework)
-            return Path(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, *extra, XML_HELPER, framework],
-                                             canGetAndSetFMUState=True, canSerializeFMUState=True,
-                                             canHandleVariableCommunicationStepSize=True))
+            return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest,
+                                                   project_files=[*packages, *extra, XML_HELPER, framework],
+                                                   canGetAndSetFMUState=True, canSerializeFMUState=True,
+                                                   canHandleVariableCommunicationStepSize=True))
     finally:
         sys.path.remove(str(SOURCES))
+
+
+def exit_fixed(fmu: Path | str) -> Path:
+    """The built FMU ``fmu`` with pythonfmu's exit-time double release fixed in its Linux binary
+    (:mod:`pythonfmu_exit_fix`, docs/fmu.md "Exit"); RuntimeError if the binary is not a pinned release's."""
+    from pythonfmu_exit_fix import patch_fmu
+
+    patch_fmu(fmu)
+    return Path(fmu)
 
 
 def build(dest: Path | str = ROOT / "models") -> Path:
