@@ -20,18 +20,17 @@ A process counts as clean when it exits with 0 and printed its results line.  ``
 (the same workloads in turn, spread evenly among the others) on copies of the FMUs whose Linux binaries are
 replaced by the installed pythonfmu libraries, without the exit fix, for comparison.
 
-``--c-host N`` (needs gcc and a shared libpython) runs the C host of ``tests/fmu/test_fmu.py``, changed to return
-from ``main`` (``exit()``, static destructors, ``Py_Finalize`` of the interpreter pythonfmu started) instead of
-``_exit``, N times per variant: fixed, unfixed, and fixed with scipy's ``_uarray`` exception type given one extra
-reference at interpreter start (a ``sitecustomize`` on ``PYTHONPATH``: the workaround of docs/fmu.md, "Exit").
-Every variant's ``sitecustomize`` registers a Python ``atexit`` handler that writes a marker file: clean means exit
+``--c-host N`` (needs gcc and a shared libpython) runs the C host of ``tests/fmu/test_fmu.py``, which returns from
+``main`` (``exit()``, static destructors, ``Py_Finalize`` of the interpreter pythonfmu started), N times per
+variant: fixed and unfixed (both FMUs hold scipy's ``_uarray`` exception type, docs/fmu.md "Exit").  A
+``sitecustomize`` on ``PYTHONPATH`` registers a Python ``atexit`` handler that writes a marker file: clean means exit
 code 0, one output line per step and the marker written (the embedded interpreter was finalised).
 ``--valgrind N`` (needs valgrind) runs N more processes per variant (workloads ``slave2`` and ``slave3`` in turn)
 under memcheck with ``PYTHONMALLOC=malloc`` and counts their invalid accesses: those in
 ``finalizePythonInterpreter`` (the double release) and any others, leaving out the dynamic loader's word-wise
 ``strncmp`` reads in ``dl-load.c`` (reads within the words of valid strings, reported by memcheck whatever the
 FMU).  Whether the double release aborts a process depends on the heap layout; memcheck sees it in every process.
-With ``--c-host``, it also runs the C host N times under memcheck, fixed and fixed with the ``_uarray`` type held.
+With ``--c-host``, it also runs the fixed C host N times under memcheck.
 Writes ``benchmarks/results/exit.md``.
 """
 
@@ -250,10 +249,6 @@ SITECUSTOMIZE = """import atexit, os
 if os.environ.get("EXIT_MARKER"):
     atexit.register(lambda: open(os.environ["EXIT_MARKER"], "w").write("finalised"))
 """
-HOLD_UARRAY = """import ctypes
-from scipy._lib._uarray._uarray import BackendNotImplementedError
-ctypes.pythonapi.Py_IncRef(ctypes.py_object(BackendNotImplementedError))
-"""
 C_ROWS = ((1e5, 1e-3, 20.0), (2e5, -1e-3, 20.0), (1.5e5, 3e-3, 25.0))
 
 
@@ -269,19 +264,15 @@ def c_host_runs(args, tmp: Path, variants: dict[str, dict[int, Path]]) -> list[d
     sys.path.insert(0, str(ROOT / "tests" / "fmu"))
     from test_fmu import C_HOST  # one C host for the test and this study
 
-    source = C_HOST.replace("    _exit(0);\n", "    return 0;\n")
-    if source == C_HOST:
-        raise RuntimeError("the C host of tests/fmu/test_fmu.py no longer ends with _exit(0)")
-    (tmp / "host.c").write_text(source)
+    (tmp / "host.c").write_text(C_HOST)
     subprocess.run(["gcc", "-std=c99", "-o", str(tmp / "host"), str(tmp / "host.c"), "-ldl"], check=True)
     cases = {}
-    for name, variant, hold in (("fixed", "fixed", False), ("unfixed", "unfixed", False),
-                                ("fixed, _uarray type held", "fixed", True)):
-        folder = f"{variant}_held" if hold else variant  # no space or comma in the extraction path (docs/fmu.md)
+    for name in ("fixed", "unfixed"):
+        variant = folder = name  # no space or comma in the extraction path (docs/fmu.md)
         unzipped = Path(extract(str(variants[variant][2] / "RollingContact2D.fmu"), unzipdir=tmp / f"u_{folder}"))
         site = tmp / f"site_{folder}"
         site.mkdir()
-        (site / "sitecustomize.py").write_text((HOLD_UARRAY if hold else "") + SITECUSTOMIZE)
+        (site / "sitecustomize.py").write_text(SITECUSTOMIZE)
         md = read_model_description(str(unzipped))
         refs = {v.name: v.valueReference for v in md.modelVariables}
         cases[name] = ([str(tmp / "host"), str(next((unzipped / "binaries" / "linux64").glob("*.so"))), md.guid,
@@ -313,7 +304,7 @@ def c_host_runs(args, tmp: Path, variants: dict[str, dict[int, Path]]) -> list[d
 
     jobs = [(name, i, False) for i in range(args.c_host) for name in cases]
     if args.valgrind > 0 and shutil.which("valgrind"):
-        jobs += [(name, i, True) for i in range(args.valgrind) for name in ("fixed", "fixed, _uarray type held")]
+        jobs += [(name, i, True) for i in range(args.valgrind) for name in ("fixed",)]
     with ThreadPoolExecutor(args.workers) as pool:
         return list(pool.map(one, jobs))
 

@@ -20,8 +20,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT) not in sys.path:
-    sys.path.append(str(ROOT))  # the build's modules (build_fmu.py, pythonfmu_exit_fix.py) are at the root
+if str(ROOT / "fmu_src") not in sys.path:
+    sys.path.append(str(ROOT / "fmu_src"))  # the build's fix of the export library (build_fmu.EXIT_FIX)
 import pythonfmu_exit_fix as fix  # noqa: E402
 
 # version -> (package, folder in the FMU, file offset, instruction before, instruction after), from objdump -d:
