@@ -160,3 +160,29 @@ def test_spin_against_the_discretised_solution(ratio, creepages, fy_tolerance):
     assert error[1] <= fy_tolerance, f"Fy error {error[1]:.4f} beyond {fy_tolerance}"
     assert error.max() <= result.info["error_estimate"], (
         f"error {error.max():.4f} beyond the estimate {result.info['error_estimate']:.4f}")
+
+
+@pytest.mark.parametrize("ratio", [0.3, 1.0, 3.0])
+def test_cross_coefficient_against_the_half_space_influence(ratio):
+    """``u_x`` of a lateral traction of Hertz's shape, by the discretised half-space's influence coefficients (80 x 80
+    elements, G = 1 Pa), is ``K x y`` on the ellipse; the strips' closed form gives ``phi_c = -K`` per unit Fy.
+    Tolerance 0.5 % (the grid's error of the fitted slope, 0.05 % measured); the circle also against Johnson's
+    ``K = pi nu q0 / (8 G a)`` to 1e-12."""
+    from rollcontact.elliptic.methods.strips import cross_coefficient
+    from rollcontact.halfspace.rolling3d import ellipse_grid, hertz_pressure
+    from rollcontact.halfspace.surface3d import operator_for
+
+    s = scene(6e-3, 6e-3 / ratio)
+    h, nu = s.hertz, s.material.poisson_ratio
+    grid = ellipse_grid(h.a, h.b, 80)
+    q = hertz_pressure(grid, h.a, h.b, 1.0)  # lateral traction of Hertz's shape carrying 1 N
+    ux, _ = operator_for(grid, nu).tangential(np.zeros_like(q), q)
+    x, y = grid.mesh()
+    inner = (x / h.a) ** 2 + (y / h.b) ** 2 < 0.5
+    slope = float(np.sum(ux[inner] * x[inner] * y[inner]) / np.sum((x[inner] * y[inner]) ** 2))  # u_x = K x y
+    expected = -slope / s.shear_modulus  # phi_c per newton of Fy at the scene's G
+    got = cross_coefficient(s)
+    assert abs(got - expected) < 5e-3 * abs(expected), f"phi_c/Fy {got:.6g} vs half-space {expected:.6g} 1/(N m)"
+    if ratio == 1.0:
+        johnson = -math.pi * nu * (3.0 / (2.0 * math.pi * h.a * h.b)) / (8.0 * s.shear_modulus * h.a)  # -K
+        assert abs(got - johnson) < 1e-12 * abs(johnson), f"circle: {got:.12g} vs Johnson {johnson:.12g}"

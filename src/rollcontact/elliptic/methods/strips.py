@@ -187,7 +187,8 @@ def cross_coefficient(scene) -> float:
 
         ``K = -(nu q0 / (2 G)) int_0^{2 pi} (15 cos^2 t sin^2 t - 2) sqrt(cos^2 t / a^2 + sin^2 t / b^2) dt``
 
-    (the circle gives ``pi nu q0 / (8 G a)``, Johnson 1985, eq. 7.43 for two bodies), and the steady slip
+    (the circle gives ``pi nu q0 / (8 G a)``, as Johnson's displacements of a Hertzian tangential traction on a circle
+    do for two bodies: K. L. Johnson, Contact Mechanics, 1985), and the steady slip
     ``s_x = w_x + du_x/dx`` gains ``K y``: a longitudinal creepage ``-phi_c y``, ``phi_c = -K``.  Strip theory has no
     such coupling; with it the lateral force turns the traction of the strips off the y axis by a y-odd amount, which
     gives the moment ``-int y q_x`` that the exact theory finds with lateral creepage."""
