@@ -354,13 +354,13 @@ B there); both tables carry the figures."""
 
 STRIPS_ERROR = 0.03
 """Error [1] of the strips without spin (Fx, Fy over mu Fn, Mz over mu Fn c): against the discretised 3D solver over
-a/b 0.2..5 and creepages up to 9 mu Fn of linear force, 0.010 / 0.008 / 0.026 (the largest: Mz of lateral creepage
+a/b 0.2..5 and creepages up to 9 mu Fn of linear force, 0.009 / 0.008 / 0.026 (the largest: Mz of lateral creepage
 at a/b = 5; ``benchmarks/bench_elliptic_levels.py``, table B)."""
 
 STRIPS_SPIN_ERROR = 0.07
 """Error [1] of the strips with spin beyond ``|psi|`` = :data:`SPIN_ONSET` (the slip directions of the march):
-against the discretised solver (Richardson pair of 60 and 120 elements) up to 0.032 / 0.066 / 0.047 on the cases of
-``benchmarks/bench_elliptic_levels.py`` (table B; Fy worst with deep spin and lateral creepage, where the strips slip
+against the discretised solver up to 0.032 / 0.066 / 0.038 on the cases of ``benchmarks/bench_elliptic_levels.py``
+(table B; Fy worst with deep spin and lateral creepage, where the strips slip
 fully and the march's directions carry the whole force); this bound keeps a margin over it and the reference's own
 error."""
 
@@ -377,8 +377,9 @@ STRIPS_FALLING_COST_PER_STRIP = 5e-4
 class StripsAccuracy(AccuracyModel):
     """Error: :data:`STRIPS_ERROR` without spin, rising to :data:`STRIPS_SPIN_ERROR` with |psi|, both reached from
     the linear limit within ``5 tau`` (tau of :func:`~rollcontact.elliptic.methods.common.linear_ratio`: the forces
-    are exact there, the moment of lateral creepage is strip theory's, off Kalker's C23 by up to 0.02 mu Fn c at
-    tau = 0.15), plus 1 % of tau for the coefficients.  Cost: closed form, march or 2D solves."""
+    are exact there; the moment of lateral creepage is above Kalker's C23 by 14 % at a/b = 5 to 31 % at a/b = 0.2,
+    the cross influence taking Hertz's shape for a lateral traction that is not yet saturated, about 0.07 tau at
+    most), plus 1 % of tau for the coefficients.  Cost: closed form, march or 2D solves."""
 
     floor = STRIPS_COST
 
