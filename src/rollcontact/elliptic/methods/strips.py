@@ -28,7 +28,7 @@ stick edge give ``kappa = X/d``, ``lambda = psi + Y/d``, ``kappa^2 + lambda^2 = 
   strip's own longitudinal creepage, so the march takes it with ``L1`` (as the stick zones take it with ``E_x``),
   ``q_x(x - dx) = q_x(x) + dx (xi - phi y) / L1``; the lateral step is
   ``q_y(x - dx) = q_y(x) + dx (eta / (k L2) + phi x_m / L3)`` with :data:`LATERAL_MARCH_FACTOR` ``k``, a calibrated
-  constant (the one fitted figure of the level, see there).
+  constant (see there).
 
 Two effects of the half-space that strip theory leaves out are added:
 
