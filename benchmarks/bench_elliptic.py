@@ -16,6 +16,8 @@ Forces are over mu Fn, the moment over mu Fn c (c = sqrt(ab)).
   N = 15, 30, 60, 120, and the error of the Richardson pair ``2 F(60) - F(30)``.
 * B. Each level of the elliptic dispatcher against the same reference, when the package is importable.
 * C. Falling friction (Polach's exponential law) on the Eurosprinter's contact: strips vs discretised.
+* D. ``solve_elliptic(scene, tolerance=t)`` over the matrix: the settings auto picks, whether they meet t, their time
+  (the 3D levels' speed-accuracy front, the plot's middle panel).
 """
 
 import argparse
@@ -193,6 +195,8 @@ def levels():
     out = [(name, name, {}) for name in sorted(ELLIPTIC_METHODS) if name != "discretised"]
     out += [("discretised 20", "discretised", {"elements": 20, "extrapolate": False}),
             ("discretised 60", "discretised", {"elements": 60, "extrapolate": False}),
+            ("discretised 8/16 pair", "discretised", {"elements": 16, "extrapolate": True}),
+            ("discretised 16/32 pair", "discretised", {"elements": 32, "extrapolate": True}),
             ("discretised 30/60 pair", "discretised", {"elements": 60, "extrapolate": True})]
     return out
 
@@ -236,7 +240,41 @@ def part_b(matrix, reference):
         for ratio in sorted({r for r, _ in errors}):
             cells = [f"{errors[(ratio, k)].max():.4f}" if (ratio, k) in errors else "-" for k in kinds]
             lines.append(f"| {label} | {ratio:g} | " + " | ".join(cells) + " |")
-    return lines + [""], table
+    return lines + [""], table, {label: (float(worst[label].max()), timing[label]) for label in table}
+
+
+TOLERANCES = (0.1, 0.05, 0.03, 0.01, 0.005)
+
+
+def part_d(matrix, reference):
+    """``solve_elliptic(scene, tolerance=t)`` over the matrix: what auto chooses, whether it meets t, its time."""
+    from collections import Counter
+
+    from rollcontact.elliptic.dispatch import solve_elliptic
+
+    rows, points = [], []
+    for tolerance in TOLERANCES:
+        chosen, errors, times = Counter(), [], []
+        for name, ratio, creepages in matrix:
+            scene = scene_of(ratio, creepages)
+            result = solve_elliptic(scene, tolerance=tolerance)
+            t0 = time.perf_counter()
+            solve_elliptic(scene, tolerance=tolerance)
+            times.append(time.perf_counter() - t0)
+            errors.append(float(np.abs(np.subtract(result.force_coefficients,
+                                                   reference[f"{ratio:g} {name}"])).max()))
+            setting = result.info.get("setting") or {}
+            detail = f" {setting.get('elements')}{' pair' if setting.get('extrapolate') else ''}" if setting else ""
+            chosen[result.method + detail] += 1
+        met = sum(e <= tolerance for e in errors)
+        points.append((tolerance, float(np.median(times)), max(errors)))
+        rows.append(f"| {tolerance:g} | {met} / {len(errors)} | {max(errors):.4f} | {1e3 * np.median(times):.2f} | "
+                    + ", ".join(f"{k} ({v})" for k, v in chosen.most_common()) + " |")
+        print(rows[-1], flush=True)
+    return ["## D. auto with a tolerance", "",
+            "``solve_elliptic(scene, tolerance=t)`` on every case of the matrix: the cases whose error against the "
+            "reference meets t, the largest error, the median time per case and the settings chosen (with counts).",
+            "", "| t | met | largest error | median time [ms] | chosen |", "|---|---|---|---|---|", *rows, ""], points
 
 
 EUROSPRINTER = {"a": 6.3e-3, "b": 12.6e-3, "load": 106.7e3, "speed": 10.0}
@@ -254,7 +292,7 @@ def part_c(quick):
     creeps = (0.001, 0.003, 0.006) if quick else (0.0005, 0.001, 0.002, 0.003, 0.005, 0.0075, 0.01, 0.02, 0.04,
                                                   0.08)
     e = EUROSPRINTER
-    rows, gaps, curve = [], [], []
+    rows, gaps, curve, strip_curve = [], [], [], []
     for creep in creeps:
         scene = EllipticScene.from_semi_axes(e["load"], e["a"], e["b"], friction=law, rolling_speed=e["speed"],
                                              longitudinal_creepage=creep)
@@ -262,6 +300,7 @@ def part_c(quick):
         cells = [f"{reference.force_coefficients[0]:.4f}"]
         if "strips" in ELLIPTIC_METHODS:
             strips = solve_elliptic(scene, "strips")
+            strip_curve.append(strips.force_coefficients[0])
             gaps.append(abs(strips.force_coefficients[0] - reference.force_coefficients[0]))
             cells += [f"{strips.force_coefficients[0]:.4f}", f"{gaps[-1]:.4f}"]
         else:
@@ -276,16 +315,27 @@ def part_c(quick):
              f"curve peaks at xi = {creeps[peak]:g} and falls to {curve[-1] / curve[peak]:.3f} of the peak at "
              f"xi = {creeps[-1]:g}." + (f"  Largest strips - discretised gap: {max(gaps):.4f}." if gaps else ""),
              "", "| xi | discretised pair | strips | gap |", "|---|---|---|---|", *rows, ""]
-    return lines, creeps, curve
+    return lines, creeps, (curve, strip_curve)
 
 
-def plot(table, creeps, curve):
+def plot(table, creeps, curves, fronts, autos):
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, (left, middle, right) = plt.subplots(1, 3, figsize=(16, 4.4))
+    for label, (error, seconds) in fronts.items():
+        middle.loglog(seconds * 1e3, error, "o")
+        middle.annotate(label, (seconds * 1e3, error), fontsize=7, xytext=(4, 2), textcoords="offset points")
+    middle.loglog([1e3 * t for _, t, _ in autos], [e for _, _, e in autos], "k^-", label="auto(tolerance)")
+    for tolerance, seconds, error in autos:
+        middle.annotate(f"t={tolerance:g}", (seconds * 1e3, error), fontsize=7, xytext=(4, -9),
+                        textcoords="offset points")
+    middle.set_xlabel("median time per case [ms]")
+    middle.set_ylabel("largest error over the matrix")
+    middle.set_title("speed and accuracy of the 3D levels")
+    middle.legend(fontsize=7)
     for label, errors in table.items():
         ratios = sorted({r for r, _ in errors})
         worst = [max(errors[(r, k)].max() for rr, k in errors if rr == r) for r in ratios]
@@ -298,10 +348,13 @@ def plot(table, creeps, curve):
     left.set_ylabel("largest error (Fx, Fy / mu Fn; Mz / mu Fn c)")
     left.set_title("levels against the converged discretised solution")
     left.legend(fontsize=7)
-    right.semilogx(creeps, curve, "o-")
+    right.semilogx(creeps, curves[0], "ko-", label="discretised 30/60 pair")
+    if curves[1]:
+        right.semilogx(creeps, curves[1], "C2s--", label="strips")
+    right.legend(fontsize=8)
     right.set_xlabel("longitudinal creepage xi")
     right.set_ylabel("Fx / (mu_s Fn)")
-    right.set_title("Eurosprinter, Polach's falling friction (discretised)")
+    right.set_title("Eurosprinter, Polach's falling friction")
     fig.tight_layout()
     fig.savefig(common.RESULTS / "bench_elliptic.png", dpi=110)
 
@@ -327,14 +380,15 @@ def main():
         if not args.quick:
             stored.write_text(json.dumps(reference, indent=1) + "\n")
     lines_cost = part_cost(matrix, args.quick)
-    lines_b, table = part_b(matrix, reference)
-    lines_c, creeps, curve = part_c(args.quick)
+    lines_b, table, fronts = part_b(matrix, reference)
+    lines_d, autos = part_d(matrix, reference)
+    lines_c, creeps, curves = part_c(args.quick)
     lines = ["# Elliptic (3D) contact: levels against the converged discretised solution", "",
              *common.machine(load), "", f"Case matrix of {len(matrix)} cases (module docstring); study took "
-             f"{time.perf_counter() - started:.0f} s.", "", *lines_a, *lines_cost, *lines_b, *lines_c]
+             f"{time.perf_counter() - started:.0f} s.", "", *lines_a, *lines_cost, *lines_b, *lines_d, *lines_c]
     common.publish(lines, "bench_elliptic.md", args.quick)
     if not args.quick:
-        plot(table, creeps, curve)
+        plot(table, creeps, curves, fronts, autos)
 
 
 if __name__ == "__main__":

@@ -73,6 +73,11 @@ def creepage_coefficients(aspect_ratio: float, poisson_ratio: float) -> Creepage
     g = check_real("aspect ratio a/b", aspect_ratio, lower=low, upper=high, unit="(Kalker's table)")
     nu = check_real("poisson_ratio", poisson_ratio, lower=creep_table.POISSON_RATIOS[0],
                     upper=creep_table.POISSON_RATIOS[-1])
+    return interpolated(g, nu)
+
+
+@lru_cache(maxsize=1024)
+def interpolated(g: float, nu: float) -> CreepageCoefficients:
+    """The coefficients at checked a/b and nu (cached: a vehicle model asks for the same contacts every step)."""
     log_g = math.log(g)
-    values = [math.nan if s is None else math.exp(float(s(log_g))) for s in splines(nu)]
-    return CreepageCoefficients(*values)
+    return CreepageCoefficients(*(math.nan if s is None else math.exp(float(s(log_g))) for s in splines(nu)))

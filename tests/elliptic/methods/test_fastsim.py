@@ -98,3 +98,21 @@ def test_velocity_dependent_friction_and_bad_options_are_refused():
         solve_elliptic(scene(longitudinal_creepage=1e-3), "fastsim", bound="square")
     with pytest.raises(ValueError, match="nx"):
         solve_elliptic(scene(longitudinal_creepage=1e-3), "fastsim", nx=1)
+
+
+def test_blended_flexibilities_are_kalkers_in_the_linear_range_and_one_at_large_creepage():
+    """Vollebregt & Voltr (2023): weight 0 below the characteristic creepage's scale, 1 from three times it on."""
+    from rollcontact.elliptic.creep_coefficients import creepage_coefficients
+    from rollcontact.elliptic.methods.fastsim import blended_flexibilities, flexibilities
+
+    s = scene(longitudinal_creepage=1e-9, lateral_creepage=2e-9, spin_creepage=0.1)
+    c = creepage_coefficients(s.hertz.aspect_ratio, s.material.poisson_ratio)
+    for blended, kalker in zip(blended_flexibilities(s, c), flexibilities(s, c), strict=True):
+        assert math.isclose(blended, kalker, rel_tol=1e-5), "tiny creepage: Kalker's three flexibilities"
+    large = s.replace(longitudinal_creepage=0.05, lateral_creepage=0.02)
+    values = blended_flexibilities(large, c)
+    assert values[0] == values[1] == values[2], f"large creepage: one flexibility, got {values}"
+    low, high = min(flexibilities(large, c)), max(flexibilities(large, c))
+    assert low <= values[0] <= high, "the single flexibility is a weighted mean of Kalker's"
+    with pytest.raises(ValueError, match="flexibility"):
+        solve_elliptic(s, "fastsim", flexibility="one")

@@ -3,7 +3,9 @@ the simplified theory of rolling contact", Vehicle System Dynamics 11) with an e
 
 Simplified theory: the surface displacement difference is ``u = L q`` with one flexibility per creepage,
 ``L1 = 8a / (3 C11 G)``, ``L2 = 8a / (3 C22 G)``, ``L3 = pi a sqrt(a/b) / (4 C23 G)`` (chosen so that the linear
-theory's Fx, Fy from xi, eta, phi is reproduced exactly).  Material enters the ellipse at the leading edge
+theory's Fx, Fy from xi, eta, phi is reproduced exactly), by default blended towards one flexibility at large
+creepage (Vollebregt & Voltr, "Improved accuracy for FASTSIM using one or three flexibility values", Vehicle System
+Dynamics 61, 2023; :func:`blended_flexibilities`).  Material enters the ellipse at the leading edge
 ``x = a(y) = a sqrt(1 - y^2/b^2)`` traction-free and moves towards -x; in stick the slip
 ``s = w - du/dx`` (a particle's displacement grows with the rigid slip it meets) vanishes, so along each strip
 
@@ -39,8 +41,34 @@ def flexibilities(scene, c) -> tuple[float, float, float]:
     return 8.0 * a / (3.0 * c.c11 * g), 8.0 * a / (3.0 * c.c22 * g), math.pi * a * math.sqrt(a / b) / (4.0 * c.c23 * g)
 
 
-def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic", fields: bool = False
-                  ) -> EllipticResult:
+def blended_flexibilities(scene, c) -> tuple[float, float, float]:
+    """Kalker's flexibilities blended towards one flexibility at large creepage (Vollebregt & Voltr 2023).
+
+    ``L_i' = (1 - w) L_i + w L``, with the creepage-weighted ``L = (xi^2 + eta^2 + (phi f)^2) / (xi^2/L1 + eta^2/L2 +
+    (phi f)^2/L3)``, ``f = (pi a^2/4) / (8a/3)``, and ``w = min(1, r/3)`` of the creepage in units of its
+    characteristic value, ``r = sqrt((xi^2 + eta^2) / (xi_c^2 + eta_c^2))``, ``xi_c = mu Fn / (G c^2 C11)``,
+    ``eta_c = mu Fn / (G c^2 C22)``: Kalker's three in the linear range, one flexibility from three times the
+    characteristic creepage on.
+    """
+    l1, l2, l3 = flexibilities(scene, c)
+    xi, eta, phi = scene.creepages
+    h = scene.hertz
+    spin = phi * (math.pi * h.a * h.a / 4.0) / (8.0 * h.a / 3.0)
+    denominator = xi * xi / l1 + eta * eta / l2 + spin * spin / l3
+    if denominator == 0.0:
+        return l1, l2, l3
+    single = (xi * xi + eta * eta + spin * spin) / denominator
+    scale = scene.friction_coefficient * scene.normal_load / (scene.shear_modulus * h.c * h.c)
+    characteristic = math.hypot(scale / c.c11, scale / c.c22)
+    weight = min(1.0, math.hypot(xi, eta) / characteristic / 3.0) if characteristic > 0.0 else 1.0
+    return tuple((1.0 - weight) * flex + weight * single for flex in (l1, l2, l3))
+
+
+FLEXIBILITIES = {"blended": blended_flexibilities, "kalker": flexibilities}
+
+
+def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic", flexibility: str = "blended",
+                  fields: bool = False) -> EllipticResult:
     """FASTSIM on ``ny`` strips of ``nx`` steps each (module docstring).
 
     Parameters
@@ -51,6 +79,9 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
         Steps along each strip and number of strips (>= 2).
     bound : {"elliptic", "parabolic"}
         The traction bound.
+    flexibility : {"blended", "kalker"}
+        Kalker's three flexibilities blended towards one at large creepage (:func:`blended_flexibilities`), or
+        Kalker's three alone.
     fields : bool
         Return the tractions on the grid nodes (``result.fields``).
 
@@ -66,11 +97,13 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
     ny = int(check_real("ny", ny, lower=2))
     if bound not in BOUNDS:
         raise ValueError(f"bound = {bound!r} is not one of {BOUNDS}")
+    if flexibility not in FLEXIBILITIES:
+        raise ValueError(f"flexibility = {flexibility!r} is not one of {tuple(FLEXIBILITIES)}")
     if scene.normal_load == 0.0:
         return no_load(scene, "fastsim")
     h = scene.hertz
     mu = scene.friction_coefficient
-    l1, l2, l3 = flexibilities(scene, coefficients(scene))
+    l1, l2, l3 = FLEXIBILITIES[flexibility](scene, coefficients(scene))
     xi, eta, phi = scene.creepages
     dy = 2.0 * h.b / ny
     y = -h.b + dy * (np.arange(ny) + 0.5)
@@ -102,11 +135,12 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
     if fields:
         field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), (limit / mu).T.copy(), qx.T.copy(),
                               qy.T.copy(), stick.T.copy())
-    return EllipticResult.from_scene(scene, "fastsim", True, f"FASTSIM ({bound} bound, {nx} x {ny})", (fx, fy, mz),
+    return EllipticResult.from_scene(scene, "fastsim", True, f"FASTSIM ({bound} bound, {flexibility} flexibilities, "
+                                     f"{nx} x {ny})", (fx, fy, mz),
                                      field, {"flexibilities": (l1, l2, l3), "stick_fraction": float(stick.mean())})
 
 
-solve_fastsim.options = ("nx", "ny", "bound", "fields")
+solve_fastsim.options = ("nx", "ny", "bound", "flexibility", "fields")
 
 
 def inapplicable(scene) -> str | None:
@@ -122,8 +156,9 @@ def inapplicable(scene) -> str | None:
 FASTSIM_THEORY_ERROR = 0.1
 """Largest error [1] of the simplified theory against the exact one over mu Fn (mu Fn c for Mz) between the linear
 range and saturation: against the discretised 3D solver over a/b 0.2..5, pure and combined creepages up to 9 mu Fn of
-linear force and spin, this FASTSIM (elliptic bound, 100 x 100) misses by up to 0.075 / 0.096 / 0.065 (Fx / Fy / Mz;
-``benchmarks/bench_elliptic_levels.py``, table B); the field's FASTSIM by up to 0.037 / 0.081 / 0.047 on the issue's
+linear force and spin, this FASTSIM (elliptic bound, blended flexibilities, 40 x 40) misses by up to
+0.027 / 0.085 / 0.047 (Fx / Fy / Mz; ``benchmarks/bench_elliptic_levels.py``, table B; with Kalker's three
+flexibilities alone 0.075 / 0.096 / 0.065); the field's FASTSIM by up to 0.037 / 0.081 / 0.047 on the issue's
 matrix."""
 
 FASTSIM_GRID_ERROR = 0.5

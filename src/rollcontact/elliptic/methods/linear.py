@@ -23,7 +23,7 @@ LINEAR_MARGIN = 2.5
 away from the linear theory faster than the cubic; against the discretised 3D solver the excess times 2.5 bounds the
 linear theory's error over a/b 0.2..5 (``benchmarks/bench_elliptic_levels.py``, table B)."""
 
-LINEAR_COST = 2.6e-5
+LINEAR_COST = 6e-6
 """Modelled time of one solve [s] (``benchmarks/bench_elliptic_levels.py``, results/bench_elliptic_levels.md)."""
 
 

@@ -23,12 +23,11 @@ stick edge give ``kappa = X/d``, ``lambda = psi + Y/d``, ``kappa^2 + lambda^2 = 
   ``Fy(y) = (mu p0/a) (pi/2) (lambda a(y)^2 - (lambda - psi) a*^2)``,
   ``int x q_y dx = -(mu p0/a) (pi/2) (lambda - psi) d a*^2``;
 * with spin the direction turns along the strip; it is taken from the simplified theory (a FASTSIM march with the
-  elliptic bound, :mod:`.fastsim`), as FaStrip does, and the strip's tractions are summed over ``steps`` cells.  The
-  march's flexibilities follow the strips, not Kalker's three: the longitudinal slip of spin, ``-phi y``, is the
-  strip's own longitudinal creepage, so the march takes it with ``L1`` (as the stick zones take it with ``E_x``),
-  ``q_x(x - dx) = q_x(x) + dx (xi - phi y) / L1``; the lateral step is
-  ``q_y(x - dx) = q_y(x) + dx (eta / (k L2) + phi x_m / L3)`` with :data:`LATERAL_MARCH_FACTOR` ``k``, a calibrated
-  constant (see there).
+  elliptic bound and Vollebregt & Voltr's blended flexibilities ``L1, L2, L3``, :func:`.fastsim.blended_flexibilities`),
+  as FaStrip does, and the strip's tractions are summed over ``steps`` cells.  The longitudinal slip of spin,
+  ``-phi y``, is the strip's own longitudinal creepage, so the march takes it with ``L1`` (as the stick zones take it
+  with ``E_x``), not with FASTSIM's ``L3``: ``q_x(x - dx) = q_x(x) + dx (xi - phi y) / L1``,
+  ``q_y(x - dx) = q_y(x) + dx (eta / L2 + phi x_m / L3)``.
 
 Two effects of the half-space that strip theory leaves out are added:
 
@@ -59,9 +58,8 @@ import numpy as np
 
 from rollcontact.checks import check_real
 from rollcontact.dispatch import solve as solve_2d
-from rollcontact.elliptic.creep_coefficients import creepage_coefficients
-from rollcontact.elliptic.methods.common import linear_ratio, no_load, outside_table
-from rollcontact.elliptic.methods.fastsim import flexibilities
+from rollcontact.elliptic.methods.common import coefficients, linear_ratio, no_load, outside_table
+from rollcontact.elliptic.methods.fastsim import blended_flexibilities
 from rollcontact.elliptic.result import EllipticResult, TractionField
 from rollcontact.method import AccuracyModel, MethodSpec
 from rollcontact.scene import Material, Scene
@@ -78,17 +76,6 @@ def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     u, w = np.polynomial.legendre.leggauss(n)
     theta = 0.5 * math.pi * u
     return np.sin(theta), 0.5 * math.pi * np.cos(theta) * w
-
-
-@lru_cache(maxsize=8)
-def _coefficients(ratio: float, nu: float):
-    return creepage_coefficients(ratio, nu)
-
-
-def coefficients(scene):
-    """Kalker's C11, C22, C23, C33 of the scene (:func:`~rollcontact.elliptic.creep_coefficients.creepage_coefficients`,
-    remembered for the last few (a/b, nu): the solve and its error estimate ask for the same)."""
-    return _coefficients(scene.hertz.aspect_ratio, scene.material.poisson_ratio)
 
 
 class StripModel:
@@ -256,8 +243,7 @@ def marched(scene, model: StripModel, steps: int, d, kappa, lam, partial, phi_c:
     zones.  Returns the forces and, with ``fields``, the traction field (else None)."""
     h = scene.hertz
     xi, eta, phi = scene.creepages
-    l1, l2, l3 = flexibilities(scene, model.coefficients)
-    l2 *= LATERAL_MARCH_FACTOR
+    l1, l2, l3 = blended_flexibilities(scene, model.coefficients)
     y, half = model.y, model.half
     dx = 2.0 * half / steps
     x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
@@ -344,13 +330,6 @@ Calibrated, not derived: of s = 0.3, 0.5, 0.8, 1.2, 2, 3, 5, s = 3 keeps Fx and 
 discretised solver on the cases of ``benchmarks/bench_elliptic_levels.py`` (table B, the calibration set: within
 0.010 mu Fn) and on the disjoint matrix of ``benchmarks/bench_elliptic.py`` (the validation set: also 0.010); the
 strips without it miss by up to 0.023."""
-
-LATERAL_MARCH_FACTOR = 0.8
-"""``k`` [1]: the march's flexibility of lateral creepage is ``k L2``.  Calibrated, not derived: of k = 0.8, 0.9, 1
-(with ``L1`` for the longitudinal slip of spin), 0.8 gives the smallest largest error of Fy with spin against the
-discretised solver on the cases of ``benchmarks/bench_elliptic_levels.py`` (the calibration set, table B) and also
-on the disjoint matrix of ``benchmarks/bench_elliptic.py`` (0.05..3 saturation creepages, the validation set, table
-B there); both tables carry the figures."""
 
 STRIPS_ERROR = 0.03
 """Error [1] of the strips without spin (Fx, Fy over mu Fn, Mz over mu Fn c): against the discretised 3D solver over
