@@ -338,9 +338,9 @@ at a/b = 5; ``benchmarks/bench_elliptic_levels.py``, table B)."""
 
 STRIPS_SPIN_ERROR = 0.07
 """Error [1] of the strips with spin beyond ``|psi|`` = :data:`SPIN_ONSET` (the slip directions of the march):
-against the discretised solver up to 0.032 / 0.066 / 0.038 on the cases of ``benchmarks/bench_elliptic_levels.py``
-(table B; Fy worst with deep spin and lateral creepage, where the strips slip fully and the march's directions carry
-the whole force); this bound keeps a margin over it and the reference's own error."""
+against the discretised solver up to 0.042 / 0.058 / 0.029 on the cases of ``benchmarks/bench_elliptic_levels.py``
+(table B; Fy worst with deep spin, alone or with lateral creepage, where the strips slip fully and the march's
+directions carry the whole force); this bound keeps a margin over it and the reference's own error."""
 
 SPIN_ONSET = 0.5
 """``|psi|`` up to which the spin's error grows linearly from :data:`STRIPS_ERROR` to :data:`STRIPS_SPIN_ERROR`."""
