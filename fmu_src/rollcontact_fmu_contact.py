@@ -30,7 +30,7 @@ from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_xml import TableSlave
+from rollcontact_fmu_xml import FRICTION_LAW_ITEMS, TableSlave, integer_coded
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.scene import Scene, scene_toml
@@ -136,11 +136,7 @@ ENUMERATIONS = {
                           (1, "closed_form", "Hertz and Carter: flat surface, Coulomb friction"),
                           (2, "polynomial", "the polynomial method"),
                           (3, "discretised", "the discretised (boundary-element) method"))),
-    "friction_law": ("FrictionLaw", ((0, "coulomb", "constant mu"),
-                                     (1, "exponential_falling", "mu [(1 - A) exp(-B v) + A]"),
-                                     (2, "rational_falling", "A mu + (1 - A) mu / (1 + v / v_ref)"),
-                                     (3, "linear_falling", "max(A mu, mu - c v)"),
-                                     (4, "tabulated", "piecewise linear through friction_table"))),
+    "friction_law": ("FrictionLaw", FRICTION_LAW_ITEMS),
     "transient": ("TransientMode", ((0, "quasi_static", "every step steady"),
                                     (1, "auto", "instationary while the inputs vary fast"),
                                     (2, "always", "every loaded step instationary"))),
@@ -240,9 +236,7 @@ class RollingContact2D(TableSlave):
     license = "MIT"
     version = ROLLCONTACT_VERSION
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
-    VARIABLES = VARIABLES if not INTEGER_CODES else tuple(
-        (*row[:8], f"{row[8].split(' (')[0]}: " + ", ".join(f"{v} {item}" for v, item, _ in ENUMERATIONS[row[0]][1]))
-        if row[0] in ENUMERATIONS else row for row in VARIABLES)
+    VARIABLES = integer_coded(VARIABLES, ENUMERATIONS) if INTEGER_CODES else VARIABLES
     ENUMERATIONS = {} if INTEGER_CODES else ENUMERATIONS
 
     def new_model(self, values: dict):

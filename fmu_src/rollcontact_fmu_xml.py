@@ -79,6 +79,23 @@ TOLD_LIMIT = 256
 INT32 = (-(2**31), 2**31 - 1)
 
 
+FRICTION_LAW_ITEMS = ((0, "coulomb", "constant mu"),
+                      (1, "exponential_falling", "mu [(1 - A) exp(-B v) + A]"),
+                      (2, "rational_falling", "A mu + (1 - A) mu / (1 + v / v_ref)"),
+                      (3, "linear_falling", "max(A mu, mu - c v)"),
+                      (4, "tabulated", "piecewise linear through friction_table"))
+"""Items of the contact FMUs' FrictionLaw enumeration: the codes of ``rollcontact.stepping.parameters.FRICTION_LAWS``
+(one law of the same codes in the 2D and the elliptic contact)."""
+
+
+def integer_coded(variables, enumerations: dict) -> tuple:
+    """The variable table with each enumeration's variable as a plain Integer whose description lists its codes
+    (``build_fmu.py --integer-codes``, for hosts without FMI enumerations such as libcosim)."""
+    return tuple((*row[:8], f"{row[8].split(' (')[0]}: " + ", ".join(f"{v} {item}"
+                                                                       for v, item, _ in enumerations[row[0]][1]))
+                 if row[0] in enumerations else row for row in variables)
+
+
 def printf_safe(message: str) -> str:
     """The message as a literal printf format (pythonfmu's C side formats log messages)."""
     return message.replace("%", "%%")
