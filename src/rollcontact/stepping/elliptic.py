@@ -24,6 +24,11 @@ fall with saturation); with ``jacobian`` = 1 forward differences of the step's o
 contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation value (``mu Fn`` over the linear
 slope), each within the step budget.
 
+Contacts together: with ``method`` = linear (and no tolerance) the step is one numpy evaluation over the contacts
+(:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse` and the linear level
+take for one contact, so each contact's outputs are bit for bit those of :func:`rollcontact.solve_elliptic`; the
+other levels solve the contacts one after another through it.
+
 Frictional power: ``V (xi Fx + eta Fy + phi Mz)`` [W], the power the creepages put into the contact (the rigid slip
 velocities times the forces on the rail), which steady rolling dissipates by slip.
 """
@@ -34,9 +39,12 @@ import math
 from dataclasses import dataclass, fields
 from typing import NamedTuple
 
+import numpy as np
+
 from rollcontact.checks import SceneError, check_real
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS, solve_elliptic
+from rollcontact.elliptic.hertz import differences, eccentricity
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.scene import Material
 from rollcontact.stepping.parameters import (
@@ -284,6 +292,9 @@ class EllipticModel:
         problems = [why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None]
         if problems:
             raise ModelError("; ".join(problems))
+        self.batch = LinearContacts(self) if self.method == "linear" and self.tolerance is None and \
+            self.linear_fits_budget() else None
+        """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
         self.notices: tuple[str, ...] = ()
         """Messages worth showing once at initialisation (none: every parameter is used)."""
         self.messages: list[str] = []
@@ -293,6 +304,13 @@ class EllipticModel:
     @property
     def contacts(self) -> int:
         return self.parameters.contacts
+
+    def linear_fits_budget(self) -> bool:
+        """Whether the linear level's modelled cost fits the step budget (else each contact's solve refuses)."""
+        spec = ELLIPTIC_METHODS["linear"]
+        A, B = self.curvatures[0]
+        return self.budget is None or spec.accuracy is None or spec.accuracy.cost(
+            EllipticScene(1.0, A, B, material=self.material, friction=self.friction), {}) <= self.budget
 
     def label(self, k: int) -> str:
         """``"contact k: "`` (k from 1) with several contacts, else ``""``: the prefix of a contact's messages."""
@@ -367,13 +385,22 @@ class EllipticModel:
             Invalid inputs (every one named, with its contact), time going backwards, or a contact no allowed
             method solves within the budget.  The state is then unchanged.
         """
-        problems = self.input_problems(current_time, step_size, inputs)
-        if problems:
-            raise ModelError("; ".join(problems))
+        try:
+            values = np.array(inputs, dtype=float)
+        except (TypeError, ValueError):
+            values = None
+        if values is None or values.shape != (self.contacts, len(INPUTS)) or not (
+                np.isfinite(values).all() and (values[:, 0] >= 0.0).all() and (values[:, 4] >= 0.0).all()
+                and 0.0 < step_size < math.inf and -math.inf < current_time < math.inf):
+            raise ModelError("; ".join(self.input_problems(current_time, step_size, inputs)) or
+                             f"invalid step inputs {inputs!r}")
         if current_time < self.state.time:
             raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
                              f"{self.state.time!r} s; restore a saved state to step from an earlier time")
-        outputs = tuple(self.contact_step(k, *(float(v) for v in row)) for k, row in enumerate(inputs))
+        if self.batch is not None:
+            outputs = self.batch.step(values)
+        else:
+            outputs = tuple(self.contact_step(k, *(float(v) for v in row)) for k, row in enumerate(inputs))
         self.state.time = float(current_time)
         self.state.steps += 1
         return outputs
@@ -461,6 +488,65 @@ class EllipticModel:
             values = (shifted.longitudinal_force, shifted.lateral_force, shifted.spin_moment)
             columns.append([(values[i] - forces[i]) / delta for i in range(3)])
         return tuple(columns[j][i] for i in range(3) for j in range(3))
+
+
+class LinearContacts:
+    """Kalker's linear theory for every contact of a model at once (numpy over the contacts).
+
+    What depends on the curvatures alone (Hertz's eccentricity and elliptic integrals, the orientation, Kalker's
+    coefficients at a/b) is taken once from the library's own functions; each step evaluates, per contact, the
+    expressions of :func:`rollcontact.elliptic.hertz_ellipse` (``alpha^3 = 3 Fn (K - E)/e^2 / (2 pi E* A_major)``,
+    ``beta = g alpha``, ``p0 = A_major E* alpha / (g (K - E)/e^2)``), of the linear level
+    (:func:`rollcontact.elliptic.methods.common.linear_forces`) and of :meth:`EllipticModel.linear_slopes`, operation
+    for operation, so that the outputs equal the single-contact path's bit for bit.  The cube root is the C
+    library's ``pow`` per contact (numpy's vectorised power may differ in the last bit).
+    """
+
+    def __init__(self, model: EllipticModel):
+        estar = model.material.contact_modulus
+        nu = model.material.poisson_ratio
+        rows = []
+        for A, B in model.curvatures:
+            major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
+            m = eccentricity(minor_curvature / major_curvature)
+            major, _, _ = differences(m)
+            g = math.sqrt(1.0 - m)
+            c = creepage_coefficients(g if A > B else 1.0 / g, nu)
+            rows.append((major, 2.0 * math.pi * estar * major_curvature, g, major_curvature * estar, A <= B,
+                         c.c11, c.c22, c.c23, c.c33))
+        columns = list(zip(*rows, strict=True))
+        self.major, self.denominator, self.g, self.pressure_scale = (np.array(columns[i]) for i in range(4))
+        self.g_major = self.g * self.major
+        self.along_x = np.array(columns[4])
+        self.c11, self.c22, self.c23, self.c33 = (np.array(columns[i]) for i in range(5, 9))
+        self.shear_modulus = model.material.youngs_modulus / (2.0 * (1.0 + nu))
+
+    def step(self, inputs: np.ndarray) -> tuple[EllipticOutputs, ...]:
+        """The outputs of every contact for its checked inputs (an array of rows as :meth:`EllipticModel.step`'s).
+        At Fn = 0 the expressions give alpha = 0 and p0 = 0, as ``hertz_ellipse``'s; the row is then :data:`ZERO`."""
+        fn, xi, eta, phi, velocity = inputs.T
+        ratio = 3.0 * fn * self.major / self.denominator
+        alpha = np.array([value ** (1.0 / 3.0) for value in ratio.tolist()])
+        beta = self.g * alpha
+        p0 = self.pressure_scale * alpha / self.g_major
+        a = np.where(self.along_x, alpha, beta)
+        b = np.where(self.along_x, beta, alpha)
+        length = np.sqrt(a * b)
+        g = self.shear_modulus
+        area = length * length
+        fx = g * area * self.c11 * xi
+        fy = g * area * (self.c22 * eta + length * self.c23 * phi)
+        mz = g * area * length * (-self.c23 * eta + np.where(phi != 0.0, length * self.c33 * phi, 0.0))
+        slope = g * length * length
+        lever = slope * length
+        cross = lever * self.c23
+        power = velocity * (xi * fx + eta * fy + phi * mz)
+        zero = np.zeros_like(fx)
+        columns = (fx, fy, mz, a, b, p0, np.full_like(fx, NO_STICK), power, slope * self.c11, zero, zero, zero,
+                   slope * self.c22, cross, zero, -cross, lever * length * self.c33)
+        code = METHOD_CODES["linear"]
+        return tuple(EllipticOutputs(*row, code) if load > 0.0 else ZERO
+                     for row, load in zip(zip(*(c.tolist() for c in columns), strict=True), fn.tolist(), strict=True))
 
 
 INPUTS = (("normal_load", "N", 0.0), ("longitudinal_creep", "", None), ("lateral_creep", "", None),
