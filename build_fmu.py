@@ -57,6 +57,9 @@ FMUS3 = {  # model name -> (FMI 3.0 entry module, bundled packages and modules b
 }
 CONTACT3D = "RollingContact3D"
 """The FMU built in variants (:func:`build_variant`): n contacts, enumerations or integer codes."""
+VARIANT_SLAVES = {"RollingContact2D": "rollcontact_fmu_contact", CONTACT3D: "rollcontact_fmu_contact3d"}
+"""The contact FMUs built in variants (``--contacts``) -> their slave module (with ``declaration`` and
+``slave_class``)."""
 DEFAULT_VARIANT = "contacts=1, integer_codes=False"
 """The arguments of ``slave_class`` in the elliptic contact FMU's entry modules, which a variant build replaces."""
 FMI_VERSIONS = (2, 3)
@@ -95,49 +98,54 @@ def build_model(model: str, dest: Path | str = ROOT / "models", integer_codes: b
     return pack(slave, packages, dest)
 
 
-def variant_name(contacts: int) -> str:
-    """Model name of the contact FMU with ``contacts`` contacts: ``RollingContact3D``, else ``RollingContact3D_n``."""
-    return CONTACT3D if contacts == 1 else f"{CONTACT3D}_{contacts}"
+def variant_name(contacts: int, model: str = CONTACT3D) -> str:
+    """Model name of the contact FMU ``model`` with ``contacts`` contacts: ``model``, else ``model_n``."""
+    return model if contacts == 1 else f"{model}_{contacts}"
 
 
-def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = False, fmi: int = 2) -> Path:
-    """Build the elliptic contact FMU with ``contacts`` contacts into ``dest``; its path.
+def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = False, fmi: int = 2,
+                  model: str = CONTACT3D) -> Path:
+    """Build the contact FMU ``model`` (a key of :data:`VARIANT_SLAVES`) with ``contacts`` contacts into ``dest``;
+    its path.
 
-    The entry module is the FMU's own (``fmu_src/contact3d_slave.py``, ``fmu_src/fmi3_contact3d_slave.py``) with the
-    variant's model name in place of ``RollingContact3D`` and its arguments in the call of
-    ``rollcontact_fmu_contact3d.slave_class``, in a module named after the variant (a host may load several).
+    The entry module is the elliptic contact's (``fmu_src/contact3d_slave.py``, ``fmu_src/fmi3_contact3d_slave.py``)
+    with the variant's slave module, model name and ``slave_class`` arguments in place of the elliptic
+    single-contact FMU's, in a module named after the variant (a host may load several variants: pythonfmu3 imports
+    an entry module once per process).  The single-contact RollingContact2D is its own build (:func:`build_model`).
     Integer codes are an FMI 2.0 build (for libcosim).
     """
     if isinstance(contacts, bool) or not isinstance(contacts, int) or not 1 <= contacts <= MAX_CONTACTS:
         raise ValueError(f"contacts = {contacts!r} must be a whole number from 1 to {MAX_CONTACTS}")
     if integer_codes and fmi == 3:
         raise ValueError("--integer-codes is an FMI 2.0 build (for libcosim); FMI 3.0 declares enumerations")
-    name = variant_name(contacts)
+    if model != CONTACT3D and contacts == 1:
+        return build_model(model, dest, integer_codes, fmi)
+    name = variant_name(contacts, model)
     template = FMUS[CONTACT3D][0] if fmi == 2 else FMUS3[CONTACT3D][0]
     text = template.read_text()
     if DEFAULT_VARIANT not in text:
         raise RuntimeError(f"{template} does not call slave_class({DEFAULT_VARIANT}): cannot write the variant")
     text = text.replace(DEFAULT_VARIANT, f"contacts={contacts}, integer_codes={integer_codes}")
+    text = text.replace(VARIANT_SLAVES[CONTACT3D], VARIANT_SLAVES[model]).replace(CONTACT3D, name)
+    stem = template.stem.replace("contact3d", f"contact{model[-2:].lower()}" + (f"_{contacts}" if contacts > 1 else ""))
     with tempfile.TemporaryDirectory(prefix="rollcontact_variant_") as tmp:
-        stem = template.stem if contacts == 1 else template.stem.replace("contact3d", f"contact3d_{contacts}")
         entry = Path(tmp, f"{stem}.py")
-        entry.write_text(text.replace(CONTACT3D, name))
-        forget_variant()
+        entry.write_text(text)
+        forgotten = (VARIANT_SLAVES[model], template.stem, stem)
+        forget(forgotten)
         sys.path[:0] = [tmp, str(ROOT / "fmu_src")]
         try:
             if fmi == 3:
-                return build_model3(CONTACT3D, dest, slave=entry)
-            return pack(entry, FMUS[CONTACT3D][1], dest)
+                return build_model3(model, dest, slave=entry)
+            return pack(entry, FMUS[model][1], dest)
         finally:
             del sys.path[:2]
-            forget_variant()
+            forget(forgotten)
 
 
-def forget_variant() -> None:
-    """Drop the slave module and the entry modules of the elliptic contact FMU from the import cache (the builder
-    imports the entry module by name)."""
-    for module in [m for m in sys.modules if m == "rollcontact_fmu_contact3d" or m.endswith("contact3d_slave")
-                   or (m.startswith(("contact3d_", "fmi3_contact3d_")) and m.endswith("_slave"))]:
+def forget(modules) -> None:
+    """Drop ``modules`` from the import cache (the builder imports a variant's entry and slave modules by name)."""
+    for module in modules:
         sys.modules.pop(module, None)
 
 
@@ -275,7 +283,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--fmi", type=fmi_versions, default=(2,), metavar="2|3|2,3",
                         help="FMI versions to build (default 2); FMI 3.0 goes into <dest>/fmi3/")
     parser.add_argument("--contacts", type=int, default=None, metavar="N",
-                        help=f"build {CONTACT3D}_N, the elliptic contact FMU with N contacts (1..{MAX_CONTACTS})")
+                        help=f"build RollingContact2D_N and {CONTACT3D}_N: N contacts per instance (1..{MAX_CONTACTS})")
     parser.add_argument("--only", choices=list(FMUS), help=argparse.SUPPRESS)  # one model (the integer-codes build)
     args = parser.parse_args(argv)
     if args.docs:
@@ -288,7 +296,8 @@ def main(argv: list[str] | None = None) -> None:
     for fmi in args.fmi:
         dest = fmi_dest(args.dest, fmi)
         if args.contacts is not None:
-            print(build_variant(dest, args.contacts, args.integer_codes, fmi))
+            for model in VARIANT_SLAVES:
+                print(build_variant(dest, args.contacts, args.integer_codes, fmi, model))
         elif args.only:
             print(build_model(args.only, dest, fmi=fmi))
         elif args.all:

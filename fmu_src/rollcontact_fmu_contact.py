@@ -26,6 +26,7 @@ import math
 import os
 import re
 import stat
+from functools import cache
 from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
@@ -35,6 +36,7 @@ from rollcontact_fmu_xml import FRICTION_LAW_ITEMS, TableSlave, integer_coded
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.scene import Scene, scene_toml
 from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, ModelError, ModelState
+from rollcontact.stepping.contacts import ContactModels, ContactsState
 
 try:
     import tomllib
@@ -255,3 +257,69 @@ class RollingContact2D(TableSlave):
 
     def parse_model_state(self, data):
         return ModelState.parse(data)
+
+
+def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, dict]:
+    """The variable table and enumerations of the FMU with ``contacts`` contacts: with several, every input and
+    output of :data:`VARIABLES` once per contact, named ``name[k]`` (k from 1; inputs of every contact first, then
+    the outputs), and the parameters shared; with ``integer_codes`` plain Integer variables."""
+    if contacts == 1:
+        rows = VARIABLES
+    else:
+        per_contact = [row for row in VARIABLES if row[2] is not PARAMETER]
+        rows = tuple((f"{row[0]}[{k}]", *row[1:8], contact_text(row[8], k))
+                     for causality in (INPUT, OUTPUT) for k in range(1, contacts + 1)
+                     for row in per_contact if row[2] is causality) + tuple(
+            row for row in VARIABLES if row[2] is PARAMETER)
+    enumerations = {row[0]: ENUMERATIONS[row[0].split("[")[0]] for row in rows if row[0].split("[")[0] in ENUMERATIONS}
+    if integer_codes:
+        return integer_coded(rows, enumerations), {}
+    return rows, enumerations
+
+
+def contact_text(description: str, k: int) -> str:
+    """``description`` with ``, contact k`` before its parenthesised type name, if any."""
+    head, sep, tail = description.partition(" (")
+    return f"{head}, contact {k}{sep}{tail}"
+
+
+class RollingContact2DContacts(RollingContact2D):
+    """Several 2D contacts of one parameter set in one instance (:class:`rollcontact.stepping.contacts.ContactModels`;
+    :func:`slave_class` sets the table)."""
+
+    CONTACTS = 1
+    INPUT_NAMES: tuple = ()
+
+    def new_model(self, values: dict):
+        if values["scene_file"] and isinstance(values["scene_file"], str):
+            values["scene_file"] = resolved_scene_file(values["scene_file"], self.resources)
+            checked_scene_file(values["scene_file"])
+        model = ContactModels(ContactParameters(**values), self.CONTACTS, start_time=self.start_time,
+                              stop_time=self.stop_time)
+        return model, model.notices
+
+    def step_model(self, current_time, step_size):
+        values = [getattr(self, name) for name in self.INPUT_NAMES]
+        inputs = [values[i:i + 3] for i in range(0, len(values), 3)]
+        return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
+
+    def parse_model_state(self, data):
+        return ContactsState.parse(data, self.CONTACTS)
+
+
+def model_name(contacts: int) -> str:
+    """``RollingContact2D``, or ``RollingContact2D_n`` for n contacts."""
+    return "RollingContact2D" if contacts == 1 else f"RollingContact2D_{contacts}"
+
+
+@cache
+def slave_class(contacts: int = 1, integer_codes: bool = INTEGER_CODES) -> type:
+    """The slave class of a variant, one per variant and process (a host may load several): :class:`RollingContact2D`
+    for one contact of the module's build, else a class named :func:`model_name` with the variant's table."""
+    if contacts == 1 and integer_codes == INTEGER_CODES:
+        return RollingContact2D
+    variables, enumerations = declaration(contacts, integer_codes)
+    base = RollingContact2D if contacts == 1 else RollingContact2DContacts
+    return type(model_name(contacts), (base,), {
+        "__doc__": f"RollingContact2D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
+        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT)})
