@@ -9,8 +9,8 @@ swinging through a third of saturation, speed 30 m/s):
 * ``RollingContact3D_n`` (``build_fmu.py --contacts n``) with the linear level (``method`` = linear: the contacts'
   linear theory evaluated together, :class:`rollcontact.stepping.elliptic.LinearContacts`), with the strips without
   spin (their closed form) and with spin (the march), n = 1, 2, 4, 8;
-* the 2D closed form: one RollingContact2D instance, and n instances stepped one after another (what a host pays
-  without several contacts per instance).
+* the 2D closed form: ``RollingContact2D_n`` (one ``ContactModel`` per contact), and n single-contact instances
+  stepped one after another (what a host pays without several contacts per instance).
 
 Batches of all cases are interleaved and the table shows medians, so that a noisy machine affects every case alike;
 one BLAS thread (``common.py``).  The goal of the n-contact FMU: a step of 8 contacts costs at most twice a step of
@@ -116,6 +116,8 @@ def main(argv: list[str] | None = None) -> None:
         empty, contact2d = common.build_and_extract(Path(tmp), build)
         unzipped = {n: extract(str(build_variant(Path(tmp, f"n{n}"), n)), unzipdir=str(Path(tmp, f"u{n}")))
                     for n in COUNTS}
+        unzipped2d = {n: extract(str(build_variant(Path(tmp, f"m{n}"), n, model="RollingContact2D")),
+                                 unzipdir=str(Path(tmp, f"v{n}"))) for n in COUNTS}
         cases = {("empty FMU", 0): Instances("empty", empty, 1, {}, 100, 0.0)}
         for label, parameters, steps, spin in (("3D linear", {"method": 1}, 100, 0.0),
                                                ("3D strips, no spin", {"method": 3}, 50, 0.0),
@@ -127,7 +129,9 @@ def main(argv: list[str] | None = None) -> None:
                 cases[label, n] = Instances(f"{label} {n}", unzipped[n], 1, {**parameters, **curvatures}, steps,
                                             spin)
         for n in COUNTS:
-            cases["2D closed form, n instances", n] = Instances(f"2D {n}", contact2d, n, {"method": 1}, 100, 0.0)
+            cases["2D closed form", n] = Instances(f"2D {n}", unzipped2d[n], 1, {"method": 1}, 100, 0.0)
+        for n in COUNTS:
+            cases["2D closed form, n instances", n] = Instances(f"2D x{n}", contact2d, n, {"method": 1}, 100, 0.0)
         for case in cases.values():
             case.batch()
             case.times.clear()
