@@ -121,10 +121,11 @@ def test_fmi2_and_fmi3_give_the_same_outputs(make, contacts):
 
 
 @pytest.mark.parametrize("fmi", (2, 3))
-def test_n_contacts_are_n_single_contact_fmus_bit_for_bit(make, fmi):
+@pytest.mark.parametrize("method", (1, 2, 3))
+def test_n_contacts_are_n_single_contact_fmus_bit_for_bit(make, fmi, method):
     rows = [signal(10, k) for k in range(CONTACTS)]
-    several = make(fmi, CONTACTS, method=2, **curvature_parameters(CONTACTS))
-    singles = [make(fmi, 1, method=2, **curvature_parameters(1, [CURVATURES[k]])) for k in range(CONTACTS)]
+    several = make(fmi, CONTACTS, method=method, **curvature_parameters(CONTACTS))
+    singles = [make(fmi, 1, method=method, **curvature_parameters(1, [CURVATURES[k]])) for k in range(CONTACTS)]
     width = len(EllipticOutputs._fields)
     for n in range(10):
         together = step(several, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS)

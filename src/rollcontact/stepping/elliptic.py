@@ -45,6 +45,7 @@ from rollcontact.checks import SceneError, check_real
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS, solve_elliptic
 from rollcontact.elliptic.hertz import differences, eccentricity
+from rollcontact.elliptic.methods.strips import solve_strips_many
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.scene import Material
 from rollcontact.stepping.parameters import (
@@ -293,8 +294,11 @@ class EllipticModel:
         if problems:
             raise ModelError("; ".join(problems))
         self.batch = LinearContacts(self) if self.method == "linear" and self.tolerance is None and \
-            self.linear_fits_budget() else None
+            self.fits_budget("linear") else None
         """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
+        self.strips_together = self.method == "strips" and self.tolerance is None and self.friction.is_constant \
+            and self.fits_budget("strips", spin=True)
+        """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`)."""
         self.notices: tuple[str, ...] = ()
         """Messages worth showing once at initialisation (none: every parameter is used)."""
         self.messages: list[str] = []
@@ -305,12 +309,14 @@ class EllipticModel:
     def contacts(self) -> int:
         return self.parameters.contacts
 
-    def linear_fits_budget(self) -> bool:
-        """Whether the linear level's modelled cost fits the step budget (else each contact's solve refuses)."""
-        spec = ELLIPTIC_METHODS["linear"]
+    def fits_budget(self, method: str, spin: bool = False) -> bool:
+        """Whether the level's modelled cost (with spin: its cost with spin) fits the step budget (else each contact's
+        solve is left to solve_elliptic, which refuses or takes a cheaper setting)."""
+        spec = ELLIPTIC_METHODS[method]
         A, B = self.curvatures[0]
-        return self.budget is None or spec.accuracy is None or spec.accuracy.cost(
-            EllipticScene(1.0, A, B, material=self.material, friction=self.friction), {}) <= self.budget
+        scene = EllipticScene(1.0, A, B, spin_creepage=1.0 if spin else 0.0, material=self.material,
+                              friction=self.friction)
+        return self.budget is None or spec.accuracy is None or spec.accuracy.cost(scene, {}) <= self.budget
 
     def label(self, k: int) -> str:
         """``"contact k: "`` (k from 1) with several contacts, else ``""``: the prefix of a contact's messages."""
@@ -399,6 +405,8 @@ class EllipticModel:
                              f"{self.state.time!r} s; restore a saved state to step from an earlier time")
         if self.batch is not None:
             outputs = self.batch.step(values)
+        elif self.strips_together:
+            outputs = self.strips_step(values.tolist())
         else:
             outputs = tuple(self.contact_step(k, *(float(v) for v in row)) for k, row in enumerate(inputs))
         self.state.time = float(current_time)
@@ -464,6 +472,43 @@ class EllipticModel:
         return EllipticOutputs(*forces, result.a, result.b, result.max_pressure, float(stick), power, *jacobian,
                                level_code(result.method))
 
+    def strips_step(self, rows) -> tuple[EllipticOutputs, ...]:
+        """Every loaded contact's strips in one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with
+        ``jacobian`` = difference also the three shifted scenes of each), the outputs as :meth:`contact_step` makes
+        them from each contact's own solve."""
+        loaded = [k for k, row in enumerate(rows) if row[0] != 0.0]
+        scenes = [self.scene(k, *rows[k]) for k in loaded]
+        slopes = [self.linear_slopes(scene) for scene in scenes]
+        shifted = []
+        if self.parameters.jacobian == 1:
+            for scene, slope in zip(scenes, slopes, strict=True):
+                shifted += [scene.replace(**{name: scene.creepages[j] + delta})
+                            for j, name, delta in self.increments(scene, slope)]
+        results = solve_strips_many(scenes + shifted)
+        outputs = [ZERO] * len(rows)
+        for i, (k, scene) in enumerate(zip(loaded, scenes, strict=True)):
+            result = results[i]
+            forces = (result.longitudinal_force, result.lateral_force, result.spin_moment)
+            if self.parameters.jacobian == 1:
+                others = results[len(scenes) + 3 * i:len(scenes) + 3 * i + 3]
+                columns = [[(v - f) / delta for v, f in zip((r.longitudinal_force, r.lateral_force, r.spin_moment),
+                                                            forces, strict=True)]
+                           for r, (_, _, delta) in zip(others, self.increments(scene, slopes[i]), strict=True)]
+                jacobian = tuple(columns[j][m] for m in range(3) for j in range(3))
+            else:
+                jacobian = tuple(v for row in slopes[i] for v in row)
+            xi, eta, phi, velocity = rows[k][1:]
+            power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
+            outputs[k] = EllipticOutputs(*forces, result.a, result.b, result.max_pressure, NO_STICK, power, *jacobian,
+                                         METHOD_CODES["strips"])
+        return tuple(outputs)
+
+    def increments(self, scene: EllipticScene, slopes):
+        """``(index, creepage name, increment)`` of the forward differences (:meth:`differences`)."""
+        limit = scene.friction_coefficient * scene.normal_load
+        return [(j, name, DIFFERENCE_STEP * (limit * (scene.hertz.c if j == 2 else 1.0) / slopes[j][j]))
+                for j, name in enumerate(("longitudinal_creepage", "lateral_creepage", "spin_creepage"))]
+
     def linear_slopes(self, scene: EllipticScene) -> tuple[tuple[float, float, float], ...]:
         """The linear theory's d(Fx, Fy, Mz)/d(xi, eta, phi) at the scene's ellipse: ``G c^2 C11``, ``G c^2 C22``,
         ``G c^3 C23`` (Fy of phi), ``-G c^3 C23`` (Mz of eta), ``G c^4 C33``, the others 0 (module docstring)."""
@@ -478,12 +523,9 @@ class EllipticModel:
     def differences(self, k: int, scene: EllipticScene, result, forces, slopes) -> tuple[float, ...]:
         """Forward differences of the step's method (``result.method``) in each creepage, row-major (Fx, Fy, Mz) x
         (xi, eta, phi); the increment :data:`DIFFERENCE_STEP` times ``mu Fn / slope`` (``mu Fn c`` for phi)."""
-        limit = scene.friction_coefficient * scene.normal_load
         creepages = scene.creepages
         columns = []
-        for j, name in enumerate(("longitudinal_creepage", "lateral_creepage", "spin_creepage")):
-            scale = limit * (result.c if j == 2 else 1.0) / slopes[j][j]
-            delta = DIFFERENCE_STEP * scale
+        for j, name, delta in self.increments(scene, slopes):
             shifted = self.solved(k, scene.replace(**{name: creepages[j] + delta}), result.method)
             values = (shifted.longitudinal_force, shifted.lateral_force, shifted.spin_moment)
             columns.append([(values[i] - forces[i]) / delta for i in range(3)])

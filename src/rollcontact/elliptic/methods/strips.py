@@ -63,35 +63,44 @@ def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 class StripModel:
-    """The scene's strips: positions, half-lengths, moduli and scaled creepages (module docstring)."""
+    """The strips of one or several scenes: positions, half-lengths, moduli and scaled creepages (module docstring),
+    each array with a leading axis over the scenes (a scalar of a scene as a column of shape (n, 1)).
 
-    def __init__(self, scene, strips: int):
-        h = scene.hertz
-        self.a, self.b, self.p0 = h.a, h.b, h.max_pressure
-        self.mu = scene.friction_coefficient
-        self.coefficients = c = coefficients(scene)
-        g = scene.shear_modulus
-        self.moduli = (4.0 * g * c.c11 / math.pi**2, 4.0 * g * c.c22 / math.pi**2,
-                       3.0 * g * c.c23 * math.sqrt(self.b / self.a) / math.pi)
+    Several scenes are solved together with the same operations per scene as one scene alone (elementwise, and each
+    sum over one scene's row), so a scene's forces do not depend on the others (:func:`solve_strips_many`)."""
+
+    def __init__(self, scenes, strips: int):
+        rows, moduli_rows = [], []
+        for scene in scenes:
+            h = scene.hertz
+            c = coefficients(scene)
+            g = scene.shear_modulus
+            moduli = (4.0 * g * c.c11 / math.pi**2, 4.0 * g * c.c22 / math.pi**2,
+                      3.0 * g * c.c23 * math.sqrt(h.b / h.a) / math.pi)
+            mu = scene.friction_coefficient
+            scale = h.a / (2.0 * mu * h.max_pressure)
+            xi, eta, phi = scene.creepages
+            rows.append((h.a, h.b, h.max_pressure, mu, xi, phi, moduli[0], scale, eta * moduli[1] * scale,
+                         phi * moduli[2] * scale, mu * h.max_pressure / h.a))
+            moduli_rows.append(moduli)
+        self.coefficients = [coefficients(scene) for scene in scenes]
+        self.moduli = moduli_rows
+        columns = np.array(rows).T[:, :, None]
+        self.a, self.b, self.p0, self.mu, xi, phi, modulus, scale, self.Y, self.psi, self.m = columns
         nodes, weights = gauss(strips)
         self.y = self.b * nodes
         self.weights = self.b * weights
         self.half = self.a * np.sqrt(1.0 - nodes**2)
-        scale = self.a / (2.0 * self.mu * self.p0)
-        xi, eta, phi = scene.creepages
-        self.X = (xi - phi * self.y) * self.moduli[0] * scale
-        self.Y = eta * self.moduli[1] * scale
-        self.psi = phi * self.moduli[2] * scale
-        self.m = self.mu * self.p0 / self.a  # mu p = m sqrt(a(y)^2 - x^2)
+        self.X = (xi - phi * self.y) * modulus * scale
+        # mu p = m sqrt(a(y)^2 - x^2)
 
     def stick(self):
         """``(d, kappa, lambda, partial)`` per strip: the slip zone's half-length, the traction direction at the stick
         edge, and whether the strip sticks anywhere (``d < a(y)``)."""
         psi, X, Y = self.psi, self.X, self.Y
-        if abs(psi) < 1.0:
-            d = (psi * Y + np.sqrt(Y * Y + (1.0 - psi * psi) * X * X)) / (1.0 - psi * psi)
-        else:
-            d = np.full_like(X, np.inf)
+        with np.errstate(divide="ignore", invalid="ignore"):  # |psi| >= 1 is not used
+            d = np.where(np.abs(psi) < 1.0, (psi * Y + np.sqrt(Y * Y + (1.0 - psi * psi) * X * X)) / (1.0 - psi * psi),
+                         np.inf)
         partial = d < self.half
         safe = np.where(partial & (d > 0.0), d, 1.0)
         kappa = np.where(partial & (d > 0.0), X / safe, 0.0)
@@ -104,7 +113,8 @@ class StripModel:
         return np.where(partial, d, self.half), kappa, lam, partial
 
     def closed_form(self):
-        """Forces without spin's lateral part (psi = 0 or d, kappa, lambda as given): ``(Fx, Fy, Mz)`` [N, N, N m]."""
+        """Forces without spin's lateral part (psi = 0 or d, kappa, lambda as given): ``(Fx, Fy, Mz)`` [N, N, N m],
+        arrays over the scenes."""
         d, kappa, lam, partial = self.stick()
         rest = np.where(partial, self.half - d, 0.0)  # a*
         area = 0.5 * math.pi * self.m
@@ -112,7 +122,7 @@ class StripModel:
         fy = area * (lam * self.half**2 - (lam - self.psi) * rest**2)
         moment = -area * (lam - self.psi) * d * rest**2 - self.y * fx
         w = self.weights
-        return float(w @ fx), float(w @ fy), float(w @ moment)
+        return np.sum(w * fx, axis=-1), np.sum(w * fy, axis=-1), np.sum(w * moment, axis=-1)
 
     def stick_traction(self, x, d, kappa, lam):
         """The stick-zone traction ``(q_x, q_y)`` [Pa] at x [m] (arrays broadcast over the strips' last axis)."""
@@ -149,94 +159,141 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
     steps = int(check_real("steps", steps, lower=2))
     if scene.normal_load == 0.0:
         return no_load(scene, "strips")
-    model = StripModel(scene, strips)
     if not scene.friction.is_constant:
-        return falling_friction(scene, model)
-    d, kappa, lam, partial = model.stick()
-    info = {"stick_strips": float(partial.mean()), "psi": model.psi}
-    field = None
-    if model.psi == 0.0 and not fields:
-        forces = model.closed_form()
-        message = "strip theory (closed form)"
-    else:
-        forces, field = marched(scene, model, steps, d, kappa, lam, partial)
-        message = "strip theory, slip directions of the simplified theory" if model.psi else "strip theory"
-        if not fields:
-            field = None
-    return EllipticResult.from_scene(scene, "strips", True, message, forces, field, info)
+        return falling_friction(scene, StripModel((scene,), strips))
+    return solve_strips_many((scene,), strips=strips, steps=steps, fields=fields)[0]
 
 
 solve_strips.options = ("strips", "steps", "fields")
 
 
-def marched(scene, model: StripModel, steps: int, d, kappa, lam, partial):
+def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
+                      ) -> list[EllipticResult]:
+    """:func:`solve_strips` of several loaded scenes with Coulomb friction at once: one array operation over the
+    scenes where :func:`solve_strips` makes one over the strips, each scene's result bit for bit its own solve's.
+
+    The scenes with spin march (their cells), those without take the closed form (unless ``fields``); the caller
+    checks what :func:`solve_strips` checks (applicability, a load > 0, constant friction, the counts).
+    """
+    model = StripModel(scenes, strips)
+    d, kappa, lam, partial = model.stick()
+    spin = (model.psi[:, 0] != 0.0) | fields
+    forces = np.empty((len(scenes), 3))
+    field = [None] * len(scenes)
+    if not spin.all():
+        forces[~spin] = np.column_stack(model.closed_form())[~spin]
+    if spin.any():
+        index = np.flatnonzero(spin)
+        sub = subset(model, index)
+        marched_forces, marched_fields = marched([scenes[k] for k in index], sub, steps,
+                                                 *(v[index] for v in (d, kappa, lam, partial)))
+        forces[index] = marched_forces
+        for k, f in zip(index, marched_fields, strict=True):
+            field[k] = f
+    results = []
+    for k, scene in enumerate(scenes):
+        psi = float(model.psi[k, 0])
+        message = ("strip theory, slip directions of the simplified theory" if psi else "strip theory") \
+            if spin[k] else "strip theory (closed form)"
+        results.append(EllipticResult.from_scene(scene, "strips", True, message, forces[k].tolist(),
+                                                 field[k] if fields else None,
+                                                 {"stick_strips": float(partial[k].mean()), "psi": psi}))
+    return results
+
+
+def subset(model: StripModel, index) -> StripModel:
+    """The strips of the scenes ``index`` of ``model`` (a view of the same arrays, rows taken)."""
+    sub = object.__new__(StripModel)
+    for name, value in vars(model).items():
+        sub.__dict__[name] = [value[k] for k in index] if isinstance(value, list) else value[index]
+    return sub
+
+
+def marched(scenes, model: StripModel, steps: int, d, kappa, lam, partial):
     """The strips on ``steps`` cells each: strip theory's traction in the stick zones, ``mu p`` along the direction
-    of the simplified theory's traction (a FASTSIM march, :mod:`.fastsim`) in the slip zones."""
-    h = scene.hertz
-    xi, eta, phi = scene.creepages
-    l1, l2, l3 = blended_flexibilities(scene, model.coefficients)
-    y, half = model.y, model.half
+    of the simplified theory's traction (a FASTSIM march, :mod:`.fastsim`) in the slip zones; ``(forces (n, 3),
+    fields)`` over the scenes."""
+    rows = []
+    for scene, c in zip(scenes, model.coefficients, strict=True):
+        h = scene.hertz
+        rows.append((*scene.creepages, *blended_flexibilities(scene, c), h.max_pressure, h.a, h.b,
+                     scene.friction_coefficient, scene.friction_coefficient * scene.normal_load))
+    xi, eta, phi, l1, l2, l3, p0, a, b, mu, limit = np.array(rows).T[:, :, None, None]  # (n, 1, 1) each
+    y, half = model.y[:, None, :], model.half[:, None, :]  # (n, 1, S)
     dx = 2.0 * half / steps
     x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
-    bound = model.mu * h.pressure(x, y)
-    bound *= model.mu * scene.normal_load / float(np.sum(bound * (dx * model.weights)))  # the cells carry mu Fn
+    weights = model.weights[:, None, :]
+    bound = mu * (p0 * np.sqrt(np.clip(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0, None)))  # mu p (Hertz)
+    total = np.sum((bound * (dx * weights)).reshape(len(scenes), -1), axis=-1)[:, None, None]
+    bound *= limit / total  # the cells carry mu Fn
     step_x = dx * (xi / l1 - phi * y / l3)  # the march's increment from cell i to i + 1 (midpoint x_i - dx/2)
     step_y = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
-    trial_x = np.empty((steps, y.size))
-    trial_y = np.empty((steps, y.size))
-    tx, ty = 0.5 * step_x, 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)
-    for i in range(steps):  # one vector operation over the strips per cell
-        trial_x[i], trial_y[i] = tx, ty
-        scale = np.minimum(1.0, bound[i] / np.maximum(np.hypot(tx, ty), TINY))
-        tx = tx * scale + step_x
-        ty = ty * scale + step_y[i]
+    n, count = len(scenes), y.shape[-1]
+    trial_x = np.empty((n, steps, count))
+    trial_y = np.empty((n, steps, count))
+    tx, ty = 0.5 * step_x[:, 0], 0.5 * dx[:, 0] * (eta[:, 0] / l2[:, 0] + phi[:, 0] * (half[:, 0] - 0.25 * dx[:, 0])
+                                                    / l3[:, 0])
+    for i in range(steps):  # one vector operation over the scenes and strips per cell
+        trial_x[:, i], trial_y[:, i] = tx, ty
+        scale = np.minimum(1.0, bound[:, i] / np.maximum(np.hypot(tx, ty), TINY))
+        tx = tx * scale + step_x[:, 0]
+        ty = ty * scale + step_y[:, i]
     size = np.maximum(np.hypot(trial_x, trial_y), TINY)
     direction_x, direction_y = trial_x / size, trial_y / size
-    if model.psi == 0.0:  # without spin the slip direction is uniform along the strip
-        direction_x = np.broadcast_to(kappa, x.shape)
-        direction_y = np.broadcast_to(lam, x.shape)
+    d, kappa, lam, partial = (v[:, None, :] for v in (d, kappa, lam, partial))
+    no_spin = model.psi[:, :, None] == 0.0  # without spin the slip direction is uniform along the strip
+    direction_x = np.where(no_spin, np.broadcast_to(kappa, x.shape), direction_x)
+    direction_y = np.where(no_spin, np.broadcast_to(lam, x.shape), direction_y)
     in_stick = partial & (x > 2.0 * d - half)
-    sx, sy = model.stick_traction(x, d, kappa, lam)
+    rest = half - d
+    full = np.sqrt(np.clip(half**2 - x * x, 0.0, None))
+    inner = np.sqrt(np.clip(rest**2 - (x - d) ** 2, 0.0, None))
+    m, psi = model.m[:, :, None], model.psi[:, :, None]
+    sx, sy = m * kappa * (full - inner), m * (lam * full - (lam - psi) * inner)
     qx = np.where(in_stick, sx, bound * direction_x)
     qy = np.where(in_stick, sy, bound * direction_y)
-    weight = model.weights * dx  # Gauss over y, midpoint cells along x
-    forces = (float(np.sum(qx * weight)), float(np.sum(qy * weight)), float(np.sum((x * qy - y * qx) * weight)))
-    field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), (bound / model.mu).T.copy(), qx.T.copy(),
-                          qy.T.copy(), in_stick.T.copy())
-    return forces, field
+    weight = weights * dx  # Gauss over y, midpoint cells along x
+    forces = np.column_stack([np.sum((q * weight).reshape(n, -1), axis=-1)
+                              for q in (qx, qy, x * qy - y * qx)])
+    fields = [TractionField(x[k].T.copy(), np.broadcast_to(y[k], x[k].shape).T.copy(), (bound[k] / mu[k]).T.copy(),
+                            qx[k].T.copy(), qy[k].T.copy(), in_stick[k].T.copy()) for k in range(n)]
+    return forces, fields
 
 
 def falling_friction(scene, model: StripModel) -> EllipticResult:
-    """Velocity-dependent friction without spin: one 2D polynomial solve per strip (module docstring)."""
-    e_x = model.moduli[0]
+    """Velocity-dependent friction without spin: one 2D polynomial solve per strip (module docstring); ``model`` holds
+    the one scene."""
+    e_x = model.moduli[0][0]
+    a, p0, mu, Y, psi = (float(v[0, 0]) for v in (model.a, model.p0, model.mu, model.Y, model.psi))
+    X, y, half = model.X[0], model.y[0], model.half[0]
     nu = scene.material.poisson_ratio
     material = Material(2.0 * e_x * (1.0 - nu * nu), nu)
-    radius = e_x * model.a / (2.0 * model.p0)
-    norm = np.hypot(model.X, model.Y)
-    creep = norm / (e_x * model.a / (2.0 * model.mu * model.p0))
-    direction = (np.where(norm > 0.0, model.X / np.where(norm > 0.0, norm, 1.0), 0.0),
-                 np.where(norm > 0.0, model.Y / np.where(norm > 0.0, norm, 1.0), 0.0))
+    radius = e_x * a / (2.0 * p0)
+    norm = np.hypot(X, Y)
+    creep = norm / (e_x * a / (2.0 * mu * p0))
+    direction = (np.where(norm > 0.0, X / np.where(norm > 0.0, norm, 1.0), 0.0),
+                 np.where(norm > 0.0, Y / np.where(norm > 0.0, norm, 1.0), 0.0))
     nodes, weights = gauss(32)
-    force = np.empty(model.y.size)
-    lever = np.empty(model.y.size)
+    force = np.empty(y.size)
+    lever = np.empty(y.size)
     failures = []
-    for j in range(model.y.size):
-        load = 0.5 * math.pi * model.half[j] * model.p0 * model.half[j] / model.a
+    for j in range(y.size):
+        load = 0.5 * math.pi * half[j] * p0 * half[j] / a
         result = solve_2d(Scene(load, creep=float(creep[j]), radius=radius, material=material, friction=scene.friction,
                                 rolling_speed=scene.rolling_speed), "polynomial")
         if not result.success:
-            failures.append(f"strip y = {model.y[j]:.4g} m: {result.message}")
+            failures.append(f"strip y = {y[j]:.4g} m: {result.message}")
         force[j] = result.tangential_force_per_length
         # int x q dx in the 3D frame (leading edge at +a(y)): x3D = -(x2D - offset)
         x2d = result.contact_offset + result.contact_half_width * nodes
         lever[j] = -result.contact_half_width * float(weights @ ((x2d - result.contact_offset) * result.traction(x2d)))
     fx = direction[0] * force
     fy = direction[1] * force
-    w = model.weights
-    forces = (float(w @ fx), float(w @ fy), float(w @ (direction[1] * lever - model.y * fx)))
+    w = model.weights[0]
+    forces = (float(w @ fx), float(w @ fy), float(w @ (direction[1] * lever - y * fx)))
     message = "strip theory, polynomial method per strip" + (": " + "; ".join(failures) if failures else "")
     return EllipticResult.from_scene(scene, "strips", not failures, message, forces,
-                                     info={"stick_strips": math.nan, "psi": model.psi})
+                                     info={"stick_strips": math.nan, "psi": psi})
 
 
 def inapplicable(scene) -> str | None:
