@@ -186,7 +186,7 @@ def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFA
         index = np.flatnonzero(spin)
         sub = subset(model, index)
         marched_forces, marched_fields = marched([scenes[k] for k in index], sub, steps,
-                                                 *(v[index] for v in (d, kappa, lam, partial)))
+                                                 *(v[index] for v in (d, kappa, lam, partial)), fields=fields)
         forces[index] = marched_forces
         for k, f in zip(index, marched_fields, strict=True):
             field[k] = f
@@ -209,10 +209,10 @@ def subset(model: StripModel, index) -> StripModel:
     return sub
 
 
-def marched(scenes, model: StripModel, steps: int, d, kappa, lam, partial):
+def marched(scenes, model: StripModel, steps: int, d, kappa, lam, partial, fields: bool = False):
     """The strips on ``steps`` cells each: strip theory's traction in the stick zones, ``mu p`` along the direction
     of the simplified theory's traction (a FASTSIM march, :mod:`.fastsim`) in the slip zones; ``(forces (n, 3),
-    fields)`` over the scenes."""
+    fields)`` over the scenes (the fields None unless ``fields``)."""
     rows = []
     for scene, c in zip(scenes, model.coefficients, strict=True):
         h = scene.hertz
@@ -255,9 +255,11 @@ def marched(scenes, model: StripModel, steps: int, d, kappa, lam, partial):
     weight = weights * dx  # Gauss over y, midpoint cells along x
     forces = np.column_stack([np.sum((q * weight).reshape(n, -1), axis=-1)
                               for q in (qx, qy, x * qy - y * qx)])
-    fields = [TractionField(x[k].T.copy(), np.broadcast_to(y[k], x[k].shape).T.copy(), (bound[k] / mu[k]).T.copy(),
-                            qx[k].T.copy(), qy[k].T.copy(), in_stick[k].T.copy()) for k in range(n)]
-    return forces, fields
+    if not fields:
+        return forces, [None] * n
+    return forces, [TractionField(x[k].T.copy(), np.broadcast_to(y[k], x[k].shape).T.copy(),
+                                  (bound[k] / mu[k]).T.copy(), qx[k].T.copy(), qy[k].T.copy(), in_stick[k].T.copy())
+                    for k in range(n)]
 
 
 def falling_friction(scene, model: StripModel) -> EllipticResult:
