@@ -1,0 +1,113 @@
+"""The hunting scene as a co-simulation through fmpy: the Wheelset host FMU and one RollingContact3D FMU with two
+contacts (``build_fmu.py --contacts 2``), coupled by :data:`rollcontact_cosim.wheelset.CONNECTIONS` and the
+Jacobians.
+
+Each macro step is Gauss-Seidel with the contact first, the sequence :func:`rollcontact_cosim.wheelset.simulate`
+runs in process: the host's creepages, loads and speeds at t_n go to the contact FMU, which steps; its forces,
+moments and Jacobians (``dFx_dxi[k]`` ... ``dMz_dphi[k]``) go to the host, which steps with the linearly implicit
+integrator of :class:`~rollcontact_cosim.wheelset.WheelsetModel`.  Both contacts use the wheel's axes (the host's
+convention) and the gap curvatures ``A = 1/(2 r0)``, ``B = 1/(2 R_rail)`` (:func:`contact_parameters`).
+
+:class:`LibraryContactLaw` is the contact FMU's model in process (the same
+:class:`rollcontact.stepping.elliptic.EllipticModel`): ``simulate`` with it is the co-simulation bit for bit, which
+``tests/cosim/test_wheelset_cosim.py`` checks.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from rollcontact.stepping.elliptic import EllipticModel, EllipticParameters
+from rollcontact_cosim.master import Slave
+from rollcontact_cosim.wheelset import HOST, ContactForces, WheelsetParameters
+
+__all__ = ["CONTACT_MODEL", "LibraryContactLaw", "contact_parameters", "cosimulate"]
+
+CONTACT_MODEL = "RollingContact3D_2"
+"""The contact FMU of the scene: the elliptic contact with two contacts (``build_fmu.py --contacts 2``)."""
+
+INPUTS = ("normal_load", "longitudinal_creep", "lateral_creep", "spin", "velocity")
+FORCES = ("longitudinal_force", "lateral_force", "spin_moment")
+JACOBIAN = tuple(f"d{force}_d{symbol}" for force in ("Fx", "Fy", "Mz") for symbol in ("xi", "eta", "phi"))
+STATES = ("lateral_displacement", "yaw_angle", "lateral_velocity", "yaw_rate")
+
+
+def contact_parameters(parameters: WheelsetParameters, *, rail_profile_radius: float = 0.3,
+                       youngs_modulus: float = 210e9, poisson_ratio: float = 0.25, friction_coefficient: float = 0.3,
+                       method: int = 1) -> dict:
+    """The contact FMU's parameters for the wheelset: one material and law, both contacts with the curvatures
+    ``A = 1/(2 r0)`` (rolling radius) and ``B = 1/(2 R_rail)`` (straight cone on a rail head of profile radius
+    ``rail_profile_radius`` [m]); ``method`` a code of :data:`rollcontact.stepping.elliptic.ELLIPTIC_LEVELS`
+    (default 1, the linear theory)."""
+    curvatures = (0.5 / parameters.rolling_radius, 0.5 / rail_profile_radius)
+    return {"youngs_modulus": youngs_modulus, "poisson_ratio": poisson_ratio,
+            "friction_coefficient": friction_coefficient, "method": method,
+            **{f"{name}[{k}]": value for k in (1, 2)
+               for name, value in zip(("curvature_longitudinal", "curvature_lateral"), curvatures, strict=True)}}
+
+
+class LibraryContactLaw:
+    """The contact FMU's model in process, as a creep-force law of :func:`rollcontact_cosim.wheelset.simulate`:
+    one contact of an :class:`EllipticModel` with the FMU's parameters (both contacts have the same curvatures)."""
+
+    def __init__(self, contact: dict):
+        shared = {k: v for k, v in contact.items() if "[" not in k}
+        self.model = EllipticModel(EllipticParameters(
+            **shared, curvature_longitudinal=(contact["curvature_longitudinal[1]"],),
+            curvature_lateral=(contact["curvature_lateral[1]"],)))
+
+    def outputs(self, normal_load, xi, eta, phi, velocity):
+        return self.model.contact_step(0, float(normal_load), float(xi), float(eta), float(phi), float(velocity))
+
+    def __call__(self, normal_load, xi, eta, phi, velocity) -> ContactForces:
+        return ContactForces(*self.outputs(normal_load, xi, eta, phi, velocity)[:3])
+
+    def jacobian(self, normal_load, xi, eta, phi, velocity) -> np.ndarray:
+        return np.reshape(self.outputs(normal_load, xi, eta, phi, velocity)[8:17], (3, 3))
+
+
+def cosimulate(parameters: WheelsetParameters, stop_time: float, step_size: float, fmu_dir: Path | str,
+               contact: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Co-simulate the wheelset with the contact FMU; times [s] and host states (rows ``y, psi, y', psi'``), as
+    :func:`~rollcontact_cosim.wheelset.simulate` returns them.
+
+    ``fmu_dir`` holds ``Wheelset.fmu`` and ``RollingContact3D_2.fmu``; ``contact``: the contact FMU's parameters
+    (default :func:`contact_parameters`).  A step the contact or the host discards raises (fmpy's
+    FMICallException), with the reason in the slaves' logs.
+    """
+    n = int(round(stop_time / step_size))
+    if n < 1 or abs(n * step_size - stop_time) > 1e-9 * stop_time:
+        raise ValueError(f"stop_time = {stop_time!r} s is not a positive multiple of step_size = {step_size!r} s")
+    folder = Path(fmu_dir)
+    host = Slave(folder / f"{HOST}.fmu", HOST)
+    wheels = Slave(folder / f"{CONTACT_MODEL}.fmu", CONTACT_MODEL)
+    try:
+        host.set_start_values({f.name: getattr(parameters, f.name) for f in dataclasses.fields(parameters)})
+        wheels.set_start_values(contact_parameters(parameters) if contact is None else contact)
+        for slave in (host, wheels):
+            slave.fmu.setupExperiment(startTime=0.0)
+            slave.fmu.enterInitializationMode()
+            slave.fmu.exitInitializationMode()
+        sent = [f"{name}[{k}]" for k in (1, 2) for name in INPUTS]
+        returned = [f"{name}[{k}]" for k in (1, 2) for name in FORCES + JACOBIAN]
+        read_host = [host.reference(name) for name in sent]
+        write_contact = [wheels.reference(name) for name in sent]
+        read_contact = [wheels.reference(name) for name in returned]
+        write_host = [host.reference(name) for name in returned]
+        states_refs = [host.reference(name) for name in STATES]
+        states = np.empty((n + 1, 4))
+        states[0] = host.fmu.getReal(states_refs)
+        for i in range(n):
+            t = i * step_size
+            wheels.fmu.setReal(write_contact, host.fmu.getReal(read_host))
+            wheels.fmu.doStep(t, step_size)
+            host.fmu.setReal(write_host, wheels.fmu.getReal(read_contact))
+            host.fmu.doStep(t, step_size)
+            states[i + 1] = host.fmu.getReal(states_refs)
+        return np.arange(n + 1) * step_size, states
+    finally:
+        host.free()
+        wheels.free()
