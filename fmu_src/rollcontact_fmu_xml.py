@@ -78,6 +78,9 @@ TOLD_LIMIT = 256
 
 INT32 = (-(2**31), 2**31 - 1)
 
+PLAN_LIMIT = 64
+"""Lists of input value references one instance remembers as checked (a host sets the same few every step)."""
+
 
 FRICTION_LAW_ITEMS = ((0, "coulomb", "constant mu"),
                       (1, "exponential_falling", "mu [(1 - A) exp(-B v) + A]"),
@@ -330,6 +333,8 @@ class TableSlave(Fmi2Slave):
         self.output_names = []
         self.output_index: dict[int, int] = {}  # value reference -> position in the outputs
         self.output_plans: dict[tuple, list[int]] = {}  # (type, value references) read before -> positions
+        self.input_plans: dict[tuple, list[str]] = {}  # (type, value references) of inputs set before -> names
+        self.input_names = {vr: row[0] for vr, row in enumerate(self.VARIABLES) if row[2] is Fmi2Causality.input}
         outputs = []
         for vr, (name, kind, causality, variability, _unit, start, _lo, _hi, description) in enumerate(self.VARIABLES):
             if causality is Fmi2Causality.output:
@@ -592,6 +597,17 @@ class TableSlave(Fmi2Slave):
         return write
 
     def write_values(self, vrs, values, kind, call: str) -> None:
+        # the inputs a host sets every step: once checked, straight to their attributes (an input's setter only
+        # stores the value)
+        key = (kind, *vrs)
+        plan = self.input_plans.get(key)
+        if plan is not None:
+            for name, value in zip(plan, values, strict=False):
+                setattr(self, name, value)
+            return
+        if vrs and len(self.input_plans) < PLAN_LIMIT and all(
+                isinstance(self.vars.get(vr), kind) and vr in self.input_names for vr in vrs):
+            self.input_plans[key] = [self.input_names[vr] for vr in vrs]
         for vr, value in zip(vrs, values, strict=False):
             var = self.vars.get(vr)
             if not isinstance(var, kind):
