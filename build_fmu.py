@@ -24,9 +24,7 @@ files, in whose types the shared slave's variable table is written.  The default
 from __future__ import annotations
 
 import argparse
-import os
 import shutil
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -74,25 +72,16 @@ def build_model(model: str, dest: Path | str = ROOT / "models", integer_codes: b
     """Build the FMU ``model`` (a key of :data:`FMUS`) into the folder ``dest`` [created if missing]; its path.
 
     ``integer_codes``: declare the enumerations' variables as plain Integer (for hosts without FMI enumerations,
-    such as libcosim); a build in a fresh process, since the slave module reads it when first imported.
-    ``fmi``: 2 (pythonfmu) or 3 (pythonfmu3, :func:`build_model3`).  ``contacts``: the contacts of
-    :data:`CONTACT3D` (:func:`build_variant`).
+    such as libcosim): a variant of the contact FMUs (:func:`build_variant`); the hosts declare no enumerations and
+    are built as they are.  ``fmi``: 2 (pythonfmu) or 3 (pythonfmu3, :func:`build_model3`).  ``contacts``: the
+    contacts of the contact FMUs (:func:`build_variant`).
     """
-    if model == CONTACT3D:
-        return build_variant(dest, contacts, integer_codes, fmi)
+    if model in VARIANT_SLAVES and (model == CONTACT3D or contacts != 1 or integer_codes):
+        return build_variant(dest, contacts, integer_codes, fmi, model)
     if contacts != 1:
-        raise ValueError(f"{model} has no n-contact build (--contacts builds {CONTACT3D})")
+        raise ValueError(f"{model} has no n-contact build (--contacts builds {', '.join(VARIANT_SLAVES)})")
     if fmi == 3:
-        if integer_codes:
-            raise ValueError("--integer-codes is an FMI 2.0 build (for libcosim); FMI 3.0 declares enumerations")
         return build_model3(model, dest)
-    if integer_codes:
-        done = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--dest", str(dest), "--only", model],
-                              env={**os.environ, "ROLLCONTACT_FMU_INTEGER_CODES": "1"}, capture_output=True,
-                              text=True, timeout=600)
-        if done.returncode != 0:
-            raise RuntimeError(f"build_fmu.py --integer-codes failed:\n{done.stdout}\n{done.stderr}")
-        return Path(dest) / f"{model}.fmu"
     slave, packages = FMUS[model]
     # the builder imports the slave, which imports the packages: use the copies that get bundled
     return pack(slave, packages, dest)
@@ -118,7 +107,7 @@ def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = Fal
         raise ValueError(f"contacts = {contacts!r} must be a whole number from 1 to {MAX_CONTACTS}")
     if integer_codes and fmi == 3:
         raise ValueError("--integer-codes is an FMI 2.0 build (for libcosim); FMI 3.0 declares enumerations")
-    if model != CONTACT3D and contacts == 1:
+    if model != CONTACT3D and contacts == 1 and not integer_codes:
         return build_model(model, dest, integer_codes, fmi)
     name = variant_name(contacts, model)
     template = FMUS[CONTACT3D][0] if fmi == 2 else FMUS3[CONTACT3D][0]
@@ -284,7 +273,7 @@ def main(argv: list[str] | None = None) -> None:
                         help="FMI versions to build (default 2); FMI 3.0 goes into <dest>/fmi3/")
     parser.add_argument("--contacts", type=int, default=None, metavar="N",
                         help=f"build RollingContact2D_N and {CONTACT3D}_N: N contacts per instance (1..{MAX_CONTACTS})")
-    parser.add_argument("--only", choices=list(FMUS), help=argparse.SUPPRESS)  # one model (the integer-codes build)
+    parser.add_argument("--only", choices=list(FMUS), help="build this FMU only")
     args = parser.parse_args(argv)
     if args.docs:
         print(write_docs())
@@ -299,7 +288,7 @@ def main(argv: list[str] | None = None) -> None:
             for model in VARIANT_SLAVES:
                 print(build_variant(dest, args.contacts, args.integer_codes, fmi, model))
         elif args.only:
-            print(build_model(args.only, dest, fmi=fmi))
+            print(build_model(args.only, dest, args.integer_codes, fmi))
         elif args.all:
             for path in build_all(dest, if_stale=args.if_stale, integer_codes=args.integer_codes, fmi=fmi).values():
                 print(path)

@@ -10,7 +10,9 @@ swinging through a third of saturation, speed 30 m/s):
   linear theory evaluated together, :class:`rollcontact.stepping.elliptic.LinearContacts`), with the strips without
   spin (their closed form) and with spin (the march), n = 1, 2, 4, 8;
 * the 2D closed form: ``RollingContact2D_n`` (one ``ContactModel`` per contact), and n single-contact instances
-  stepped one after another (what a host pays without several contacts per instance).
+  stepped one after another (what a host pays without several contacts per instance);
+* empty FMUs with the inputs and outputs of n 2D contacts: the floor that the variables alone set (pythonfmu's and
+  fmpy's work per variable).
 
 Batches of all cases are interleaved and the table shows medians, so that a noisy machine affects every case alike;
 one BLAS thread (``common.py``).  The goal of the n-contact FMU: a step of 8 contacts costs at most twice a step of
@@ -33,6 +35,45 @@ import common  # before numpy: limits BLAS to one thread; puts the checkout on s
 from build_fmu import build, build_variant
 
 COUNTS = (1, 2, 4, 8)
+
+EMPTY_CONTACTS = '''
+from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real
+
+
+class EmptyContacts{n}(Fmi2Slave):
+    """Empty pythonfmu slave with the variables of RollingContact2D_{n}: the floor of its step."""
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        for k in range({n}):
+            for name in ("normal_load", "creep", "velocity"):
+                setattr(self, f"{{name}}_{{k}}", 0.0)
+                self.register_variable(Real(f"{{name}}_{{k}}", causality=Fmi2Causality.input,
+                                            variability=Fmi2Variability.continuous))
+        for k in range({n}):
+            for i in range(10):
+                setattr(self, f"y{{i}}_{{k}}", 0.0)
+                self.register_variable(Real(f"y{{i}}_{{k}}", causality=Fmi2Causality.output,
+                                            variability=Fmi2Variability.continuous))
+            setattr(self, f"method_used_{{k}}", 0)
+            self.register_variable(Integer(f"method_used_{{k}}", causality=Fmi2Causality.output,
+                                           variability=Fmi2Variability.discrete))
+
+    def do_step(self, current_time, step_size):
+        return True
+'''
+"""Source of an empty pythonfmu slave with the inputs and outputs of n 2D contacts (``{n}``: the count)."""
+
+
+def build_empty(tmp: Path, n: int) -> str:
+    """The empty FMU of n contacts' variables, built and unzipped into ``tmp``; its unzip directory."""
+    from fmpy import extract
+    from pythonfmu.builder import FmuBuilder
+
+    source = tmp / f"empty{n}" / f"rollcontact_bench_empty_contacts{n}.py"
+    source.parent.mkdir()
+    source.write_text(EMPTY_CONTACTS.format(n=n))
+    return extract(str(FmuBuilder.build_FMU(source, dest=tmp / f"empty{n}")), unzipdir=str(tmp / f"empty{n}u"))
 INPUTS_3D = ("normal_load", "longitudinal_creep", "lateral_creep", "spin", "velocity")
 
 
@@ -128,6 +169,9 @@ def main(argv: list[str] | None = None) -> None:
                                                   ("curvature_lateral", 1.667))}
                 cases[label, n] = Instances(f"{label} {n}", unzipped[n], 1, {**parameters, **curvatures}, steps,
                                             spin)
+        for n in COUNTS:
+            cases["empty FMU with the variables of n 2D contacts", n] = Instances(
+                f"empty {n}", build_empty(Path(tmp), n), 1, {}, 100, 0.0)
         for n in COUNTS:
             cases["2D closed form", n] = Instances(f"2D {n}", unzipped2d[n], 1, {"method": 1}, 100, 0.0)
         for n in COUNTS:

@@ -159,9 +159,6 @@ ENUMERATIONS = {
 descriptions), for hosts that do not support FMI enumerations: libcosim does not list them, so it could neither set
 nor observe these variables (``rollcontact_cosim.osp`` uses that build)."""
 
-INTEGER_CODES = os.environ.get("ROLLCONTACT_FMU_INTEGER_CODES") == "1"
-"""Set by ``build_fmu.py --integer-codes`` while it builds: declare the enumerations' variables as Integer."""
-
 
 SCENE_SIZE_LIMIT = 1 << 20
 """Largest scene file read [bytes] (a scene is a small TOML file)."""
@@ -238,8 +235,8 @@ class RollingContact2D(TableSlave):
     license = "MIT"
     version = ROLLCONTACT_VERSION
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
-    VARIABLES = integer_coded(VARIABLES, ENUMERATIONS) if INTEGER_CODES else VARIABLES
-    ENUMERATIONS = {} if INTEGER_CODES else ENUMERATIONS
+    VARIABLES = VARIABLES
+    ENUMERATIONS = ENUMERATIONS
 
     def new_model(self, values: dict):
         """A ContactModel and its notices; a relative ``scene_file`` is taken from the resources folder."""
@@ -313,10 +310,11 @@ def model_name(contacts: int) -> str:
 
 
 @cache
-def slave_class(contacts: int = 1, integer_codes: bool = INTEGER_CODES) -> type:
+def slave_class(contacts: int = 1, integer_codes: bool = False) -> type:
     """The slave class of a variant, one per variant and process (a host may load several): :class:`RollingContact2D`
-    for one contact of the module's build, else a class named :func:`model_name` with the variant's table."""
-    if contacts == 1 and integer_codes == INTEGER_CODES:
+    for one contact with enumerations, else a class named :func:`model_name` with the variant's table (integer
+    codes: ``build_fmu.py --integer-codes``)."""
+    if contacts == 1 and not integer_codes:
         return RollingContact2D
     variables, enumerations = declaration(contacts, integer_codes)
     base = RollingContact2D if contacts == 1 else RollingContact2DContacts
