@@ -26,8 +26,10 @@ slope), each within the step budget.
 
 Contacts together: with ``method`` = linear (and no tolerance) the step is one numpy evaluation over the contacts
 (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse` and the linear level
-take for one contact, so each contact's outputs are bit for bit those of :func:`rollcontact.solve_elliptic`; the
-other levels solve the contacts one after another through it.
+take for one contact; with ``method`` = strips (no tolerance, Coulomb friction, the cost with spin within the
+budget) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
+(:meth:`EllipticModel.strips_step`).  Each contact's outputs are bit for bit those of
+:func:`rollcontact.solve_elliptic`; the other levels solve the contacts one after another through it.
 
 Frictional power: ``V (xi Fx + eta Fy + phi Mz)`` [W], the power the creepages put into the contact (the rigid slip
 velocities times the forces on the rail), which steady rolling dissipates by slip.
