@@ -11,6 +11,8 @@ swinging through a third of saturation, speed 30 m/s):
   spin (their closed form) and with spin (the march), n = 1, 2, 4, 8;
 * the 2D closed form: ``RollingContact2D_n`` (one ``ContactModel`` per contact), and n single-contact instances
   stepped one after another (what a host pays without several contacts per instance);
+* the 2D certified table of falling friction (exponential law A 0.4, B 0.6 s/m, tolerance 1e-3, ``table`` = on: each
+  contact builds its table at its first loaded step, in the untimed warm-up, and answers every step from it);
 * empty FMUs with the inputs and outputs of n 2D contacts: the floor that the variables alone set (pythonfmu's and
   fmpy's work per variable).
 
@@ -174,6 +176,10 @@ def main(argv: list[str] | None = None) -> None:
                 f"empty {n}", build_empty(Path(tmp), n), 1, {}, 100, 0.0)
         for n in COUNTS:
             cases["2D closed form", n] = Instances(f"2D {n}", unzipped2d[n], 1, {"method": 1}, 100, 0.0)
+        table = {"friction_law": 1, "friction_kinetic_ratio": 0.4, "friction_decay": 0.6, "tolerance": 1e-3,
+                 "table": 2}
+        for n in COUNTS:
+            cases["2D table, falling friction", n] = Instances(f"2D table {n}", unzipped2d[n], 1, table, 100, 0.0)
         for n in COUNTS:
             cases["2D closed form, n instances", n] = Instances(f"2D x{n}", contact2d, n, {"method": 1}, 100, 0.0)
         for case in cases.values():
