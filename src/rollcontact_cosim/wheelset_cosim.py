@@ -10,12 +10,18 @@ convention) and the gap curvatures ``A = 1/(2 r0)``, ``B = 1/(2 R_rail)`` (:func
 
 :class:`LibraryContactLaw` is the contact FMU's model in process (the same
 :class:`rollcontact.stepping.elliptic.EllipticModel`): ``simulate`` with it is the co-simulation bit for bit, which
-``tests/cosim/test_wheelset_cosim.py`` checks.
+``tests/cosim/test_wheelset_cosim.py`` checks.  :func:`cosim_hunting_sweep` is the speed sweep of
+:func:`rollcontact_cosim.wheelset_study.hunting_sweep` co-simulated (one task per speed, on dask or in process),
+against the eigenvalues of the wheelset linearised with the contact FMU's own Jacobian at zero creepage.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
+import subprocess
+import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -23,8 +29,13 @@ import numpy as np
 from rollcontact.stepping.elliptic import EllipticModel, EllipticParameters
 from rollcontact_cosim.master import Slave
 from rollcontact_cosim.wheelset import HOST, ContactForces, WheelsetParameters
+from rollcontact_cosim.wheelset_stability import critical_speed, klingel_wavelength, least_damped, linearised
+from rollcontact_cosim.wheelset_study import SPEEDS, HuntingSweep, SpeedRun, decay_rate, plot_hunting, zero_crossing
 
-__all__ = ["CONTACT_MODEL", "LibraryContactLaw", "contact_parameters", "cosimulate"]
+__all__ = ["CONTACT_MODEL", "LibraryContactLaw", "contact_parameters", "cosim_hunting_sweep", "cosimulate",
+           "ensure_wheelset_fmus", "write_cosim_reference"]
+
+ROOT = Path(__file__).resolve().parents[2]
 
 CONTACT_MODEL = "RollingContact3D_2"
 """The contact FMU of the scene: the elliptic contact with two contacts (``build_fmu.py --contacts 2``)."""
@@ -111,3 +122,80 @@ def cosimulate(parameters: WheelsetParameters, stop_time: float, step_size: floa
     finally:
         host.free()
         wheels.free()
+
+
+def ensure_wheelset_fmus(fmu_dir: Path | str) -> Path:
+    """``fmu_dir`` with ``Wheelset.fmu`` and ``RollingContact3D_2.fmu``, built by ``build_fmu.py`` when missing."""
+    folder = Path(fmu_dir)
+    for model, args in ((HOST, ["--only", HOST]), (CONTACT_MODEL, ["--contacts", "2"])):
+        if not (folder / f"{model}.fmu").is_file():
+            done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), *args, "--dest", str(folder)],
+                                  capture_output=True, text=True, timeout=600)
+            if done.returncode != 0:
+                raise RuntimeError(f"build_fmu.py {' '.join(args)} failed:\n{done.stdout}\n{done.stderr}")
+    return folder
+
+
+def cosim_speed(parameters: WheelsetParameters, speed: float, fmu_dir: str, contact: dict, periods: int = 12,
+                steps_per_period: int = 200, settle: int = 2, amplitude_limit: float = 0.01) -> SpeedRun:
+    """:func:`rollcontact_cosim.wheelset_study.run_speed` co-simulated: the decay rate of y at ``speed`` over
+    ``periods`` kinematic periods (after ``settle``, while |y| <= ``amplitude_limit`` [m]) against the eigenvalues of
+    the wheelset linearised with the contact's Jacobian at zero creepage."""
+    p = dataclasses.replace(parameters, speed=float(speed))
+    period = klingel_wavelength(p) / speed
+    step = period / steps_per_period
+    times, states = cosimulate(p, step * steps_per_period * periods, step, fmu_dir, contact)
+    rate, peaks = decay_rate(times, states[:, 0], start=settle * period, limit=amplitude_limit)
+    mode = least_damped(p, linearised(LibraryContactLaw(contact), p))
+    return SpeedRun(float(speed), rate, mode.real, peaks, mode.imag / (2.0 * math.pi))
+
+
+def cosim_hunting_sweep(speeds, fmu_dir: Path | str, parameters: WheelsetParameters | None = None,
+                        contact: dict | None = None, *, periods: int = 12, steps_per_period: int = 200, client=None,
+                        scheduler: str | None = None, n_workers: int = 2) -> HuntingSweep:
+    """The co-simulated decay rate at each speed (one task each: ``client``/``scheduler``/``n_workers`` as in
+    :func:`rollcontact_cosim.sweep.run_sweep`, ``n_workers=0`` in process), the critical speed of their zero
+    crossing and the eigenvalues' with the contact FMU's Jacobian at zero creepage (:class:`LibraryContactLaw`)."""
+    from rollcontact_cosim.sweep import submit
+
+    p = WheelsetParameters() if parameters is None else parameters
+    contact = contact_parameters(p) if contact is None else contact
+    folder = str(ensure_wheelset_fmus(fmu_dir).resolve())
+    speeds = sorted(float(v) for v in speeds)
+    arguments = [(p, v, folder, contact, periods, steps_per_period) for v in speeds]
+    if client is None and scheduler is None and n_workers == 0:
+        runs = [cosim_speed(*args) for args in arguments]
+    else:
+        runs = submit(cosim_speed, arguments, client, scheduler, n_workers, fmus=False)
+    return HuntingSweep(tuple(runs), critical_speed(p, linearised(LibraryContactLaw(contact), p)),
+                        zero_crossing(speeds, [run.simulated for run in runs]))
+
+
+REFERENCE = ROOT / "models" / "cosim" / "wheelset_hunting_cosim.md"
+"""Reference results of the co-simulated sweep (:func:`write_cosim_reference`)."""
+
+
+def write_cosim_reference(fmu_dir: Path | str, path: Path | str = REFERENCE, plot: Path | str | None = None,
+                          speeds=SPEEDS, **sweep_options) -> Path:
+    """Run the co-simulated sweep of the default wheelset over ``speeds`` (serial unless ``sweep_options`` say
+    otherwise) and write its table and critical speeds to ``path`` (and the figure to ``plot``)."""
+    p = WheelsetParameters()
+    contact = contact_parameters(p)
+    sweep = cosim_hunting_sweep(speeds, fmu_dir, p, contact, **{"n_workers": 0, **sweep_options})
+    if plot is not None:
+        plot_hunting(sweep, plot, p, linearised(LibraryContactLaw(contact), p))
+    lines = ["# wheelset_hunting: co-simulated reference results", "",
+             *textwrap.wrap("Written by `rollcontact_cosim.wheelset_cosim.write_cosim_reference()`: the default "
+                            "wheelset of `rollcontact_cosim.wheelset` co-simulated through fmpy with "
+                            "`RollingContact3D_2` (linear theory, `contact_parameters`), 200 steps per kinematic "
+                            "period; the eigenvalues with the contact FMU's Jacobian at zero creepage. Every figure "
+                            "is a function of the parameters only.", 115), "",
+             "| V [m/s] | co-simulated decay rate [1/s] | eigenvalue Re [1/s] | frequency [Hz] | peaks |",
+             "|---|---|---|---|---|"]
+    lines += [f"| {r.speed:g} | {r.simulated:+.4f} | {r.predicted:+.4f} | {r.frequency:.3f} | {r.peaks} |"
+              for r in sweep.runs]
+    simulated = ("none in the sweep" if sweep.simulated_critical_speed is None
+                 else f"{sweep.simulated_critical_speed:.2f} m/s ({100 * sweep.error:+.2f} %)")
+    lines += ["", f"critical speed: eigenvalues {sweep.predicted_critical_speed:.2f} m/s, co-simulation {simulated}"]
+    Path(path).write_text("\n".join(lines) + "\n")
+    return Path(path)

@@ -70,3 +70,39 @@ def test_the_cosimulated_hunting_changes_sign_within_4_percent_of_the_linear_cri
         times, states = cosimulate(p, 12 * period, period / 200, fmu_dir)
         rates.append(decay_rate(times, states[:, 0], start=2 * period)[0])
     assert rates[0] < 0.0 < rates[1], f"decay rates {rates} 1/s at 0.96 and 1.04 x {predicted:.2f} m/s"
+
+
+def test_the_cosimulated_sweep_finds_the_critical_speed_of_the_eigenvalues(fmu_dir):
+    """The co-simulated decay rates follow the least-damped eigenvalue's real part, and their zero crossing is the
+    eigenvalues' critical speed within 2 % (the issue asks 5 %)."""
+    from rollcontact_cosim.wheelset_cosim import cosim_hunting_sweep
+
+    sweep = cosim_hunting_sweep([50.0, 60.0, 70.0, 80.0], fmu_dir, periods=10, n_workers=0)
+    for run in sweep.runs:
+        assert abs(run.simulated - run.predicted) < 0.01, f"{run.speed} m/s: {run.simulated} against {run.predicted}"
+    assert abs(sweep.error) < 0.02, f"co-simulation {sweep.simulated_critical_speed} against eigenvalues " \
+        f"{sweep.predicted_critical_speed} m/s"
+
+
+@pytest.mark.slow
+def test_the_cosimulated_sweep_on_dask_workers_equals_the_serial_one(fmu_dir):
+    pytest.importorskip("dask.distributed")
+    from dask.distributed import Client
+
+    from rollcontact_cosim.sweep import local_cluster
+    from rollcontact_cosim.wheelset_cosim import cosim_hunting_sweep
+
+    speeds = [55.0, 75.0]
+    with local_cluster(2) as cluster, Client(cluster) as client:
+        distributed = cosim_hunting_sweep(speeds, fmu_dir, periods=6, client=client)
+    assert distributed == cosim_hunting_sweep(speeds, fmu_dir, periods=6, n_workers=0), \
+        "FMUs in worker processes give the serial results bit for bit"
+
+
+@pytest.mark.slow
+def test_the_cosimulated_reference_results_are_the_sweeps(fmu_dir, tmp_path):
+    from rollcontact_cosim.wheelset_cosim import REFERENCE, write_cosim_reference
+
+    fresh = write_cosim_reference(fmu_dir, tmp_path / "reference.md")
+    assert fresh.read_text() == REFERENCE.read_text(), \
+        "models/cosim/wheelset_hunting_cosim.md is not what the sweep gives: rerun write_cosim_reference()"
