@@ -13,6 +13,7 @@ convention) and the gap curvatures ``A = 1/(2 r0)``, ``B = 1/(2 R_rail)`` (:func
 ``tests/cosim/test_wheelset_cosim.py`` checks.  :func:`cosim_hunting_sweep` is the speed sweep of
 :func:`rollcontact_cosim.wheelset_study.hunting_sweep` co-simulated (one task per speed, on dask or in process),
 against the eigenvalues of the wheelset linearised with the contact FMU's own Jacobian at zero creepage.
+:func:`cosimulate_libcosim` runs the same system with libcosim's fixed-step (Jacobi) algorithm.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ import dataclasses
 import math
 import subprocess
 import sys
+import tempfile
 import textwrap
 from pathlib import Path
 
@@ -33,7 +35,7 @@ from rollcontact_cosim.wheelset_stability import critical_speed, klingel_wavelen
 from rollcontact_cosim.wheelset_study import SPEEDS, HuntingSweep, SpeedRun, decay_rate, plot_hunting, zero_crossing
 
 __all__ = ["CONTACT_MODEL", "LibraryContactLaw", "contact_parameters", "cosim_hunting_sweep", "cosimulate",
-           "ensure_wheelset_fmus", "write_cosim_reference"]
+           "cosimulate_libcosim", "ensure_wheelset_fmus", "write_cosim_reference"]
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -199,3 +201,69 @@ def write_cosim_reference(fmu_dir: Path | str, path: Path | str = REFERENCE, plo
     lines += ["", f"critical speed: eigenvalues {sweep.predicted_critical_speed:.2f} m/s, co-simulation {simulated}"]
     Path(path).write_text("\n".join(lines) + "\n")
     return Path(path)
+
+
+def cosimulate_libcosim(parameters: WheelsetParameters, stop_time: float, step_size: float, fmu_dir: Path | str,
+                        contact: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The co-simulation through libcosim's fixed-step (Jacobi) algorithm: times [s] and host states as
+    :func:`cosimulate`; the host runs with ``force_lag = 1`` (its forces belong to the creepages of the previous
+    communication point, about which it linearises them).
+
+    ``fmu_dir`` holds ``Wheelset.fmu`` and the integer-codes build of ``RollingContact3D_2.fmu`` (``build_fmu.py
+    --contacts 2 --integer-codes``: libcosim lists no enumeration variables).  The system structure is written for
+    the run (instances ``Wheelset`` and ``RollingContact3D``, the connections
+    :data:`rollcontact_cosim.wheelset.CONNECTIONS` and the Jacobians); the parameters are set as initial values.
+    """
+    from libcosimpy.CosimEnums import CosimVariableCausality, CosimVariableType
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimObserver import CosimObserver
+
+    from rollcontact_cosim.osp import INITIAL_VALUE, NAMESPACE, NS_PER_S, lookup, samples
+    from rollcontact_cosim.wheelset import CONNECTIONS, CONTACT
+
+    n = int(round(stop_time / step_size))
+    step_ns = round(step_size * NS_PER_S)
+    if n < 1 or abs(n * step_size - stop_time) > 1e-9 * stop_time or abs(step_size * NS_PER_S - step_ns) > 1e-6:
+        raise ValueError(f"stop_time = {stop_time!r} s must be a positive multiple of step_size = {step_size!r} s, "
+                         "a whole number of nanoseconds")
+    folder = Path(fmu_dir).resolve()
+    links = [*CONNECTIONS, *((f"{CONTACT}.{name}[{k}]", f"{HOST}.{name}[{k}]") for k in (1, 2) for name in JACOBIAN)]
+    connections = "".join(
+        "<VariableConnection>" + "".join(f'<Variable simulator="{end.split(".", 1)[0]}" name="{end.split(".", 1)[1]}"/>'
+                                         for end in link) + "</VariableConnection>" for link in links)
+    system = (f'<?xml version="1.0" encoding="utf-8"?><OspSystemStructure xmlns="{NAMESPACE}" version="0.1">'
+              f"<StartTime>0.0</StartTime><BaseStepSize>{float(step_size)!r}</BaseStepSize>"
+              "<Algorithm>fixedStep</Algorithm><Simulators>"
+              f'<Simulator name="{HOST}" source="{(folder / f"{HOST}.fmu").as_uri()}"/>'
+              f'<Simulator name="{CONTACT}" source="{(folder / f"{CONTACT_MODEL}.fmu").as_uri()}"/>'
+              f"</Simulators><Connections>{connections}</Connections></OspSystemStructure>")
+    start_values = {HOST: {**{f.name: getattr(parameters, f.name) for f in dataclasses.fields(parameters)},
+                           "force_lag": 1},
+                    CONTACT: contact_parameters(parameters) if contact is None else contact}
+    log_output_level(CosimLogLevel.WARNING)
+    with tempfile.TemporaryDirectory(prefix="rollcontact_wheelset_osp_") as tmp:
+        config = Path(tmp, "OspSystemStructure.xml")
+        config.write_text(system)
+        execution = CosimExecution.from_osp_config_file(str(config))
+    try:
+        index = {name: execution.slave_index_from_instance_name(name) for name in (HOST, CONTACT)}
+        variables = {name: {v.name.decode(): v for v in execution.slave_variables(i)} for name, i in index.items()}
+        for name, values in start_values.items():
+            for variable, value in values.items():
+                v = lookup(variables[name], name, variable, CosimVariableCausality.PARAMETER)
+                setter, kind = INITIAL_VALUE[CosimVariableType(v.type)]
+                if not getattr(execution, setter)(index[name], v.reference, kind(value)):
+                    raise RuntimeError(f"libcosim refused {name}.{variable} = {value!r}")
+        observer = CosimObserver.create_time_series()
+        execution.add_observer(observer)
+        observed = [lookup(variables[HOST], HOST, name, CosimVariableCausality.OUTPUT) for name in STATES]
+        for v in observed:
+            observer.start_time_series(index[HOST], v.reference, CosimVariableType(v.type))
+        if not execution.step(n):
+            raise RuntimeError(f"libcosim stopped before {n} steps (an FMU refused a step: rerun with the fmpy "
+                               "master, cosimulate, for its reason)")
+        states = np.column_stack([samples(observer, index[HOST], v, n + 1) for v in observed])
+        return np.arange(n + 1) * step_size, states
+    finally:
+        del execution

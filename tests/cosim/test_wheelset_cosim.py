@@ -106,3 +106,30 @@ def test_the_cosimulated_reference_results_are_the_sweeps(fmu_dir, tmp_path):
     fresh = write_cosim_reference(fmu_dir, tmp_path / "reference.md")
     assert fresh.read_text() == REFERENCE.read_text(), \
         "models/cosim/wheelset_hunting_cosim.md is not what the sweep gives: rerun write_cosim_reference()"
+
+
+@pytest.fixture(scope="module")
+def integer_codes_dir(fmu_dir, tmp_path_factory) -> Path:
+    """The Wheelset FMU and the integer-codes build of RollingContact3D_2 (libcosim lists no enumerations)."""
+    dest = tmp_path_factory.mktemp("wheelset_osp")
+    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--contacts", "2", "--integer-codes",
+                           "--dest", str(dest)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, f"build_fmu.py --contacts 2 --integer-codes failed:\n{done.stdout}\n{done.stderr}"
+    (dest / "Wheelset.fmu").write_bytes((fmu_dir / "Wheelset.fmu").read_bytes())
+    return dest
+
+
+def test_libcosim_runs_the_jacobi_sequence_of_the_in_process_run(integer_codes_dir):
+    """libcosim's fixed-step algorithm with force_lag = 1 against simulate(jacobi=True) with the FMU's own model:
+    equal to the rounding of libcosim's nanosecond clock (the step it passes is not exactly H)."""
+    pytest.importorskip("libcosimpy")
+    from rollcontact_cosim.wheelset_cosim import cosimulate_libcosim
+
+    p = WheelsetParameters(speed=40.0, initial_lateral_displacement=2e-3)
+    times, states = cosimulate_libcosim(p, 0.2, 1e-3, integer_codes_dir)
+    reference = simulate(dataclasses.replace(p, force_lag=1), LibraryContactLaw(contact_parameters(p)), 0.2, 1e-3,
+                         jacobi=True)[1]
+    scale = np.abs(reference).max(axis=0)
+    assert np.all(np.abs(states - reference) <= 1e-12 * scale), \
+        f"largest relative difference {np.max(np.abs(states - reference) / scale)}"
+    assert np.ptp(states[:, 0]) > 1e-4, "the wheelset moves"
