@@ -239,3 +239,15 @@ def test_the_declared_bounds_are_the_library_checks():
             EllipticParameters(**{**default.__dict__, **table, name: wrap(bound)})
             with pytest.raises(ValueError):
                 EllipticParameters(**{**default.__dict__, name: wrap(beyond)})
+
+
+def test_a_contact_count_out_of_range_is_refused_with_the_limits(tmp_path):
+    import build_fmu
+
+    for contacts in (0, build_fmu.MAX_CONTACTS + 1, True):
+        with pytest.raises(ValueError, match=f"from 1 to {build_fmu.MAX_CONTACTS}"):
+            build_fmu.build_variant(tmp_path, contacts)
+    with pytest.raises(ValueError, match="FMI 2.0 build"):
+        build_fmu.build_variant(tmp_path, 2, integer_codes=True, fmi=3)
+    with pytest.raises(SystemExit):
+        build_fmu.main(["--contacts", "0", "--dest", str(tmp_path)])
