@@ -133,3 +133,16 @@ def test_libcosim_runs_the_jacobi_sequence_of_the_in_process_run(integer_codes_d
     assert np.all(np.abs(states - reference) <= 1e-12 * scale), \
         f"largest relative difference {np.max(np.abs(states - reference) / scale)}"
     assert np.ptp(states[:, 0]) > 1e-4, "the wheelset moves"
+
+
+@pytest.mark.slow
+def test_the_scene_with_an_fmu_folder_runs_the_cosimulated_sweep(fmu_dir, tmp_path, capsys):
+    """``python -m rollcontact_cosim --scene wheelset_hunting --fmu-dir DIR``: the co-simulated sweep on dask, its
+    table (the reference's) on stdout and the figure."""
+    from rollcontact_cosim.__main__ import main
+    from rollcontact_cosim.wheelset_cosim import REFERENCE
+
+    plot = tmp_path / "hunting.png"
+    assert main(["--scene", "wheelset_hunting", "--fmu-dir", str(fmu_dir), "--plot", str(plot)]) == 0
+    assert REFERENCE.read_text() in capsys.readouterr().out, "the printed table is the reference's"
+    assert plot.stat().st_size > 10_000, "the figure is written"
