@@ -256,10 +256,16 @@ class RollingContact2D(TableSlave):
         return ModelState.parse(data)
 
 
+CONTACT_PARAMETERS = ("radius", "contact_width", "initial_position")
+"""Parameters of their own per contact in an FMU of several contacts (the wheels' geometry and their places along
+the track); the others are shared."""
+
+
 def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, dict]:
     """The variable table and enumerations of the FMU with ``contacts`` contacts: with several, every input and
     output of :data:`VARIABLES` once per contact, named ``name[k]`` (k from 1; inputs of every contact first, then
-    the outputs), and the parameters shared; with ``integer_codes`` plain Integer variables."""
+    the outputs), the parameters shared but those of :data:`CONTACT_PARAMETERS`, which follow once per contact;
+    with ``integer_codes`` plain Integer variables."""
     if contacts == 1:
         rows = VARIABLES
     else:
@@ -267,7 +273,9 @@ def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, 
         rows = tuple((f"{row[0]}[{k}]", *row[1:8], contact_text(row[8], k))
                      for causality in (INPUT, OUTPUT) for k in range(1, contacts + 1)
                      for row in per_contact if row[2] is causality) + tuple(
-            row for row in VARIABLES if row[2] is PARAMETER)
+            row for row in VARIABLES if row[2] is PARAMETER and row[0] not in CONTACT_PARAMETERS) + tuple(
+            (f"{row[0]}[{k}]", *row[1:8], contact_text(row[8], k)) for row in VARIABLES
+            if row[0] in CONTACT_PARAMETERS for k in range(1, contacts + 1))
     enumerations = {row[0]: ENUMERATIONS[row[0].split("[")[0]] for row in rows if row[0].split("[")[0] in ENUMERATIONS}
     if integer_codes:
         return integer_coded(rows, enumerations), {}
@@ -291,8 +299,10 @@ class RollingContact2DContacts(RollingContact2D):
         if values["scene_file"] and isinstance(values["scene_file"], str):
             values["scene_file"] = resolved_scene_file(values["scene_file"], self.resources)
             checked_scene_file(values["scene_file"])
-        model = ContactModels(ContactParameters(**values), self.CONTACTS, start_time=self.start_time,
-                              stop_time=self.stop_time)
+        n = self.CONTACTS
+        per_contact = {name: tuple(values.pop(f"{name}[{k}]") for k in range(1, n + 1)) for name in CONTACT_PARAMETERS}
+        model = ContactModels(ContactParameters(**values), n, start_time=self.start_time, stop_time=self.stop_time,
+                              per_contact=per_contact)
         return model, model.notices
 
     def step_model(self, current_time, step_size):

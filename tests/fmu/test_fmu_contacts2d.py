@@ -1,7 +1,7 @@
 """RollingContact2D with several contacts per instance (``build_fmu.py --contacts n``) through fmpy: n contacts equal
-n single-contact FMUs bit for bit (closed form, polynomial on a corrugation, instationary auto), FMI 2.0 equals
-FMI 3.0, validation, refusals that name the contact and change nothing, and a restored state that repeats the
-steps."""
+n single-contact FMUs bit for bit (closed form, polynomial on a corrugation, instationary auto; each contact with its
+own radius, width and place along the track), FMI 2.0 equals FMI 3.0, validation, refusals that name the contact and
+change nothing, and a restored state that repeats the steps."""
 
 from __future__ import annotations
 
@@ -80,12 +80,19 @@ if "polynomial" in rollcontact.METHODS:
     CASES["polynomial, corrugated"] = ({"method": 2, "corrugation_amplitude": 20e-6}, 4)
 
 
+GEOMETRY = ({"radius": 0.46, "contact_width": 0.02, "initial_position": 0.0},
+            {"radius": 0.43, "contact_width": 0.025, "initial_position": 2.5},
+            {"radius": 0.46, "contact_width": 0.02, "initial_position": 17.013})
+"""Each contact's own geometry and place along the track (the parameters ``radius[k]`` ... of the n-contact FMU)."""
+
+
 @pytest.mark.parametrize("case", list(CASES))
 def test_n_contacts_are_n_single_contact_fmus_bit_for_bit(make, case):
     parameters, steps = CASES[case]
     rows = [signal(steps, k) for k in range(CONTACTS)]
-    several = make(2, CONTACTS, **parameters)
-    singles = [make(2, 1, **parameters) for _ in range(CONTACTS)]
+    own = {f"{name}[{k + 1}]": value for k, geometry in enumerate(GEOMETRY) for name, value in geometry.items()}
+    several = make(2, CONTACTS, **parameters, **own)
+    singles = [make(2, 1, **parameters, **GEOMETRY[k]) for k in range(CONTACTS)]
     for n in range(steps):
         together = step(several, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS)
         alone = [v for k in range(CONTACTS) for v in step(singles[k], n * H, [rows[k][n]])]
@@ -144,3 +151,10 @@ def test_a_restored_state_repeats_the_steps_bit_for_bit(make, fmi):
     slave.fmu.setFMUstate(restored)
     slave.fmu.freeFMUstate(restored)
     assert [step(slave, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS) for n in range(4, 10)] == first
+
+
+def test_an_invalid_per_contact_parameter_is_named_with_its_contact(make):
+    slave = make(2, CONTACTS, **{"radius[2]": -1.0, "contact_width[3]": 0.0})
+    errors = " ".join(m for m in slave.log if m.startswith("Error: "))
+    for part in ("contact 2: radius = -1.0", "contact 3: contact_width = 0.0"):
+        assert part in errors, errors

@@ -10,6 +10,7 @@ of the contacts are prefixed with their contact.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, fields
 from operator import attrgetter
 
@@ -63,20 +64,33 @@ class ContactsState:
 
 
 class ContactModels:
-    """``contacts`` 2D contacts of one :class:`ContactParameters` (module docstring).
+    """``contacts`` 2D contacts of one :class:`ContactParameters` (module docstring), with ``per_contact`` values
+    (parameter name -> one value per contact, e.g. ``radius``, ``initial_position``) replacing shared ones.
 
     Raises
     ------
     ModelError
-        Invalid parameters (as :class:`ContactModel`).
+        Invalid parameters (as :class:`ContactModel`; a per-contact value named with its contact).
     """
 
     def __init__(self, parameters: ContactParameters, contacts: int, *, start_time: float = 0.0,
-                 stop_time: float | None = None):
+                 stop_time: float | None = None, per_contact: dict | None = None):
         if isinstance(contacts, bool) or not isinstance(contacts, int) or contacts < 1:
             raise ModelError(f"contacts = {contacts!r} must be a whole number >= 1")
-        self.models = tuple(ContactModel(parameters, start_time=start_time, stop_time=stop_time)
-                            for _ in range(contacts))
+        per_contact = per_contact or {}
+        if any(len(values) != contacts for values in per_contact.values()):
+            raise ModelError(f"per-contact parameters need {contacts} values each, got "
+                             f"{ {name: len(values) for name, values in per_contact.items()} }")
+        models, problems = [], []
+        for k in range(contacts):
+            try:
+                own = dataclasses.replace(parameters, **{name: values[k] for name, values in per_contact.items()})
+                models.append(ContactModel(own, start_time=start_time, stop_time=stop_time))
+            except ModelError as exc:
+                problems.append(f"contact {k + 1}: {exc}")
+        if problems:
+            raise ModelError("; ".join(problems))
+        self.models = tuple(models)
         self.notices = self.models[0].notices
 
     @property

@@ -38,7 +38,7 @@ velocities times the forces on the rail), which steady rolling dissipates by sli
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -596,5 +596,3 @@ class LinearContacts:
 INPUTS = (("normal_load", "N", 0.0), ("longitudinal_creep", "", None), ("lateral_creep", "", None),
           ("spin", "1/m", None), ("velocity", "m/s", 0.0))
 """The inputs of a contact (name, unit, lower bound) in :meth:`EllipticModel.step`'s order."""
-
-PARAMETER_NAMES = tuple(f.name for f in fields(EllipticParameters))
