@@ -7,8 +7,9 @@ swinging through a third of saturation, speed 30 m/s):
 * the empty pythonfmu FMU (``common.EMPTY_SLAVE``: RollingContact2D's inputs and outputs, a ``do_step`` that returns
   True): the floor of any step;
 * ``RollingContact3D_n`` (``build_fmu.py --contacts n``) with the linear level (``method`` = linear: the contacts'
-  linear theory evaluated together, :class:`rollcontact.stepping.elliptic.LinearContacts`), with the strips without
-  spin (their closed form) and with spin (the march), n = 1, 2, 4, 8;
+  linear theory without a solver call per contact, :class:`rollcontact.stepping.elliptic.LinearContacts`), with the
+  strips without spin (their closed form) and with spin (the march; both one ``solve_strips_many`` over the
+  contacts), n = 1, 2, 4, 8;
 * the 2D closed form: ``RollingContact2D_n`` (one ``ContactModel`` per contact), and n single-contact instances
   stepped one after another (what a host pays without several contacts per instance);
 * the 2D certified table of falling friction (exponential law A 0.4, B 0.6 s/m, tolerance 1e-3, ``table`` = on: each

@@ -24,10 +24,10 @@ fall with saturation); with ``jacobian`` = 1 forward differences of the step's o
 contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation value (``mu Fn`` over the linear
 slope), each within the step budget.
 
-Contacts together: with ``method`` = linear (and no tolerance) the step is one numpy evaluation over the contacts
-(:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse` and the linear level
-take for one contact; with ``method`` = strips (no tolerance, Coulomb friction, the cost with spin within the
-budget) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
+Contacts together: with ``method`` = linear (and no tolerance) the step evaluates the linear theory of every contact
+without a solver call (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse`
+and the linear level take for one contact; with ``method`` = strips (no tolerance, Coulomb friction, the cost with
+spin within the budget) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
 (:meth:`EllipticModel.strips_step`).  Each contact's outputs are bit for bit those of
 :func:`rollcontact.solve_elliptic`; the other levels solve the contacts one after another through it.
 
@@ -40,8 +40,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from typing import NamedTuple
-
-import numpy as np
 
 from rollcontact.checks import SceneError, check_real
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
@@ -57,6 +55,7 @@ from rollcontact.stepping.parameters import (
     ModelError,
     friction_law,
     friction_table_points,
+    new_tuple,
 )
 
 __all__ = ["ELLIPTIC_LEVELS", "EllipticModel", "EllipticOutputs", "EllipticParameters", "EllipticState",
@@ -394,21 +393,22 @@ class EllipticModel:
             method solves within the budget.  The state is then unchanged.
         """
         try:
-            values = np.array(inputs, dtype=float)
+            rows = [tuple(float(v) for v in row) for row in inputs]
         except (TypeError, ValueError):
-            values = None
-        if values is None or values.shape != (self.contacts, len(INPUTS)) or not (
-                np.isfinite(values).all() and (values[:, 0] >= 0.0).all() and (values[:, 4] >= 0.0).all()
-                and 0.0 < step_size < math.inf and -math.inf < current_time < math.inf):
+            rows = None
+        inf = math.inf
+        if rows is None or len(rows) != self.contacts or not (0.0 < step_size < inf and -inf < current_time < inf) or \
+                not all(len(row) == 5 and 0.0 <= row[0] < inf and -inf < row[1] < inf and -inf < row[2] < inf
+                        and -inf < row[3] < inf and 0.0 <= row[4] < inf for row in rows):
             raise ModelError("; ".join(self.input_problems(current_time, step_size, inputs)) or
                              f"invalid step inputs {inputs!r}")
         if current_time < self.state.time:
             raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
                              f"{self.state.time!r} s; restore a saved state to step from an earlier time")
         if self.batch is not None:
-            outputs = self.batch.step(values)
+            outputs = self.batch.step(rows)
         elif self.strips_together:
-            outputs = self.strips_step(values.tolist())
+            outputs = self.strips_step(rows)
         else:
             outputs = tuple(self.contact_step(k, *(float(v) for v in row)) for k, row in enumerate(inputs))
         self.state.time = float(current_time)
@@ -535,62 +535,61 @@ class EllipticModel:
 
 
 class LinearContacts:
-    """Kalker's linear theory for every contact of a model at once (numpy over the contacts).
+    """Kalker's linear theory for every contact of a model, without a solver call per contact.
 
     What depends on the curvatures alone (Hertz's eccentricity and elliptic integrals, the orientation, Kalker's
     coefficients at a/b) is taken once from the library's own functions; each step evaluates, per contact, the
     expressions of :func:`rollcontact.elliptic.hertz_ellipse` (``alpha^3 = 3 Fn (K - E)/e^2 / (2 pi E* A_major)``,
     ``beta = g alpha``, ``p0 = A_major E* alpha / (g (K - E)/e^2)``), of the linear level
     (:func:`rollcontact.elliptic.methods.common.linear_forces`) and of :meth:`EllipticModel.linear_slopes`, operation
-    for operation, so that the outputs equal the single-contact path's bit for bit.  The cube root is the C
-    library's ``pow`` per contact (numpy's vectorised power may differ in the last bit).
+    for operation, so that the outputs equal the single-contact path's bit for bit.  The evaluation is a loop of
+    float arithmetic over the contacts: a vehicle's few contacts cost less so than numpy's fixed cost per array
+    operation (some 40 of them per step), and the C library's ``pow`` and ``sqrt`` are the ones ``hertz_ellipse``
+    calls (numpy's vectorised power may differ in the last bit).
     """
 
     def __init__(self, model: EllipticModel):
         estar = model.material.contact_modulus
         nu = model.material.poisson_ratio
-        rows = []
+        self.constants = []
         for A, B in model.curvatures:
             major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
             m = eccentricity(minor_curvature / major_curvature)
             major, _, _ = differences(m)
             g = math.sqrt(1.0 - m)
             c = creepage_coefficients(g if A > B else 1.0 / g, nu)
-            rows.append((major, 2.0 * math.pi * estar * major_curvature, g, major_curvature * estar, A <= B,
-                         c.c11, c.c22, c.c23, c.c33))
-        columns = list(zip(*rows, strict=True))
-        self.major, self.denominator, self.g, self.pressure_scale = (np.array(columns[i]) for i in range(4))
-        self.g_major = self.g * self.major
-        self.along_x = np.array(columns[4])
-        self.c11, self.c22, self.c23, self.c33 = (np.array(columns[i]) for i in range(5, 9))
+            self.constants.append((major, 2.0 * math.pi * estar * major_curvature, g, major_curvature * estar,
+                                   g * major, A <= B, c.c11, c.c22, c.c23, c.c33))
         self.shear_modulus = model.material.youngs_modulus / (2.0 * (1.0 + nu))
 
-    def step(self, inputs: np.ndarray) -> tuple[EllipticOutputs, ...]:
-        """The outputs of every contact for its checked inputs (an array of rows as :meth:`EllipticModel.step`'s).
-        At Fn = 0 the expressions give alpha = 0 and p0 = 0, as ``hertz_ellipse``'s; the row is then :data:`ZERO`."""
-        fn, xi, eta, phi, velocity = inputs.T
-        ratio = 3.0 * fn * self.major / self.denominator
-        alpha = np.array([value ** (1.0 / 3.0) for value in ratio.tolist()])
-        beta = self.g * alpha
-        p0 = self.pressure_scale * alpha / self.g_major
-        a = np.where(self.along_x, alpha, beta)
-        b = np.where(self.along_x, beta, alpha)
-        length = np.sqrt(a * b)
-        g = self.shear_modulus
-        area = length * length
-        fx = g * area * self.c11 * xi
-        fy = g * area * (self.c22 * eta + length * self.c23 * phi)
-        mz = g * area * length * (-self.c23 * eta + np.where(phi != 0.0, length * self.c33 * phi, 0.0))
-        slope = g * length * length
-        lever = slope * length
-        cross = lever * self.c23
-        power = velocity * (xi * fx + eta * fy + phi * mz)
-        zero = np.zeros_like(fx)
-        columns = (fx, fy, mz, a, b, p0, np.full_like(fx, NO_STICK), power, slope * self.c11, zero, zero, zero,
-                   slope * self.c22, cross, zero, -cross, lever * length * self.c33)
+    def step(self, rows) -> tuple[EllipticOutputs, ...]:
+        """The outputs of every contact for its checked inputs (rows of floats as :meth:`EllipticModel.step`'s).
+        A contact without load is :data:`ZERO`."""
+        shear = self.shear_modulus
         code = METHOD_CODES["linear"]
-        return tuple(EllipticOutputs(*row, code) if load > 0.0 else ZERO
-                     for row, load in zip(zip(*(c.tolist() for c in columns), strict=True), fn.tolist(), strict=True))
+        outputs = []
+        for (fn, xi, eta, phi, velocity), constants in zip(rows, self.constants, strict=True):
+            if fn == 0.0:
+                outputs.append(ZERO)
+                continue
+            major, denominator, g, pressure_scale, g_major, along_x, c11, c22, c23, c33 = constants
+            alpha = (3.0 * fn * major / denominator) ** (1.0 / 3.0)
+            beta = g * alpha
+            p0 = pressure_scale * alpha / g_major
+            a, b = (alpha, beta) if along_x else (beta, alpha)
+            length = math.sqrt(a * b)
+            area = length * length
+            fx = shear * area * c11 * xi
+            fy = shear * area * (c22 * eta + length * c23 * phi)
+            mz = shear * area * length * (-c23 * eta + (length * c33 * phi if phi != 0.0 else 0.0))
+            slope = shear * length * length
+            lever = slope * length
+            cross = lever * c23
+            power = velocity * (xi * fx + eta * fy + phi * mz)
+            outputs.append(new_tuple(EllipticOutputs, (fx, fy, mz, a, b, p0, NO_STICK, power, slope * c11, 0.0, 0.0,
+                                                       0.0, slope * c22, cross, 0.0, -cross, lever * length * c33,
+                                                       code)))
+        return tuple(outputs)
 
 
 INPUTS = (("normal_load", "N", 0.0), ("longitudinal_creep", "", None), ("lateral_creep", "", None),
