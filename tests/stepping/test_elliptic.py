@@ -188,3 +188,13 @@ def test_the_contacts_strips_together_are_each_contact_alone_bit_for_bit(jacobia
         rows = [(float(rng.choice([0.0, rng.uniform(1e3, 2e5)])), *rng.normal(0, 2e-3, 2),
                  float(rng.choice([0.0, rng.normal(0, 0.5)])), float(rng.uniform(0, 40))) for _ in curvatures]
         assert together.step(n * H, H, rows) == alone.step(n * H, H, rows), f"step {n}: {rows}"
+
+
+def test_the_linear_levels_jacobian_is_its_slopes_in_either_mode():
+    rows = [ROW, (5e4, -2e-3, 1e-3, -0.5, 10.0)]
+    p = {"method": 1, "curvature_longitudinal": (1.087, 2.5), "curvature_lateral": (1.667, 1.2)}
+    slopes = EllipticModel(EllipticParameters(**p)).step(0.0, H, rows)
+    together = EllipticModel(EllipticParameters(**p, jacobian=1))
+    alone = EllipticModel(EllipticParameters(**p, jacobian=1))
+    alone.batch = None
+    assert together.step(0.0, H, rows) == alone.step(0.0, H, rows) == slopes

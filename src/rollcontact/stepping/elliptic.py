@@ -22,7 +22,7 @@ Jacobian: the outputs ``dFx_dxi`` ... ``dMz_dphi`` are d(Fx, Fy, Mz)/d(xi, eta, 
 exact for the linear level and at vanishing creepage, the stiffness an implicit host linearises with; they do not
 fall with saturation); with ``jacobian`` = 1 forward differences of the step's own method, three more solves per
 contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation value (``mu Fn`` over the linear
-slope), each within the step budget.
+slope), each within the step budget; the linear level's derivatives are its slopes in either mode (exact).
 
 Contacts together: with ``method`` = linear (and no tolerance) the step evaluates the linear theory of every contact
 without a solver call (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse`
@@ -465,7 +465,7 @@ class EllipticModel:
         if not all(map(math.isfinite, forces)):
             raise ModelError(f"{self.label(k)}{result.method} returned non-finite forces {forces!r}")
         slopes = self.linear_slopes(scene)
-        if self.parameters.jacobian == 1:
+        if self.parameters.jacobian == 1 and level_code(result.method) != METHOD_CODES["linear"]:
             jacobian = self.differences(k, scene, result, forces, slopes)
         else:
             jacobian = tuple(v for row in slopes for v in row)
