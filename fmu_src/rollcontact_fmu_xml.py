@@ -322,6 +322,8 @@ class TableSlave(Fmi2Slave):
     VARIABLES: tuple = ()
     ENUMERATIONS: dict = {}
     INITIAL_DEPENDENCIES: str | None = ""
+    WORDS = {"error": "fmi2Error", "ok": "fmi2OK", "fmi": "FMI 2", "binding": "pythonfmu", "set_state": "setFMUstate"}
+    """The FMI version's words in the slave's messages (the FMI 3.0 binding has its own)."""
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -408,8 +410,9 @@ class TableSlave(Fmi2Slave):
             model, notices = self.new_model(dict(values))
         except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
             self.problem = f"invalid parameters: {exc}"
-            self.report(f"exitInitializationMode: {self.problem}; every do_step will be discarded (pythonfmu "
-                        "cannot return fmi2Error here): reset the instance and set valid parameters",
+            w = self.WORDS
+            self.report(f"exitInitializationMode: {self.problem}; every do_step will be discarded ({w['binding']} "
+                        f"cannot return {w['error']} here): reset the instance and set valid parameters",
                         Fmi2Status.error, self.problem)
             return
         self.model, self.model_values, self.problem = model, values, None
@@ -422,7 +425,7 @@ class TableSlave(Fmi2Slave):
     def do_step(self, current_time, step_size):
         if self.error is not None:
             return self.discard(current_time, None, f"the instance is in error state since: {self.error}; set "
-                                "a valid saved state (setFMUstate) or reset the instance", self.error)
+                                f"a valid saved state ({self.WORDS['set_state']}) or reset the instance", self.error)
         if self.problem is not None:
             return self.discard(current_time, None, self.problem)
         late = self.time_problem(current_time, step_size)
@@ -475,7 +478,7 @@ class TableSlave(Fmi2Slave):
                 self.restore_model(checked["model"], checked["model_state"])
         except Exception as exc:  # noqa: BLE001 - StateRefused, or anything unforeseen: never fmi2Fatal
             reason = str(exc) if isinstance(exc, StateRefused) else f"{type(exc).__name__}: {clip(str(exc), 200)}"
-            self.refuse(f"setFMUstate refused, the instance keeps its previous state: {reason}")
+            self.refuse(f"{self.WORDS['set_state']} refused, the instance keeps its previous state: {reason}")
             return
         for name, value in checked["variables"].items():
             setattr(self, name, value)
@@ -544,8 +547,9 @@ class TableSlave(Fmi2Slave):
 
     def refuse(self, reason: str) -> None:
         """Emulate fmi2Error (pythonfmu cannot return it): log the reason, enter the error state."""
-        self.report(f"{reason} [emulated fmi2Error: pythonfmu returns fmi2OK here; every do_step is discarded until "
-                    "a valid state is set or the instance is reset]", Fmi2Status.error, reason)
+        w = self.WORDS
+        self.report(f"{reason} [emulated {w['error']}: {w['binding']} returns {w['ok']} here; every do_step is "
+                    "discarded until a valid state is set or the instance is reset]", Fmi2Status.error, reason)
         if self.error is None:
             self.error = reason
 
@@ -573,8 +577,8 @@ class TableSlave(Fmi2Slave):
         if abs(current_time - expected) <= tolerance:
             return None
         return (f"the communication point t = {current_time!r} s is not the end of the previous step, "
-                f"{expected!r} s: FMI 2 co-simulation steps from t_(n+1) = t_n + h_n (the start time first); "
-                "set a saved state (setFMUstate) to step from another time")
+                f"{expected!r} s: {self.WORDS['fmi']} co-simulation steps from t_(n+1) = t_n + h_n (the start time "
+                f"first); set a saved state ({self.WORDS['set_state']}) to step from another time")
 
     def parameter_values(self) -> dict:
         return {name: getattr(self, name) for name in self.parameter_names}
