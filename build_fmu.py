@@ -24,6 +24,7 @@ files, in whose types the shared slave's variable table is written.  The default
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import shutil
 import sys
 import tempfile
@@ -32,6 +33,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent
 SOURCES = ROOT / "src"
 XML_HELPER = ROOT / "fmu_src" / "rollcontact_fmu_xml.py"
+EXIT_FIX = ROOT / "fmu_src" / "pythonfmu_exit_fix.py"
+"""The build's fix of pythonfmu's export library (not bundled into the FMUs)."""
 SLAVE = ROOT / "fmu_src" / "rollcontact_fmu_slave.py"
 PACKAGE = SOURCES / "rollcontact"
 HOST_SLAVE = ROOT / "fmu_src" / "wheel_rig_slave.py"
@@ -144,8 +147,8 @@ def pack(slave: Path, packages, dest: Path | str) -> Path:
     try:
         from pythonfmu.builder import FmuBuilder
 
-        return Path(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, XML_HELPER],
-                                         canGetAndSetFMUstate=True, canSerializeFMUstate=True))
+        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, XML_HELPER],
+                                               canGetAndSetFMUstate=True, canSerializeFMUstate=True))
     finally:
         sys.path.remove(str(SOURCES))
 
@@ -171,11 +174,24 @@ def build_model3(model: str, dest: Path | str, slave: Path | None = None, extra:
             framework.mkdir()
             for source in Path(pythonfmu.__file__).parent.glob("*.py"):
                 shutil.copy2(source, framework)
-            return Path(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, *extra, XML_HELPER, framework],
-                                             canGetAndSetFMUState=True, canSerializeFMUState=True,
-                                             canHandleVariableCommunicationStepSize=True))
+            return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest,
+                                                   project_files=[*packages, *extra, XML_HELPER, framework],
+                                                   canGetAndSetFMUState=True, canSerializeFMUState=True,
+                                                   canHandleVariableCommunicationStepSize=True))
     finally:
         sys.path.remove(str(SOURCES))
+
+
+def exit_fixed(fmu: Path | str) -> Path:
+    """The built FMU ``fmu`` with pythonfmu's exit-time double release fixed in its Linux binary
+    (``fmu_src/pythonfmu_exit_fix.py``, docs/fmu.md "Exit"); RuntimeError if the binary is not a pinned release's."""
+    fix = sys.modules.get("pythonfmu_exit_fix")
+    if fix is None:
+        spec = importlib.util.spec_from_file_location("pythonfmu_exit_fix", EXIT_FIX)
+        fix = sys.modules[spec.name] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(fix)
+    fix.patch_fmu(fmu)
+    return Path(fmu)
 
 
 def build(dest: Path | str = ROOT / "models") -> Path:

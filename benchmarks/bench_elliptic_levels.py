@@ -12,7 +12,8 @@ A. Median time per case [us] of each level through ``solve_elliptic(scene, name)
    times the creepage whose linear force is 3 mu Fn, and spin with longitudinal and/or lateral creepage.
 B. (Only with a level named ``discretised`` registered.)  Largest error of Fx, Fy over mu Fn and Mz over mu Fn c of
    each level against the discretised level with its ``extrapolate=True`` (Richardson pair) on the same cases,
-   without and with spin; the accuracy models' constants cite these figures.
+   without and with spin, and the strips' per a/b; the accuracy models' constants cite these figures.  B2: that
+   reference (the pair of 30 and 60 elements) against the pair of 60 and 120 on the strips' test of large spin.
 C. (Same condition.)  Falling friction on the Eurosprinter geometry (a/b 0.5, a 6.3 mm, Fn 106.7 kN, V 10 m/s,
    Polach's exponential law mu = 0.36 ((1 - 0.4) exp(-0.6 w) + 0.4)): Fx/(mu_s Fn) of the strips and of the
    discretised level over a creep curve, and their difference.
@@ -107,7 +108,43 @@ def accuracy() -> list[str]:
             if n:
                 lines.append(f"| {name} | {group} | {n} | {worst[0]:.3f} | {worst[1]:.3f} | {worst[2]:.3f} | "
                              f"{ratio:.2f} |")
-    return lines + [""] + falling_curve()
+    lines += ["", "Strips per a/b (same reference):", "",
+              "| a/b | group | n | Fx / (mu Fn) | Fy / (mu Fn) | Mz / (mu Fn c) |", "|---|---|---|---|---|---|"]
+    for ratio in sorted({round(s.hertz.aspect_ratio, 6) for _, s in pool}):
+        for group in ("no spin", "spin"):
+            chosen = [(s, ref) for (g, s), ref in zip(pool, reference, strict=True)
+                      if g == group and round(s.hertz.aspect_ratio, 6) == ratio]
+            worst = np.max([np.abs(np.array(rc.solve_elliptic(s, "strips").force_coefficients) - ref)
+                            for s, ref in chosen], axis=0)
+            lines.append(f"| {ratio:g} | {group} | {len(chosen)} | {worst[0]:.3f} | {worst[1]:.3f} | {worst[2]:.3f} |")
+    return lines + [""] + reference_check() + falling_curve()
+
+
+def reference_check() -> list[str]:
+    """The Richardson pair of 30 and 60 elements (table B's reference, and the reference of the strips' test of large
+    spin in ``tests/elliptic/methods/test_strips.py``) against the pair of 60 and 120 on that test's cases."""
+    worst = np.zeros(3)
+    for ratio in (0.2, 0.5):
+        for xi, eta, phi in ((0, 0, 1), (0, 0, 3), (0.5, 0.5, 1), (0.5, 0.5, 3), (1, -0.5, 3)):
+            s = saturated(ratio, xi, eta, phi)
+            coarse = rc.solve_elliptic(s, "discretised", elements=60, extrapolate=True).force_coefficients
+            fine = rc.solve_elliptic(s, "discretised", elements=120, extrapolate=True).force_coefficients
+            worst = np.maximum(worst, np.abs(np.array(coarse) - np.array(fine)))
+    return ["## B2. The reference's own error: pair 30/60 against pair 60/120", "",
+            "Large spin with lateral creepage at a/b 0.2 and 0.5 (xi/eta/phi in saturation creepages: 0/0/1, 0/0/3, "
+            "0.5/0.5/1, 0.5/0.5/3, 1/-0.5/3), the cases of the strips' test against the discretised level.", "",
+            "| Fx / (mu Fn) | Fy / (mu Fn) | Mz / (mu Fn c) |", "|---|---|---|",
+            f"| {worst[0]:.4f} | {worst[1]:.4f} | {worst[2]:.4f} |", ""]
+
+
+def saturated(ratio, xi, eta, phi):
+    """The scene at a/b = ratio with creepages in units of the creepage whose linear force is mu Fn."""
+    base = rc.EllipticScene.from_semi_axes(LOAD, C * math.sqrt(ratio), C / math.sqrt(ratio), material=MATERIAL,
+                                           friction=MU)
+    k = rc.creepage_coefficients(ratio, MATERIAL.poisson_ratio)
+    unit = MU * LOAD / (base.shear_modulus * C * C)
+    return base.replace(longitudinal_creepage=xi * unit / k.c11, lateral_creepage=eta * unit / k.c22,
+                        spin_creepage=phi * unit / (k.c23 * C))
 
 
 def falling_curve() -> list[str]:

@@ -33,7 +33,9 @@ Findings (each a row of the report):
 * ``warning``: a Python warning (e.g. a numpy overflow) during a step: the test suite treats one in a solver as a
   numerical defect (``filterwarnings = error::RuntimeWarning``); "after a crafted state" when the step follows a
   crafted state that was accepted (finite but absurd values pass the state check);
-* ``memory``: more than 40 Python memory blocks left per instantiate/free cycle.
+* ``memory``: more than 40 Python memory blocks left per instantiate/free cycle;
+* ``exit``: the worker process ended by a signal after its last result (at exit: interpreter finalisation,
+  ``exit()``'s handlers and the libraries' destructors; docs/fmu.md, "Exit").
 """
 
 from __future__ import annotations
@@ -552,6 +554,10 @@ def campaign(args, unzipped: str) -> dict:
         code = process.returncode
         if code is not None and code > 0:
             raise SystemExit(f"the fuzz worker failed (a defect of this script, not a finding):\n{stderr[-3000:]}")
+        if current is None and code is not None and code < 0:  # every result delivered, then the process died
+            results["findings"].append({"kind": "exit", "episode": -1,
+                                        "detail": f"worker process ended (signal {-code}) after its last result: "
+                                                  f"{stderr.strip()[-300:]}"})
         if current is not None:  # the worker died (a signal) or hung inside an episode
             why = f"signal {-code}" if code is not None and code < 0 else f"exit {code}"
             results["findings"].append({"kind": "fatal", "episode": current,

@@ -6,7 +6,8 @@ of each case, auto's choice at each requested tolerance).  ``--quick`` is a smok
 few settings, small references); the full study takes several minutes.  One BLAS thread.
 
 Modules: ``pareto_cases.py`` (configurations, scene families, settings, references, records),
-``instationary_case.py`` (the instationary scenario, shared with the transient benchmarks), ``pareto_measure.py``
+``instationary_case.py`` (the instationary scenario, shared with the transient benchmarks), ``pareto_elliptic.py``
+(the elliptic family: every 3D level against the discretised 3D reference), ``pareto_measure.py``
 (the measurements), ``pareto_analysis.py`` (fronts, equal-accuracy ratios, cost-model fit), ``pareto_report.py``
 (markdown and figure), ``common.py`` (timing, FMU steps).
 
@@ -55,7 +56,8 @@ import time
 from pathlib import Path
 
 import common  # before numpy: limits BLAS to one thread
-from pareto_cases import FULL, QUICK, steady_cases
+from pareto_cases import FULL, QUICK, Reference, steady_cases
+from pareto_elliptic import elliptic_study
 from pareto_measure import FmuBench, fmu_study, instationary_study, measure_case
 from pareto_report import plot, report
 
@@ -81,7 +83,7 @@ def main(argv: list[str] | None = None) -> None:
             bench = FmuBench(*common.build_and_extract(Path(tmp), build), Path(tmp))
         rows, choices, references = [], [], {}
         cases = [(family, label, scene) for family, listed in steady_cases(config).items() for label, scene in listed]
-        with Progress(len(cases) + 1 + (bench is not None), "cases") as progress:
+        with Progress(len(cases) + 2 + (bench is not None), "cases") as progress:
             for family, label, scene in cases:
                 progress.advance(0, f"{family}: {label}")
                 case_rows, case_choices, ref = measure_case(family, label, scene, config, bench)
@@ -93,6 +95,13 @@ def main(argv: list[str] | None = None) -> None:
             inst_rows, inst_choices, inst_refs = instationary_study(config)
             rows += inst_rows
             choices += inst_choices
+            progress.advance()
+            progress.advance(0, "elliptic (3D)")
+            ell_rows, ell_choices, ell_refs = elliptic_study(config.quick)
+            rows += ell_rows
+            choices += ell_choices
+            references.update({(row.family, case): Reference(None, how) for row in ell_rows[:1]
+                               for case, how in ell_refs})
             progress.advance()
             fmu = []
             if bench is not None:

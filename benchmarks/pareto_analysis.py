@@ -10,7 +10,7 @@ import statistics
 from dataclasses import dataclass
 
 import numpy as np
-from pareto_cases import Row, fmt_error, fmt_time
+from pareto_cases import NOT_STEADY_2D, Row, fmt_error, fmt_time
 from scipy import optimize, stats
 
 from rollcontact.methods.closed_form import CLOSED_FORM_COST
@@ -73,7 +73,7 @@ def equal_accuracy_ratios(rows: list[Row], level: float, extrapolated: bool) -> 
 def equal_accuracy_lines(rows: list[Row]) -> tuple[list[str], list[str]]:
     """Headline lines of the discretised/polynomial ratios at 1e-2 and 1e-3, and their table per case."""
     lines, table = [], []
-    steady = [r for r in rows if r.family != "instationary"]
+    steady = [r for r in rows if r.family not in NOT_STEADY_2D]
     for extrapolated, kind in ((False, "single-grid"), (True, "extrapolated (8 or 16 placements)")):
         for level in (1e-2, 1e-3):
             ratios = equal_accuracy_ratios(steady, level, extrapolated)

@@ -17,6 +17,7 @@ from rollcontact.methods.discretised.steady import DISCRETISED_ELEMENTS
 from rollcontact.methods.polynomial.accuracy import SLIP_NODES, TRUNCATIONS
 
 TOLERANCES = (1e-2, 1e-3, 1e-4)  # the tolerances requested of auto
+NOT_STEADY_2D = ("instationary", "elliptic (3D)")  # families outside the 2D steady analyses and cost-model fits
 LOAD = 1e6  # N' [N/m] of the steady cases
 A_HERTZ = hertz(LOAD, 0.46, ESTAR)[0]
 SATURATION = 0.3 * A_HERTZ / 0.46  # Carter's saturation creep mu a / R

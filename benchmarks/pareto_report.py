@@ -19,7 +19,7 @@ from pareto_analysis import (
     pareto_front,
     rank_agreement,
 )
-from pareto_cases import TOLERANCES, AutoChoice, Row, fmt_error, fmt_time
+from pareto_cases import NOT_STEADY_2D, TOLERANCES, AutoChoice, Row, fmt_error, fmt_time
 from pareto_measure import PAIRED_ROUNDS
 
 ERROR_FLOOR = 1e-16  # plotted instead of an exact 0
@@ -34,10 +34,11 @@ def plot(rows: list[Row], choices: list[AutoChoice], path: Path) -> None:
     import matplotlib.pyplot as plt
 
     families = list(dict.fromkeys(r.family for r in rows))
-    fig, axes = plt.subplots(2, 3, figsize=(17, 10.5))
+    fig, axes = plt.subplots(2, 4, figsize=(22, 10.5))
     colours = {"closed_form": "black", "polynomial": "tab:blue", "discretised": "tab:orange",
                "quasi-static": "tab:gray", "relaxation": "tab:green", "transient": "tab:orange",
-               "transient pair": "tab:brown"}
+               "transient pair": "tab:brown", "3D linear": "tab:gray", "3D fastsim": "tab:green",
+               "3D strips": "tab:blue", "3D discretised": "tab:orange"}
     markers = "osD^vP*X"
     for ax, family in zip(axes.flat, families, strict=False):
         cases = list(dict.fromkeys(r.case for r in rows if r.family == family))
@@ -59,7 +60,8 @@ def plot(rows: list[Row], choices: list[AutoChoice], path: Path) -> None:
                 ax.plot(choice.time, max(choice.error, ERROR_FLOOR), marker="*", color="red", ms=13, mec="darkred",
                         zorder=5)
                 ax.annotate(f"{choice.tolerance:.0e}", (choice.time, max(choice.error, ERROR_FLOOR)), fontsize=7,
-                            color="darkred", xytext=(4, 2 + 7 * TOLERANCES.index(choice.tolerance)),
+                            color="darkred", xytext=(4, 2 + 7 * (TOLERANCES.index(choice.tolerance)
+                                                            if choice.tolerance in TOLERANCES else 0)),
                             textcoords="offset points")
         for tolerance in TOLERANCES:
             ax.axhline(tolerance, color="red", lw=0.5, ls="--", alpha=0.4)
@@ -67,7 +69,9 @@ def plot(rows: list[Row], choices: list[AutoChoice], path: Path) -> None:
         ax.set_yscale("log")
         ax.set_title(f"{family} ({len(cases)} case{'s' if len(cases) > 1 else ''})", fontsize=10)
         ax.set_xlabel("time per step [s]" if family == "instationary" else "time per solve [s]")
-        ax.set_ylabel("max |T' - T'_ref| / (mu N')" if family == "instationary" else "relative error of T' and p0")
+        ax.set_ylabel({"instationary": "max |T' - T'_ref| / (mu N')",
+                       "elliptic (3D)": "max error of Fx, Fy / (mu Fn), Mz / (mu Fn c)"}.get(
+                           family, "relative error of T' and p0"))
         ax.grid(True, which="major", alpha=0.3)
         legend = [plt.Line2D([], [], color=colours.get(m, "tab:purple"), marker="o", ls="-", label=m.replace("_", " "))
                   for m in dict.fromkeys(r.method for r in rows if r.family == family)]
@@ -90,7 +94,7 @@ def fmu_overhead_lines(rows: list[Row], empty: float) -> list[str]:
     own share: pythonfmu's step, the model building the scene and its outputs, fmpy's calls)."""
     lines = []
     for method in ("closed_form", "polynomial", "discretised"):
-        pairs = [(r.fmu_time, r.time) for r in rows if r.method == method and r.family != "instationary"
+        pairs = [(r.fmu_time, r.time) for r in rows if r.method == method and r.family not in NOT_STEADY_2D
                  and math.isfinite(r.fmu_time) and math.isfinite(r.time)]
         if not pairs:
             continue
@@ -139,7 +143,7 @@ def aims_lines(rows: list[Row], choices: list[AutoChoice], fmu: list) -> list[st
         if values:
             out.append((f"{what} solves in tens of microseconds at 0.1 % (`solve(scene, tolerance=1e-3)`, one "
                         "patch)", span(values), max(values) < TENS_OF_US))
-    ratios = equal_accuracy_ratios([r for r in rows if r.family != "instationary"], 1e-3, False)
+    ratios = equal_accuracy_ratios([r for r in rows if r.family not in NOT_STEADY_2D], 1e-3, False)
     if ratios:
         median = statistics.median(q.ratio for q in ratios)
         bounds = sum(q.lower_bound for q in ratios)
@@ -303,7 +307,7 @@ def report(config, rows, choices, references, inst_refs, fmu, elapsed, load, pat
                              f"{'x' if id(r) in front else ''} | {', '.join(f'{t:.0e}' for t in r.auto)} |")
         lines.append("")
     # model checks
-    steady = [r for r in rows if r.family != "instationary"]
+    steady = [r for r in rows if r.family not in NOT_STEADY_2D]
     rho, agree, pairs = rank_agreement(steady)
     lines += ["## Cost and error models of auto (`src/rollcontact/methods/*/accuracy.py`) against this run", "",
               f"- Cost model vs measured time: Spearman rank correlation {rho:.3f} over {len(steady)} settings; "

@@ -156,6 +156,25 @@ def is_real(value) -> bool:
     return type(value) in (int, float)
 
 
+def hold_uarray_error_type() -> None:
+    """Give scipy's ``_uarray.BackendNotImplementedError`` type one reference that is never released.
+
+    In an interpreter that pythonfmu's binary started (a C host), ``Py_Finalize`` frees ``_uarray``'s module state
+    (its ``globals_free``) and afterwards a dictionary still reads that exception type: memcheck shows the read of
+    the freed type, and it crashes the host at exit now and then (``benchmarks/results/exit.md``; docs/fmu.md, "Exit").
+    One more reference keeps the type alive through finalisation; in a Python host it costs nothing.  Called once,
+    when this module is first imported (pythonfmu re-runs the entry module at every instantiation, not this one).
+    """
+    try:
+        from scipy._lib._uarray._uarray import BackendNotImplementedError
+    except ImportError:  # a scipy without _uarray has nothing to hold
+        return
+    ctypes.pythonapi.Py_IncRef(ctypes.py_object(BackendNotImplementedError))
+
+
+hold_uarray_error_type()
+
+
 def drop_repeated_path(entry: str) -> None:
     """Remove all but the first occurrence of ``entry`` from ``sys.path`` (the same list object).
 

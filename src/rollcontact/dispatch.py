@@ -305,60 +305,73 @@ def solve(scene: Scene, method: str = "auto", *, tolerance: float | None = None,
         methods, fallback = (method,), False
     else:
         fallback = True
-    names = None if methods is None else tuple(methods)
+    return within(scene, tolerance, None if methods is None else tuple(methods), fallback, budget, options, estimate)
+
+
+def within(scene, tolerance: float | None, names: tuple[str, ...] | None, fallback: bool, budget: float | None,
+           options: dict, estimate: str = "full", registry: dict[str, MethodSpec] | None = None, refuse=None):
+    """:func:`choose_and_run` within ``budget`` [s] of modelled work (None: no bound), the modelled cost of what ran
+    reported as ``info["modelled_cost"]``: the common path of :func:`solve` and of
+    :func:`rollcontact.elliptic.solve_elliptic` once the candidates are known."""
     budget = None if budget is None else Budget(budget)
-    result = choose_and_run(scene, tolerance, names, fallback, budget, options, estimate)
+    result = choose_and_run(scene, tolerance, names, fallback, budget, options, estimate, registry, refuse)
     if budget is not None:
         result.info["modelled_cost"] = budget.spent
     return result
 
 
-def choose_and_run(scene: Scene, tolerance: float | None, names: tuple[str, ...] | None, fallback: bool,
-                   budget: Budget | None, options: dict, estimate: str) -> ContactResult:
+def choose_and_run(scene, tolerance: float | None, names: tuple[str, ...] | None, fallback: bool,
+                   budget: Budget | None, options: dict, estimate: str = "full",
+                   registry: dict[str, MethodSpec] | None = None, refuse=None):
     """What :func:`solve` does once the method's candidates are known: choose, run, escalate and fall back, all
-    within ``budget`` (each setting run is charged to it)."""
+    within ``budget`` (each setting run is charged to it).  Over ``registry`` (default :data:`METHODS`), with
+    ``refuse(scene, name, message, over_budget)`` making the result of nothing solved (default :func:`refused`): the
+    elliptic dispatcher runs the same rules over its own methods and result type."""
+    registry = METHODS if registry is None else registry
+    refuse = refused if refuse is None else refuse
     if tolerance is None:
-        spec = METHODS[choose_method(scene, names=names)]
-        result = attempt(fallback, spec.name, lambda: run_default(spec, scene, options, estimate, budget))
+        spec = registry[choose_method(scene, names=names, registry=registry)]
+        result = attempt(fallback, lambda: run_default(spec, scene, options, estimate, budget, refuse),
+                         lambda message: refuse(scene, spec.name, message, False))
     else:
         tolerance = check_tolerance(tolerance)
         try:
-            setting = cheapest_setting(scene, tolerance, names, budget)
+            setting = cheapest_setting(scene, tolerance, names, budget, registry)
         except OverBudget as exc:
-            return refused(scene, "auto", str(exc))
-        spec = METHODS[setting.method]
-        result = attempt(fallback, spec.name,
-                         lambda: run_to_tolerance(setting, scene, options, tolerance, budget)[1])
+            return refuse(scene, "auto", str(exc), True)
+        spec = registry[setting.method]
+        result = attempt(fallback, lambda: run_to_tolerance(setting, scene, options, tolerance, budget, registry)[1],
+                         lambda message: refuse(scene, spec.name, message, False))
     reason = result.message if not result.success else unresolved(result)
     if reason is None or not fallback or result.info.get("over_budget"):
         return result
-    backups = [s for s in METHODS.values()
+    backups = [s for s in registry.values()
                if s.fallback and s.rank > spec.rank and (names is None or s.name in names)
                and (tolerance is not None or s.inapplicable(scene) is None)]
     if not backups:
         return result
     if tolerance is None:
         backup_spec = min(backups, key=lambda s: s.rank)
-        backup = run_default(backup_spec, scene, options, estimate, budget)
+        backup = run_default(backup_spec, scene, options, estimate, budget, refuse)
         if backup.info.get("over_budget"):
             return without_fallback(result, reason, backup.message)
     else:
         try:
-            setting = cheapest_setting(scene, tolerance, [s.name for s in backups], budget)
+            setting = cheapest_setting(scene, tolerance, [s.name for s in backups], budget, registry)
         except OverBudget as exc:
             return without_fallback(result, reason, str(exc))
         except ValueError:  # no fallback method can treat the scene either
             return result
-        backup_spec, backup = run_to_tolerance(setting, scene, options, tolerance, budget)
+        backup_spec, backup = run_to_tolerance(setting, scene, options, tolerance, budget, registry)
     info = dict(backup.info, fallback_from=spec.name, fallback_reason=reason)
     return type(backup)(**{**backup.__dict__, "info": info,
                            "message": f"{backup.message} (fallback: {spec.name} failed: {reason})"})
 
 
-def run_default(spec: MethodSpec, scene: Scene, options: dict, estimate: str, budget: Budget | None) -> ContactResult:
+def run_default(spec: MethodSpec, scene, options: dict, estimate: str, budget: Budget | None, refuse=None):
     """The method with its default setting (and the caller's options); with a ``budget`` that its modelled cost
     does not fit, the most accurate setting that fits (:func:`within_budget`), or, when none does, nothing: a
-    refusal (``info["over_budget"]``)."""
+    refusal (``info["over_budget"]``, made by ``refuse``, default :func:`refused`)."""
     model = spec.accuracy
     if budget is None or model is None:  # a method without a cost model runs as it is: no budget can bound it
         return call_with_known_options(spec, scene, options, estimate)
@@ -372,8 +385,9 @@ def run_default(spec: MethodSpec, scene: Scene, options: dict, estimate: str, bu
     fitting = within_budget(model, spec.name, scene, budget.left())
     if fitting is None:
         cheapest = model.minimum_cost(scene)
-        return refused(scene, spec.name, f"{spec.name}'s cheapest setting is modelled at {cheapest:.3g} s, more than "
-                       f"the budget of {budget.seconds:.3g} s", over_budget=True)
+        return (refused if refuse is None else refuse)(
+            scene, spec.name, f"{spec.name}'s cheapest setting is modelled at {cheapest:.3g} s, more than the budget "
+            f"of {budget.seconds:.3g} s", True)
     budget.charge(fitting.cost)
     result = call_with_known_options(spec, scene, {**fitting.options, **options}, estimate)
     result.info["predicted_cost"] = fitting.cost
@@ -394,16 +408,16 @@ def refused(scene: Scene, name: str, message: str, over_budget: bool = True) -> 
                          info={"over_budget": over_budget})
 
 
-def attempt(fallback: bool, name: str, run) -> ContactResult:
+def attempt(fallback: bool, run, fail):
     """``run()``; where a fallback may follow, an ArithmeticError it raises (a numerical breakdown, e.g. a division
-    by a load that underflows) becomes an unsuccessful result that says so, so the fallback runs."""
+    by a load that underflows) becomes ``fail(message)``, an unsuccessful result that says so, so the fallback
+    runs."""
     if not fallback:
         return run()
     try:
         return run()
     except ArithmeticError as exc:
-        return ContactResult(name, False, f"raised {type(exc).__name__}: {exc}", math.nan, math.nan, math.nan,
-                             math.nan, math.nan, math.nan, math.nan)
+        return fail(f"raised {type(exc).__name__}: {exc}")
 
 
 def run_to_tolerance(setting: Setting, scene: Scene, options: dict, tolerance: float,

@@ -636,11 +636,8 @@ int main(int argc, char **argv) {
     }
     terminate(c);
     free_instance(c);
-    /* pythonfmu 0.7 finalises its embedded interpreter in a static destructor at exit; with numpy and scipy loaded
-       that Py_Finalize intermittently crashes (heap corruption, seen in gdb), after every result is out.  Leave
-       without exit handlers, as the README advises hosts. */
-    fflush(stdout);
-    _exit(0);
+    return 0; /* exit(): the static destructors and Py_Finalize of the interpreter pythonfmu started (docs/fmu.md,
+                 "Exit") */
 }
 """
 

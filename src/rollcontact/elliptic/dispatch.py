@@ -4,9 +4,9 @@ own registry of 3D methods.
 Without a tolerance, ``"auto"`` takes the lowest-ranked registered method that can treat the scene, with its
 defaults.  With ``tolerance=t`` it takes, over every applicable method, the cheapest setting whose error estimate
 is at most t; a ``budget`` [s] bounds the modelled cost of what starts.  The choice, the escalation of adaptive
-methods and the budget are the 2D dispatcher's own functions (:func:`rollcontact.dispatch.cheapest_setting`,
-:func:`~rollcontact.dispatch.run_to_tolerance`, :class:`~rollcontact.dispatch.Budget`), run over
-:data:`ELLIPTIC_METHODS`; an :class:`~rollcontact.method.AccuracyModel` of a 3D method predicts
+methods, the budget and the fallback are the 2D dispatcher's own (:func:`rollcontact.dispatch.within`), run over
+:data:`ELLIPTIC_METHODS` with :class:`EllipticResult` for what is refused; an
+:class:`~rollcontact.method.AccuracyModel` of a 3D method predicts
 
 * ``error``: the largest of ``|dFx| / (mu Fn)``, ``|dFy| / (mu Fn)`` and ``|dMz| / (mu Fn c)`` [1] against the exact
   (Kalker's) steady solution, c = sqrt(ab);
@@ -20,22 +20,11 @@ A named method never falls back.
 
 from __future__ import annotations
 
-from rollcontact.dispatch import (
-    Budget,
-    OverBudget,
-    annotate,
-    by_rank,
-    call_with_known_options,
-    cheapest_setting,
-    run_to_tolerance,
-    used_options,
-    within_budget,
-    without_fallback,
-)
+from rollcontact.dispatch import Budget, annotate, cheapest_setting, within
 from rollcontact.elliptic.methods import discretised, fastsim, linear, strips
 from rollcontact.elliptic.result import EllipticResult
 from rollcontact.elliptic.scene import EllipticScene
-from rollcontact.method import AccuracyModel, MethodSpec, check_tolerance, unresolved
+from rollcontact.method import AccuracyModel, MethodSpec, check_tolerance
 
 __all__ = ["BUILTIN", "ELLIPTIC_METHODS", "choose_elliptic_setting", "register_elliptic_method", "solve_elliptic"]
 
@@ -62,20 +51,6 @@ def choose_elliptic_setting(scene: EllipticScene, tolerance: float, names=None, 
     :func:`rollcontact.dispatch.choose_setting`."""
     return cheapest_setting(scene, check_tolerance(tolerance), names, None if budget is None else Budget(budget),
                             registry=ELLIPTIC_METHODS)
-
-
-def choose_elliptic_method(scene: EllipticScene, names=None) -> MethodSpec:
-    """The lowest-ranked registered method (among ``names``) that can treat the scene; a ValueError naming every
-    method's reason otherwise."""
-    reasons = []
-    for spec in by_rank(ELLIPTIC_METHODS):
-        if names is not None and spec.name not in names:
-            continue
-        why = spec.inapplicable(scene)
-        if why is None:
-            return spec
-        reasons.append(f"{spec.name}: {why}")
-    raise ValueError("no registered elliptic method can solve this scene (" + "; ".join(reasons) + ")")
 
 
 def solve_elliptic(scene: EllipticScene, method: str = "auto", *, tolerance: float | None = None, methods=None,
@@ -129,62 +104,10 @@ def solve_elliptic(scene: EllipticScene, method: str = "auto", *, tolerance: flo
         names, fallback = (method,), False
     else:
         names, fallback = (None if methods is None else tuple(methods)), True
-    budget = None if budget is None else Budget(budget)
-    if tolerance is None:
-        spec = choose_elliptic_method(scene, names)
-        result = run_default(spec, scene, options, budget)
-    else:
-        tolerance = check_tolerance(tolerance)
-        try:
-            setting = cheapest_setting(scene, tolerance, names, budget, registry=ELLIPTIC_METHODS)
-        except OverBudget as exc:
-            return EllipticResult.from_scene(scene, "auto", False, str(exc), info={"over_budget": True})
-        spec, result = run_to_tolerance(setting, scene, options, tolerance, budget, registry=ELLIPTIC_METHODS)
-    reason = result.message if not result.success else unresolved(result)
-    if reason is None or not fallback or result.info.get("over_budget"):
-        return result
-    backups = [s for s in ELLIPTIC_METHODS.values() if s.fallback and s.rank > spec.rank
-               and (names is None or s.name in names) and s.inapplicable(scene) is None]
-    if not backups:
-        return result
-    if tolerance is None:
-        backup = run_default(min(backups, key=lambda s: s.rank), scene, options, budget)
-        if backup.info.get("over_budget"):
-            return without_fallback(result, reason, backup.message)
-    else:
-        try:
-            setting = cheapest_setting(scene, tolerance, [s.name for s in backups], budget,
-                                       registry=ELLIPTIC_METHODS)
-        except OverBudget as exc:
-            return without_fallback(result, reason, str(exc))
-        backup = run_to_tolerance(setting, scene, options, tolerance, budget, registry=ELLIPTIC_METHODS)[1]
-    info = dict(backup.info, fallback_from=spec.name, fallback_reason=reason)
-    return type(backup)(**{**backup.__dict__, "info": info,
-                           "message": f"{backup.message} (fallback: {spec.name} failed: {reason})"})
+    return within(scene, tolerance, names, fallback, budget, options, registry=ELLIPTIC_METHODS, refuse=refused)
 
 
-def run_default(spec: MethodSpec, scene: EllipticScene, options: dict, budget: Budget | None) -> EllipticResult:
-    """The method with its defaults (and the caller's options); with a ``budget`` its modelled cost does not fit,
-    the most accurate setting that fits, or, when none does, a refusal (``info["over_budget"]``), as in 2D
-    (:func:`rollcontact.dispatch.run_default`)."""
-    model = spec.accuracy
-    if budget is None or model is None:
-        return call_with_known_options(spec, scene, options)
-    cost = model.cost(scene, used_options(spec, options))
-    if budget.fits(cost):
-        budget.charge(cost)
-        result = call_with_known_options(spec, scene, options)
-        result.info["predicted_cost"] = cost
-        return result
-    fitting = within_budget(model, spec.name, scene, budget.left())
-    if fitting is None:
-        return EllipticResult.from_scene(
-            scene, spec.name, False, f"{spec.name}'s cheapest setting is modelled at {model.minimum_cost(scene):.3g} "
-            f"s, more than the budget of {budget.seconds:.3g} s", info={"over_budget": True})
-    budget.charge(fitting.cost)
-    result = call_with_known_options(spec, scene, {**fitting.options, **options})
-    result.info["predicted_cost"] = fitting.cost
-    return type(result)(**{**result.__dict__, "message": f"{result.message} (budget: the default setting is modelled "
-                           f"at {cost:.3g} s, more than {budget.seconds:.3g} s; ran {fitting.options}, modelled at "
-                           f"{fitting.cost:.3g} s)"})
-
+def refused(scene: EllipticScene, name: str, message: str, over_budget: bool = True) -> EllipticResult:
+    """An unsuccessful result of nothing solved, with the reason (the elliptic counterpart of
+    :func:`rollcontact.dispatch.refused`)."""
+    return EllipticResult.from_scene(scene, name, False, message, info={"over_budget": over_budget})
