@@ -8,7 +8,7 @@ swinging through a third of saturation, speed 30 m/s):
   True): the floor of any step;
 * ``RollingContact3D_n`` (``build_fmu.py --contacts n``) with the linear level (``method`` = linear: the contacts'
   linear theory without a solver call per contact, :class:`rollcontact.stepping.elliptic.LinearContacts`), with the
-  strips without spin and with spin (one ``solve_elliptic`` per contact), n = 1, 2, 4, 8;
+  strips without spin and with spin (one ``solve_strips_many`` over the contacts), n = 1, 2, 4, 8;
 * the 2D closed form: ``RollingContact2D_n`` (one ``ContactModel`` per contact), and n single-contact instances
   stepped one after another (what a host pays without several contacts per instance);
 * the 2D certified table of falling friction (exponential law A 0.4, B 0.6 s/m, tolerance 1e-3, ``table`` = on: each

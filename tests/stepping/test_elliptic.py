@@ -173,6 +173,23 @@ def test_the_contacts_linear_theory_together_is_each_contact_alone_bit_for_bit()
         assert together.step(n * H, H, rows) == alone.step(n * H, H, rows), f"step {n}: {rows}"
 
 
+@pytest.mark.parametrize("jacobian", (0, 1))
+def test_the_contacts_strips_together_are_each_contact_alone_bit_for_bit(jacobian):
+    """The strips of every contact in one solve_strips_many against each contact through solve_elliptic, every
+    output, with and without spin, with the linear or the difference Jacobian."""
+    rng = np.random.default_rng(5)
+    curvatures = ((1.087, 1.667), (2.5, 1.2), (0.9, 4.0), (3.0, 3.0))
+    p = EllipticParameters(method=3, jacobian=jacobian, curvature_longitudinal=tuple(c[0] for c in curvatures),
+                           curvature_lateral=tuple(c[1] for c in curvatures))
+    together, alone = EllipticModel(p), EllipticModel(p)
+    alone.strips_together = False
+    assert together.strips_together, "the strips of the contacts are solved together"
+    for n in range(12):
+        rows = [(float(rng.choice([0.0, rng.uniform(1e3, 2e5)])), *rng.normal(0, 2e-3, 2),
+                 float(rng.choice([0.0, rng.normal(0, 0.5)])), float(rng.uniform(0, 40))) for _ in curvatures]
+        assert together.step(n * H, H, rows) == alone.step(n * H, H, rows), f"step {n}: {rows}"
+
+
 def test_the_linear_levels_jacobian_is_its_slopes_in_either_mode():
     rows = [ROW, (5e4, -2e-3, 1e-3, -0.5, 10.0)]
     p = {"method": 1, "curvature_longitudinal": (1.087, 2.5), "curvature_lateral": (1.667, 1.2)}

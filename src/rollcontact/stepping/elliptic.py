@@ -26,7 +26,9 @@ slope), each within the step budget; the linear level's derivatives are its slop
 
 Contacts together: with ``method`` = linear (and no tolerance) the step evaluates the linear theory of every contact
 without a solver call (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse`
-and the linear level take for one contact, so each contact's outputs are bit for bit those of
+and the linear level take for one contact; with ``method`` = strips (no tolerance, Coulomb friction, the cost with
+spin within the budget) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
+(:meth:`EllipticModel.strips_step`).  Each contact's outputs are bit for bit those of
 :func:`rollcontact.solve_elliptic`; the other levels solve the contacts one after another through it.
 
 Frictional power: ``V (xi Fx + eta Fy + phi Mz)`` [W], the power the creepages put into the contact (the rigid slip
@@ -43,6 +45,7 @@ from rollcontact.checks import SceneError, check_real
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS, solve_elliptic
 from rollcontact.elliptic.hertz import differences, eccentricity
+from rollcontact.elliptic.methods.strips import solve_strips_many
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.scene import Material
 from rollcontact.stepping.parameters import (
@@ -294,6 +297,9 @@ class EllipticModel:
         self.batch = LinearContacts(self) if self.method == "linear" and self.tolerance is None and \
             self.fits_budget("linear") else None
         """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
+        self.strips_together = self.method == "strips" and self.tolerance is None and self.friction.is_constant \
+            and self.fits_budget("strips", spin=True)
+        """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`)."""
         self.notices: tuple[str, ...] = ()
         """Messages worth showing once at initialisation (none: every parameter is used)."""
         self.messages: list[str] = []
@@ -304,12 +310,13 @@ class EllipticModel:
     def contacts(self) -> int:
         return self.parameters.contacts
 
-    def fits_budget(self, method: str) -> bool:
-        """Whether the level's modelled cost fits the step budget (else each contact's solve is left to
-        solve_elliptic, which refuses or takes a cheaper setting)."""
+    def fits_budget(self, method: str, spin: bool = False) -> bool:
+        """Whether the level's modelled cost (with spin: its cost with spin) fits the step budget (else each contact's
+        solve is left to solve_elliptic, which refuses or takes a cheaper setting)."""
         spec = ELLIPTIC_METHODS[method]
         A, B = self.curvatures[0]
-        scene = EllipticScene(1.0, A, B, material=self.material, friction=self.friction)
+        scene = EllipticScene(1.0, A, B, spin_creepage=1.0 if spin else 0.0, material=self.material,
+                              friction=self.friction)
         return self.budget is None or spec.accuracy is None or spec.accuracy.cost(scene, {}) <= self.budget
 
     def label(self, k: int) -> str:
@@ -400,6 +407,8 @@ class EllipticModel:
                              f"{self.state.time!r} s; restore a saved state to step from an earlier time")
         if self.batch is not None:
             outputs = self.batch.step(rows)
+        elif self.strips_together:
+            outputs = self.strips_step(rows)
         else:
             outputs = tuple(self.contact_step(k, *(float(v) for v in row)) for k, row in enumerate(inputs))
         self.state.time = float(current_time)
@@ -464,6 +473,37 @@ class EllipticModel:
         power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
         return EllipticOutputs(*forces, result.a, result.b, result.max_pressure, float(stick), power, *jacobian,
                                level_code(result.method))
+
+    def strips_step(self, rows) -> tuple[EllipticOutputs, ...]:
+        """Every loaded contact's strips in one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with
+        ``jacobian`` = difference also the three shifted scenes of each), the outputs as :meth:`contact_step` makes
+        them from each contact's own solve."""
+        loaded = [k for k, row in enumerate(rows) if row[0] != 0.0]
+        scenes = [self.scene(k, *rows[k]) for k in loaded]
+        slopes = [self.linear_slopes(scene) for scene in scenes]
+        shifted = []
+        if self.parameters.jacobian == 1:
+            for scene, slope in zip(scenes, slopes, strict=True):
+                shifted += [scene.replace(**{name: scene.creepages[j] + delta})
+                            for j, name, delta in self.increments(scene, slope)]
+        results = solve_strips_many(scenes + shifted)
+        outputs = [ZERO] * len(rows)
+        for i, (k, scene) in enumerate(zip(loaded, scenes, strict=True)):
+            result = results[i]
+            forces = (result.longitudinal_force, result.lateral_force, result.spin_moment)
+            if self.parameters.jacobian == 1:
+                others = results[len(scenes) + 3 * i:len(scenes) + 3 * i + 3]
+                columns = [[(v - f) / delta for v, f in zip((r.longitudinal_force, r.lateral_force, r.spin_moment),
+                                                            forces, strict=True)]
+                           for r, (_, _, delta) in zip(others, self.increments(scene, slopes[i]), strict=True)]
+                jacobian = tuple(columns[j][m] for m in range(3) for j in range(3))
+            else:
+                jacobian = tuple(v for row in slopes[i] for v in row)
+            xi, eta, phi, velocity = rows[k][1:]
+            power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
+            outputs[k] = EllipticOutputs(*forces, result.a, result.b, result.max_pressure, NO_STICK, power, *jacobian,
+                                         METHOD_CODES["strips"])
+        return tuple(outputs)
 
     def increments(self, scene: EllipticScene, slopes):
         """``(index, creepage name, increment)`` of the forward differences (:meth:`differences`)."""
