@@ -298,8 +298,9 @@ class EllipticModel:
             self.fits_budget("linear") else None
         """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
         self.strips_together = self.method == "strips" and self.tolerance is None and self.friction.is_constant \
-            and self.fits_budget("strips", spin=True)
-        """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`)."""
+            and p.contacts > 1 and self.fits_budget("strips", spin=True)
+        """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`, bit
+        for bit each contact's solve; one contact takes the single-scene solve, which costs less)."""
         self.notices: tuple[str, ...] = ()
         """Messages worth showing once at initialisation (none: every parameter is used)."""
         self.messages: list[str] = []

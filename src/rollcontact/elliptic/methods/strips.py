@@ -213,19 +213,75 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
     steps = int(check_real("steps", steps, lower=2))
     if scene.normal_load == 0.0:
         return no_load(scene, "strips")
+    model = StripModel(scene, strips)
     if not scene.friction.is_constant:
-        return falling_friction(scene, StripModel(scene, strips))
-    return solve_strips_many((scene,), strips=strips, steps=steps, fields=fields)[0]
+        return falling_friction(scene, model)
+    phi_c, forces = 0.0, None
+    if model.cross:  # the lateral force's longitudinal creepage, by fixed point through the closed form
+        forces = model.closed_form()
+        for _ in range(CROSS_ITERATIONS):
+            phi_c = model.couple(forces[1])
+            forces = model.closed_form()
+    d, kappa, lam, partial = model.stick()
+    info = {"stick_strips": float(partial.mean()), "psi": model.psi, "cross_spin": phi_c}
+    field = None
+    message = "strip theory (closed form)"
+    if model.spin or fields:
+        forces, field = marched(scene, model, steps, d, kappa, lam, partial, phi_c, fields)
+        message = "strip theory, slip directions of the simplified theory" if model.spin else "strip theory"
+    elif forces is None:
+        forces = model.closed_form()
+    return EllipticResult.from_scene(scene, "strips", True, message, forces, field, info)
 
 
 solve_strips.options = ("strips", "steps", "fields")
 
 
+def marched(scene, model: StripModel, steps: int, d, kappa, lam, partial, phi_c: float, fields: bool):
+    """The strips on ``steps`` cells each: strip theory's traction in the stick zones, ``mu p`` along the direction
+    of the simplified theory's traction (a FASTSIM march with the strips' flexibilities, module docstring) in the slip
+    zones.  Returns the forces and, with ``fields``, the traction field (else None)."""
+    h = scene.hertz
+    xi, eta, phi = scene.creepages
+    l1, l2, l3 = blended_flexibilities(scene, model.coefficients)
+    y, half = model.y, model.half
+    dx = 2.0 * half / steps
+    x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
+    bound = model.mu * h.pressure(x, y)
+    bound *= model.mu * scene.normal_load / float(np.sum(bound * (dx * model.weights)))  # the cells carry mu Fn
+    step = np.empty((steps, 2, y.size))  # the march's increment from cell i to i + 1 (midpoint x_i - dx/2)
+    step[:, 0] = dx * (xi - (phi + phi_c) * y) / l1
+    step[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
+    trial = np.empty((steps, 2, y.size))
+    t = np.stack((0.5 * step[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)))
+    for i in range(steps):  # one vector operation over the strips per cell
+        trial[i] = t
+        t = t * np.minimum(1.0, bound[i] / np.maximum(np.hypot(t[0], t[1]), TINY)) + step[i]
+    trial_x, trial_y = trial[:, 0], trial[:, 1]
+    size = np.maximum(np.hypot(trial_x, trial_y), TINY)
+    direction_x, direction_y = trial_x / size, trial_y / size
+    if not model.spin:  # without spin the slip direction is uniform along the strip
+        direction_x = np.broadcast_to(kappa, x.shape)
+        direction_y = np.broadcast_to(lam, x.shape)
+    in_stick = partial & (x > 2.0 * d - half)
+    sx, sy = model.stick_traction(x, d, kappa, lam)
+    qx = np.where(in_stick, sx, bound * direction_x)
+    qy = np.where(in_stick, sy, bound * direction_y)
+    weight = model.weights * dx  # Gauss over y, midpoint cells along x
+    forces = (float(np.sum(qx * weight)), float(np.sum(qy * weight)), float(np.sum((x * qy - y * qx) * weight)))
+    if not fields:
+        return forces, None
+    field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), (bound / model.mu).T.copy(), qx.T.copy(),
+                          qy.T.copy(), in_stick.T.copy())
+    return forces, field
+
+
 def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
                       ) -> list[EllipticResult]:
     """:func:`solve_strips` of several loaded scenes with Coulomb friction at once: the stick zones, the closed form
-    with its cross-influence fixed point and the march are array operations over the scenes (:class:`StripStack`),
-    each scene's result bit for bit its own solve's (every sum runs over one scene's row).  The caller checks what
+    with its cross-influence fixed point and the march are array operations over the scenes (:class:`StripStack`,
+    :func:`marched_many`), each scene's result bit for bit :func:`solve_strips`'s (the same operations per element,
+    each sum over one scene's own values in :func:`solve_strips`'s order).  The caller checks what
     :func:`solve_strips` checks (applicability, a load > 0, constant friction, the counts)."""
     stack = StripStack([StripModel(scene, strips) for scene in scenes])
     n = len(scenes)
@@ -244,7 +300,7 @@ def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFA
         out[~march] = np.column_stack(stack.closed_form() if forces is None else forces)[~march]
     if march.any():
         index = np.flatnonzero(march)
-        marched_forces, marched_fields = marched([scenes[k] for k in index], stack.rows(index), steps,
+        marched_forces, marched_fields = marched_many([scenes[k] for k in index], stack.rows(index), steps,
                                                  *(v[index] for v in (d, kappa, lam, partial)), phi_c[index], fields)
         out[index] = marched_forces
         for k, f in zip(index, marched_fields, strict=True):
@@ -269,22 +325,24 @@ class StripStack:
 
     def __init__(self, models):
         self.models = list(models)
-        for name in self.SCALARS:
-            setattr(self, name, np.array([[float(getattr(m, name))] for m in self.models]))
+        scalars = np.array([[getattr(m, name) for name in self.SCALARS] + [m.moduli[0]] for m in self.models],
+                           dtype=float)
+        for i, name in enumerate(self.SCALARS):
+            setattr(self, name, scalars[:, i:i + 1])
+        self.modulus_x = scalars[:, -1:]
         for name in self.ARRAYS:
-            setattr(self, name, np.stack([np.broadcast_to(getattr(m, name), m.y.shape) for m in self.models]))
-        self.modulus_x = np.array([[m.moduli[0]] for m in self.models])
+            setattr(self, name, np.array([getattr(m, name) for m in self.models], dtype=float))
         self.spin = np.array([m.spin for m in self.models], dtype=bool)
         self.coupled = self.cross[:, 0] != 0.0
         self.coefficients = [m.coefficients for m in self.models]
 
     def rows(self, index) -> StripStack:
-        """The stack of the scenes ``index``."""
-        return StripStack([self.models[k] for k in index]).with_x(self.X[index])
-
-    def with_x(self, X) -> StripStack:
-        self.X = X
-        return self
+        """The stack of the scenes ``index`` (this one when it holds all), with their current X."""
+        if len(index) == len(self.models):
+            return self
+        rows = StripStack([self.models[k] for k in index])
+        rows.X = self.X[index]
+        return rows
 
     def couple(self, lateral_force):
         """:meth:`StripModel.couple` of the coupled scenes (``lateral_force`` [N] per scene); ``phi_c`` [1/m] per
@@ -306,10 +364,11 @@ class StripStack:
         fy = area * (lam * self.half**2 - (lam - self.psi) * rest**2)
         moment = -area * (lam - self.psi) * d * rest**2 - self.y * fx
         w = self.weights
-        return np.sum(w * fx, axis=-1), np.sum(w * fy, axis=-1), np.sum(w * moment, axis=-1)
+        # each scene's sums as StripModel.closed_form takes them (a dot product per scene)
+        return tuple(np.array([w[k] @ v[k] for k in range(len(w))]) for v in (fx, fy, moment))
 
 
-def marched(scenes, stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields: bool):
+def marched_many(scenes, stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields: bool):
     """The strips of the scenes on ``steps`` cells each: strip theory's traction in the stick zones, ``mu p`` along
     the direction of the simplified theory's traction (a FASTSIM march with the strips' flexibilities, module
     docstring) in the slip zones.  Returns the forces ``(n, 3)`` and, with ``fields``, the traction fields (else
