@@ -25,9 +25,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
-import os
 import shutil
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -47,6 +45,8 @@ FMUS = {  # model name -> (entry module, bundled packages and modules)
     "WheelRig": (HOST_SLAVE, (HOST_PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_wheel_rig.py")),
     "Wheelset": (ROOT / "fmu_src" / "wheelset_slave.py",
                  (HOST_PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_wheelset.py")),
+    "RollingContact3D": (ROOT / "fmu_src" / "contact3d_slave.py",
+                         (PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_contact3d.py")),
 }
 
 FMI3_HELPER = ROOT / "fmu_src" / "fmi3_table_slave.py"
@@ -54,32 +54,95 @@ FMUS3 = {  # model name -> (FMI 3.0 entry module, bundled packages and modules b
     "RollingContact2D": (ROOT / "fmu_src" / "fmi3_rollcontact_slave.py", (FMI3_HELPER,)),
     "WheelRig": (ROOT / "fmu_src" / "fmi3_wheel_rig_slave.py", (FMI3_HELPER,)),
     "Wheelset": (ROOT / "fmu_src" / "fmi3_wheelset_slave.py", (FMI3_HELPER,)),
+    "RollingContact3D": (ROOT / "fmu_src" / "fmi3_contact3d_slave.py", (FMI3_HELPER,)),
 }
+CONTACT3D = "RollingContact3D"
+"""The FMU built in variants (:func:`build_variant`): n contacts, enumerations or integer codes."""
+VARIANT_SLAVES = {"RollingContact2D": "rollcontact_fmu_contact", CONTACT3D: "rollcontact_fmu_contact3d"}
+"""The contact FMUs built in variants (``--contacts``) -> their slave module (with ``declaration`` and
+``slave_class``)."""
+DEFAULT_VARIANT = "contacts=1, integer_codes=False"
+"""The arguments of ``slave_class`` in the elliptic contact FMU's entry modules, which a variant build replaces."""
 FMI_VERSIONS = (2, 3)
+MAX_CONTACTS = 64
+"""Most contacts of one FMU (``--contacts``)."""
 FMI3_FOLDER = "fmi3"
 """Subfolder of ``--dest`` that ``--fmi 3`` builds into."""
 
 
-def build_model(model: str, dest: Path | str = ROOT / "models", integer_codes: bool = False, fmi: int = 2) -> Path:
+def build_model(model: str, dest: Path | str = ROOT / "models", integer_codes: bool = False, fmi: int = 2,
+                contacts: int = 1) -> Path:
     """Build the FMU ``model`` (a key of :data:`FMUS`) into the folder ``dest`` [created if missing]; its path.
 
     ``integer_codes``: declare the enumerations' variables as plain Integer (for hosts without FMI enumerations,
-    such as libcosim); a build in a fresh process, since the slave module reads it when first imported.
-    ``fmi``: 2 (pythonfmu) or 3 (pythonfmu3, :func:`build_model3`).
+    such as libcosim): a variant of the contact FMUs (:func:`build_variant`); the hosts declare no enumerations and
+    are built as they are.  ``fmi``: 2 (pythonfmu) or 3 (pythonfmu3, :func:`build_model3`).  ``contacts``: the
+    contacts of the contact FMUs (:func:`build_variant`).
     """
+    if model in VARIANT_SLAVES and (model == CONTACT3D or contacts != 1 or integer_codes):
+        return build_variant(dest, contacts, integer_codes, fmi, model)
+    if contacts != 1:
+        raise ValueError(f"{model} has no n-contact build (--contacts builds {', '.join(VARIANT_SLAVES)})")
     if fmi == 3:
-        if integer_codes:
-            raise ValueError("--integer-codes is an FMI 2.0 build (for libcosim); FMI 3.0 declares enumerations")
         return build_model3(model, dest)
-    if integer_codes:
-        done = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--dest", str(dest), "--only", model],
-                              env={**os.environ, "ROLLCONTACT_FMU_INTEGER_CODES": "1"}, capture_output=True,
-                              text=True, timeout=600)
-        if done.returncode != 0:
-            raise RuntimeError(f"build_fmu.py --integer-codes failed:\n{done.stdout}\n{done.stderr}")
-        return Path(dest) / f"{model}.fmu"
     slave, packages = FMUS[model]
     # the builder imports the slave, which imports the packages: use the copies that get bundled
+    return pack(slave, packages, dest)
+
+
+def variant_name(contacts: int, model: str = CONTACT3D) -> str:
+    """Model name of the contact FMU ``model`` with ``contacts`` contacts: ``model``, else ``model_n``."""
+    return model if contacts == 1 else f"{model}_{contacts}"
+
+
+def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = False, fmi: int = 2,
+                  model: str = CONTACT3D) -> Path:
+    """Build the contact FMU ``model`` (a key of :data:`VARIANT_SLAVES`) with ``contacts`` contacts into ``dest``;
+    its path.
+
+    The entry module is the elliptic contact's (``fmu_src/contact3d_slave.py``, ``fmu_src/fmi3_contact3d_slave.py``)
+    with the variant's slave module, model name and ``slave_class`` arguments in place of the elliptic
+    single-contact FMU's, in a module named after the variant (a host may load several variants: pythonfmu3 imports
+    an entry module once per process).  The single-contact RollingContact2D is its own build (:func:`build_model`).
+    Integer codes are an FMI 2.0 build (for libcosim).
+    """
+    if isinstance(contacts, bool) or not isinstance(contacts, int) or not 1 <= contacts <= MAX_CONTACTS:
+        raise ValueError(f"contacts = {contacts!r} must be a whole number from 1 to {MAX_CONTACTS}")
+    if integer_codes and fmi == 3:
+        raise ValueError("--integer-codes is an FMI 2.0 build (for libcosim); FMI 3.0 declares enumerations")
+    if model != CONTACT3D and contacts == 1 and not integer_codes:
+        return build_model(model, dest, integer_codes, fmi)
+    name = variant_name(contacts, model)
+    template = FMUS[CONTACT3D][0] if fmi == 2 else FMUS3[CONTACT3D][0]
+    text = template.read_text()
+    if DEFAULT_VARIANT not in text:
+        raise RuntimeError(f"{template} does not call slave_class({DEFAULT_VARIANT}): cannot write the variant")
+    text = text.replace(DEFAULT_VARIANT, f"contacts={contacts}, integer_codes={integer_codes}")
+    text = text.replace(VARIANT_SLAVES[CONTACT3D], VARIANT_SLAVES[model]).replace(CONTACT3D, name)
+    stem = template.stem.replace("contact3d", f"contact{model[-2:].lower()}" + (f"_{contacts}" if contacts > 1 else ""))
+    with tempfile.TemporaryDirectory(prefix="rollcontact_variant_") as tmp:
+        entry = Path(tmp, f"{stem}.py")
+        entry.write_text(text)
+        forgotten = (VARIANT_SLAVES[model], template.stem, stem)
+        forget(forgotten)
+        sys.path[:0] = [tmp, str(ROOT / "fmu_src")]
+        try:
+            if fmi == 3:
+                return build_model3(model, dest, slave=entry)
+            return pack(entry, FMUS[model][1], dest)
+        finally:
+            del sys.path[:2]
+            forget(forgotten)
+
+
+def forget(modules) -> None:
+    """Drop ``modules`` from the import cache (the builder imports a variant's entry and slave modules by name)."""
+    for module in modules:
+        sys.modules.pop(module, None)
+
+
+def pack(slave: Path, packages, dest: Path | str) -> Path:
+    """pythonfmu's FMI 2.0 build of the entry module ``slave`` with the bundled ``packages`` and the XML helper."""
     sys.path.insert(0, str(SOURCES))
     try:
         from pythonfmu.builder import FmuBuilder
@@ -90,17 +153,19 @@ def build_model(model: str, dest: Path | str = ROOT / "models", integer_codes: b
         sys.path.remove(str(SOURCES))
 
 
-def build_model3(model: str, dest: Path | str) -> Path:
+def build_model3(model: str, dest: Path | str, slave: Path | None = None, extra: tuple = ()) -> Path:
     """Build the FMI 3.0 FMU ``model`` (a key of :data:`FMUS3`) with pythonfmu3 into ``dest``; its path.
 
     Besides the FMI 2.0 build's files it bundles the FMI 3.0 entry module and binding and pythonfmu's Python files
     (the slave's variable table is written in its types); state handling and a variable communication step size
-    are declared explicitly (pythonfmu3 0.3.4 writes the latter from another option's value otherwise).
+    are declared explicitly (pythonfmu3 0.3.4 writes the latter from another option's value otherwise).  ``slave``
+    replaces the entry module and ``extra`` adds bundled files (a variant build, :func:`build_variant`).
     """
     import pythonfmu
     from pythonfmu3 import FmuBuilder
 
-    slave, extra = FMUS3[model]
+    slave = FMUS3[model][0] if slave is None else slave
+    extra = (*FMUS3[model][1], *extra)
     packages = FMUS[model][1]
     sys.path.insert(0, str(SOURCES))
     try:
@@ -177,26 +242,37 @@ def fmi_dest(dest: Path | str, fmi: int) -> Path:
 
 DOCS = ROOT / "docs" / "fmu.md"
 BEGIN, END = "<!-- variables: written by build_fmu.py --docs -->", "<!-- end of variables -->"
+DOCUMENTED = {"RollingContact2D": ("rollcontact_fmu_contact", (BEGIN, END)),
+              CONTACT3D: ("rollcontact_fmu_contact3d", (BEGIN.replace("variables", f"variables of {CONTACT3D}"),
+                                                        END.replace("variables", f"variables of {CONTACT3D}")))}
+"""Model -> (slave module, markers of its variable table in docs/fmu.md)."""
 
 
-def variables_table() -> str:
-    """The RollingContact2D FMU's variables and enumerations as markdown, from the slave's single table."""
+def variables_table(model: str = "RollingContact2D") -> str:
+    """The variables and enumerations of ``model`` (a key of :data:`DOCUMENTED`; the single-contact FMU) as
+    markdown, from the slave's single table."""
     sys.path[:0] = [str(SOURCES), str(ROOT / "fmu_src")]
     try:
-        import rollcontact_fmu_contact as contact
+        import importlib
+
         from rollcontact_fmu_xml import variables_markdown
 
-        return variables_markdown(contact.VARIABLES, contact.ENUMERATIONS)
+        slave = importlib.import_module(DOCUMENTED[model][0])
+        if model == CONTACT3D:
+            return variables_markdown(*slave.declaration())
+        return variables_markdown(slave.VARIABLES, slave.ENUMERATIONS)
     finally:
         del sys.path[:2]
 
 
 def write_docs(path: Path = DOCS) -> Path:
-    """Replace the variable table between the markers of docs/fmu.md with :func:`variables_table`."""
+    """Replace the variable table between each model's markers in docs/fmu.md with :func:`variables_table`."""
     text = path.read_text()
-    head, _, rest = text.partition(BEGIN)
-    _, _, tail = rest.partition(END)
-    path.write_text(f"{head}{BEGIN}\n{variables_table()}{END}{tail}")
+    for model, (_, (begin, end)) in DOCUMENTED.items():
+        head, _, rest = text.partition(begin)
+        _, _, tail = rest.partition(end)
+        text = f"{head}{begin}\n{variables_table(model)}{end}{tail}"
+    path.write_text(text)
     return path
 
 
@@ -211,17 +287,24 @@ def main(argv: list[str] | None = None) -> None:
                         help="plain Integer variables instead of FMI enumerations (for hosts such as libcosim)")
     parser.add_argument("--fmi", type=fmi_versions, default=(2,), metavar="2|3|2,3",
                         help="FMI versions to build (default 2); FMI 3.0 goes into <dest>/fmi3/")
-    parser.add_argument("--only", choices=list(FMUS), help=argparse.SUPPRESS)  # one model (the integer-codes build)
+    parser.add_argument("--contacts", type=int, default=None, metavar="N",
+                        help=f"build RollingContact2D_N and {CONTACT3D}_N: N contacts per instance (1..{MAX_CONTACTS})")
+    parser.add_argument("--only", choices=list(FMUS), help="build this FMU only")
     args = parser.parse_args(argv)
     if args.docs:
         print(write_docs())
         return
     if args.integer_codes and 3 in args.fmi:
         parser.error("--integer-codes builds FMI 2.0 only (for libcosim): drop it or use --fmi 2")
+    if args.contacts is not None and not 1 <= args.contacts <= MAX_CONTACTS:
+        parser.error(f"--contacts {args.contacts}: give 1 to {MAX_CONTACTS}")
     for fmi in args.fmi:
         dest = fmi_dest(args.dest, fmi)
-        if args.only:
-            print(build_model(args.only, dest, fmi=fmi))
+        if args.contacts is not None:
+            for model in VARIANT_SLAVES:
+                print(build_variant(dest, args.contacts, args.integer_codes, fmi, model))
+        elif args.only:
+            print(build_model(args.only, dest, args.integer_codes, fmi))
         elif args.all:
             for path in build_all(dest, if_stale=args.if_stale, integer_codes=args.integer_codes, fmi=fmi).values():
                 print(path)

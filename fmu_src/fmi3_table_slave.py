@@ -10,9 +10,10 @@ none of it written twice.  An entry module names both and ``Fmi3Slave`` (``fmi3_
 :class:`TableSlave3` comes first, so it answers every call pythonfmu3 makes and everything FMI 3.0 words
 differently: variables are registered as pythonfmu3's Float64 (Real), Int32 (Integer), Enumeration (an Integer of
 the table's ``ENUMERATIONS``; Int64 at the API) and String, plus the independent variable ``time`` that FMI 3.0
-requires (value reference after the table's); log messages are pythonfmu3's (literal text, not printf formats, and
-FMI 3.0 vocabulary); the model description is FMI 3.0's.  The table's types and causalities are pythonfmu's (FMI
-2.0) classes, so each FMI 3.0 FMU also bundles pythonfmu's Python files (not its binary).  The class's MRO holds
+requires (value reference after the table's); log messages are pythonfmu3's (literal text, not printf formats,
+written in FMI 3.0's words: :attr:`TableSlave3.WORDS`); the model description is FMI 3.0's.  The table's types and
+causalities are pythonfmu's (FMI 2.0) classes, so each FMI 3.0 FMU also bundles pythonfmu's Python files (not its
+binary).  The class's MRO holds
 ``Fmi2Slave`` before ``Fmi3Slave``: ``Fmi2Slave.__init__`` runs instead of ``Fmi3SlaveBase.__init__`` (whose extra
 attributes :meth:`TableSlave3.__init__` sets), and :class:`TableSlave3` overrides every method that both define and
 pythonfmu3 or its builder calls (``register_variable``, ``log``, ``to_xml``) and every typed getter and setter.
@@ -56,10 +57,6 @@ from pythonfmu3.unit import Unit
 from pythonfmu3.variable_types import EnumerationType
 from pythonfmu3.variables import Boolean, Enumeration, Float64, Int32, Int64, String, UInt64
 from rollcontact_fmu_xml import UNITS
-
-VOCABULARY = (("fmi2Error", "fmi3Error"), ("fmi2OK", "fmi3OK"), ("FMI 2 ", "FMI 3 "), ("pythonfmu ", "pythonfmu3 "),
-              ("setFMUstate", "setFMUState"))
-"""FMI 2.0 words of the shared slave's messages and their FMI 3.0 counterparts (:meth:`TableSlave3.report`)."""
 
 TIME_DESCRIPTION = "Simulation time, the independent variable (FMI 3.0 requires one)"
 
@@ -125,6 +122,8 @@ class TableSlave3:
     the FMI 2.0 slave class next and ``Fmi3Slave`` last."""
 
     log_categories = Fmi3SlaveBase.log_categories
+    WORDS = {"error": "fmi3Error", "ok": "fmi3OK", "fmi": "FMI 3", "binding": "pythonfmu3", "set_state": "setFMUState"}
+    """FMI 3.0's words in the shared slave's messages."""
 
     def __init__(self, **kwargs):
         # what Fmi3SlaveBase.__init__ sets and the FMI 2.0 base's __init__, which runs instead, does not
@@ -152,11 +151,10 @@ class TableSlave3:
         Fmi3SlaveBase.log(self, msg, Fmi3Status(int(status)), category, debug)
 
     def report(self, message: str, status, reason: str | None = None) -> None:
-        """Log ``message`` as it is (FMI 3.0 messages are no printf formats) in FMI 3.0's words; status OK only
-        with debug logging, any other status always (the shared slave's ``report`` escapes ``%`` for FMI 2.0, and
-        echoes refusals the host's logger does not receive: pythonfmu3 passes them on, ``reason`` is unused)."""
-        for fmi2, fmi3 in VOCABULARY:
-            message = message.replace(fmi2, fmi3)
+        """Log ``message`` as it is (FMI 3.0 messages are no printf formats; the shared slave writes them in
+        :attr:`WORDS`); status OK only with debug logging, any other status always (the shared slave's ``report``
+        escapes ``%`` for FMI 2.0, and echoes refusals the host's logger does not receive: pythonfmu3 passes them on,
+        ``reason`` is unused)."""
         status = Fmi3Status(int(status))
         Fmi3SlaveBase.log(self, message, status, debug=status is Fmi3Status.ok)
 

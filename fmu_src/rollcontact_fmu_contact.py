@@ -26,15 +26,17 @@ import math
 import os
 import re
 import stat
+from functools import cache
 from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_xml import TableSlave
+from rollcontact_fmu_xml import FRICTION_LAW_ITEMS, TableSlave, integer_coded
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.scene import Scene, scene_toml
 from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, ModelError, ModelState
+from rollcontact.stepping.contacts import ContactModels, ContactsState
 
 try:
     import tomllib
@@ -136,11 +138,7 @@ ENUMERATIONS = {
                           (1, "closed_form", "Hertz and Carter: flat surface, Coulomb friction"),
                           (2, "polynomial", "the polynomial method"),
                           (3, "discretised", "the discretised (boundary-element) method"))),
-    "friction_law": ("FrictionLaw", ((0, "coulomb", "constant mu"),
-                                     (1, "exponential_falling", "mu [(1 - A) exp(-B v) + A]"),
-                                     (2, "rational_falling", "A mu + (1 - A) mu / (1 + v / v_ref)"),
-                                     (3, "linear_falling", "max(A mu, mu - c v)"),
-                                     (4, "tabulated", "piecewise linear through friction_table"))),
+    "friction_law": ("FrictionLaw", FRICTION_LAW_ITEMS),
     "transient": ("TransientMode", ((0, "quasi_static", "every step steady"),
                                     (1, "auto", "instationary while the inputs vary fast"),
                                     (2, "always", "every loaded step instationary"))),
@@ -160,9 +158,6 @@ ENUMERATIONS = {
 ``build_fmu.py --integer-codes`` builds the FMU with plain Integer variables instead (their codes in the
 descriptions), for hosts that do not support FMI enumerations: libcosim does not list them, so it could neither set
 nor observe these variables (``rollcontact_cosim.osp`` uses that build)."""
-
-INTEGER_CODES = os.environ.get("ROLLCONTACT_FMU_INTEGER_CODES") == "1"
-"""Set by ``build_fmu.py --integer-codes`` while it builds: declare the enumerations' variables as Integer."""
 
 
 SCENE_SIZE_LIMIT = 1 << 20
@@ -240,10 +235,8 @@ class RollingContact2D(TableSlave):
     license = "MIT"
     version = ROLLCONTACT_VERSION
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
-    VARIABLES = VARIABLES if not INTEGER_CODES else tuple(
-        (*row[:8], f"{row[8].split(' (')[0]}: " + ", ".join(f"{v} {item}" for v, item, _ in ENUMERATIONS[row[0]][1]))
-        if row[0] in ENUMERATIONS else row for row in VARIABLES)
-    ENUMERATIONS = {} if INTEGER_CODES else ENUMERATIONS
+    VARIABLES = VARIABLES
+    ENUMERATIONS = ENUMERATIONS
 
     def new_model(self, values: dict):
         """A ContactModel and its notices; a relative ``scene_file`` is taken from the resources folder."""
@@ -261,3 +254,80 @@ class RollingContact2D(TableSlave):
 
     def parse_model_state(self, data):
         return ModelState.parse(data)
+
+
+CONTACT_PARAMETERS = ("radius", "contact_width", "initial_position")
+"""Parameters of their own per contact in an FMU of several contacts (the wheels' geometry and their places along
+the track); the others are shared."""
+
+
+def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, dict]:
+    """The variable table and enumerations of the FMU with ``contacts`` contacts: with several, every input and
+    output of :data:`VARIABLES` once per contact, named ``name[k]`` (k from 1; inputs of every contact first, then
+    the outputs), the parameters shared but those of :data:`CONTACT_PARAMETERS`, which follow once per contact;
+    with ``integer_codes`` plain Integer variables."""
+    if contacts == 1:
+        rows = VARIABLES
+    else:
+        per_contact = [row for row in VARIABLES if row[2] is not PARAMETER]
+        rows = tuple((f"{row[0]}[{k}]", *row[1:8], contact_text(row[8], k))
+                     for causality in (INPUT, OUTPUT) for k in range(1, contacts + 1)
+                     for row in per_contact if row[2] is causality) + tuple(
+            row for row in VARIABLES if row[2] is PARAMETER and row[0] not in CONTACT_PARAMETERS) + tuple(
+            (f"{row[0]}[{k}]", *row[1:8], contact_text(row[8], k)) for row in VARIABLES
+            if row[0] in CONTACT_PARAMETERS for k in range(1, contacts + 1))
+    enumerations = {row[0]: ENUMERATIONS[row[0].split("[")[0]] for row in rows if row[0].split("[")[0] in ENUMERATIONS}
+    if integer_codes:
+        return integer_coded(rows, enumerations), {}
+    return rows, enumerations
+
+
+def contact_text(description: str, k: int) -> str:
+    """``description`` with ``, contact k`` before its parenthesised type name, if any."""
+    head, sep, tail = description.partition(" (")
+    return f"{head}, contact {k}{sep}{tail}"
+
+
+class RollingContact2DContacts(RollingContact2D):
+    """Several 2D contacts of one parameter set in one instance (:class:`rollcontact.stepping.contacts.ContactModels`;
+    :func:`slave_class` sets the table)."""
+
+    CONTACTS = 1
+    INPUT_NAMES: tuple = ()
+
+    def new_model(self, values: dict):
+        if values["scene_file"] and isinstance(values["scene_file"], str):
+            values["scene_file"] = resolved_scene_file(values["scene_file"], self.resources)
+            checked_scene_file(values["scene_file"])
+        n = self.CONTACTS
+        per_contact = {name: tuple(values.pop(f"{name}[{k}]") for k in range(1, n + 1)) for name in CONTACT_PARAMETERS}
+        model = ContactModels(ContactParameters(**values), n, start_time=self.start_time, stop_time=self.stop_time,
+                              per_contact=per_contact)
+        return model, model.notices
+
+    def step_model(self, current_time, step_size):
+        values = [getattr(self, name) for name in self.INPUT_NAMES]
+        inputs = [values[i:i + 3] for i in range(0, len(values), 3)]
+        return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
+
+    def parse_model_state(self, data):
+        return ContactsState.parse(data, self.CONTACTS)
+
+
+def model_name(contacts: int) -> str:
+    """``RollingContact2D``, or ``RollingContact2D_n`` for n contacts."""
+    return "RollingContact2D" if contacts == 1 else f"RollingContact2D_{contacts}"
+
+
+@cache
+def slave_class(contacts: int = 1, integer_codes: bool = False) -> type:
+    """The slave class of a variant, one per variant and process (a host may load several): :class:`RollingContact2D`
+    for one contact with enumerations, else a class named :func:`model_name` with the variant's table (integer
+    codes: ``build_fmu.py --integer-codes``)."""
+    if contacts == 1 and not integer_codes:
+        return RollingContact2D
+    variables, enumerations = declaration(contacts, integer_codes)
+    base = RollingContact2D if contacts == 1 else RollingContact2DContacts
+    return type(model_name(contacts), (base,), {
+        "__doc__": f"RollingContact2D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
+        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT)})

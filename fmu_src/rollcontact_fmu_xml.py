@@ -78,6 +78,26 @@ TOLD_LIMIT = 256
 
 INT32 = (-(2**31), 2**31 - 1)
 
+PLAN_LIMIT = 64
+"""Lists of input value references one instance remembers as checked (a host sets the same few every step)."""
+
+
+FRICTION_LAW_ITEMS = ((0, "coulomb", "constant mu"),
+                      (1, "exponential_falling", "mu [(1 - A) exp(-B v) + A]"),
+                      (2, "rational_falling", "A mu + (1 - A) mu / (1 + v / v_ref)"),
+                      (3, "linear_falling", "max(A mu, mu - c v)"),
+                      (4, "tabulated", "piecewise linear through friction_table"))
+"""Items of the contact FMUs' FrictionLaw enumeration: the codes of ``rollcontact.stepping.parameters.FRICTION_LAWS``
+(one law of the same codes in the 2D and the elliptic contact)."""
+
+
+def integer_coded(variables, enumerations: dict) -> tuple:
+    """The variable table with each enumeration's variable as a plain Integer whose description lists its codes
+    (``build_fmu.py --integer-codes``, for hosts without FMI enumerations such as libcosim)."""
+    return tuple((*row[:8], f"{row[8].split(' (')[0]}: " + ", ".join(f"{v} {item}"
+                                                                       for v, item, _ in enumerations[row[0]][1]))
+                 if row[0] in enumerations else row for row in variables)
+
 
 def printf_safe(message: str) -> str:
     """The message as a literal printf format (pythonfmu's C side formats log messages)."""
@@ -321,6 +341,8 @@ class TableSlave(Fmi2Slave):
     VARIABLES: tuple = ()
     ENUMERATIONS: dict = {}
     INITIAL_DEPENDENCIES: str | None = ""
+    WORDS = {"error": "fmi2Error", "ok": "fmi2OK", "fmi": "FMI 2", "binding": "pythonfmu", "set_state": "setFMUstate"}
+    """The FMI version's words in the slave's messages (the FMI 3.0 binding has its own)."""
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -332,6 +354,8 @@ class TableSlave(Fmi2Slave):
         self.output_names = []
         self.output_index: dict[int, int] = {}  # value reference -> position in the outputs
         self.output_plans: dict[tuple, list[int]] = {}  # (type, value references) read before -> positions
+        self.input_plans: dict[tuple, list[str]] = {}  # (type, value references) of inputs set before -> names
+        self.input_names = {vr: row[0] for vr, row in enumerate(self.VARIABLES) if row[2] is Fmi2Causality.input}
         outputs = []
         for vr, (name, kind, causality, variability, _unit, start, _lo, _hi, description) in enumerate(self.VARIABLES):
             if causality is Fmi2Causality.output:
@@ -405,8 +429,9 @@ class TableSlave(Fmi2Slave):
             model, notices = self.new_model(dict(values))
         except Exception as exc:  # noqa: BLE001 - an escaping exception would be fmi2Fatal
             self.problem = f"invalid parameters: {exc}"
-            self.report(f"exitInitializationMode: {self.problem}; every do_step will be discarded (pythonfmu "
-                        "cannot return fmi2Error here): reset the instance and set valid parameters",
+            w = self.WORDS
+            self.report(f"exitInitializationMode: {self.problem}; every do_step will be discarded ({w['binding']} "
+                        f"cannot return {w['error']} here): reset the instance and set valid parameters",
                         Fmi2Status.error, self.problem)
             return
         self.model, self.model_values, self.problem = model, values, None
@@ -419,7 +444,7 @@ class TableSlave(Fmi2Slave):
     def do_step(self, current_time, step_size):
         if self.error is not None:
             return self.discard(current_time, None, f"the instance is in error state since: {self.error}; set "
-                                "a valid saved state (setFMUstate) or reset the instance", self.error)
+                                f"a valid saved state ({self.WORDS['set_state']}) or reset the instance", self.error)
         if self.problem is not None:
             return self.discard(current_time, None, self.problem)
         late = self.time_problem(current_time, step_size)
@@ -472,7 +497,7 @@ class TableSlave(Fmi2Slave):
                 self.restore_model(checked["model"], checked["model_state"])
         except Exception as exc:  # noqa: BLE001 - StateRefused, or anything unforeseen: never fmi2Fatal
             reason = str(exc) if isinstance(exc, StateRefused) else f"{type(exc).__name__}: {clip(str(exc), 200)}"
-            self.refuse(f"setFMUstate refused, the instance keeps its previous state: {reason}")
+            self.refuse(f"{self.WORDS['set_state']} refused, the instance keeps its previous state: {reason}")
             return
         for name, value in checked["variables"].items():
             setattr(self, name, value)
@@ -541,8 +566,9 @@ class TableSlave(Fmi2Slave):
 
     def refuse(self, reason: str) -> None:
         """Emulate fmi2Error (pythonfmu cannot return it): log the reason, enter the error state."""
-        self.report(f"{reason} [emulated fmi2Error: pythonfmu returns fmi2OK here; every do_step is discarded until "
-                    "a valid state is set or the instance is reset]", Fmi2Status.error, reason)
+        w = self.WORDS
+        self.report(f"{reason} [emulated {w['error']}: {w['binding']} returns {w['ok']} here; every do_step is "
+                    "discarded until a valid state is set or the instance is reset]", Fmi2Status.error, reason)
         if self.error is None:
             self.error = reason
 
@@ -570,8 +596,8 @@ class TableSlave(Fmi2Slave):
         if abs(current_time - expected) <= tolerance:
             return None
         return (f"the communication point t = {current_time!r} s is not the end of the previous step, "
-                f"{expected!r} s: FMI 2 co-simulation steps from t_(n+1) = t_n + h_n (the start time first); "
-                "set a saved state (setFMUstate) to step from another time")
+                f"{expected!r} s: {self.WORDS['fmi']} co-simulation steps from t_(n+1) = t_n + h_n (the start time "
+                f"first); set a saved state ({self.WORDS['set_state']}) to step from another time")
 
     def parameter_values(self) -> dict:
         return {name: getattr(self, name) for name in self.parameter_names}
@@ -594,6 +620,17 @@ class TableSlave(Fmi2Slave):
         return write
 
     def write_values(self, vrs, values, kind, call: str) -> None:
+        # the inputs a host sets every step: once checked, straight to their attributes (an input's setter only
+        # stores the value)
+        key = (kind, *vrs)
+        plan = self.input_plans.get(key)
+        if plan is not None:
+            for name, value in zip(plan, values, strict=False):
+                setattr(self, name, value)
+            return
+        if vrs and len(self.input_plans) < PLAN_LIMIT and all(
+                isinstance(self.vars.get(vr), kind) and vr in self.input_names for vr in vrs):
+            self.input_plans[key] = [self.input_names[vr] for vr in vrs]
         for vr, value in zip(vrs, values, strict=False):
             var = self.vars.get(vr)
             if not isinstance(var, kind):

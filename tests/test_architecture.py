@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import ast
 import math
-import warnings
 from pathlib import Path
 
 import pytest
@@ -19,8 +18,7 @@ from rollcontact.stepping import ContactModel, ContactParameters
 
 SRC = Path(__file__).resolve().parents[1] / "src"
 
-LAYERS = ("rollcontact._moved",
-          "rollcontact.checks rollcontact.friction rollcontact.scene rollcontact.result rollcontact.closed_form",
+LAYERS = ("rollcontact.checks rollcontact.friction rollcontact.scene rollcontact.result rollcontact.closed_form",
           "rollcontact.method",
           "rollcontact.halfspace",
           "rollcontact.methods",
@@ -34,8 +32,7 @@ LAYERS = ("rollcontact._moved",
           "rollcontact rollcontact.__main__")
 """Layers from data up to the package's entry points: a module imports only from its own layer or those below.
 The elliptic (3D) package stands above the 2D dispatcher: it may use the 2D data, methods and dispatcher, and no 2D
-module may import it.
-``rollcontact._moved`` (the old module paths) imports nothing of the package but by name, when a program asks."""
+module may import it."""
 
 
 def modules() -> dict[str, Path]:
@@ -132,20 +129,6 @@ def test_no_module_or_class_too_long_to_read(kind, limit):
     assert not long, f"{ {'module': 'modules', 'class': 'classes'}[kind]} above {limit} lines: " + "; ".join(long)
 
 
-def test_old_module_paths_forward_with_a_deprecation_warning():
-    with pytest.warns(DeprecationWarning, match="rollcontact.stepping"):
-        from rollcontact.model import ContactModel as Old
-    assert Old is ContactModel, "the old path gives the same class"
-    with pytest.warns(DeprecationWarning, match="rollcontact.methods.closed_form"):
-        from rollcontact.closed_form import solve_closed_form  # noqa: F401
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        import rollcontact.api as api
-    with pytest.raises(AttributeError, match="moved to"):
-        _ = api.no_such_name
-
-
-# ---------------------------------------------------------------------------------------------- a toy fidelity level
 def linear_creep(scene: Scene, *, clamp: bool = True) -> ContactResult:
     """T' = k xi with Carter's slope at zero creep, k = pi E* a / 2, clamped at mu N' (a toy: exact only at xi -> 0)."""
     a, p0 = hertz(scene.normal_load_per_length, scene.radius, scene.material.contact_modulus)

@@ -20,7 +20,6 @@ Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`Co
 contact :class:`EllipticScene`, :func:`solve_elliptic`, :class:`EllipticResult` (:mod:`rollcontact.elliptic`).
 """
 
-from rollcontact import _moved
 from rollcontact.closed_form import carter, hertz
 from rollcontact.dispatch import METHODS, choose_method, register_method, solve
 from rollcontact.elliptic import EllipticResult, EllipticScene, HertzEllipse, creepage_coefficients, hertz_ellipse
@@ -38,7 +37,6 @@ from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, lo
 
 __version__ = "0.1.0"
 
-_moved.install()
 
 __all__ = [
     "METHODS",

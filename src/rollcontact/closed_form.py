@@ -171,9 +171,3 @@ class CarterDistributions(Distributions):
         s = np.where(stick >= 0.0, 0.0, math.copysign(1.0, self.creep) * mag)
         return np.where(inside, s, np.nan)
 
-
-def __getattr__(name: str):
-    """Names that moved to :mod:`rollcontact.methods.closed_form`, for one release (:mod:`rollcontact._moved`)."""
-    from rollcontact._moved import moved_attribute
-
-    return moved_attribute(__name__, name)

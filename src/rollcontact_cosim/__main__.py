@@ -8,7 +8,8 @@ and the recorded time histories, whose title names the friction law and its valu
 ``--scene NAME`` is the same as the positional scene.  The scene ``wheelset_hunting`` runs in process
 (:func:`rollcontact_cosim.wheelset_study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
 speed sweep on a local dask cluster against the linear stability analysis, Klingel's wavelength), prints its
-tables and writes its figure; the co-simulation options do not apply to it.
+tables and writes its figure; with ``--fmu-dir`` its speed sweep is co-simulated through fmpy with the Wheelset and
+RollingContact3D_2 FMUs (:mod:`rollcontact_cosim.wheelset_cosim`); the other co-simulation options do not apply.
 """
 
 from __future__ import annotations
@@ -187,15 +188,26 @@ def time_history(ax, time, series, name: str, start: float) -> None:
 
 
 def wheelset_hunting(args) -> int:
-    """The ``wheelset_hunting`` scene in process: the tables on stdout, the figure to ``--plot``."""
+    """The ``wheelset_hunting`` scene in process: the tables on stdout, the figure to ``--plot``; with ``--fmu-dir``
+    the speed sweep co-simulated through fmpy with the Wheelset and RollingContact3D_2 FMUs of that folder (built
+    there when missing): :func:`rollcontact_cosim.wheelset_cosim.write_cosim_reference`'s table."""
     from rollcontact_cosim.wheelset_study import report, run_hunting_study
 
-    if args.master != "fmpy" or args.fmi != 2 or args.algorithm or args.step_size or args.fmu_dir or args.csv:
-        raise ValueError("the wheelset_hunting scene runs in process: --master, --fmi, --algorithm, --step-size, "
-                         "--fmu-dir and --csv do not apply")
+    if args.master != "fmpy" or args.fmi != 2 or args.algorithm or args.step_size or args.csv:
+        raise ValueError("the wheelset_hunting scene runs in process, or with --fmu-dir co-simulated through fmpy: "
+                         "--master, --fmi, --algorithm, --step-size and --csv do not apply")
     path = args.plot or "cosim_wheelset_hunting.png"
-    sweep, klingel = run_hunting_study(path)
-    print(report(sweep, klingel))
+    if args.fmu_dir:
+        import tempfile
+
+        from rollcontact_cosim.wheelset_cosim import write_cosim_reference
+
+        with tempfile.TemporaryDirectory(prefix="wheelset_hunting_") as tmp:
+            table = write_cosim_reference(args.fmu_dir, Path(tmp, "report.md"), path, n_workers=2)
+            print(table.read_text())
+    else:
+        sweep, klingel = run_hunting_study(path)
+        print(report(sweep, klingel))
     print(f"plot: {path}")
     return 0
 
@@ -237,11 +249,13 @@ macro step [us]. The figure shows the adhesion curve (linear and log creep axes)
 variable against time [s]; its title names the friction law and its values.
 
 The scene wheelset_hunting runs in process: a hunting wheelset's speed sweep against its linear
-stability analysis, and Klingel's wavelength.
+stability analysis, and Klingel's wavelength; with --fmu-dir DIR the sweep is co-simulated through fmpy
+with the Wheelset and RollingContact3D_2 FMUs of DIR (built there when missing).
 
 examples:
   python -m rollcontact_cosim
   python -m rollcontact_cosim --scene wheelset_hunting
+  python -m rollcontact_cosim --scene wheelset_hunting --fmu-dir models
   python -m rollcontact_cosim {DEFAULT_SCENE} --step-size 2e-3 --plot ramp.png --csv ramp.csv
 """
 

@@ -26,7 +26,8 @@ def fmu_folders(tmp_path_factory) -> dict[int, Path]:
     assert done.returncode == 0, f"build_fmu.py --fmi 2,3 --all failed:\n{done.stdout}\n{done.stderr}"
     folders = {2: dest, 3: dest / "fmi3"}
     for folder in folders.values():
-        assert {p.name for p in folder.glob("*.fmu")} == {"RollingContact2D.fmu", "WheelRig.fmu", "Wheelset.fmu"}, \
+        assert {p.name for p in folder.glob("*.fmu")} == {"RollingContact2D.fmu", "WheelRig.fmu", "Wheelset.fmu",
+                                                        "RollingContact3D.fmu"}, \
             done.stdout
     return folders
 

@@ -371,12 +371,7 @@ def contact_bodies(p: ContactParameters) -> tuple[Material, float, FrictionLaw, 
         return base.material, base.radius, base.friction, base.surface, [notice]
     try:
         material = Material(p.youngs_modulus, p.poisson_ratio)
-        mu, ratio = p.friction_coefficient, p.friction_kinetic_ratio
-        laws = {0: lambda: Coulomb(mu), 1: lambda: ExponentialFalling(mu, ratio, p.friction_decay),
-                2: lambda: RationalFalling(mu, ratio * mu, p.friction_reference_velocity),
-                3: lambda: LinearFalling(mu, ratio * mu, p.friction_slope),
-                4: lambda: TabulatedFriction(*friction_table_points(p.friction_table))}
-        friction = laws[p.friction_law]()
+        friction = friction_law(p)
         harmonics = ()
         if p.corrugation_amplitude != 0.0:
             harmonics = (Harmonic.from_wavelength(p.corrugation_wavelength, p.corrugation_amplitude,
@@ -385,6 +380,24 @@ def contact_bodies(p: ContactParameters) -> tuple[Material, float, FrictionLaw, 
     except ValueError as exc:
         raise ModelError(str(exc)) from None
     return material, p.radius, friction, surface, []
+
+
+def friction_law(p) -> FrictionLaw:
+    """The friction law of the FMU parameters ``friction_law`` (a code of :data:`FRICTION_LAWS`),
+    ``friction_coefficient``, ``friction_kinetic_ratio``, ``friction_decay``, ``friction_reference_velocity``,
+    ``friction_slope`` and ``friction_table`` of ``p`` (any object with them: the 2D and the elliptic parameters).
+
+    Raises
+    ------
+    ValueError
+        The values make no valid law (the law's message).
+    """
+    mu, ratio = p.friction_coefficient, p.friction_kinetic_ratio
+    laws = {0: lambda: Coulomb(mu), 1: lambda: ExponentialFalling(mu, ratio, p.friction_decay),
+            2: lambda: RationalFalling(mu, ratio * mu, p.friction_reference_velocity),
+            3: lambda: LinearFalling(mu, ratio * mu, p.friction_slope),
+            4: lambda: TabulatedFriction(*friction_table_points(p.friction_table))}
+    return laws[p.friction_law]()
 
 
 def step_methods(p: ContactParameters, surface: Surface, friction) -> tuple[bool, tuple[str, ...]]:

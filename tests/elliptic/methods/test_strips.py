@@ -186,3 +186,22 @@ def test_cross_coefficient_against_the_half_space_influence(ratio):
     if ratio == 1.0:
         johnson = -math.pi * nu * (3.0 / (2.0 * math.pi * h.a * h.b)) / (8.0 * s.shear_modulus * h.a)  # -K
         assert abs(got - johnson) < 1e-12 * abs(johnson), f"circle: {got:.12g} vs Johnson {johnson:.12g}"
+
+
+def test_several_scenes_together_are_each_scene_alone_bit_for_bit():
+    """solve_strips_many: one array operation over the scenes, each result bit for bit solve_strips of its scene (with
+    and without spin, either ellipse orientation, stick and full slip)."""
+    from rollcontact.elliptic.methods.strips import solve_strips, solve_strips_many
+
+    rng = np.random.default_rng(11)
+    scenes = []
+    for _ in range(9):
+        A, B = rng.uniform(0.5, 4.0, 2)
+        creepages = rng.normal(0.0, 2e-3, 2).tolist() + [float(rng.choice([0.0, rng.normal(0.0, 1.0)]))]
+        scenes.append(EllipticScene(float(rng.uniform(1e4, 2e5)), float(A), float(B), *creepages))
+    together = solve_strips_many(scenes)
+    for scene, result in zip(scenes, together, strict=True):
+        alone = solve_strips(scene)
+        assert (result.longitudinal_force, result.lateral_force, result.spin_moment) == (
+            alone.longitudinal_force, alone.lateral_force, alone.spin_moment), scene
+        assert result.message == alone.message and result.info == alone.info

@@ -276,6 +276,147 @@ def marched(scene, model: StripModel, steps: int, d, kappa, lam, partial, phi_c:
     return forces, field
 
 
+def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
+                      ) -> list[EllipticResult]:
+    """:func:`solve_strips` of several loaded scenes with Coulomb friction at once: the stick zones, the closed form
+    with its cross-influence fixed point and the march are array operations over the scenes (:class:`StripStack`,
+    :func:`marched_many`), each scene's result bit for bit :func:`solve_strips`'s (the same operations per element,
+    each sum over one scene's own values in :func:`solve_strips`'s order).  The caller checks what
+    :func:`solve_strips` checks (applicability, a load > 0, constant friction, the counts)."""
+    stack = StripStack([StripModel(scene, strips) for scene in scenes])
+    n = len(scenes)
+    phi_c = np.zeros(n)
+    forces = None
+    if stack.coupled.any():  # the lateral force's longitudinal creepage, by fixed point through the closed form
+        forces = stack.closed_form()
+        for _ in range(CROSS_ITERATIONS):
+            phi_c = stack.couple(forces[1])
+            forces = stack.closed_form()
+    d, kappa, lam, partial = stack.stick()
+    march = stack.spin | fields
+    out = np.empty((n, 3))
+    field = [None] * n
+    if not march.all():
+        out[~march] = np.column_stack(stack.closed_form() if forces is None else forces)[~march]
+    if march.any():
+        index = np.flatnonzero(march)
+        marched_forces, marched_fields = marched_many([scenes[k] for k in index], stack.rows(index), steps,
+                                                 *(v[index] for v in (d, kappa, lam, partial)), phi_c[index], fields)
+        out[index] = marched_forces
+        for k, f in zip(index, marched_fields, strict=True):
+            field[k] = f
+    results = []
+    for k, scene in enumerate(scenes):
+        spin = bool(stack.spin[k])
+        message = ("strip theory, slip directions of the simplified theory" if spin else "strip theory") \
+            if march[k] else "strip theory (closed form)"
+        info = {"stick_strips": float(partial[k].mean()), "psi": float(stack.psi[k, 0]), "cross_spin": float(phi_c[k])}
+        results.append(EllipticResult.from_scene(scene, "strips", True, message, out[k].tolist(), field[k], info))
+    return results
+
+
+class StripStack:
+    """The strips of several scenes (:class:`StripModel` each) stacked along a leading axis: each array ``(n, S)``,
+    each scalar of a scene a column ``(n, 1)``; the stick zones, the closed form and the cross influence of
+    :class:`StripModel` as array operations over the scenes, each sum over one scene's row."""
+
+    SCALARS = ("a", "b", "p0", "mu", "psi", "m", "cross")
+    ARRAYS = ("y", "weights", "half", "factor", "scale", "rigid_x", "X", "Y")
+
+    def __init__(self, models):
+        self.models = list(models)
+        scalars = np.array([[getattr(m, name) for name in self.SCALARS] + [m.moduli[0]] for m in self.models],
+                           dtype=float)
+        for i, name in enumerate(self.SCALARS):
+            setattr(self, name, scalars[:, i:i + 1])
+        self.modulus_x = scalars[:, -1:]
+        for name in self.ARRAYS:
+            setattr(self, name, np.array([getattr(m, name) for m in self.models], dtype=float))
+        self.spin = np.array([m.spin for m in self.models], dtype=bool)
+        self.coupled = self.cross[:, 0] != 0.0
+        self.coefficients = [m.coefficients for m in self.models]
+
+    def rows(self, index) -> StripStack:
+        """The stack of the scenes ``index`` (this one when it holds all), with their current X."""
+        if len(index) == len(self.models):
+            return self
+        rows = StripStack([self.models[k] for k in index])
+        rows.X = self.X[index]
+        return rows
+
+    def couple(self, lateral_force):
+        """:meth:`StripModel.couple` of the coupled scenes (``lateral_force`` [N] per scene); ``phi_c`` [1/m] per
+        scene (0 where a scene has no cross influence, whose X is left as it is)."""
+        phi_c = np.where(self.coupled, self.cross[:, 0] * lateral_force, 0.0)
+        self.X = np.where(self.coupled[:, None], (self.rigid_x - phi_c[:, None] * self.y) * self.modulus_x * self.scale,
+                          self.X)
+        return phi_c
+
+    stick = StripModel.stick
+    stick_traction = StripModel.stick_traction
+
+    def closed_form(self):
+        """:meth:`StripModel.closed_form` of every scene: ``(Fx, Fy, Mz)``, arrays over the scenes."""
+        d, kappa, lam, partial = self.stick()
+        rest = np.where(partial, self.half - d, 0.0)  # a*
+        area = 0.5 * math.pi * self.m
+        fx = area * kappa * (self.half**2 - rest**2)
+        fy = area * (lam * self.half**2 - (lam - self.psi) * rest**2)
+        moment = -area * (lam - self.psi) * d * rest**2 - self.y * fx
+        w = self.weights
+        # each scene's sums as StripModel.closed_form takes them (a dot product per scene)
+        return tuple(np.array([w[k] @ v[k] for k in range(len(w))]) for v in (fx, fy, moment))
+
+
+def marched_many(scenes, stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields: bool):
+    """The strips of the scenes on ``steps`` cells each: strip theory's traction in the stick zones, ``mu p`` along
+    the direction of the simplified theory's traction (a FASTSIM march with the strips' flexibilities, module
+    docstring) in the slip zones.  Returns the forces ``(n, 3)`` and, with ``fields``, the traction fields (else
+    None each)."""
+    rows = []
+    for scene, c in zip(scenes, stack.coefficients, strict=True):
+        h = scene.hertz
+        rows.append((*scene.creepages, *blended_flexibilities(scene, c), h.max_pressure, h.a, h.b,
+                     scene.friction_coefficient, scene.friction_coefficient * scene.normal_load))
+    xi, eta, phi, l1, l2, l3, p0, a, b, mu, limit = np.array(rows).T[:, :, None, None]  # (n, 1, 1) each
+    phi_c = np.asarray(phi_c, dtype=float)[:, None, None]
+    n = len(scenes)
+    y, half, weights = (v[:, None, :] for v in (stack.y, stack.half, stack.weights))  # (n, 1, S)
+    dx = 2.0 * half / steps
+    x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
+    bound = mu * (p0 * np.sqrt(np.clip(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0, None)))  # mu p (Hertz)
+    bound *= limit / np.sum((bound * (dx * weights)).reshape(n, -1), axis=-1)[:, None, None]  # the cells carry mu Fn
+    step = np.empty((n, steps, 2, y.shape[-1]))  # the march's increment from cell i to i + 1 (midpoint x_i - dx/2)
+    step[:, :, 0] = dx * (xi - (phi + phi_c) * y) / l1
+    step[:, :, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
+    trial = np.empty_like(step)
+    t = np.stack((0.5 * step[:, 0, 0], (0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3))[:, 0]), axis=1)
+    for i in range(steps):  # one vector operation over the scenes and strips per cell
+        trial[:, i] = t
+        t = t * np.minimum(1.0, bound[:, i] / np.maximum(np.hypot(t[:, 0], t[:, 1]), TINY))[:, None, :] + step[:, i]
+    trial_x, trial_y = trial[:, :, 0], trial[:, :, 1]
+    size = np.maximum(np.hypot(trial_x, trial_y), TINY)
+    direction_x, direction_y = trial_x / size, trial_y / size
+    d, kappa, lam, partial = (v[:, None, :] for v in (d, kappa, lam, partial))
+    uniform = ~stack.spin[:, None, None]  # without spin the slip direction is uniform along the strip
+    direction_x = np.where(uniform, np.broadcast_to(kappa, x.shape), direction_x)
+    direction_y = np.where(uniform, np.broadcast_to(lam, x.shape), direction_y)
+    in_stick = partial & (x > 2.0 * d - half)
+    rest = half - d
+    full = np.sqrt(np.clip(half**2 - x * x, 0.0, None))
+    inner = np.sqrt(np.clip(rest**2 - (x - d) ** 2, 0.0, None))
+    m, psi = stack.m[:, :, None], stack.psi[:, :, None]
+    qx = np.where(in_stick, m * kappa * (full - inner), bound * direction_x)
+    qy = np.where(in_stick, m * (lam * full - (lam - psi) * inner), bound * direction_y)
+    weight = weights * dx  # Gauss over y, midpoint cells along x
+    forces = np.column_stack([np.sum((q * weight).reshape(n, -1), axis=-1) for q in (qx, qy, x * qy - y * qx)])
+    if not fields:
+        return forces, [None] * n
+    return forces, [TractionField(x[k].T.copy(), np.broadcast_to(y[k], x[k].shape).T.copy(),
+                                  (bound[k] / mu[k]).T.copy(), qx[k].T.copy(), qy[k].T.copy(), in_stick[k].T.copy())
+                    for k in range(n)]
+
+
 def falling_friction(scene, model: StripModel) -> EllipticResult:
     """Velocity-dependent friction without spin: one 2D polynomial solve per strip (module docstring)."""
     e_x = model.moduli[0]

@@ -1,0 +1,192 @@
+"""The RollingContact3D FMU's slave class (FMI 2.0 co-simulation): maps FMU variables to rollcontact's elliptic
+stepping model.
+
+The entry module ``contact3d_slave.py`` only imports the class from here (pythonfmu re-executes the entry module on
+every instantiation: ``rollcontact_fmu_slave.py``'s docstring).  No physics here: the parameters become a
+:class:`rollcontact.stepping.elliptic.EllipticParameters`, each ``do_step`` is one
+:meth:`rollcontact.stepping.elliptic.EllipticModel.step` over every contact, and the output variables read its
+:class:`~rollcontact.stepping.elliptic.EllipticOutputs` by position.  Refusals, the emulated fmi2Error, the echo of
+refusals and the FMU state are the shared :class:`rollcontact_fmu_xml.TableSlave`'s.
+
+One declaration for every variant: :func:`declaration` writes the variable table and the enumerations for n
+contacts, with enumerations or integer codes (the method enumerations are
+:data:`rollcontact.stepping.elliptic.ELLIPTIC_LEVELS`), and :func:`slave_class` gives the variant's class, one per
+variant and process (a Python host may load several variants: this module is imported once).  The entry module
+names the variant (``contact3d_slave.py``; ``build_fmu.py --contacts n`` writes its own).  With one contact the
+variables are named ``normal_load`` ...; with n they are ``normal_load[1]`` ... ``normal_load[n]`` (the FMI 2.0 array
+convention, also used in the FMI 3.0 build: the shared slave maps one value reference to one value).  Value
+references of the single-contact table: append only.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cache
+
+from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
+from pythonfmu.default_experiment import DefaultExperiment
+from rollcontact_fmu_xml import FRICTION_LAW_ITEMS, TableSlave, integer_coded
+
+from rollcontact import __version__ as ROLLCONTACT_VERSION
+from rollcontact.stepping.elliptic import (
+    ELLIPTIC_LEVELS,
+    INPUTS,
+    JACOBIAN_MODES,
+    EllipticModel,
+    EllipticOutputs,
+    EllipticParameters,
+    EllipticState,
+)
+
+INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
+CONTINUOUS, DISCRETE, FIXED = Fmi2Variability.continuous, Fmi2Variability.discrete, Fmi2Variability.fixed
+DEFAULT = EllipticParameters()
+POSITIVE = math.nextafter(0.0, 1.0)
+
+INPUT_ROWS = (
+    ("normal_load", "N", 0.0, "Normal load Fn pressing the wheel onto the rail (0: no contact)"),
+    ("longitudinal_creep", "1", None, "Longitudinal creepage xi (xi > 0 gives Fx > 0)"),
+    ("lateral_creep", "1", None, "Lateral creepage eta (eta > 0 gives Fy > 0)"),
+    ("spin", "1/m", None, "Spin creepage phi (phi > 0 gives Mz > 0)"),
+    ("velocity", "m/s", 0.0, "Rolling speed V (falling friction, frictional power)"),
+)
+"""Inputs of a contact: name, unit, min, description (the stepping model's order)."""
+
+JACOBIAN_UNITS = {"xi": "N", "eta": "N", "phi": "N.m"}
+OUTPUT_ROWS = (
+    ("longitudinal_force", "N", None, "Longitudinal force Fx of the wheel on the rail"),
+    ("lateral_force", "N", None, "Lateral force Fy of the wheel on the rail"),
+    ("spin_moment", "N.m", None, "Spin moment Mz of the wheel on the rail about the contact normal"),
+    ("semi_axis_longitudinal", "m", 0.0, "Semi-axis a of the contact ellipse along the rolling direction"),
+    ("semi_axis_lateral", "m", 0.0, "Semi-axis b of the contact ellipse across it"),
+    ("max_pressure", "Pa", 0.0, "Peak Hertz pressure p0"),
+    ("stick_fraction", "1", -1.0, "Share of the contact area in stick (-1: not computed by the level)"),
+    ("frictional_power", "W", None, "Power V (xi Fx + eta Fy + phi Mz) the creepages put into the contact"),
+    *((f"d{force}_d{symbol}", {("N", "phi"): "N.m", ("N.m", "xi"): "N.m", ("N.m", "eta"): "N.m",
+                               ("N.m", "phi"): "N.m2"}.get((unit, symbol), "N"), None,
+       f"d{force}/d{symbol} at the step (parameter jacobian: linear theory's slope or difference)")
+      for force, unit in (("Fx", "N"), ("Fy", "N"), ("Mz", "N.m")) for symbol in ("xi", "eta", "phi")),
+    ("method_used", None, 0, "Elliptic level of the last step (MethodUsed3D)"),
+)
+"""Outputs of a contact: name, unit, min, description (:class:`EllipticOutputs`' order)."""
+
+SHARED_PARAMETERS = (
+    ("youngs_modulus", Real, "Pa", POSITIVE, None, "Young's modulus E of wheel and rail, > 0"),
+    ("poisson_ratio", Real, "1", 0.0, math.nextafter(0.5, 0.0), "Poisson's ratio nu of wheel and rail, 0 <= nu < 0.5"),
+    ("friction_coefficient", Real, "1", POSITIVE, None, "Friction coefficient mu at zero slip velocity, > 0"),
+    ("friction_law", Integer, None, 0, 4, "Friction law (FrictionLaw)"),
+    ("friction_kinetic_ratio", Real, "1", POSITIVE, 1.0, "A of the falling laws: mu(infinity)/mu, 0 < A <= 1"),
+    ("friction_decay", Real, "s/m", 0.0, None, "B of the exponential law, per slip velocity v, >= 0"),
+    ("friction_reference_velocity", Real, "m/s", POSITIVE, None, "v_ref of the rational law, > 0"),
+    ("friction_slope", Real, "s/m", 0.0, None, "c of the linear law max(A mu, mu - c v), >= 0"),
+    ("friction_table", String, None, None, None, "Points 'v mu; v mu; ...' of the tabulated law, v [m/s] increasing"),
+    ("method", Integer, None, 0, len(ELLIPTIC_LEVELS), "Elliptic level of every step (Method3D)"),
+    ("tolerance", Real, "1", 0.0, None, "Requested error of Fx, Fy over mu Fn and Mz over mu Fn c (0: defaults)"),
+    ("step_budget", Real, "s", 0.0, None, "Work budget of each contact's solve, modelled seconds (0: no budget)"),
+    ("jacobian", Integer, None, 0, len(JACOBIAN_MODES) - 1, "How the dF_d outputs are computed (JacobianMode)"),
+)
+CONTACT_PARAMETERS = (
+    ("curvature_longitudinal", "1/m", "Curvature A of the gap A x^2 + B y^2 along x, > 0"),
+    ("curvature_lateral", "1/m", "Curvature B of the gap A x^2 + B y^2 across, > 0"),
+)
+
+ENUMERATIONS = {
+    "method": ("Method3D", ((0, "auto", "the lowest-ranked level that applies; with a tolerance the cheapest"),
+                            *((code, name, text) for code, (name, text) in enumerate(ELLIPTIC_LEVELS, start=1)))),
+    "method_used": ("MethodUsed3D", ((0, "none", "no contact"),
+                                     *((code, name, text) for code, (name, text) in enumerate(ELLIPTIC_LEVELS,
+                                                                                              start=1)))),
+    "friction_law": ("FrictionLaw", FRICTION_LAW_ITEMS),
+    "jacobian": ("JacobianMode", ((0, "linear", "the linear theory's slopes at the step's ellipse"),
+                                  (1, "difference", "forward differences of the step's level, 3 more solves"))),
+}
+
+
+def named(name: str, k: int, contacts: int) -> str:
+    """The variable name of ``name`` for contact ``k`` (from 1): plain with one contact, ``name[k]`` with several."""
+    return name if contacts == 1 else f"{name}[{k}]"
+
+
+def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, dict]:
+    """The variable table (rows ``(name, type, causality, variability, unit, start, min, max, description)``,
+    value reference = row) and the enumerations (variable name -> (type, items)) of the FMU with ``contacts``
+    contacts: inputs per contact, outputs per contact, shared parameters, per-contact curvatures."""
+    of = (lambda k: "") if contacts == 1 else (lambda k: f", contact {k}")
+    rows = []
+    for k in range(1, contacts + 1):
+        rows += [(named(n, k, contacts), Real, INPUT, CONTINUOUS, u, 0.0, lo, None, f"{text}{of(k)}")
+                 for n, u, lo, text in INPUT_ROWS]
+    for k in range(1, contacts + 1):
+        for n, u, lo, text in OUTPUT_ROWS:
+            if n == "method_used":
+                rows.append((named(n, k, contacts), Integer, OUTPUT, DISCRETE, None, 0, 0, len(ELLIPTIC_LEVELS),
+                             f"{text.split(' (')[0]}{of(k)} (MethodUsed3D)"))
+            else:
+                rows.append((named(n, k, contacts), Real, OUTPUT, CONTINUOUS, u, 0.0, lo, None, f"{text}{of(k)}"))
+    for n, kind, u, lo, hi, text in SHARED_PARAMETERS:
+        rows.append((n, kind, PARAMETER, FIXED, u, getattr(DEFAULT, n), lo, hi, text))
+    for n, u, text in CONTACT_PARAMETERS:
+        start = getattr(DEFAULT, n)[0]
+        rows += [(named(n, k, contacts), Real, PARAMETER, FIXED, u, start, POSITIVE, None, f"{text}{of(k)}")
+                 for k in range(1, contacts + 1)]
+    enumerations = {named("method_used", k, contacts): ENUMERATIONS["method_used"] for k in range(1, contacts + 1)}
+    enumerations.update({n: ENUMERATIONS[n] for n in ("method", "friction_law", "jacobian")})
+    if integer_codes:
+        return integer_coded(tuple(rows), enumerations), {}
+    return tuple(rows), enumerations
+
+
+VARIABLES, _ = declaration()
+assert len(INPUT_ROWS) == len(INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
+
+
+class RollingContact3D(TableSlave):
+    """Elliptic wheel/rail rolling contact (linear theory, FASTSIM, strips, discretised) of rollcontact."""
+
+    author = "rollcontact"
+    description = ("Elliptic (3D) wheel/rail rolling contact: longitudinal and lateral force, spin moment, contact "
+                   "ellipse and creep-force Jacobian from normal load, creepages and speed, for one or several "
+                   "contacts")
+    license = "MIT"
+    version = ROLLCONTACT_VERSION
+    default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
+    VARIABLES, ENUMERATIONS = declaration()
+    CONTACTS = 1
+    INPUT_NAMES = tuple(row[0] for row in VARIABLES if row[2] is INPUT)
+
+    def new_model(self, values: dict):
+        """An EllipticModel of the parameter values (the per-contact curvatures gathered)."""
+        n = self.CONTACTS
+        shared = {name: values[name] for name, *_ in SHARED_PARAMETERS}
+        curvatures = {name: tuple(values[named(name, k, n)] for k in range(1, n + 1))
+                      for name, *_ in CONTACT_PARAMETERS}
+        model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time)
+        return model, model.notices
+
+    def step_model(self, current_time, step_size):
+        values = [getattr(self, name) for name in self.INPUT_NAMES]
+        inputs = [values[i:i + len(INPUT_ROWS)] for i in range(0, len(values), len(INPUT_ROWS))]
+        return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
+
+    def step_messages(self):
+        return self.model.take_messages()
+
+    def parse_model_state(self, data):
+        return EllipticState.parse(data)
+
+
+def model_name(contacts: int) -> str:
+    """The model name of the FMU with ``contacts`` contacts: ``RollingContact3D``, else ``RollingContact3D_n``."""
+    return "RollingContact3D" if contacts == 1 else f"RollingContact3D_{contacts}"
+
+
+@cache
+def slave_class(contacts: int = 1, integer_codes: bool = False) -> type:
+    """The slave class of a variant (one per variant and process): :class:`RollingContact3D`, else a subclass named
+    :func:`model_name` with the variant's table (pythonfmu names the model, its file and binary after the class)."""
+    if contacts == 1 and not integer_codes:
+        return RollingContact3D
+    variables, enumerations = declaration(contacts, integer_codes)
+    return type(model_name(contacts), (RollingContact3D,), {
+        "__doc__": f"RollingContact3D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
+        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT)})

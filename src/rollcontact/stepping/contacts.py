@@ -1,0 +1,145 @@
+"""Several 2D contacts of one parameter set stepped together: :class:`ContactModels` (the ``RollingContact2D_n``
+FMU's model).
+
+Each contact is a :class:`rollcontact.stepping.ContactModel` of the same parameters with its own inputs and state, so
+a contact is stepped exactly as a single-contact model steps it (bit for bit).  A step checks every contact's inputs
+first and names each invalid one with its contact (``contact 3: normal_load = -1.0 N is out of range ...``); when a
+contact's solve fails after others were stepped, those are set back, so a refused step changes no contact.  Messages
+of the contacts are prefixed with their contact.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, fields
+from operator import attrgetter
+
+from rollcontact.stepping.model import ContactModel
+from rollcontact.stepping.parameters import ContactParameters, ModelError, StepOutputs, input_problem
+from rollcontact.stepping.state import ModelState
+
+__all__ = ["ContactModels", "ContactsState"]
+
+INF = float("inf")
+
+snapshot = attrgetter(*(f.name for f in fields(ModelState)))
+"""``snapshot(state)``: the fields of a :class:`ModelState` as a tuple, ``ModelState(*snapshot(state))`` its copy
+(every field is an immutable value); cheaper than :meth:`ModelState.copy` on every step."""
+
+
+@dataclass
+class ContactsState:
+    """The states of the contacts, in contact order (each a :class:`ModelState`)."""
+
+    states: tuple[ModelState, ...]
+
+    @property
+    def steps(self) -> int:
+        """Steps taken (the same for every contact)."""
+        return self.states[0].steps
+
+    def copy(self) -> ContactsState:
+        return ContactsState(tuple(state.copy() for state in self.states))
+
+    def to_dict(self) -> dict:
+        return {"version": 1, "contacts": [state.to_dict() for state in self.states]}
+
+    @classmethod
+    def parse(cls, data, contacts: int) -> ContactsState:
+        """The state of :meth:`to_dict`'s dict for ``contacts`` contacts, each checked by :meth:`ModelState.parse`
+        (ModelError naming the contact of the first problem)."""
+        if not isinstance(data, dict) or set(data) != {"version", "contacts"} or data["version"] != 1:
+            raise ModelError(f"a state of several contacts is {{'version': 1, 'contacts': [...]}}, got "
+                             f"{str(data)[:80]}")
+        states = data["contacts"]
+        if not isinstance(states, list) or len(states) != contacts:
+            raise ModelError(f"a state of {contacts} contacts holds {contacts} contact states")
+        parsed = []
+        for k, state in enumerate(states, start=1):
+            try:
+                parsed.append(ModelState.parse(state))
+            except ModelError as exc:
+                raise ModelError(f"contact {k}: {exc}") from None
+        return cls(tuple(parsed))
+
+
+class ContactModels:
+    """``contacts`` 2D contacts of one :class:`ContactParameters` (module docstring), with ``per_contact`` values
+    (parameter name -> one value per contact, e.g. ``radius``, ``initial_position``) replacing shared ones.
+
+    Raises
+    ------
+    ModelError
+        Invalid parameters (as :class:`ContactModel`; a per-contact value named with its contact).
+    """
+
+    def __init__(self, parameters: ContactParameters, contacts: int, *, start_time: float = 0.0,
+                 stop_time: float | None = None, per_contact: dict | None = None):
+        if isinstance(contacts, bool) or not isinstance(contacts, int) or contacts < 1:
+            raise ModelError(f"contacts = {contacts!r} must be a whole number >= 1")
+        per_contact = per_contact or {}
+        if any(len(values) != contacts for values in per_contact.values()):
+            raise ModelError(f"per-contact parameters need {contacts} values each, got "
+                             f"{ {name: len(values) for name, values in per_contact.items()} }")
+        models, problems = [], []
+        for k in range(contacts):
+            try:
+                own = dataclasses.replace(parameters, **{name: values[k] for name, values in per_contact.items()})
+                models.append(ContactModel(own, start_time=start_time, stop_time=stop_time))
+            except ModelError as exc:
+                problems.append(f"contact {k + 1}: {exc}")
+        if problems:
+            raise ModelError("; ".join(problems))
+        self.models = tuple(models)
+        self.notices = self.models[0].notices
+
+    @property
+    def state(self) -> ContactsState:
+        """The contacts' current states (the models' own objects)."""
+        return ContactsState(tuple(model.state for model in self.models))
+
+    def reset(self, start_time: float = 0.0) -> None:
+        for model in self.models:
+            model.reset(start_time)
+
+    def set_state(self, state: ContactsState) -> None:
+        """Continue from (copies of) ``state``; a contact that refuses its state leaves every contact as it was."""
+        before = [model.get_state() for model in self.models]
+        try:
+            for model, contact_state in zip(self.models, state.states, strict=True):
+                model.set_state(contact_state)
+        except Exception:
+            for model, previous in zip(self.models, before, strict=True):
+                model.set_state(previous)
+            raise
+
+    def take_messages(self) -> list[str]:
+        return [f"contact {k}: {message}" for k, model in enumerate(self.models, start=1)
+                for message in model.take_messages()]
+
+    def step(self, current_time: float, step_size: float, inputs) -> tuple[StepOutputs, ...]:
+        """One step of every contact; ``inputs`` holds ``(normal_load [N], creep [1], velocity [m/s])`` per contact.
+
+        Raises
+        ------
+        ModelError
+            An invalid input (every one named with its contact) or a contact that cannot be solved (named); no
+            contact's state is then changed.
+        """
+        if len(inputs) != len(self.models):
+            raise ModelError(f"{len(inputs)} input rows for {len(self.models)} contacts")
+        problems = [f"contact {k}: {input_problem(current_time, step_size, *row)}"
+                    for k, row in enumerate(inputs, start=1)
+                    if not (0.0 <= row[0] < INF and -INF < row[1] < INF and 0.0 <= row[2] < INF)]
+        if problems or not (0.0 < step_size < INF and -INF < current_time < INF):
+            raise ModelError("; ".join(problems) or input_problem(current_time, step_size, *inputs[0]))
+        before = [snapshot(model.state) for model in self.models]
+        outputs = []
+        for k, (model, row) in enumerate(zip(self.models, inputs, strict=True)):
+            try:
+                outputs.append(model.step(current_time, step_size, *row))
+            except ModelError as exc:
+                for stepped, previous in zip(self.models[:k], before, strict=False):
+                    stepped.set_state(ModelState(*previous))
+                raise ModelError(f"contact {k + 1}: {exc}") from None
+        return tuple(outputs)

@@ -1,0 +1,598 @@
+"""Stepping model of the elliptic (3D) contact for co-simulation: parameters -> (state, inputs, step) -> outputs.
+
+The library half of the ``RollingContact3D`` FMU (``fmu_src/rollcontact_fmu_contact3d.py`` maps its variables here
+and back, nothing else): one or several wheel/rail contacts of one material and friction law, each with its own gap
+curvatures, stepped together.
+
+* :class:`EllipticParameters` holds the fixed parameters (FMU parameters of the same names; the curvatures one per
+  contact) and checks them all at once;
+* :class:`EllipticModel` evaluates one communication step, :meth:`EllipticModel.step`: for each contact the steady
+  elliptic contact of the inputs sampled at ``t_n`` through :func:`rollcontact.solve_elliptic`, with the parameters'
+  method, tolerance and step budget (the budget bounds each contact's solve in modelled seconds: no clock is read,
+  so every output is a function of parameters and inputs alone);
+* :class:`EllipticState` is what the model remembers: the last communication point and the number of steps.  The
+  steady contact has no history, so a restored state repeats the steps bit for bit.
+
+Signs (docs/physics.md, Elliptic contact): the forces and moment are those the wheel exerts on the rail, so each
+creepage > 0 gives its force > 0; in Kalker's linear theory ``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23
+phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab).
+
+Jacobian: the outputs ``dFx_dxi`` ... ``dMz_dphi`` are d(Fx, Fy, Mz)/d(xi, eta, phi) at the step's contact.  With
+``jacobian`` = 0 they are the linear theory's slopes at the step's ellipse (the derivatives of the relations above:
+exact for the linear level and at vanishing creepage, the stiffness an implicit host linearises with; they do not
+fall with saturation); with ``jacobian`` = 1 forward differences of the step's own method, three more solves per
+contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation value (``mu Fn`` over the linear
+slope), each within the step budget; the linear level's derivatives are its slopes in either mode (exact).
+
+Contacts together: with ``method`` = linear (and no tolerance) the step evaluates the linear theory of every contact
+without a solver call (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse`
+and the linear level take for one contact; with ``method`` = strips (no tolerance, Coulomb friction, the cost with
+spin within the budget) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
+(:meth:`EllipticModel.strips_step`).  Each contact's outputs are bit for bit those of
+:func:`rollcontact.solve_elliptic`; the other levels solve the contacts one after another through it.
+
+Frictional power: ``V (xi Fx + eta Fy + phi Mz)`` [W], the power the creepages put into the contact (the rigid slip
+velocities times the forces on the rail), which steady rolling dissipates by slip.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+from rollcontact.checks import SceneError, check_real
+from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
+from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS, solve_elliptic
+from rollcontact.elliptic.hertz import differences, eccentricity
+from rollcontact.elliptic.methods.strips import solve_strips_many
+from rollcontact.elliptic.scene import EllipticScene
+from rollcontact.scene import Material
+from rollcontact.stepping.parameters import (
+    DEFAULT_STEP_BUDGET,
+    FRICTION_LAWS,
+    TABLE_LAW,
+    ModelError,
+    friction_law,
+    friction_table_points,
+    new_tuple,
+)
+
+__all__ = ["ELLIPTIC_LEVELS", "EllipticModel", "EllipticOutputs", "EllipticParameters", "EllipticState",
+           "JACOBIAN_MODES", "level_code"]
+
+ELLIPTIC_LEVELS = (
+    ("linear", "Kalker's linear theory, no friction limit"),
+    ("fastsim", "FASTSIM, Kalker's simplified theory"),
+    ("strips", "strip theory with FaStrip's slip directions"),
+    ("discretised", "the discretised 3D steady-rolling solver"),
+)
+"""The elliptic levels as the FMU numbers them: ``method`` and ``method_used`` code = position + 1 (0 is auto,
+resp. no contact).  Append only.  A registered elliptic method whose name starts with a level's name belongs to that
+level (:func:`level_code`); ``tests/stepping/test_elliptic.py`` checks that every built-in method has a code."""
+
+METHOD_CODES = {name: code for code, (name, _) in enumerate(ELLIPTIC_LEVELS, start=1)}
+"""Level name -> code."""
+
+AUTO = 0
+
+JACOBIAN_MODES = {0: "linear", 1: "difference"}
+"""``jacobian``: the linear theory's slopes, or forward differences of the step's method (module docstring)."""
+
+DIFFERENCE_STEP = 1e-4
+"""Increment of a forward difference, as a share of the creepage's saturation value ``mu Fn / slope`` [1]: small
+against the curvature of the creep-force curves (which bend over the saturation value), large against the rounding
+of the forces (1e-16 of mu Fn)."""
+
+NO_STICK = -1.0
+"""``stick_fraction`` of a level that does not compute one (linear, strips)."""
+
+DEFAULT_CURVATURES = tuple(float(f"{1.0 / (2.0 * radius):.16g}") for radius in (0.46, 0.3))
+"""Default (A, B) [1/m]: a conical wheel of rolling radius 0.46 m on a rail head of crown radius 0.3 m,
+A = 1/(2 r0), B = 1/(2 R_rail), to 16 significant digits (as an FMI 2.0 model description writes a start)."""
+
+
+def level_code(name: str) -> int:
+    """``method_used`` code of a registry name (the level whose name starts it; 0 for none)."""
+    return next((code for level, code in METHOD_CODES.items() if name.startswith(level)), 0)
+
+
+class EllipticOutputs(NamedTuple):
+    """Outputs of one contact in one step (SI units; forces and moment of the wheel on the rail)."""
+
+    longitudinal_force: float
+    lateral_force: float
+    spin_moment: float
+    semi_axis_longitudinal: float
+    semi_axis_lateral: float
+    max_pressure: float
+    stick_fraction: float
+    frictional_power: float
+    dFx_dxi: float
+    dFx_deta: float
+    dFx_dphi: float
+    dFy_dxi: float
+    dFy_deta: float
+    dFy_dphi: float
+    dMz_dxi: float
+    dMz_deta: float
+    dMz_dphi: float
+    method_used: int
+
+
+ZERO = EllipticOutputs(*(0.0,) * 17, 0)
+"""The outputs without load (no contact)."""
+
+
+@dataclass(frozen=True)
+class EllipticParameters:
+    """Fixed parameters of an :class:`EllipticModel`, checked on creation (every invalid value at once).
+
+    Parameters
+    ----------
+    youngs_modulus : float
+        E [Pa] > 0 of wheel and rail (quasi-identical bodies).
+    poisson_ratio : float
+        nu [1], 0 <= nu < 0.5.
+    friction_coefficient, friction_law, friction_kinetic_ratio, friction_decay, friction_reference_velocity, \
+friction_slope, friction_table
+        The friction law, as :class:`rollcontact.stepping.ContactParameters` (the same codes and meaning); the
+        slip velocity of a falling law is ``V |s|``.
+    curvature_longitudinal, curvature_lateral : tuple of float
+        A and B [1/m] > 0 of the gap ``A x^2 + B y^2``, one per contact (the same count).
+    method : int
+        0 auto, else the code of a level of :data:`ELLIPTIC_LEVELS`.
+    tolerance : float
+        Requested error [1] >= 0 of Fx, Fy over mu Fn and of Mz over mu Fn c (0: each method's defaults).
+    step_budget : float
+        Work budget [s] >= 0 of each contact's solve in a step, modelled seconds (0: no budget).
+    jacobian : int
+        A code of :data:`JACOBIAN_MODES`.
+    """
+
+    youngs_modulus: float = 210e9
+    poisson_ratio: float = 0.28
+    friction_coefficient: float = 0.3
+    friction_law: int = 0
+    friction_kinetic_ratio: float = 0.4
+    friction_decay: float = 0.6
+    friction_reference_velocity: float = 2.0
+    friction_slope: float = 0.1
+    friction_table: str = ""
+    curvature_longitudinal: tuple = (DEFAULT_CURVATURES[0],)
+    curvature_lateral: tuple = (DEFAULT_CURVATURES[1],)
+    method: int = AUTO
+    tolerance: float = 0.0
+    step_budget: float = DEFAULT_STEP_BUDGET
+    jacobian: int = 0
+
+    def __post_init__(self):
+        """Raise one :class:`ModelError` naming each invalid value and its limit (``"; "``-separated, in field
+        order); a per-contact value is named ``curvature_longitudinal[k]`` (k from 1) when there are several."""
+        set_ = object.__setattr__
+        problems = []
+        for name, lower, upper, lower_open in (("youngs_modulus", 0.0, None, True), ("poisson_ratio", 0.0, 0.5, False),
+                                               ("friction_coefficient", 0.0, None, True),
+                                               ("friction_kinetic_ratio", 0.0, 1.0, True),
+                                               ("friction_decay", 0.0, None, False),
+                                               ("friction_reference_velocity", 0.0, None, True),
+                                               ("friction_slope", 0.0, None, False), ("tolerance", 0.0, None, False),
+                                               ("step_budget", 0.0, None, False)):
+            try:
+                set_(self, name, check_real(name, getattr(self, name), lower=lower, upper=upper,
+                                            lower_open=lower_open, upper_open=name == "poisson_ratio"))
+            except SceneError as exc:
+                problems.append(str(exc))
+        for name, allowed in (("friction_law", FRICTION_LAWS), ("method", {AUTO: "auto", **dict(
+                (code, level) for level, code in METHOD_CODES.items())}), ("jacobian", JACOBIAN_MODES)):
+            value = getattr(self, name)
+            if isinstance(value, bool) or value not in allowed:
+                choices = ", ".join(f"{k} {v}" for k, v in allowed.items())
+                problems.append(f"{name} = {value!r} is out of range: it must be one of {choices}")
+            else:
+                set_(self, name, int(value))
+        counts = []
+        for name in ("curvature_longitudinal", "curvature_lateral"):
+            values = getattr(self, name)
+            if isinstance(values, (int, float)) and not isinstance(values, bool):
+                values = (values,)
+            if not isinstance(values, (tuple, list)) or not values:
+                problems.append(f"{name} must be a non-empty sequence of curvatures [1/m], one per contact, got "
+                                f"{values!r}")
+                continue
+            checked = []
+            for k, value in enumerate(values, start=1):
+                label = name if len(values) == 1 else f"{name}[{k}]"
+                try:
+                    checked.append(check_real(label, value, lower=0.0, lower_open=True, unit="1/m"))
+                except SceneError as exc:
+                    problems.append(str(exc))
+            set_(self, name, tuple(checked) if len(checked) == len(values) else tuple(values))
+            counts.append(len(values))
+        if len(counts) == 2 and counts[0] != counts[1]:
+            problems.append(f"curvature_longitudinal has {counts[0]} contacts, curvature_lateral {counts[1]}: one "
+                            "curvature of each per contact")
+        if not isinstance(self.friction_table, str):
+            problems.append(f"friction_table must be a string ('v mu; v mu; ...'), got {self.friction_table!r}")
+        elif self.friction_law == TABLE_LAW:
+            try:
+                friction_table_points(self.friction_table)
+            except ValueError as exc:
+                problems.append(str(exc))
+        if problems:
+            raise ModelError("; ".join(problems))
+
+    @property
+    def contacts(self) -> int:
+        """Number of contacts n."""
+        return len(self.curvature_longitudinal)
+
+
+@dataclass
+class EllipticState:
+    """What an :class:`EllipticModel` remembers between steps: the last communication point [s] and the steps taken
+    (the steady contact has no other history)."""
+
+    time: float
+    steps: int = 0
+
+    def copy(self) -> EllipticState:
+        return EllipticState(self.time, self.steps)
+
+    def to_dict(self) -> dict:
+        """A JSON-compatible dict (:meth:`parse` reads it back)."""
+        return {"version": 1, "time": self.time, "steps": self.steps}
+
+    @classmethod
+    def parse(cls, data) -> EllipticState:
+        """The state of :meth:`to_dict`'s dict, every field checked (ModelError naming the first problem)."""
+        if not isinstance(data, dict) or set(data) != {"version", "time", "steps"}:
+            keys = sorted(map(str, data)) if isinstance(data, dict) else type(data).__name__
+            raise ModelError(f"an elliptic model state has exactly the keys version, time, steps; got {keys}")
+        if data["version"] != 1 or type(data["version"]) is not int:
+            raise ModelError(f"elliptic model state version {data['version']!r} is not supported (this reads 1)")
+        time, steps = data["time"], data["steps"]
+        if type(time) not in (int, float) or not math.isfinite(time):
+            raise ModelError(f"elliptic model state time = {time!r} must be a finite real number")
+        if type(steps) is not int or steps < 0:
+            raise ModelError(f"elliptic model state steps = {steps!r} must be a whole number >= 0")
+        return cls(float(time), steps)
+
+
+class EllipticModel:
+    """n elliptic contacts of one material and friction law stepped together (module docstring).
+
+    Parameters
+    ----------
+    parameters : EllipticParameters
+        The fixed parameters (default: one contact of the defaults).
+    start_time : float
+        The first communication point [s].
+
+    Raises
+    ------
+    ModelError
+        The material or friction law is invalid, or a contact's ellipse is one the chosen method cannot treat
+        (e.g. a/b outside the creepage-coefficient table); the message names the contact.
+    """
+
+    def __init__(self, parameters: EllipticParameters | None = None, *, start_time: float = 0.0):
+        p = EllipticParameters() if parameters is None else parameters
+        if not isinstance(p, EllipticParameters):
+            raise TypeError(f"parameters must be EllipticParameters, got {type(p).__name__}")
+        self.parameters = p
+        try:
+            self.material = Material(p.youngs_modulus, p.poisson_ratio)
+            self.friction = friction_law(p)
+        except ValueError as exc:
+            raise ModelError(str(exc)) from None
+        self.method = "auto" if p.method == AUTO else ELLIPTIC_LEVELS[p.method - 1][0]
+        self.tolerance = p.tolerance if p.tolerance > 0.0 else None
+        self.budget = p.step_budget if p.step_budget > 0.0 else None
+        self.curvatures = tuple(zip(p.curvature_longitudinal, p.curvature_lateral, strict=True))
+        self.shear_modulus = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
+        problems = [why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None]
+        if problems:
+            raise ModelError("; ".join(problems))
+        self.batch = LinearContacts(self) if self.method == "linear" and self.tolerance is None and \
+            self.fits_budget("linear") else None
+        """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
+        self.strips_together = self.method == "strips" and self.tolerance is None and self.friction.is_constant \
+            and p.contacts > 1 and self.fits_budget("strips", spin=True)
+        """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`, bit
+        for bit each contact's solve; one contact takes the single-scene solve, which costs less)."""
+        self.notices: tuple[str, ...] = ()
+        """Messages worth showing once at initialisation (none: every parameter is used)."""
+        self.messages: list[str] = []
+        self.noticed: set[str] = set()
+        self.state = EllipticState(float(start_time))
+
+    @property
+    def contacts(self) -> int:
+        return self.parameters.contacts
+
+    def fits_budget(self, method: str, spin: bool = False) -> bool:
+        """Whether the level's modelled cost (with spin: its cost with spin) fits the step budget (else each contact's
+        solve is left to solve_elliptic, which refuses or takes a cheaper setting)."""
+        spec = ELLIPTIC_METHODS[method]
+        A, B = self.curvatures[0]
+        scene = EllipticScene(1.0, A, B, spin_creepage=1.0 if spin else 0.0, material=self.material,
+                              friction=self.friction)
+        return self.budget is None or spec.accuracy is None or spec.accuracy.cost(scene, {}) <= self.budget
+
+    def label(self, k: int) -> str:
+        """``"contact k: "`` (k from 1) with several contacts, else ``""``: the prefix of a contact's messages."""
+        return f"contact {k + 1}: " if self.contacts > 1 else ""
+
+    def inapplicable(self, k: int) -> str | None:
+        """Why contact ``k`` (from 0) cannot be solved by the method at any load (its ellipse's a/b is that of every
+        load), or None."""
+        A, B = self.curvatures[k]
+        scene = EllipticScene(1.0, A, B, material=self.material, friction=self.friction)
+        if self.method == "auto":
+            reasons = [f"{s.name}: {why}" for s in ELLIPTIC_METHODS.values() if (why := s.inapplicable(scene))]
+            if len(reasons) < len(ELLIPTIC_METHODS):
+                return None
+            why = "no elliptic method can solve it (" + "; ".join(reasons) + ")"
+        else:
+            spec = ELLIPTIC_METHODS.get(self.method)
+            if spec is None:
+                return f"method {self.method!r} is not registered in rollcontact.ELLIPTIC_METHODS"
+            why = spec.inapplicable(scene)
+            if why is None:
+                return None
+        low, high = aspect_ratio_range()
+        return (f"{self.label(k)}curvatures A = {A!r}, B = {B!r} 1/m: {why} (a/b = {scene.hertz.aspect_ratio:.4g}; "
+                f"the creepage-coefficient table serves a/b in [{low:g}, {high:g}])")
+
+    # state ------------------------------------------------------------------------------------------------------
+    def reset(self, start_time: float = 0.0) -> None:
+        """Back to the initial state at ``start_time`` [s]."""
+        self.state = EllipticState(float(start_time))
+
+    def get_state(self) -> EllipticState:
+        return self.state.copy()
+
+    def set_state(self, state: EllipticState) -> None:
+        if not isinstance(state, EllipticState):
+            raise TypeError(f"state must be an EllipticState, got {type(state).__name__}")
+        self.state = state.copy()
+
+    def take_messages(self) -> list[str]:
+        """The messages the steps queued since the last call (each kind once per model)."""
+        messages, self.messages = self.messages, []
+        return messages
+
+    def notice_once(self, kind: str, message: str) -> None:
+        if kind not in self.noticed:
+            self.noticed.add(kind)
+            self.messages.append(message)
+
+    # stepping ---------------------------------------------------------------------------------------------------
+    def step(self, current_time: float, step_size: float, inputs) -> tuple[EllipticOutputs, ...]:
+        """Evaluate every contact for the inputs sampled at ``current_time``.
+
+        Parameters
+        ----------
+        current_time : float
+            Communication point t_n [s], not before the previous one.
+        step_size : float
+            h [s] > 0.
+        inputs : sequence
+            Per contact ``(normal_load [N] >= 0, longitudinal_creep [1], lateral_creep [1], spin [1/m],
+            velocity [m/s] >= 0)``, all finite.
+
+        Returns
+        -------
+        tuple of EllipticOutputs
+            One per contact.
+
+        Raises
+        ------
+        ModelError
+            Invalid inputs (every one named, with its contact), time going backwards, or a contact no allowed
+            method solves within the budget.  The state is then unchanged.
+        """
+        try:
+            rows = [tuple(float(v) for v in row) for row in inputs]
+        except (TypeError, ValueError):
+            rows = None
+        inf = math.inf
+        if rows is None or len(rows) != self.contacts or not (0.0 < step_size < inf and -inf < current_time < inf) or \
+                not all(len(row) == 5 and 0.0 <= row[0] < inf and -inf < row[1] < inf and -inf < row[2] < inf
+                        and -inf < row[3] < inf and 0.0 <= row[4] < inf for row in rows):
+            raise ModelError("; ".join(self.input_problems(current_time, step_size, inputs)) or
+                             f"invalid step inputs {inputs!r}")
+        if current_time < self.state.time:
+            raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
+                             f"{self.state.time!r} s; restore a saved state to step from an earlier time")
+        if self.batch is not None:
+            outputs = self.batch.step(rows)
+        elif self.strips_together:
+            outputs = self.strips_step(rows)
+        else:
+            outputs = tuple(self.contact_step(k, *(float(v) for v in row)) for k, row in enumerate(inputs))
+        self.state.time = float(current_time)
+        self.state.steps += 1
+        return outputs
+
+    def input_problems(self, current_time, step_size, inputs) -> list[str]:
+        """Every invalid step argument: what, which value, which limit (with its contact)."""
+        problems = []
+        for name, value, unit, positive in (("current_time", current_time, "s", None),
+                                            ("step_size", step_size, "s", True)):
+            try:
+                check_real(name, value, lower=0.0 if positive else None, lower_open=True, unit=unit)
+            except SceneError as exc:
+                problems.append(str(exc))
+        if len(inputs) != self.contacts:
+            return [*problems, f"{len(inputs)} input rows for {self.contacts} contacts"]
+        for k, row in enumerate(inputs):
+            for (name, unit, lower), value in zip(INPUTS, row, strict=True):
+                try:
+                    check_real(name, value, lower=lower, unit=unit)
+                except SceneError as exc:
+                    problems.append(f"{self.label(k)}{exc}")
+        return problems
+
+    def scene(self, k: int, normal_load: float, xi: float, eta: float, phi: float, velocity: float) -> EllipticScene:
+        """The scene of contact ``k`` (from 0) for the inputs."""
+        A, B = self.curvatures[k]
+        return EllipticScene(normal_load, A, B, xi, eta, phi, self.material, self.friction, velocity)
+
+    def solved(self, k: int, scene: EllipticScene, method: str):
+        """:func:`rollcontact.solve_elliptic` of the scene with the parameters' tolerance and budget; ModelError
+        (naming the contact) when it fails."""
+        try:
+            result = solve_elliptic(scene, method, tolerance=self.tolerance, budget=self.budget)
+        except ValueError as exc:
+            raise ModelError(f"{self.label(k)}{exc}") from None
+        if not result.success:
+            raise ModelError(f"{self.label(k)}{result.method} failed: {result.message}")
+        if result.info.get("tolerance_met") is False:
+            self.notice_once(f"tolerance {k}", f"{self.label(k)}the tolerance {self.tolerance!r} is not met within "
+                             f"the step budget {self.budget!r} s: {result.method}'s error estimate is "
+                             f"{result.info.get('error_estimate')!r} (said once)")
+        return result
+
+    def contact_step(self, k: int, normal_load: float, xi: float, eta: float, phi: float,
+                     velocity: float) -> EllipticOutputs:
+        """The outputs of contact ``k`` (from 0) for its inputs (module docstring)."""
+        if normal_load == 0.0:
+            return ZERO
+        scene = self.scene(k, normal_load, xi, eta, phi, velocity)
+        result = self.solved(k, scene, self.method)
+        forces = (result.longitudinal_force, result.lateral_force, result.spin_moment)
+        if not all(map(math.isfinite, forces)):
+            raise ModelError(f"{self.label(k)}{result.method} returned non-finite forces {forces!r}")
+        slopes = self.linear_slopes(scene)
+        if self.parameters.jacobian == 1 and level_code(result.method) != METHOD_CODES["linear"]:
+            jacobian = self.differences(k, scene, result, forces, slopes)
+        else:
+            jacobian = tuple(v for row in slopes for v in row)
+        stick = result.info.get("stick_fraction", NO_STICK)
+        power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
+        return EllipticOutputs(*forces, result.a, result.b, result.max_pressure, float(stick), power, *jacobian,
+                               level_code(result.method))
+
+    def strips_step(self, rows) -> tuple[EllipticOutputs, ...]:
+        """Every loaded contact's strips in one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with
+        ``jacobian`` = difference also the three shifted scenes of each), the outputs as :meth:`contact_step` makes
+        them from each contact's own solve."""
+        loaded = [k for k, row in enumerate(rows) if row[0] != 0.0]
+        scenes = [self.scene(k, *rows[k]) for k in loaded]
+        slopes = [self.linear_slopes(scene) for scene in scenes]
+        shifted = []
+        if self.parameters.jacobian == 1:
+            for scene, slope in zip(scenes, slopes, strict=True):
+                shifted += [scene.replace(**{name: scene.creepages[j] + delta})
+                            for j, name, delta in self.increments(scene, slope)]
+        results = solve_strips_many(scenes + shifted)
+        outputs = [ZERO] * len(rows)
+        for i, (k, scene) in enumerate(zip(loaded, scenes, strict=True)):
+            result = results[i]
+            forces = (result.longitudinal_force, result.lateral_force, result.spin_moment)
+            if self.parameters.jacobian == 1:
+                others = results[len(scenes) + 3 * i:len(scenes) + 3 * i + 3]
+                columns = [[(v - f) / delta for v, f in zip((r.longitudinal_force, r.lateral_force, r.spin_moment),
+                                                            forces, strict=True)]
+                           for r, (_, _, delta) in zip(others, self.increments(scene, slopes[i]), strict=True)]
+                jacobian = tuple(columns[j][m] for m in range(3) for j in range(3))
+            else:
+                jacobian = tuple(v for row in slopes[i] for v in row)
+            xi, eta, phi, velocity = rows[k][1:]
+            power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
+            outputs[k] = EllipticOutputs(*forces, result.a, result.b, result.max_pressure, NO_STICK, power, *jacobian,
+                                         METHOD_CODES["strips"])
+        return tuple(outputs)
+
+    def increments(self, scene: EllipticScene, slopes):
+        """``(index, creepage name, increment)`` of the forward differences (:meth:`differences`)."""
+        limit = scene.friction_coefficient * scene.normal_load
+        return [(j, name, DIFFERENCE_STEP * (limit * (scene.hertz.c if j == 2 else 1.0) / slopes[j][j]))
+                for j, name in enumerate(("longitudinal_creepage", "lateral_creepage", "spin_creepage"))]
+
+    def linear_slopes(self, scene: EllipticScene) -> tuple[tuple[float, float, float], ...]:
+        """The linear theory's d(Fx, Fy, Mz)/d(xi, eta, phi) at the scene's ellipse: ``G c^2 C11``, ``G c^2 C22``,
+        ``G c^3 C23`` (Fy of phi), ``-G c^3 C23`` (Mz of eta), ``G c^4 C33``, the others 0 (module docstring)."""
+        h = scene.hertz
+        c = creepage_coefficients(h.aspect_ratio, scene.material.poisson_ratio)
+        length = h.c
+        area = self.shear_modulus * length * length
+        return ((area * c.c11, 0.0, 0.0),
+                (0.0, area * c.c22, area * length * c.c23),
+                (0.0, -area * length * c.c23, area * length * length * c.c33))
+
+    def differences(self, k: int, scene: EllipticScene, result, forces, slopes) -> tuple[float, ...]:
+        """Forward differences of the step's method (``result.method``) in each creepage, row-major (Fx, Fy, Mz) x
+        (xi, eta, phi); the increment :data:`DIFFERENCE_STEP` times ``mu Fn / slope`` (``mu Fn c`` for phi)."""
+        creepages = scene.creepages
+        columns = []
+        for j, name, delta in self.increments(scene, slopes):
+            shifted = self.solved(k, scene.replace(**{name: creepages[j] + delta}), result.method)
+            values = (shifted.longitudinal_force, shifted.lateral_force, shifted.spin_moment)
+            columns.append([(values[i] - forces[i]) / delta for i in range(3)])
+        return tuple(columns[j][i] for i in range(3) for j in range(3))
+
+
+class LinearContacts:
+    """Kalker's linear theory for every contact of a model, without a solver call per contact.
+
+    What depends on the curvatures alone (Hertz's eccentricity and elliptic integrals, the orientation, Kalker's
+    coefficients at a/b) is taken once from the library's own functions; each step evaluates, per contact, the
+    expressions of :func:`rollcontact.elliptic.hertz_ellipse` (``alpha^3 = 3 Fn (K - E)/e^2 / (2 pi E* A_major)``,
+    ``beta = g alpha``, ``p0 = A_major E* alpha / (g (K - E)/e^2)``), of the linear level
+    (:func:`rollcontact.elliptic.methods.common.linear_forces`) and of :meth:`EllipticModel.linear_slopes`, operation
+    for operation, so that the outputs equal the single-contact path's bit for bit.  The evaluation is a loop of
+    float arithmetic over the contacts: a vehicle's few contacts cost less so than numpy's fixed cost per array
+    operation (some 40 of them per step), and the C library's ``pow`` and ``sqrt`` are the ones ``hertz_ellipse``
+    calls (numpy's vectorised power may differ in the last bit).
+    """
+
+    def __init__(self, model: EllipticModel):
+        estar = model.material.contact_modulus
+        nu = model.material.poisson_ratio
+        self.constants = []
+        for A, B in model.curvatures:
+            major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
+            m = eccentricity(minor_curvature / major_curvature)
+            major, _, _ = differences(m)
+            g = math.sqrt(1.0 - m)
+            c = creepage_coefficients(g if A > B else 1.0 / g, nu)
+            self.constants.append((major, 2.0 * math.pi * estar * major_curvature, g, major_curvature * estar,
+                                   g * major, A <= B, c.c11, c.c22, c.c23, c.c33))
+        self.shear_modulus = model.material.youngs_modulus / (2.0 * (1.0 + nu))
+
+    def step(self, rows) -> tuple[EllipticOutputs, ...]:
+        """The outputs of every contact for its checked inputs (rows of floats as :meth:`EllipticModel.step`'s).
+        A contact without load is :data:`ZERO`."""
+        shear = self.shear_modulus
+        code = METHOD_CODES["linear"]
+        outputs = []
+        for (fn, xi, eta, phi, velocity), constants in zip(rows, self.constants, strict=True):
+            if fn == 0.0:
+                outputs.append(ZERO)
+                continue
+            major, denominator, g, pressure_scale, g_major, along_x, c11, c22, c23, c33 = constants
+            alpha = (3.0 * fn * major / denominator) ** (1.0 / 3.0)
+            beta = g * alpha
+            p0 = pressure_scale * alpha / g_major
+            a, b = (alpha, beta) if along_x else (beta, alpha)
+            length = math.sqrt(a * b)
+            area = length * length
+            fx = shear * area * c11 * xi
+            fy = shear * area * (c22 * eta + length * c23 * phi)
+            mz = shear * area * length * (-c23 * eta + (length * c33 * phi if phi != 0.0 else 0.0))
+            slope = shear * length * length
+            lever = slope * length
+            cross = lever * c23
+            power = velocity * (xi * fx + eta * fy + phi * mz)
+            outputs.append(new_tuple(EllipticOutputs, (fx, fy, mz, a, b, p0, NO_STICK, power, slope * c11, 0.0, 0.0,
+                                                       0.0, slope * c22, cross, 0.0, -cross, lever * length * c33,
+                                                       code)))
+        return tuple(outputs)
+
+
+INPUTS = (("normal_load", "N", 0.0), ("longitudinal_creep", "", None), ("lateral_creep", "", None),
+          ("spin", "1/m", None), ("velocity", "m/s", 0.0))
+"""The inputs of a contact (name, unit, lower bound) in :meth:`EllipticModel.step`'s order."""

@@ -1,0 +1,253 @@
+"""The RollingContact3D FMU (FMI 2.0 and 3.0, one and several contacts) through fmpy: the library's answer bit for
+bit on a varying signal, FMI 2.0 equal to FMI 3.0, an n-contact FMU equal to n single-contact FMUs, validation,
+refusals that name the value, the limit and the contact, and a restored state that repeats the steps."""
+
+from __future__ import annotations
+
+import math
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy.fmi1 import FMICallException
+from fmpy.validation import validate_fmu
+
+from rollcontact import EllipticScene, Material, solve_elliptic
+from rollcontact.friction import Coulomb
+from rollcontact.stepping.elliptic import ELLIPTIC_LEVELS, EllipticModel, EllipticOutputs, EllipticParameters
+from rollcontact_cosim.master import Slave
+
+ROOT = Path(__file__).resolve().parents[2]
+INPUTS = ("normal_load", "longitudinal_creep", "lateral_creep", "spin", "velocity")
+H = 1e-3
+CONTACTS = 3
+CURVATURES = ((1.087, 1.667), (2.5, 1.2), (0.9, 4.0))  # A, B [1/m] per contact: a/b from about 0.5 to 1.6
+DISCARD, ERROR = 2, 3
+
+
+@pytest.fixture(scope="module")
+def folders(tmp_path_factory) -> dict[int, Path]:
+    """``build_fmu.py --fmi 2,3 --contacts 1`` and ``--contacts 3`` into one folder: version -> folder."""
+    dest = tmp_path_factory.mktemp("contact3d")
+    for contacts in (1, CONTACTS):
+        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--contacts", str(contacts),
+                               "--dest", str(dest)], capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, f"build_fmu.py --contacts {contacts} failed:\n{done.stdout}\n{done.stderr}"
+    return {2: dest, 3: dest / "fmi3"}
+
+
+@pytest.fixture
+def make(folders):
+    made = []
+
+    def instance(fmi: int = 2, contacts: int = 1, initialise: bool = True, **parameters) -> Slave:
+        name = "RollingContact3D" if contacts == 1 else f"RollingContact3D_{contacts}"
+        slave = Slave(folders[fmi] / f"{name}.fmu", f"{name}_{len(made)}")
+        made.append(slave)
+        slave.set_start_values(parameters)
+        if initialise:
+            slave.fmu.setupExperiment(startTime=0.0)
+            slave.fmu.enterInitializationMode()
+            slave.fmu.exitInitializationMode()
+        return slave
+
+    yield instance
+    for slave in made:
+        slave.free()
+
+
+def named(name: str, k: int, contacts: int) -> str:
+    return name if contacts == 1 else f"{name}[{k}]"
+
+
+def output_names(contacts: int) -> list[str]:
+    return [named(n, k, contacts) for k in range(1, contacts + 1) for n in EllipticOutputs._fields]
+
+
+def step(slave: Slave, t: float, rows, contacts: int = 1) -> list[float]:
+    """Set every contact's inputs, step, read every contact's outputs (the integer as a float)."""
+    refs = [slave.reference(named(n, k, contacts)) for k in range(1, contacts + 1) for n in INPUTS]
+    slave.fmu.setReal(refs, [float(v) for row in rows for v in row])
+    slave.fmu.doStep(t, H)
+    values = []
+    for name in output_names(contacts):
+        v = slave.variables[name]
+        read = slave.fmu.getReal if v.type in ("Real", "Float64") else slave.fmu.getInteger
+        values.append(float(read([v.valueReference])[0]))
+    return values
+
+
+def signal(n: int, k: int = 0) -> np.ndarray:
+    """A varying input signal of contact ``k``: load, three creepages through saturation and back, speed."""
+    t = np.arange(n) * H
+    return np.column_stack([8e4 + 3e4 * np.sin(40 * t + k), 3e-3 * np.sin(25 * t + 0.3 * k),
+                            -2e-3 * np.cos(31 * t + k), 0.4 * np.sin(17 * t - k), 30.0 + 5 * t])
+
+
+def curvature_parameters(contacts: int, curvatures=CURVATURES) -> dict:
+    return {named(name, k, contacts): curvatures[k - 1][i] for k in range(1, contacts + 1)
+            for i, name in enumerate(("curvature_longitudinal", "curvature_lateral"))}
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+@pytest.mark.parametrize("method", (0, 1, 3))
+def test_the_fmu_is_the_library_bit_for_bit(make, fmi, method):
+    """Every output against solve_elliptic (forces, ellipse) and the stepping model (all of it), step by step."""
+    slave = make(fmi, method=method)
+    p = EllipticParameters(method=method)
+    model = EllipticModel(p)
+    name = "auto" if method == 0 else ELLIPTIC_LEVELS[method - 1][0]
+    A, B = p.curvature_longitudinal[0], p.curvature_lateral[0]
+    for n, row in enumerate(signal(12)):
+        got = step(slave, n * H, [row])
+        expected = model.step(n * H, H, [row])[0]
+        assert got == [float(v) for v in expected], f"step {n}: FMU {got} != model {expected}"
+        result = solve_elliptic(EllipticScene(row[0], A, B, *row[1:4], Material(), Coulomb(0.3), row[4]), name,
+                                budget=p.step_budget)
+        assert got[:6] == [result.longitudinal_force, result.lateral_force, result.spin_moment, result.a, result.b,
+                           result.max_pressure], f"step {n}: the FMU's forces and ellipse are solve_elliptic's"
+
+
+@pytest.mark.parametrize("contacts", (1, CONTACTS))
+def test_fmi2_and_fmi3_give_the_same_outputs(make, contacts):
+    rows = [signal(8, k) for k in range(contacts)]
+    two, three = (make(fmi, contacts, jacobian=1, **curvature_parameters(contacts)) for fmi in (2, 3))
+    for n in range(8):
+        step_rows = [rows[k][n] for k in range(contacts)]
+        assert step(two, n * H, step_rows, contacts) == step(three, n * H, step_rows, contacts), f"step {n}"
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+@pytest.mark.parametrize("method", (1, 2, 3))
+def test_n_contacts_are_n_single_contact_fmus_bit_for_bit(make, fmi, method):
+    rows = [signal(10, k) for k in range(CONTACTS)]
+    several = make(fmi, CONTACTS, method=method, **curvature_parameters(CONTACTS))
+    singles = [make(fmi, 1, method=method, **curvature_parameters(1, [CURVATURES[k]])) for k in range(CONTACTS)]
+    width = len(EllipticOutputs._fields)
+    for n in range(10):
+        together = step(several, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS)
+        alone = [v for k in range(CONTACTS) for v in step(singles[k], n * H, [rows[k][n]])]
+        assert together == alone, f"step {n}: contacts differ at outputs " \
+            f"{[output_names(CONTACTS)[i] for i in range(CONTACTS * width) if together[i] != alone[i]]}"
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+def test_the_several_contact_fmu_validates(folders, fmi):
+    path = folders[fmi] / f"RollingContact3D_{CONTACTS}.fmu"
+    assert validate_fmu(str(path)) == [], f"fmpy validate: {validate_fmu(str(path))}"
+    fmutool = shutil.which("fmutool", path=str(Path(sys.executable).parent)) or shutil.which("fmutool")
+    assert fmutool, "fmutool (fmu_manipulation_toolbox) is not installed: pip install -e '.[test]'"
+    done = subprocess.run([fmutool, "-input", str(path), "-check"], capture_output=True, text=True, timeout=120)
+    log = done.stdout + done.stderr
+    assert done.returncode == 0 and f"No semantic error against the FMI-{fmi} standard" in log, log
+
+
+def refused(slave: Slave, t: float, rows, contacts: int = 1, status: int = DISCARD) -> str:
+    before = len(slave.log)
+    with pytest.raises(FMICallException) as caught:
+        step(slave, t, rows, contacts)
+    assert caught.value.status == status, f"status {caught.value.status}, expected {status}"
+    return " ".join(slave.log[before:])
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+def test_bad_inputs_are_refused_with_the_value_the_limit_and_the_contact(make, fmi):
+    single = make(fmi)
+    message = refused(single, 0.0, [(-1.0, 0.0, 0.0, 0.0, 20.0)])
+    assert "normal_load = -1.0 N is out of range: it must be >= 0" in message, message
+    message = refused(single, 0.0, [(1e5, math.nan, 0.0, 0.0, 20.0)])
+    assert "longitudinal_creep = nan is not finite" in message, message
+    several = make(fmi, CONTACTS, **curvature_parameters(CONTACTS))
+    rows = [(1e5, 1e-3, 0.0, 0.0, 20.0), (1e5, 1e-3, 0.0, 0.0, 20.0), (-1.0, 1e-3, math.inf, 0.0, 20.0)]
+    message = refused(several, 0.0, rows, CONTACTS)
+    for part in ("contact 3: normal_load = -1.0 N is out of range", "contact 3: lateral_creep = inf"):
+        assert part in message, message
+    assert "contact 1" not in message and "contact 2" not in message, f"only contact 3 is named: {message}"
+    good = step(several, 0.0, [rows[0]] * CONTACTS, CONTACTS)[:3]  # a refused step changes nothing
+    assert good[0] > 0.0, good
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+def test_invalid_parameters_are_refused_all_at_once(make, fmi):
+    slave = make(fmi, CONTACTS, youngs_modulus=-1.0, method=7,
+                 **{**curvature_parameters(CONTACTS), "curvature_lateral[2]": 0.0})
+    errors = " ".join(m for m in slave.log if m.startswith("Error: "))
+    for part in ("youngs_modulus = -1.0 is out of range: it must be > 0", "method = 7 is out of range",
+                 "curvature_lateral[2] = 0.0 1/m is out of range: it must be > 0"):
+        assert part in errors, f"{part!r} not in {errors!r}"
+    assert "invalid parameters" in refused(slave, 0.0, [(1e5, 0.0, 0.0, 0.0, 1.0)] * CONTACTS, CONTACTS)
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+def test_an_ellipse_outside_the_coefficient_table_is_refused_at_initialisation(make, fmi):
+    slave = make(fmi, curvature_longitudinal=1.0, curvature_lateral=1e4, method=1)
+    errors = " ".join(m for m in slave.log if m.startswith("Error: "))
+    assert "outside the creepage-coefficient table" in errors and "a/b = " in errors, errors
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+def test_a_restored_state_repeats_the_steps_bit_for_bit(make, fmi):
+    slave = make(fmi, CONTACTS, **curvature_parameters(CONTACTS))
+    rows = [signal(9, k) for k in range(CONTACTS)]
+    for n in range(3):
+        step(slave, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS)
+    state = slave.fmu.getFMUstate()
+    data = bytes(slave.fmu.serializeFMUstate(state))
+    first = [step(slave, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS) for n in range(3, 9)]
+    slave.fmu.setFMUstate(state)
+    again = [step(slave, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS) for n in range(3, 9)]
+    slave.fmu.freeFMUstate(state)
+    assert again == first, "setFMUstate: the steps repeat bit for bit"
+    restored = slave.fmu.deSerializeFMUstate(data)
+    slave.fmu.setFMUstate(restored)
+    slave.fmu.freeFMUstate(restored)
+    assert [step(slave, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS) for n in range(3, 9)] == first, \
+        "a serialised state: the steps repeat bit for bit"
+
+
+def test_the_documented_variable_table_is_the_slave_table():
+    import build_fmu
+
+    assert build_fmu.variables_table("RollingContact3D") in (ROOT / "docs" / "fmu.md").read_text(), \
+        "docs/fmu.md's RollingContact3D table differs from the slave's: run python build_fmu.py --docs"
+
+
+def test_the_declared_bounds_are_the_library_checks():
+    """Each parameter's declared min/max is accepted by EllipticParameters and the next value beyond is refused."""
+    sys.path.insert(0, str(ROOT / "fmu_src"))
+    try:
+        from rollcontact_fmu_contact3d import declaration
+    finally:
+        sys.path.remove(str(ROOT / "fmu_src"))
+    default = EllipticParameters()
+    variables, _ = declaration()
+    for name, kind, causality, _v, _u, start, lower, upper, _d in variables:
+        if causality.name != "parameter" or name == "friction_table":
+            continue
+        per_contact = name.startswith("curvature")
+        assert (getattr(default, name)[0] if per_contact else getattr(default, name)) == start, f"{name}: start"
+        for bound, direction in ((lower, -math.inf), (upper, math.inf)):
+            if bound is None:
+                continue
+            beyond = math.nextafter(bound, direction) if kind.__name__ == "Real" else bound + (
+                1 if direction > 0 else -1)
+            table = {"friction_table": "0 0.3"} if name == "friction_law" else {}
+            wrap = (lambda v: (v,)) if per_contact else (lambda v: v)
+            EllipticParameters(**{**default.__dict__, **table, name: wrap(bound)})
+            with pytest.raises(ValueError):
+                EllipticParameters(**{**default.__dict__, name: wrap(beyond)})
+
+
+def test_a_contact_count_out_of_range_is_refused_with_the_limits(tmp_path):
+    import build_fmu
+
+    for contacts in (0, build_fmu.MAX_CONTACTS + 1, True):
+        with pytest.raises(ValueError, match=f"from 1 to {build_fmu.MAX_CONTACTS}"):
+            build_fmu.build_variant(tmp_path, contacts)
+    with pytest.raises(ValueError, match="FMI 2.0 build"):
+        build_fmu.build_variant(tmp_path, 2, integer_codes=True, fmi=3)
+    with pytest.raises(SystemExit):
+        build_fmu.main(["--contacts", "0", "--dest", str(tmp_path)])
