@@ -37,6 +37,7 @@ from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.scene import Scene, scene_toml
 from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, ModelError, ModelState
 from rollcontact.stepping.contacts import ContactModels, ContactsState
+from rollcontact.stepping.parameters import METHOD_LEVELS, METHOD_NAMES
 
 try:
     import tomllib
@@ -79,7 +80,7 @@ VARIABLES = (
      "Creep stiffness dT/dxi at the current state (negative past a falling-friction peak)"),
     ("stationarity", Real, OUTPUT, CONTINUOUS, "1", STATIONARY, 0.0, STATIONARY,
      "Wavelength of the fastest input variation over a (1e9: inputs constant or no contact)"),
-    ("method_used", Integer, OUTPUT, DISCRETE, None, 0, 0, 6,
+    ("method_used", Integer, OUTPUT, DISCRETE, None, 0, 0, max(level.code for level in METHOD_LEVELS),
      "Method of the last step (MethodUsed)"),
     ("axis_position", Real, OUTPUT, CONTINUOUS, "m", DEFAULT.initial_position, None, None,
      "Wheel axis position X at which the contact was evaluated"),
@@ -109,7 +110,7 @@ VARIABLES = (
      "Wheel axis position X at the start time"),
     ("scene_file", String, PARAMETER, FIXED, None, DEFAULT.scene_file, None, None,
      "TOML scene replacing material, radius, friction and surface (empty: unused)"),
-    ("method", Integer, PARAMETER, FIXED, None, DEFAULT.method, 0, 3,
+    ("method", Integer, PARAMETER, FIXED, None, DEFAULT.method, 0, max(METHOD_NAMES),
      "Method of the steady steps (Method)"),
     ("tolerance", Real, PARAMETER, FIXED, "1", DEFAULT.tolerance, 0.0, None,
      "Requested relative error of T and p0 (0: each method's defaults)"),
@@ -135,25 +136,19 @@ VARIABLES = (
 
 ENUMERATIONS = {
     "method": ("Method", ((0, "auto", "the cheapest method the scene needs"),
-                          (1, "closed_form", "Hertz and Carter: flat surface, Coulomb friction"),
-                          (2, "polynomial", "the polynomial method"),
-                          (3, "discretised", "the discretised (boundary-element) method"))),
+                          *((level.code, level.name, level.choice) for level in METHOD_LEVELS if level.choice))),
     "friction_law": ("FrictionLaw", FRICTION_LAW_ITEMS),
     "transient": ("TransientMode", ((0, "quasi_static", "every step steady"),
                                     (1, "auto", "instationary while the inputs vary fast"),
                                     (2, "always", "every loaded step instationary"))),
     "method_used": ("MethodUsed", ((0, "none", "no contact"),
-                                   (1, "closed_form", "Hertz and Carter"),
-                                   (2, "polynomial", "the polynomial method"),
-                                   (3, "discretised", "the discretised method"),
-                                   (4, "relaxation_lag", "instationary: the relaxation lag around Carter"),
-                                   (5, "discretised_transient", "instationary: the discretised transient"),
-                                   (6, "table", "the certified table of the scene family"))),
+                                   *((level.code, level.name, level.used) for level in METHOD_LEVELS))),
     "table": ("TableMode", ((0, "auto", "built when the run pays for it, within the step budget"),
                             (1, "off", "every step solves exactly"),
                             (2, "on", "built at the first loaded step"))),
 }
-"""Integer variables declared as FMI enumerations: variable -> (type, items (value, name, description)).
+"""Integer variables declared as FMI enumerations: variable -> (type, items (value, name, description)); ``method``
+and ``method_used`` from :data:`rollcontact.stepping.parameters.METHOD_LEVELS`.
 
 ``build_fmu.py --integer-codes`` builds the FMU with plain Integer variables instead (their codes in the
 descriptions), for hosts that do not support FMI enumerations: libcosim does not list them, so it could neither set

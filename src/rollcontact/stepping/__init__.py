@@ -14,6 +14,7 @@
 from rollcontact.stepping.model import ContactModel, mirrored
 from rollcontact.stepping.parameters import (
     AUTO,
+    METHOD_LEVELS,
     METHOD_NAMES,
     OPTION_NAMES,
     STATIONARY,
@@ -23,5 +24,5 @@ from rollcontact.stepping.parameters import (
 )
 from rollcontact.stepping.state import ModelState
 
-__all__ = ["AUTO", "METHOD_NAMES", "OPTION_NAMES", "STATIONARY", "ContactModel", "ContactParameters", "ModelError",
-           "ModelState", "StepOutputs", "mirrored"]
+__all__ = ["AUTO", "METHOD_LEVELS", "METHOD_NAMES", "OPTION_NAMES", "STATIONARY", "ContactModel", "ContactParameters",
+           "ModelError", "ModelState", "StepOutputs", "mirrored"]

@@ -80,6 +80,7 @@ from rollcontact.instationary.stationarity import stationarity_of_samples
 from rollcontact.method import unresolved
 from rollcontact.scene import Harmonic, Scene, Surface
 from rollcontact.stepping.parameters import (
+    CLOSED_FORM,
     OPTION_NAMES,
     STATIONARY,
     TABLE_CODE,
@@ -355,7 +356,7 @@ class ContactModel(InstationaryStepping):
         force = t * self.width
         return new_tuple(StepOutputs, (force, t / n, a, a_star, self.flat_offset, p0, velocity * creep * force,
                                        stiffness * self.width, self.stationarity(x, normal_load, creep, velocity, a),
-                                       1, x))
+                                       CLOSED_FORM, x))
 
     def solve_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
         """Outputs of ``rollcontact.solve`` among the model's methods (auto: polynomial, then discretised as the

@@ -3,8 +3,9 @@
 * :class:`ContactParameters` holds the fixed parameters (FMU parameters of the same names) and checks them;
   :func:`contact_bodies` turns them into the material, radius, friction law and surface (in the model's frame).
 * :class:`StepOutputs` is what one step returns (SI units); :class:`ModelError` what it raises.
-* :data:`METHOD_NAMES`, :data:`OPTION_NAMES` and :data:`AUTO` map the FMU's ``method`` / ``method_used`` codes and
-  its parameters to the registered methods and their options.
+* :data:`METHOD_LEVELS` declares the FMU's ``method`` / ``method_used`` codes once; :data:`METHOD_NAMES`,
+  :data:`AUTO_CODES`, :data:`INSTATIONARY_CODES` and :data:`TABLE_CODE` follow from it, and with :data:`OPTION_NAMES`
+  map the codes and the parameters to the registered methods and their options.
 
 A module of its own so that :mod:`rollcontact.stepping.model` and :mod:`rollcontact.stepping.transient` share these
 without importing each other.  The model itself (frames, time stepping, instationary rolling) is described in
@@ -35,21 +36,65 @@ AUTO = 0
 """``method`` code of the automatic choice."""
 
 
-METHOD_NAMES = {1: "closed_form", 2: "polynomial", 3: "discretised"}
-"""``method`` / ``method_used`` codes and the method families they stand for (0 is auto, resp. no contact);
-``method_used`` adds :data:`INSTATIONARY_CODES`.
+class Level(NamedTuple):
+    """One row of :data:`METHOD_LEVELS`: a code of the FMU's ``method_used`` (and of ``method`` where it is a choice).
 
-A registered method belongs to a family when its registry name starts with the family's name (e.g.
-``"polynomial_friction"`` is a polynomial method, code 2); methods of no family are not used by the model.
-"""
+    Attributes
+    ----------
+    code : int
+        The code (> 0; 0 is auto, resp. no contact).  Never reused or changed: hosts and recorded runs hold it.
+    name : str
+        The item's name in the FMU's enumerations; for a choice also the family: a registered method belongs to the
+        level when its registry name starts with it (e.g. ``"polynomial_friction"`` is a polynomial method).
+    choice : str
+        Description of the ``method`` item ("": not a value of ``method``, only reported by ``method_used``).
+    used : str
+        Description of the ``method_used`` item.
+    auto : bool
+        Whether ``method`` = auto tries the family's registered methods (in table order, by rank within a family)
+        on scenes the closed forms cannot treat.
+    """
+
+    code: int
+    name: str
+    choice: str
+    used: str
+    auto: bool = False
+
+
+METHOD_LEVELS = (
+    Level(1, "closed_form", "Hertz and Carter: flat surface, Coulomb friction", "Hertz and Carter"),
+    Level(2, "polynomial", "the polynomial method", "the polynomial method", auto=True),
+    Level(3, "discretised", "the discretised (boundary-element) method", "the discretised method", auto=True),
+    Level(4, "relaxation_lag", "", "instationary: the relaxation lag around Carter"),
+    Level(5, "discretised_transient", "", "instationary: the discretised transient"),
+    Level(6, "table", "", "the certified table of the scene family"),
+)
+"""The 2D fidelity levels as the FMU numbers them: the ``method`` choices, the ``method_used`` codes, the FMU's
+``Method`` and ``MethodUsed`` enumerations and their documented table all follow from it.  Append only (a new level
+takes the next code); ``tests/stepping/test_parameters.py`` checks that every built-in method has a code."""
+
+LEVEL_CODES = {level.name: level.code for level in METHOD_LEVELS}
+"""Level name -> code."""
+
+CLOSED_FORM, POLYNOMIAL, DISCRETISED = LEVEL_CODES["closed_form"], LEVEL_CODES["polynomial"], LEVEL_CODES["discretised"]
+"""``method`` codes the model treats by name: the closed forms' own path, the polynomial family that certified tables
+stand in for, the discretised family whose transient is exact."""
+
+METHOD_NAMES = {level.code: level.name for level in METHOD_LEVELS if level.choice}
+"""``method`` codes and the method families they stand for (0 is auto), from :data:`METHOD_LEVELS`."""
+
+AUTO_CODES = tuple(level.code for level in METHOD_LEVELS if level.auto)
+"""Families ``method`` = auto tries, in this order, on scenes the closed forms cannot treat."""
 
 
 STATIONARY = 1e9
 """``stationarity`` reported when nothing varies (constant inputs or no contact); also its upper bound."""
 
 
-INSTATIONARY_CODES = {"relaxation": 4, "transient": 5}
-"""``method_used`` of the instationary models: 4 relaxation (lag around Carter), 5 discretised transient."""
+INSTATIONARY_CODES = {"relaxation": LEVEL_CODES["relaxation_lag"], "transient": LEVEL_CODES["discretised_transient"]}
+"""``method_used`` of the instationary models by their mode: the relaxation lag around Carter, the discretised
+transient."""
 
 
 TRANSIENT_MODES = {0: "quasi-static", 1: "auto", 2: "always"}
@@ -58,7 +103,7 @@ TABLE_MODES = {0: "auto", 1: "off", 2: "on"}
 """``table``: a certified table of the scene family (:mod:`rollcontact.stepping.table`) built when the run pays for it
 (auto), never, or at the first loaded step (on)."""
 
-TABLE_CODE = 6
+TABLE_CODE = LEVEL_CODES["table"]
 """``method_used`` of a step answered by the certified table."""
 
 
@@ -116,8 +161,7 @@ class StepOutputs(NamedTuple):
     stationarity : float
         Wavelength of the fastest input variation over a [1] (:meth:`ContactModel.stationarity`).
     method_used : int
-        1 closed form, 2 polynomial, 3 discretised, 4 instationary relaxation, 5 instationary discretised
-        transient, 0 no contact.
+        Code of the level that answered (:data:`METHOD_LEVELS`), 0 no contact.
     axis_position : float
         X [m] at which the contact was evaluated.
     """
@@ -175,7 +219,7 @@ class ContactParameters:
         read in the model's frame), while its load, creep, axis position and speed are replaced by the inputs.
         Empty: unused.
     method : int
-        0 auto, 1 closed form, 2 polynomial, 3 discretised.
+        0 auto, else a choice of :data:`METHOD_LEVELS` (1 closed form, 2 polynomial, 3 discretised).
     tolerance : float
         Requested relative error [1] >= 0 of T' and p0: each step's method runs with its cheapest setting whose
         error estimate meets it (:func:`rollcontact.dispatch.setting_for`, as ``rollcontact.solve(scene,
@@ -414,12 +458,14 @@ def step_methods(p: ContactParameters, surface: Surface, friction) -> tuple[bool
         flat_reason = "the surface is not flat (corrugation, harmonics or polynomial terms of degree >= 2)"
     elif not friction.is_constant:
         flat_reason = "friction depends on slip velocity"
-    if p.method == 1 and flat_reason is not None:
-        raise ModelError(f"method = 1 (closed form) cannot solve this scene: {flat_reason}; "
-                         "use method = 0 (auto), 2 (polynomial) or 3 (discretised)")
-    if p.method == 1 or (p.method == AUTO and flat_reason is None):
+    if p.method == CLOSED_FORM and flat_reason is not None:
+        *others, last = [f"{AUTO} (auto)", *(f"{code} ({name})" for code, name in METHOD_NAMES.items()
+                                             if code != CLOSED_FORM)]
+        raise ModelError(f"method = {CLOSED_FORM} (closed form) cannot solve this scene: {flat_reason}; "
+                         f"use method = {', '.join(others)} or {last}")
+    if p.method == CLOSED_FORM or (p.method == AUTO and flat_reason is None):
         return True, ()
-    codes = (2, 3) if p.method == AUTO else (p.method,)
+    codes = AUTO_CODES if p.method == AUTO else (p.method,)
     candidates = registered_methods(codes)
     if not candidates:
         wanted = " or ".join(f"{c} ({METHOD_NAMES[c]})" for c in codes)

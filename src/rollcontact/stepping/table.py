@@ -46,7 +46,7 @@ from rollcontact.friction import ExponentialFalling
 from rollcontact.stepping import corrugation_table, falling_table
 from rollcontact.stepping.corrugation_table import CorrugationTable
 from rollcontact.stepping.falling_table import FallingFrictionTable
-from rollcontact.stepping.parameters import AUTO, ModelError
+from rollcontact.stepping.parameters import AUTO, POLYNOMIAL, ModelError
 from rollcontact.stepping.tabulation import TARGET
 from rollcontact.stepping.threads import one_blas_thread
 
@@ -314,7 +314,8 @@ def table_use(p, material, radius: float, friction, surface, scene: Callable, in
 
     ``scene(X, N', xi)`` is the scene the model solves for the axis at X [m], N' [N/m] and the creep.
     """
-    if p.table == 1 or p.method not in (AUTO, 2) or instationary or not (p.tolerance == 0.0 or p.tolerance >= TARGET):
+    if (p.table == 1 or p.method not in (AUTO, POLYNOMIAL) or instationary
+            or not (p.tolerance == 0.0 or p.tolerance >= TARGET)):
         return None
     if isinstance(friction, ExponentialFalling) and surface.is_flat:
         slope = surface.polynomial[1] if len(surface.polynomial) > 1 else 0.0

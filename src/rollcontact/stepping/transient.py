@@ -23,7 +23,7 @@ from rollcontact.instationary.relaxation import (
 )
 from rollcontact.instationary.stationarity import STATIONARITY_THRESHOLD
 from rollcontact.scene import Surface
-from rollcontact.stepping.parameters import AUTO, INSTATIONARY_CODES, ModelError, StepOutputs, new_tuple
+from rollcontact.stepping.parameters import AUTO, DISCRETISED, INSTATIONARY_CODES, ModelError, StepOutputs, new_tuple
 
 DEFAULT_TRANSIENT_TOLERANCE = 1e-2
 """Quasi-static error [1 of mu N] that ``transient`` = 1 tolerates before it switches the relaxation lag in, when the
@@ -222,7 +222,7 @@ class InstationaryStepping:
             ``transient`` = 2 on a scene the instationary models cannot treat.
         """
         notices = []
-        self.transient_auto = p.transient == 1 and p.method != 3
+        self.transient_auto = p.transient == 1 and p.method != DISCRETISED
         self.transient_tolerance = p.tolerance or DEFAULT_TRANSIENT_TOLERANCE
         self.settle_tolerance = self.transient_tolerance
         """Distance [1 of mu N] from the quasi-steady force within which ``transient`` = 1 hands back."""
@@ -238,7 +238,7 @@ class InstationaryStepping:
             return notices
         tight = 0.0 < p.tolerance < RELAXATION_ACCURACY
         adaptive = tight and self.transient_auto and p.method == AUTO
-        discretised = p.method == 3 or adaptive
+        discretised = p.method == DISCRETISED or adaptive
         elements, extrapolate = p.elements or 100, False
         if discretised and p.tolerance:
             if not p.elements:
