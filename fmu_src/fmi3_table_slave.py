@@ -13,10 +13,13 @@ the table's ``ENUMERATIONS``; Int64 at the API) and String, plus the independent
 requires (value reference after the table's); log messages are pythonfmu3's (literal text, not printf formats,
 written in FMI 3.0's words: :attr:`TableSlave3.WORDS`); the model description is FMI 3.0's.  The table's types and
 causalities are pythonfmu's (FMI 2.0) classes, so each FMI 3.0 FMU also bundles pythonfmu's Python files (not its
-binary).  The class's MRO holds
-``Fmi2Slave`` before ``Fmi3Slave``: ``Fmi2Slave.__init__`` runs instead of ``Fmi3SlaveBase.__init__`` (whose extra
-attributes :meth:`TableSlave3.__init__` sets), and :class:`TableSlave3` overrides every method that both define and
-pythonfmu3 or its builder calls (``register_variable``, ``log``, ``to_xml``) and every typed getter and setter.
+binary).  Construction is explicit: :meth:`TableSlave3.__init__` runs
+``Fmi3SlaveBase.__init__`` (pythonfmu3's attributes), then the shared slave's
+:meth:`rollcontact_fmu_xml.TableSlave.init_table` (the table, registered through pythonfmu3), then registers
+``time``; pythonfmu's ``Fmi2Slave.__init__`` never runs.  Every method that both bindings define and pythonfmu3 or its
+builder calls is :class:`TableSlave3`'s or named there from ``Fmi3SlaveBase`` (``register_variable``, ``log``,
+``to_xml``, ``enter_initialization_mode``, ``terminate``, ``_get_log_queue``, every typed getter and setter), so no
+call depends on where ``Fmi2Slave`` stands in the bases (``tests/fmu3`` checks it).
 
 What pythonfmu3 0.3.4's C++ layer (``PySlaveInstance.cpp``, ``cppfmu/fmi_functions.cpp``, ``cppfmu_common.hpp``,
 shipped in the wheel under ``pythonfmu-export/``) does with a slave, and how this binding copes (``docs/fmu.md``,
@@ -56,7 +59,7 @@ from pythonfmu3.fmi3slave import Fmi3SlaveBase
 from pythonfmu3.unit import Unit
 from pythonfmu3.variable_types import EnumerationType
 from pythonfmu3.variables import Boolean, Enumeration, Float64, Int32, Int64, String, UInt64
-from rollcontact_fmu_xml import UNITS
+from rollcontact_fmu_xml import UNITS, TableSlave
 
 TIME_DESCRIPTION = "Simulation time, the independent variable (FMI 3.0 requires one)"
 
@@ -126,9 +129,8 @@ class TableSlave3:
     """FMI 3.0's words in the shared slave's messages."""
 
     def __init__(self, **kwargs):
-        # what Fmi3SlaveBase.__init__ sets and the FMI 2.0 base's __init__, which runs instead, does not
-        self.event_indicators, self.type_definitions, self.units = [], {}, {}
-        super().__init__(**kwargs)  # the shared slave: registers the table through register_variable below
+        Fmi3SlaveBase.__init__(self, **kwargs)  # pythonfmu3's attributes (vars, units, type_definitions, ...)
+        self.init_table(**kwargs)  # the shared slave's table, registered through register_variable below
         self.register_variable(Float64("time", causality=Fmi3Causality.independent, unit="s",
                                        variability=Fmi3Variability.continuous, description=TIME_DESCRIPTION,
                                        getter=self.current_time, setter=self.refuse_time))
@@ -138,6 +140,10 @@ class TableSlave3:
         if not isinstance(var, Float64 | Int32 | Int64 | UInt64 | Enumeration | String | Boolean):
             var = fmi3_variable(var, self.VARIABLES[len(self.vars)], self.ENUMERATIONS)  # row = value reference
         Fmi3SlaveBase.register_variable(self, var, nested, var_type, has_event_indicator)
+
+    enter_initialization_mode = Fmi3SlaveBase.enter_initialization_mode
+    terminate = Fmi3SlaveBase.terminate
+    _get_log_queue = Fmi3SlaveBase._get_log_queue
 
     def current_time(self) -> float:
         """The communication point the next step starts from (the start time before the first)."""
@@ -172,7 +178,7 @@ class TableSlave3:
                 self.outputs = tuple(outputs)
             self.report(f"start time {self.start_time!r} s taken from the first doStep (pythonfmu3 does not pass "
                         "fmi3EnterInitializationMode's startTime)", Fmi3Status.ok)
-        return super().do_step(current_time, step_size)
+        return TableSlave.do_step(self, current_time, step_size)
 
     def set_float64(self, vrs, values):
         self.write_values(vrs, values, Float64, "setFloat64")
@@ -214,7 +220,7 @@ class TableSlave3:
         """pythonfmu3's model description of the table (units and enumeration types registered through pythonfmu3)
         completed by :func:`complete_model_description3`."""
         for attribute in ("author", "description", "license", "version", "copyright", "default_experiment"):
-            setattr(self, attribute, getattr(type(self), attribute, None))  # the FMI 2.0 base reset them to None
+            setattr(self, attribute, getattr(type(self), attribute, None))  # Fmi3SlaveBase.__init__ set them to None
         used = {row[4] for row in self.VARIABLES if row[4] is not None} | {"s"}
         self.register_units([Unit(name, **UNITS[name]) for name in UNITS if name in used])
         for type_name, items in dict(self.ENUMERATIONS.values()).items():

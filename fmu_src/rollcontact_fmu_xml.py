@@ -345,7 +345,13 @@ class TableSlave(Fmi2Slave):
     """The FMI version's words in the slave's messages (the FMI 3.0 binding has its own)."""
 
     def __init__(self, **kwargs):
-        super().__init__(**kwargs)
+        Fmi2Slave.__init__(self, **kwargs)  # the binding's attributes (vars, instance_name, resources, ...)
+        self.init_table(**kwargs)
+
+    def init_table(self, **kwargs) -> None:
+        """Set up what the slave adds to its binding's constructor: the table's variables (registered through
+        ``self.register_variable``, so the binding's own), their start values, the outputs and the life-cycle
+        fields.  Called by the constructor of each binding after that binding's base constructor."""
         if "logger" in kwargs and self.resources:  # instantiated by pythonfmu's binary (not by the builder)
             drop_repeated_path(self.resources)
         self.logger_address = kwargs.get("logger")  # pythonfmu's C++ logger object (logger_categories)

@@ -385,3 +385,44 @@ def test_each_bad_input_is_logged_through_simulate_fmu_without_debug_logging(fmu
         pass
     assert any(reason in message for message in log), f"{name}: {reason!r} not logged: {log}"
     assert reason not in capfd.readouterr().err, f"{name}: the logger has it, standard error does not (FMI 3.0)"
+
+
+CONSTRUCTION_PROBE = '''
+import sys
+sys.path.insert(0, sys.argv[1])
+from pythonfmu import Fmi2Slave
+from pythonfmu3 import Fmi3Slave
+
+
+def refused(self, **kwargs):
+    raise AssertionError("Fmi2Slave.__init__ ran in an FMI 3.0 slave")
+
+
+Fmi2Slave.__init__ = refused
+import fmi3_contact3d_slave, fmi3_rollcontact_slave, fmi3_wheel_rig_slave, fmi3_wheelset_slave
+from fmi3_table_slave import TableSlave3
+fmi2_methods = {name for klass in Fmi2Slave.__mro__ for name in vars(klass)}
+for cls in (fmi3_rollcontact_slave.RollingContact2D, fmi3_contact3d_slave.RollingContact3D,
+            fmi3_wheel_rig_slave.WheelRig, fmi3_wheelset_slave.Wheelset):
+    for name in sorted({name for klass in Fmi3Slave.__mro__ if klass is not object for name in vars(klass)}
+                       & fmi2_methods):
+        owner = next(klass for klass in cls.__mro__ if name in vars(klass))
+        if callable(getattr(cls, name)) and not name.startswith("__") and owner.__module__.startswith("pythonfmu."):
+            print(f"{cls.__name__}.{name} resolves to {owner.__module__}.{owner.__name__}")
+    slave = cls(instance_name="probe")
+    names = [var.name for var in slave.vars.values()]
+    if names != [row[0] for row in cls.VARIABLES] + ["time"] or not isinstance(slave.units, dict):
+        print(f"{cls.__name__}: variables {names[:3]}... not the table then time")
+print("checked")
+'''
+
+
+def test_fmi3_slaves_are_constructed_by_pythonfmu3_and_resolve_no_call_to_pythonfmu(tmp_path):
+    """Each FMI 3.0 slave is built by ``Fmi3SlaveBase.__init__`` and the shared table, never by pythonfmu's
+    ``Fmi2Slave.__init__`` (made to raise here), and every method both bindings define resolves to the FMI 3.0
+    side or the shared slave, not to pythonfmu: no call depends on where ``Fmi2Slave`` stands in the bases.  In a
+    subprocess, so that this process imports no slave module an FMU instance would share."""
+    done = subprocess.run([sys.executable, "-c", CONSTRUCTION_PROBE, str(ROOT / "fmu_src")], capture_output=True,
+                          text=True, timeout=120, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout == "checked\n", f"FMI 3.0 slaves depending on pythonfmu's Fmi2Slave:\n{done.stdout}"
