@@ -9,7 +9,7 @@ co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcon
 builds only the FMUs that are missing or older than one of their sources; ``--integer-codes`` declares the
 enumerations' variables as plain Integer, for hosts without FMI enumerations (libcosim); ``--docs`` writes the
 variable table of ``docs/fmu.md`` from the slave's.  Every FMU can get, set and serialise
-their state; all bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_xml.py``.
+their state; all bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_base.py``.
 The slave files are tiny entry modules that import the slave class from a bundled module
 (``fmu_src/rollcontact_fmu_contact.py``, ``fmu_src/rollcontact_fmu_wheel_rig.py``): pythonfmu re-executes the
 entry module on every instantiation (``fmu_src/rollcontact_fmu_slave.py``'s docstring).
@@ -32,7 +32,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
 SOURCES = ROOT / "src"
-XML_HELPER = ROOT / "fmu_src" / "rollcontact_fmu_xml.py"
+SLAVE_BASE = ROOT / "fmu_src" / "rollcontact_fmu_base.py"
 EXIT_FIX = ROOT / "fmu_src" / "pythonfmu_exit_fix.py"
 """The build's fix of pythonfmu's export library (not bundled into the FMUs)."""
 SLAVE = ROOT / "fmu_src" / "rollcontact_fmu_slave.py"
@@ -142,12 +142,13 @@ def forget(modules) -> None:
 
 
 def pack(slave: Path, packages, dest: Path | str) -> Path:
-    """pythonfmu's FMI 2.0 build of the entry module ``slave`` with the bundled ``packages`` and the XML helper."""
+    """pythonfmu's FMI 2.0 build of the entry module ``slave`` with the bundled ``packages`` and the shared slave
+    base."""
     sys.path.insert(0, str(SOURCES))
     try:
         from pythonfmu.builder import FmuBuilder
 
-        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, XML_HELPER],
+        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, SLAVE_BASE],
                                                canGetAndSetFMUstate=True, canSerializeFMUstate=True))
     finally:
         sys.path.remove(str(SOURCES))
@@ -175,7 +176,7 @@ def build_model3(model: str, dest: Path | str, slave: Path | None = None, extra:
             for source in Path(pythonfmu.__file__).parent.glob("*.py"):
                 shutil.copy2(source, framework)
             return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest,
-                                                   project_files=[*packages, *extra, XML_HELPER, framework],
+                                                   project_files=[*packages, *extra, SLAVE_BASE, framework],
                                                    canGetAndSetFMUState=True, canSerializeFMUState=True,
                                                    canHandleVariableCommunicationStepSize=True))
     finally:
@@ -200,10 +201,10 @@ def build(dest: Path | str = ROOT / "models") -> Path:
 
 
 def sources(model: str, fmi: int = 2) -> list[Path]:
-    """Files the FMU ``model`` is built from (its slave, the XML helper and the bundled packages' modules; for FMI
-    3.0 also its entry module and the FMI 3.0 binding)."""
+    """Files the FMU ``model`` is built from (its slave, the shared slave base and the bundled packages' modules;
+    for FMI 3.0 also its entry module and the FMI 3.0 binding)."""
     slave, packages = FMUS[model]
-    files = [slave, XML_HELPER, *(f for package in packages
+    files = [slave, SLAVE_BASE, *(f for package in packages
                                   for f in ([package] if package.is_file() else package.rglob("*.py")))]
     return files if fmi == 2 else [FMUS3[model][0], *FMUS3[model][1], *files]
 
@@ -255,7 +256,7 @@ def variables_table(model: str = "RollingContact2D") -> str:
     try:
         import importlib
 
-        from rollcontact_fmu_xml import variables_markdown
+        from rollcontact_fmu_base import variables_markdown
 
         slave = importlib.import_module(DOCUMENTED[model][0])
         if model == CONTACT3D:

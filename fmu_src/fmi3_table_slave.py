@@ -1,6 +1,6 @@
 """The FMI 3.0 co-simulation binding of the project's slaves (pythonfmu3, bundled in each FMI 3.0 FMU's resources).
 
-:class:`TableSlave3` puts an FMI 2.0 slave of this project (a :class:`rollcontact_fmu_xml.TableSlave` with its
+:class:`TableSlave3` puts an FMI 2.0 slave of this project (a :class:`rollcontact_fmu_base.TableSlave` with its
 model glue, e.g. ``rollcontact_fmu_contact.RollingContact2D``) on pythonfmu3: the same variable table (names,
 value references, units, ranges, enumerations, descriptions), the same ``do_step``, setters, checks and FMU state,
 none of it written twice.  An entry module names both and ``Fmi3Slave`` (``fmi3_rollcontact_slave.py``)::
@@ -15,7 +15,7 @@ written in FMI 3.0's words: :attr:`TableSlave3.WORDS`); the model description is
 causalities are pythonfmu's (FMI 2.0) classes, so each FMI 3.0 FMU also bundles pythonfmu's Python files (not its
 binary).  Construction is explicit: :meth:`TableSlave3.__init__` runs
 ``Fmi3SlaveBase.__init__`` (pythonfmu3's attributes), then the shared slave's
-:meth:`rollcontact_fmu_xml.TableSlave.init_table` (the table, registered through pythonfmu3), then registers
+:meth:`rollcontact_fmu_base.TableSlave.init_table` (the table, registered through pythonfmu3), then registers
 ``time``; pythonfmu's ``Fmi2Slave.__init__`` never runs.  Every method that both bindings define and pythonfmu3 or its
 builder calls is :class:`TableSlave3`'s or named there from ``Fmi3SlaveBase`` (``register_variable``, ``log``,
 ``to_xml``, ``enter_initialization_mode``, ``terminate``, ``_get_log_queue``, every typed getter and setter), so no
@@ -59,7 +59,7 @@ from pythonfmu3.fmi3slave import Fmi3SlaveBase
 from pythonfmu3.unit import Unit
 from pythonfmu3.variable_types import EnumerationType
 from pythonfmu3.variables import Boolean, Enumeration, Float64, Int32, Int64, String, UInt64
-from rollcontact_fmu_xml import UNITS, TableSlave
+from rollcontact_fmu_base import UNITS, TableSlave
 
 TIME_DESCRIPTION = "Simulation time, the independent variable (FMI 3.0 requires one)"
 
@@ -121,7 +121,7 @@ def complete_model_description3(root: Element, variables, initial_dependencies: 
 
 
 class TableSlave3:
-    """The FMI 3.0 side of a :class:`rollcontact_fmu_xml.TableSlave` (module docstring): put it first in the bases,
+    """The FMI 3.0 side of a :class:`rollcontact_fmu_base.TableSlave` (module docstring): put it first in the bases,
     the FMI 2.0 slave class next and ``Fmi3Slave`` last."""
 
     log_categories = Fmi3SlaveBase.log_categories

@@ -9,7 +9,7 @@ re-executes the entry module on every instantiation: see its docstring).  No phy
 
 * Bad inputs or parameters, and scenes no allowed method solves, are logged (status Discard) and answered with
   ``do_step`` returning False (fmi2Discard); no exception reaches pythonfmu (it would become fmi2Fatal).  What
-  FMI 2 answers with fmi2Error is emulated (``rollcontact_fmu_xml`` module docstring).
+  FMI 2 answers with fmi2Error is emulated (``rollcontact_fmu_base`` module docstring).
 * The FMU state (``canGetAndSetFMUstate``, ``canSerializeFMUstate``) holds every input and parameter, the outputs
   and the model's :class:`rollcontact.stepping.ModelState` as a JSON-compatible dict; a state handed back is
   checked completely (:meth:`ModelState.parse`) before anything changes.
@@ -31,7 +31,7 @@ from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_xml import FRICTION_LAW_ITEMS, TableSlave, integer_coded
+from rollcontact_fmu_base import FRICTION_LAW_ITEMS, TableSlave, integer_coded
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.scene import Scene, scene_toml

@@ -6,7 +6,7 @@ every instantiation: ``rollcontact_fmu_slave.py``'s docstring).  No physics here
 :class:`rollcontact.stepping.elliptic.EllipticParameters`, each ``do_step`` is one
 :meth:`rollcontact.stepping.elliptic.EllipticModel.step` over every contact, and the output variables read its
 :class:`~rollcontact.stepping.elliptic.EllipticOutputs` by position.  Refusals, the emulated fmi2Error, the echo of
-refusals and the FMU state are the shared :class:`rollcontact_fmu_xml.TableSlave`'s.
+refusals and the FMU state are the shared :class:`rollcontact_fmu_base.TableSlave`'s.
 
 One declaration for every variant: :func:`declaration` writes the variable table and the enumerations for n
 contacts, with enumerations or integer codes (the method enumerations are
@@ -25,7 +25,7 @@ from functools import cache
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_xml import FRICTION_LAW_ITEMS, TableSlave, integer_coded
+from rollcontact_fmu_base import FRICTION_LAW_ITEMS, TableSlave, integer_coded
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.stepping.elliptic import (

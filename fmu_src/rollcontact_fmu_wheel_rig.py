@@ -13,7 +13,7 @@ single table :data:`VARIABLES` (value references follow its order: append, never
 
 * Bad inputs (non-finite), invalid parameters and failed steps are logged (status Discard) and answered with
   ``do_step`` returning False (fmi2Discard); no exception reaches pythonfmu (it would become fmi2Fatal).  What
-  FMI 2 answers with fmi2Error is emulated (``rollcontact_fmu_xml`` module docstring).
+  FMI 2 answers with fmi2Error is emulated (``rollcontact_fmu_base`` module docstring).
 * The FMU state holds every non-output variable plus the model's state as a JSON-compatible dict, checked
   completely (:func:`parse_wheel_rig_state`) before anything changes when a host sets it.
 * ``rollcontact_cosim`` is bundled in ``resources/``; a host process that imported it before loading the FMU uses
@@ -27,7 +27,7 @@ import math
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_xml import TableSlave
+from rollcontact_fmu_base import TableSlave
 
 from rollcontact_cosim.wheel_rig import WheelRigModel, WheelRigParameters, WheelRigState
 

@@ -19,7 +19,7 @@ import dataclasses
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_xml import TableSlave
+from rollcontact_fmu_base import TableSlave
 
 from rollcontact_cosim.wheelset import WheelsetModel, WheelsetParameters, WheelsetState
 
