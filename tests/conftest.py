@@ -29,6 +29,18 @@ def fmu_path(tmp_path_factory) -> Path:
 
 
 @pytest.fixture(scope="session")
+def contact_variants(tmp_path_factory) -> dict[int, Path]:
+    """``build_fmu.py --fmi 2,3 --contacts 1`` and ``--contacts 3`` (both contact FMUs, one contact and three), once
+    per test run into one folder: FMI version -> folder."""
+    dest = tmp_path_factory.mktemp("contact_variants")
+    for contacts in (1, 3):
+        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--contacts", str(contacts),
+                               "--dest", str(dest)], capture_output=True, text=True, timeout=600)
+        assert done.returncode == 0, f"build_fmu.py --contacts {contacts} failed:\n{done.stdout}\n{done.stderr}"
+    return {2: dest, 3: dest / "fmi3"}
+
+
+@pytest.fixture(scope="session")
 def unzipped(fmu_path, tmp_path_factory) -> Path:
     from fmpy import extract
 

@@ -159,6 +159,12 @@ class Slave:
             else:
                 self.fmu.setString([vr], [str(value)])
 
+    def initialise(self, start_time: float = 0.0) -> None:
+        """setupExperiment at ``start_time`` [s], then enter and exit initialisation mode: ready to step."""
+        self.fmu.setupExperiment(startTime=start_time)
+        self.fmu.enterInitializationMode()
+        self.fmu.exitInitializationMode()
+
     def free(self) -> None:
         try:
             self.fmu.terminate()
@@ -222,9 +228,7 @@ def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algor
         slaves[HOST].set_start_values(host_values)
         slaves[CONTACT].set_start_values(contact_values)
         for slave in slaves.values():
-            slave.fmu.setupExperiment(startTime=scene.start_time)
-            slave.fmu.enterInitializationMode()
-            slave.fmu.exitInitializationMode()
+            slave.initialise(scene.start_time)
         return step_loop(scene, slaves, algorithm, step, steps)
     finally:
         for slave in slaves.values():

@@ -164,10 +164,10 @@ def write_config(path: Path, start_time: float, step: float, fmus: dict[str, Pat
     return path
 
 
-def simulate(execution: CosimExecution, scene: CosimScene, start_values: dict[str, dict], step: float, step_ns: int,
-             steps: int) -> CosimResult:
-    """Set the start values, record, take N + 1 steps and assemble the result rows (see the module docstring)."""
-    index = {name: execution.slave_index_from_instance_name(name) for name in (HOST, CONTACT)}
+def set_start_values(execution: CosimExecution, start_values: dict[str, dict]) -> tuple[dict, dict]:
+    """Set each instance's start values by variable name (``{instance: {variable: value}}``); returns the slave
+    index of each instance and its variables by name.  RuntimeError naming what libcosim refused."""
+    index = {name: execution.slave_index_from_instance_name(name) for name in start_values}
     variables = {name: {v.name.decode(): v for v in execution.slave_variables(i)} for name, i in index.items()}
     for name, values in start_values.items():
         for variable, value in values.items():
@@ -175,6 +175,13 @@ def simulate(execution: CosimExecution, scene: CosimScene, start_values: dict[st
             setter, kind = INITIAL_VALUE[CosimVariableType(v.type)]
             if not getattr(execution, setter)(index[name], v.reference, kind(value)):
                 raise RuntimeError(f"libcosim refused {name}.{variable} = {value!r}: {get_last_error_message()}")
+    return index, variables
+
+
+def simulate(execution: CosimExecution, scene: CosimScene, start_values: dict[str, dict], step: float, step_ns: int,
+             steps: int) -> CosimResult:
+    """Set the start values, record, take N + 1 steps and assemble the result rows (see the module docstring)."""
+    index, variables = set_start_values(execution, start_values)
     observer = CosimObserver.create_time_series()
     execution.add_observer(observer)
     recorded = []  # (column, instance, variable description)

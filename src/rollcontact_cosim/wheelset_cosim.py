@@ -101,9 +101,7 @@ def cosimulate(parameters: WheelsetParameters, stop_time: float, step_size: floa
         host.set_start_values({f.name: getattr(parameters, f.name) for f in dataclasses.fields(parameters)})
         wheels.set_start_values(contact_parameters(parameters) if contact is None else contact)
         for slave in (host, wheels):
-            slave.fmu.setupExperiment(startTime=0.0)
-            slave.fmu.enterInitializationMode()
-            slave.fmu.exitInitializationMode()
+            slave.initialise()
         sent = [f"{name}[{k}]" for k in (1, 2) for name in INPUTS]
         returned = [f"{name}[{k}]" for k in (1, 2) for name in FORCES + JACOBIAN]
         read_host = [host.reference(name) for name in sent]
@@ -219,7 +217,7 @@ def cosimulate_libcosim(parameters: WheelsetParameters, stop_time: float, step_s
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver
 
-    from rollcontact_cosim.osp import INITIAL_VALUE, NAMESPACE, NS_PER_S, lookup, samples
+    from rollcontact_cosim.osp import NAMESPACE, NS_PER_S, lookup, samples, set_start_values
     from rollcontact_cosim.wheelset import CONNECTIONS, CONTACT
 
     n = int(round(stop_time / step_size))
@@ -247,14 +245,7 @@ def cosimulate_libcosim(parameters: WheelsetParameters, stop_time: float, step_s
         config.write_text(system)
         execution = CosimExecution.from_osp_config_file(str(config))
     try:
-        index = {name: execution.slave_index_from_instance_name(name) for name in (HOST, CONTACT)}
-        variables = {name: {v.name.decode(): v for v in execution.slave_variables(i)} for name, i in index.items()}
-        for name, values in start_values.items():
-            for variable, value in values.items():
-                v = lookup(variables[name], name, variable, CosimVariableCausality.PARAMETER)
-                setter, kind = INITIAL_VALUE[CosimVariableType(v.type)]
-                if not getattr(execution, setter)(index[name], v.reference, kind(value)):
-                    raise RuntimeError(f"libcosim refused {name}.{variable} = {value!r}")
+        index, variables = set_start_values(execution, start_values)
         observer = CosimObserver.create_time_series()
         execution.add_observer(observer)
         observed = [lookup(variables[HOST], HOST, name, CosimVariableCausality.OUTPUT) for name in STATES]

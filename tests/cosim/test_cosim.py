@@ -62,9 +62,7 @@ def host(fmu_dir):
         slave = Slave(fmu_dir / "WheelRig.fmu", f"rig{len(made)}")
         made.append(slave)
         slave.set_start_values(parameters)
-        slave.fmu.setupExperiment(startTime=0.0)
-        slave.fmu.enterInitializationMode()
-        slave.fmu.exitInitializationMode()
+        slave.initialise()
         return slave
 
     yield make

@@ -33,9 +33,7 @@ def fmu(tmp_path_factory) -> Path:
 def started(fmu: Path, name: str, **parameters) -> Slave:
     slave = Slave(fmu, name)
     slave.set_start_values(parameters)
-    slave.fmu.setupExperiment(startTime=0.0)
-    slave.fmu.enterInitializationMode()
-    slave.fmu.exitInitializationMode()
+    slave.initialise()
     return slave
 
 

@@ -23,32 +23,20 @@ from rollcontact_cosim.master import Slave
 ROOT = Path(__file__).resolve().parents[2]
 INPUTS = ("normal_load", "creep", "velocity")
 H = 1e-3
-CONTACTS = 3
+CONTACTS = 3  # the several-contact FMUs of the contact_variants fixture (tests/conftest.py)
 DISCARD = 2
 
 
-@pytest.fixture(scope="module")
-def folders(tmp_path_factory) -> dict[int, Path]:
-    dest = tmp_path_factory.mktemp("contacts2d")
-    for contacts in (1, CONTACTS):
-        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--contacts", str(contacts),
-                               "--dest", str(dest)], capture_output=True, text=True, timeout=600)
-        assert done.returncode == 0, f"build_fmu.py --contacts {contacts} failed:\n{done.stdout}\n{done.stderr}"
-    return {2: dest, 3: dest / "fmi3"}
-
-
 @pytest.fixture
-def make(folders):
+def make(contact_variants):
     made = []
 
     def instance(fmi: int = 2, contacts: int = 1, **parameters) -> Slave:
         name = "RollingContact2D" if contacts == 1 else f"RollingContact2D_{contacts}"
-        slave = Slave(folders[fmi] / f"{name}.fmu", f"{name}_{len(made)}")
+        slave = Slave(contact_variants[fmi] / f"{name}.fmu", f"{name}_{len(made)}")
         made.append(slave)
         slave.set_start_values(parameters)
-        slave.fmu.setupExperiment(startTime=0.0)
-        slave.fmu.enterInitializationMode()
-        slave.fmu.exitInitializationMode()
+        slave.initialise()
         return slave
 
     yield instance
@@ -108,8 +96,8 @@ def test_fmi2_and_fmi3_give_the_same_outputs(make):
 
 
 @pytest.mark.parametrize("fmi", (2, 3))
-def test_the_several_contact_fmu_validates(folders, fmi):
-    path = folders[fmi] / f"RollingContact2D_{CONTACTS}.fmu"
+def test_the_several_contact_fmu_validates(contact_variants, fmi):
+    path = contact_variants[fmi] / f"RollingContact2D_{CONTACTS}.fmu"
     assert validate_fmu(str(path)) == [], f"fmpy validate: {validate_fmu(str(path))}"
     fmutool = shutil.which("fmutool", path=str(Path(sys.executable).parent)) or shutil.which("fmutool")
     assert fmutool, "fmutool (fmu_manipulation_toolbox) is not installed: pip install -e '.[test]'"

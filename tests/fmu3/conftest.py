@@ -52,9 +52,7 @@ def make(fmu_folders):
         made.append(slave)
         slave.set_start_values(parameters)
         if initialise:
-            slave.fmu.setupExperiment(startTime=start_time)
-            slave.fmu.enterInitializationMode()
-            slave.fmu.exitInitializationMode()
+            slave.initialise(start_time)
         return slave
 
     yield instance

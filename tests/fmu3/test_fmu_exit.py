@@ -120,9 +120,7 @@ from rollcontact_cosim.master import Slave
 slaves = [Slave(Path(sys.argv[1]), f"exit_{i}") for i in range(int(sys.argv[2]))]
 for k, slave in enumerate(slaves):
     slave.set_start_values({"friction_law": 1, "friction_kinetic_ratio": 0.5, "friction_decay": 2.0, "table": 1})
-    slave.fmu.setupExperiment(startTime=0.0)
-    slave.fmu.enterInitializationMode()
-    slave.fmu.exitInitializationMode()
+    slave.initialise()
     inputs = [slave.reference(name, "input") for name in ("normal_load", "creep", "velocity")]
     for n in range(3):
         slave.fmu.setReal(inputs, [1e5, 1e-3 * (n + k + 1), 20.0])

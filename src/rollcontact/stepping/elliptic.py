@@ -51,10 +51,9 @@ from rollcontact.scene import Material
 from rollcontact.stepping.parameters import (
     DEFAULT_STEP_BUDGET,
     FRICTION_LAWS,
-    TABLE_LAW,
     ModelError,
     friction_law,
-    friction_table_points,
+    friction_table_problems,
     new_tuple,
 )
 
@@ -212,13 +211,7 @@ friction_slope, friction_table
         if len(counts) == 2 and counts[0] != counts[1]:
             problems.append(f"curvature_longitudinal has {counts[0]} contacts, curvature_lateral {counts[1]}: one "
                             "curvature of each per contact")
-        if not isinstance(self.friction_table, str):
-            problems.append(f"friction_table must be a string ('v mu; v mu; ...'), got {self.friction_table!r}")
-        elif self.friction_law == TABLE_LAW:
-            try:
-                friction_table_points(self.friction_table)
-            except ValueError as exc:
-                problems.append(str(exc))
+        problems += friction_table_problems(self.friction_table, self.friction_law)
         if problems:
             raise ModelError("; ".join(problems))
 

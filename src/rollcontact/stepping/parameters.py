@@ -332,15 +332,22 @@ class ContactParameters:
                 set_(self, name, int(value))
         if not isinstance(self.scene_file, str):
             problems.append(f"scene_file must be a string (a path or empty), got {self.scene_file!r}")
-        if not isinstance(self.friction_table, str):
-            problems.append(f"friction_table must be a string ('v mu; v mu; ...'), got {self.friction_table!r}")
-        elif self.friction_law == TABLE_LAW:
-            try:
-                friction_table_points(self.friction_table)
-            except ValueError as exc:
-                problems.append(str(exc))
+        problems += friction_table_problems(self.friction_table, self.friction_law)
         if problems:
             raise ModelError("; ".join(problems))
+
+
+def friction_table_problems(table, law: int) -> list[str]:
+    """What is wrong with the ``friction_table`` parameter (a string, and with ``friction_law`` = tabulated a
+    table :func:`friction_table_points` reads); [] when nothing is.  Both contact FMUs' parameters check it so."""
+    if not isinstance(table, str):
+        return [f"friction_table must be a string ('v mu; v mu; ...'), got {table!r}"]
+    if law == TABLE_LAW:
+        try:
+            friction_table_points(table)
+        except ValueError as exc:
+            return [str(exc)]
+    return []
 
 
 def friction_table_points(text: str) -> tuple[tuple[float, ...], tuple[float, ...]]:

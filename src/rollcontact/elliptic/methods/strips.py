@@ -129,16 +129,20 @@ class StripModel:
         lam = np.where(partial, lam, slip_y)
         return np.where(partial, d, self.half), kappa, lam, partial
 
-    def closed_form(self):
-        """Forces without spin's lateral part (psi = 0 or d, kappa, lambda as given): ``(Fx, Fy, Mz)`` [N, N, N m]."""
+    def strip_forces(self):
+        """Each strip's ``(Fx, Fy, Mz)`` per unit width [N/m, N/m, N] without spin's lateral part (psi = 0 or d,
+        kappa, lambda as given), before the weights of the strips' widths."""
         d, kappa, lam, partial = self.stick()
         rest = np.where(partial, self.half - d, 0.0)  # a*
         area = 0.5 * math.pi * self.m
         fx = area * kappa * (self.half**2 - rest**2)
         fy = area * (lam * self.half**2 - (lam - self.psi) * rest**2)
-        moment = -area * (lam - self.psi) * d * rest**2 - self.y * fx
+        return fx, fy, -area * (lam - self.psi) * d * rest**2 - self.y * fx
+
+    def closed_form(self):
+        """Forces without spin's lateral part (psi = 0 or d, kappa, lambda as given): ``(Fx, Fy, Mz)`` [N, N, N m]."""
         w = self.weights
-        return float(w @ fx), float(w @ fy), float(w @ moment)
+        return tuple(float(w @ v) for v in self.strip_forces())
 
     def stick_traction(self, x, d, kappa, lam):
         """The stick-zone traction ``(q_x, q_y)`` [Pa] at x [m] (arrays broadcast over the strips' last axis)."""
@@ -354,18 +358,13 @@ class StripStack:
 
     stick = StripModel.stick
     stick_traction = StripModel.stick_traction
+    strip_forces = StripModel.strip_forces
 
     def closed_form(self):
         """:meth:`StripModel.closed_form` of every scene: ``(Fx, Fy, Mz)``, arrays over the scenes."""
-        d, kappa, lam, partial = self.stick()
-        rest = np.where(partial, self.half - d, 0.0)  # a*
-        area = 0.5 * math.pi * self.m
-        fx = area * kappa * (self.half**2 - rest**2)
-        fy = area * (lam * self.half**2 - (lam - self.psi) * rest**2)
-        moment = -area * (lam - self.psi) * d * rest**2 - self.y * fx
         w = self.weights
         # each scene's sums as StripModel.closed_form takes them (a dot product per scene)
-        return tuple(np.array([w[k] @ v[k] for k in range(len(w))]) for v in (fx, fy, moment))
+        return tuple(np.array([w[k] @ v[k] for k in range(len(w))]) for v in self.strip_forces())
 
 
 def marched_many(scenes, stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields: bool):
