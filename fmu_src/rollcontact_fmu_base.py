@@ -42,6 +42,9 @@ from pythonfmu import Fmi2Slave, Real
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
 from pythonfmu.variables import Boolean, Integer, String
 
+from rollcontact.friction import RAIL_CONDITIONS
+from rollcontact.stepping.parameters import RAIL_CONDITION_CODES
+
 UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
     "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "s/m": {"m": -1, "s": 1}, "rad": {"rad": 1},
     "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2}, "W": {"kg": 1, "m": 2, "s": -3},
@@ -89,6 +92,18 @@ FRICTION_LAW_ITEMS = ((0, "coulomb", "constant mu"),
                       (4, "tabulated", "piecewise linear through friction_table"))
 """Items of the contact FMUs' FrictionLaw enumeration: the codes of ``rollcontact.stepping.parameters.FRICTION_LAWS``
 (one law of the same codes in the 2D and the elliptic contact)."""
+
+
+RAIL_CONDITION_ITEMS = ((0, "custom", "the friction_* parameters"),
+                        *((code, name, f"{name} rail, Polach 2005: exponential law with mu {c.mu_static:g}, "
+                                       f"A {c.kinetic_ratio:g}, B {c.decay:g} s/m")
+                          for code, name in RAIL_CONDITION_CODES.items() if code
+                          for c in (RAIL_CONDITIONS[name],)))
+"""Items of the contact FMUs' RailCondition enumeration: ``rollcontact.stepping.parameters.RAIL_CONDITION_CODES``
+with the values of ``rollcontact.friction.RAIL_CONDITIONS``."""
+
+RAIL_CONDITION_TEXT = "Rail condition replacing the friction_* parameters unless custom (RailCondition)"
+"""Description of the contact FMUs' ``rail_condition`` parameter."""
 
 
 def integer_coded(variables, enumerations: dict) -> tuple:

@@ -31,7 +31,13 @@ from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_base import FRICTION_LAW_ITEMS, TableSlave, integer_coded
+from rollcontact_fmu_base import (
+    FRICTION_LAW_ITEMS,
+    RAIL_CONDITION_ITEMS,
+    RAIL_CONDITION_TEXT,
+    TableSlave,
+    integer_coded,
+)
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.scene import Scene, scene_toml
@@ -132,12 +138,15 @@ VARIABLES = (
      "c of the linear law max(A mu, mu - c v), >= 0"),
     ("friction_table", String, PARAMETER, FIXED, None, DEFAULT.friction_table, None, None,
      "Points 'v mu; v mu; ...' of the tabulated law, v [m/s] increasing, e.g. '0 0.3; 1 0.25; 5 0.12'"),
+    ("rail_condition", Integer, PARAMETER, FIXED, None, DEFAULT.rail_condition, 0, max(RAIL_CONDITION_ITEMS)[0],
+     RAIL_CONDITION_TEXT),
 )
 
 ENUMERATIONS = {
     "method": ("Method", ((0, "auto", "the cheapest method the scene needs"),
                           *((level.code, level.name, level.choice) for level in METHOD_LEVELS if level.choice))),
     "friction_law": ("FrictionLaw", FRICTION_LAW_ITEMS),
+    "rail_condition": ("RailCondition", RAIL_CONDITION_ITEMS),
     "transient": ("TransientMode", ((0, "quasi_static", "every step steady"),
                                     (1, "auto", "instationary while the inputs vary fast"),
                                     (2, "always", "every loaded step instationary"))),

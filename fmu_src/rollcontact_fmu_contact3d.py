@@ -25,7 +25,13 @@ from functools import cache
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_base import FRICTION_LAW_ITEMS, TableSlave, integer_coded
+from rollcontact_fmu_base import (
+    FRICTION_LAW_ITEMS,
+    RAIL_CONDITION_ITEMS,
+    RAIL_CONDITION_TEXT,
+    TableSlave,
+    integer_coded,
+)
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
 from rollcontact.stepping.elliptic import (
@@ -89,6 +95,10 @@ CONTACT_PARAMETERS = (
     ("curvature_longitudinal", "1/m", "Curvature A of the gap A x^2 + B y^2 along x, > 0"),
     ("curvature_lateral", "1/m", "Curvature B of the gap A x^2 + B y^2 across, > 0"),
 )
+APPENDED_PARAMETERS = (
+    ("rail_condition", Integer, None, 0, max(RAIL_CONDITION_ITEMS)[0], RAIL_CONDITION_TEXT),
+)
+"""Shared parameters declared after the per-contact curvatures (value references: append only)."""
 
 ENUMERATIONS = {
     "method": ("Method3D", ((0, "auto", "the lowest-ranked level that applies; with a tolerance the cheapest"),
@@ -97,6 +107,7 @@ ENUMERATIONS = {
                                      *((code, name, text) for code, (name, text) in enumerate(ELLIPTIC_LEVELS,
                                                                                               start=1)))),
     "friction_law": ("FrictionLaw", FRICTION_LAW_ITEMS),
+    "rail_condition": ("RailCondition", RAIL_CONDITION_ITEMS),
     "jacobian": ("JacobianMode", ((0, "linear", "the linear theory's slopes at the step's ellipse"),
                                   (1, "difference", "forward differences of the step's level, 3 more solves"))),
 }
@@ -129,8 +140,10 @@ def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, 
         start = getattr(DEFAULT, n)[0]
         rows += [(named(n, k, contacts), Real, PARAMETER, FIXED, u, start, POSITIVE, None, f"{text}{of(k)}")
                  for k in range(1, contacts + 1)]
+    for n, kind, u, lo, hi, text in APPENDED_PARAMETERS:
+        rows.append((n, kind, PARAMETER, FIXED, u, getattr(DEFAULT, n), lo, hi, text))
     enumerations = {named("method_used", k, contacts): ENUMERATIONS["method_used"] for k in range(1, contacts + 1)}
-    enumerations.update({n: ENUMERATIONS[n] for n in ("method", "friction_law", "jacobian")})
+    enumerations.update({n: ENUMERATIONS[n] for n in ("method", "friction_law", "rail_condition", "jacobian")})
     if integer_codes:
         return integer_coded(tuple(rows), enumerations), {}
     return tuple(rows), enumerations
@@ -157,7 +170,7 @@ class RollingContact3D(TableSlave):
     def new_model(self, values: dict):
         """An EllipticModel of the parameter values (the per-contact curvatures gathered)."""
         n = self.CONTACTS
-        shared = {name: values[name] for name, *_ in SHARED_PARAMETERS}
+        shared = {name: values[name] for name, *_ in (*SHARED_PARAMETERS, *APPENDED_PARAMETERS)}
         curvatures = {name: tuple(values[named(name, k, n)] for k in range(1, n + 1))
                       for name, *_ in CONTACT_PARAMETERS}
         model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time)

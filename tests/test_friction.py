@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import rollcontact as rc
-from rollcontact.friction import friction_from_dict
+from rollcontact.friction import RAIL_CONDITIONS, friction_from_dict
 
 V = np.linspace(0.0, 20.0, 401)  # slip velocity [m/s]
 
@@ -91,3 +91,23 @@ def test_falling_friction_law_drives_the_polynomial_solver():
 def test_describe_names_the_law_and_its_values_with_units(name, says):
     text = LAWS[name].describe()
     assert all(part in text for part in says) and "\n" not in text, f"{name}: {text!r} must say {says}"
+
+
+@pytest.mark.parametrize(("name", "values"), [("dry", (0.55, 0.40, 0.60)), ("wet", (0.30, 0.40, 0.20))])
+def test_rail_conditions_are_polachs_published_sets(name, values):
+    """Polach 2005 (Wear 258, Table 2): mu_0, A, B [s/m] of dry and wet rail, as the exponential law."""
+    condition = RAIL_CONDITIONS[name]
+    assert (condition.mu_static, condition.kinetic_ratio, condition.decay) == values, f"{name}: {condition}"
+    assert "Polach" in condition.source and "Wear 258" in condition.source, f"{name}: source {condition.source!r}"
+    law = rc.rail_condition(name.upper())
+    assert law == rc.ExponentialFalling(*values), f"{name}: rail_condition gives {law!r}"
+    np.testing.assert_allclose(law.coefficient(1e6), values[0] * values[1], rtol=1e-12,
+                               err_msg=f"{name}: mu(inf) = A mu_0")
+
+
+def test_a_rail_condition_is_a_whole_toml_law_and_unknown_names_are_listed():
+    assert friction_from_dict({"rail_condition": "wet"}) == rc.ExponentialFalling(0.3, 0.4, 0.2), "wet from TOML"
+    with pytest.raises(ValueError, match="valid conditions are \\['dry', 'wet'\\]"):
+        rc.rail_condition("icy")
+    with pytest.raises(ValueError, match="rail_condition = 'dry' sets the whole law; remove decay, law"):
+        friction_from_dict({"rail_condition": "dry", "law": "exponential", "decay": 0.3})

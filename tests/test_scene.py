@@ -241,6 +241,16 @@ def test_toml_round_trip_sets_every_field(tmp_path, friction_table, expected):
                                err_msg="Surface.height of the loaded scene differs from the TOML's Z(X)")
 
 
+def test_a_toml_scene_takes_a_rail_condition_and_names_a_mixed_one(tmp_path):
+    path = write_scene(tmp_path, FULL_TOML.format(friction='[friction]\nrail_condition = "dry"'))
+    assert load_scene(path).friction == rollcontact.rail_condition("dry") == ExponentialFalling(0.55, 0.4, 0.6), \
+        "the dry rail condition is the scene's law"
+    mixed = write_scene(tmp_path, FULL_TOML.format(friction='[friction]\nrail_condition = "wet"\nmu_static = 0.4'),
+                        "mixed.toml")
+    with pytest.raises(SceneError, match="mixed.toml.*rail_condition = 'wet' sets the whole law; remove mu_static"):
+        load_scene(mixed)
+
+
 @pytest.mark.parametrize("friction", [
     Coulomb(0.27), ExponentialFalling(0.42, 0.35, 0.8), RationalFalling(0.3, 0.2, 0.5), LinearFalling(0.4, 0.25, 0.02),
     TabulatedFriction((0.0, 0.5, 3.0), (0.4, 0.3, 0.22)),

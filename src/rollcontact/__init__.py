@@ -29,8 +29,10 @@ from rollcontact.friction import (
     ExponentialFalling,
     FrictionLaw,
     LinearFalling,
+    RailCondition,
     RationalFalling,
     TabulatedFriction,
+    rail_condition,
 )
 from rollcontact.result import ContactResult
 from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, load_scene, scene_toml
@@ -51,6 +53,7 @@ __all__ = [
     "HertzEllipse",
     "LinearFalling",
     "Material",
+    "RailCondition",
     "RationalFalling",
     "Scene",
     "SceneError",
@@ -62,6 +65,7 @@ __all__ = [
     "hertz",
     "hertz_ellipse",
     "load_scene",
+    "rail_condition",
     "register_elliptic_method",
     "register_method",
     "scene_toml",

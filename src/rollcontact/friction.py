@@ -222,6 +222,54 @@ class TabulatedFriction(FrictionLaw):
                 f"v = {self.velocities[0]:g} m/s to {self.coefficients[-1]:g} at {self.velocities[-1]:g} m/s")
 
 
+POLACH_2005 = ("O. Polach, Creep forces in simulations of traction vehicles running on adhesion limit, Wear 258 "
+               "(2005) 992-1000, Table 2")
+"""Source of the dry and wet rail conditions (:data:`RAIL_CONDITIONS`)."""
+
+
+@dataclass(frozen=True)
+class RailCondition:
+    """A named rail condition: the published parameters of the exponential law
+    ``mu(v) = mu_0 [(1 - A) exp(-B v) + A]`` (:class:`ExponentialFalling`) and their source.
+
+    Polach fitted ``mu_0``, ``A`` and ``B`` together with two reduction factors of Kalker's initial creep slope
+    (``kA`` in the adhesion area, ``kS`` in the slip area) to measured traction curves.  rollcontact computes the
+    creep slope from the contact mechanics, so a condition carries the friction law only; the slope it gives is
+    the dry, clean contact's (docs/physics.md, Velocity-dependent friction).
+    """
+
+    name: str
+    mu_static: float
+    kinetic_ratio: float
+    decay: float
+    source: str
+
+    def law(self) -> ExponentialFalling:
+        """The condition's friction law."""
+        return ExponentialFalling(self.mu_static, self.kinetic_ratio, self.decay)
+
+
+RAIL_CONDITIONS = {
+    "dry": RailCondition("dry", 0.55, 0.40, 0.60, POLACH_2005),
+    "wet": RailCondition("wet", 0.30, 0.40, 0.20, POLACH_2005),
+}
+"""Named rail conditions: mu_0 [1], A [1], B [s/m] of Polach's dry and wet parameter sets."""
+
+
+def rail_condition(name: str) -> ExponentialFalling:
+    """The friction law of a named rail condition of :data:`RAIL_CONDITIONS` (``"dry"``, ``"wet"``).
+
+    Raises
+    ------
+    ValueError
+        ``name`` is not a condition; the message lists them.
+    """
+    key = str(name).lower()
+    if key not in RAIL_CONDITIONS:
+        raise ValueError(f"unknown rail condition {name!r}; valid conditions are {sorted(RAIL_CONDITIONS)}")
+    return RAIL_CONDITIONS[key].law()
+
+
 LAWS = {
     "coulomb": Coulomb,
     "exponential": ExponentialFalling,
@@ -232,8 +280,15 @@ LAWS = {
 
 
 def friction_from_dict(data: dict) -> FrictionLaw:
-    """Build a law from a TOML table: ``law = "<name>"`` plus the law's fields (e.g. ``mu = 0.3``)."""
+    """Build a law from a TOML table: ``law = "<name>"`` plus the law's fields (e.g. ``mu = 0.3``), or
+    ``rail_condition = "<name>"`` alone (:data:`RAIL_CONDITIONS`)."""
     data = dict(data)
+    if "rail_condition" in data:
+        condition = data.pop("rail_condition")
+        if data:
+            raise ValueError(f"friction: rail_condition = {condition!r} sets the whole law; remove "
+                             f"{', '.join(sorted(data))} or the rail_condition")
+        return rail_condition(condition)
     law = str(data.pop("law", "coulomb")).lower()
     if law not in LAWS:
         raise ValueError(f"unknown friction law {law!r}; valid laws are {sorted(LAWS)}")

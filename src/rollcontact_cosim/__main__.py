@@ -56,11 +56,15 @@ so a start-up spike neither hides the run nor is hidden (it is clipped and the s
 def friction_title(contact: dict) -> str:
     """The friction law and its values of the RollingContact2D parameters ``contact`` (the scene's ``[contact]``
     table over the FMU's defaults; a ``scene_file`` there is read), e.g. ``"friction: exponential falling mu(v) =
-    mu_s [(1 - A) exp(-B v) + A], mu_s = 0.35, A = 0.4, B = 0.6 s/m"``."""
-    from rollcontact.stepping.parameters import ContactParameters, contact_bodies
+    mu_s [(1 - A) exp(-B v) + A], mu_s = 0.35, A = 0.4, B = 0.6 s/m"``; a ``rail_condition`` is named before its
+    law (``"friction: wet rail (Polach 2005), exponential falling ..."``)."""
+    from rollcontact.stepping.parameters import RAIL_CONDITION_CODES, ContactParameters, contact_bodies
 
-    friction = contact_bodies(ContactParameters(**contact))[2]
-    return f"friction: {friction.describe()}"
+    parameters = ContactParameters(**contact)
+    friction = contact_bodies(parameters)[2]
+    condition = (f"{RAIL_CONDITION_CODES[parameters.rail_condition]} rail (Polach 2005), "
+                 if parameters.rail_condition and not parameters.scene_file else "")
+    return f"friction: {condition}{friction.describe()}"
 
 
 def figure(result: CosimResult, friction: str = ""):

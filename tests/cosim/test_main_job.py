@@ -85,6 +85,12 @@ def test_a_scene_file_friction_is_named_from_the_file(tmp_path):
                     "mu_k = 0.2, v_ref = 0.5 m/s"), text
 
 
+def test_a_rail_condition_is_named_with_its_law():
+    text = friction_title({"rail_condition": 2, "friction_coefficient": 0.9})
+    assert text == ("friction: wet rail (Polach 2005), exponential falling mu(v) = mu_s [(1 - A) exp(-B v) + A], "
+                    "mu_s = 0.3, A = 0.4, B = 0.2 s/m"), text
+
+
 def test_the_linear_curve_shows_the_start_and_the_peak_of_a_long_run():
     """A run to 20 saturation creeps: the linear panel ends at LINEAR_SPAN times the peak's creep and says so, the
     log panel spans the run."""

@@ -255,6 +255,19 @@ def test_every_falling_law_is_an_fmu_parameter(instance, parameters):
         "a falling law lowers the force at the same creep"
 
 
+@pytest.mark.parametrize(("code", "law"), [(1, (0.55, 0.4, 0.6)), (2, (0.3, 0.4, 0.2))], ids=["dry", "wet"])
+def test_a_rail_condition_reaches_the_fmu_with_the_published_values(instance, code, law):
+    """``rail_condition`` = dry or wet steps as the exponential law with Polach's mu_0, A, B given explicitly, and
+    overrides the friction_* parameters set beside it."""
+    fmu = instance(rail_condition=code, friction_coefficient=0.9, friction_law=3)
+    rows = [(1e5, 1e-3, 20.0), (1e5, 4e-3, 20.0)]
+    outs = [fmu.step(n * H, H, *row) for n, row in enumerate(rows)]
+    explicit = {"friction_law": 1, "friction_coefficient": law[0], "friction_kinetic_ratio": law[1],
+                "friction_decay": law[2]}
+    assert outs == model_outputs(explicit, rows), f"rail_condition {code}: FMU {outs} against the explicit law"
+    assert outs != model_outputs({}, rows), "the condition is not the default Coulomb law"
+
+
 def test_explicit_discretised_method_through_the_fmu(instance):
     fmu = instance(method=3, corrugation_amplitude=20e-6, elements=100)
     out = fmu.step(0.0, H, 2e4, 1e-3, 5.0)
@@ -307,6 +320,7 @@ def test_enumerations_bounds_and_descriptions_say_what_the_model_accepts(descrip
         FRICTION_LAWS,
         INSTATIONARY_CODES,
         METHOD_NAMES,
+        RAIL_CONDITION_CODES,
         TABLE_CODE,
         TABLE_MODES,
         TRANSIENT_MODES,
@@ -316,7 +330,7 @@ def test_enumerations_bounds_and_descriptions_say_what_the_model_accepts(descrip
     types = {t.name: {item.value: item.name for item in t.items} for t in description.typeDefinitions}
     expected = {"method": [0, *METHOD_NAMES], "friction_law": list(FRICTION_LAWS), "transient": list(TRANSIENT_MODES),
                 "method_used": [0, *METHOD_NAMES, *INSTATIONARY_CODES.values(), TABLE_CODE],
-                "table": list(TABLE_MODES)}
+                "table": list(TABLE_MODES), "rail_condition": list(RAIL_CONDITION_CODES)}
     for name, codes in expected.items():
         v = variables[name]
         assert v.type == "Enumeration" and v.declaredType is not None, f"{name} is an enumeration"

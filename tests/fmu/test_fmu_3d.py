@@ -98,6 +98,20 @@ def test_the_fmu_is_the_library_bit_for_bit(make, fmi, method):
                            result.max_pressure], f"step {n}: the FMU's forces and ellipse are solve_elliptic's"
 
 
+@pytest.mark.parametrize("fmi", (2, 3))
+def test_a_rail_condition_reaches_the_fmu_with_the_published_values(make, fmi):
+    """``rail_condition`` = wet (strips: velocity-dependent friction) steps as the stepping model with Polach's wet
+    mu_0, A, B given explicitly, whatever friction_* parameters are set beside it."""
+    slave = make(fmi, rail_condition=2, method=3, friction_coefficient=0.8)
+    model = EllipticModel(EllipticParameters(method=3, friction_law=1, friction_coefficient=0.3,
+                                             friction_kinetic_ratio=0.4, friction_decay=0.2))
+    rows = signal(3)
+    rows[:, 3] = 0.0  # the strips take falling friction without spin
+    for n, row in enumerate(rows):
+        got, expected = step(slave, n * H, [row]), model.step(n * H, H, [row])[0]
+        assert got == [float(v) for v in expected], f"step {n}: FMU {got} != the explicit wet law {expected}"
+
+
 @pytest.mark.parametrize("contacts", (1, CONTACTS))
 def test_fmi2_and_fmi3_give_the_same_outputs(make, contacts):
     rows = [signal(8, k) for k in range(contacts)]

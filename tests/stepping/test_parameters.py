@@ -1,13 +1,21 @@
-"""The 2D level table :data:`rollcontact.stepping.parameters.METHOD_LEVELS` and the codes that follow from it."""
+"""The 2D level table :data:`rollcontact.stepping.parameters.METHOD_LEVELS` and the codes that follow from it; the
+rail conditions of both contact models' parameters."""
 
+import pytest
+
+from rollcontact import RationalFalling, rail_condition
 from rollcontact.dispatch import BUILTIN
+from rollcontact.stepping import ContactParameters, ModelError
+from rollcontact.stepping.elliptic import EllipticParameters
 from rollcontact.stepping.parameters import (
     AUTO,
     AUTO_CODES,
     INSTATIONARY_CODES,
     METHOD_LEVELS,
     METHOD_NAMES,
+    RAIL_CONDITION_CODES,
     TABLE_CODE,
+    friction_law,
     method_code,
     registered_methods,
 )
@@ -45,3 +53,14 @@ def test_every_builtin_method_has_a_code_of_its_family():
     auto = registered_methods(AUTO_CODES)
     assert auto and [method_code(name) for name in auto] == sorted(method_code(name) for name in auto), \
         f"auto candidates {auto} must come family by family in table order"
+
+
+@pytest.mark.parametrize("parameters", [ContactParameters, EllipticParameters])
+def test_a_rail_condition_replaces_the_friction_parameters_and_a_bad_code_is_named_with_the_rest(parameters):
+    for code, name in RAIL_CONDITION_CODES.items():
+        law = friction_law(parameters(rail_condition=code, friction_coefficient=0.7, friction_law=2))
+        expected = rail_condition(name) if code else RationalFalling(0.7, 0.4 * 0.7, 2.0)
+        assert law == expected, f"{parameters.__name__} rail_condition {code} ({name}): {law!r}"
+    with pytest.raises(ModelError, match="friction_coefficient = -1.0 .*; rail_condition = 3 is out of range: it must "
+                                         "be one of 0 custom, 1 dry, 2 wet"):
+        parameters(friction_coefficient=-1.0, rail_condition=3)

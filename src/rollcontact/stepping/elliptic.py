@@ -51,6 +51,7 @@ from rollcontact.scene import Material
 from rollcontact.stepping.parameters import (
     DEFAULT_STEP_BUDGET,
     FRICTION_LAWS,
+    RAIL_CONDITION_CODES,
     ModelError,
     friction_law,
     friction_table_problems,
@@ -134,7 +135,7 @@ class EllipticParameters:
     poisson_ratio : float
         nu [1], 0 <= nu < 0.5.
     friction_coefficient, friction_law, friction_kinetic_ratio, friction_decay, friction_reference_velocity, \
-friction_slope, friction_table
+friction_slope, friction_table, rail_condition
         The friction law, as :class:`rollcontact.stepping.ContactParameters` (the same codes and meaning); the
         slip velocity of a falling law is ``V |s|``.
     curvature_longitudinal, curvature_lateral : tuple of float
@@ -164,6 +165,7 @@ friction_slope, friction_table
     tolerance: float = 0.0
     step_budget: float = DEFAULT_STEP_BUDGET
     jacobian: int = 0
+    rail_condition: int = 0
 
     def __post_init__(self):
         """Raise one :class:`ModelError` naming each invalid value and its limit (``"; "``-separated, in field
@@ -183,7 +185,8 @@ friction_slope, friction_table
             except SceneError as exc:
                 problems.append(str(exc))
         for name, allowed in (("friction_law", FRICTION_LAWS), ("method", {AUTO: "auto", **dict(
-                (code, level) for level, code in METHOD_CODES.items())}), ("jacobian", JACOBIAN_MODES)):
+                (code, level) for level, code in METHOD_CODES.items())}), ("jacobian", JACOBIAN_MODES),
+                              ("rail_condition", RAIL_CONDITION_CODES)):
             value = getattr(self, name)
             if isinstance(value, bool) or value not in allowed:
                 choices = ", ".join(f"{k} {v}" for k, v in allowed.items())

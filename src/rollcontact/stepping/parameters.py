@@ -23,6 +23,7 @@ import numpy as np
 from rollcontact.checks import SceneError, check_real
 from rollcontact.dispatch import METHODS
 from rollcontact.friction import (
+    RAIL_CONDITIONS,
     Coulomb,
     ExponentialFalling,
     FrictionLaw,
@@ -112,6 +113,10 @@ FRICTION_LAWS = {0: "Coulomb", 1: "exponential falling", 2: "rational falling", 
 
 TABLE_LAW = 4
 """``friction_law`` of the tabulated law, whose points ``friction_table`` gives (:func:`friction_table_points`)."""
+
+RAIL_CONDITION_CODES = {0: "custom", **{k: name for k, name in enumerate(RAIL_CONDITIONS, start=1)}}
+"""``rail_condition`` codes: 0 custom (the ``friction_*`` parameters), else a named condition of
+:data:`rollcontact.friction.RAIL_CONDITIONS` whose law replaces them."""
 
 
 OPTION_NAMES = {"polynomial_order": "order", "elements": "elements", "datum": "datum_length"}
@@ -261,6 +266,10 @@ class ContactParameters:
         step, within ``step_budget`` (modelled work), once the exact steps have cost as much as the build (so a run pays
         at most twice what it would have paid knowing its length); ``on`` builds it at the first loaded step, whatever
         that takes.
+    rail_condition : int
+        A code of :data:`RAIL_CONDITION_CODES`: 0 custom (the ``friction_*`` parameters above), 1 dry, 2 wet rail
+        (:data:`rollcontact.friction.RAIL_CONDITIONS`, Polach's parameter sets of the exponential law), whose law
+        replaces ``friction_law``, ``friction_coefficient``, ``friction_kinetic_ratio`` and ``friction_decay``.
     """
 
     youngs_modulus: float = 210e9
@@ -287,6 +296,7 @@ class ContactParameters:
     friction_reference_velocity: float = 2.0
     friction_slope: float = 0.1
     friction_table: str = ""
+    rail_condition: int = 0
 
     def __post_init__(self):
         """Check every parameter and raise one :class:`ModelError` naming each invalid value and its limit
@@ -316,7 +326,8 @@ class ContactParameters:
             except SceneError as exc:
                 problems.append(str(exc))
         for name, allowed in (("friction_law", FRICTION_LAWS), ("method", {AUTO: "auto", **METHOD_NAMES}),
-                              ("transient", TRANSIENT_MODES), ("table", TABLE_MODES)):
+                              ("transient", TRANSIENT_MODES), ("table", TABLE_MODES),
+                              ("rail_condition", RAIL_CONDITION_CODES)):
             value = getattr(self, name)
             if value not in allowed:
                 choices = ", ".join(f"{k} {v}" for k, v in allowed.items())
@@ -436,13 +447,16 @@ def contact_bodies(p: ContactParameters) -> tuple[Material, float, FrictionLaw, 
 def friction_law(p) -> FrictionLaw:
     """The friction law of the FMU parameters ``friction_law`` (a code of :data:`FRICTION_LAWS`),
     ``friction_coefficient``, ``friction_kinetic_ratio``, ``friction_decay``, ``friction_reference_velocity``,
-    ``friction_slope`` and ``friction_table`` of ``p`` (any object with them: the 2D and the elliptic parameters).
+    ``friction_slope`` and ``friction_table`` of ``p`` (any object with them: the 2D and the elliptic parameters), or
+    the law of its ``rail_condition`` when that is not 0 (custom).
 
     Raises
     ------
     ValueError
         The values make no valid law (the law's message).
     """
+    if p.rail_condition:
+        return RAIL_CONDITIONS[RAIL_CONDITION_CODES[p.rail_condition]].law()
     mu, ratio = p.friction_coefficient, p.friction_kinetic_ratio
     laws = {0: lambda: Coulomb(mu), 1: lambda: ExponentialFalling(mu, ratio, p.friction_decay),
             2: lambda: RationalFalling(mu, ratio * mu, p.friction_reference_velocity),
