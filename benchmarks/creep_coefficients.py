@@ -3,7 +3,9 @@
 Run: ``python benchmarks/creep_coefficients.py [--quick] [--write-table]`` (about ten minutes; ``--quick``: three
 aspect ratios, nu = 0.25, about ten seconds).  Writes ``benchmarks/results/creep_coefficients.md``; with
 ``--write-table`` also the data module ``src/rollcontact/elliptic/creep_table.py`` that
-:mod:`rollcontact.elliptic.creep_coefficients` interpolates.
+:mod:`rollcontact.elliptic.creep_coefficients` interpolates.  ``--end-rows`` (about two minutes) writes
+``benchmarks/results/creep_coefficients_end_rows.md`` instead: Kalker's end rows a/b = 0.1 and 10 by a second
+discretisation (below) beside the table and the published values.
 
 Method.  At a creepage of 1e-9 no element slips and the tangential problem is linear (Kalker's linear theory):
 ``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^4 C33 phi`` (forces on the rail, c =
@@ -17,7 +19,9 @@ across the shorter axis (N = 24, 32, 48, 64, 96), and
   is first order); the spread to a quadratic fit is reported as the extrapolation's uncertainty.
 
 Kalker's published values (Kalker 1990, Table E.3, as reprinted in the project's elliptic notes) are compared where
-they exist.
+they exist.  At the end rows (a/b = 0.1 and 10) a second discretisation checks the table: elements shaped as the
+ellipse (the same count N along both axes, so each element has the ellipse's aspect ratio, N up to
+:data:`END_LEVELS`' last), extrapolated the same way.
 """
 
 import argparse
@@ -34,6 +38,10 @@ from rollcontact.halfspace.surface3d import operator_for
 
 LEVELS = (24, 32, 48, 64, 96)
 """Elements across the shorter axis of the ellipse, square elements."""
+
+
+END_LEVELS = (64, 96, 128, 192, 256, 384)
+"""Elements along each axis of the second discretisation of the end rows (``--end-rows``)."""
 
 
 SHORT = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
@@ -57,10 +65,11 @@ CREEPAGE = 1e-9
 """Small enough that no element slips (checked)."""
 
 
-def level(ratio: float, nu: float, n: int) -> np.ndarray:
-    """(C11, C22, C23, C33) on square elements, n across the shorter axis, area-corrected (module docstring)."""
+def level(ratio: float, nu: float, n: int, shaped: bool = False) -> np.ndarray:
+    """(C11, C22, C23, C33) on square elements, n across the shorter axis, area-corrected (module docstring); with
+    ``shaped`` on n x n elements of the ellipse's aspect ratio."""
     a, b = math.sqrt(ratio), 1.0 / math.sqrt(ratio)  # c = 1, G = 1, Fn = 1, mu = 1
-    elements = (round(n * max(1.0, ratio)), round(n * max(1.0, 1.0 / ratio)))
+    elements = (n, n) if shaped else (round(n * max(1.0, ratio)), round(n * max(1.0, 1.0 / ratio)))
     grid = ellipse_grid(a, b, elements)
     op = operator_for(grid, nu)
     pressure = hertz_pressure(grid, a, b, 1.0)
@@ -78,9 +87,9 @@ def level(ratio: float, nu: float, n: int) -> np.ndarray:
     return raw * area_ratio ** np.array([1.0, 1.0, 1.5, 2.0])
 
 
-def extrapolated(ratio: float, nu: float, levels=LEVELS) -> tuple[np.ndarray, np.ndarray]:
+def extrapolated(ratio: float, nu: float, levels=LEVELS, shaped: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """The coefficients at zero element size (linear least squares in h = 1/N) and |linear - quadratic fit|."""
-    values = np.array([level(ratio, nu, n) for n in levels])
+    values = np.array([level(ratio, nu, n, shaped) for n in levels])
     h = 1.0 / np.asarray(levels, dtype=float)
     linear = np.linalg.lstsq(np.vstack([np.ones_like(h), h]).T, values, rcond=None)[0][0]
     quadratic = np.linalg.lstsq(np.vstack([np.ones_like(h), h, h * h]).T, values, rcond=None)[0][0]
@@ -120,11 +129,41 @@ def table_module(table: dict) -> str:
     return "\n".join(lines[:-1]) + "\n"
 
 
+def end_rows(quick: bool) -> None:
+    """Kalker's end rows by elements shaped as the ellipse, beside the table (square elements) and Kalker's values."""
+    from rollcontact.elliptic.creep_coefficients import creepage_coefficients
+
+    load = common.os.getloadavg()[0]
+    started = time.perf_counter()
+    lines = ["# Kalker's creepage coefficients: the end rows by a second discretisation", "", *common.machine(load),
+             "", f"Elements shaped as the ellipse, N x N with N = {', '.join(map(str, END_LEVELS))}, staircase area "
+             "corrected, extrapolated linearly in 1/N ('shaped', with |linear - quadratic fit| as 'spread'); "
+             "'table': the square elements of `creep_coefficients.md` (the library's table); Kalker 1990, Table E.3.",
+             "", "| a/b | nu | coefficient | shaped | spread | table | shaped / table - 1 [%] | Kalker | "
+             "table / Kalker - 1 [%] |", "|---|---|---|---|---|---|---|---|---|"]
+    rows = [(g, nu) for g in (0.1, 10.0) for nu in POISSON_RATIOS]
+    for g, nu in rows[:1] if quick else rows:
+        shaped, spread = extrapolated(g, nu, END_LEVELS[:3] if quick else END_LEVELS, shaped=True)
+        k = creepage_coefficients(g, nu)
+        for j, (name, table) in enumerate((("C11", k.c11), ("C22", k.c22), ("C23", k.c23))):
+            published = KALKER[g][nu][j]
+            lines.append(f"| {g:g} | {nu:g} | {name} | {shaped[j]:.4f} | {spread[j]:.4f} | {table:.4f} | "
+                         f"{100 * (shaped[j] / table - 1):+.2f} | {published:.3g} | "
+                         f"{100 * (table / published - 1):+.2f} |")
+    lines += ["", f"Computed in {time.perf_counter() - started:.0f} s."]
+    common.publish(lines, "creep_coefficients_end_rows.md", quick)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a/b 0.5, 1, 2 at nu = 0.25 only; nothing written")
     parser.add_argument("--write-table", action="store_true", help="also write src/rollcontact/elliptic/creep_table.py")
+    parser.add_argument("--end-rows", action="store_true",
+                        help="only the end rows a/b 0.1 and 10 by elements shaped as the ellipse")
     args = parser.parse_args()
+    if args.end_rows:
+        end_rows(args.quick)
+        return
     ratios = (0.5, 1.0, 2.0) if args.quick else ASPECT_RATIOS
     nus = (0.25,) if args.quick else POISSON_RATIOS
     load = common.os.getloadavg()[0]
