@@ -8,8 +8,9 @@ and the recorded time histories, whose title names the friction law and its valu
 ``--scene NAME`` is the same as the positional scene.  The scene ``wheelset_hunting`` runs in process
 (:func:`rollcontact_cosim.wheelset_study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
 speed sweep on a local dask cluster against the linear stability analysis, Klingel's wavelength), prints its
-tables and writes its figure; with ``--fmu-dir`` its speed sweep is co-simulated through fmpy with the Wheelset and
-RollingContact3D_2 FMUs (:mod:`rollcontact_cosim.wheelset_cosim`); the other co-simulation options do not apply.
+tables and writes its figure; with ``--fmu-dir`` or ``--master libcosim`` its speed sweep is co-simulated through
+that master (fmpy by default) with the Wheelset and RollingContact3D_2 FMUs (:mod:`rollcontact_cosim.wheelset_cosim`);
+the other co-simulation options do not apply.
 """
 
 from __future__ import annotations
@@ -193,21 +194,23 @@ def time_history(ax, time, series, name: str, start: float) -> None:
 
 def wheelset_hunting(args) -> int:
     """The ``wheelset_hunting`` scene in process: the tables on stdout, the figure to ``--plot``; with ``--fmu-dir``
-    the speed sweep co-simulated through fmpy with the Wheelset and RollingContact3D_2 FMUs of that folder (built
-    there when missing): :func:`rollcontact_cosim.wheelset_cosim.write_cosim_reference`'s table."""
+    or ``--master libcosim`` the speed sweep co-simulated through ``--master`` with the Wheelset and
+    RollingContact3D_2 FMUs of ``--fmu-dir`` (default models/; built there when missing, libcosim's in its
+    ``integer_codes/`` folder): :func:`rollcontact_cosim.wheelset_cosim.write_cosim_reference`'s table."""
     from rollcontact_cosim.wheelset_study import report, run_hunting_study
 
-    if args.master != "fmpy" or args.fmi != 2 or args.algorithm or args.step_size or args.csv:
-        raise ValueError("the wheelset_hunting scene runs in process, or with --fmu-dir co-simulated through fmpy: "
-                         "--master, --fmi, --algorithm, --step-size and --csv do not apply")
+    if args.fmi != 2 or args.algorithm or args.step_size or args.csv:
+        raise ValueError("the wheelset_hunting scene runs in process, or co-simulated with --fmu-dir or --master: "
+                         "--fmi, --algorithm, --step-size and --csv do not apply")
     path = args.plot or "cosim_wheelset_hunting.png"
-    if args.fmu_dir:
+    if args.fmu_dir or args.master != "fmpy":
         import tempfile
 
         from rollcontact_cosim.wheelset_cosim import write_cosim_reference
 
         with tempfile.TemporaryDirectory(prefix="wheelset_hunting_") as tmp:
-            table = write_cosim_reference(args.fmu_dir, Path(tmp, "report.md"), path, n_workers=2)
+            table = write_cosim_reference(args.fmu_dir or FMU_DIR, Path(tmp, "report.md"), path, master=args.master,
+                                          n_workers=2)
             print(table.read_text())
     else:
         sweep, klingel = run_hunting_study(path)
@@ -253,13 +256,15 @@ macro step [us]. The figure shows the adhesion curve (linear and log creep axes)
 variable against time [s]; its title names the friction law and its values.
 
 The scene wheelset_hunting runs in process: a hunting wheelset's speed sweep against its linear
-stability analysis, and Klingel's wavelength; with --fmu-dir DIR the sweep is co-simulated through fmpy
-with the Wheelset and RollingContact3D_2 FMUs of DIR (built there when missing).
+stability analysis, and Klingel's wavelength; with --fmu-dir DIR (or --master libcosim) the sweep is
+co-simulated through the master with the Wheelset and RollingContact3D_2 FMUs of DIR (default models/;
+built there when missing).
 
 examples:
   python -m rollcontact_cosim
   python -m rollcontact_cosim --scene wheelset_hunting
   python -m rollcontact_cosim --scene wheelset_hunting --fmu-dir models
+  python -m rollcontact_cosim --scene wheelset_hunting --master libcosim
   python -m rollcontact_cosim {DEFAULT_SCENE} --step-size 2e-3 --plot ramp.png --csv ramp.csv
 """
 

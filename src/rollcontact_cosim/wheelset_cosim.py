@@ -13,7 +13,8 @@ convention) and the gap curvatures ``A = 1/(2 r0)``, ``B = 1/(2 R_rail)`` (:func
 ``tests/cosim/test_wheelset_cosim.py`` checks.  :func:`cosim_hunting_sweep` is the speed sweep of
 :func:`rollcontact_cosim.wheelset_study.hunting_sweep` co-simulated (one task per speed, on dask or in process),
 against the eigenvalues of the wheelset linearised with the contact FMU's own Jacobian at zero creepage.
-:func:`cosimulate_libcosim` runs the same system with libcosim's fixed-step (Jacobi) algorithm.
+:func:`cosimulate_libcosim` runs the same system with libcosim's fixed-step (Jacobi) algorithm, and the sweep runs
+through either master (:data:`MASTERS`), each with its reference results (:data:`REFERENCES`).
 """
 
 from __future__ import annotations
@@ -34,8 +35,8 @@ from rollcontact_cosim.wheelset import HOST, ContactForces, WheelsetParameters
 from rollcontact_cosim.wheelset_stability import critical_speed, klingel_wavelength, least_damped, linearised
 from rollcontact_cosim.wheelset_study import SPEEDS, HuntingSweep, SpeedRun, decay_rate, plot_hunting, zero_crossing
 
-__all__ = ["CONTACT_MODEL", "LibraryContactLaw", "contact_parameters", "cosim_hunting_sweep", "cosimulate",
-           "cosimulate_libcosim", "ensure_wheelset_fmus", "write_cosim_reference"]
+__all__ = ["CONTACT_MODEL", "MASTERS", "REFERENCES", "LibraryContactLaw", "contact_parameters", "cosim_hunting_sweep",
+           "cosimulate", "cosimulate_libcosim", "ensure_wheelset_fmus", "write_cosim_reference"]
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -124,10 +125,13 @@ def cosimulate(parameters: WheelsetParameters, stop_time: float, step_size: floa
         wheels.free()
 
 
-def ensure_wheelset_fmus(fmu_dir: Path | str) -> Path:
-    """``fmu_dir`` with ``Wheelset.fmu`` and ``RollingContact3D_2.fmu``, built by ``build_fmu.py`` when missing."""
-    folder = Path(fmu_dir)
-    for model, args in ((HOST, ["--only", HOST]), (CONTACT_MODEL, ["--contacts", "2"])):
+def ensure_wheelset_fmus(fmu_dir: Path | str, master: str = "fmpy") -> Path:
+    """The folder of ``Wheelset.fmu`` and ``RollingContact3D_2.fmu`` for ``master``, built by ``build_fmu.py`` when
+    missing: ``fmu_dir`` for fmpy, its ``integer_codes/`` folder for libcosim (the integer-codes build: libcosim lists
+    no FMI enumerations, as :func:`rollcontact_cosim.fmus.ensure_fmus` arranges for the other scenes)."""
+    codes = ["--integer-codes"] if master == "libcosim" else []
+    folder = Path(fmu_dir) / "integer_codes" if codes else Path(fmu_dir)
+    for model, args in ((HOST, ["--only", HOST, *codes]), (CONTACT_MODEL, ["--contacts", "2", *codes])):
         if not (folder / f"{model}.fmu").is_file():
             done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), *args, "--dest", str(folder)],
                                   capture_output=True, text=True, timeout=600)
@@ -137,14 +141,18 @@ def ensure_wheelset_fmus(fmu_dir: Path | str) -> Path:
 
 
 def cosim_speed(parameters: WheelsetParameters, speed: float, fmu_dir: str, contact: dict, periods: int = 12,
-                steps_per_period: int = 200, settle: int = 2, amplitude_limit: float = 0.01) -> SpeedRun:
-    """:func:`rollcontact_cosim.wheelset_study.run_speed` co-simulated: the decay rate of y at ``speed`` over
-    ``periods`` kinematic periods (after ``settle``, while |y| <= ``amplitude_limit`` [m]) against the eigenvalues of
-    the wheelset linearised with the contact's Jacobian at zero creepage."""
+                steps_per_period: int = 200, settle: int = 2, amplitude_limit: float = 0.01,
+                master: str = "fmpy") -> SpeedRun:
+    """:func:`rollcontact_cosim.wheelset_study.run_speed` co-simulated through ``master`` (:data:`MASTERS`; the FMUs
+    in ``fmu_dir`` suit it): the decay rate of y at ``speed`` over ``periods`` kinematic periods (after ``settle``,
+    while |y| <= ``amplitude_limit`` [m]) against the eigenvalues of the wheelset linearised with the contact's
+    Jacobian at zero creepage."""
     p = dataclasses.replace(parameters, speed=float(speed))
     period = klingel_wavelength(p) / speed
     step = period / steps_per_period
-    times, states = cosimulate(p, step * steps_per_period * periods, step, fmu_dir, contact)
+    if master == "libcosim":  # its clock counts whole nanoseconds
+        step = round(step * 1e9) / 1e9
+    times, states = MASTERS[master](p, step * steps_per_period * periods, step, fmu_dir, contact)
     rate, peaks = decay_rate(times, states[:, 0], start=settle * period, limit=amplitude_limit)
     mode = least_damped(p, linearised(LibraryContactLaw(contact), p))
     return SpeedRun(float(speed), rate, mode.real, peaks, mode.imag / (2.0 * math.pi))
@@ -152,17 +160,20 @@ def cosim_speed(parameters: WheelsetParameters, speed: float, fmu_dir: str, cont
 
 def cosim_hunting_sweep(speeds, fmu_dir: Path | str, parameters: WheelsetParameters | None = None,
                         contact: dict | None = None, *, periods: int = 12, steps_per_period: int = 200, client=None,
-                        scheduler: str | None = None, n_workers: int = 2) -> HuntingSweep:
-    """The co-simulated decay rate at each speed (one task each: ``client``/``scheduler``/``n_workers`` as in
-    :func:`rollcontact_cosim.sweep.run_sweep`, ``n_workers=0`` in process), the critical speed of their zero
-    crossing and the eigenvalues' with the contact FMU's Jacobian at zero creepage (:class:`LibraryContactLaw`)."""
+                        scheduler: str | None = None, n_workers: int = 2, master: str = "fmpy") -> HuntingSweep:
+    """The decay rate at each speed co-simulated through ``master`` (one task each: ``client``/``scheduler``/
+    ``n_workers`` as in :func:`rollcontact_cosim.sweep.run_sweep`, ``n_workers=0`` in process), the critical speed of
+    their zero crossing and the eigenvalues' with the contact FMU's Jacobian at zero creepage
+    (:class:`LibraryContactLaw`); the FMUs are those of :func:`ensure_wheelset_fmus` for ``master``."""
     from rollcontact_cosim.sweep import submit
 
+    if master not in MASTERS:
+        raise ValueError(f"master = {master!r}: the wheelset runs through {' or '.join(MASTERS)}")
     p = WheelsetParameters() if parameters is None else parameters
     contact = contact_parameters(p) if contact is None else contact
-    folder = str(ensure_wheelset_fmus(fmu_dir).resolve())
+    folder = str(ensure_wheelset_fmus(fmu_dir, master).resolve())
     speeds = sorted(float(v) for v in speeds)
-    arguments = [(p, v, folder, contact, periods, steps_per_period) for v in speeds]
+    arguments = [(p, v, folder, contact, periods, steps_per_period, 2, 0.01, master) for v in speeds]
     if client is None and scheduler is None and n_workers == 0:
         runs = [cosim_speed(*args) for args in arguments]
     else:
@@ -171,25 +182,32 @@ def cosim_hunting_sweep(speeds, fmu_dir: Path | str, parameters: WheelsetParamet
                         zero_crossing(speeds, [run.simulated for run in runs]))
 
 
-REFERENCE = ROOT / "models" / "cosim" / "wheelset_hunting_cosim.md"
-"""Reference results of the co-simulated sweep (:func:`write_cosim_reference`)."""
+REFERENCES = {"fmpy": ROOT / "models" / "cosim" / "wheelset_hunting_cosim.md",
+              "libcosim": ROOT / "models" / "cosim" / "wheelset_hunting_libcosim.md"}
+"""Reference results of the co-simulated sweep through each master (:func:`write_cosim_reference`)."""
+
+COUPLING = {"fmpy": "through fmpy (Gauss-Seidel, the contact first)",
+            "libcosim": "through libcosim (fixed step, Jacobi: the host's forces lag one step, force_lag = 1)"}
+"""How each master couples the two FMUs, as the reference results say it."""
 
 
-def write_cosim_reference(fmu_dir: Path | str, path: Path | str = REFERENCE, plot: Path | str | None = None,
-                          speeds=SPEEDS, **sweep_options) -> Path:
-    """Run the co-simulated sweep of the default wheelset over ``speeds`` (serial unless ``sweep_options`` say
-    otherwise) and write its table and critical speeds to ``path`` (and the figure to ``plot``)."""
+def write_cosim_reference(fmu_dir: Path | str, path: Path | str | None = None, plot: Path | str | None = None,
+                          speeds=SPEEDS, master: str = "fmpy", **sweep_options) -> Path:
+    """Run the co-simulated sweep of the default wheelset through ``master`` over ``speeds`` (serial unless
+    ``sweep_options`` say otherwise) and write its table and critical speeds to ``path`` (default: the master's
+    :data:`REFERENCES`; and the figure to ``plot``)."""
     p = WheelsetParameters()
     contact = contact_parameters(p)
-    sweep = cosim_hunting_sweep(speeds, fmu_dir, p, contact, **{"n_workers": 0, **sweep_options})
+    sweep = cosim_hunting_sweep(speeds, fmu_dir, p, contact, **{"n_workers": 0, "master": master, **sweep_options})
     if plot is not None:
         plot_hunting(sweep, plot, p, linearised(LibraryContactLaw(contact), p))
-    lines = ["# wheelset_hunting: co-simulated reference results", "",
-             *textwrap.wrap("Written by `rollcontact_cosim.wheelset_cosim.write_cosim_reference()`: the default "
-                            "wheelset of `rollcontact_cosim.wheelset` co-simulated through fmpy with "
-                            "`RollingContact3D_2` (linear theory, `contact_parameters`), 200 steps per kinematic "
-                            "period; the eigenvalues with the contact FMU's Jacobian at zero creepage. Every figure "
-                            "is a function of the parameters only.", 115), "",
+    path = REFERENCES[master] if path is None else path
+    lines = [f"# wheelset_hunting: reference results co-simulated through {master}", "",
+             *textwrap.wrap(f"Written by `rollcontact_cosim.wheelset_cosim.write_cosim_reference(master={master!r})`:"
+                            " the default wheelset of `rollcontact_cosim.wheelset` co-simulated "
+                            f"{COUPLING[master]} with `RollingContact3D_2` (linear theory, `contact_parameters`), 200 "
+                            "steps per kinematic period; the eigenvalues with the contact FMU's Jacobian at zero "
+                            "creepage. Every figure is a function of the parameters only.", 115), "",
              "| V [m/s] | co-simulated decay rate [1/s] | eigenvalue Re [1/s] | frequency [Hz] | peaks |",
              "|---|---|---|---|---|"]
     lines += [f"| {r.speed:g} | {r.simulated:+.4f} | {r.predicted:+.4f} | {r.frequency:.3f} | {r.peaks} |"
@@ -258,3 +276,8 @@ def cosimulate_libcosim(parameters: WheelsetParameters, stop_time: float, step_s
         return np.arange(n + 1) * step_size, states
     finally:
         del execution
+
+
+MASTERS = {"fmpy": cosimulate, "libcosim": cosimulate_libcosim}
+"""The co-simulation of the wheelset through each master: ``(parameters, stop_time, step_size, fmu_dir, contact) ->
+(times, states)``."""

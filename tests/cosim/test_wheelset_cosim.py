@@ -101,17 +101,18 @@ def test_the_cosimulated_sweep_on_dask_workers_equals_the_serial_one(fmu_dir):
 
 @pytest.mark.slow
 def test_the_cosimulated_reference_results_are_the_sweeps(fmu_dir, tmp_path):
-    from rollcontact_cosim.wheelset_cosim import REFERENCE, write_cosim_reference
+    from rollcontact_cosim.wheelset_cosim import REFERENCES, write_cosim_reference
 
     fresh = write_cosim_reference(fmu_dir, tmp_path / "reference.md")
-    assert fresh.read_text() == REFERENCE.read_text(), \
+    assert fresh.read_text() == REFERENCES["fmpy"].read_text(), \
         "models/cosim/wheelset_hunting_cosim.md is not what the sweep gives: rerun write_cosim_reference()"
 
 
 @pytest.fixture(scope="module")
 def integer_codes_dir(fmu_dir, tmp_path_factory) -> Path:
-    """The Wheelset FMU and the integer-codes build of RollingContact3D_2 (libcosim lists no enumerations)."""
-    dest = tmp_path_factory.mktemp("wheelset_osp")
+    """The Wheelset FMU and the integer-codes build of RollingContact3D_2 (libcosim lists no enumerations), in the
+    ``integer_codes/`` folder where :func:`~rollcontact_cosim.wheelset_cosim.ensure_wheelset_fmus` looks for them."""
+    dest = tmp_path_factory.mktemp("wheelset_osp") / "integer_codes"
     done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--contacts", "2", "--integer-codes",
                            "--dest", str(dest)], capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, f"build_fmu.py --contacts 2 --integer-codes failed:\n{done.stdout}\n{done.stderr}"
@@ -136,13 +137,51 @@ def test_libcosim_runs_the_jacobi_sequence_of_the_in_process_run(integer_codes_d
 
 
 @pytest.mark.slow
+def test_the_libcosim_reference_results_are_the_sweeps_and_meet_the_eigenvalues(integer_codes_dir, tmp_path):
+    """The sweep through libcosim (``--master libcosim``): its reference table, and a critical speed within 2 % of
+    the eigenvalues' (the issue asks 5 %)."""
+    pytest.importorskip("libcosimpy")
+    from rollcontact_cosim.wheelset_cosim import REFERENCES, cosim_hunting_sweep, write_cosim_reference
+
+    fresh = write_cosim_reference(integer_codes_dir.parent, tmp_path / "reference.md", master="libcosim")
+    assert fresh.read_text() == REFERENCES["libcosim"].read_text(), \
+        "models/cosim/wheelset_hunting_libcosim.md is not what the sweep gives: rerun write_cosim_reference"
+    sweep = cosim_hunting_sweep((60.0, 70.0), integer_codes_dir.parent, master="libcosim", n_workers=0, periods=6)
+    assert abs(sweep.error) <= 0.02, f"libcosim's critical speed is {100 * sweep.error:+.2f} % off the eigenvalues'"
+
+
+@pytest.mark.slow
 def test_the_scene_with_an_fmu_folder_runs_the_cosimulated_sweep(fmu_dir, tmp_path, capsys):
     """``python -m rollcontact_cosim --scene wheelset_hunting --fmu-dir DIR``: the co-simulated sweep on dask, its
     table (the reference's) on stdout and the figure."""
     from rollcontact_cosim.__main__ import main
-    from rollcontact_cosim.wheelset_cosim import REFERENCE
+    from rollcontact_cosim.wheelset_cosim import REFERENCES
 
     plot = tmp_path / "hunting.png"
     assert main(["--scene", "wheelset_hunting", "--fmu-dir", str(fmu_dir), "--plot", str(plot)]) == 0
-    assert REFERENCE.read_text() in capsys.readouterr().out, "the printed table is the reference's"
+    assert REFERENCES["fmpy"].read_text() in capsys.readouterr().out, "the printed table is the reference's"
     assert plot.stat().st_size > 10_000, "the figure is written"
+
+
+def test_the_scene_passes_master_and_folder_to_the_cosimulated_sweep(monkeypatch, tmp_path, capsys):
+    """``--master libcosim`` alone co-simulates the sweep through libcosim with the FMUs of models/; ``--fmu-dir``
+    alone through fmpy; in-process options that do not apply are refused."""
+    import rollcontact_cosim.wheelset_cosim as wheelset_cosim
+    from rollcontact_cosim.__main__ import main
+    from rollcontact_cosim.master import FMU_DIR
+
+    calls = []
+
+    def recorded(fmu_dir, path, plot, master="fmpy", **options):
+        calls.append((Path(fmu_dir), master))
+        Path(path).write_text(f"sweep through {master}\n")
+        return Path(path)
+
+    monkeypatch.setattr(wheelset_cosim, "write_cosim_reference", recorded)
+    plot = str(tmp_path / "p.png")
+    assert main(["--scene", "wheelset_hunting", "--master", "libcosim", "--plot", plot]) == 0
+    assert main(["--scene", "wheelset_hunting", "--fmu-dir", str(tmp_path), "--plot", plot]) == 0
+    assert calls == [(Path(FMU_DIR), "libcosim"), (tmp_path, "fmpy")], calls
+    assert "sweep through libcosim" in capsys.readouterr().out, "the sweep's table is printed"
+    assert main(["--scene", "wheelset_hunting", "--master", "libcosim", "--step-size", "1e-3"]) == 2, "refused"
+    assert "--fmi, --algorithm, --step-size and --csv do not apply" in capsys.readouterr().err, "the refusal says why"
