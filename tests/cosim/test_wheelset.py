@@ -254,7 +254,7 @@ def test_a_saved_state_continues_bit_for_bit():
 def test_the_scene_runs_in_process_and_refuses_the_cosimulation_options(capsys):
     from rollcontact_cosim.__main__ import main
 
-    assert main(["--scene", "wheelset_hunting", "--master", "libcosim"]) == 2, "exit code 2 for a bad option"
+    assert main(["--scene", "wheelset_hunting", "--fmi", "3"]) == 2, "exit code 2 for a bad option"
     assert "runs in process" in capsys.readouterr().err, "the message says why"
 
 
