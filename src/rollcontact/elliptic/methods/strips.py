@@ -500,7 +500,9 @@ SPIN_FLEXIBILITY = (1.0067, 0.0998, 0.8274, 0.1194, 9.8883, 0.8444)
 """``(A_x0, A_x1, A_y0, A_y1, P_1, m)`` of :func:`march_flexibilities`.  Calibrated, not derived: the minimax fit of
 the strips' error with spin on the cases of ``benchmarks/bench_elliptic_levels.py`` (table B, the calibration set,
 which holds spin around and past the strips' full slip, ``|psi|`` 0.15..15), checked on the disjoint matrix of
-``benchmarks/bench_elliptic.py`` (the validation set); the results files carry the errors."""
+``benchmarks/bench_elliptic.py`` (the validation set); the results files carry the errors.  The fit holds at the
+default counts (:data:`DEFAULT_STRIPS`, :data:`DEFAULT_STEPS`): it also absorbs the march's lag of half a cell, so
+other counts move the errors with spin by up to about 0.02."""
 
 STRIPS_ERROR = 0.03
 """Error [1] of the strips without spin (Fx, Fy over mu Fn, Mz over mu Fn c): against the discretised 3D solver over
