@@ -151,7 +151,7 @@ WIDER = {(2.0, (0.0, 0.0, 1.0)): 0.035, (5.0, (0.5, 0.5, 1.0)): 0.035}
                                        (1.0, -0.5, 3.0)])
 def test_spin_against_the_discretised_solution(ratio, creepages):
     """Large spin (psi 1..3), alone and with longitudinal and lateral creepage, at a/b 0.2, 1, 2 and 5, against the
-    discretised solver's Richardson pair of 30 and 60 elements (within 0.0038 of the pair of 60 and 120 on large-spin
+    discretised solver's Richardson pair of 30 and 60 elements (within 0.0038 of the pair of 60 and 120 on these
     cases: ``benchmarks/bench_elliptic_levels.py``, table B2).  The goal is 0.03 mu Fn (Fx, Fy) and 0.03 mu Fn c
     (Mz); two cases have the tier 0.035 (:data:`WIDER`).  Every error is also within the level's own estimate."""
     s = saturated(ratio, *creepages)
