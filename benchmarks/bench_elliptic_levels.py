@@ -8,8 +8,12 @@ markdown tables and writes ``benchmarks/results/bench_elliptic_levels.md``:
 
 A. Median time per case [us] of each level through ``solve_elliptic(scene, name)`` and directly (the method's
    function), per group of cases, with the ratio to the linear theory measured in the same run.  The cases
-   (:func:`cases`, 105): a/b 0.2, 0.5, 1, 2, 5; pure longitudinal, lateral and spin creepage at 0.05, 0.3, 1 and 3
-   times the creepage whose linear force is 3 mu Fn, and spin with longitudinal and/or lateral creepage.
+   (:func:`cases`, 205): a/b 0.2, 0.5, 1, 2, 5; pure longitudinal, lateral and spin creepage at 0.05, 0.3, 1 and 3
+   times the creepage whose linear force is 3 mu Fn, and spin with longitudinal and/or lateral creepage, also at 0.4,
+   0.6, 1.5, 2 and 5 times it (spin around and past the strips' full slip, ``|psi|`` 1.2..15).
+A2. The strips of several contacts in one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (1, 8 and
+   32 scenes: 8 contacts of different a/b with spin, and the 3 shifted scenes each of the stepping model's Jacobian
+   by differences), the median time per call and its ratio to one scene.
 B. (Only with a level named ``discretised`` registered.)  Largest error of Fx, Fy over mu Fn and Mz over mu Fn c of
    each level against the discretised level with its ``extrapolate=True`` (Richardson pair) on the same cases,
    without and with spin, and the strips' per a/b; the accuracy models' constants cite these figures.  B2: that
@@ -31,15 +35,18 @@ import numpy as np
 
 import rollcontact as rc
 from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS
+from rollcontact.elliptic.methods.strips import solve_strips_many
 
 MU, LOAD, C = 0.3, 1e5, 6e-3  # Coulomb coefficient, Fn [N], c = sqrt(ab) [m]
 MATERIAL = rc.Material(2 * 82e9 * 1.28, 0.28)  # G = 82 GPa, nu = 0.28
 FACTORS = (0.05, 0.3, 1.0, 3.0)
+SPIN_FACTORS = (0.4, 0.6, 1.5, 2.0, 5.0)
 
 
 def cases(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), friction=MU):
-    """``(group, scene)`` pairs at a/b = ``ratios``: pure creepages at FACTORS and spin with half of xi or eta (or
-    0.3 xi and -0.5 eta) at the last three of FACTORS, in units of the creepage whose linear force is 3 mu Fn."""
+    """``(group, scene)`` pairs at a/b = ``ratios``: pure creepages at FACTORS and spin alone or with half of xi or
+    eta (or 0.3 xi and -0.5 eta) at the last three of FACTORS and at SPIN_FACTORS, in units of the creepage whose
+    linear force is 3 mu Fn."""
     out = []
     for ratio in ratios:
         base = rc.EllipticScene.from_semi_axes(LOAD, C * math.sqrt(ratio), C / math.sqrt(ratio), material=MATERIAL,
@@ -52,7 +59,9 @@ def cases(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), friction=MU):
             out += [("no spin", base.replace(longitudinal_creepage=f * xi_s)),
                     ("no spin", base.replace(lateral_creepage=f * eta_s)),
                     ("spin", base.replace(spin_creepage=f * phi_s))]
-        for f in FACTORS[1:]:
+        for f in FACTORS[1:] + SPIN_FACTORS:
+            if f in SPIN_FACTORS:
+                out.append(("spin", base.replace(spin_creepage=f * phi_s)))
             out += [("spin", base.replace(longitudinal_creepage=0.5 * f * xi_s, spin_creepage=f * phi_s)),
                     ("spin", base.replace(lateral_creepage=0.5 * f * eta_s, spin_creepage=f * phi_s)),
                     ("spin", base.replace(longitudinal_creepage=0.3 * f * xi_s, lateral_creepage=-0.5 * f * eta_s,
@@ -83,7 +92,26 @@ def timing(quick: bool) -> list[str]:
         lines.append(f"| {name} | {group} | {len(scenes)} | {via * 1e6:.0f} | {direct * 1e6:.0f} | "
                      f"{via / linear_time:.1f} |")
     return lines + ["", "FASTSIM on its default 40 x 40 cells; strips on 24 strips (20 cells each where spin needs the "
-                    "march); falling friction: one 2D polynomial solve per strip.", ""]
+                    "march); falling friction: one 2D polynomial solve per strip.", ""] + several(seconds)
+
+
+def several(seconds: float) -> list[str]:
+    """A2: solve_strips_many of 1, 8 and 32 scenes with spin (8 contacts of different a/b, each with the 3 shifted
+    scenes of a Jacobian by differences), median time per call and the ratio to one scene, from the same run."""
+    pool = [s for g, s in cases() if g == "spin" and s.longitudinal_creepage != 0.0 and s.lateral_creepage != 0.0]
+    contacts = [pool[k * len(pool) // 8] for k in range(8)]
+    jacobian = [s.replace(**{name: getattr(s, name) * 1.001}) for s in contacts
+                for name in ("longitudinal_creepage", "lateral_creepage", "spin_creepage")]
+    lines = ["## A2. Several contacts' strips together (`solve_strips_many`, spin)", "",
+             "| scenes | median per call [us] | ratio to one scene |", "|---|---|---|"]
+    one = None
+    for scenes in (contacts[:1], contacts, contacts + jacobian):
+        t = common.median_time(lambda scenes=scenes: solve_strips_many(scenes), min_repeats=5,
+                               min_seconds=5 * seconds)
+        one = t if one is None else one
+        lines.append(f"| {len(scenes)} | {t * 1e6:.0f} | {t / one:.2f} |")
+    return lines + ["", f"The 8 contacts: a/b {', '.join(f'{s.hertz.aspect_ratio:.2g}' for s in contacts)}; 32 scenes: "
+                    "each with its three shifted scenes.", ""]
 
 
 def accuracy() -> list[str]:
@@ -124,15 +152,15 @@ def reference_check() -> list[str]:
     """The Richardson pair of 30 and 60 elements (table B's reference, and the reference of the strips' test of large
     spin in ``tests/elliptic/methods/test_strips.py``) against the pair of 60 and 120 on that test's cases."""
     worst = np.zeros(3)
-    for ratio in (0.2, 0.5):
+    for ratio in (0.2, 1.0, 2.0, 5.0):
         for xi, eta, phi in ((0, 0, 1), (0, 0, 3), (0.5, 0.5, 1), (0.5, 0.5, 3), (1, -0.5, 3)):
             s = saturated(ratio, xi, eta, phi)
             coarse = rc.solve_elliptic(s, "discretised", elements=60, extrapolate=True).force_coefficients
             fine = rc.solve_elliptic(s, "discretised", elements=120, extrapolate=True).force_coefficients
             worst = np.maximum(worst, np.abs(np.array(coarse) - np.array(fine)))
     return ["## B2. The reference's own error: pair 30/60 against pair 60/120", "",
-            "Large spin with lateral creepage at a/b 0.2 and 0.5 (xi/eta/phi in saturation creepages: 0/0/1, 0/0/3, "
-            "0.5/0.5/1, 0.5/0.5/3, 1/-0.5/3), the cases of the strips' test against the discretised level.", "",
+            "Large spin, alone and with creepage, at a/b 0.2, 1, 2 and 5 (xi/eta/phi in saturation creepages: 0/0/1, "
+            "0/0/3, 0.5/0.5/1, 0.5/0.5/3, 1/-0.5/3), the cases of the strips' test against the discretised level.", "",
             "| Fx / (mu Fn) | Fy / (mu Fn) | Mz / (mu Fn c) |", "|---|---|---|",
             f"| {worst[0]:.4f} | {worst[1]:.4f} | {worst[2]:.4f} |", ""]
 
