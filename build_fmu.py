@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import math
 import shutil
 import sys
 import tempfile
@@ -102,7 +103,8 @@ def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = Fal
 
     The entry module is the elliptic contact's (``fmu_src/contact3d_slave.py``, ``fmu_src/fmi3_contact3d_slave.py``)
     with the variant's slave module, model name and ``slave_class`` arguments in place of the elliptic
-    single-contact FMU's, in a module named after the variant (a host may load several variants: pythonfmu3 imports
+    single-contact FMU's (FMI 3.0: ``arrays``, each per-contact variable one array), in a module named after the
+    variant (a host may load several variants: pythonfmu3 imports
     an entry module once per process).  The single-contact RollingContact2D is its own build (:func:`build_model`).
     Integer codes are an FMI 2.0 build (for libcosim).
     """
@@ -117,7 +119,7 @@ def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = Fal
     text = template.read_text()
     if DEFAULT_VARIANT not in text:
         raise RuntimeError(f"{template} does not call slave_class({DEFAULT_VARIANT}): cannot write the variant")
-    text = text.replace(DEFAULT_VARIANT, f"contacts={contacts}, integer_codes={integer_codes}")
+    text = text.replace(DEFAULT_VARIANT, f"contacts={contacts}, integer_codes={integer_codes}, arrays={fmi == 3}")
     text = text.replace(VARIANT_SLAVES[CONTACT3D], VARIANT_SLAVES[model]).replace(CONTACT3D, name)
     stem = template.stem.replace("contact3d", f"contact{model[-2:].lower()}" + (f"_{contacts}" if contacts > 1 else ""))
     with tempfile.TemporaryDirectory(prefix="rollcontact_variant_") as tmp:
@@ -256,14 +258,40 @@ def variables_table(model: str = "RollingContact2D") -> str:
     try:
         import importlib
 
-        from rollcontact_fmu_base import variables_markdown
-
         slave = importlib.import_module(DOCUMENTED[model][0])
         if model == CONTACT3D:
             return variables_markdown(*slave.declaration())
         return variables_markdown(slave.VARIABLES, slave.ENUMERATIONS)
     finally:
         del sys.path[:2]
+
+
+def variables_markdown(variables, enumerations: dict | None = None) -> str:
+    """The variable table of a slave as markdown (name, causality, type, unit, range, start, description), then its
+    enumerations: what ``build_fmu.py --docs`` writes into docs/fmu.md, so the documentation is the table."""
+    enumerations = enumerations or {}
+
+    def number(value, kind) -> str:
+        if value is None:
+            return ""
+        if kind.__name__ == "Real":
+            below = float(f"{value:.12g}")  # a bound just below a round value excludes it
+            if value == math.nextafter(0.0, 1.0):
+                return "> 0"
+            return f"< {below:g}" if value != below and math.nextafter(below, 0.0) == value else f"{value:.16g}"
+        return str(value)
+
+    lines = ["| variable | causality | type | unit | min | max | start | description |",
+             "|---|---|---|---|---|---|---|---|"]
+    for name, kind, causality, _variability, unit, start, lower, upper, description in variables:
+        type_name = enumerations[name][0] if name in enumerations else kind.__name__
+        low, high = number(lower, kind), number(upper, kind)
+        shown = repr(start) if isinstance(start, str) else number(start, kind)
+        lines.append(f"| `{name}` | {causality.name} | {type_name} | {unit or ''} | {low} | {high} | {shown} | "
+                     f"{description.replace('|', chr(92) + '|')} |")
+    for type_name, items in dict(enumerations.values()).items():
+        lines += ["", f"{type_name}: " + "; ".join(f"{value} `{item}` ({text})" for value, item, text in items) + "."]
+    return "\n".join(lines) + "\n"
 
 
 def write_docs(path: Path = DOCS) -> Path:

@@ -84,8 +84,10 @@ def fmi3_variable(var, row, enumerations: dict):
     raise TypeError(f"{var.name}: no FMI 3.0 type for {type(var).__name__}")  # a table row of an unknown type
 
 
-def complete_model_description3(root: Element, variables, initial_dependencies: str | None = "") -> Element:
-    """Add min/max, exact starts and the dependencies of the ModelStructure to pythonfmu3's ``root`` (returned).
+def complete_model_description3(root: Element, variables, initial_dependencies: str | None = "",
+                                dimensions: dict | None = None) -> Element:
+    """Add min/max, exact starts, the arrays' dimensions and the dependencies of the ModelStructure to pythonfmu3's
+    ``root`` (returned).
 
     Parameters
     ----------
@@ -97,10 +99,14 @@ def complete_model_description3(root: Element, variables, initial_dependencies: 
     initial_dependencies : str or None
         ``dependencies`` of every output among the InitialUnknowns: ``""`` when the initial outputs are the start
         values, None to omit the attribute (they depend on the parameters).
+    dimensions : dict, optional
+        Array variables -> their number of values: each gets ``<Dimension start="n"/>`` and its start value n
+        times (the slave's :attr:`~rollcontact_fmu_base.TableSlave.DIMENSIONS`).
 
     Outputs are computed in ``do_step`` only, so as ``Output`` they depend on no variable (``dependencies=""``).
     """
     rows = {row[0]: row for row in variables}
+    dimensions = dimensions or {}
     for element in root.find("ModelVariables"):
         row = rows.get(element.get("name"))
         if row is None:  # time
@@ -110,8 +116,11 @@ def complete_model_description3(root: Element, variables, initial_dependencies: 
         for attribute, value in (("min", lower), ("max", upper)):
             if value is not None:
                 element.set(attribute, exact(value))
-        if kind is Real and element.get("start") is not None:
-            element.set("start", exact(start))
+        size = dimensions.get(row[0])
+        if element.get("start") is not None and (kind is Real or size is not None):
+            element.set("start", " ".join([exact(start)] * (size or 1)))
+        if size is not None:
+            element.append(Element("Dimension", start=str(size)))
     for entry in root.find("ModelStructure"):
         if entry.tag == "Output":
             entry.set("dependencies", "")
@@ -228,5 +237,5 @@ class TableSlave3:
             for value, item, description in items:
                 enumeration.add_value(item, value, description)
         root = Fmi3SlaveBase.to_xml(self, {} if model_options is None else model_options)
-        return complete_model_description3(root, self.VARIABLES, self.INITIAL_DEPENDENCIES)
+        return complete_model_description3(root, self.VARIABLES, self.INITIAL_DEPENDENCIES, self.DIMENSIONS)
 

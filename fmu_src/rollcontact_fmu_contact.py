@@ -256,12 +256,18 @@ CONTACT_PARAMETERS = ("radius", "contact_width", "initial_position")
 the track); the others are shared."""
 
 
-def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, dict]:
+def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> tuple[tuple, dict]:
     """The variable table and enumerations of the FMU with ``contacts`` contacts: with several, every input and
     output of :data:`VARIABLES` once per contact, named ``name[k]`` (k from 1; inputs of every contact first, then
     the outputs), the parameters shared but those of :data:`CONTACT_PARAMETERS`, which follow once per contact;
-    with ``integer_codes`` plain Integer variables."""
-    if contacts == 1:
+    with ``arrays`` (FMI 3.0) each of those is one array variable of :func:`dimensions` in the same order (the
+    inputs, the outputs, the shared parameters, the per-contact ones); with ``integer_codes`` plain Integer
+    variables."""
+    if arrays and contacts > 1:
+        sized = dimensions(contacts, arrays)
+        rows = tuple((*row[:8], contact_text(row[8], None)) if row[0] in sized else row
+                     for row in sorted(VARIABLES, key=lambda row: row[0] in CONTACT_PARAMETERS))
+    elif contacts == 1:
         rows = VARIABLES
     else:
         per_contact = [row for row in VARIABLES if row[2] is not PARAMETER]
@@ -277,10 +283,19 @@ def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, 
     return rows, enumerations
 
 
-def contact_text(description: str, k: int) -> str:
-    """``description`` with ``, contact k`` before its parenthesised type name, if any."""
+def contact_text(description: str, k: int | None) -> str:
+    """``description`` with ``, contact k`` (``k`` None: ``, one per contact``) before its parenthesised type name,
+    if any."""
     head, sep, tail = description.partition(" (")
-    return f"{head}, contact {k}{sep}{tail}"
+    return f"{head}, {'one per contact' if k is None else f'contact {k}'}{sep}{tail}"
+
+
+def dimensions(contacts: int, arrays: bool) -> dict:
+    """The array variables of the FMI 3.0 FMU with ``contacts`` contacts (inputs, outputs and
+    :data:`CONTACT_PARAMETERS`) -> ``contacts``; none with one contact or without ``arrays``."""
+    if not arrays or contacts == 1:
+        return {}
+    return {row[0]: contacts for row in VARIABLES if row[2] is not PARAMETER or row[0] in CONTACT_PARAMETERS}
 
 
 class RollingContact2DContacts(RollingContact2D):
@@ -295,13 +310,17 @@ class RollingContact2DContacts(RollingContact2D):
             values["scene_file"] = resolved_scene_file(values["scene_file"], self.resources)
             checked_scene_file(values["scene_file"])
         n = self.CONTACTS
-        per_contact = {name: tuple(values.pop(f"{name}[{k}]") for k in range(1, n + 1)) for name in CONTACT_PARAMETERS}
+        per_contact = {name: tuple(values.pop(name)) if name in self.DIMENSIONS else
+                       tuple(values.pop(f"{name}[{k}]") for k in range(1, n + 1)) for name in CONTACT_PARAMETERS}
         model = ContactModels(ContactParameters(**values), n, start_time=self.start_time, stop_time=self.stop_time,
                               per_contact=per_contact)
         return model, model.notices
 
     def step_model(self, current_time, step_size):
         values = [getattr(self, name) for name in self.INPUT_NAMES]
+        if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
+            outputs = self.model.step(current_time, step_size, list(zip(*values, strict=True)))
+            return [v for column in zip(*outputs, strict=True) for v in column]
         inputs = [values[i:i + 3] for i in range(0, len(values), 3)]
         return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
 
@@ -315,14 +334,15 @@ def model_name(contacts: int) -> str:
 
 
 @cache
-def slave_class(contacts: int = 1, integer_codes: bool = False) -> type:
+def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> type:
     """The slave class of a variant, one per variant and process (a host may load several): :class:`RollingContact2D`
     for one contact with enumerations, else a class named :func:`model_name` with the variant's table (integer
-    codes: ``build_fmu.py --integer-codes``)."""
+    codes: ``build_fmu.py --integer-codes``; ``arrays``: the per-contact variables as arrays, the FMI 3.0 build)."""
     if contacts == 1 and not integer_codes:
         return RollingContact2D
-    variables, enumerations = declaration(contacts, integer_codes)
+    variables, enumerations = declaration(contacts, integer_codes, arrays)
     base = RollingContact2D if contacts == 1 else RollingContact2DContacts
     return type(model_name(contacts), (base,), {
         "__doc__": f"RollingContact2D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
-        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT)})
+        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT),
+        "DIMENSIONS": dimensions(contacts, arrays)})

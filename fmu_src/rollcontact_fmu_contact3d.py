@@ -13,8 +13,9 @@ contacts, with enumerations or integer codes (the method enumerations are
 :data:`rollcontact.stepping.elliptic.ELLIPTIC_LEVELS`), and :func:`slave_class` gives the variant's class, one per
 variant and process (a Python host may load several variants: this module is imported once).  The entry module
 names the variant (``contact3d_slave.py``; ``build_fmu.py --contacts n`` writes its own).  With one contact the
-variables are named ``normal_load`` ...; with n they are ``normal_load[1]`` ... ``normal_load[n]`` (the FMI 2.0 array
-convention, also used in the FMI 3.0 build: the shared slave maps one value reference to one value).  Value
+variables are named ``normal_load`` ...; with n they are ``normal_load[1]`` ... ``normal_load[n]`` in FMI 2.0 (its
+array convention), and in FMI 3.0 (``arrays``) each per-contact variable is one array ``normal_load`` of n values
+(``<Dimension start="n"/>``, the shared slave's ``DIMENSIONS``); shared parameters stay scalars.  Value
 references of the single-contact table: append only.
 """
 
@@ -107,10 +108,16 @@ def named(name: str, k: int, contacts: int) -> str:
     return name if contacts == 1 else f"{name}[{k}]"
 
 
-def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, dict]:
+def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> tuple[tuple, dict]:
     """The variable table (rows ``(name, type, causality, variability, unit, start, min, max, description)``,
     value reference = row) and the enumerations (variable name -> (type, items)) of the FMU with ``contacts``
-    contacts: inputs per contact, outputs per contact, shared parameters, per-contact curvatures."""
+    contacts: inputs per contact, outputs per contact, shared parameters, per-contact curvatures.  With ``arrays``
+    (FMI 3.0) every per-contact variable is one row, an array of :func:`dimensions`."""
+    if arrays and contacts > 1:
+        single, enumerations = declaration(1, integer_codes)
+        return tuple((*row[:8], f"{row[8].split(' (')[0]}, one per contact" + (
+            f" ({row[8].split(' (', 1)[1]}" if " (" in row[8] else "")) if row[0] in PER_CONTACT else row
+            for row in single), enumerations
     of = (lambda k: "") if contacts == 1 else (lambda k: f", contact {k}")
     rows = []
     for k in range(1, contacts + 1):
@@ -136,6 +143,16 @@ def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, 
     return tuple(rows), enumerations
 
 
+PER_CONTACT = frozenset(name for rows in (INPUT_ROWS, OUTPUT_ROWS, CONTACT_PARAMETERS) for name, *_ in rows)
+"""Variables of their own per contact (arrays in FMI 3.0); the other parameters are shared."""
+
+
+def dimensions(contacts: int, arrays: bool) -> dict:
+    """The array variables of the FMI 3.0 FMU with ``contacts`` contacts -> ``contacts`` (none with one contact or
+    without ``arrays``)."""
+    return {name: contacts for name in sorted(PER_CONTACT)} if arrays and contacts > 1 else {}
+
+
 VARIABLES, _ = declaration()
 assert len(INPUT_ROWS) == len(INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
 
@@ -158,13 +175,16 @@ class RollingContact3D(TableSlave):
         """An EllipticModel of the parameter values (the per-contact curvatures gathered)."""
         n = self.CONTACTS
         shared = {name: values[name] for name, *_ in SHARED_PARAMETERS}
-        curvatures = {name: tuple(values[named(name, k, n)] for k in range(1, n + 1))
-                      for name, *_ in CONTACT_PARAMETERS}
+        curvatures = {name: tuple(values[name]) if name in self.DIMENSIONS else
+                      tuple(values[named(name, k, n)] for k in range(1, n + 1)) for name, *_ in CONTACT_PARAMETERS}
         model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time)
         return model, model.notices
 
     def step_model(self, current_time, step_size):
         values = [getattr(self, name) for name in self.INPUT_NAMES]
+        if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
+            outputs = self.model.step(current_time, step_size, list(zip(*values, strict=True)))
+            return [v for column in zip(*outputs, strict=True) for v in column]
         inputs = [values[i:i + len(INPUT_ROWS)] for i in range(0, len(values), len(INPUT_ROWS))]
         return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
 
@@ -181,12 +201,14 @@ def model_name(contacts: int) -> str:
 
 
 @cache
-def slave_class(contacts: int = 1, integer_codes: bool = False) -> type:
+def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> type:
     """The slave class of a variant (one per variant and process): :class:`RollingContact3D`, else a subclass named
-    :func:`model_name` with the variant's table (pythonfmu names the model, its file and binary after the class)."""
+    :func:`model_name` with the variant's table (pythonfmu names the model, its file and binary after the class);
+    ``arrays``: the per-contact variables as arrays (the FMI 3.0 build)."""
     if contacts == 1 and not integer_codes:
         return RollingContact3D
-    variables, enumerations = declaration(contacts, integer_codes)
+    variables, enumerations = declaration(contacts, integer_codes, arrays)
     return type(model_name(contacts), (RollingContact3D,), {
         "__doc__": f"RollingContact3D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
-        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT)})
+        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT),
+        "DIMENSIONS": dimensions(contacts, arrays)})
