@@ -36,6 +36,8 @@ import hashlib
 import json
 import math
 import sys
+from collections.abc import Callable
+from operator import itemgetter
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Slave, Real
@@ -348,7 +350,7 @@ class TableSlave(Fmi2Slave):
         self.output_names: list[str] = []  # per output value: its name (name[k] in an array)
         self.output_kinds: list[type] = []  # per output value: its type
         self.output_index: dict[int, tuple[int, ...]] = {}  # value reference -> its positions in the outputs
-        self.output_plans: dict[tuple, list[int]] = {}  # (type, value references) read before -> positions
+        self.output_plans: dict[tuple, Callable] = {}  # (type, value references) read before -> gather
         self.input_plans: dict[tuple, tuple] = {}  # (type, value references) of inputs set before -> (names, spans)
         self.input_names = {vr: row[0] for vr, row in enumerate(self.VARIABLES) if row[2] is Fmi2Causality.input}
         outputs = []
@@ -655,14 +657,17 @@ class TableSlave(Fmi2Slave):
             var.setter(value)
 
     def read_values(self, vrs, kind, convert, placeholder, call: str) -> list:
-        # the outputs a host reads every step: once checked, straight from the last step's outputs
+        # the outputs a host reads every step: once checked, gathered from the last step's outputs in one call (the
+        # Real outputs are floats already: only the other types are converted)
         key = (kind, *vrs)
         plan = self.output_plans.get(key)
         if plan is not None:
-            outputs = self.outputs
-            return [convert(outputs[i]) for i in plan]
+            values = plan(self.outputs)
+            return list(values) if convert is float else [convert(v) for v in values]
         if vrs and all(isinstance(self.vars.get(vr), kind) and vr in self.output_index for vr in vrs):
-            self.output_plans[key] = [i for vr in vrs for i in self.output_index[vr]]
+            positions = [i for vr in vrs for i in self.output_index[vr]]
+            self.output_plans[key] = itemgetter(*positions) if len(positions) > 1 else \
+                (lambda outputs, i=positions[0]: (outputs[i],))
         values = []
         for vr in vrs:
             var = self.vars.get(vr)

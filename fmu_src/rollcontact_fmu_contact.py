@@ -27,6 +27,7 @@ import os
 import re
 import stat
 from functools import cache
+from itertools import chain
 from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
@@ -319,10 +320,10 @@ class RollingContact2DContacts(RollingContact2D):
     def step_model(self, current_time, step_size):
         values = [getattr(self, name) for name in self.INPUT_NAMES]
         if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
-            outputs = self.model.step(current_time, step_size, list(zip(*values, strict=True)))
-            return [v for column in zip(*outputs, strict=True) for v in column]
+            return list(chain.from_iterable(zip(*self.model.step(current_time, step_size,
+                                                                 list(zip(*values, strict=True))), strict=True)))
         inputs = [values[i:i + 3] for i in range(0, len(values), 3)]
-        return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
+        return list(chain.from_iterable(self.model.step(current_time, step_size, inputs)))
 
     def parse_model_state(self, data):
         return ContactsState.parse(data, self.CONTACTS)

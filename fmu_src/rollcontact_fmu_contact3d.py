@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from functools import cache
+from itertools import chain
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
@@ -183,10 +184,10 @@ class RollingContact3D(TableSlave):
     def step_model(self, current_time, step_size):
         values = [getattr(self, name) for name in self.INPUT_NAMES]
         if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
-            outputs = self.model.step(current_time, step_size, list(zip(*values, strict=True)))
-            return [v for column in zip(*outputs, strict=True) for v in column]
+            return list(chain.from_iterable(zip(*self.model.step(current_time, step_size,
+                                                                 list(zip(*values, strict=True))), strict=True)))
         inputs = [values[i:i + len(INPUT_ROWS)] for i in range(0, len(values), len(INPUT_ROWS))]
-        return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
+        return list(chain.from_iterable(self.model.step(current_time, step_size, inputs)))
 
     def step_messages(self):
         return self.model.take_messages()

@@ -6,16 +6,25 @@ a contact is stepped exactly as a single-contact model steps it (bit for bit).  
 first and names each invalid one with its contact (``contact 3: normal_load = -1.0 N is out of range ...``); when a
 contact's solve fails after others were stepped, those are set back, so a refused step changes no contact.  Messages
 of the contacts are prefixed with their contact.
+
+Contacts on the closed forms (a flat surface with Coulomb friction, quasi-steady, no table: every contact alike, the
+parameters they share decide it) are stepped in one loop (:meth:`ContactModels.closed_form_steps`): each contact's
+:meth:`ContactModel.closed_form_step` and :func:`~rollcontact.stepping.model.advanced_position`, evaluated for every
+contact before any state changes and committed together (:meth:`ContactModel.commit`), so that no contact's state
+needs saving for a refusal.  A step that meets anything else there (time going backwards, a load beyond the
+floating-point range, outputs out of the friction bound or not finite) is stepped contact by contact instead, which
+refuses or corrects it as a single contact does.
 """
 
 from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, fields
+from math import isfinite
 from operator import attrgetter
 
-from rollcontact.stepping.model import ContactModel
-from rollcontact.stepping.parameters import ContactParameters, ModelError, StepOutputs, input_problem
+from rollcontact.stepping.model import ContactModel, advanced_position
+from rollcontact.stepping.parameters import STATIONARY, ContactParameters, ModelError, StepOutputs, input_problem
 from rollcontact.stepping.state import ModelState
 
 __all__ = ["ContactModels", "ContactsState"]
@@ -92,6 +101,8 @@ class ContactModels:
             raise ModelError("; ".join(problems))
         self.models = tuple(models)
         self.notices = self.models[0].notices
+        self.closed_forms = all(m.closed_form and m.instationary is None and m.table_use is None for m in models)
+        """Whether every step evaluates the closed forms (module docstring): :meth:`closed_form_steps`."""
 
     @property
     def state(self) -> ContactsState:
@@ -133,6 +144,10 @@ class ContactModels:
                     if not (0.0 <= row[0] < INF and -INF < row[1] < INF and 0.0 <= row[2] < INF)]
         if problems or not (0.0 < step_size < INF and -INF < current_time < INF):
             raise ModelError("; ".join(problems) or input_problem(current_time, step_size, *inputs[0]))
+        if self.closed_forms:
+            outputs = self.closed_form_steps(current_time, inputs)
+            if outputs is not None:
+                return outputs
         before = [snapshot(model.state) for model in self.models]
         outputs = []
         for k, (model, row) in enumerate(zip(self.models, inputs, strict=True)):
@@ -143,3 +158,36 @@ class ContactModels:
                     stepped.set_state(ModelState(*previous))
                 raise ModelError(f"contact {k + 1}: {exc}") from None
         return tuple(outputs)
+
+    def closed_form_steps(self, current_time: float, inputs) -> tuple[StepOutputs, ...] | None:
+        """The step of contacts on the closed forms (module docstring) for checked inputs: what
+        :meth:`ContactModel.step` gives each, every contact evaluated before any is committed; None, with no contact
+        changed, when a contact needs its own :meth:`ContactModel.step` (time going backwards, a load beyond the
+        floating-point range, outputs out of the friction bound or not finite)."""
+        evaluated = []
+        for model, (normal_load, creep, velocity) in zip(self.models, inputs, strict=True):
+            dt = current_time - model.state.time
+            if dt < 0.0:
+                return None
+            high, low = advanced_position(model.state, velocity, dt)
+            x = high + low
+            load = normal_load * model.per_width
+            unloaded = load < model.resolved_load
+            if unloaded:
+                outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
+            elif load == INF:
+                return None
+            else:
+                outputs = model.closed_form_step(x, normal_load, creep, velocity)
+            bound = model.friction_bound
+            # a sum of finite outputs is finite unless it overflows (the contact's own step then checks each)
+            if not (-bound * normal_load <= outputs[0] <= bound * normal_load and -bound <= outputs[1] <= bound
+                    and isfinite(sum(outputs))):
+                return None
+            evaluated.append((high, low, outputs, unloaded))
+        for model, (normal_load, creep, velocity), (high, low, outputs, unloaded) in zip(self.models, inputs, evaluated,
+                                                                                         strict=True):
+            if unloaded:
+                model.state.creep_envelope = None
+            model.commit(current_time, high, low, normal_load, creep, velocity, outputs, None)
+        return tuple(item[2] for item in evaluated)

@@ -387,7 +387,7 @@ class EllipticModel:
             method solves within the budget.  The state is then unchanged.
         """
         try:
-            rows = [tuple(float(v) for v in row) for row in inputs]
+            rows = [tuple(map(float, row)) for row in inputs]
         except (TypeError, ValueError):
             rows = None
         inf = math.inf
