@@ -626,9 +626,8 @@ class TableSlave(Fmi2Slave):
         plan = self.input_plans.get(key)
         if plan is not None:
             names, spans = plan
-            if spans is None:
-                for name, value in zip(names, values, strict=False):
-                    setattr(self, name, value)
+            if spans is None:  # scalar inputs: plain instance attributes, stored in one call
+                self.__dict__.update(zip(names, values, strict=False))
                 return
             if len(values) == spans[-1][1]:
                 for name, (lo, hi) in zip(names, spans, strict=True):

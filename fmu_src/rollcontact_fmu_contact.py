@@ -28,6 +28,7 @@ import re
 import stat
 from functools import cache
 from itertools import chain
+from operator import attrgetter
 from pathlib import Path
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
@@ -305,6 +306,8 @@ class RollingContact2DContacts(RollingContact2D):
 
     CONTACTS = 1
     INPUT_NAMES: tuple = ()
+    read_inputs = None
+    """``read_inputs(slave)``: the values of :attr:`INPUT_NAMES` (one C call; :func:`slave_class` sets both)."""
 
     def new_model(self, values: dict):
         if values["scene_file"] and isinstance(values["scene_file"], str):
@@ -318,7 +321,7 @@ class RollingContact2DContacts(RollingContact2D):
         return model, model.notices
 
     def step_model(self, current_time, step_size):
-        values = [getattr(self, name) for name in self.INPUT_NAMES]
+        values = self.read_inputs(self)
         if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
             return list(chain.from_iterable(zip(*self.model.step(current_time, step_size,
                                                                  list(zip(*values, strict=True))), strict=True)))
@@ -342,8 +345,9 @@ def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = F
     if contacts == 1 and not integer_codes:
         return RollingContact2D
     variables, enumerations = declaration(contacts, integer_codes, arrays)
+    names = tuple(row[0] for row in variables if row[2] is INPUT)
     base = RollingContact2D if contacts == 1 else RollingContact2DContacts
     return type(model_name(contacts), (base,), {
         "__doc__": f"RollingContact2D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
-        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT),
+        "CONTACTS": contacts, "INPUT_NAMES": names, "read_inputs": attrgetter(*names),
         "DIMENSIONS": dimensions(contacts, arrays)})

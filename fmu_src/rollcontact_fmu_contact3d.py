@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from functools import cache
 from itertools import chain
+from operator import attrgetter
 
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
@@ -171,6 +172,8 @@ class RollingContact3D(TableSlave):
     VARIABLES, ENUMERATIONS = declaration()
     CONTACTS = 1
     INPUT_NAMES = tuple(row[0] for row in VARIABLES if row[2] is INPUT)
+    read_inputs = attrgetter(*INPUT_NAMES)
+    """``read_inputs(slave)``: the values of :attr:`INPUT_NAMES` (one C call)."""
 
     def new_model(self, values: dict):
         """An EllipticModel of the parameter values (the per-contact curvatures gathered)."""
@@ -182,7 +185,7 @@ class RollingContact3D(TableSlave):
         return model, model.notices
 
     def step_model(self, current_time, step_size):
-        values = [getattr(self, name) for name in self.INPUT_NAMES]
+        values = self.read_inputs(self)
         if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
             return list(chain.from_iterable(zip(*self.model.step(current_time, step_size,
                                                                  list(zip(*values, strict=True))), strict=True)))
@@ -209,7 +212,8 @@ def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = F
     if contacts == 1 and not integer_codes:
         return RollingContact3D
     variables, enumerations = declaration(contacts, integer_codes, arrays)
+    names = tuple(row[0] for row in variables if row[2] is INPUT)
     return type(model_name(contacts), (RollingContact3D,), {
         "__doc__": f"RollingContact3D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
-        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT),
+        "CONTACTS": contacts, "INPUT_NAMES": names, "read_inputs": attrgetter(*names),
         "DIMENSIONS": dimensions(contacts, arrays)})

@@ -125,6 +125,8 @@ class ContactModels:
             raise
 
     def take_messages(self) -> list[str]:
+        if not any(model.messages for model in self.models):  # the usual step: nothing queued
+            return []
         return [f"contact {k}: {message}" for k, model in enumerate(self.models, start=1)
                 for message in model.take_messages()]
 
@@ -139,15 +141,15 @@ class ContactModels:
         """
         if len(inputs) != len(self.models):
             raise ModelError(f"{len(inputs)} input rows for {len(self.models)} contacts")
+        if self.closed_forms and 0.0 < step_size < INF and -INF < current_time < INF:
+            outputs = self.closed_form_steps(current_time, inputs)
+            if outputs is not None:
+                return outputs
         problems = [f"contact {k}: {input_problem(current_time, step_size, *row)}"
                     for k, row in enumerate(inputs, start=1)
                     if not (0.0 <= row[0] < INF and -INF < row[1] < INF and 0.0 <= row[2] < INF)]
         if problems or not (0.0 < step_size < INF and -INF < current_time < INF):
             raise ModelError("; ".join(problems) or input_problem(current_time, step_size, *inputs[0]))
-        if self.closed_forms:
-            outputs = self.closed_form_steps(current_time, inputs)
-            if outputs is not None:
-                return outputs
         before = [snapshot(model.state) for model in self.models]
         outputs = []
         for k, (model, row) in enumerate(zip(self.models, inputs, strict=True)):
@@ -160,12 +162,14 @@ class ContactModels:
         return tuple(outputs)
 
     def closed_form_steps(self, current_time: float, inputs) -> tuple[StepOutputs, ...] | None:
-        """The step of contacts on the closed forms (module docstring) for checked inputs: what
+        """The step of contacts on the closed forms (module docstring) at a valid time and step size: what
         :meth:`ContactModel.step` gives each, every contact evaluated before any is committed; None, with no contact
-        changed, when a contact needs its own :meth:`ContactModel.step` (time going backwards, a load beyond the
-        floating-point range, outputs out of the friction bound or not finite)."""
+        changed, when a contact needs its own :meth:`ContactModel.step` (an invalid input, time going backwards, a
+        load beyond the floating-point range, outputs out of the friction bound or not finite)."""
         evaluated = []
         for model, (normal_load, creep, velocity) in zip(self.models, inputs, strict=True):
+            if not (0.0 <= normal_load < INF and -INF < creep < INF and 0.0 <= velocity < INF):
+                return None
             dt = current_time - model.state.time
             if dt < 0.0:
                 return None
