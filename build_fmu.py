@@ -9,13 +9,15 @@ co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcon
 builds only the FMUs that are missing or older than one of their sources; ``--integer-codes`` declares the
 enumerations' variables as plain Integer, for hosts without FMI enumerations (libcosim); ``--docs`` writes the
 variable table of ``docs/fmu.md`` from the slave's.  Every FMU can get, set and serialise
-their state; all bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_base.py``.
+their state; all bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_base.py`` and
+the FMI 2.0 binding ``fmu_src/fmi2_table_slave.py``.
 The slave files are tiny entry modules that import the slave class from a bundled module
 (``fmu_src/rollcontact_fmu_contact.py``, ``fmu_src/rollcontact_fmu_wheel_rig.py``): pythonfmu re-executes the
 entry module on every instantiation (``fmu_src/rollcontact_fmu_slave.py``'s docstring).
 
 ``--fmi 3`` builds the FMI 3.0 co-simulation variants into ``<dest>/fmi3/`` with pythonfmu3 instead (``--fmi 2,3``
-both): the same slave classes, put on pythonfmu3 by ``fmu_src/fmi3_table_slave.py`` (entry modules
+both): the same shared slave classes, without the FMI 2.0 binding, put on pythonfmu3 by
+``fmu_src/fmi3_table_slave.py`` (entry modules
 ``fmu_src/fmi3_rollcontact_slave.py``, ``fmu_src/fmi3_wheel_rig_slave.py``, ``fmu_src/fmi3_wheelset_slave.py``);
 they also bundle pythonfmu's Python
 files, in whose types the shared slave's variable table is written.  The default builds FMI 2.0 only.
@@ -34,6 +36,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent
 SOURCES = ROOT / "src"
 SLAVE_BASE = ROOT / "fmu_src" / "rollcontact_fmu_base.py"
+FMI2_BINDING = ROOT / "fmu_src" / "fmi2_table_slave.py"
+"""The shared slave base and the FMI 2.0 binding (the slave modules define their FMI 2.0 classes with it), bundled
+into every FMU."""
 EXIT_FIX = ROOT / "fmu_src" / "pythonfmu_exit_fix.py"
 """The build's fix of pythonfmu's export library (not bundled into the FMUs)."""
 SLAVE = ROOT / "fmu_src" / "rollcontact_fmu_slave.py"
@@ -150,7 +155,7 @@ def pack(slave: Path, packages, dest: Path | str) -> Path:
     try:
         from pythonfmu.builder import FmuBuilder
 
-        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, SLAVE_BASE],
+        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, SLAVE_BASE, FMI2_BINDING],
                                                canGetAndSetFMUstate=True, canSerializeFMUstate=True))
     finally:
         sys.path.remove(str(SOURCES))
@@ -178,7 +183,8 @@ def build_model3(model: str, dest: Path | str, slave: Path | None = None, extra:
             for source in Path(pythonfmu.__file__).parent.glob("*.py"):
                 shutil.copy2(source, framework)
             return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest,
-                                                   project_files=[*packages, *extra, SLAVE_BASE, framework],
+                                                   project_files=[*packages, *extra, SLAVE_BASE, FMI2_BINDING,
+                                                                  framework],
                                                    canGetAndSetFMUState=True, canSerializeFMUState=True,
                                                    canHandleVariableCommunicationStepSize=True))
     finally:
@@ -206,7 +212,7 @@ def sources(model: str, fmi: int = 2) -> list[Path]:
     """Files the FMU ``model`` is built from (its slave, the shared slave base and the bundled packages' modules;
     for FMI 3.0 also its entry module and the FMI 3.0 binding)."""
     slave, packages = FMUS[model]
-    files = [slave, SLAVE_BASE, *(f for package in packages
+    files = [slave, SLAVE_BASE, FMI2_BINDING, *(f for package in packages
                                   for f in ([package] if package.is_file() else package.rglob("*.py")))]
     return files if fmi == 2 else [FMUS3[model][0], *FMUS3[model][1], *files]
 

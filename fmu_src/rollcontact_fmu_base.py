@@ -2,9 +2,9 @@
 (variables from one table, do_step, state), modelDescription completion and printf-safe log messages.
 
 pythonfmu 0.7 writes no units, bounds, UnitDefinitions or InitialUnknowns (``fmpy validate`` then fails).  A
-slave that declares its variables in one table of rows ``(name, type, causality, variability, unit, start, min,
-max, description)`` (value references = row order) calls :func:`complete_model_description` from its
-``to_xml`` to add them.
+slave declares its variables in one table of rows ``(name, type, causality, variability, unit, start, min, max,
+description)`` (value references = row order); its FMI 2.0 binding (``fmi2_table_slave.TableSlave2``) calls
+:func:`complete_model_description` from ``to_xml`` to add them.
 
 What pythonfmu 0.7's C++ layer (``PySlaveInstance.cpp``, ``fmi2.cpp``) does with the slave, and how
 :class:`TableSlave` copes (``docs/fmu.md``, "Known limits of pythonfmu"):
@@ -40,9 +40,9 @@ from collections.abc import Callable
 from operator import itemgetter
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import Fmi2Slave, Real
+from pythonfmu import Real
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
-from pythonfmu.variables import Boolean, Integer, String
+from pythonfmu.variables import Integer, String
 
 UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
     "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "s/m": {"m": -1, "s": 1}, "rad": {"rad": 1},
@@ -309,8 +309,15 @@ def complete_model_description(root: Element, variables, initial_dependencies: s
     return root
 
 
-class TableSlave(Fmi2Slave):
-    """What both slaves do around their library model: variables from one table, do_step, state, XML.
+class TableSlave:
+    """What every slave does around its library model, in either FMI version: variables from one table, do_step,
+    state, refusals.
+
+    It is no pythonfmu slave itself: a binding constructs it and answers the FMI calls in its version's names,
+    :class:`fmi2_table_slave.TableSlave2` on pythonfmu's ``Fmi2Slave`` (the FMI 2.0 slave class names the shared
+    class first, then the binding) and :class:`fmi3_table_slave.TableSlave3` on pythonfmu3 (first, then the shared
+    class, then ``Fmi3Slave``).  The binding gives ``log``, ``register_variable``, ``vars``, ``instance_name``,
+    ``resources``, ``modelName`` and :attr:`WORDS`, and calls :meth:`init_table` after its base constructor.
 
     A subclass sets :attr:`VARIABLES` (rows as in the module docstring) and :attr:`INITIAL_DEPENDENCIES`, and gives
     :meth:`new_model` (parameter values -> model and notices to log, without side effects), :meth:`step_model`,
@@ -331,12 +338,6 @@ class TableSlave(Fmi2Slave):
     """Array variables (FMI 3.0's ``<Dimension>``) -> their number of values: such a variable holds a list, its
     value reference gets and sets that many values (the others one each)."""
     INITIAL_DEPENDENCIES: str | None = ""
-    WORDS = {"error": "fmi2Error", "ok": "fmi2OK", "fmi": "FMI 2", "binding": "pythonfmu", "set_state": "setFMUstate"}
-    """The FMI version's words in the slave's messages (the FMI 3.0 binding has its own)."""
-
-    def __init__(self, **kwargs):
-        Fmi2Slave.__init__(self, **kwargs)  # the binding's attributes (vars, instance_name, resources, ...)
-        self.init_table(**kwargs)
 
     def init_table(self, **kwargs) -> None:
         """Set up what the slave adds to its binding's constructor: the table's variables (registered through
@@ -459,30 +460,6 @@ class TableSlave(Fmi2Slave):
         self.outputs = tuple(outputs)
         self.next_time = current_time + step_size
         return True
-
-    def set_real(self, vrs, values):
-        self.write_values(vrs, values, Real, "setReal")
-
-    def set_integer(self, vrs, values):
-        self.write_values(vrs, values, Integer, "setInteger")
-
-    def set_boolean(self, vrs, values):
-        self.write_values(vrs, values, Boolean, "setBoolean")
-
-    def set_string(self, vrs, values):
-        self.write_values(vrs, values, String, "setString")
-
-    def get_real(self, vrs):
-        return self.read_values(vrs, Real, float, math.nan, "getReal")
-
-    def get_integer(self, vrs):
-        return self.read_values(vrs, Integer, int, 0, "getInteger")
-
-    def get_boolean(self, vrs):
-        return self.read_values(vrs, Boolean, bool, False, "getBoolean")
-
-    def get_string(self, vrs):
-        return self.read_values(vrs, String, str, "", "getString")
 
     def _get_fmu_state(self):
         return {"format": STATE_FORMAT, "version": STATE_VERSION, "fmu": self.modelName,
@@ -782,8 +759,3 @@ class TableSlave(Fmi2Slave):
         if isinstance(index, tuple):
             return lambda: [self.outputs[i] for i in index]
         return lambda: self.outputs[index]
-
-    def to_xml(self, model_options=None) -> Element:
-        """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure."""
-        root = super().to_xml({} if model_options is None else model_options)
-        return complete_model_description(root, self.VARIABLES, self.INITIAL_DEPENDENCIES, self.ENUMERATIONS)

@@ -1,4 +1,5 @@
-"""The RollingContact2D FMU's slave class (FMI 2.0 co-simulation): maps FMU variables to rollcontact.
+"""The RollingContact2D FMU's slave: :class:`RollingContact2DShared` maps FMU variables to rollcontact (in both FMI
+versions), :class:`RollingContact2D` is its FMI 2.0 class (``fmi2_table_slave``).
 
 The FMU's entry module ``rollcontact_fmu_slave.py`` only imports :class:`RollingContact2D` from here (pythonfmu
 re-executes the entry module on every instantiation: see its docstring).  No physics here: the parameters become a
@@ -31,6 +32,7 @@ from itertools import chain
 from operator import attrgetter
 from pathlib import Path
 
+from fmi2_table_slave import TableSlave2
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu_base import FRICTION_LAW_ITEMS, TableSlave, integer_coded
@@ -223,8 +225,9 @@ def checked_scene_file(path: str) -> None:
                          f"{sorted(SCENE_TABLES)}")
 
 
-class RollingContact2D(TableSlave):
-    """2D wheel/rail rolling contact (Hertz/Carter, polynomial and discretised methods of rollcontact)."""
+class RollingContact2DShared(TableSlave):
+    """2D wheel/rail rolling contact (Hertz/Carter, polynomial and discretised methods of rollcontact): the slave
+    logic of both FMI versions."""
 
     author = "rollcontact"
     description = ("2D rolling contact of a wheel on a smooth or corrugated surface, steady or instationary: "
@@ -300,7 +303,11 @@ def dimensions(contacts: int, arrays: bool) -> dict:
     return {row[0]: contacts for row in VARIABLES if row[2] is not PARAMETER or row[0] in CONTACT_PARAMETERS}
 
 
-class RollingContact2DContacts(RollingContact2D):
+class RollingContact2D(RollingContact2DShared, TableSlave2):
+    """The RollingContact2D FMU's FMI 2.0 slave: :class:`RollingContact2DShared` on pythonfmu."""
+
+
+class RollingContact2DContacts(RollingContact2DShared):
     """Several 2D contacts of one parameter set in one instance (:class:`rollcontact.stepping.contacts.ContactModels`;
     :func:`slave_class` sets the table)."""
 
@@ -338,16 +345,18 @@ def model_name(contacts: int) -> str:
 
 
 @cache
-def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> type:
-    """The slave class of a variant, one per variant and process (a host may load several): :class:`RollingContact2D`
-    for one contact with enumerations, else a class named :func:`model_name` with the variant's table (integer
-    codes: ``build_fmu.py --integer-codes``; ``arrays``: the per-contact variables as arrays, the FMI 3.0 build)."""
+def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = False, fmi: int = 2) -> type:
+    """The slave class of a variant, one per variant and process (a host may load several): with ``fmi`` = 2 the FMI
+    2.0 class, :class:`RollingContact2D` for one contact with enumerations, else a class named :func:`model_name`
+    with the variant's table (integer codes: ``build_fmu.py --integer-codes``; ``arrays``: the per-contact variables
+    as arrays, the FMI 3.0 build); with ``fmi`` = 3 its shared class, which the FMI 3.0 binding takes."""
     if contacts == 1 and not integer_codes:
-        return RollingContact2D
+        return RollingContact2D if fmi == 2 else RollingContact2DShared
     variables, enumerations = declaration(contacts, integer_codes, arrays)
     names = tuple(row[0] for row in variables if row[2] is INPUT)
-    base = RollingContact2D if contacts == 1 else RollingContact2DContacts
-    return type(model_name(contacts), (base,), {
+    base = RollingContact2DShared if contacts == 1 else RollingContact2DContacts
+    shared = type(model_name(contacts), (base,), {
         "__doc__": f"RollingContact2D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
         "CONTACTS": contacts, "INPUT_NAMES": names, "read_inputs": attrgetter(*names),
         "DIMENSIONS": dimensions(contacts, arrays)})
+    return shared if fmi == 3 else type(model_name(contacts), (shared, TableSlave2), {"__doc__": shared.__doc__})

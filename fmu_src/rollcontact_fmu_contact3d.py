@@ -1,5 +1,5 @@
-"""The RollingContact3D FMU's slave class (FMI 2.0 co-simulation): maps FMU variables to rollcontact's elliptic
-stepping model.
+"""The RollingContact3D FMU's slave: :class:`RollingContact3DShared` maps FMU variables to rollcontact's elliptic
+stepping model (in both FMI versions), :class:`RollingContact3D` is its FMI 2.0 class (``fmi2_table_slave``).
 
 The entry module ``contact3d_slave.py`` only imports the class from here (pythonfmu re-executes the entry module on
 every instantiation: ``rollcontact_fmu_slave.py``'s docstring).  No physics here: the parameters become a
@@ -12,7 +12,8 @@ One declaration for every variant: :func:`declaration` writes the variable table
 contacts, with enumerations or integer codes (the method enumerations are
 :data:`rollcontact.stepping.elliptic.ELLIPTIC_LEVELS`), and :func:`slave_class` gives the variant's class, one per
 variant and process (a Python host may load several variants: this module is imported once).  The entry module
-names the variant (``contact3d_slave.py``; ``build_fmu.py --contacts n`` writes its own).  With one contact the
+names the variant (``contact3d_slave.py``, ``fmi3_contact3d_slave.py`` with ``fmi=3``; ``build_fmu.py --contacts
+n`` writes its own).  With one contact the
 variables are named ``normal_load`` ...; with n they are ``normal_load[1]`` ... ``normal_load[n]`` in FMI 2.0 (its
 array convention), and in FMI 3.0 (``arrays``) each per-contact variable is one array ``normal_load`` of n values
 (``<Dimension start="n"/>``, the shared slave's ``DIMENSIONS``); shared parameters stay scalars.  Value
@@ -26,6 +27,7 @@ from functools import cache
 from itertools import chain
 from operator import attrgetter
 
+from fmi2_table_slave import TableSlave2
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu_base import FRICTION_LAW_ITEMS, TableSlave, integer_coded
@@ -159,8 +161,9 @@ VARIABLES, _ = declaration()
 assert len(INPUT_ROWS) == len(INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
 
 
-class RollingContact3D(TableSlave):
-    """Elliptic wheel/rail rolling contact (linear theory, FASTSIM, strips, discretised) of rollcontact."""
+class RollingContact3DShared(TableSlave):
+    """Elliptic wheel/rail rolling contact (linear theory, FASTSIM, strips, discretised) of rollcontact: the slave
+    logic of both FMI versions."""
 
     author = "rollcontact"
     description = ("Elliptic (3D) wheel/rail rolling contact: longitudinal and lateral force, spin moment, contact "
@@ -199,21 +202,27 @@ class RollingContact3D(TableSlave):
         return EllipticState.parse(data)
 
 
+class RollingContact3D(RollingContact3DShared, TableSlave2):
+    """The RollingContact3D FMU's FMI 2.0 slave: :class:`RollingContact3DShared` on pythonfmu."""
+
+
 def model_name(contacts: int) -> str:
     """The model name of the FMU with ``contacts`` contacts: ``RollingContact3D``, else ``RollingContact3D_n``."""
     return "RollingContact3D" if contacts == 1 else f"RollingContact3D_{contacts}"
 
 
 @cache
-def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> type:
-    """The slave class of a variant (one per variant and process): :class:`RollingContact3D`, else a subclass named
-    :func:`model_name` with the variant's table (pythonfmu names the model, its file and binary after the class);
-    ``arrays``: the per-contact variables as arrays (the FMI 3.0 build)."""
+def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = False, fmi: int = 2) -> type:
+    """The slave class of a variant (one per variant and process): with ``fmi`` = 2 the FMI 2.0 class,
+    :class:`RollingContact3D`, else a class named :func:`model_name` with the variant's table (pythonfmu names the
+    model, its file and binary after the class; ``arrays``: the per-contact variables as arrays, the FMI 3.0 build);
+    with ``fmi`` = 3 its shared class, which the FMI 3.0 binding takes."""
     if contacts == 1 and not integer_codes:
-        return RollingContact3D
+        return RollingContact3D if fmi == 2 else RollingContact3DShared
     variables, enumerations = declaration(contacts, integer_codes, arrays)
     names = tuple(row[0] for row in variables if row[2] is INPUT)
-    return type(model_name(contacts), (RollingContact3D,), {
+    shared = type(model_name(contacts), (RollingContact3DShared,), {
         "__doc__": f"RollingContact3D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
         "CONTACTS": contacts, "INPUT_NAMES": names, "read_inputs": attrgetter(*names),
         "DIMENSIONS": dimensions(contacts, arrays)})
+    return shared if fmi == 3 else type(model_name(contacts), (shared, TableSlave2), {"__doc__": shared.__doc__})
