@@ -7,13 +7,14 @@ first and names each invalid one with its contact (``contact 3: normal_load = -1
 contact's solve fails after others were stepped, those are set back, so a refused step changes no contact.  Messages
 of the contacts are prefixed with their contact.
 
-Contacts on the closed forms (a flat surface with Coulomb friction, quasi-steady, no table: every contact alike, the
-parameters they share decide it) are stepped in one loop (:meth:`ContactModels.closed_form_steps`): each contact's
-:meth:`ContactModel.closed_form_step` and :func:`~rollcontact.stepping.model.advanced_position`, evaluated for every
-contact before any state changes and committed together (:meth:`ContactModel.commit`), so that no contact's state
-needs saving for a refusal.  A step that meets anything else there (time going backwards, a load beyond the
-floating-point range, outputs out of the friction bound or not finite) is stepped contact by contact instead, which
-refuses or corrects it as a single contact does.
+Quasi-steady contacts on the closed forms (a flat surface with Coulomb friction) or on a certified table (every
+contact alike: the parameters they share decide it) are stepped in one loop (:meth:`ContactModels.steps_together`):
+each contact's :meth:`ContactModel.closed_form_step` or :meth:`ContactModel.table_step` and
+:func:`~rollcontact.stepping.model.advanced_position`, evaluated for every contact before any state changes and
+committed together (:meth:`ContactModel.commit`), so that no contact's state needs saving for a refusal.  A step that
+meets anything else there (an invalid input, time going backwards, a load beyond the floating-point range, a table
+without an answer, outputs out of the friction bound or not finite) is stepped contact by contact instead, which
+refuses, solves or corrects it as a single contact does.
 """
 
 from __future__ import annotations
@@ -101,8 +102,8 @@ class ContactModels:
             raise ModelError("; ".join(problems))
         self.models = tuple(models)
         self.notices = self.models[0].notices
-        self.closed_forms = all(m.closed_form and m.instationary is None and m.table_use is None for m in models)
-        """Whether every step evaluates the closed forms (module docstring): :meth:`closed_form_steps`."""
+        self.together = all(m.instationary is None and (m.closed_form or m.table_use is not None) for m in models)
+        """Whether the contacts are stepped in one loop (module docstring): :meth:`steps_together`."""
 
     @property
     def state(self) -> ContactsState:
@@ -141,8 +142,8 @@ class ContactModels:
         """
         if len(inputs) != len(self.models):
             raise ModelError(f"{len(inputs)} input rows for {len(self.models)} contacts")
-        if self.closed_forms and 0.0 < step_size < INF and -INF < current_time < INF:
-            outputs = self.closed_form_steps(current_time, inputs)
+        if self.together and 0.0 < step_size < INF and -INF < current_time < INF:
+            outputs = self.steps_together(current_time, step_size, inputs)
             if outputs is not None:
                 return outputs
         problems = [f"contact {k}: {input_problem(current_time, step_size, *row)}"
@@ -161,11 +162,12 @@ class ContactModels:
                 raise ModelError(f"contact {k + 1}: {exc}") from None
         return tuple(outputs)
 
-    def closed_form_steps(self, current_time: float, inputs) -> tuple[StepOutputs, ...] | None:
-        """The step of contacts on the closed forms (module docstring) at a valid time and step size: what
+    def steps_together(self, current_time: float, step_size: float, inputs) -> tuple[StepOutputs, ...] | None:
+        """The step of contacts on the closed forms or a table (module docstring) at a valid time and step size: what
         :meth:`ContactModel.step` gives each, every contact evaluated before any is committed; None, with no contact
         changed, when a contact needs its own :meth:`ContactModel.step` (an invalid input, time going backwards, a
-        load beyond the floating-point range, outputs out of the friction bound or not finite)."""
+        load beyond the floating-point range, a table without an answer, outputs out of the friction bound or not
+        finite)."""
         evaluated = []
         for model, (normal_load, creep, velocity) in zip(self.models, inputs, strict=True):
             if not (0.0 <= normal_load < INF and -INF < creep < INF and 0.0 <= velocity < INF):
@@ -175,14 +177,20 @@ class ContactModels:
                 return None
             high, low = advanced_position(model.state, velocity, dt)
             x = high + low
+            if model.stop_time is not None and model.table_use is not None:  # as ContactModel.step: the steps left
+                model.table_use.remaining = (model.stop_time - current_time) / step_size
             load = normal_load * model.per_width
             unloaded = load < model.resolved_load
             if unloaded:
                 outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
             elif load == INF:
                 return None
-            else:
+            elif model.closed_form:
                 outputs = model.closed_form_step(x, normal_load, creep, velocity)
+            else:
+                outputs = model.table_step(x, normal_load, creep, velocity)
+                if outputs is None:
+                    return None
             bound = model.friction_bound
             # a sum of finite outputs is finite unless it overflows (the contact's own step then checks each)
             if not (-bound * normal_load <= outputs[0] <= bound * normal_load and -bound <= outputs[1] <= bound
