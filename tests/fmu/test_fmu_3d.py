@@ -283,3 +283,28 @@ def test_fmi3_refuses_a_set_of_the_wrong_number_of_values_and_keeps_the_arrays(c
         slave.fmu.doStep(0.0, H)
     finally:
         slave.free()
+
+
+def test_fmi3_an_array_parameter_is_fixed_after_initialisation(contact_variants):
+    """Setting a per-contact parameter array after initialisation: its values in force again change nothing, any
+    other values are refused (emulated fmi3Error naming the array and the values in force) and steps are discarded."""
+    slave = Slave(contact_variants[3] / f"RollingContact3D_{CONTACTS}.fmu", "RollingContact3D_fixed")
+    try:
+        set_parameters(slave, curvature_parameters(CONTACTS))
+        slave.initialise()
+        lateral = slave.reference("curvature_lateral")
+        in_force = [CURVATURES[k][1] for k in range(CONTACTS)]
+        assert slave.fmu.getReal([lateral], CONTACTS) == in_force
+        before = len(slave.log)
+        slave.fmu.setReal([lateral], in_force)
+        assert not [m for m in slave.log[before:] if m.startswith("Error: ")], slave.log[before:]
+        slave.fmu.setReal([lateral], [2.0] * CONTACTS)
+        errors = " ".join(m for m in slave.log[before:] if m.startswith("Error: "))
+        assert "set curvature_lateral = [2.0, 2.0, 2.0] refused: curvature_lateral is a fixed parameter" in errors \
+            and f"the value in force stays {in_force!r}" in errors, errors
+        assert slave.fmu.getReal([lateral], CONTACTS) == in_force, "the refused set changed nothing"
+        with pytest.raises(FMICallException) as caught:
+            step(slave, 0.0, [signal(1, k)[0] for k in range(CONTACTS)], CONTACTS)
+        assert caught.value.status == DISCARD, caught.value.status
+    finally:
+        slave.free()
