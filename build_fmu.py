@@ -9,13 +9,15 @@ co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcon
 builds only the FMUs that are missing or older than one of their sources; ``--integer-codes`` declares the
 enumerations' variables as plain Integer, for hosts without FMI enumerations (libcosim); ``--docs`` writes the
 variable table of ``docs/fmu.md`` from the slave's.  Every FMU can get, set and serialise
-their state; all bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_base.py``.
+their state; all bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_base.py`` and
+the FMI 2.0 binding ``fmu_src/fmi2_table_slave.py``.
 The slave files are tiny entry modules that import the slave class from a bundled module
 (``fmu_src/rollcontact_fmu_contact.py``, ``fmu_src/rollcontact_fmu_wheel_rig.py``): pythonfmu re-executes the
 entry module on every instantiation (``fmu_src/rollcontact_fmu_slave.py``'s docstring).
 
 ``--fmi 3`` builds the FMI 3.0 co-simulation variants into ``<dest>/fmi3/`` with pythonfmu3 instead (``--fmi 2,3``
-both): the same slave classes, put on pythonfmu3 by ``fmu_src/fmi3_table_slave.py`` (entry modules
+both): the same shared slave classes, without the FMI 2.0 binding, put on pythonfmu3 by
+``fmu_src/fmi3_table_slave.py`` (entry modules
 ``fmu_src/fmi3_rollcontact_slave.py``, ``fmu_src/fmi3_wheel_rig_slave.py``, ``fmu_src/fmi3_wheelset_slave.py``);
 they also bundle pythonfmu's Python
 files, in whose types the shared slave's variable table is written.  The default builds FMI 2.0 only.
@@ -25,6 +27,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import math
 import shutil
 import sys
 import tempfile
@@ -33,6 +36,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent
 SOURCES = ROOT / "src"
 SLAVE_BASE = ROOT / "fmu_src" / "rollcontact_fmu_base.py"
+FMI2_BINDING = ROOT / "fmu_src" / "fmi2_table_slave.py"
+"""The shared slave base and the FMI 2.0 binding (the slave modules define their FMI 2.0 classes with it), bundled
+into every FMU."""
 EXIT_FIX = ROOT / "fmu_src" / "pythonfmu_exit_fix.py"
 """The build's fix of pythonfmu's export library (not bundled into the FMUs)."""
 SLAVE = ROOT / "fmu_src" / "rollcontact_fmu_slave.py"
@@ -102,7 +108,8 @@ def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = Fal
 
     The entry module is the elliptic contact's (``fmu_src/contact3d_slave.py``, ``fmu_src/fmi3_contact3d_slave.py``)
     with the variant's slave module, model name and ``slave_class`` arguments in place of the elliptic
-    single-contact FMU's, in a module named after the variant (a host may load several variants: pythonfmu3 imports
+    single-contact FMU's (FMI 3.0: ``arrays``, each per-contact variable one array), in a module named after the
+    variant (a host may load several variants: pythonfmu3 imports
     an entry module once per process).  The single-contact RollingContact2D is its own build (:func:`build_model`).
     Integer codes are an FMI 2.0 build (for libcosim).
     """
@@ -117,7 +124,7 @@ def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = Fal
     text = template.read_text()
     if DEFAULT_VARIANT not in text:
         raise RuntimeError(f"{template} does not call slave_class({DEFAULT_VARIANT}): cannot write the variant")
-    text = text.replace(DEFAULT_VARIANT, f"contacts={contacts}, integer_codes={integer_codes}")
+    text = text.replace(DEFAULT_VARIANT, f"contacts={contacts}, integer_codes={integer_codes}, arrays={fmi == 3}")
     text = text.replace(VARIANT_SLAVES[CONTACT3D], VARIANT_SLAVES[model]).replace(CONTACT3D, name)
     stem = template.stem.replace("contact3d", f"contact{model[-2:].lower()}" + (f"_{contacts}" if contacts > 1 else ""))
     with tempfile.TemporaryDirectory(prefix="rollcontact_variant_") as tmp:
@@ -148,7 +155,7 @@ def pack(slave: Path, packages, dest: Path | str) -> Path:
     try:
         from pythonfmu.builder import FmuBuilder
 
-        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, SLAVE_BASE],
+        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, SLAVE_BASE, FMI2_BINDING],
                                                canGetAndSetFMUstate=True, canSerializeFMUstate=True))
     finally:
         sys.path.remove(str(SOURCES))
@@ -176,7 +183,8 @@ def build_model3(model: str, dest: Path | str, slave: Path | None = None, extra:
             for source in Path(pythonfmu.__file__).parent.glob("*.py"):
                 shutil.copy2(source, framework)
             return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest,
-                                                   project_files=[*packages, *extra, SLAVE_BASE, framework],
+                                                   project_files=[*packages, *extra, SLAVE_BASE, FMI2_BINDING,
+                                                                  framework],
                                                    canGetAndSetFMUState=True, canSerializeFMUState=True,
                                                    canHandleVariableCommunicationStepSize=True))
     finally:
@@ -204,7 +212,7 @@ def sources(model: str, fmi: int = 2) -> list[Path]:
     """Files the FMU ``model`` is built from (its slave, the shared slave base and the bundled packages' modules;
     for FMI 3.0 also its entry module and the FMI 3.0 binding)."""
     slave, packages = FMUS[model]
-    files = [slave, SLAVE_BASE, *(f for package in packages
+    files = [slave, SLAVE_BASE, FMI2_BINDING, *(f for package in packages
                                   for f in ([package] if package.is_file() else package.rglob("*.py")))]
     return files if fmi == 2 else [FMUS3[model][0], *FMUS3[model][1], *files]
 
@@ -256,14 +264,40 @@ def variables_table(model: str = "RollingContact2D") -> str:
     try:
         import importlib
 
-        from rollcontact_fmu_base import variables_markdown
-
         slave = importlib.import_module(DOCUMENTED[model][0])
         if model == CONTACT3D:
             return variables_markdown(*slave.declaration())
         return variables_markdown(slave.VARIABLES, slave.ENUMERATIONS)
     finally:
         del sys.path[:2]
+
+
+def variables_markdown(variables, enumerations: dict | None = None) -> str:
+    """The variable table of a slave as markdown (name, causality, type, unit, range, start, description), then its
+    enumerations: what ``build_fmu.py --docs`` writes into docs/fmu.md, so the documentation is the table."""
+    enumerations = enumerations or {}
+
+    def number(value, kind) -> str:
+        if value is None:
+            return ""
+        if kind.__name__ == "Real":
+            below = float(f"{value:.12g}")  # a bound just below a round value excludes it
+            if value == math.nextafter(0.0, 1.0):
+                return "> 0"
+            return f"< {below:g}" if value != below and math.nextafter(below, 0.0) == value else f"{value:.16g}"
+        return str(value)
+
+    lines = ["| variable | causality | type | unit | min | max | start | description |",
+             "|---|---|---|---|---|---|---|---|"]
+    for name, kind, causality, _variability, unit, start, lower, upper, description in variables:
+        type_name = enumerations[name][0] if name in enumerations else kind.__name__
+        low, high = number(lower, kind), number(upper, kind)
+        shown = repr(start) if isinstance(start, str) else number(start, kind)
+        lines.append(f"| `{name}` | {causality.name} | {type_name} | {unit or ''} | {low} | {high} | {shown} | "
+                     f"{description.replace('|', chr(92) + '|')} |")
+    for type_name, items in dict(enumerations.values()).items():
+        lines += ["", f"{type_name}: " + "; ".join(f"{value} `{item}` ({text})" for value, item, text in items) + "."]
+    return "\n".join(lines) + "\n"
 
 
 def write_docs(path: Path = DOCS) -> Path:

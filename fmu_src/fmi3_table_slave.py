@@ -1,11 +1,12 @@
 """The FMI 3.0 co-simulation binding of the project's slaves (pythonfmu3, bundled in each FMI 3.0 FMU's resources).
 
-:class:`TableSlave3` puts an FMI 2.0 slave of this project (a :class:`rollcontact_fmu_base.TableSlave` with its
-model glue, e.g. ``rollcontact_fmu_contact.RollingContact2D``) on pythonfmu3: the same variable table (names,
-value references, units, ranges, enumerations, descriptions), the same ``do_step``, setters, checks and FMU state,
-none of it written twice.  An entry module names both and ``Fmi3Slave`` (``fmi3_rollcontact_slave.py``)::
+:class:`TableSlave3` puts a slave of this project (a :class:`rollcontact_fmu_base.TableSlave` with its model glue,
+e.g. ``rollcontact_fmu_contact.RollingContact2DShared``, whose FMI 2.0 class adds ``fmi2_table_slave.TableSlave2``)
+on pythonfmu3: the same variable table (names, value references, units, ranges, enumerations, descriptions), the
+same ``do_step``, setters, checks and FMU state, none of it written twice.  An entry module names both and
+``Fmi3Slave`` (``fmi3_rollcontact_slave.py``)::
 
-    class RollingContact2D(TableSlave3, RollingContact2DFmi2, Fmi3Slave):
+    class RollingContact2D(TableSlave3, RollingContact2DShared, Fmi3Slave):
 
 :class:`TableSlave3` comes first, so it answers every call pythonfmu3 makes and everything FMI 3.0 words
 differently: variables are registered as pythonfmu3's Float64 (Real), Int32 (Integer), Enumeration (an Integer of
@@ -13,13 +14,11 @@ the table's ``ENUMERATIONS``; Int64 at the API) and String, plus the independent
 requires (value reference after the table's); log messages are pythonfmu3's (literal text, not printf formats,
 written in FMI 3.0's words: :attr:`TableSlave3.WORDS`); the model description is FMI 3.0's.  The table's types and
 causalities are pythonfmu's (FMI 2.0) classes, so each FMI 3.0 FMU also bundles pythonfmu's Python files (not its
-binary).  Construction is explicit: :meth:`TableSlave3.__init__` runs
-``Fmi3SlaveBase.__init__`` (pythonfmu3's attributes), then the shared slave's
+binary).  No FMI 3.0 slave inherits pythonfmu's ``Fmi2Slave`` or the FMI 2.0 binding (``tests/fmu3`` checks it):
+:meth:`TableSlave3.__init__` runs ``Fmi3SlaveBase.__init__`` (pythonfmu3's attributes), then the shared slave's
 :meth:`rollcontact_fmu_base.TableSlave.init_table` (the table, registered through pythonfmu3), then registers
-``time``; pythonfmu's ``Fmi2Slave.__init__`` never runs.  Every method that both bindings define and pythonfmu3 or its
-builder calls is :class:`TableSlave3`'s or named there from ``Fmi3SlaveBase`` (``register_variable``, ``log``,
-``to_xml``, ``enter_initialization_mode``, ``terminate``, ``_get_log_queue``, every typed getter and setter), so no
-call depends on where ``Fmi2Slave`` stands in the bases (``tests/fmu3`` checks it).
+``time``; the calls the shared slave does not answer (``enter_initialization_mode``, ``terminate``, ...) are
+pythonfmu3's.
 
 What pythonfmu3 0.3.4's C++ layer (``PySlaveInstance.cpp``, ``cppfmu/fmi_functions.cpp``, ``cppfmu_common.hpp``,
 shipped in the wheel under ``pythonfmu-export/``) does with a slave, and how this binding copes (``docs/fmu.md``,
@@ -84,8 +83,10 @@ def fmi3_variable(var, row, enumerations: dict):
     raise TypeError(f"{var.name}: no FMI 3.0 type for {type(var).__name__}")  # a table row of an unknown type
 
 
-def complete_model_description3(root: Element, variables, initial_dependencies: str | None = "") -> Element:
-    """Add min/max, exact starts and the dependencies of the ModelStructure to pythonfmu3's ``root`` (returned).
+def complete_model_description3(root: Element, variables, initial_dependencies: str | None = "",
+                                dimensions: dict | None = None) -> Element:
+    """Add min/max, exact starts, the arrays' dimensions and the dependencies of the ModelStructure to pythonfmu3's
+    ``root`` (returned).
 
     Parameters
     ----------
@@ -97,10 +98,14 @@ def complete_model_description3(root: Element, variables, initial_dependencies: 
     initial_dependencies : str or None
         ``dependencies`` of every output among the InitialUnknowns: ``""`` when the initial outputs are the start
         values, None to omit the attribute (they depend on the parameters).
+    dimensions : dict, optional
+        Array variables -> their number of values: each gets ``<Dimension start="n"/>`` and its start value n
+        times (the slave's :attr:`~rollcontact_fmu_base.TableSlave.DIMENSIONS`).
 
     Outputs are computed in ``do_step`` only, so as ``Output`` they depend on no variable (``dependencies=""``).
     """
     rows = {row[0]: row for row in variables}
+    dimensions = dimensions or {}
     for element in root.find("ModelVariables"):
         row = rows.get(element.get("name"))
         if row is None:  # time
@@ -110,8 +115,11 @@ def complete_model_description3(root: Element, variables, initial_dependencies: 
         for attribute, value in (("min", lower), ("max", upper)):
             if value is not None:
                 element.set(attribute, exact(value))
-        if kind is Real and element.get("start") is not None:
-            element.set("start", exact(start))
+        size = dimensions.get(row[0])
+        if element.get("start") is not None and (kind is Real or size is not None):
+            element.set("start", " ".join([exact(start)] * (size or 1)))
+        if size is not None:
+            element.append(Element("Dimension", start=str(size)))
     for entry in root.find("ModelStructure"):
         if entry.tag == "Output":
             entry.set("dependencies", "")
@@ -122,9 +130,8 @@ def complete_model_description3(root: Element, variables, initial_dependencies: 
 
 class TableSlave3:
     """The FMI 3.0 side of a :class:`rollcontact_fmu_base.TableSlave` (module docstring): put it first in the bases,
-    the FMI 2.0 slave class next and ``Fmi3Slave`` last."""
+    the shared slave class next and ``Fmi3Slave`` last."""
 
-    log_categories = Fmi3SlaveBase.log_categories
     WORDS = {"error": "fmi3Error", "ok": "fmi3OK", "fmi": "FMI 3", "binding": "pythonfmu3", "set_state": "setFMUState"}
     """FMI 3.0's words in the shared slave's messages."""
 
@@ -140,10 +147,6 @@ class TableSlave3:
         if not isinstance(var, Float64 | Int32 | Int64 | UInt64 | Enumeration | String | Boolean):
             var = fmi3_variable(var, self.VARIABLES[len(self.vars)], self.ENUMERATIONS)  # row = value reference
         Fmi3SlaveBase.register_variable(self, var, nested, var_type, has_event_indicator)
-
-    enter_initialization_mode = Fmi3SlaveBase.enter_initialization_mode
-    terminate = Fmi3SlaveBase.terminate
-    _get_log_queue = Fmi3SlaveBase._get_log_queue
 
     def current_time(self) -> float:
         """The communication point the next step starts from (the start time before the first)."""
@@ -228,5 +231,5 @@ class TableSlave3:
             for value, item, description in items:
                 enumeration.add_value(item, value, description)
         root = Fmi3SlaveBase.to_xml(self, {} if model_options is None else model_options)
-        return complete_model_description3(root, self.VARIABLES, self.INITIAL_DEPENDENCIES)
+        return complete_model_description3(root, self.VARIABLES, self.INITIAL_DEPENDENCIES, self.DIMENSIONS)
 

@@ -2,9 +2,9 @@
 (variables from one table, do_step, state), modelDescription completion and printf-safe log messages.
 
 pythonfmu 0.7 writes no units, bounds, UnitDefinitions or InitialUnknowns (``fmpy validate`` then fails).  A
-slave that declares its variables in one table of rows ``(name, type, causality, variability, unit, start, min,
-max, description)`` (value references = row order) calls :func:`complete_model_description` from its
-``to_xml`` to add them.
+slave declares its variables in one table of rows ``(name, type, causality, variability, unit, start, min, max,
+description)`` (value references = row order); its FMI 2.0 binding (``fmi2_table_slave.TableSlave2``) calls
+:func:`complete_model_description` from ``to_xml`` to add them.
 
 What pythonfmu 0.7's C++ layer (``PySlaveInstance.cpp``, ``fmi2.cpp``) does with the slave, and how
 :class:`TableSlave` copes (``docs/fmu.md``, "Known limits of pythonfmu"):
@@ -36,11 +36,13 @@ import hashlib
 import json
 import math
 import sys
+from collections.abc import Callable
+from operator import itemgetter
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import Fmi2Slave, Real
+from pythonfmu import Real
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
-from pythonfmu.variables import Boolean, Integer, String
+from pythonfmu.variables import Integer, String
 
 from rollcontact.friction import RAIL_CONDITIONS
 from rollcontact.stepping.parameters import RAIL_CONDITION_CODES
@@ -160,7 +162,10 @@ def clip(text: str, limit: int = 200) -> str:
 
 
 def same_value(a, b) -> bool:
-    """Equal numbers (both NaN included) or equal strings: a host re-setting the value in force changes nothing."""
+    """Equal numbers (both NaN included), equal strings or arrays of such values: a host re-setting the value in
+    force changes nothing."""
+    if isinstance(a, list | tuple) and isinstance(b, list | tuple):
+        return len(a) == len(b) and all(map(same_value, a, b))
     if is_real(a) and is_real(b):
         return a == b or (a != a and b != b)
     return type(a) is type(b) and a == b
@@ -245,6 +250,16 @@ class StateRefused(ValueError):
     """An FMU state that cannot be set; the message says why."""
 
 
+def checked_value(name: str, value, kind):
+    """A state's value of the variable ``name`` of type ``kind`` (Real as float); StateRefused for another type."""
+    if kind is Real and is_real(value):
+        return float(value)
+    if (kind is Integer and type(value) is int and INT32[0] <= value <= INT32[1]) or (
+            kind is String and type(value) is str):
+        return value
+    raise StateRefused(f"variables: {name} = {short(value)} is not of type {kind.__name__}")
+
+
 def complete_model_description(root: Element, variables, initial_dependencies: str | None = "",
                                enumerations: dict | None = None) -> Element:
     """Add units, min/max, UnitDefinitions, TypeDefinitions of the enumerations and a complete ModelStructure to
@@ -309,36 +324,15 @@ def complete_model_description(root: Element, variables, initial_dependencies: s
     return root
 
 
-def variables_markdown(variables, enumerations: dict | None = None) -> str:
-    """The variable table of a slave as markdown (name, causality, type, unit, range, start, description), then its
-    enumerations: what ``build_fmu.py --docs`` writes into docs/fmu.md, so the documentation is the table."""
-    enumerations = enumerations or {}
+class TableSlave:
+    """What every slave does around its library model, in either FMI version: variables from one table, do_step,
+    state, refusals.
 
-    def number(value, kind) -> str:
-        if value is None:
-            return ""
-        if kind is Real:
-            below = float(f"{value:.12g}")  # a bound just below a round value excludes it
-            if value == math.nextafter(0.0, 1.0):
-                return "> 0"
-            return f"< {below:g}" if value != below and math.nextafter(below, 0.0) == value else f"{value:.16g}"
-        return str(value)
-
-    lines = ["| variable | causality | type | unit | min | max | start | description |",
-             "|---|---|---|---|---|---|---|---|"]
-    for name, kind, causality, _variability, unit, start, lower, upper, description in variables:
-        type_name = enumerations[name][0] if name in enumerations else kind.__name__
-        low, high = number(lower, kind), number(upper, kind)
-        shown = repr(start) if isinstance(start, str) else number(start, kind)
-        lines.append(f"| `{name}` | {causality.name} | {type_name} | {unit or ''} | {low} | {high} | {shown} | "
-                     f"{description.replace('|', chr(92) + '|')} |")
-    for type_name, items in dict(enumerations.values()).items():
-        lines += ["", f"{type_name}: " + "; ".join(f"{value} `{item}` ({text})" for value, item, text in items) + "."]
-    return "\n".join(lines) + "\n"
-
-
-class TableSlave(Fmi2Slave):
-    """What both slaves do around their library model: variables from one table, do_step, state, XML.
+    It is no pythonfmu slave itself: a binding constructs it and answers the FMI calls in its version's names,
+    :class:`fmi2_table_slave.TableSlave2` on pythonfmu's ``Fmi2Slave`` (the FMI 2.0 slave class names the shared
+    class first, then the binding) and :class:`fmi3_table_slave.TableSlave3` on pythonfmu3 (first, then the shared
+    class, then ``Fmi3Slave``).  The binding gives ``log``, ``register_variable``, ``vars``, ``instance_name``,
+    ``resources``, ``modelName`` and :attr:`WORDS`, and calls :meth:`init_table` after its base constructor.
 
     A subclass sets :attr:`VARIABLES` (rows as in the module docstring) and :attr:`INITIAL_DEPENDENCIES`, and gives
     :meth:`new_model` (parameter values -> model and notices to log, without side effects), :meth:`step_model`,
@@ -355,13 +349,10 @@ class TableSlave(Fmi2Slave):
 
     VARIABLES: tuple = ()
     ENUMERATIONS: dict = {}
+    DIMENSIONS: dict = {}
+    """Array variables (FMI 3.0's ``<Dimension>``) -> their number of values: such a variable holds a list, its
+    value reference gets and sets that many values (the others one each)."""
     INITIAL_DEPENDENCIES: str | None = ""
-    WORDS = {"error": "fmi2Error", "ok": "fmi2OK", "fmi": "FMI 2", "binding": "pythonfmu", "set_state": "setFMUstate"}
-    """The FMI version's words in the slave's messages (the FMI 3.0 binding has its own)."""
-
-    def __init__(self, **kwargs):
-        Fmi2Slave.__init__(self, **kwargs)  # the binding's attributes (vars, instance_name, resources, ...)
-        self.init_table(**kwargs)
 
     def init_table(self, **kwargs) -> None:
         """Set up what the slave adds to its binding's constructor: the table's variables (registered through
@@ -372,21 +363,25 @@ class TableSlave(Fmi2Slave):
         self.logger_address = kwargs.get("logger")  # pythonfmu's C++ logger object (logger_categories)
         self.told: set[str] = set()  # refusal reasons the host's logger received or standard error showed
         self.echoes = 0  # lines written to standard error
-        self.output_names = []
-        self.output_index: dict[int, int] = {}  # value reference -> position in the outputs
-        self.output_plans: dict[tuple, list[int]] = {}  # (type, value references) read before -> positions
-        self.input_plans: dict[tuple, list[str]] = {}  # (type, value references) of inputs set before -> names
+        self.output_names: list[str] = []  # per output value: its name (name[k] in an array)
+        self.output_kinds: list[type] = []  # per output value: its type
+        self.output_index: dict[int, tuple[int, ...]] = {}  # value reference -> its positions in the outputs
+        self.output_plans: dict[tuple, Callable] = {}  # (type, value references) read before -> gather
+        self.input_plans: dict[tuple, tuple] = {}  # (type, value references) of inputs set before -> (names, spans)
         self.input_names = {vr: row[0] for vr, row in enumerate(self.VARIABLES) if row[2] is Fmi2Causality.input}
         outputs = []
         for vr, (name, kind, causality, variability, _unit, start, _lo, _hi, description) in enumerate(self.VARIABLES):
+            size = self.DIMENSIONS.get(name)
             if causality is Fmi2Causality.output:
-                self.output_index[vr] = len(outputs)
-                getter = self.output_reader(len(outputs))
-                outputs.append(start)
-                self.output_names.append(name)
+                positions = tuple(range(len(outputs), len(outputs) + (size or 1)))
+                self.output_index[vr] = positions
+                getter = self.output_reader(positions[0] if size is None else positions)
+                outputs += [start] * len(positions)
+                self.output_names += [name] if size is None else [f"{name}[{k}]" for k in range(1, size + 1)]
+                self.output_kinds += [kind] * len(positions)
                 initial = Fmi2Initial.approx
             else:
-                setattr(self, name, start)
+                setattr(self, name, start if size is None else [start] * size)
                 getter = initial = None
             self.register_variable(kind(name, causality=causality, variability=variability, initial=initial,
                                         description=description, getter=getter,
@@ -480,30 +475,6 @@ class TableSlave(Fmi2Slave):
         self.outputs = tuple(outputs)
         self.next_time = current_time + step_size
         return True
-
-    def set_real(self, vrs, values):
-        self.write_values(vrs, values, Real, "setReal")
-
-    def set_integer(self, vrs, values):
-        self.write_values(vrs, values, Integer, "setInteger")
-
-    def set_boolean(self, vrs, values):
-        self.write_values(vrs, values, Boolean, "setBoolean")
-
-    def set_string(self, vrs, values):
-        self.write_values(vrs, values, String, "setString")
-
-    def get_real(self, vrs):
-        return self.read_values(vrs, Real, float, math.nan, "getReal")
-
-    def get_integer(self, vrs):
-        return self.read_values(vrs, Integer, int, 0, "getInteger")
-
-    def get_boolean(self, vrs):
-        return self.read_values(vrs, Boolean, bool, False, "getBoolean")
-
-    def get_string(self, vrs):
-        return self.read_values(vrs, String, str, "", "getString")
 
     def _get_fmu_state(self):
         return {"format": STATE_FORMAT, "version": STATE_VERSION, "fmu": self.modelName,
@@ -642,18 +613,34 @@ class TableSlave(Fmi2Slave):
 
     def write_values(self, vrs, values, kind, call: str) -> None:
         # the inputs a host sets every step: once checked, straight to their attributes (an input's setter only
-        # stores the value)
+        # stores the value; an array input takes its slice of the values)
         key = (kind, *vrs)
         plan = self.input_plans.get(key)
         if plan is not None:
-            for name, value in zip(plan, values, strict=False):
-                setattr(self, name, value)
+            names, spans = plan
+            if spans is None:  # scalar inputs: plain instance attributes, stored in one call
+                self.__dict__.update(zip(names, values, strict=False))
+                return
+            if len(values) == spans[-1][1]:
+                for name, (lo, hi) in zip(names, spans, strict=True):
+                    setattr(self, name, list(values[lo:hi]))
+                return
+        sizes = [self.DIMENSIONS.get(var.name, 1) if isinstance(var := self.vars.get(vr), kind) else 1 for vr in vrs]
+        if len(values) != sum(sizes):
+            self.refuse(f"{call} of {len(values)} values for the value references {short(list(vrs))} refused: they "
+                        f"take {sum(sizes)} values")
             return
-        if vrs and len(self.input_plans) < PLAN_LIMIT and all(
+        if plan is None and vrs and len(self.input_plans) < PLAN_LIMIT and all(
                 isinstance(self.vars.get(vr), kind) and vr in self.input_names for vr in vrs):
-            self.input_plans[key] = [self.input_names[vr] for vr in vrs]
-        for vr, value in zip(vrs, values, strict=False):
+            ends = [sum(sizes[:i + 1]) for i in range(len(sizes))]
+            self.input_plans[key] = ([self.input_names[vr] for vr in vrs], None if not self.DIMENSIONS else
+                                     [(end - size, end) for end, size in zip(ends, sizes, strict=True)])
+        position = 0
+        for vr, size in zip(vrs, sizes, strict=True):
             var = self.vars.get(vr)
+            value = values[position] if var is None or var.name not in self.DIMENSIONS else \
+                list(values[position:position + size])
+            position += size
             if not isinstance(var, kind):
                 what = "no variable" if var is None else f"{var.name}, not a {kind.__name__}"
                 self.refuse(f"{call} of value reference {vr!r} refused: it is {what}")
@@ -661,14 +648,17 @@ class TableSlave(Fmi2Slave):
             var.setter(value)
 
     def read_values(self, vrs, kind, convert, placeholder, call: str) -> list:
-        # the outputs a host reads every step: once checked, straight from the last step's outputs
+        # the outputs a host reads every step: once checked, gathered from the last step's outputs in one call (the
+        # Real outputs are floats already: only the other types are converted)
         key = (kind, *vrs)
         plan = self.output_plans.get(key)
         if plan is not None:
-            outputs = self.outputs
-            return [convert(outputs[i]) for i in plan]
+            values = plan(self.outputs)
+            return list(values) if convert is float else [convert(v) for v in values]
         if vrs and all(isinstance(self.vars.get(vr), kind) and vr in self.output_index for vr in vrs):
-            self.output_plans[key] = [self.output_index[vr] for vr in vrs]
+            positions = [i for vr in vrs for i in self.output_index[vr]]
+            self.output_plans[key] = itemgetter(*positions) if len(positions) > 1 else \
+                (lambda outputs, i=positions[0]: (outputs[i],))
         values = []
         for vr in vrs:
             var = self.vars.get(vr)
@@ -678,6 +668,9 @@ class TableSlave(Fmi2Slave):
                 values.append(placeholder)
                 continue
             try:
+                if var.name in self.DIMENSIONS:
+                    values += [convert(value) for value in var.getter()]
+                    continue
                 values.append(convert(var.getter()))
             except Exception as exc:  # noqa: BLE001 - never fmi2Fatal
                 self.refuse(f"{call} of {var.name} failed: {clip(str(exc), 200)}")
@@ -755,34 +748,29 @@ class TableSlave(Fmi2Slave):
                                "(a state holds exactly the FMU's input and parameter variables)")
         checked = {}
         for name in self.state_variables:
-            value, kind = variables[name], self.kinds[name]
-            if kind is Real and is_real(value):
-                checked[name] = float(value)
-            elif kind is Integer and type(value) is int and INT32[0] <= value <= INT32[1]:
-                checked[name] = value
-            elif kind is String and type(value) is str:
-                checked[name] = value
+            value, kind, size = variables[name], self.kinds[name], self.DIMENSIONS.get(name)
+            if size is None:
+                checked[name] = checked_value(name, value, kind)
+            elif type(value) is list and len(value) == size:
+                checked[name] = [checked_value(name, element, kind) for element in value]
             else:
-                raise StateRefused(f"variables: {name} = {short(value)} is not of type {kind.__name__}")
+                raise StateRefused(f"variables: {name} = {short(value)} is not a list of {size} values")
         return checked
 
     def check_outputs(self, outputs) -> tuple:
         """The state's outputs: one finite value of its type per output."""
         if not isinstance(outputs, list) or len(outputs) != len(self.output_names):
             raise StateRefused(f"outputs must be a list of {len(self.output_names)} values, got {short(outputs)}")
-        for name, value in zip(self.output_names, outputs, strict=True):
-            ok = (is_real(value) and math.isfinite(value)) if self.kinds[name] is Real else \
+        for name, kind, value in zip(self.output_names, self.output_kinds, outputs, strict=True):
+            ok = (is_real(value) and math.isfinite(value)) if kind is Real else \
                 (type(value) is int and INT32[0] <= value <= INT32[1])
             if not ok:
-                raise StateRefused(f"outputs: {name} = {short(value)} is not a finite value of type "
-                                   f"{self.kinds[name].__name__}")
-        return tuple(float(v) if self.kinds[n] is Real else v for n, v in zip(self.output_names, outputs, strict=True))
+                raise StateRefused(f"outputs: {name} = {short(value)} is not a finite value of type {kind.__name__}")
+        return tuple(float(v) if kind is Real else v for kind, v in zip(self.output_kinds, outputs, strict=True))
 
     def output_reader(self, index):
-        """Getter of output ``index`` of the last step (the outputs follow the table)."""
+        """Getter of output ``index`` of the last step (the outputs follow the table); of an array output (a tuple of
+        positions) the list of its values."""
+        if isinstance(index, tuple):
+            return lambda: [self.outputs[i] for i in index]
         return lambda: self.outputs[index]
-
-    def to_xml(self, model_options=None) -> Element:
-        """pythonfmu's model description plus units, bounds, UnitDefinitions and a complete ModelStructure."""
-        root = super().to_xml({} if model_options is None else model_options)
-        return complete_model_description(root, self.VARIABLES, self.INITIAL_DEPENDENCIES, self.ENUMERATIONS)

@@ -1,4 +1,5 @@
-"""The RollingContact2D FMU's slave class (FMI 2.0 co-simulation): maps FMU variables to rollcontact.
+"""The RollingContact2D FMU's slave: :class:`RollingContact2DShared` maps FMU variables to rollcontact (in both FMI
+versions), :class:`RollingContact2D` is its FMI 2.0 class (``fmi2_table_slave``).
 
 The FMU's entry module ``rollcontact_fmu_slave.py`` only imports :class:`RollingContact2D` from here (pythonfmu
 re-executes the entry module on every instantiation: see its docstring).  No physics here: the parameters become a
@@ -27,8 +28,11 @@ import os
 import re
 import stat
 from functools import cache
+from itertools import chain
+from operator import attrgetter
 from pathlib import Path
 
+from fmi2_table_slave import TableSlave2
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu_base import (
@@ -230,8 +234,9 @@ def checked_scene_file(path: str) -> None:
                          f"{sorted(SCENE_TABLES)}")
 
 
-class RollingContact2D(TableSlave):
-    """2D wheel/rail rolling contact (Hertz/Carter, polynomial and discretised methods of rollcontact)."""
+class RollingContact2DShared(TableSlave):
+    """2D wheel/rail rolling contact (Hertz/Carter, polynomial and discretised methods of rollcontact): the slave
+    logic of both FMI versions."""
 
     author = "rollcontact"
     description = ("2D rolling contact of a wheel on a smooth or corrugated surface, steady or instationary: "
@@ -265,12 +270,18 @@ CONTACT_PARAMETERS = ("radius", "contact_width", "initial_position")
 the track); the others are shared."""
 
 
-def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, dict]:
+def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> tuple[tuple, dict]:
     """The variable table and enumerations of the FMU with ``contacts`` contacts: with several, every input and
     output of :data:`VARIABLES` once per contact, named ``name[k]`` (k from 1; inputs of every contact first, then
     the outputs), the parameters shared but those of :data:`CONTACT_PARAMETERS`, which follow once per contact;
-    with ``integer_codes`` plain Integer variables."""
-    if contacts == 1:
+    with ``arrays`` (FMI 3.0) each of those is one array variable of :func:`dimensions` in the same order (the
+    inputs, the outputs, the shared parameters, the per-contact ones); with ``integer_codes`` plain Integer
+    variables."""
+    if arrays and contacts > 1:
+        sized = dimensions(contacts, arrays)
+        rows = tuple((*row[:8], contact_text(row[8], None)) if row[0] in sized else row
+                     for row in sorted(VARIABLES, key=lambda row: row[0] in CONTACT_PARAMETERS))
+    elif contacts == 1:
         rows = VARIABLES
     else:
         per_contact = [row for row in VARIABLES if row[2] is not PARAMETER]
@@ -286,33 +297,52 @@ def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, 
     return rows, enumerations
 
 
-def contact_text(description: str, k: int) -> str:
-    """``description`` with ``, contact k`` before its parenthesised type name, if any."""
+def contact_text(description: str, k: int | None) -> str:
+    """``description`` with ``, contact k`` (``k`` None: ``, one per contact``) before its parenthesised type name,
+    if any."""
     head, sep, tail = description.partition(" (")
-    return f"{head}, contact {k}{sep}{tail}"
+    return f"{head}, {'one per contact' if k is None else f'contact {k}'}{sep}{tail}"
 
 
-class RollingContact2DContacts(RollingContact2D):
+def dimensions(contacts: int, arrays: bool) -> dict:
+    """The array variables of the FMI 3.0 FMU with ``contacts`` contacts (inputs, outputs and
+    :data:`CONTACT_PARAMETERS`) -> ``contacts``; none with one contact or without ``arrays``."""
+    if not arrays or contacts == 1:
+        return {}
+    return {row[0]: contacts for row in VARIABLES if row[2] is not PARAMETER or row[0] in CONTACT_PARAMETERS}
+
+
+class RollingContact2D(RollingContact2DShared, TableSlave2):
+    """The RollingContact2D FMU's FMI 2.0 slave: :class:`RollingContact2DShared` on pythonfmu."""
+
+
+class RollingContact2DContacts(RollingContact2DShared):
     """Several 2D contacts of one parameter set in one instance (:class:`rollcontact.stepping.contacts.ContactModels`;
     :func:`slave_class` sets the table)."""
 
     CONTACTS = 1
     INPUT_NAMES: tuple = ()
+    read_inputs = None
+    """``read_inputs(slave)``: the values of :attr:`INPUT_NAMES` (one C call; :func:`slave_class` sets both)."""
 
     def new_model(self, values: dict):
         if values["scene_file"] and isinstance(values["scene_file"], str):
             values["scene_file"] = resolved_scene_file(values["scene_file"], self.resources)
             checked_scene_file(values["scene_file"])
         n = self.CONTACTS
-        per_contact = {name: tuple(values.pop(f"{name}[{k}]") for k in range(1, n + 1)) for name in CONTACT_PARAMETERS}
+        per_contact = {name: tuple(values.pop(name)) if name in self.DIMENSIONS else
+                       tuple(values.pop(f"{name}[{k}]") for k in range(1, n + 1)) for name in CONTACT_PARAMETERS}
         model = ContactModels(ContactParameters(**values), n, start_time=self.start_time, stop_time=self.stop_time,
                               per_contact=per_contact)
         return model, model.notices
 
     def step_model(self, current_time, step_size):
-        values = [getattr(self, name) for name in self.INPUT_NAMES]
+        values = self.read_inputs(self)
+        if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
+            return list(chain.from_iterable(zip(*self.model.step(current_time, step_size,
+                                                                 list(zip(*values, strict=True))), strict=True)))
         inputs = [values[i:i + 3] for i in range(0, len(values), 3)]
-        return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
+        return list(chain.from_iterable(self.model.step(current_time, step_size, inputs)))
 
     def parse_model_state(self, data):
         return ContactsState.parse(data, self.CONTACTS)
@@ -324,14 +354,18 @@ def model_name(contacts: int) -> str:
 
 
 @cache
-def slave_class(contacts: int = 1, integer_codes: bool = False) -> type:
-    """The slave class of a variant, one per variant and process (a host may load several): :class:`RollingContact2D`
-    for one contact with enumerations, else a class named :func:`model_name` with the variant's table (integer
-    codes: ``build_fmu.py --integer-codes``)."""
+def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = False, fmi: int = 2) -> type:
+    """The slave class of a variant, one per variant and process (a host may load several): with ``fmi`` = 2 the FMI
+    2.0 class, :class:`RollingContact2D` for one contact with enumerations, else a class named :func:`model_name`
+    with the variant's table (integer codes: ``build_fmu.py --integer-codes``; ``arrays``: the per-contact variables
+    as arrays, the FMI 3.0 build); with ``fmi`` = 3 its shared class, which the FMI 3.0 binding takes."""
     if contacts == 1 and not integer_codes:
-        return RollingContact2D
-    variables, enumerations = declaration(contacts, integer_codes)
-    base = RollingContact2D if contacts == 1 else RollingContact2DContacts
-    return type(model_name(contacts), (base,), {
+        return RollingContact2D if fmi == 2 else RollingContact2DShared
+    variables, enumerations = declaration(contacts, integer_codes, arrays)
+    names = tuple(row[0] for row in variables if row[2] is INPUT)
+    base = RollingContact2DShared if contacts == 1 else RollingContact2DContacts
+    shared = type(model_name(contacts), (base,), {
         "__doc__": f"RollingContact2D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
-        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT)})
+        "CONTACTS": contacts, "INPUT_NAMES": names, "read_inputs": attrgetter(*names),
+        "DIMENSIONS": dimensions(contacts, arrays)})
+    return shared if fmi == 3 else type(model_name(contacts), (shared, TableSlave2), {"__doc__": shared.__doc__})

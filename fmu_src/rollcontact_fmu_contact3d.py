@@ -1,5 +1,5 @@
-"""The RollingContact3D FMU's slave class (FMI 2.0 co-simulation): maps FMU variables to rollcontact's elliptic
-stepping model.
+"""The RollingContact3D FMU's slave: :class:`RollingContact3DShared` maps FMU variables to rollcontact's elliptic
+stepping model (in both FMI versions), :class:`RollingContact3D` is its FMI 2.0 class (``fmi2_table_slave``).
 
 The entry module ``contact3d_slave.py`` only imports the class from here (pythonfmu re-executes the entry module on
 every instantiation: ``rollcontact_fmu_slave.py``'s docstring).  No physics here: the parameters become a
@@ -12,9 +12,11 @@ One declaration for every variant: :func:`declaration` writes the variable table
 contacts, with enumerations or integer codes (the method enumerations are
 :data:`rollcontact.stepping.elliptic.ELLIPTIC_LEVELS`), and :func:`slave_class` gives the variant's class, one per
 variant and process (a Python host may load several variants: this module is imported once).  The entry module
-names the variant (``contact3d_slave.py``; ``build_fmu.py --contacts n`` writes its own).  With one contact the
-variables are named ``normal_load`` ...; with n they are ``normal_load[1]`` ... ``normal_load[n]`` (the FMI 2.0 array
-convention, also used in the FMI 3.0 build: the shared slave maps one value reference to one value).  Value
+names the variant (``contact3d_slave.py``, ``fmi3_contact3d_slave.py`` with ``fmi=3``; ``build_fmu.py --contacts
+n`` writes its own).  With one contact the
+variables are named ``normal_load`` ...; with n they are ``normal_load[1]`` ... ``normal_load[n]`` in FMI 2.0 (its
+array convention), and in FMI 3.0 (``arrays``) each per-contact variable is one array ``normal_load`` of n values
+(``<Dimension start="n"/>``, the shared slave's ``DIMENSIONS``); shared parameters stay scalars.  Value
 references of the single-contact table: append only.
 """
 
@@ -22,7 +24,10 @@ from __future__ import annotations
 
 import math
 from functools import cache
+from itertools import chain
+from operator import attrgetter
 
+from fmi2_table_slave import TableSlave2
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real, String
 from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu_base import (
@@ -118,10 +123,16 @@ def named(name: str, k: int, contacts: int) -> str:
     return name if contacts == 1 else f"{name}[{k}]"
 
 
-def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, dict]:
+def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> tuple[tuple, dict]:
     """The variable table (rows ``(name, type, causality, variability, unit, start, min, max, description)``,
     value reference = row) and the enumerations (variable name -> (type, items)) of the FMU with ``contacts``
-    contacts: inputs per contact, outputs per contact, shared parameters, per-contact curvatures."""
+    contacts: inputs per contact, outputs per contact, shared parameters, per-contact curvatures.  With ``arrays``
+    (FMI 3.0) every per-contact variable is one row, an array of :func:`dimensions`."""
+    if arrays and contacts > 1:
+        single, enumerations = declaration(1, integer_codes)
+        return tuple((*row[:8], f"{row[8].split(' (')[0]}, one per contact" + (
+            f" ({row[8].split(' (', 1)[1]}" if " (" in row[8] else "")) if row[0] in PER_CONTACT else row
+            for row in single), enumerations
     of = (lambda k: "") if contacts == 1 else (lambda k: f", contact {k}")
     rows = []
     for k in range(1, contacts + 1):
@@ -149,12 +160,23 @@ def declaration(contacts: int = 1, integer_codes: bool = False) -> tuple[tuple, 
     return tuple(rows), enumerations
 
 
+PER_CONTACT = frozenset(name for rows in (INPUT_ROWS, OUTPUT_ROWS, CONTACT_PARAMETERS) for name, *_ in rows)
+"""Variables of their own per contact (arrays in FMI 3.0); the other parameters are shared."""
+
+
+def dimensions(contacts: int, arrays: bool) -> dict:
+    """The array variables of the FMI 3.0 FMU with ``contacts`` contacts -> ``contacts`` (none with one contact or
+    without ``arrays``)."""
+    return {name: contacts for name in sorted(PER_CONTACT)} if arrays and contacts > 1 else {}
+
+
 VARIABLES, _ = declaration()
 assert len(INPUT_ROWS) == len(INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
 
 
-class RollingContact3D(TableSlave):
-    """Elliptic wheel/rail rolling contact (linear theory, FASTSIM, strips, discretised) of rollcontact."""
+class RollingContact3DShared(TableSlave):
+    """Elliptic wheel/rail rolling contact (linear theory, FASTSIM, strips, discretised) of rollcontact: the slave
+    logic of both FMI versions."""
 
     author = "rollcontact"
     description = ("Elliptic (3D) wheel/rail rolling contact: longitudinal and lateral force, spin moment, contact "
@@ -166,20 +188,25 @@ class RollingContact3D(TableSlave):
     VARIABLES, ENUMERATIONS = declaration()
     CONTACTS = 1
     INPUT_NAMES = tuple(row[0] for row in VARIABLES if row[2] is INPUT)
+    read_inputs = attrgetter(*INPUT_NAMES)
+    """``read_inputs(slave)``: the values of :attr:`INPUT_NAMES` (one C call)."""
 
     def new_model(self, values: dict):
         """An EllipticModel of the parameter values (the per-contact curvatures gathered)."""
         n = self.CONTACTS
         shared = {name: values[name] for name, *_ in (*SHARED_PARAMETERS, *APPENDED_PARAMETERS)}
-        curvatures = {name: tuple(values[named(name, k, n)] for k in range(1, n + 1))
-                      for name, *_ in CONTACT_PARAMETERS}
+        curvatures = {name: tuple(values[name]) if name in self.DIMENSIONS else
+                      tuple(values[named(name, k, n)] for k in range(1, n + 1)) for name, *_ in CONTACT_PARAMETERS}
         model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time)
         return model, model.notices
 
     def step_model(self, current_time, step_size):
-        values = [getattr(self, name) for name in self.INPUT_NAMES]
+        values = self.read_inputs(self)
+        if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
+            return list(chain.from_iterable(zip(*self.model.step(current_time, step_size,
+                                                                 list(zip(*values, strict=True))), strict=True)))
         inputs = [values[i:i + len(INPUT_ROWS)] for i in range(0, len(values), len(INPUT_ROWS))]
-        return [v for outputs in self.model.step(current_time, step_size, inputs) for v in outputs]
+        return list(chain.from_iterable(self.model.step(current_time, step_size, inputs)))
 
     def step_messages(self):
         return self.model.take_messages()
@@ -188,18 +215,27 @@ class RollingContact3D(TableSlave):
         return EllipticState.parse(data)
 
 
+class RollingContact3D(RollingContact3DShared, TableSlave2):
+    """The RollingContact3D FMU's FMI 2.0 slave: :class:`RollingContact3DShared` on pythonfmu."""
+
+
 def model_name(contacts: int) -> str:
     """The model name of the FMU with ``contacts`` contacts: ``RollingContact3D``, else ``RollingContact3D_n``."""
     return "RollingContact3D" if contacts == 1 else f"RollingContact3D_{contacts}"
 
 
 @cache
-def slave_class(contacts: int = 1, integer_codes: bool = False) -> type:
-    """The slave class of a variant (one per variant and process): :class:`RollingContact3D`, else a subclass named
-    :func:`model_name` with the variant's table (pythonfmu names the model, its file and binary after the class)."""
+def slave_class(contacts: int = 1, integer_codes: bool = False, arrays: bool = False, fmi: int = 2) -> type:
+    """The slave class of a variant (one per variant and process): with ``fmi`` = 2 the FMI 2.0 class,
+    :class:`RollingContact3D`, else a class named :func:`model_name` with the variant's table (pythonfmu names the
+    model, its file and binary after the class; ``arrays``: the per-contact variables as arrays, the FMI 3.0 build);
+    with ``fmi`` = 3 its shared class, which the FMI 3.0 binding takes."""
     if contacts == 1 and not integer_codes:
-        return RollingContact3D
-    variables, enumerations = declaration(contacts, integer_codes)
-    return type(model_name(contacts), (RollingContact3D,), {
+        return RollingContact3D if fmi == 2 else RollingContact3DShared
+    variables, enumerations = declaration(contacts, integer_codes, arrays)
+    names = tuple(row[0] for row in variables if row[2] is INPUT)
+    shared = type(model_name(contacts), (RollingContact3DShared,), {
         "__doc__": f"RollingContact3D with {contacts} contacts.", "VARIABLES": variables, "ENUMERATIONS": enumerations,
-        "CONTACTS": contacts, "INPUT_NAMES": tuple(row[0] for row in variables if row[2] is INPUT)})
+        "CONTACTS": contacts, "INPUT_NAMES": names, "read_inputs": attrgetter(*names),
+        "DIMENSIONS": dimensions(contacts, arrays)})
+    return shared if fmi == 3 else type(model_name(contacts), (shared, TableSlave2), {"__doc__": shared.__doc__})

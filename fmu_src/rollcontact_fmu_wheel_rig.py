@@ -1,4 +1,5 @@
-"""The WheelRig FMU's slave class (FMI 2.0 co-simulation): the host of the RollingContact2D FMU.
+"""The WheelRig FMU's slave, host of the RollingContact2D FMU: :class:`WheelRigShared` (both FMI versions) and
+its FMI 2.0 class :class:`WheelRig`.
 
 The FMU's entry module ``wheel_rig_slave.py`` only imports :class:`WheelRig` from here (pythonfmu re-executes the
 entry module on every instantiation: ``rollcontact_fmu_slave.py``'s docstring).
@@ -25,6 +26,7 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from fmi2_table_slave import TableSlave2
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu_base import TableSlave
@@ -129,7 +131,7 @@ def parse_wheel_rig_state(data) -> WheelRigState:
     return WheelRigState.from_dict(data)
 
 
-class WheelRig(TableSlave):
+class WheelRigShared(TableSlave):
     """Driven wheel on a rail (or roller rig) with longitudinal vehicle dynamics, host of RollingContact2D."""
 
     author = "rollcontact"
@@ -159,3 +161,7 @@ class WheelRig(TableSlave):
 
     def restored_outputs(self, saved):
         return tuple(self.model.outputs())
+
+
+class WheelRig(WheelRigShared, TableSlave2):
+    """The WheelRig FMU's FMI 2.0 slave: :class:`WheelRigShared` on pythonfmu (``fmi2_table_slave``)."""

@@ -1,4 +1,5 @@
-"""The Wheelset FMU's slave class (FMI 2.0 co-simulation): the host of the hunting scene, two contacts.
+"""The Wheelset FMU's slave, host of the hunting scene with two contacts: :class:`WheelsetShared` (both FMI
+versions) and its FMI 2.0 class :class:`Wheelset`.
 
 The FMU's entry module ``wheelset_slave.py`` only imports :class:`Wheelset` from here (pythonfmu re-executes the
 entry module on every instantiation: ``rollcontact_fmu_slave.py``'s docstring).
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 
+from fmi2_table_slave import TableSlave2
 from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu_base import TableSlave
@@ -105,7 +107,7 @@ FORCE_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in FORCES)
 JACOBIAN_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in JACOBIAN)
 
 
-class Wheelset(TableSlave):
+class WheelsetShared(TableSlave):
     """Suspended wheelset with conical wheels on straight track, host of a contact FMU with two contacts."""
 
     author = "rollcontact"
@@ -138,3 +140,7 @@ class Wheelset(TableSlave):
 
     def restored_outputs(self, saved):
         return self.model.outputs()
+
+
+class Wheelset(WheelsetShared, TableSlave2):
+    """The Wheelset FMU's FMI 2.0 slave: :class:`WheelsetShared` on pythonfmu (``fmi2_table_slave``)."""

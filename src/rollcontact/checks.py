@@ -15,19 +15,18 @@ def check_real(name: str, value, *, lower=None, upper=None, lower_open=False, up
 
     The message names the field, the value (with ``unit`` when given) and the violated limit.
     """
-    u = f" {unit}" if unit else ""
     try:
         x = float(value)
     except (TypeError, ValueError):
         raise SceneError(f"{name} must be a real number{' in ' + unit if unit else ''}, got {value!r}") from None
     if not math.isfinite(x):
-        raise SceneError(f"{name} = {x!r}{u} is not finite")
+        raise SceneError(f"{name} = {x!r}{' ' + unit if unit else ''} is not finite")
     if lower is not None and (x < lower or (lower_open and x == lower)):
         op = ">" if lower_open else ">="
-        raise SceneError(f"{name} = {x!r}{u} is out of range: it must be {op} {lower!r}")
+        raise SceneError(f"{name} = {x!r}{' ' + unit if unit else ''} is out of range: it must be {op} {lower!r}")
     if upper is not None and (x > upper or (upper_open and x == upper)):
         op = "<" if upper_open else "<="
-        raise SceneError(f"{name} = {x!r}{u} is out of range: it must be {op} {upper!r}")
+        raise SceneError(f"{name} = {x!r}{' ' + unit if unit else ''} is out of range: it must be {op} {upper!r}")
     return x
 
 

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from contact_io import get_outputs, named, set_inputs, set_parameters
 from fmpy.fmi1 import FMICallException
 from fmpy.validation import validate_fmu
 
@@ -36,7 +37,7 @@ def make(contact_variants):
         name = "RollingContact3D" if contacts == 1 else f"RollingContact3D_{contacts}"
         slave = Slave(contact_variants[fmi] / f"{name}.fmu", f"{name}_{len(made)}")
         made.append(slave)
-        slave.set_start_values(parameters)
+        set_parameters(slave, parameters)
         if initialise:
             slave.initialise()
         return slave
@@ -46,25 +47,17 @@ def make(contact_variants):
         slave.free()
 
 
-def named(name: str, k: int, contacts: int) -> str:
-    return name if contacts == 1 else f"{name}[{k}]"
-
-
 def output_names(contacts: int) -> list[str]:
     return [named(n, k, contacts) for k in range(1, contacts + 1) for n in EllipticOutputs._fields]
 
 
 def step(slave: Slave, t: float, rows, contacts: int = 1) -> list[float]:
-    """Set every contact's inputs, step, read every contact's outputs (the integer as a float)."""
-    refs = [slave.reference(named(n, k, contacts)) for k in range(1, contacts + 1) for n in INPUTS]
-    slave.fmu.setReal(refs, [float(v) for row in rows for v in row])
+    """Set every contact's inputs, step, read every contact's outputs (the integer as a float), contact by contact
+    (FMI 2.0's ``name[k]`` or FMI 3.0's arrays)."""
+    assert len(rows) == contacts
+    set_inputs(slave, INPUTS, rows)
     slave.fmu.doStep(t, H)
-    values = []
-    for name in output_names(contacts):
-        v = slave.variables[name]
-        read = slave.fmu.getReal if v.type in ("Real", "Float64") else slave.fmu.getInteger
-        values.append(float(read([v.valueReference])[0]))
-    return values
+    return get_outputs(slave, EllipticOutputs._fields, contacts)
 
 
 def signal(n: int, k: int = 0) -> np.ndarray:
@@ -252,3 +245,80 @@ def test_a_contact_count_out_of_range_is_refused_with_the_limits(tmp_path):
         build_fmu.build_variant(tmp_path, 2, integer_codes=True, fmi=3)
     with pytest.raises(SystemExit):
         build_fmu.main(["--contacts", "0", "--dest", str(tmp_path)])
+
+
+@pytest.mark.parametrize("model", ("RollingContact2D", "RollingContact3D"))
+def test_fmi3_declares_each_per_contact_variable_once_as_an_array(contact_variants, model):
+    """FMI 3.0's n-contact FMU: every variable of the FMI 2.0 twin named ``name[k]`` is one array ``name`` of n values
+    (``<Dimension start="n"/>``, n start values), at the same place in the order; the shared parameters are scalars
+    and equal."""
+    from fmpy import read_model_description
+
+    two, three = (read_model_description(str(contact_variants[fmi] / f"{model}_{CONTACTS}.fmu")) for fmi in (2, 3))
+    arrays = [v for v in three.modelVariables if v.dimensions]
+    scalars = {v.name: v for v in three.modelVariables if not v.dimensions and v.name != "time"}
+    per_contact = list(dict.fromkeys(v.name.split("[")[0] for v in two.modelVariables if "[" in v.name))
+    assert sorted(v.name for v in arrays) == sorted(per_contact), "the arrays are FMI 2.0's name[k] variables"
+    assert [v.name for v in arrays] == per_contact, "in FMI 2.0's order of first appearance"
+    for v in arrays:
+        assert [d.start for d in v.dimensions] == [CONTACTS] and len(str(v.start).split()) == CONTACTS, \
+            f"{v.name}: {CONTACTS} values, got dimensions {[d.start for d in v.dimensions]}, start {v.start!r}"
+        first = next(w for w in two.modelVariables if w.name == f"{v.name}[1]")
+        assert (v.causality, v.variability, v.unit) == (first.causality, first.variability, first.unit), v.name
+    shared = {v.name: v for v in two.modelVariables if "[" not in v.name}
+    assert set(scalars) == set(shared), f"shared variables: {set(scalars) ^ set(shared)}"
+    for name, v in scalars.items():
+        starts = (v.start, shared[name].start)
+        same = starts[0] == starts[1] or (v.type == "Float64" and float(starts[0]) == float(starts[1]))
+        assert v.causality == shared[name].causality and same, f"{name}: {v.causality} {starts}"
+
+
+@pytest.mark.parametrize("model", ("RollingContact2D", "RollingContact3D"))
+def test_fmi3_refuses_a_set_of_the_wrong_number_of_values_and_keeps_the_arrays(contact_variants, model):
+    """An array takes exactly n values: a set of any other count is refused (emulated fmi3Error naming the counts),
+    changes nothing, and every later step is discarded until a state is set."""
+    slave = Slave(contact_variants[3] / f"{model}_{CONTACTS}.fmu", f"{model}_count")
+    try:
+        slave.initialise()
+        load = slave.reference("normal_load")
+        slave.fmu.setReal([load], [1e5] * CONTACTS)
+        state = slave.fmu.getFMUstate()
+        before = len(slave.log)
+        slave.fmu.setReal([load], [2e5] * (CONTACTS - 1))
+        errors = " ".join(m for m in slave.log[before:] if m.startswith("Error: "))
+        assert f"setFloat64 of {CONTACTS - 1} values for the value references [{load}] refused: they take " \
+               f"{CONTACTS} values" in errors, errors
+        assert slave.fmu.getReal([load], CONTACTS) == [1e5] * CONTACTS, "the refused set changed nothing"
+        with pytest.raises(FMICallException) as caught:
+            slave.fmu.doStep(0.0, H)
+        assert caught.value.status == DISCARD, caught.value.status
+        slave.fmu.setFMUstate(state)
+        slave.fmu.freeFMUstate(state)
+        slave.fmu.doStep(0.0, H)
+    finally:
+        slave.free()
+
+
+def test_fmi3_an_array_parameter_is_fixed_after_initialisation(contact_variants):
+    """Setting a per-contact parameter array after initialisation: its values in force again change nothing, any
+    other values are refused (emulated fmi3Error naming the array and the values in force) and steps are discarded."""
+    slave = Slave(contact_variants[3] / f"RollingContact3D_{CONTACTS}.fmu", "RollingContact3D_fixed")
+    try:
+        set_parameters(slave, curvature_parameters(CONTACTS))
+        slave.initialise()
+        lateral = slave.reference("curvature_lateral")
+        in_force = [CURVATURES[k][1] for k in range(CONTACTS)]
+        assert slave.fmu.getReal([lateral], CONTACTS) == in_force
+        before = len(slave.log)
+        slave.fmu.setReal([lateral], in_force)
+        assert not [m for m in slave.log[before:] if m.startswith("Error: ")], slave.log[before:]
+        slave.fmu.setReal([lateral], [2.0] * CONTACTS)
+        errors = " ".join(m for m in slave.log[before:] if m.startswith("Error: "))
+        assert "set curvature_lateral = [2.0, 2.0, 2.0] refused: curvature_lateral is a fixed parameter" in errors \
+            and f"the value in force stays {in_force!r}" in errors, errors
+        assert slave.fmu.getReal([lateral], CONTACTS) == in_force, "the refused set changed nothing"
+        with pytest.raises(FMICallException) as caught:
+            step(slave, 0.0, [signal(1, k)[0] for k in range(CONTACTS)], CONTACTS)
+        assert caught.value.status == DISCARD, caught.value.status
+    finally:
+        slave.free()

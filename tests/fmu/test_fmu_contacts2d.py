@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from contact_io import get_outputs, set_inputs, set_parameters
 from fmpy.fmi1 import FMICallException
 from fmpy.validation import validate_fmu
 
@@ -35,7 +36,7 @@ def make(contact_variants):
         name = "RollingContact2D" if contacts == 1 else f"RollingContact2D_{contacts}"
         slave = Slave(contact_variants[fmi] / f"{name}.fmu", f"{name}_{len(made)}")
         made.append(slave)
-        slave.set_start_values(parameters)
+        set_parameters(slave, parameters)
         slave.initialise()
         return slave
 
@@ -45,16 +46,12 @@ def make(contact_variants):
 
 
 def step(slave: Slave, t: float, rows, contacts: int = 1) -> list[float]:
-    names = [name if contacts == 1 else f"{name}[{k}]" for k in range(1, contacts + 1) for name in INPUTS]
-    slave.fmu.setReal([slave.reference(n) for n in names], [float(v) for row in rows for v in row])
+    """Set every contact's inputs, step, read every contact's outputs contact by contact (FMI 2.0's ``name[k]`` or
+    FMI 3.0's arrays)."""
+    assert len(rows) == contacts
+    set_inputs(slave, INPUTS, rows)
     slave.fmu.doStep(t, H)
-    values = []
-    for k in range(1, contacts + 1):
-        for name in StepOutputs._fields:
-            v = slave.variables[name if contacts == 1 else f"{name}[{k}]"]
-            read = slave.fmu.getReal if v.type in ("Real", "Float64") else slave.fmu.getInteger
-            values.append(float(read([v.valueReference])[0]))
-    return values
+    return get_outputs(slave, StepOutputs._fields, contacts)
 
 
 def signal(n: int, k: int) -> list[tuple[float, float, float]]:
@@ -74,13 +71,17 @@ GEOMETRY = ({"radius": 0.46, "contact_width": 0.02, "initial_position": 0.0},
 """Each contact's own geometry and place along the track (the parameters ``radius[k]`` ... of the n-contact FMU)."""
 
 
+OWN = {f"{name}[{k + 1}]": value for k, geometry in enumerate(GEOMETRY) for name, value in geometry.items()}
+""":data:`GEOMETRY` as the n-contact FMU's parameters (FMI 3.0: the elements of the arrays ``radius`` ...)."""
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
 @pytest.mark.parametrize("case", list(CASES))
-def test_n_contacts_are_n_single_contact_fmus_bit_for_bit(make, case):
+def test_n_contacts_are_n_single_contact_fmus_bit_for_bit(make, case, fmi):
     parameters, steps = CASES[case]
     rows = [signal(steps, k) for k in range(CONTACTS)]
-    own = {f"{name}[{k + 1}]": value for k, geometry in enumerate(GEOMETRY) for name, value in geometry.items()}
-    several = make(2, CONTACTS, **parameters, **own)
-    singles = [make(2, 1, **parameters, **GEOMETRY[k]) for k in range(CONTACTS)]
+    several = make(fmi, CONTACTS, **parameters, **OWN)
+    singles = [make(fmi, 1, **parameters, **GEOMETRY[k]) for k in range(CONTACTS)]
     for n in range(steps):
         together = step(several, n * H, [rows[k][n] for k in range(CONTACTS)], CONTACTS)
         alone = [v for k in range(CONTACTS) for v in step(singles[k], n * H, [rows[k][n]])]
@@ -89,7 +90,7 @@ def test_n_contacts_are_n_single_contact_fmus_bit_for_bit(make, case):
 
 def test_fmi2_and_fmi3_give_the_same_outputs(make):
     rows = [signal(8, k) for k in range(CONTACTS)]
-    two, three = make(2, CONTACTS, transient=1), make(3, CONTACTS, transient=1)
+    two, three = make(2, CONTACTS, transient=1, **OWN), make(3, CONTACTS, transient=1, **OWN)
     for n in range(8):
         step_rows = [rows[k][n] for k in range(CONTACTS)]
         assert step(two, n * H, step_rows, CONTACTS) == step(three, n * H, step_rows, CONTACTS), f"step {n}"

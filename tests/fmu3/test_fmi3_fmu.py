@@ -409,6 +409,8 @@ for cls in (fmi3_rollcontact_slave.RollingContact2D, fmi3_contact3d_slave.Rollin
         owner = next(klass for klass in cls.__mro__ if name in vars(klass))
         if callable(getattr(cls, name)) and not name.startswith("__") and owner.__module__.startswith("pythonfmu."):
             print(f"{cls.__name__}.{name} resolves to {owner.__module__}.{owner.__name__}")
+    if issubclass(cls, Fmi2Slave) or any(klass.__name__ == "TableSlave2" for klass in cls.__mro__):
+        print(f"{cls.__name__} inherits pythonfmu's FMI 2.0 binding")
     slave = cls(instance_name="probe")
     names = [var.name for var in slave.vars.values()]
     if names != [row[0] for row in cls.VARIABLES] + ["time"] or not isinstance(slave.units, dict):
@@ -419,9 +421,9 @@ print("checked")
 
 def test_fmi3_slaves_are_constructed_by_pythonfmu3_and_resolve_no_call_to_pythonfmu(tmp_path):
     """Each FMI 3.0 slave is built by ``Fmi3SlaveBase.__init__`` and the shared table, never by pythonfmu's
-    ``Fmi2Slave.__init__`` (made to raise here), and every method both bindings define resolves to the FMI 3.0
-    side or the shared slave, not to pythonfmu: no call depends on where ``Fmi2Slave`` stands in the bases.  In a
-    subprocess, so that this process imports no slave module an FMU instance would share."""
+    ``Fmi2Slave.__init__`` (made to raise here), inherits neither ``Fmi2Slave`` nor the FMI 2.0 binding
+    ``TableSlave2``, and every method both bindings define resolves to the FMI 3.0 side or the shared slave, not to
+    pythonfmu.  In a subprocess, so that this process imports no slave module an FMU instance would share."""
     done = subprocess.run([sys.executable, "-c", CONSTRUCTION_PROBE, str(ROOT / "fmu_src")], capture_output=True,
                           text=True, timeout=120, cwd=tmp_path)
     assert done.returncode == 0, done.stderr[-2000:]

@@ -72,8 +72,10 @@ class HertzEllipse:
         return self.max_pressure * np.sqrt(np.clip(r, 0.0, None))
 
 
+@lru_cache(maxsize=1024)
 def differences(m: float) -> tuple[float, float, float]:
-    """``((K - E)/m, (E/(1 - m) - K)/m, K)`` at ``m = e^2`` (series below :data:`SMALL_ECCENTRICITY`)."""
+    """``((K - E)/m, (E/(1 - m) - K)/m, K)`` at ``m = e^2`` (series below :data:`SMALL_ECCENTRICITY`; cached: a
+    contact's ellipse has the same m at every load, and each scipy call costs microseconds)."""
     k = float(ellipk(m))
     if m < SMALL_ECCENTRICITY:
         return 0.25 * math.pi * (1.0 + 0.375 * m), 0.25 * math.pi * (1.0 + 0.625 * m), k

@@ -6,16 +6,26 @@ a contact is stepped exactly as a single-contact model steps it (bit for bit).  
 first and names each invalid one with its contact (``contact 3: normal_load = -1.0 N is out of range ...``); when a
 contact's solve fails after others were stepped, those are set back, so a refused step changes no contact.  Messages
 of the contacts are prefixed with their contact.
+
+Quasi-steady contacts on the closed forms (a flat surface with Coulomb friction) or on a certified table (every
+contact alike: the parameters they share decide it) are stepped in one loop (:meth:`ContactModels.steps_together`):
+each contact's :meth:`ContactModel.closed_form_step` or :meth:`ContactModel.table_step` and
+:func:`~rollcontact.stepping.model.advanced_position`, evaluated for every contact before any state changes and
+committed together (:meth:`ContactModel.commit`), so that no contact's state needs saving for a refusal.  A step that
+meets anything else there (an invalid input, time going backwards, a load beyond the floating-point range, a table
+without an answer, outputs out of the friction bound or not finite) is stepped contact by contact instead, which
+refuses, solves or corrects it as a single contact does.
 """
 
 from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, fields
+from math import isfinite
 from operator import attrgetter
 
-from rollcontact.stepping.model import ContactModel
-from rollcontact.stepping.parameters import ContactParameters, ModelError, StepOutputs, input_problem
+from rollcontact.stepping.model import ContactModel, advanced_position
+from rollcontact.stepping.parameters import STATIONARY, ContactParameters, ModelError, StepOutputs, input_problem
 from rollcontact.stepping.state import ModelState
 
 __all__ = ["ContactModels", "ContactsState"]
@@ -92,6 +102,8 @@ class ContactModels:
             raise ModelError("; ".join(problems))
         self.models = tuple(models)
         self.notices = self.models[0].notices
+        self.together = all(m.instationary is None and (m.closed_form or m.table_use is not None) for m in models)
+        """Whether the contacts are stepped in one loop (module docstring): :meth:`steps_together`."""
 
     @property
     def state(self) -> ContactsState:
@@ -114,6 +126,8 @@ class ContactModels:
             raise
 
     def take_messages(self) -> list[str]:
+        if not any(model.messages for model in self.models):  # the usual step: nothing queued
+            return []
         return [f"contact {k}: {message}" for k, model in enumerate(self.models, start=1)
                 for message in model.take_messages()]
 
@@ -128,6 +142,10 @@ class ContactModels:
         """
         if len(inputs) != len(self.models):
             raise ModelError(f"{len(inputs)} input rows for {len(self.models)} contacts")
+        if self.together and 0.0 < step_size < INF and -INF < current_time < INF:
+            outputs = self.steps_together(current_time, step_size, inputs)
+            if outputs is not None:
+                return outputs
         problems = [f"contact {k}: {input_problem(current_time, step_size, *row)}"
                     for k, row in enumerate(inputs, start=1)
                     if not (0.0 <= row[0] < INF and -INF < row[1] < INF and 0.0 <= row[2] < INF)]
@@ -143,3 +161,45 @@ class ContactModels:
                     stepped.set_state(ModelState(*previous))
                 raise ModelError(f"contact {k + 1}: {exc}") from None
         return tuple(outputs)
+
+    def steps_together(self, current_time: float, step_size: float, inputs) -> tuple[StepOutputs, ...] | None:
+        """The step of contacts on the closed forms or a table (module docstring) at a valid time and step size: what
+        :meth:`ContactModel.step` gives each, every contact evaluated before any is committed; None, with no contact
+        changed, when a contact needs its own :meth:`ContactModel.step` (an invalid input, time going backwards, a
+        load beyond the floating-point range, a table without an answer, outputs out of the friction bound or not
+        finite)."""
+        evaluated = []
+        for model, (normal_load, creep, velocity) in zip(self.models, inputs, strict=True):
+            if not (0.0 <= normal_load < INF and -INF < creep < INF and 0.0 <= velocity < INF):
+                return None
+            dt = current_time - model.state.time
+            if dt < 0.0:
+                return None
+            high, low = advanced_position(model.state, velocity, dt)
+            x = high + low
+            if model.stop_time is not None and model.table_use is not None:  # as ContactModel.step: the steps left
+                model.table_use.remaining = (model.stop_time - current_time) / step_size
+            load = normal_load * model.per_width
+            unloaded = load < model.resolved_load
+            if unloaded:
+                outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
+            elif load == INF:
+                return None
+            elif model.closed_form:
+                outputs = model.closed_form_step(x, normal_load, creep, velocity)
+            else:
+                outputs = model.table_step(x, normal_load, creep, velocity)
+                if outputs is None:
+                    return None
+            bound = model.friction_bound
+            # a sum of finite outputs is finite unless it overflows (the contact's own step then checks each)
+            if not (-bound * normal_load <= outputs[0] <= bound * normal_load and -bound <= outputs[1] <= bound
+                    and isfinite(sum(outputs))):
+                return None
+            evaluated.append((high, low, outputs, unloaded))
+        for model, (normal_load, creep, velocity), (high, low, outputs, unloaded) in zip(self.models, inputs, evaluated,
+                                                                                         strict=True):
+            if unloaded:
+                model.state.creep_envelope = None
+            model.commit(current_time, high, low, normal_load, creep, velocity, outputs, None)
+        return tuple(item[2] for item in evaluated)

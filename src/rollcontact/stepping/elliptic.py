@@ -389,14 +389,17 @@ class EllipticModel:
             Invalid inputs (every one named, with its contact), time going backwards, or a contact no allowed
             method solves within the budget.  The state is then unchanged.
         """
-        try:
-            rows = [tuple(float(v) for v in row) for row in inputs]
+        inf = math.inf
+        try:  # five real numbers per contact (a row of another length or type: the problems are listed below)
+            rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v in inputs]
         except (TypeError, ValueError):
             rows = None
-        inf = math.inf
-        if rows is None or len(rows) != self.contacts or not (0.0 < step_size < inf and -inf < current_time < inf) or \
-                not all(len(row) == 5 and 0.0 <= row[0] < inf and -inf < row[1] < inf and -inf < row[2] < inf
-                        and -inf < row[3] < inf and 0.0 <= row[4] < inf for row in rows):
+        valid = rows is not None and len(rows) == self.contacts and 0.0 < step_size < inf and -inf < current_time < inf
+        for fn, xi, eta, phi, v in rows if valid else ():
+            if not (0.0 <= fn < inf and -inf < xi < inf and -inf < eta < inf and -inf < phi < inf and 0.0 <= v < inf):
+                valid = False
+                break
+        if not valid:
             raise ModelError("; ".join(self.input_problems(current_time, step_size, inputs)) or
                              f"invalid step inputs {inputs!r}")
         if current_time < self.state.time:

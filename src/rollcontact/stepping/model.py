@@ -117,6 +117,18 @@ def non_finite(outputs: StepOutputs, normal_load: float, creep: float, velocity:
             f"{sys.float_info.max:.4g} in SI units)")
 
 
+def advanced_position(state: ModelState, velocity: float, dt: float) -> tuple[float, float]:
+    """The axis position ``X(t_n) = high + low`` [m] after ``dt`` [s] at the sampled speed ``velocity`` [m/s]: the
+    trapezoid of V between the communication points (the previous sample's speed and this one), accumulated as a
+    Neumaier-compensated sum (``state.position`` high part, ``state.position_error`` low part)."""
+    previous = state.previous
+    increment = 0.5 * ((velocity if previous is None else previous[3]) + velocity) * dt
+    high = state.position + increment
+    if abs(state.position) >= abs(increment):
+        return high, state.position_error + ((state.position - high) + increment)
+    return high, state.position_error + ((increment - high) + state.position)
+
+
 def within_friction_bound(outputs: StepOutputs, bound: float, normal_load: float, creep: float,
                           velocity: float) -> StepOutputs:
     """The outputs with ``|T| <= mu_max N`` exactly (``bound`` = mu_max, the law's largest coefficient).
@@ -294,14 +306,7 @@ class ContactModel(InstationaryStepping):
         if dt < 0.0:
             raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
                              f"{state.time!r} s; restore a saved state to step from an earlier time")
-        previous = state.previous
-        # trapezoid of V between the communication points, Neumaier-compensated accumulation of X
-        increment = 0.5 * ((velocity if previous is None else previous[3]) + velocity) * dt
-        high = state.position + increment
-        if abs(state.position) >= abs(increment):
-            low = state.position_error + ((state.position - high) + increment)
-        else:
-            low = state.position_error + ((increment - high) + state.position)
+        high, low = advanced_position(state, velocity, dt)
         x = high + low
 
         lag = None
@@ -336,17 +341,24 @@ class ContactModel(InstationaryStepping):
             outputs = within_friction_bound(outputs, self.friction_bound, normal_load, creep, velocity)
         if not all(map(isfinite, outputs)):
             raise ModelError(non_finite(outputs, normal_load, creep, velocity))
+        self.commit(current_time, high, low, normal_load, creep, velocity, outputs, lag)
+        return outputs
+
+    def commit(self, current_time: float, high: float, low: float, normal_load: float, creep: float, velocity: float,
+               outputs: StepOutputs, lag) -> None:
+        """Make the evaluated step the state: time, axis position (``high + low``, :func:`advanced_position`), the
+        samples, the outputs and the instationary state ``lag``."""
+        state = self.state
         state.instationary = lag
         if self.table_use is not None:
             state.table_domain = self.table_use.domain
         state.time = current_time
+        state.older = state.previous
         state.position = high
         state.position_error = low
-        state.older = previous
-        state.previous = (x, normal_load, creep, velocity)
+        state.previous = (high + low, normal_load, creep, velocity)
         state.steps += 1
         state.outputs = outputs
-        return outputs
 
     def closed_form_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
         """Outputs of Hertz and Carter (closed forms, no Scene built) at axis position x [m]."""
