@@ -32,41 +32,11 @@ import statistics
 
 import common  # before numpy: limits BLAS to one thread
 import numpy as np
+from elliptic_cases import LOAD, MATERIAL, MU, C, cases
 
 import rollcontact as rc
 from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS
 from rollcontact.elliptic.methods.strips import solve_strips_many
-
-MU, LOAD, C = 0.3, 1e5, 6e-3  # Coulomb coefficient, Fn [N], c = sqrt(ab) [m]
-MATERIAL = rc.Material(2 * 82e9 * 1.28, 0.28)  # G = 82 GPa, nu = 0.28
-FACTORS = (0.05, 0.3, 1.0, 3.0)
-SPIN_FACTORS = (0.4, 0.6, 1.5, 2.0, 5.0)
-
-
-def cases(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), friction=MU):
-    """``(group, scene)`` pairs at a/b = ``ratios``: pure creepages at FACTORS and spin alone or with half of xi or
-    eta (or 0.3 xi and -0.5 eta) at the last three of FACTORS and at SPIN_FACTORS, in units of the creepage whose
-    linear force is 3 mu Fn."""
-    out = []
-    for ratio in ratios:
-        base = rc.EllipticScene.from_semi_axes(LOAD, C * math.sqrt(ratio), C / math.sqrt(ratio), material=MATERIAL,
-                                               friction=friction)
-        k = rc.creepage_coefficients(ratio, MATERIAL.poisson_ratio)
-        g = base.shear_modulus
-        xi_s, eta_s = 3 * MU * LOAD / (g * C * C * k.c11), 3 * MU * LOAD / (g * C * C * k.c22)
-        phi_s = 3 * MU * LOAD / (g * C**3 * k.c23)
-        for f in FACTORS:
-            out += [("no spin", base.replace(longitudinal_creepage=f * xi_s)),
-                    ("no spin", base.replace(lateral_creepage=f * eta_s)),
-                    ("spin", base.replace(spin_creepage=f * phi_s))]
-        for f in FACTORS[1:] + SPIN_FACTORS:
-            if f in SPIN_FACTORS:
-                out.append(("spin", base.replace(spin_creepage=f * phi_s)))
-            out += [("spin", base.replace(longitudinal_creepage=0.5 * f * xi_s, spin_creepage=f * phi_s)),
-                    ("spin", base.replace(lateral_creepage=0.5 * f * eta_s, spin_creepage=f * phi_s)),
-                    ("spin", base.replace(longitudinal_creepage=0.3 * f * xi_s, lateral_creepage=-0.5 * f * eta_s,
-                                          spin_creepage=f * phi_s))]
-    return out
 
 
 def timing(quick: bool) -> list[str]:

@@ -1,0 +1,106 @@
+"""Calibration of the strips' march with spin: the constants
+:data:`rollcontact.elliptic.methods.strips.SPIN_FLEXIBILITY` of
+:func:`~rollcontact.elliptic.methods.strips.march_flexibilities`, fitted to the strips' error against the discretised
+3D level.
+
+Run: ``python benchmarks/calibrate_strips_spin.py`` (a few minutes; ``--quick``: a/b 1 only, nothing written).  Prints
+markdown tables and writes ``benchmarks/results/calibrate_strips_spin.md``.
+
+Cases (Coulomb friction, mu 0.3, Fn 100 kN, c = sqrt(ab) = 6 mm, nu 0.28, a/b 0.2, 0.5, 1, 2, 5):
+
+* ``table B``: the spin cases of ``benchmarks/bench_elliptic_levels.py`` (spin alone and with longitudinal and/or
+  lateral creepage, from the linear range to deep spin, around and past the strips' full slip);
+* ``operating points``: small creepages with small spin, as a wheel on a rail meets them (xi 0.05 and 0.15, eta half
+  that, spin 0.05, 0.15 and 0.3, in units of the creepage whose linear force is 3 mu Fn), where the march's
+  flexibilities must stay Kalker's.
+
+Reference: the discretised level's default (the Richardson pair of 30 and 60 elements, within about 0.004 of the
+converged solution: ``bench_elliptic_levels.md``, B2).  Error: |dFx|, |dFy| over mu Fn and |dMz| over mu Fn c.  The fit
+(Nelder-Mead from the constants in force) minimises a smooth stand-in for the largest error, the 12-norm of the
+errors of both sets with the operating points' weighted 1.5 (so that the fit for deep spin does not cost the common
+case), over the first six constants; the onset Q is held (``--onset``: a smaller Q lowers table B's largest error
+and raises the operating points' median).  It reports each set's median, 90th percentile and largest error of Fx, Fy
+and Mz with the constants in force and with the fit.  Copy the fitted constants into ``SPIN_FLEXIBILITY`` by hand;
+the results file keeps the figures.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import common  # before numpy: limits BLAS to one thread
+import numpy as np
+from elliptic_cases import cases, operating_points
+from scipy.optimize import minimize
+
+import rollcontact as rc
+from rollcontact.elliptic.methods import strips
+
+
+def errors(scenes, references) -> np.ndarray:
+    """``(n, 3)``: the strips' |dFx|, |dFy| over mu Fn and |dMz| over mu Fn c against ``references``."""
+    rows = []
+    for scene, ref in zip(scenes, references, strict=True):
+        r = strips.solve_strips(scene)
+        force = scene.friction_coefficient * scene.normal_load
+        c = math.sqrt(scene.hertz.a * scene.hertz.b)
+        rows.append((abs(r.longitudinal_force - ref[0]) / force, abs(r.lateral_force - ref[1]) / force,
+                     abs(r.spin_moment - ref[2]) / (force * c)))
+    return np.array(rows)
+
+
+def summary(name: str, constants, e: np.ndarray) -> str:
+    def cells(q):
+        return " / ".join(f"{v:.4f}" for v in q)
+
+    return (f"| {name} | {constants} | {len(e)} | {cells(np.median(e, axis=0))} | "
+            f"{cells(np.percentile(e, 90, axis=0))} | {cells(e.max(axis=0))} |")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="a/b 1 only, few iterations; nothing written")
+    parser.add_argument("--onset", type=float, default=None, metavar="Q",
+                        help="the onset Q [1] held in the fit (default: the one in force)")
+    args = parser.parse_args()
+    ratios = (1.0,) if args.quick else (0.2, 0.5, 1.0, 2.0, 5.0)
+    sets = {"table B": [s for g, s in cases(ratios) if g == "spin"], "operating points": operating_points(ratios)}
+    references = {name: [(r.longitudinal_force, r.lateral_force, r.spin_moment)
+                         for r in (rc.solve_elliptic(s, "discretised") for s in scenes)]
+                  for name, scenes in sets.items()}
+    in_force = tuple(strips.SPIN_FLEXIBILITY)
+    onset = in_force[6] if args.onset is None else args.onset
+
+    def all_errors(constants) -> dict:
+        strips.SPIN_FLEXIBILITY = (*constants, onset)
+        return {name: errors(scenes, references[name]) for name, scenes in sets.items()}
+
+    def objective(constants) -> float:
+        if constants[4] <= 0.0:
+            return math.inf
+        e = all_errors(constants)
+        weighted = np.concatenate([e["table B"].ravel(), 1.5 * e["operating points"].ravel()])
+        return float(np.mean(weighted**12)) ** (1.0 / 12.0)
+
+    try:
+        fit = minimize(objective, np.array(in_force[:6]), method="Nelder-Mead",
+                       options={"maxiter": 60 if args.quick else 500, "xatol": 1e-4, "fatol": 1e-6})
+        fitted = (*(round(float(v), 4) for v in fit.x), onset)
+        lines = ["# Strips with spin: calibration of the march's flexibilities", "",
+                 "The fit of the module docstring (12-norm of both sets, operating points weighted 1.5, onset Q "
+                 f"{onset:g} held); errors Fx / Fy over mu Fn, Mz over mu Fn c against the discretised level.", "",
+                 "| set | SPIN_FLEXIBILITY | n | median | 90th percentile | largest |", "|---|---|---|---|---|---|"]
+        for label, constants in (("in force", in_force), ("fitted", fitted)):
+            strips.SPIN_FLEXIBILITY = constants
+            for name, scenes in sets.items():
+                lines.append(summary(f"{name}, {label}", constants, errors(scenes, references[name])))
+        lines += ["", f"Nelder-Mead: {fit.nit} iterations, objective {fit.fun:.4f}; fitted SPIN_FLEXIBILITY = "
+                  f"{fitted}."]
+    finally:
+        strips.SPIN_FLEXIBILITY = in_force
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    common.run_and_publish(main, "calibrate_strips_spin.md")
