@@ -286,6 +286,7 @@ class StripStack:
                          psi, mu * p0 / a, two_mu_p0, *flexibilities, g, material.poisson_ratio,
                          *((1.0, 1.0) if phi != 0.0 else (a**2, b**2))))
             shapes.append(shape)
+        self.rows = rows  # each scene's scalars, plain floats
         self.table = np.array(rows).T  # (scalars, n)
         (a, b, self.p0, self.mu, self.limit, xi, self.eta, phi, self.modulus_x, modulus_y, self.psi, self.m, two_mu_p0,
          l1, l2, l3, g, nu, a2, b2) = self.table[:, :, None]
@@ -386,11 +387,13 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
     repeated over its strips), so that each operation runs over every strip of every scene at once."""
     n, count = stack.y.shape
     columns = n * count
-    scalars = np.hstack((stack.xi, stack.eta, stack.phi + phi_c, *stack.flexibilities, stack.p0, stack.a, stack.b,
-                         stack.mu, stack.m, stack.psi, stack.phi))
-    # each scene's scalars over its strips (one scene: plain floats, which numpy broadcasts alike)
-    xi, eta, phi_x, l1, l2, l3, p0, a, b, mu, m, psi, phi = scalars[0].tolist() if n == 1 else \
-        np.repeat(scalars.T, count, axis=1)
+    if n == 1:  # one scene: its scalars as plain floats, which numpy broadcasts alike
+        a, b, p0, mu, _, xi, eta, phi, _, _, psi, m, _, l1, l2, l3, *_ = stack.rows[0]
+        phi_x = phi + float(phi_c[0, 0])
+    else:  # each scene's scalars over its strips
+        xi, eta, phi_x, l1, l2, l3, p0, a, b, mu, m, psi, phi = np.repeat(np.hstack(
+            (stack.xi, stack.eta, stack.phi + phi_c, *stack.flexibilities, stack.p0, stack.a, stack.b, stack.mu,
+             stack.m, stack.psi, stack.phi)).T, count, axis=1)
     y, half, weights, factor, d, kappa, lam, partial = (v.reshape(columns) for v in (
         stack.y, stack.half, stack.weights, stack.factor, d, kappa, lam, partial))
     dx = 2.0 * half / steps
@@ -414,24 +417,31 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
             np.minimum(1.0, ratio, out=ratio)
             np.multiply(t, ratio, out=following)
             np.add(following, increment, out=following)
-    trial_x, trial_y = trial[:, 0], trial[:, 1]
-    np.maximum(np.hypot(trial_x[-1], trial_y[-1]), TINY, out=size[-1])
-    qx, qy = bound * (trial_x / size), bound * (trial_y / size)  # mu p along the march's traction
+    np.maximum(np.hypot(trial[-1, 0], trial[-1, 1]), TINY, out=size[-1])
+    np.divide(trial, size[:, None], out=trial)  # mu p along the march's traction: bound (t / |t|), in place
+    np.multiply(bound[:, None], trial, out=trial)
+    qx, qy = trial[:, 0], trial[:, 1]
     if not stack.spin.all():  # without spin the slip direction is uniform along the strip
         uniform = ~stack.spin.repeat(count)
         qx = np.where(uniform, bound * kappa, qx)
         qy = np.where(uniform, bound * lam, qy)
     in_stick = partial & (x > 2.0 * d - half)
     if in_stick.any():  # the stick zone's traction (module docstring), on the strips that stick (when they are few)
-        sticking = np.flatnonzero(partial) if columns > GATHER else slice(None)
+        gather = columns > GATHER
+        sticking = np.flatnonzero(partial) if gather else slice(None)
         x_s, half_s, d_s, kappa_s, lam_s, in_s = x[:, sticking], half[sticking], d[sticking], kappa[sticking], \
             lam[sticking], in_stick[:, sticking]
         m_s, psi_s = (m, psi) if n == 1 else (m[sticking], psi[sticking])
         rest = half_s - d_s
         full = np.sqrt(np.maximum(half_s**2 - x_s * x_s, 0.0))
         inner = np.sqrt(np.maximum(rest**2 - (x_s - d_s) ** 2, 0.0))
-        qx[:, sticking] = np.where(in_s, m_s * kappa_s * (full - inner), qx[:, sticking])
-        qy[:, sticking] = np.where(in_s, m_s * (lam_s * full - (lam_s - psi_s) * inner), qy[:, sticking])
+        stick_x, stick_y = m_s * kappa_s * (full - inner), m_s * (lam_s * full - (lam_s - psi_s) * inner)
+        if gather:
+            qx[:, sticking] = np.where(in_s, stick_x, qx[:, sticking])
+            qy[:, sticking] = np.where(in_s, stick_y, qy[:, sticking])
+        else:
+            np.copyto(qx, stick_x, where=in_s)
+            np.copyto(qy, stick_y, where=in_s)
     weight = weights * dx  # Gauss over y, midpoint cells along x
     products = np.empty((3, steps, columns))
     np.multiply(qx, weight, out=products[0])
