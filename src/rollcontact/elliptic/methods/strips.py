@@ -152,9 +152,8 @@ def cross_coefficients(a, b, a2, b2, poisson_ratio, shear_modulus) -> np.ndarray
 def cross_coefficient(scene) -> float:
     """:func:`cross_coefficients` of one scene [1/(N m)]."""
     h = scene.hertz
-    return float(cross_coefficients(*(np.array([[v]]) for v in (h.a, h.b, h.a**2, h.b**2,
-                                                                  scene.material.poisson_ratio, scene.shear_modulus)
-                                      ))[0, 0])
+    values = (h.a, h.b, h.a**2, h.b**2, scene.material.poisson_ratio, scene.shear_modulus)
+    return float(cross_coefficients(*(np.array([[v]]) for v in values))[0, 0])
 
 
 def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
@@ -214,7 +213,8 @@ def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFA
     loaded = [k for k, scene in enumerate(scenes) if scene.normal_load != 0.0 and scene.friction.is_constant]
     if len(loaded) == len(scenes):
         return stacked(scenes, strips, steps, fields)
-    results = [None if k in loaded else solve_strips(scene, strips=strips, steps=steps, fields=fields)
+    together = set(loaded)
+    results = [None if k in together else solve_strips(scene, strips=strips, steps=steps, fields=fields)
                for k, scene in enumerate(scenes)]
     for k, result in zip(loaded, stacked([scenes[k] for k in loaded], strips, steps, fields) if loaded else (),
                          strict=True):
@@ -259,7 +259,8 @@ class StripStack:
     values in one fixed order, so a scene's numbers are the same in any stack.  A scene's scalars are taken in plain
     floats, those that depend on a/b and nu alone from :func:`ratio_constants`.
 
-    Attributes: ``a``, ``b``, ``p0`` [m, m, Pa], ``limit`` (mu Fn [N]), the creepages ``xi``, ``eta``, ``phi``,
+    Attributes: ``rows`` (each scene's scalars, plain floats) and ``table`` (the same, an array ``(scalars, n)``);
+    as columns ``a``, ``b``, ``p0`` [m, m, Pa], ``mu``, ``limit`` (mu Fn [N]), the creepages ``xi``, ``eta``, ``phi``,
     ``flexibilities`` (the march's, :func:`march_flexibilities`; with ``fields`` of every scene, else of those with
     spin, 1 elsewhere); per strip ``y`` [m], ``weights`` [m] (Gauss over y), ``half`` (``a(y)`` [m]), ``factor``
     (:func:`stiffening`), ``scale`` (the slip length per unit modulus and creepage [1/Pa]), the scaled rigid slips
