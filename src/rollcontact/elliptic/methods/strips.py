@@ -426,12 +426,13 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
         uniform = ~stack.spin.repeat(count)
         qx = np.where(uniform, bound * kappa, qx)
         qy = np.where(uniform, bound * lam, qy)
-    in_stick = partial & (x > 2.0 * d - half)
-    if in_stick.any():  # the stick zone's traction (module docstring), on the strips that stick (when they are few)
+    if partial.any():  # the stick zone's traction (module docstring), on the strips that stick (when they are few)
         gather = columns > GATHER
         sticking = np.flatnonzero(partial) if gather else slice(None)
-        x_s, half_s, d_s, kappa_s, lam_s, in_s = x[:, sticking], half[sticking], d[sticking], kappa[sticking], \
-            lam[sticking], in_stick[:, sticking]
+        x_s, half_s, d_s, kappa_s, lam_s = x[:, sticking], half[sticking], d[sticking], kappa[sticking], lam[sticking]
+        in_s = x_s > 2.0 * d_s - half_s  # the stick zone [2 d - a(y), a(y)] of a strip that sticks
+        if not gather:
+            in_s &= partial
         m_s, psi_s = (m, psi) if n == 1 else (m[sticking], psi[sticking])
         rest = half_s - d_s
         full = np.sqrt(np.maximum(half_s**2 - x_s * x_s, 0.0))
@@ -453,6 +454,7 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
     forces = by_scene(products, n)
     if not fields:
         return forces.T, (None,) * n
+    in_stick = partial & (x > 2.0 * d - half)
     x, y, pressure, qx, qy, in_stick = (np.broadcast_to(v, x.shape).reshape(steps, n, count) for v in (
         x, y, bound / mu, qx, qy, in_stick))
     return forces.T, tuple(TractionField(*(v[:, k].T.copy() for v in (x, y, pressure, qx, qy, in_stick)))
@@ -465,8 +467,9 @@ def by_scene(values: np.ndarray, n: int) -> np.ndarray:
     *lead, steps, columns = values.shape
     if n == 1:
         return np.add.reduce(values.reshape(*lead, 1, -1), axis=-1)
-    per_scene = np.moveaxis(values.reshape(*lead, steps, n, columns // n), -2, -3)
-    return np.add.reduce(np.ascontiguousarray(per_scene).reshape(*lead, n, -1), axis=-1)
+    axes = (*range(len(lead)), len(lead) + 1, len(lead), len(lead) + 2)  # (..., n, steps, S): a scene per row
+    per_scene = values.reshape(*lead, steps, n, columns // n).transpose(axes).copy()
+    return np.add.reduce(per_scene.reshape(*lead, n, -1), axis=-1)
 
 
 GATHER = 96
