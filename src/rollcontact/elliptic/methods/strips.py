@@ -117,9 +117,9 @@ def stiffening(shape: np.ndarray, load_weights: np.ndarray) -> np.ndarray:
 
 
 def dots(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``u_k . v_k`` of each row k of two ``(n, S)`` arrays: one vector dot product per row, as ``u_k @ v_k`` takes
+    """``u_k . v_k`` of each row k of two ``(..., S)`` arrays: one vector dot product per row, as ``u_k @ v_k`` takes
     it."""
-    return (u[:, None, :] @ v[:, :, None])[:, 0, 0]
+    return (u[..., None, :] @ v[..., :, None])[..., 0, 0]
 
 
 @lru_cache(maxsize=1)
@@ -226,18 +226,20 @@ def stacked(scenes, strips: int, steps: int, fields: bool) -> list[EllipticResul
     """:func:`solve_strips` of loaded scenes with Coulomb friction (checked), as one :class:`StripStack`."""
     stack = StripStack(scenes, strips, fields)
     phi_c, forces = np.zeros((len(scenes), 1)), None
+    sticking = stack.stick()
     if stack.coupled.any():  # the lateral force's longitudinal creepage, by fixed point through the closed form
-        forces = stack.closed_form()
+        forces = stack.closed_form(sticking)
         for _ in range(CROSS_ITERATIONS):
             phi_c = stack.couple(forces[1])
-            forces = stack.closed_form()
-    d, kappa, lam, partial = stack.stick()
+            sticking = stack.stick()
+            forces = stack.closed_form(sticking)
+    d, kappa, lam, partial = sticking
     march = stack.spin | fields
     field = (None,) * len(scenes)
     if march.all():
         out, field = marched(stack, steps, d, kappa, lam, partial, phi_c, fields)
     else:  # the closed form; where a scene marches, its march (all scenes march together, each on its own numbers)
-        out = np.column_stack(stack.closed_form() if forces is None else forces)
+        out = np.column_stack(stack.closed_form(sticking) if forces is None else forces)
         if march.any():
             out_marched, field = marched(stack, steps, d, kappa, lam, partial, phi_c, fields)
             out = np.where(march[:, None], out_marched, out)
@@ -295,6 +297,7 @@ class StripStack:
         self.y = b * nodes
         self.weights = b * weights
         self.half = a * root
+        self.half2 = self.half**2
         self.factor = stiffening(np.array(shapes), self.weights * self.half)
         self.scale = self.factor * a / two_mu_p0
         self.rigid_x = xi - phi * self.y
@@ -309,9 +312,13 @@ class StripStack:
         """Add the longitudinal creepage ``-phi_c y`` that a lateral force [N] (per scene) induces
         (:func:`cross_coefficients`) to the strips' X of the coupled scenes; returns ``phi_c`` [1/m] ``(n, 1)`` (0
         where a scene has no cross influence, whose X is left as it is)."""
-        phi_c = np.where(self.coupled[:, None], self.cross * lateral_force[:, None], 0.0)
-        self.X = np.where(self.coupled[:, None], (self.rigid_x - phi_c * self.y) * self.modulus_x * self.scale, self.X)
-        return phi_c
+        phi_c = self.cross * lateral_force[:, None]
+        coupled_x = (self.rigid_x - phi_c * self.y) * self.modulus_x * self.scale
+        if self.coupled.all():
+            self.X = coupled_x
+            return phi_c
+        self.X = np.where(self.coupled[:, None], coupled_x, self.X)
+        return np.where(self.coupled[:, None], phi_c, 0.0)
 
     def stick(self):
         """``(d, kappa, lambda, partial)`` per strip: the slip zone's half-length, the traction direction at the stick
@@ -319,8 +326,11 @@ class StripStack:
         psi, X, Y = self.psi, self.X, self.Y
         room = 1.0 - psi * psi
         opening = room > 0.0
-        safe_room = np.where(opening, room, 1.0)
-        d = np.where(opening, (psi * Y + np.sqrt(Y * Y + safe_room * X * X)) / safe_room, np.inf)
+        if opening.all():  # |psi| < 1 in every scene
+            d = (psi * Y + np.sqrt(Y * Y + room * X * X)) / room
+        else:
+            safe_room = np.where(opening, room, 1.0)
+            d = np.where(opening, (psi * Y + np.sqrt(Y * Y + safe_room * X * X)) / safe_room, np.inf)
         partial = d < self.half
         edge = partial & (d > 0.0)
         safe = np.where(edge, d, 1.0)
@@ -333,20 +343,20 @@ class StripStack:
         lam = np.where(partial, lam, np.where(slipping, Y / safe_norm, 0.0))
         return np.where(partial, d, self.half), kappa, lam, partial
 
-    def strip_forces(self):
-        """Each strip's ``(Fx, Fy, Mz)`` per unit width [N/m, N/m, N] without spin's lateral part (psi = 0 or d,
-        kappa, lambda as given), before the weights of the strips' widths."""
-        d, kappa, lam, partial = self.stick()
+    def closed_form(self, stick):
+        """Forces without spin's lateral part (psi = 0 or d, kappa, lambda as given) from :meth:`stick`'s
+        ``(d, kappa, lambda, partial)``: ``(Fx, Fy, Mz)`` [N, N, N m], arrays over the scenes.  Per strip and unit
+        width ``Fx = (pi m / 2) kappa (a(y)^2 - a*^2)``, ``Fy = (pi m / 2) (lambda a(y)^2 - (lambda - psi) a*^2)``,
+        ``Mz = -(pi m / 2) (lambda - psi) d a*^2 - y Fx`` (module docstring), summed with the strips' weights."""
+        d, kappa, lam, partial = stick
         rest = np.where(partial, self.half - d, 0.0)  # a*
+        rest2 = rest**2
+        turned = lam - self.psi
         area = 0.5 * math.pi * self.m
-        fx = area * kappa * (self.half**2 - rest**2)
-        fy = area * (lam * self.half**2 - (lam - self.psi) * rest**2)
-        return fx, fy, -area * (lam - self.psi) * d * rest**2 - self.y * fx
-
-    def closed_form(self):
-        """Forces without spin's lateral part (psi = 0 or d, kappa, lambda as given): ``(Fx, Fy, Mz)`` [N, N, N m],
-        arrays over the scenes."""
-        return tuple(dots(self.weights, v) for v in self.strip_forces())
+        fx = area * kappa * (self.half2 - rest2)
+        fy = area * (lam * self.half2 - turned * rest2)
+        mz = -area * turned * d * rest2 - self.y * fx
+        return dots(self.weights, fx), dots(self.weights, fy), dots(self.weights, mz)
 
 
 def march_flexibilities(a: float, b: float, g: float, mu: float, normal_load: float, c11: float, c22: float,
