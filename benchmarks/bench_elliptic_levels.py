@@ -13,7 +13,8 @@ A. Median time per case [us] of each level through ``solve_elliptic(scene, name)
    0.6, 1.5, 2 and 5 times it (spin around and past the strips' full slip, ``|psi|`` 1.2..15).
 A2. The strips of several contacts in one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (1, 8 and
    32 scenes: 8 contacts of different a/b with spin, and the 3 shifted scenes each of the stepping model's Jacobian
-   by differences), the median time per call and its ratio to one scene.
+   by differences), the median time per call and its ratio to one scene, and :func:`solve_strips` of the first scene
+   alone in the same run (``--several-only``: this section alone, printed).
 B. (Only with a level named ``discretised`` registered.)  Largest error of Fx, Fy over mu Fn and Mz over mu Fn c of
    each level against the discretised level with its ``extrapolate=True`` (Richardson pair) on the same cases,
    without and with spin, and the strips' per a/b; the accuracy models' constants cite these figures.  B2: that
@@ -36,7 +37,7 @@ from elliptic_cases import LOAD, MATERIAL, MU, C, cases
 
 import rollcontact as rc
 from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS
-from rollcontact.elliptic.methods.strips import solve_strips_many
+from rollcontact.elliptic.methods.strips import solve_strips, solve_strips_many
 
 
 def timing(quick: bool) -> list[str]:
@@ -74,6 +75,7 @@ def several(seconds: float) -> list[str]:
                 for name in ("longitudinal_creepage", "lateral_creepage", "spin_creepage")]
     lines = ["## A2. Several contacts' strips together (`solve_strips_many`, spin)", "",
              "| scenes | median per call [us] | ratio to one scene |", "|---|---|---|"]
+    alone = common.median_time(lambda: solve_strips(contacts[0]), min_repeats=5, min_seconds=5 * seconds)
     one = None
     for scenes in (contacts[:1], contacts, contacts + jacobian):
         t = common.median_time(lambda scenes=scenes: solve_strips_many(scenes), min_repeats=5,
@@ -81,7 +83,8 @@ def several(seconds: float) -> list[str]:
         one = t if one is None else one
         lines.append(f"| {len(scenes)} | {t * 1e6:.0f} | {t / one:.2f} |")
     return lines + ["", f"The 8 contacts: a/b {', '.join(f'{s.hertz.aspect_ratio:.2g}' for s in contacts)}; 32 scenes: "
-                    "each with its three shifted scenes.", ""]
+                    f"each with its three shifted scenes. `solve_strips` of the first scene alone: "
+                    f"{alone * 1e6:.0f} us in the same run.", ""]
 
 
 def accuracy() -> list[str]:
@@ -161,7 +164,11 @@ def falling_curve() -> list[str]:
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer repeats; results not written")
+    parser.add_argument("--several-only", action="store_true", help="section A2 alone, printed; results not written")
     args = parser.parse_args()
+    if args.several_only:
+        print("\n".join(several(0.1)))
+        return
     load = os.getloadavg()[0]
     lines = ["# Elliptic levels: time per case and error", "", *common.machine(load), "", *timing(args.quick)]
     if not args.quick:

@@ -121,7 +121,7 @@ def test_random_scenes_stay_within_the_friction_bound(name):
     theory's stick zone vanishes): finite forces, success, and |(Fx, Fy)| <= mu Fn to round-off."""
     import numpy as np
 
-    from rollcontact.elliptic.methods.strips import StripModel
+    from rollcontact.elliptic.methods.strips import StripStack
 
     rng = np.random.default_rng(7)
     for _ in range(200):
@@ -134,8 +134,8 @@ def test_random_scenes_stay_within_the_friction_bound(name):
         elif kind == 2:
             xi = eta = 0.0
         elif kind == 3:
-            phi = rng.choice([-1.0, 1.0]) * (1.0 + rng.choice([0.0, 1e-12, -1e-12])) / StripModel(
-                s.replace(spin_creepage=1.0), 4).psi
+            phi = rng.choice([-1.0, 1.0]) * (1.0 + rng.choice([0.0, 1e-12, -1e-12])) / StripStack(
+                (s.replace(spin_creepage=1.0),), 4).psi[0, 0]
         result = solve_elliptic(s.replace(longitudinal_creepage=xi, lateral_creepage=eta, spin_creepage=phi), name)
         f = result.force_coefficients
         assert result.success and all(math.isfinite(v) for v in f), f"{name} at {g, xi, eta, phi}: {result.message}"

@@ -296,7 +296,7 @@ class EllipticModel:
         self.strips_together = self.method == "strips" and self.tolerance is None and self.friction.is_constant \
             and p.contacts > 1 and self.fits_budget("strips", spin=True)
         """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`, bit
-        for bit each contact's solve; one contact takes the single-scene solve, which costs less)."""
+        for bit each contact's solve; one contact goes through solve_elliptic, whose strips are the same code)."""
         self.notices: tuple[str, ...] = ()
         """Messages worth showing once at initialisation (none: every parameter is used)."""
         self.messages: list[str] = []

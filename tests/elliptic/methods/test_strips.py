@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rollcontact import Coulomb, EllipticScene, ExponentialFalling, carter, solve_elliptic
+from rollcontact import Coulomb, EllipticScene, ExponentialFalling, Material, carter, solve_elliptic
 from rollcontact.elliptic.creep_coefficients import creepage_coefficients
 
 MU, LOAD = 0.3, 1e5
@@ -205,3 +205,89 @@ def test_several_scenes_together_are_each_scene_alone_bit_for_bit():
         assert (result.longitudinal_force, result.lateral_force, result.spin_moment) == (
             alone.longitudinal_force, alone.lateral_force, alone.spin_moment), scene
         assert result.message == alone.message and result.info == alone.info
+
+
+def mixed_batch():
+    """Scenes of every kind: a/b 0.2..5 either way round, loads 1 kN..200 kN and none, three materials and friction
+    coefficients, no creepage, creepages without spin (the cross influence), spin alone and with creepages (stick and
+    full slip, |psi| past 1), and velocity-dependent friction without spin."""
+    rng = np.random.default_rng(36)
+    materials = (Material(), Material(2.1e11, 0.28), Material(1.9e11, 0.25))
+    scenes = []
+    for k in range(24):
+        ratio = float(np.exp(rng.uniform(np.log(0.2), np.log(5.0))))
+        load = 0.0 if k in (3, 17) else float(np.exp(rng.uniform(np.log(1e3), np.log(2e5))))
+        xi, eta = rng.normal(0.0, 2e-3, 2)
+        phi = float(rng.normal(0.0, 1.0)) * (10.0 if k % 4 == 3 else 1.0)
+        xi, eta, phi = ((0.0, 0.0, 0.0), (xi, eta, 0.0), (0.0, 0.0, phi), (xi, eta, phi), (xi, 0.0, 0.0),
+                        (xi, eta, phi))[k % 6]
+        base = EllipticScene.from_semi_axes(1e5, 6e-3 * math.sqrt(ratio), 6e-3 / math.sqrt(ratio),
+                                            material=materials[k % 3], friction=(0.3, 0.2, 0.45)[k % 3])
+        scenes.append(base.replace(normal_load=load, longitudinal_creepage=float(xi), lateral_creepage=float(eta),
+                                   spin_creepage=phi))
+    scenes.append(scenes[1].replace(friction=ExponentialFalling(0.3, 0.4, 0.6), rolling_speed=10.0, spin_creepage=0.0))
+    return scenes
+
+
+def outcome(result):
+    """Everything a result holds, the traction fields' arrays included, for comparisons bit for bit."""
+    fields = None if result.fields is None else tuple(
+        np.asarray(getattr(result.fields, name)).tobytes() for name in ("x", "y", "pressure", "traction_x",
+                                                                        "traction_y", "stick"))
+    return (result.method, result.success, result.message, result.longitudinal_force, result.lateral_force,
+            result.spin_moment, result.a, result.b, result.max_pressure, result.approach,
+            tuple(sorted((k, repr(v)) for k, v in result.info.items())), fields)
+
+
+@pytest.mark.parametrize("fields", [False, True])
+def test_a_mixed_batch_is_each_scene_alone_bit_for_bit(fields):
+    """solve_strips_many of a mixed batch (mixed_batch: no load, no spin, spin, falling friction) in two orders and in
+    small groups: every result bit for bit solve_strips of its scene, fields included; the stack's numbers of a scene do
+    not depend on its neighbours (the march computes the stick zones on the sticking strips alone in large stacks and
+    on all strips in small ones: the same elementwise operations)."""
+    from rollcontact.elliptic.methods.strips import solve_strips, solve_strips_many
+
+    scenes = mixed_batch()
+    alone = [outcome(solve_strips(s, fields=fields)) for s in scenes]
+    assert sum(s.normal_load == 0.0 for s in scenes) == 2 and any(s.spin_creepage == 0.0 for s in scenes)
+    together = [outcome(r) for r in solve_strips_many(scenes, fields=fields)]
+    backwards = [outcome(r) for r in solve_strips_many(scenes[::-1], fields=fields)][::-1]
+    pairs = [outcome(r) for k in range(0, len(scenes), 2) for r in solve_strips_many(scenes[k:k + 2], fields=fields)]
+    for k, scene in enumerate(scenes):
+        assert together[k] == alone[k], f"scene {k} in the batch differs from alone: {scene}"
+        assert backwards[k] == alone[k], f"scene {k} in the reversed batch differs from alone: {scene}"
+        assert pairs[k] == alone[k], f"scene {k} in a pair differs from alone: {scene}"
+    marched = [r for r in solve_strips_many(scenes, fields=fields) if r.spin_creepage != 0.0 and r.normal_load > 0.0]
+    assert marched and all(r.message == "strip theory, slip directions of the simplified theory" for r in marched)
+
+
+def test_a_batch_names_the_scene_it_cannot_solve():
+    from rollcontact.elliptic.methods.strips import solve_strips_many
+
+    scenes = mixed_batch()[:3] + [scene(spin_creepage=1.0).replace(friction=ExponentialFalling(0.3, 0.4, 0.6))]
+    with pytest.raises(ValueError, match="strips cannot solve scene 3: strips with velocity-dependent friction"):
+        solve_strips_many(scenes)
+    with pytest.raises(ValueError, match="steps"):
+        solve_strips_many(scenes[:3], steps=1)
+
+
+@pytest.mark.parametrize("ratio", [0.2, 1.0, 5.0])
+def test_march_flexibilities_are_fastsims_blended_ones_times_the_spin_factor(ratio):
+    """The stack's march flexibilities (plain floats per scene) against FASTSIM's blended flexibilities of the scene
+    times the factors of SPIN_FLEXIBILITY written out here, to round-off."""
+    from rollcontact.elliptic.methods.fastsim import blended_flexibilities
+    from rollcontact.elliptic.methods.strips import SPIN_FLEXIBILITY, StripStack
+
+    s = scene(6e-3, 6e-3 / ratio, longitudinal_creepage=1e-3, lateral_creepage=-5e-4, spin_creepage=0.7)
+    stack = StripStack((s,), 24)
+    psi = stack.psi[0, 0]
+    x0, x1, y0, y1, p1, power, onset = SPIN_FLEXIBILITY
+    fall = 1.0 + abs(psi) / (p1 * (1.0 + ratio) ** power)
+    rise = abs(psi) / (abs(psi) + onset)
+    k_x = (1.0 + (x0 + x1 * math.log(ratio) - 1.0) * rise) / fall
+    k_y = (1.0 + (y0 + y1 * math.log(ratio) - 1.0) * rise) / fall
+    factors = (k_x, k_y, k_y)
+    expected = [f * v for f, v in zip(factors, blended_flexibilities(s, creepage_coefficients(ratio, 0.28)),
+                                      strict=True)]
+    got = [float(v[0, 0]) for v in stack.flexibilities]
+    assert np.allclose(got, expected, rtol=1e-12, atol=0.0), f"march flexibilities {got} vs {expected}"

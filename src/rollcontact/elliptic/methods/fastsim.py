@@ -36,9 +36,14 @@ BOUNDS = ("elliptic", "parabolic")
 
 def flexibilities(scene, c) -> tuple[float, float, float]:
     """Kalker's (L1, L2, L3) [m/Pa] of the simplified theory from C11, C22, C23 (module docstring)."""
-    a, b = scene.hertz.a, scene.hertz.b
-    g = scene.shear_modulus
-    return 8.0 * a / (3.0 * c.c11 * g), 8.0 * a / (3.0 * c.c22 * g), math.pi * a * math.sqrt(a / b) / (4.0 * c.c23 * g)
+    h = scene.hertz
+    return kalker_flexibilities(h.a, h.b, scene.shear_modulus, c.c11, c.c22, c.c23)
+
+
+def kalker_flexibilities(a: float, b: float, g: float, c11: float, c22: float, c23: float
+                         ) -> tuple[float, float, float]:
+    """:func:`flexibilities` of the semi-axes a, b [m], G [Pa] and C11, C22, C23."""
+    return 8.0 * a / (3.0 * c11 * g), 8.0 * a / (3.0 * c22 * g), math.pi * a * math.sqrt(a / b) / (4.0 * c23 * g)
 
 
 def blended_flexibilities(scene, c) -> tuple[float, float, float]:
@@ -50,18 +55,27 @@ def blended_flexibilities(scene, c) -> tuple[float, float, float]:
     ``eta_c = mu Fn / (G c^2 C22)``: Kalker's three in the linear range, one flexibility from three times the
     characteristic creepage on.
     """
-    l1, l2, l3 = flexibilities(scene, c)
-    xi, eta, phi = scene.creepages
     h = scene.hertz
-    spin = phi * (math.pi * h.a * h.a / 4.0) / (8.0 * h.a / 3.0)
+    return blended(h.a, h.b, scene.shear_modulus, scene.friction_coefficient, scene.normal_load, c.c11, c.c22, c.c23,
+                   *scene.creepages)
+
+
+def blended(a: float, b: float, g: float, mu: float, normal_load: float, c11: float, c22: float, c23: float,
+            xi: float, eta: float, phi: float) -> tuple[float, float, float]:
+    """:func:`blended_flexibilities` of the semi-axes a, b [m], G [Pa], mu, Fn [N], C11, C22, C23 and the creepages
+    (plain floats: the strips take it per scene)."""
+    l1, l2, l3 = kalker_flexibilities(a, b, g, c11, c22, c23)
+    spin = phi * (math.pi * a * a / 4.0) / (8.0 * a / 3.0)
     denominator = xi * xi / l1 + eta * eta / l2 + spin * spin / l3
     if denominator == 0.0:
         return l1, l2, l3
     single = (xi * xi + eta * eta + spin * spin) / denominator
-    scale = scene.friction_coefficient * scene.normal_load / (scene.shear_modulus * h.c * h.c)
-    characteristic = math.hypot(scale / c.c11, scale / c.c22)
+    c = math.sqrt(a * b)
+    scale = mu * normal_load / (g * c * c)
+    characteristic = math.hypot(scale / c11, scale / c22)
     weight = min(1.0, math.hypot(xi, eta) / characteristic / 3.0) if characteristic > 0.0 else 1.0
-    return tuple((1.0 - weight) * flex + weight * single for flex in (l1, l2, l3))
+    return (1.0 - weight) * l1 + weight * single, (1.0 - weight) * l2 + weight * single, \
+        (1.0 - weight) * l3 + weight * single
 
 
 FLEXIBILITIES = {"blended": blended_flexibilities, "kalker": flexibilities}

@@ -61,8 +61,9 @@ import numpy as np
 
 from rollcontact.checks import check_real
 from rollcontact.dispatch import solve as solve_2d
+from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.methods.common import coefficients, linear_ratio, no_load, outside_table
-from rollcontact.elliptic.methods.fastsim import blended_flexibilities
+from rollcontact.elliptic.methods.fastsim import blended
 from rollcontact.elliptic.result import EllipticResult, TractionField
 from rollcontact.method import AccuracyModel, MethodSpec
 from rollcontact.scene import Material, Scene
@@ -73,111 +74,67 @@ TINY = 1e-300
 
 
 @lru_cache(maxsize=16)
-def gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Nodes t and weights on [-1, 1] for integrands with ``sqrt(1 - t^2)`` ends (cached per count): Gauss-Legendre in
-    theta with ``t = sin(theta)``, so that ``a(y)`` and ``a(y)^2`` integrate alike to spectral accuracy."""
+def gauss(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Nodes t, weights on [-1, 1] and ``sqrt(1 - t^2)`` for integrands with ``sqrt(1 - t^2)`` ends (cached per count,
+    read-only): Gauss-Legendre in theta with ``t = sin(theta)``, so that ``a(y)`` and ``a(y)^2`` integrate alike to
+    spectral accuracy."""
     u, w = np.polynomial.legendre.leggauss(n)
     theta = 0.5 * math.pi * u
-    return np.sin(theta), 0.5 * math.pi * np.cos(theta) * w
+    nodes = np.sin(theta)
+    return frozen(nodes), frozen(0.5 * math.pi * np.cos(theta) * w), frozen(np.sqrt(1.0 - nodes**2))
 
 
-class StripModel:
-    """The scene's strips: positions, half-lengths, moduli and scaled creepages (module docstring)."""
-
-    def __init__(self, scene, strips: int):
-        h = scene.hertz
-        self.a, self.b, self.p0 = h.a, h.b, h.max_pressure
-        self.mu = scene.friction_coefficient
-        c = self.coefficients = coefficients(scene)
-        g = scene.shear_modulus
-        self.moduli = (4.0 * g * c.c11 / math.pi**2, 4.0 * g * c.c22 / math.pi**2,
-                       3.0 * g * c.c23 * math.sqrt(self.b / self.a) / math.pi)
-        nodes, weights = gauss(strips)
-        self.y = self.b * nodes
-        self.weights = self.b * weights
-        self.half = self.a * np.sqrt(1.0 - nodes**2)
-        self.factor = stiffening(h.aspect_ratio, nodes, self.weights * self.half)
-        self.scale = self.factor * self.a / (2.0 * self.mu * self.p0)  # slip length per unit modulus and creepage
-        xi, eta, phi = scene.creepages
-        self.rigid_x = xi - phi * self.y
-        self.X = self.rigid_x * self.moduli[0] * self.scale
-        self.Y = eta * self.moduli[1] * self.scale
-        self.spin = phi != 0.0
-        self.psi = float(phi * self.moduli[2] * self.a / (2.0 * self.mu * self.p0))  # unstiffened: keeps C23
-        self.m = self.mu * self.p0 / self.a  # mu p = m sqrt(a(y)^2 - x^2)
-        self.cross = 0.0 if self.spin else cross_coefficient(scene)
-
-    def couple(self, lateral_force: float) -> float:
-        """Add the longitudinal creepage ``-phi_c y`` that a lateral force [N] induces (:func:`cross_coefficient`) to
-        the strips' X; returns ``phi_c`` [1/m]."""
-        phi_c = self.cross * lateral_force
-        self.X = (self.rigid_x - phi_c * self.y) * self.moduli[0] * self.scale
-        return phi_c
-
-    def stick(self):
-        """``(d, kappa, lambda, partial)`` per strip: the slip zone's half-length, the traction direction at the stick
-        edge, and whether the strip sticks anywhere (``d < a(y)``)."""
-        psi, X, Y = self.psi, self.X, self.Y
-        room = 1.0 - psi * psi
-        safe_room = np.where(room > 0.0, room, 1.0)
-        d = np.where(room > 0.0, (psi * Y + np.sqrt(Y * Y + safe_room * X * X)) / safe_room, np.inf)
-        partial = d < self.half
-        safe = np.where(partial & (d > 0.0), d, 1.0)
-        kappa = np.where(partial & (d > 0.0), X / safe, 0.0)
-        lam = np.where(partial & (d > 0.0), psi + Y / safe, 0.0)
-        norm = np.hypot(X, Y)
-        slip_x = np.where(norm > 0.0, X / np.where(norm > 0.0, norm, 1.0), 0.0)
-        slip_y = np.where(norm > 0.0, Y / np.where(norm > 0.0, norm, 1.0), 0.0)
-        kappa = np.where(partial, kappa, slip_x)  # full slip without spin: along (X, Y)
-        lam = np.where(partial, lam, slip_y)
-        return np.where(partial, d, self.half), kappa, lam, partial
-
-    def strip_forces(self):
-        """Each strip's ``(Fx, Fy, Mz)`` per unit width [N/m, N/m, N] without spin's lateral part (psi = 0 or d,
-        kappa, lambda as given), before the weights of the strips' widths."""
-        d, kappa, lam, partial = self.stick()
-        rest = np.where(partial, self.half - d, 0.0)  # a*
-        area = 0.5 * math.pi * self.m
-        fx = area * kappa * (self.half**2 - rest**2)
-        fy = area * (lam * self.half**2 - (lam - self.psi) * rest**2)
-        return fx, fy, -area * (lam - self.psi) * d * rest**2 - self.y * fx
-
-    def closed_form(self):
-        """Forces without spin's lateral part (psi = 0 or d, kappa, lambda as given): ``(Fx, Fy, Mz)`` [N, N, N m]."""
-        w = self.weights
-        return tuple(float(w @ v) for v in self.strip_forces())
-
-    def stick_traction(self, x, d, kappa, lam):
-        """The stick-zone traction ``(q_x, q_y)`` [Pa] at x [m] (arrays broadcast over the strips' last axis)."""
-        rest = self.half - d
-        full = np.sqrt(np.clip(self.half**2 - x * x, 0.0, None))
-        inner = np.sqrt(np.clip(rest**2 - (x - d) ** 2, 0.0, None))
-        return self.m * kappa * (full - inner), self.m * (lam * full - (lam - self.psi) * inner)
+def frozen(array: np.ndarray) -> np.ndarray:
+    """``array``, made read-only (a cached array is shared by every call)."""
+    array.flags.writeable = False
+    return array
 
 
-def stiffening(ratio: float, nodes: np.ndarray, load_weights: np.ndarray) -> np.ndarray:
-    """Each strip's modulus factor ``f(y) = K (1 - y^2/b^2)^(-gamma/2)`` [1], ``gamma = (a/b) / (a/b + s)`` with
-    ``s`` = :data:`STIFFENING_SCALE`, and ``K`` such that ``sum_j w_j a(y_j)^2 f_j = sum_j w_j a(y_j)^2``
-    (``load_weights``: the strips' weights times ``a(y)^2``, the linear force's share of each strip), so that the
-    strips keep Kalker's C11 and C22.  A short strip has neighbours of similar traction over a width comparable to
-    its length, so the half-space answers it more stiffly than the 2D half-plane does; the effect grows with a/b and
-    vanishes in the strip limit a/b -> 0, where the strips are Carter's problems."""
+@lru_cache(maxsize=1024)
+def ratio_constants(ratio: float, poisson_ratio: float, strips: int) -> tuple[tuple[float, ...], np.ndarray]:
+    """What a scene's strips take from its a/b and nu alone, cached by their exact values (a vehicle's contacts keep
+    their curvatures from step to step): ``(C11, C22, C23, A_x0 + A_x1 ln(a/b), A_y0 + A_y1 ln(a/b), P)``
+    (:func:`march_flexibilities`) and the shape ``(1 - t^2)^(-gamma/2)`` of :func:`stiffening` at the strips' nodes
+    (read-only).  A ValueError for a/b or nu outside the coefficient table."""
+    c = creepage_coefficients(ratio, poisson_ratio)
+    nodes = gauss(strips)[0]
     gamma = ratio / (ratio + STIFFENING_SCALE)
-    factor = (1.0 - nodes * nodes) ** (-0.5 * gamma)
-    return factor * (float(np.sum(load_weights)) / float(load_weights @ factor))
+    x0, x1, y0, y1, scale, power, _ = SPIN_FLEXIBILITY
+    log_ratio = math.log(ratio)
+    return ((c.c11, c.c22, c.c23, x0 + x1 * log_ratio, y0 + y1 * log_ratio, scale * (1.0 + ratio) ** power),
+            frozen((1.0 - nodes * nodes) ** (-0.5 * gamma)))
+
+
+def stiffening(shape: np.ndarray, load_weights: np.ndarray) -> np.ndarray:
+    """Each strip's modulus factor ``f(y) = K (1 - y^2/b^2)^(-gamma/2)`` [1] per scene (rows ``(n, S)``),
+    ``gamma = (a/b) / (a/b + s)`` with ``s`` = :data:`STIFFENING_SCALE` (``shape``: the power, from
+    :func:`ratio_constants`), and ``K`` such that ``sum_j w_j a(y_j)^2 f_j = sum_j w_j a(y_j)^2`` (``load_weights``:
+    the strips' weights times ``a(y)^2``, the linear force's share of each strip), so that the strips keep Kalker's C11
+    and C22.  A short strip has neighbours of similar traction over a width comparable to its length, so the
+    half-space answers it more stiffly than the 2D half-plane does; the effect grows with a/b and vanishes in the strip
+    limit a/b -> 0, where the strips are Carter's problems."""
+    return shape * (np.sum(load_weights, axis=1) / dots(load_weights, shape))[:, None]
+
+
+def dots(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``u_k . v_k`` of each row k of two ``(..., S)`` arrays: one vector dot product per row, as ``u_k @ v_k`` takes
+    it."""
+    return (u[..., None, :] @ v[..., :, None])[..., 0, 0]
 
 
 @lru_cache(maxsize=1)
-def _angles(n: int = 64) -> tuple[np.ndarray, np.ndarray]:
+def _angles(n: int = 64) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     theta = (np.arange(n) + 0.5) * (2.0 * math.pi / n)
-    return np.cos(theta) ** 2, np.sin(theta) ** 2
+    cos2, sin2 = np.cos(theta) ** 2, np.sin(theta) ** 2
+    return frozen(cos2), frozen(sin2), frozen(15.0 * cos2 * sin2 - 2.0)
 
 
-def cross_coefficient(scene) -> float:
-    """``phi_c / Fy`` [1/(N m)]: the longitudinal creepage ``-phi_c y`` that a lateral traction of Hertz's shape,
-    ``q_y = q0 sqrt(1 - x^2/a^2 - y^2/b^2)`` with ``q0 = 3 Fy / (2 pi a b)``, induces through the half-space's
-    cross influence (``u_x`` of ``q_y``, proportional to nu).  That ``u_x`` is bilinear in the ellipse, ``u_x = K x y``
-    with (Hadamard's finite part of ``(nu / (pi G)) int q_y d^2/dx dy (X Y / r^3)``, both bodies)
+def cross_coefficients(a, b, a2, b2, poisson_ratio, shear_modulus) -> np.ndarray:
+    """``phi_c / Fy`` [1/(N m)] per scene (arrays ``(n, 1)``: the semi-axes a, b [m], their squares, nu and G [Pa]):
+    the longitudinal creepage ``-phi_c y`` that a lateral traction of Hertz's shape,
+    ``q_y = q0 sqrt(1 - x^2/a^2 - y^2/b^2)`` with ``q0 = 3 Fy / (2 pi a b)``, induces through the half-space's cross
+    influence (``u_x`` of ``q_y``, proportional to nu).  That ``u_x`` is bilinear in the ellipse, ``u_x = K x y`` with
+    (Hadamard's finite part of ``(nu / (pi G)) int q_y d^2/dx dy (X Y / r^3)``, both bodies)
 
         ``K = -(nu q0 / (2 G)) int_0^{2 pi} (15 cos^2 t sin^2 t - 2) sqrt(cos^2 t / a^2 + sin^2 t / b^2) dt``
 
@@ -186,11 +143,17 @@ def cross_coefficient(scene) -> float:
     ``s_x = w_x + du_x/dx`` gains ``K y``: a longitudinal creepage ``-phi_c y``, ``phi_c = -K``.  Strip theory has no
     such coupling; with it the lateral force turns the traction of the strips off the y axis by a y-odd amount, which
     gives the moment ``-int y q_x`` that the exact theory finds with lateral creepage."""
+    cos2, sin2, kernel = _angles()
+    integral = 2.0 * math.pi * np.mean(kernel * np.sqrt(cos2 / a2 + sin2 / b2), axis=1, keepdims=True)
+    q0_per_force = 3.0 / (2.0 * math.pi * a * b)
+    return 0.5 * poisson_ratio * q0_per_force * integral / shear_modulus
+
+
+def cross_coefficient(scene) -> float:
+    """:func:`cross_coefficients` of one scene [1/(N m)]."""
     h = scene.hertz
-    cos2, sin2 = _angles()
-    integral = 2.0 * math.pi * float(np.mean((15.0 * cos2 * sin2 - 2.0) * np.sqrt(cos2 / h.a**2 + sin2 / h.b**2)))
-    q0_per_force = 3.0 / (2.0 * math.pi * h.a * h.b)
-    return 0.5 * scene.material.poisson_ratio * q0_per_force * integral / scene.shear_modulus
+    values = (h.a, h.b, h.a**2, h.b**2, scene.material.poisson_ratio, scene.shear_modulus)
+    return float(cross_coefficients(*(np.array([[v]]) for v in values))[0, 0])
 
 
 def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
@@ -220,261 +183,345 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
     steps = int(check_real("steps", steps, lower=2))
     if scene.normal_load == 0.0:
         return no_load(scene, "strips")
-    model = StripModel(scene, strips)
     if not scene.friction.is_constant:
-        return falling_friction(scene, model)
-    phi_c, forces = 0.0, None
-    if model.cross:  # the lateral force's longitudinal creepage, by fixed point through the closed form
-        forces = model.closed_form()
-        for _ in range(CROSS_ITERATIONS):
-            phi_c = model.couple(forces[1])
-            forces = model.closed_form()
-    d, kappa, lam, partial = model.stick()
-    info = {"stick_strips": float(partial.mean()), "psi": model.psi, "cross_spin": phi_c}
-    field = None
-    message = "strip theory (closed form)"
-    if model.spin or fields:
-        forces, field = marched(scene, model, steps, d, kappa, lam, partial, phi_c, fields)
-        message = "strip theory, slip directions of the simplified theory" if model.spin else "strip theory"
-    elif forces is None:
-        forces = model.closed_form()
-    return EllipticResult.from_scene(scene, "strips", True, message, forces, field, info)
+        return falling_friction(scene, StripStack((scene,), strips))
+    return stacked((scene,), strips, steps, fields)[0]
 
 
 solve_strips.options = ("strips", "steps", "fields")
 
 
-def march_flexibilities(scene, c, psi: float) -> tuple[float, float, float]:
-    """The march's ``(L1, L2, L3)`` [m/Pa]: Vollebregt & Voltr's blended flexibilities
-    (:func:`.fastsim.blended_flexibilities`) times ``k_x`` (L1) and ``k_y`` (L2, L3),
-
-        ``k = (1 + (k_0 - 1) |psi| / (|psi| + Q)) / (1 + |psi| / P)``,  ``k_0,x = A_x0 + A_x1 ln(a/b)``,
-        ``k_0,y = A_y0 + A_y1 ln(a/b)``,  ``P = P_1 (1 + a/b)^m``
-
-    (:data:`SPIN_FLEXIBILITY`: calibrated, not derived).  At small spin the factors are 1: Kalker's flexibilities,
-    chosen for the linear forces, hold where the stick zones carry the traction.  In the slip zones the march's
-    traction lags behind the rigid slip by the flexibility times the rate at which the traction turns; that lag is too
-    large once spin drives the slip (the lateral force of spin is overestimated, most at a/b 0.5..2), so the factors
-    fall with the scaled spin ``|psi|``; their a/b dependence ``k_0`` follows the strips' own error, which changes sign
-    between the strip limit a/b -> 0 and long strips (a/b = 5)."""
-    l1, l2, l3 = blended_flexibilities(scene, c)
-    x0, x1, y0, y1, scale, power, onset = SPIN_FLEXIBILITY
-    ratio = scene.hertz.aspect_ratio
-    spin = abs(psi)
-    fall = 1.0 + spin / (scale * (1.0 + ratio) ** power)
-    rise = spin / (spin + onset)
-    log_ratio = math.log(ratio)
-    k_x = (1.0 + (x0 + x1 * log_ratio - 1.0) * rise) / fall
-    k_y = (1.0 + (y0 + y1 * log_ratio - 1.0) * rise) / fall
-    return k_x * l1, k_y * l2, k_y * l3
-
-
-def marched(scene, model: StripModel, steps: int, d, kappa, lam, partial, phi_c: float, fields: bool):
-    """The strips on ``steps`` cells each: strip theory's traction in the stick zones, ``mu p`` along the direction
-    of the simplified theory's traction (a FASTSIM march with the strips' flexibilities, module docstring) in the slip
-    zones.  Returns the forces and, with ``fields``, the traction field (else None)."""
-    h = scene.hertz
-    xi, eta, phi = scene.creepages
-    l1, l2, l3 = march_flexibilities(scene, model.coefficients, model.psi)
-    y, half = model.y, model.half
-    dx = 2.0 * half / steps
-    x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
-    bound = model.mu * h.pressure(x, y)
-    bound *= model.mu * scene.normal_load / float(np.sum(bound * (dx * model.weights)))  # the cells carry mu Fn
-    step = np.empty((steps, 2, y.size))  # the march's increment from cell i to i + 1 (midpoint x_i - dx/2)
-    step[:, 0] = dx * (xi - (phi + phi_c) * y) / l1 * model.factor  # the strip's stiffening, as in its stick zone
-    step[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
-    trial = np.empty((steps, 2, y.size))
-    t = np.stack((0.5 * step[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)))
-    for i in range(steps):  # one vector operation over the strips per cell
-        trial[i] = t
-        t = t * np.minimum(1.0, bound[i] / np.maximum(np.hypot(t[0], t[1]), TINY)) + step[i]
-    trial_x, trial_y = trial[:, 0], trial[:, 1]
-    size = np.maximum(np.hypot(trial_x, trial_y), TINY)
-    direction_x, direction_y = trial_x / size, trial_y / size
-    if not model.spin:  # without spin the slip direction is uniform along the strip
-        direction_x = np.broadcast_to(kappa, x.shape)
-        direction_y = np.broadcast_to(lam, x.shape)
-    in_stick = partial & (x > 2.0 * d - half)
-    sx, sy = model.stick_traction(x, d, kappa, lam)
-    qx = np.where(in_stick, sx, bound * direction_x)
-    qy = np.where(in_stick, sy, bound * direction_y)
-    weight = model.weights * dx  # Gauss over y, midpoint cells along x
-    forces = (float(np.sum(qx * weight)), float(np.sum(qy * weight)), float(np.sum((x * qy - y * qx) * weight)))
-    if not fields:
-        return forces, None
-    field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), (bound / model.mu).T.copy(), qx.T.copy(),
-                          qy.T.copy(), in_stick.T.copy())
-    return forces, field
-
-
 def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
                       ) -> list[EllipticResult]:
-    """:func:`solve_strips` of several loaded scenes with Coulomb friction at once: the stick zones, the closed form
-    with its cross-influence fixed point and the march are array operations over the scenes (:class:`StripStack`,
-    :func:`marched_many`), each scene's result bit for bit :func:`solve_strips`'s (the same operations per element,
-    each sum over one scene's own values in :func:`solve_strips`'s order).  The caller checks what
-    :func:`solve_strips` checks (applicability, a load > 0, constant friction, the counts)."""
-    stack = StripStack([StripModel(scene, strips) for scene in scenes])
-    n = len(scenes)
-    phi_c = np.zeros(n)
-    forces = None
+    """:func:`solve_strips` of each scene (the same arguments), the loaded scenes with Coulomb friction at once: their
+    strips are one :class:`StripStack`, whose stick zones, closed form, cross-influence fixed point and march are array
+    operations over the scenes, each scene's numbers independent of the others (:func:`solve_strips` is this function
+    of one scene).  A scene without load has no contact; velocity-dependent friction takes one 2D solve per strip.
+
+    Raises
+    ------
+    ValueError
+        A scene the strips cannot solve (:func:`inapplicable`; the message names its index), or a count < 2.
+    """
+    low, high = aspect_ratio_range()
+    for k, scene in enumerate(scenes):
+        if not low <= scene.hertz.aspect_ratio <= high or (scene.spin_creepage != 0.0
+                                                           and not scene.friction.is_constant):
+            raise ValueError(f"strips cannot solve scene {k}: {inapplicable(scene)}")
+    strips = int(check_real("strips", strips, lower=2))
+    steps = int(check_real("steps", steps, lower=2))
+    loaded = [k for k, scene in enumerate(scenes) if scene.normal_load != 0.0 and scene.friction.is_constant]
+    if len(loaded) == len(scenes):
+        return stacked(scenes, strips, steps, fields)
+    together = set(loaded)
+    results = [None if k in together else solve_strips(scene, strips=strips, steps=steps, fields=fields)
+               for k, scene in enumerate(scenes)]
+    for k, result in zip(loaded, stacked([scenes[k] for k in loaded], strips, steps, fields) if loaded else (),
+                         strict=True):
+        results[k] = result
+    return results
+
+
+def stacked(scenes, strips: int, steps: int, fields: bool) -> list[EllipticResult]:
+    """:func:`solve_strips` of loaded scenes with Coulomb friction (checked), as one :class:`StripStack`."""
+    stack = StripStack(scenes, strips, fields)
+    phi_c, forces = np.zeros((len(scenes), 1)), None
+    sticking = stack.stick()
     if stack.coupled.any():  # the lateral force's longitudinal creepage, by fixed point through the closed form
-        forces = stack.closed_form()
+        forces = stack.closed_form(sticking)
         for _ in range(CROSS_ITERATIONS):
             phi_c = stack.couple(forces[1])
-            forces = stack.closed_form()
-    d, kappa, lam, partial = stack.stick()
+            sticking = stack.stick()
+            forces = stack.closed_form(sticking)
+    d, kappa, lam, partial = sticking
     march = stack.spin | fields
-    out = np.empty((n, 3))
-    field = [None] * n
-    if not march.all():
-        out[~march] = np.column_stack(stack.closed_form() if forces is None else forces)[~march]
-    if march.any():
-        index = np.flatnonzero(march)
-        marched_forces, marched_fields = marched_many([scenes[k] for k in index], stack.rows(index), steps,
-                                                 *(v[index] for v in (d, kappa, lam, partial)), phi_c[index], fields)
-        out[index] = marched_forces
-        for k, f in zip(index, marched_fields, strict=True):
-            field[k] = f
+    field = (None,) * len(scenes)
+    if march.all():
+        out, field = marched(stack, steps, d, kappa, lam, partial, phi_c, fields)
+    else:  # the closed form; where a scene marches, its march (all scenes march together, each on its own numbers)
+        out = np.column_stack(stack.closed_form(sticking) if forces is None else forces)
+        if march.any():
+            out_marched, field = marched(stack, steps, d, kappa, lam, partial, phi_c, fields)
+            out = np.where(march[:, None], out_marched, out)
     results = []
-    for k, scene in enumerate(scenes):
-        spin = bool(stack.spin[k])
-        message = ("strip theory, slip directions of the simplified theory" if spin else "strip theory") \
-            if march[k] else "strip theory (closed form)"
-        info = {"stick_strips": float(partial[k].mean()), "psi": float(stack.psi[k, 0]), "cross_spin": float(phi_c[k])}
-        results.append(EllipticResult.from_scene(scene, "strips", True, message, out[k].tolist(), field[k], info))
+    for scene, spin, marching, values, f, stick, psi, cross in zip(
+            scenes, stack.spin.tolist(), march.tolist(), out.tolist(), field,
+            (np.add.reduce(partial, axis=1, dtype=float) / partial.shape[1]).tolist(),  # each scene's partial.mean()
+            stack.psi[:, 0].tolist(), phi_c[:, 0].tolist(), strict=True):
+        message = ("strip theory, slip directions of the simplified theory" if spin else "strip theory") if marching \
+            else "strip theory (closed form)"
+        results.append(EllipticResult.from_scene(scene, "strips", True, message, values, f,
+                                                 {"stick_strips": stick, "psi": psi, "cross_spin": cross}))
     return results
 
 
 class StripStack:
-    """The strips of several scenes (:class:`StripModel` each) stacked along a leading axis: each array ``(n, S)``,
-    each scalar of a scene a column ``(n, 1)``; the stick zones, the closed form and the cross influence of
-    :class:`StripModel` as array operations over the scenes, each sum over one scene's row."""
+    """The strips of n loaded scenes (module docstring), stacked: each array ``(n, S)`` over the scenes and their S
+    strips, each scalar of a scene a column ``(n, 1)``.  Every operation is elementwise or a sum over one scene's own
+    values in one fixed order, so a scene's numbers are the same in any stack.  A scene's scalars are taken in plain
+    floats, those that depend on a/b and nu alone from :func:`ratio_constants`.
 
-    SCALARS = ("a", "b", "p0", "mu", "psi", "m", "cross")
-    ARRAYS = ("y", "weights", "half", "factor", "scale", "rigid_x", "X", "Y")
+    Attributes: ``rows`` (each scene's scalars, plain floats) and ``table`` (the same, an array ``(scalars, n)``);
+    as columns ``a``, ``b``, ``p0`` [m, m, Pa], ``mu``, ``limit`` (mu Fn [N]), the creepages ``xi``, ``eta``, ``phi``,
+    ``flexibilities`` (the march's, :func:`march_flexibilities`; with ``fields`` of every scene, else of those with
+    spin, 1 elsewhere); per strip ``y`` [m], ``weights`` [m] (Gauss over y), ``half`` (``a(y)`` [m]), ``factor``
+    (:func:`stiffening`), ``scale`` (the slip length per unit modulus and creepage [1/Pa]), the scaled rigid slips
+    ``X``, ``Y`` (``rigid_x``: ``xi - phi y``), ``psi`` (the scaled spin, unstiffened: it keeps C23), ``m``
+    (``mu p = m sqrt(a(y)^2 - x^2)``), ``modulus_x`` (E_x [Pa]), ``cross`` (:func:`cross_coefficients`, 0 with spin)
+    and ``spin`` (phi != 0, per scene)."""
 
-    def __init__(self, models):
-        self.models = list(models)
-        scalars = np.array([[getattr(m, name) for name in self.SCALARS] + [m.moduli[0]] for m in self.models],
-                           dtype=float)
-        for i, name in enumerate(self.SCALARS):
-            setattr(self, name, scalars[:, i:i + 1])
-        self.modulus_x = scalars[:, -1:]
-        for name in self.ARRAYS:
-            setattr(self, name, np.array([getattr(m, name) for m in self.models], dtype=float))
-        self.spin = np.array([m.spin for m in self.models], dtype=bool)
+    def __init__(self, scenes, strips: int, fields: bool = False):
+        nodes, weights, root = gauss(strips)
+        rows, shapes = [], []
+        for scene in scenes:
+            h = scene.hertz
+            material = scene.material
+            (c11, c22, c23, k_x, k_y, spin_scale), shape = ratio_constants(h.aspect_ratio, material.poisson_ratio,
+                                                                           strips)
+            a, b, p0, mu, load, g = h.a, h.b, h.max_pressure, scene.friction_coefficient, scene.normal_load, \
+                scene.shear_modulus
+            xi, eta, phi = scene.creepages
+            two_mu_p0 = 2.0 * mu * p0
+            psi = phi * (3.0 * g * c23 * math.sqrt(b / a) / math.pi) * a / two_mu_p0  # E_phi (module docstring)
+            flexibilities = march_flexibilities(a, b, g, mu, load, c11, c22, c23, xi, eta, phi, psi, k_x, k_y,
+                                                spin_scale) if phi != 0.0 or fields else (1.0, 1.0, 1.0)
+            rows.append((a, b, p0, mu, mu * load, xi, eta, phi, 4.0 * g * c11 / math.pi**2, 4.0 * g * c22 / math.pi**2,
+                         psi, mu * p0 / a, two_mu_p0, *flexibilities, g, material.poisson_ratio,
+                         *((1.0, 1.0) if phi != 0.0 else (a**2, b**2))))
+            shapes.append(shape)
+        self.rows = rows  # each scene's scalars, plain floats
+        self.table = np.array(rows).T  # (scalars, n)
+        (a, b, self.p0, self.mu, self.limit, xi, self.eta, phi, self.modulus_x, modulus_y, self.psi, self.m, two_mu_p0,
+         l1, l2, l3, g, nu, a2, b2) = self.table[:, :, None]
+        self.a, self.b, self.xi, self.phi, self.flexibilities = a, b, xi, phi, (l1, l2, l3)
+        self.y = b * nodes
+        self.weights = b * weights
+        self.half = a * root
+        self.half2 = self.half**2
+        self.factor = stiffening(np.array(shapes), self.weights * self.half)
+        self.scale = self.factor * a / two_mu_p0
+        self.rigid_x = xi - phi * self.y
+        self.X = self.rigid_x * self.modulus_x * self.scale
+        self.Y = self.eta * modulus_y * self.scale
+        self.spin = phi[:, 0] != 0.0
+        self.cross = np.zeros_like(a) if self.spin.all() else \
+            np.where(self.spin[:, None], 0.0, cross_coefficients(a, b, a2, b2, nu, g))
         self.coupled = self.cross[:, 0] != 0.0
-        self.coefficients = [m.coefficients for m in self.models]
 
-    def rows(self, index) -> StripStack:
-        """The stack of the scenes ``index`` (this one when it holds all), with their current X."""
-        if len(index) == len(self.models):
-            return self
-        rows = StripStack([self.models[k] for k in index])
-        rows.X = self.X[index]
-        return rows
+    def couple(self, lateral_force: np.ndarray) -> np.ndarray:
+        """Add the longitudinal creepage ``-phi_c y`` that a lateral force [N] (per scene) induces
+        (:func:`cross_coefficients`) to the strips' X of the coupled scenes; returns ``phi_c`` [1/m] ``(n, 1)`` (0
+        where a scene has no cross influence, whose X is left as it is)."""
+        phi_c = self.cross * lateral_force[:, None]
+        coupled_x = (self.rigid_x - phi_c * self.y) * self.modulus_x * self.scale
+        if self.coupled.all():
+            self.X = coupled_x
+            return phi_c
+        self.X = np.where(self.coupled[:, None], coupled_x, self.X)
+        return np.where(self.coupled[:, None], phi_c, 0.0)
 
-    def couple(self, lateral_force):
-        """:meth:`StripModel.couple` of the coupled scenes (``lateral_force`` [N] per scene); ``phi_c`` [1/m] per
-        scene (0 where a scene has no cross influence, whose X is left as it is)."""
-        phi_c = np.where(self.coupled, self.cross[:, 0] * lateral_force, 0.0)
-        self.X = np.where(self.coupled[:, None], (self.rigid_x - phi_c[:, None] * self.y) * self.modulus_x * self.scale,
-                          self.X)
-        return phi_c
+    def stick(self):
+        """``(d, kappa, lambda, partial)`` per strip: the slip zone's half-length, the traction direction at the stick
+        edge, and whether the strip sticks anywhere (``d < a(y)``)."""
+        psi, X, Y = self.psi, self.X, self.Y
+        room = 1.0 - psi * psi
+        opening = room > 0.0
+        if opening.all():  # |psi| < 1 in every scene
+            d = (psi * Y + np.sqrt(Y * Y + room * X * X)) / room
+        else:
+            safe_room = np.where(opening, room, 1.0)
+            d = np.where(opening, (psi * Y + np.sqrt(Y * Y + safe_room * X * X)) / safe_room, np.inf)
+        partial = d < self.half
+        edge = partial & (d > 0.0)
+        safe = np.where(edge, d, 1.0)
+        kappa = np.where(edge, X / safe, 0.0)
+        lam = np.where(edge, psi + Y / safe, 0.0)
+        norm = np.hypot(X, Y)
+        slipping = norm > 0.0
+        safe_norm = np.where(slipping, norm, 1.0)
+        kappa = np.where(partial, kappa, np.where(slipping, X / safe_norm, 0.0))  # full slip without spin: along (X, Y)
+        lam = np.where(partial, lam, np.where(slipping, Y / safe_norm, 0.0))
+        return np.where(partial, d, self.half), kappa, lam, partial
 
-    stick = StripModel.stick
-    stick_traction = StripModel.stick_traction
-    strip_forces = StripModel.strip_forces
+    def closed_form(self, stick):
+        """Forces without spin's lateral part (psi = 0 or d, kappa, lambda as given) from :meth:`stick`'s
+        ``(d, kappa, lambda, partial)``: ``(Fx, Fy, Mz)`` [N, N, N m], arrays over the scenes.  Per strip and unit
+        width ``Fx = (pi m / 2) kappa (a(y)^2 - a*^2)``, ``Fy = (pi m / 2) (lambda a(y)^2 - (lambda - psi) a*^2)``,
+        ``Mz = -(pi m / 2) (lambda - psi) d a*^2 - y Fx`` (module docstring), summed with the strips' weights."""
+        d, kappa, lam, partial = stick
+        rest = np.where(partial, self.half - d, 0.0)  # a*
+        rest2 = rest**2
+        turned = lam - self.psi
+        area = 0.5 * math.pi * self.m
+        fx = area * kappa * (self.half2 - rest2)
+        fy = area * (lam * self.half2 - turned * rest2)
+        mz = -area * turned * d * rest2 - self.y * fx
+        return dots(self.weights, fx), dots(self.weights, fy), dots(self.weights, mz)
 
-    def closed_form(self):
-        """:meth:`StripModel.closed_form` of every scene: ``(Fx, Fy, Mz)``, arrays over the scenes."""
-        w = self.weights
-        # each scene's sums as StripModel.closed_form takes them (a dot product per scene)
-        return tuple(np.array([w[k] @ v[k] for k in range(len(w))]) for v in self.strip_forces())
+
+def march_flexibilities(a: float, b: float, g: float, mu: float, normal_load: float, c11: float, c22: float,
+                        c23: float, xi: float, eta: float, phi: float, psi: float, k_x0: float, k_y0: float,
+                        spin_scale: float) -> tuple[float, float, float]:
+    """The march's ``(L1, L2, L3)`` [m/Pa] of a scene (its semi-axes a, b [m], G [Pa], mu, Fn [N], C11, C22, C23, the
+    creepages, the scaled spin psi and, from :func:`ratio_constants`, ``A_x0 + A_x1 ln(a/b)``, ``A_y0 + A_y1 ln(a/b)``
+    and P): Vollebregt & Voltr's blended flexibilities (:func:`.fastsim.blended_flexibilities`) times ``k_x`` (L1) and
+    ``k_y`` (L2, L3),
+
+        ``k = (1 + (k_0 - 1) |psi| / (|psi| + Q)) / (1 + |psi| / P)``,  ``k_0,x = A_x0 + A_x1 ln(a/b)``,
+        ``k_0,y = A_y0 + A_y1 ln(a/b)``,  ``P = P_1 (1 + a/b)^m``
+
+    (:data:`SPIN_FLEXIBILITY`: calibrated, not derived; Q its last).  At small spin the factors are 1: Kalker's
+    flexibilities, chosen for the linear forces, hold where the stick zones carry the traction.  In the slip zones the
+    march's traction lags behind the rigid slip by the flexibility times the rate at which the traction turns; that lag
+    is too large once spin drives the slip (the lateral force of spin is overestimated, most at a/b 0.5..2), so the
+    factors fall with the scaled spin ``|psi|``; their a/b dependence ``k_0`` follows the strips' own error, which
+    changes sign between the strip limit a/b -> 0 and long strips (a/b = 5)."""
+    l1, l2, l3 = blended(a, b, g, mu, normal_load, c11, c22, c23, xi, eta, phi)
+    spin = abs(psi)
+    fall = 1.0 + spin / spin_scale
+    rise = spin / (spin + SPIN_FLEXIBILITY[6])
+    k_x = (1.0 + (k_x0 - 1.0) * rise) / fall
+    k_y = (1.0 + (k_y0 - 1.0) * rise) / fall
+    return k_x * l1, k_y * l2, k_y * l3
 
 
-def marched_many(scenes, stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields: bool):
-    """The strips of the scenes on ``steps`` cells each: strip theory's traction in the stick zones, ``mu p`` along
-    the direction of the simplified theory's traction (a FASTSIM march with the strips' flexibilities, module
+@lru_cache(maxsize=16)
+def cells(steps: int) -> np.ndarray:
+    """The cell centres' ``x / a(y)`` from the leading edge, ``1 - (2 i + 1) / steps`` ``(steps, 1)`` (read-only)."""
+    return frozen(1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)
+
+
+def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields: bool):
+    """The strips of the stack's scenes on ``steps`` cells each: strip theory's traction in the stick zones, ``mu p``
+    along the direction of the simplified theory's traction (a FASTSIM march with the strips' flexibilities, module
     docstring) in the slip zones.  Returns the forces ``(n, 3)`` and, with ``fields``, the traction fields (else
-    None each)."""
-    rows = []
-    for scene, c, psi in zip(scenes, stack.coefficients, stack.psi[:, 0].tolist(), strict=True):
-        h = scene.hertz
-        rows.append((*scene.creepages, *march_flexibilities(scene, c, psi), h.max_pressure, h.a, h.b,
-                     scene.friction_coefficient, scene.friction_coefficient * scene.normal_load))
-    xi, eta, phi, l1, l2, l3, p0, a, b, mu, limit = np.array(rows).T[:, :, None, None]  # (n, 1, 1) each
-    phi_c = np.asarray(phi_c, dtype=float)[:, None, None]
-    n = len(scenes)
-    y, half, weights = (v[:, None, :] for v in (stack.y, stack.half, stack.weights))  # (n, 1, S)
+    None each).
+
+    The cells are arrays ``(steps, n S)``: the scenes' strips side by side along the last axis (each scene's scalars
+    repeated over its strips), so that each operation runs over every strip of every scene at once."""
+    n, count = stack.y.shape
+    columns = n * count
+    if n == 1:  # one scene: its scalars as plain floats, which numpy broadcasts alike
+        a, b, p0, mu, _, xi, eta, phi, _, _, psi, m, _, l1, l2, l3, *_ = stack.rows[0]
+        phi_x = phi + float(phi_c[0, 0])
+    else:  # each scene's scalars over its strips
+        xi, eta, phi_x, l1, l2, l3, p0, a, b, mu, m, psi, phi = np.repeat(np.hstack(
+            (stack.xi, stack.eta, stack.phi + phi_c, *stack.flexibilities, stack.p0, stack.a, stack.b, stack.mu,
+             stack.m, stack.psi, stack.phi)).T, count, axis=1)
+    y, half, weights, factor, d, kappa, lam, partial = (v.reshape(columns) for v in (
+        stack.y, stack.half, stack.weights, stack.factor, d, kappa, lam, partial))
     dx = 2.0 * half / steps
-    x = half * (1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)  # cell centres from the leading edge
-    bound = mu * (p0 * np.sqrt(np.clip(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0, None)))  # mu p (Hertz)
-    bound *= limit / np.sum((bound * (dx * weights)).reshape(n, -1), axis=-1)[:, None, None]  # the cells carry mu Fn
-    step = np.empty((n, steps, 2, y.shape[-1]))  # the march's increment from cell i to i + 1 (midpoint x_i - dx/2)
-    step[:, :, 0] = dx * (xi - (phi + phi_c) * y) / l1 * stack.factor[:, None, :]
-    step[:, :, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
-    trial = np.empty_like(step)
-    t = np.stack((0.5 * step[:, 0, 0], (0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3))[:, 0]), axis=1)
-    for i in range(steps):  # one vector operation over the scenes and strips per cell
-        trial[:, i] = t
-        t = t * np.minimum(1.0, bound[:, i] / np.maximum(np.hypot(t[:, 0], t[:, 1]), TINY))[:, None, :] + step[:, i]
-    trial_x, trial_y = trial[:, :, 0], trial[:, :, 1]
-    size = np.maximum(np.hypot(trial_x, trial_y), TINY)
-    direction_x, direction_y = trial_x / size, trial_y / size
-    d, kappa, lam, partial = (v[:, None, :] for v in (d, kappa, lam, partial))
-    uniform = ~stack.spin[:, None, None]  # without spin the slip direction is uniform along the strip
-    direction_x = np.where(uniform, np.broadcast_to(kappa, x.shape), direction_x)
-    direction_y = np.where(uniform, np.broadcast_to(lam, x.shape), direction_y)
-    in_stick = partial & (x > 2.0 * d - half)
-    rest = half - d
-    full = np.sqrt(np.clip(half**2 - x * x, 0.0, None))
-    inner = np.sqrt(np.clip(rest**2 - (x - d) ** 2, 0.0, None))
-    m, psi = stack.m[:, :, None], stack.psi[:, :, None]
-    qx = np.where(in_stick, m * kappa * (full - inner), bound * direction_x)
-    qy = np.where(in_stick, m * (lam * full - (lam - psi) * inner), bound * direction_y)
+    x = half * cells(steps)  # cell centres from the leading edge
+    bound = mu * (p0 * np.sqrt(np.maximum(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0)))  # mu p (Hertz)
+    bound *= np.repeat(stack.limit[:, 0] / by_scene(bound * (dx * weights), n), count)  # cells: mu Fn
+    step = np.empty((steps, 2, columns))  # the march's increment from cell i to i + 1 (midpoint x_i - dx/2)
+    step[:, 0] = dx * (xi - phi_x * y) / l1 * factor  # the strip's stiffening, as in its stick zone
+    np.multiply(dx, eta / l2 + phi * (x - 0.5 * dx) / l3, out=step[:, 1])
+    trial = np.empty((steps, 2, columns))
+    trial[0, 0] = 0.5 * step[0, 0]
+    trial[0, 1] = 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)
+    size = np.empty((steps, columns))  # max(|t|, TINY) of each cell's trial traction
+    ratio = np.empty(columns)
+    with np.errstate(over="ignore"):  # an empty strip (t = 0) has mu p / TINY = inf, whose min with 1 is 1
+        for t, t_x, t_y, following, increment, limit, length in zip(trial[:-1], trial[:-1, 0], trial[:-1, 1],
+                                                                    trial[1:], step, bound, size, strict=False):
+            np.hypot(t_x, t_y, out=length)  # t <- t min(1, mu p / |t|) + increment, over scenes and strips at once
+            np.maximum(length, TINY, out=length)
+            np.divide(limit, length, out=ratio)
+            np.minimum(1.0, ratio, out=ratio)
+            np.multiply(t, ratio, out=following)
+            np.add(following, increment, out=following)
+    np.maximum(np.hypot(trial[-1, 0], trial[-1, 1]), TINY, out=size[-1])
+    np.divide(trial, size[:, None], out=trial)  # mu p along the march's traction: bound (t / |t|), in place
+    np.multiply(bound[:, None], trial, out=trial)
+    qx, qy = trial[:, 0], trial[:, 1]
+    if not stack.spin.all():  # without spin the slip direction is uniform along the strip
+        uniform = ~stack.spin.repeat(count)
+        qx = np.where(uniform, bound * kappa, qx)
+        qy = np.where(uniform, bound * lam, qy)
+    if partial.any():  # the stick zone's traction (module docstring), on the strips that stick (when they are few)
+        gather = columns > GATHER
+        sticking = np.flatnonzero(partial) if gather else slice(None)
+        x_s, half_s, d_s, kappa_s, lam_s = x[:, sticking], half[sticking], d[sticking], kappa[sticking], lam[sticking]
+        in_s = x_s > 2.0 * d_s - half_s  # the stick zone [2 d - a(y), a(y)] of a strip that sticks
+        if not gather:
+            in_s &= partial
+        m_s, psi_s = (m, psi) if n == 1 else (m[sticking], psi[sticking])
+        rest = half_s - d_s
+        full = np.sqrt(np.maximum(half_s**2 - x_s * x_s, 0.0))
+        inner = np.sqrt(np.maximum(rest**2 - (x_s - d_s) ** 2, 0.0))
+        stick_x, stick_y = m_s * kappa_s * (full - inner), m_s * (lam_s * full - (lam_s - psi_s) * inner)
+        if gather:
+            qx[:, sticking] = np.where(in_s, stick_x, qx[:, sticking])
+            qy[:, sticking] = np.where(in_s, stick_y, qy[:, sticking])
+        else:
+            np.copyto(qx, stick_x, where=in_s)
+            np.copyto(qy, stick_y, where=in_s)
     weight = weights * dx  # Gauss over y, midpoint cells along x
-    forces = np.column_stack([np.sum((q * weight).reshape(n, -1), axis=-1) for q in (qx, qy, x * qy - y * qx)])
+    products = np.empty((3, steps, columns))
+    np.multiply(qx, weight, out=products[0])
+    np.multiply(qy, weight, out=products[1])
+    np.multiply(x, qy, out=products[2])
+    np.subtract(products[2], y * qx, out=products[2])
+    np.multiply(products[2], weight, out=products[2])
+    forces = by_scene(products, n)
     if not fields:
-        return forces, [None] * n
-    return forces, [TractionField(x[k].T.copy(), np.broadcast_to(y[k], x[k].shape).T.copy(),
-                                  (bound[k] / mu[k]).T.copy(), qx[k].T.copy(), qy[k].T.copy(), in_stick[k].T.copy())
-                    for k in range(n)]
+        return forces.T, (None,) * n
+    in_stick = partial & (x > 2.0 * d - half)
+    x, y, pressure, qx, qy, in_stick = (np.broadcast_to(v, x.shape).reshape(steps, n, count) for v in (
+        x, y, bound / mu, qx, qy, in_stick))
+    return forces.T, tuple(TractionField(*(v[:, k].T.copy() for v in (x, y, pressure, qx, qy, in_stick)))
+                           for k in range(n))
 
 
-def falling_friction(scene, model: StripModel) -> EllipticResult:
-    """Velocity-dependent friction without spin: one 2D polynomial solve per strip (module docstring)."""
-    e_x = model.moduli[0]
+def by_scene(values: np.ndarray, n: int) -> np.ndarray:
+    """Each scene's sum of ``values`` ``(..., steps, n S)`` over its cells (``(..., n)``), taken over the scene's
+    ``(steps, S)`` cells in their row-major order."""
+    *lead, steps, columns = values.shape
+    if n == 1:
+        return np.add.reduce(values.reshape(*lead, 1, -1), axis=-1)
+    axes = (*range(len(lead)), len(lead) + 1, len(lead), len(lead) + 2)  # (..., n, steps, S): a scene per row
+    per_scene = values.reshape(*lead, steps, n, columns // n).transpose(axes).copy()
+    return np.add.reduce(per_scene.reshape(*lead, n, -1), axis=-1)
+
+
+GATHER = 96
+"""Strips (all scenes') from which the march computes the stick zones' traction on the strips that stick alone."""
+
+
+def falling_friction(scene, stack: StripStack) -> EllipticResult:
+    """Velocity-dependent friction without spin: one 2D polynomial solve per strip (module docstring); ``stack``: the
+    scene's strips alone."""
+    a, p0, e_x, psi = (float(v[0, 0]) for v in (stack.a, stack.p0, stack.modulus_x, stack.psi))
+    X, Y, y, half, factor, scale, w = (v[0] for v in (stack.X, stack.Y, stack.y, stack.half, stack.factor,
+                                                      stack.scale, stack.weights))
     nu = scene.material.poisson_ratio
-    norm = np.hypot(model.X, model.Y)
-    creep = norm / (e_x * model.scale)  # the strip's creepage along (X, Y), on its own modulus factor * E_x
-    direction = (np.where(norm > 0.0, model.X / np.where(norm > 0.0, norm, 1.0), 0.0),
-                 np.where(norm > 0.0, model.Y / np.where(norm > 0.0, norm, 1.0), 0.0))
-    nodes, weights = gauss(32)
-    force = np.empty(model.y.size)
-    lever = np.empty(model.y.size)
+    norm = np.hypot(X, Y)
+    creep = norm / (e_x * scale)  # the strip's creepage along (X, Y), on its own modulus factor * E_x
+    direction = (np.where(norm > 0.0, X / np.where(norm > 0.0, norm, 1.0), 0.0),
+                 np.where(norm > 0.0, Y / np.where(norm > 0.0, norm, 1.0), 0.0))
+    nodes, weights, _ = gauss(32)
+    force = np.empty(y.size)
+    lever = np.empty(y.size)
     failures = []
-    for j in range(model.y.size):
-        load = 0.5 * math.pi * model.half[j] * model.p0 * model.half[j] / model.a
-        modulus = e_x * model.factor[j]
-        result = solve_2d(Scene(load, creep=float(creep[j]), radius=modulus * model.a / (2.0 * model.p0),
+    for j in range(y.size):
+        load = 0.5 * math.pi * half[j] * p0 * half[j] / a
+        modulus = e_x * factor[j]
+        result = solve_2d(Scene(load, creep=float(creep[j]), radius=modulus * a / (2.0 * p0),
                                 material=Material(2.0 * modulus * (1.0 - nu * nu), nu), friction=scene.friction,
                                 rolling_speed=scene.rolling_speed), "polynomial")
         if not result.success:
-            failures.append(f"strip y = {model.y[j]:.4g} m: {result.message}")
+            failures.append(f"strip y = {y[j]:.4g} m: {result.message}")
         force[j] = result.tangential_force_per_length
         # int x q dx in the 3D frame (leading edge at +a(y)): x3D = -(x2D - offset)
         x2d = result.contact_offset + result.contact_half_width * nodes
         lever[j] = -result.contact_half_width * float(weights @ ((x2d - result.contact_offset) * result.traction(x2d)))
     fx = direction[0] * force
     fy = direction[1] * force
-    w = model.weights
-    forces = (float(w @ fx), float(w @ fy), float(w @ (direction[1] * lever - model.y * fx)))
+    forces = (float(w @ fx), float(w @ fy), float(w @ (direction[1] * lever - y * fx)))
     message = "strip theory, polynomial method per strip" + (": " + "; ".join(failures) if failures else "")
     return EllipticResult.from_scene(scene, "strips", not failures, message, forces,
-                                     info={"stick_strips": math.nan, "psi": model.psi})
+                                     info={"stick_strips": math.nan, "psi": psi})
 
 
 def inapplicable(scene) -> str | None:
