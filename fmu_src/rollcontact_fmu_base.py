@@ -37,6 +37,7 @@ import json
 import math
 import sys
 from collections.abc import Callable
+from itertools import chain
 from operator import itemgetter
 from xml.etree.ElementTree import Element, SubElement
 
@@ -114,6 +115,25 @@ def integer_coded(variables, enumerations: dict) -> tuple:
     return tuple((*row[:8], f"{row[8].split(' (')[0]}: " + ", ".join(f"{v} {item}"
                                                                        for v, item, _ in enumerations[row[0]][1]))
                  if row[0] in enumerations else row for row in variables)
+
+
+def contact_values(values: dict, name: str, contacts: int, dimensions: dict) -> tuple:
+    """The per-contact values of parameter ``name`` among ``values`` (name -> value): the FMI 3.0 array ``name``
+    (in ``dimensions``), the scalar ``name`` of a single contact, else ``name[1]`` ... ``name[contacts]``."""
+    if name in dimensions:
+        return tuple(values[name])
+    return (values[name],) if contacts == 1 else tuple(values[f"{name}[{k}]"] for k in range(1, contacts + 1))
+
+
+def contacts_step(step, current_time: float, step_size: float, values, width: int, arrays: bool) -> list:
+    """The outputs of a several-contact slave in its table's order from ``step(current_time, step_size, rows)``
+    (one output tuple per contact) and its input values: one array per input (``arrays``, FMI 3.0: rows are their
+    columns, outputs go output by output) or ``width`` inputs per contact in turn (FMI 2.0: contact by contact)."""
+    if arrays:
+        return list(chain.from_iterable(zip(*step(current_time, step_size, list(zip(*values, strict=True))),
+                                            strict=True)))
+    return list(chain.from_iterable(step(current_time, step_size,
+                                         [values[i:i + width] for i in range(0, len(values), width)])))
 
 
 def printf_safe(message: str) -> str:

@@ -28,7 +28,6 @@ import os
 import re
 import stat
 from functools import cache
-from itertools import chain
 from operator import attrgetter
 from pathlib import Path
 
@@ -40,6 +39,8 @@ from rollcontact_fmu_base import (
     RAIL_CONDITION_ITEMS,
     RAIL_CONDITION_TEXT,
     TableSlave,
+    contact_values,
+    contacts_step,
     integer_coded,
 )
 
@@ -330,19 +331,15 @@ class RollingContact2DContacts(RollingContact2DShared):
             values["scene_file"] = resolved_scene_file(values["scene_file"], self.resources)
             checked_scene_file(values["scene_file"])
         n = self.CONTACTS
-        per_contact = {name: tuple(values.pop(name)) if name in self.DIMENSIONS else
-                       tuple(values.pop(f"{name}[{k}]") for k in range(1, n + 1)) for name in CONTACT_PARAMETERS}
-        model = ContactModels(ContactParameters(**values), n, start_time=self.start_time, stop_time=self.stop_time,
+        per_contact = {name: contact_values(values, name, n, self.DIMENSIONS) for name in CONTACT_PARAMETERS}
+        shared = {name: value for name, value in values.items() if name.split("[")[0] not in CONTACT_PARAMETERS}
+        model = ContactModels(ContactParameters(**shared), n, start_time=self.start_time, stop_time=self.stop_time,
                               per_contact=per_contact)
         return model, model.notices
 
     def step_model(self, current_time, step_size):
-        values = self.read_inputs(self)
-        if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
-            return list(chain.from_iterable(zip(*self.model.step(current_time, step_size,
-                                                                 list(zip(*values, strict=True))), strict=True)))
-        inputs = [values[i:i + 3] for i in range(0, len(values), 3)]
-        return list(chain.from_iterable(self.model.step(current_time, step_size, inputs)))
+        return contacts_step(self.model.step, current_time, step_size, self.read_inputs(self), 3,
+                             bool(self.DIMENSIONS))
 
     def parse_model_state(self, data):
         return ContactsState.parse(data, self.CONTACTS)

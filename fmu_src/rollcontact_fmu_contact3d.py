@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import math
 from functools import cache
-from itertools import chain
 from operator import attrgetter
 
 from fmi2_table_slave import TableSlave2
@@ -35,6 +34,8 @@ from rollcontact_fmu_base import (
     RAIL_CONDITION_ITEMS,
     RAIL_CONDITION_TEXT,
     TableSlave,
+    contact_values,
+    contacts_step,
     integer_coded,
 )
 
@@ -195,18 +196,13 @@ class RollingContact3DShared(TableSlave):
         """An EllipticModel of the parameter values (the per-contact curvatures gathered)."""
         n = self.CONTACTS
         shared = {name: values[name] for name, *_ in (*SHARED_PARAMETERS, *APPENDED_PARAMETERS)}
-        curvatures = {name: tuple(values[name]) if name in self.DIMENSIONS else
-                      tuple(values[named(name, k, n)] for k in range(1, n + 1)) for name, *_ in CONTACT_PARAMETERS}
+        curvatures = {name: contact_values(values, name, n, self.DIMENSIONS) for name, *_ in CONTACT_PARAMETERS}
         model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time)
         return model, model.notices
 
     def step_model(self, current_time, step_size):
-        values = self.read_inputs(self)
-        if self.DIMENSIONS:  # arrays: one list per input, the outputs output by output (the table's order)
-            return list(chain.from_iterable(zip(*self.model.step(current_time, step_size,
-                                                                 list(zip(*values, strict=True))), strict=True)))
-        inputs = [values[i:i + len(INPUT_ROWS)] for i in range(0, len(values), len(INPUT_ROWS))]
-        return list(chain.from_iterable(self.model.step(current_time, step_size, inputs)))
+        return contacts_step(self.model.step, current_time, step_size, self.read_inputs(self), len(INPUT_ROWS),
+                             bool(self.DIMENSIONS))
 
     def step_messages(self):
         return self.model.take_messages()
