@@ -12,13 +12,17 @@ Cases (Coulomb friction, mu 0.3, Fn 100 kN, c = sqrt(ab) = 6 mm, nu 0.28, a/b 0.
   lateral creepage, from the linear range to deep spin, around and past the strips' full slip);
 * ``operating points``: small creepages with small spin, as a wheel on a rail meets them (xi 0.05 and 0.15, eta half
   that, spin 0.05, 0.15 and 0.3, in units of the creepage whose linear force is 3 mu Fn), where the march's
-  flexibilities must stay Kalker's.
+  flexibilities must stay Kalker's;
+* ``opposed lines`` (checked, not fitted): spin from 0.5 to 2.5 saturations with lateral creepage against it, along
+  lines through the strips' ``|psi| = 1`` (``elliptic_cases.opposed_lines``), where strip theory's stick zones pass
+  ``|psi| = 1`` and give way once their traction would exceed mu p; with them the largest change of the error between
+  neighbouring spins of a line (0.1 saturations apart), a measure of the jumps that are left.
 
 Reference: the discretised level's default (the Richardson pair of 30 and 60 elements, within about 0.004 of the
 converged solution: ``bench_elliptic_levels.md``, B2).  Error: |dFx|, |dFy| over mu Fn and |dMz| over mu Fn c.  The fit
 (Nelder-Mead from the constants in force) minimises a smooth stand-in for the largest error, the 12-norm of the
-errors of both sets with the operating points' weighted 1.5 (so that the fit for deep spin does not cost the common
-case), over the first six constants; the onset Q is held (``--onset``: a smaller Q lowers table B's largest error
+errors of the first two sets with the operating points' weighted 1.5 (so that the fit for deep spin does not cost the
+common case), over the first six constants; the onset Q is held (``--onset``: a smaller Q lowers table B's largest error
 and raises the operating points' median).  It reports each set's median, 90th percentile and largest error of Fx, Fy
 and Mz with the constants in force and with the fit.  Copy the fitted constants into ``SPIN_FLEXIBILITY`` by hand;
 the results file keeps the figures.
@@ -31,23 +35,39 @@ import math
 
 import common  # before numpy: limits BLAS to one thread
 import numpy as np
-from elliptic_cases import cases, operating_points
+from elliptic_cases import cases, operating_points, opposed_lines
 from scipy.optimize import minimize
 
 import rollcontact as rc
 from rollcontact.elliptic.methods import strips
 
+FITTED = ("table B", "operating points")
+"""The sets the fit minimises the errors of (the others are checked)."""
 
-def errors(scenes, references) -> np.ndarray:
-    """``(n, 3)``: the strips' |dFx|, |dFy| over mu Fn and |dMz| over mu Fn c against ``references``."""
+
+def signed_errors(scenes, references) -> np.ndarray:
+    """``(n, 3)``: the strips' dFx, dFy over mu Fn and dMz over mu Fn c against ``references``."""
     rows = []
     for scene, ref in zip(scenes, references, strict=True):
         r = strips.solve_strips(scene)
         force = scene.friction_coefficient * scene.normal_load
         c = math.sqrt(scene.hertz.a * scene.hertz.b)
-        rows.append((abs(r.longitudinal_force - ref[0]) / force, abs(r.lateral_force - ref[1]) / force,
-                     abs(r.spin_moment - ref[2]) / (force * c)))
+        rows.append(((r.longitudinal_force - ref[0]) / force, (r.lateral_force - ref[1]) / force,
+                     (r.spin_moment - ref[2]) / (force * c)))
     return np.array(rows)
+
+
+def errors(scenes, references) -> np.ndarray:
+    """``(n, 3)``: the strips' |dFx|, |dFy| over mu Fn and |dMz| over mu Fn c against ``references``."""
+    return np.abs(signed_errors(scenes, references))
+
+
+def largest_jump(names, scenes, references) -> np.ndarray:
+    """The largest change of the signed errors (Fx, Fy, Mz) between neighbouring scenes of one line (``names``: the
+    line of each scene, a line's scenes in order)."""
+    e = signed_errors(scenes, references)
+    same = np.array([a == b for a, b in zip(names[:-1], names[1:], strict=True)])
+    return np.abs(np.diff(e, axis=0))[same].max(axis=0)
 
 
 def summary(name: str, constants, e: np.ndarray) -> str:
@@ -65,7 +85,9 @@ def main():
                         help="the onset Q [1] held in the fit (default: the one in force)")
     args = parser.parse_args()
     ratios = (1.0,) if args.quick else (0.2, 0.5, 1.0, 2.0, 5.0)
-    sets = {"table B": [s for g, s in cases(ratios) if g == "spin"], "operating points": operating_points(ratios)}
+    opposed = opposed_lines(ratios)
+    sets = {"table B": [s for g, s in cases(ratios) if g == "spin"], "operating points": operating_points(ratios),
+            "opposed lines": [s for _, s in opposed]}
     references = {name: [(r.longitudinal_force, r.lateral_force, r.spin_moment)
                          for r in (rc.solve_elliptic(s, "discretised") for s in scenes)]
                   for name, scenes in sets.items()}
@@ -78,7 +100,7 @@ def main():
 
     def all_errors(constants) -> dict:
         use((*constants, onset))
-        return {name: errors(scenes, references[name]) for name, scenes in sets.items()}
+        return {name: errors(scenes, references[name]) for name, scenes in sets.items() if name in FITTED}
 
     def objective(constants) -> float:
         if constants[4] <= 0.0:
@@ -88,19 +110,25 @@ def main():
         return float(np.mean(weighted**12)) ** (1.0 / 12.0)
 
     try:
+        start = objective(np.array(in_force[:6]))
         fit = minimize(objective, np.array(in_force[:6]), method="Nelder-Mead",
                        options={"maxiter": 60 if args.quick else 500, "xatol": 1e-4, "fatol": 1e-6})
         fitted = (*(round(float(v), 4) for v in fit.x), onset)
         lines = ["# Strips with spin: calibration of the march's flexibilities", "",
-                 "The fit of the module docstring (12-norm of both sets, operating points weighted 1.5, onset Q "
-                 f"{onset:g} held); errors Fx / Fy over mu Fn, Mz over mu Fn c against the discretised level.", "",
+                 "The fit of the module docstring (12-norm of the first two sets, operating points weighted 1.5, "
+                 f"onset Q {onset:g} held); errors Fx / Fy over mu Fn, Mz over mu Fn c against the discretised "
+                 "level.", "",
                  "| set | SPIN_FLEXIBILITY | n | median | 90th percentile | largest |", "|---|---|---|---|---|---|"]
         for label, constants in (("in force", in_force), ("fitted", fitted)):
             use(constants)
             for name, scenes in sets.items():
                 lines.append(summary(f"{name}, {label}", constants, errors(scenes, references[name])))
-        lines += ["", f"Nelder-Mead: {fit.nit} iterations, objective {fit.fun:.4f}; fitted SPIN_FLEXIBILITY = "
-                  f"{fitted}."]
+        use(in_force)
+        jump = largest_jump([name for name, _ in opposed], sets["opposed lines"], references["opposed lines"])
+        lines += ["", f"Nelder-Mead: {fit.nit} iterations, objective {start:.4f} in force, {fit.fun:.4f} fitted; "
+                  f"fitted SPIN_FLEXIBILITY = {fitted}.", "",
+                  "Opposed lines, constants in force: largest change of the error between neighbouring spins "
+                  f"Fx / Fy / Mz {' / '.join(f'{v:.4f}' for v in jump)}."]
     finally:
         use(in_force)
     print("\n".join(lines))

@@ -53,3 +53,21 @@ def operating_points(ratios=(0.2, 0.5, 1.0, 2.0, 5.0)) -> list:
         out += [base.replace(longitudinal_creepage=f * xi_s, lateral_creepage=0.5 * f * eta_s,
                              spin_creepage=s * phi_s) for f in (0.05, 0.15) for s in (0.05, 0.15, 0.3)]
     return out
+
+
+OPPOSED = ((0.0, -0.5), (0.3, -0.5), (0.0, -1.0), (0.5, -0.25))
+"""(xi, eta) per unit of spin, in saturations, of :func:`opposed_lines`: lateral creepage against the spin."""
+
+
+def opposed_lines(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), spins=tuple(k / 10 for k in range(5, 26))) -> list:
+    """``(line, scene)`` pairs: spin of ``f`` saturations (``spins``: 0.5 .. 2.5, through the strips' ``|psi| = 1`` at
+    f = 1) with the creepages ``OPPOSED`` times f, a saturation being a third of the unit of :func:`cases`; ``line``
+    names a/b and the direction, the scenes of a line in the order of ``spins``."""
+    out = []
+    for ratio in ratios:
+        base, (xi_s, eta_s, phi_s) = saturation(ratio)
+        for cx, ce in OPPOSED:
+            out += [(f"a/b {ratio:g}, (xi, eta) = ({cx:g}, {ce:g}) phi",
+                     base.replace(longitudinal_creepage=cx * f * xi_s / 3, lateral_creepage=ce * f * eta_s / 3,
+                                  spin_creepage=f * phi_s / 3)) for f in spins]
+    return out

@@ -16,8 +16,16 @@ Stick zone (strip theory, derived as Carter's): at the leading edge, ``[2 d - a(
 
 ``a* = a(y) - d``, where no-slip along both components and a saturated traction ``mu p (kappa, lambda)`` at the
 stick edge give ``kappa = X/d``, ``lambda = psi + Y/d``, ``kappa^2 + lambda^2 = 1``, hence
-``d = (psi Y + sqrt(Y^2 + (1 - psi^2) X^2)) / (1 - psi^2)`` (|psi| < 1; the strip slips fully where ``d >= a(y)`` or
-``|psi| >= 1``).  In the slip zone the traction is ``mu p`` along the slip:
+``(1 - psi^2) d^2 - 2 psi Y d - (X^2 + Y^2) = 0``, whose root
+
+    ``d = (psi Y + sqrt(Y^2 + (1 - psi^2) X^2)) / (1 - psi^2) = (X^2 + Y^2) / (sqrt(Y^2 + (1 - psi^2) X^2) - psi Y)``
+
+(the second form where ``psi Y < 0``, free of cancellation) is positive for ``|psi| < 1`` and, when the lateral slip
+opposes the spin's (``psi Y < 0``), also past ``|psi| = 1`` while the root is real: it passes ``|psi| = 1``
+continuously there.  In the stick zone ``|q| <= mu p`` holds for ``|psi| <= 1``; past it, with ``s_2 / s_1`` (the
+two square roots) largest at the leading edge, ``sqrt(a*/a(y))``, it holds where
+``sqrt(a*/a(y)) (1 - 2 lambda psi + psi^2) <= 2 (1 - lambda psi)``.  The strip slips fully where ``d >= a(y)``, where
+no root is positive or where that bound fails.  In the slip zone the traction is ``mu p`` along the slip:
 
 * without spin the slip direction ``(kappa, lambda)`` is uniform along the strip (exact in the strip model, also in
   full slip) and every integral is closed-form: ``Fx(y) = (mu p0/a) kappa (pi/2) (a(y)^2 - a*^2)``,
@@ -322,20 +330,30 @@ class StripStack:
 
     def stick(self):
         """``(d, kappa, lambda, partial)`` per strip: the slip zone's half-length, the traction direction at the stick
-        edge, and whether the strip sticks anywhere (``d < a(y)``)."""
+        edge, and whether the strip sticks anywhere (``d < a(y)`` with an admissible stick traction; module
+        docstring)."""
         psi, X, Y = self.psi, self.X, self.Y
         room = 1.0 - psi * psi
-        opening = room > 0.0
-        if opening.all():  # |psi| < 1 in every scene
-            d = (psi * Y + np.sqrt(Y * Y + room * X * X)) / room
+        turned = psi * Y
+        square = Y * Y + room * X * X
+        if ((room > 0.0) & (turned >= 0.0)).all():  # the usual case: |psi| < 1, spin and Y alike or either 0
+            d = (turned + np.sqrt(square)) / room
         else:
-            safe_room = np.where(opening, room, 1.0)
-            d = np.where(opening, (psi * Y + np.sqrt(Y * Y + safe_room * X * X)) / safe_room, np.inf)
+            real = square >= 0.0
+            root = np.sqrt(np.where(real, square, 0.0))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                alike = (turned + root) / np.where(room > 0.0, room, 1.0)
+                opposed = (X * X + Y * Y) / (root - turned)  # psi Y < 0: the same root without cancellation
+            d = np.where(turned < 0.0, np.where(real, opposed, np.inf), np.where(room > 0.0, alike, np.inf))
         partial = d < self.half
         edge = partial & (d > 0.0)
         safe = np.where(edge, d, 1.0)
         kappa = np.where(edge, X / safe, 0.0)
         lam = np.where(edge, psi + Y / safe, 0.0)
+        if not (room > 0.0).all():  # |psi| >= 1: the stick traction must stay within mu p (module docstring)
+            along = 1.0 - lam * psi
+            rest = np.sqrt(np.where(partial, (self.half - d) / self.half, 0.0))
+            partial &= (room > 0.0) | ((along > 0.0) & (rest * (2.0 * along - room) <= 2.0 * along))
         norm = np.hypot(X, Y)
         slipping = norm > 0.0
         safe_norm = np.where(slipping, norm, 1.0)
@@ -569,6 +587,12 @@ reference's own error."""
 SPIN_ONSET = 0.5
 """``|psi|`` up to which the spin's error grows linearly from :data:`STRIPS_ERROR` to :data:`STRIPS_SPIN_ERROR`."""
 
+OPPOSED_SPIN_ERROR = 0.1
+"""Error [1] of the strips where ``|psi| >= 1`` and the lateral creepage opposes the spin (``eta phi < 0``): there the
+strips keep the stick zones strip theory admits past ``|psi| = 1`` and lose them where their traction would exceed
+mu p, while the exact stick zone leaves the leading edge; against the discretised solver the largest errors are about
+0.09, at a/b = 5 (``benchmarks/calibrate_strips_spin.py``, the opposed lines)."""
+
 STRIPS_COST = 1.2e-4
 STRIPS_COST_PER_CELL = 2.5e-6
 STRIPS_FALLING_COST_PER_STRIP = 5e-4
@@ -577,7 +601,8 @@ STRIPS_FALLING_COST_PER_STRIP = 5e-4
 
 
 class StripsAccuracy(AccuracyModel):
-    """Error: :data:`STRIPS_ERROR` without spin, rising to :data:`STRIPS_SPIN_ERROR` with |psi|, both reached from
+    """Error: :data:`STRIPS_ERROR` without spin, rising to :data:`STRIPS_SPIN_ERROR` with |psi| (to
+    :data:`OPPOSED_SPIN_ERROR` past ``|psi| = 1`` with the lateral creepage opposing the spin), both reached from
     the linear limit within ``5 tau`` (tau of :func:`~rollcontact.elliptic.methods.common.linear_ratio`: the forces
     are exact there; the moment of lateral creepage is above Kalker's C23 by 14 % at a/b = 5 to 31 % at a/b = 0.2,
     the cross influence taking Hertz's shape for a lateral traction that is not yet saturated, about 0.07 tau at
@@ -604,7 +629,9 @@ class StripsAccuracy(AccuracyModel):
         psi = abs(scene.spin_creepage) * 3.0 * scene.shear_modulus * c.c23 * h.c / (
             2.0 * math.pi * scene.friction_coefficient * h.max_pressure)
         spin = min(1.0, psi / SPIN_ONSET)
-        return 0.01 * tau + (STRIPS_ERROR + (STRIPS_SPIN_ERROR - STRIPS_ERROR) * spin) * min(1.0, 5.0 * tau + spin)
+        deep = OPPOSED_SPIN_ERROR if psi >= 1.0 and scene.lateral_creepage * scene.spin_creepage < 0.0 else \
+            STRIPS_SPIN_ERROR
+        return 0.01 * tau + (STRIPS_ERROR + (deep - STRIPS_ERROR) * spin) * min(1.0, 5.0 * tau + spin)
 
 
 METHOD = MethodSpec("strips", solve_strips, inapplicable, rank=10, accuracy=StripsAccuracy())
