@@ -312,6 +312,10 @@ class StripStack:
         self.X = self.rigid_x * self.modulus_x * self.scale
         self.Y = self.eta * modulus_y * self.scale
         self.spin = phi[:, 0] != 0.0
+        self.usual = all(abs(row[10]) < 1.0 and row[10] * row[6] >= 0.0 for row in rows)
+        """Whether every scene has ``|psi| < 1`` and its lateral creepage not against the spin (``psi eta >= 0``)."""
+        self.deep = any(abs(row[10]) >= 1.0 for row in rows)
+        """Whether a scene has ``|psi| >= 1``."""
         self.cross = np.zeros_like(a) if self.spin.all() else \
             np.where(self.spin[:, None], 0.0, cross_coefficients(a, b, a2, b2, nu, g))
         self.coupled = self.cross[:, 0] != 0.0
@@ -334,11 +338,11 @@ class StripStack:
         docstring)."""
         psi, X, Y = self.psi, self.X, self.Y
         room = 1.0 - psi * psi
-        turned = psi * Y
-        square = Y * Y + room * X * X
-        if ((room > 0.0) & (turned >= 0.0)).all():  # the usual case: |psi| < 1, spin and Y alike or either 0
-            d = (turned + np.sqrt(square)) / room
+        if self.usual:
+            d = (psi * Y + np.sqrt(Y * Y + room * X * X)) / room
         else:
+            turned = psi * Y
+            square = Y * Y + room * X * X
             real = square >= 0.0
             root = np.sqrt(np.where(real, square, 0.0))
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -350,7 +354,7 @@ class StripStack:
         safe = np.where(edge, d, 1.0)
         kappa = np.where(edge, X / safe, 0.0)
         lam = np.where(edge, psi + Y / safe, 0.0)
-        if not (room > 0.0).all():  # |psi| >= 1: the stick traction must stay within mu p (module docstring)
+        if self.deep:  # |psi| >= 1 somewhere: the stick traction must stay within mu p (module docstring)
             along = 1.0 - lam * psi
             rest = np.sqrt(np.where(partial, (self.half - d) / self.half, 0.0))
             partial &= (room > 0.0) | ((along > 0.0) & (rest * (2.0 * along - room) <= 2.0 * along))
