@@ -13,10 +13,11 @@ Cases (Coulomb friction, mu 0.3, Fn 100 kN, c = sqrt(ab) = 6 mm, nu 0.28, a/b 0.
 * ``operating points``: small creepages with small spin, as a wheel on a rail meets them (xi 0.05 and 0.15, eta half
   that, spin 0.05, 0.15 and 0.3, in units of the creepage whose linear force is 3 mu Fn), where the march's
   flexibilities must stay Kalker's;
-* ``opposed lines`` (checked, not fitted): spin from 0.5 to 2.5 saturations with lateral creepage against it, along
+* ``opposed lines`` (not in the fit): spin from 0.5 to 2.5 saturations with lateral creepage against it, along
   lines through the strips' ``|psi| = 1`` (``elliptic_cases.opposed_lines``), where strip theory's stick zones pass
-  ``|psi| = 1`` and give way once their traction would exceed mu p; with them the largest change of the error between
-  neighbouring spins of a line (0.1 saturations apart), a measure of the jumps that are left.
+  ``|psi| = 1`` and fade out once their traction would exceed mu p.  On them the script tries values of
+  :data:`~rollcontact.elliptic.methods.strips.STICK_FADE` (:data:`FADES`): the largest error and the largest change of
+  the error between neighbouring spins of a line (0.1 saturations apart), a measure of the jumps that are left.
 
 Reference: the discretised level's default (the Richardson pair of 30 and 60 elements, within about 0.004 of the
 converged solution: ``bench_elliptic_levels.md``, B2).  Error: |dFx|, |dFy| over mu Fn and |dMz| over mu Fn c.  The fit
@@ -43,6 +44,9 @@ from rollcontact.elliptic.methods import strips
 
 FITTED = ("table B", "operating points")
 """The sets the fit minimises the errors of (the others are checked)."""
+
+FADES = (1.1, 1.2, 1.3, 1.4, 1.5, 2.0)
+"""The values of ``STICK_FADE`` tried on the opposed lines."""
 
 
 def signed_errors(scenes, references) -> np.ndarray:
@@ -92,6 +96,7 @@ def main():
                          for r in (rc.solve_elliptic(s, "discretised") for s in scenes)]
                   for name, scenes in sets.items()}
     in_force = tuple(strips.SPIN_FLEXIBILITY)
+    fade_in_force = strips.STICK_FADE
     onset = in_force[6] if args.onset is None else args.onset
 
     def use(constants) -> None:
@@ -124,13 +129,21 @@ def main():
             for name, scenes in sets.items():
                 lines.append(summary(f"{name}, {label}", constants, errors(scenes, references[name])))
         use(in_force)
-        jump = largest_jump([name for name, _ in opposed], sets["opposed lines"], references["opposed lines"])
         lines += ["", f"Nelder-Mead: {fit.nit} iterations, objective {start:.4f} in force, {fit.fun:.4f} fitted; "
                   f"fitted SPIN_FLEXIBILITY = {fitted}.", "",
-                  "Opposed lines, constants in force: largest change of the error between neighbouring spins "
-                  f"Fx / Fy / Mz {' / '.join(f'{v:.4f}' for v in jump)}."]
+                  "`STICK_FADE` on the opposed lines (SPIN_FLEXIBILITY in force): the largest error and the largest "
+                  "change of the error between neighbouring spins, Fx / Fy / Mz.", "",
+                  "| STICK_FADE | largest error | largest change |", "|---|---|---|"]
+        names = [name for name, _ in opposed]
+        for fade in FADES:
+            strips.STICK_FADE = fade
+            e = errors(sets["opposed lines"], references["opposed lines"])
+            jump = largest_jump(names, sets["opposed lines"], references["opposed lines"])
+            lines.append(f"| {fade:g}{' (in force)' if fade == fade_in_force else ''} | "
+                         f"{' / '.join(f'{v:.4f}' for v in e.max(axis=0))} | {' / '.join(f'{v:.4f}' for v in jump)} |")
     finally:
         use(in_force)
+        strips.STICK_FADE = fade_in_force
     print("\n".join(lines))
 
 

@@ -175,18 +175,30 @@ def test_lateral_creepage_against_the_spin_passes_psi_one_continuously(ratio, cr
     assert jump.max() < 1e-5, f"Fx, Fy, Mz change by {jump} across |psi| = 1 at a/b {ratio}, creepages {creepages}"
 
 
+@pytest.mark.parametrize(("ratio", "creepages"), [(1.0, (0.0, -1.0)), (5.0, (0.3, -0.5))])
+def test_stick_zones_past_psi_one_fade_out_without_a_jump(ratio, creepages):
+    """Along spin 0.9 .. 2.5 saturations with the lateral creepage against it, in steps of 0.01, where the stick zones
+    kept past |psi| = 1 fade out (STICK_FADE): no force changes between neighbouring steps by more than 0.012 mu Fn
+    (dropping the zones where their traction first exceeds mu p jumps by 0.026 and 0.038 on these lines)."""
+    xi, eta = creepages
+    forces = np.array([solve_elliptic(saturated(ratio, xi * f, eta * f, f), "strips").force_coefficients
+                       for f in np.arange(0.9, 2.5, 0.01)])
+    change = np.abs(np.diff(forces, axis=0)).max(axis=0)
+    assert change.max() < 0.012, f"largest change of Fx, Fy, Mz between neighbouring spins {change} at a/b {ratio}"
+
+
 @pytest.mark.parametrize("ratio", [1.0, 5.0])
 @pytest.mark.parametrize("spin", [1.0, 1.1, 1.2])
 def test_lateral_creepage_against_the_spin_against_the_discretised_solution(ratio, spin):
     """Spin just past |psi| = 1 with half as much lateral creepage against it, against the discretised solver's pair of
-    30 and 60 elements: within 0.04 (Fx, Fy over mu Fn, Mz over mu Fn c; the largest error along such lines is 0.09,
-    at a/b 5 where the stick zones give way: ``benchmarks/calibrate_strips_spin.py``), and within the level's own
-    estimate; the stick zones that remain keep |q| <= mu p."""
+    30 and 60 elements: within 0.05 (Fx, Fy over mu Fn, Mz over mu Fn c; the largest error along such lines is 0.047,
+    where the stick zones fade out: ``benchmarks/calibrate_strips_spin.py``), and within the level's own estimate;
+    the stick zones that remain keep |q| <= mu p."""
     s = saturated(ratio, 0.0, -0.5 * spin, spin)
     reference = np.array(solve_elliptic(s, "discretised", elements=60, extrapolate=True).force_coefficients)
     result = solve_elliptic(s, "strips", fields=True)
     error = np.abs(np.array(result.force_coefficients) - reference)
-    assert error.max() <= 0.04, f"errors Fx, Fy, Mz {error} at a/b {ratio}, spin {spin}"
+    assert error.max() <= 0.05, f"errors Fx, Fy, Mz {error} at a/b {ratio}, spin {spin}"
     assert error.max() <= result.info["error_estimate"], (
         f"error {error.max():.4f} beyond the estimate {result.info['error_estimate']:.4f}")
     f = result.fields
