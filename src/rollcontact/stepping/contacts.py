@@ -27,6 +27,7 @@ from operator import attrgetter
 from rollcontact.stepping.model import ContactModel, advanced_position
 from rollcontact.stepping.parameters import STATIONARY, ContactParameters, ModelError, StepOutputs, input_problem
 from rollcontact.stepping.state import ModelState
+from rollcontact.stepping.table import TablesTogether
 
 __all__ = ["ContactModels", "ContactsState"]
 
@@ -104,6 +105,9 @@ class ContactModels:
         self.notices = self.models[0].notices
         self.together = all(m.instationary is None and (m.closed_form or m.table_use is not None) for m in models)
         """Whether the contacts are stepped in one loop (module docstring): :meth:`steps_together`."""
+        self.tables = TablesTogether(tuple(model.table_use for model in models)) if self.together and \
+            models[0].table_use is not None else None
+        """The table contacts' answers in one step (:class:`~rollcontact.stepping.table.TablesTogether`)."""
 
     @property
     def state(self) -> ContactsState:
@@ -168,8 +172,10 @@ class ContactModels:
         changed, when a contact needs its own :meth:`ContactModel.step` (an invalid input, time going backwards, a
         load beyond the floating-point range, a table without an answer, outputs out of the friction bound or not
         finite)."""
-        evaluated = []
-        for model, (normal_load, creep, velocity) in zip(self.models, inputs, strict=True):
+        evaluated = []  # per contact: [model, high, low, inputs, outputs, unloaded]
+        tabled = []  # the loaded table contacts' (index, X, N', creep, V)
+        for model, row in zip(self.models, inputs, strict=True):
+            normal_load, creep, velocity = row
             if not (0.0 <= normal_load < INF and -INF < creep < INF and 0.0 <= velocity < INF):
                 return None
             dt = current_time - model.state.time
@@ -188,18 +194,22 @@ class ContactModels:
             elif model.closed_form:
                 outputs = model.closed_form_step(x, normal_load, creep, velocity)
             else:
-                outputs = model.table_step(x, normal_load, creep, velocity)
-                if outputs is None:
+                outputs = None
+                tabled.append((len(evaluated), x, load, creep, velocity))
+            evaluated.append([model, high, low, row, outputs, unloaded])
+        if tabled:
+            for (i, x, _, creep, velocity), answer in zip(tabled, self.tables.answers(tabled), strict=True):
+                if answer is None:
                     return None
-            bound = model.friction_bound
-            # a sum of finite outputs is finite unless it overflows (the contact's own step then checks each)
-            if not (-bound * normal_load <= outputs[0] <= bound * normal_load and -bound <= outputs[1] <= bound
-                    and isfinite(sum(outputs))):
-                return None
-            evaluated.append((high, low, outputs, unloaded))
-        for model, (normal_load, creep, velocity), (high, low, outputs, unloaded) in zip(self.models, inputs, evaluated,
-                                                                                         strict=True):
+                item = evaluated[i]
+                item[4] = item[0].table_outputs(x, item[3][0], creep, velocity, answer)
+        # a sum of finite outputs is finite unless it overflows (the contact's own step then checks each)
+        if not all(-model.friction_bound * row[0] <= outputs[0] <= model.friction_bound * row[0]
+                   and -model.friction_bound <= outputs[1] <= model.friction_bound and isfinite(sum(outputs))
+                   for model, _, _, row, outputs, _ in evaluated):
+            return None
+        for model, high, low, (normal_load, creep, velocity), outputs, unloaded in evaluated:
             if unloaded:
                 model.state.creep_envelope = None
             model.commit(current_time, high, low, normal_load, creep, velocity, outputs, None)
-        return tuple(item[2] for item in evaluated)
+        return tuple(item[4] for item in evaluated)

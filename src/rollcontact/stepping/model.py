@@ -419,17 +419,18 @@ class ContactModel(InstationaryStepping):
         return result, stiffness
 
     def table_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs | None:
-        """The outputs from the certified table (:mod:`rollcontact.stepping.table`), or None where it has no answer:
-        T = T' b, dT/dxi = (dT'/dxi) b with the contact width b."""
-        load = normal_load * self.per_width
-        answer = self.table_use.answer(x, load, creep, velocity)
-        if answer is None:
-            return None
+        """The outputs from the certified table (:mod:`rollcontact.stepping.table`), or None where it has no answer."""
+        answer = self.table_use.answer(x, normal_load * self.per_width, creep, velocity)
+        return None if answer is None else self.table_outputs(x, normal_load, creep, velocity, answer)
+
+    def table_outputs(self, x: float, normal_load: float, creep: float, velocity: float, answer: tuple) -> StepOutputs:
+        """The outputs of the table's ``answer`` (:meth:`~rollcontact.stepping.table.TableUse.answer`): T = T' b,
+        dT/dxi = (dT'/dxi) b with the contact width b."""
         force, a, a_star, offset, p0, stiffness = answer
         force_total = force * self.width
-        return StepOutputs(force_total, force / load, a, a_star, offset, p0, velocity * creep * force_total,
-                           stiffness * self.width, self.stationarity(x, normal_load, creep, velocity, a), TABLE_CODE,
-                           x)
+        return new_tuple(StepOutputs, (force_total, force / (normal_load * self.per_width), a, a_star, offset, p0,
+                                       velocity * creep * force_total, stiffness * self.width,
+                                       self.stationarity(x, normal_load, creep, velocity, a), TABLE_CODE, x))
 
     def creep_stiffness_by_difference(self, scene: Scene, name: str, result, options: dict) -> float:
         """dT'/dxi [N/m] by a one-sided difference, for methods that do not return it.

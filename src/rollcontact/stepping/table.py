@@ -41,11 +41,13 @@ import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable
 
+import numpy as np
+
 from rollcontact.closed_form import hertz
 from rollcontact.friction import ExponentialFalling
 from rollcontact.stepping import corrugation_table, falling_table
 from rollcontact.stepping.corrugation_table import CorrugationTable
-from rollcontact.stepping.falling_table import FallingFrictionTable
+from rollcontact.stepping.falling_table import FallingFrictionTable, evaluate_together
 from rollcontact.stepping.parameters import AUTO, POLYNOMIAL, ModelError
 from rollcontact.stepping.tabulation import TARGET
 from rollcontact.stepping.threads import one_blas_thread
@@ -239,9 +241,19 @@ class FallingFrictionUse(TableUse):
 
     def lookup(self, table, x, load, creep, velocity):
         """Hertz's a and p0; ``T' = sign(xi) tau mu N'``, ``a* = (a*/a) a``, ``dT'/dxi = kappa mu N' / xi_sat``."""
+        a, p0, saturation, u, w = self.coordinates(load, creep, velocity)
+        return self.assembled(table.evaluate(u, w), a, p0, saturation, load, creep)
+
+    def coordinates(self, load: float, creep: float, velocity: float) -> tuple[float, float, float, float, float]:
+        """Hertz's a [m] and p0 [Pa], Carter's saturation creep ``xi_sat = mu_s a / R`` [1] and the table's
+        coordinates ``u = |xi| / xi_sat`` and ``w = B V xi_sat`` [1] at N' [N/m], the creep and V [m/s]."""
         a, p0 = hertz(load, self.radius, self.material.contact_modulus)
         saturation = self.saturation_per_half_width * a
-        answer = table.evaluate(abs(creep) / saturation, self.friction.decay * velocity * saturation)
+        return a, p0, saturation, abs(creep) / saturation, self.friction.decay * velocity * saturation
+
+    def assembled(self, answer: tuple | None, a: float, p0: float, saturation: float, load: float,
+                  creep: float) -> tuple | None:
+        """:meth:`lookup`'s answer from the table's ``(tau, a*/a, kappa)`` (None: none) and :meth:`coordinates`."""
         if answer is None:
             return None
         tau, alpha, kappa = answer
@@ -305,6 +317,61 @@ class CorrugationUse(TableUse):
 
     def describe(self, domain):
         return f"N' in [{domain[0]:.4g}, {domain[1]:.4g}] N/m, every phase of the corrugation and every creep"
+
+
+class TablesTogether:
+    """The answers of the ready tables of several contacts' uses in one step (the contacts of
+    :class:`rollcontact.stepping.contacts.ContactModels`): each :meth:`TableUse.answer`, bit for bit.
+
+    Falling-friction tables of like node counts are evaluated together
+    (:func:`~rollcontact.stepping.falling_table.evaluate_together`: one stacked matrix product per contraction); the
+    stacked rows are made once per change of the contacts' tables.  Other families, and contacts without a ready
+    table, answer one by one.
+    """
+
+    def __init__(self, uses: tuple[TableUse, ...]):
+        self.uses = uses
+        self.falling = all(isinstance(use, FallingFrictionUse) for use in uses)
+        self.tables: tuple = ()
+        """The tables :attr:`groups` were made of, one per use."""
+        self.groups: tuple = ()
+        """Per node count: (the indices of its contacts, their tables, their rows stacked)."""
+
+    def answers(self, steps: list[tuple[int, float, float, float, float]]) -> list[tuple | None]:
+        """:meth:`TableUse.answer` for each of ``steps``: ``(contact index, X [m], N' [N/m], creep [1], V [m/s])``,
+        in ascending contact order."""
+        uses = self.uses
+        tables = tuple(use.table for use in uses)
+        if not self.falling or None in tables:
+            return [uses[i].answer(x, load, creep, velocity) for i, x, load, creep, velocity in steps]
+        if tables != self.tables:
+            self.regroup(tables)
+        coordinates = [uses[i].coordinates(load, creep, velocity) for i, _, load, creep, velocity in steps]
+        if len(self.groups) == 1 and len(steps) == len(uses):  # the usual step: every contact on tables alike
+            _, group, stacked = self.groups[0]
+            evaluated = evaluate_together(group, stacked, [c[3] for c in coordinates], [c[4] for c in coordinates])
+        else:
+            position = {step[0]: k for k, step in enumerate(steps)}
+            evaluated = [None] * len(steps)
+            for members, group, stacked in self.groups:
+                chosen = [k for k, i in enumerate(members) if i in position]
+                if chosen:
+                    here = [position[members[k]] for k in chosen]
+                    for k, answer in zip(here, evaluate_together(
+                            [group[k] for k in chosen], stacked[chosen], [coordinates[k][3] for k in here],
+                            [coordinates[k][4] for k in here]), strict=True):
+                        evaluated[k] = answer
+        return [uses[step[0]].assembled(answer, c[0], c[1], c[2], step[2], step[3])
+                for step, answer, c in zip(steps, evaluated, coordinates, strict=True)]
+
+    def regroup(self, tables: tuple) -> None:
+        """Group the contacts by their tables' node counts and stack each group's rows."""
+        groups: dict = {}
+        for i, table in enumerate(tables):
+            groups.setdefault((table.rows.shape, table.t_nodes.size), []).append(i)
+        self.groups = tuple((members, [tables[i] for i in members], np.stack([tables[i].rows for i in members]))
+                            for members in groups.values())
+        self.tables = tables
 
 
 def table_use(p, material, radius: float, friction, surface, scene: Callable, instationary: bool,
