@@ -8,13 +8,19 @@ contact's solve fails after others were stepped, those are set back, so a refuse
 of the contacts are prefixed with their contact.
 
 Quasi-steady contacts on the closed forms (a flat surface with Coulomb friction) or on a certified table (every
-contact alike: the parameters they share decide it) are stepped in one loop (:meth:`ContactModels.steps_together`):
-each contact's :meth:`ContactModel.closed_form_step` or :meth:`ContactModel.table_step` and
-:func:`~rollcontact.stepping.model.advanced_position`, evaluated for every contact before any state changes and
-committed together (:meth:`ContactModel.commit`), so that no contact's state needs saving for a refusal.  A step that
-meets anything else there (an invalid input, time going backwards, a load beyond the floating-point range, a table
-without an answer, outputs out of the friction bound or not finite) is stepped contact by contact instead, which
-refuses, solves or corrects it as a single contact does.
+contact alike: the parameters they share decide it) are stepped together (:meth:`ContactModels.steps_together`):
+every contact is evaluated before any state changes and the states are committed together
+(:meth:`rollcontact.stepping.ModelState.commit`), so that no contact's state needs saving for a refusal.  Each
+closed-form contact takes :meth:`ContactModel.closed_form_step`, a Python loop over the contacts: with a handful of
+contacts the closed forms cost less as Python floats than as numpy arrays (a numpy call costs about as much as a
+contact's whole closed form).  The table contacts' answers come in one call
+(:class:`~rollcontact.stepping.table.TablesTogether`): the falling-friction tables' contractions of all contacts are
+one stacked matrix product each, bit for bit each contact's own
+(:func:`~rollcontact.stepping.falling_table.evaluate_together`); the outputs of each answer are
+:meth:`ContactModel.table_outputs`, as a single contact's.  A step that meets anything else there (an invalid input,
+time going backwards, a load beyond the floating-point range, a table without an answer, outputs out of the friction
+bound or not finite) is stepped contact by contact instead, which refuses, solves or corrects it as a single contact
+does.
 """
 
 from __future__ import annotations
@@ -183,33 +189,44 @@ class ContactModels:
                 return None
             high, low = advanced_position(model.state, velocity, dt)
             x = high + low
-            if model.stop_time is not None and model.table_use is not None:  # as ContactModel.step: the steps left
-                model.table_use.remaining = (model.stop_time - current_time) / step_size
             load = normal_load * model.per_width
-            unloaded = load < model.resolved_load
-            if unloaded:
-                outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
-            elif load == INF:
+            if load < model.resolved_load:  # as ContactModel.step: no contact
+                evaluated.append([model, high, low, row, StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY,
+                                                                     0, x), True])
+                continue
+            if load == INF:
                 return None
-            elif model.closed_form:
+            if model.closed_form:
                 outputs = model.closed_form_step(x, normal_load, creep, velocity)
+                if not in_bound(outputs, model.friction_bound, normal_load):
+                    return None
             else:
+                if model.stop_time is not None:  # as ContactModel.step: the steps left
+                    model.table_use.remaining = (model.stop_time - current_time) / step_size
                 outputs = None
                 tabled.append((len(evaluated), x, load, creep, velocity))
-            evaluated.append([model, high, low, row, outputs, unloaded])
+            evaluated.append([model, high, low, row, outputs, False])
         if tabled:
             for (i, x, _, creep, velocity), answer in zip(tabled, self.tables.answers(tabled), strict=True):
                 if answer is None:
                     return None
                 item = evaluated[i]
-                item[4] = item[0].table_outputs(x, item[3][0], creep, velocity, answer)
-        # a sum of finite outputs is finite unless it overflows (the contact's own step then checks each)
-        if not all(-model.friction_bound * row[0] <= outputs[0] <= model.friction_bound * row[0]
-                   and -model.friction_bound <= outputs[1] <= model.friction_bound and isfinite(sum(outputs))
-                   for model, _, _, row, outputs, _ in evaluated):
-            return None
+                model, normal_load = item[0], item[3][0]
+                item[4] = outputs = model.table_outputs(x, normal_load, creep, velocity, answer)
+                if not in_bound(outputs, model.friction_bound, normal_load):
+                    return None
         for model, high, low, (normal_load, creep, velocity), outputs, unloaded in evaluated:
+            state = model.state
             if unloaded:
-                model.state.creep_envelope = None
-            model.commit(current_time, high, low, normal_load, creep, velocity, outputs, None)
+                state.creep_envelope = None
+            state.commit(current_time, high, low, normal_load, creep, velocity, outputs, None,
+                         None if model.table_use is None else model.table_use.domain)
         return tuple(item[4] for item in evaluated)
+
+
+def in_bound(outputs: StepOutputs, bound: float, normal_load: float) -> bool:
+    """Whether the outputs of a contact's step are finite and within the friction bound ``|T| <= bound N``,
+    ``|T/N| <= bound`` (``bound``: the law's largest coefficient; a sum of finite outputs is finite unless it
+    overflows, and the contact's own step then checks each)."""
+    return (-bound * normal_load <= outputs[0] <= bound * normal_load and -bound <= outputs[1] <= bound
+            and isfinite(sum(outputs)))
