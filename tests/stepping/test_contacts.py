@@ -9,9 +9,10 @@ import math
 import numpy as np
 import pytest
 
-from rollcontact.stepping import ContactModel, ContactParameters, ModelError
+from rollcontact.stepping import ContactModel, ContactParameters, ModelError, corrugation_table, falling_table
 from rollcontact.stepping.contacts import ContactModels, ContactsState
-from rollcontact.stepping.falling_table import FallingFrictionTable, evaluate_together
+from rollcontact.stepping.corrugation_table import CorrugationTable
+from rollcontact.stepping.falling_table import FallingFrictionTable
 from rollcontact.stepping.tabulation import contract
 
 H = 1e-3
@@ -148,18 +149,24 @@ BUILT: dict = {}
 
 @pytest.fixture
 def build_each_table_once(monkeypatch):
-    """Each falling-friction table of the same parameters and domain is built once in this module, later builds take
-    its arrays: a table is a deterministic function of them (rollcontact.stepping.table), and a build takes seconds."""
-    real = FallingFrictionTable.build_steps
+    """Each certified table of the same parameters and domain is built once in this module, later builds take its
+    arrays: a table is a deterministic function of them (rollcontact.stepping.table), and a build takes seconds."""
+    for family, parameters in ((FallingFrictionTable, ("kinetic_ratio", "w_max", "radius", "mu", "material")),
+                               (CorrugationTable, ("wavelength", "loads", "radius", "contact_modulus", "mu"))):
+        monkeypatch.setattr(family, "build_steps", built_once(family.build_steps, parameters))
 
-    def build_steps(self):
-        key = repr((self.kinetic_ratio, self.w_max, self.radius, self.mu, self.material))
+
+def built_once(build_steps, parameters: tuple[str, ...]):
+    """``build_steps`` that builds a table of given ``parameters`` once and gives later tables its arrays."""
+
+    def once(self):
+        key = repr((type(self).__name__, *(getattr(self, name) for name in parameters)))
         if key not in BUILT:
-            yield from real(self)
+            yield from build_steps(self)
             BUILT[key] = dict(vars(self))
         vars(self).update(BUILT[key])
 
-    monkeypatch.setattr(FallingFrictionTable, "build_steps", build_steps)
+    return once
 
 
 FALLING = {"friction_law": 1, "friction_kinetic_ratio": 0.4, "friction_decay": 0.6, "tolerance": 1e-3, "table": 2}
@@ -196,11 +203,16 @@ def test_contacts_on_falling_friction_tables_together_are_each_contact_model_bit
 
 def on_node(scale: float, node: float) -> float:
     """A coordinate c with ``c / scale == node`` exactly (near ``node * scale``), or NaN if none is found nearby."""
-    c = node * scale
-    for _ in range(8):
-        if c / scale == node:
+    return solved_exactly(lambda c: c / scale, node, node * scale)
+
+
+def solved_exactly(f, target: float, start: float) -> float:
+    """A c near ``start`` with ``f(c) == target`` exactly (f increasing), or NaN if none is found within 64 ulp."""
+    c = start
+    for _ in range(64):
+        if f(c) == target:
             return c
-        c = math.nextafter(c, math.inf if c / scale < node else -math.inf)
+        c = math.nextafter(c, math.inf if f(c) < target else -math.inf)
     return math.nan
 
 
@@ -226,6 +238,70 @@ def test_falling_tables_evaluated_together_are_each_evaluate_bit_for_bit():
         for start in range(0, len(points), m):
             chosen = points[start:start + m]
             tables = [table] * len(chosen)
-            got = evaluate_together(tables, np.stack([table.rows] * len(chosen)), [u for u, _ in chosen],
-                                    [w for _, w in chosen])
+            got = falling_table.evaluate_together(tables, np.stack([table.rows] * len(chosen)), [u for u, _ in chosen],
+                                                  [w for _, w in chosen])
             assert bits(got) == bits([table.evaluate(u, w) for u, w in chosen]), f"{m} contacts from {start}"
+
+
+CORRUGATION = {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04, "table": 2}
+
+
+@pytest.mark.usefixtures("build_each_table_once")
+def test_corrugation_tables_evaluated_together_are_each_evaluate_bit_for_bit():
+    """corrugation_table.evaluate_together against CorrugationTable.evaluate at random phases, loads and creeps
+    (partial and full slip, zero creep) and at the general path's coordinates (the phase and the load coordinate on
+    nodes and at the ends, |xi|/xi_fs on nodes, loads outside the table's), 1 to 16 contacts."""
+    model = ContactModel(ContactParameters(**CORRUGATION), stop_time=1.0)
+    model.step(0.0, H, 2e4, 1e-3, 30.0)
+    table = model.table_use.table
+    low, high = table.domain
+    rng = np.random.default_rng(11)
+    points = []
+    for x, load in zip(rng.uniform(-1.0, 1.0, 80).tolist(), np.exp(rng.uniform(math.log(low), math.log(high),
+                                                                               80)).tolist(), strict=True):
+        scale = table.units(load)[2]
+        points += [(x, load, scale * c) for c in (0.3, -0.9, 1.7, 0.0)]
+    phase = lambda x: (x * table.wavenumber) % (2.0 * math.pi)  # noqa: E731 - a one-line helper
+    ell = lambda load: (math.log(load) - table.log_low) / table.log_span  # noqa: E731 - a one-line helper
+    mid = math.sqrt(low * high)
+    points += [(solved_exactly(phase, theta, theta / table.wavenumber), mid, 1e-4) for theta in table.theta_nodes[1:]]
+    points += [(0.0, mid, 1e-4), (0.013, low, -1e-4), (0.013, high, 2e-4), (0.013, 0.5 * low, 1e-4),
+               (0.013, 2.0 * high, 1e-4)]
+    points += [(0.017, solved_exactly(ell, node, math.exp(table.log_low + node * table.log_span)), 3e-4)
+               for node in table.l_nodes[1:-1]]
+    values = table.interpolate(phase(0.021), ell(mid))[:5].tolist()
+    xi_fs = table.normal(values, mid, 0.0)[4]
+    points += [(0.021, mid, solved_exactly(lambda c: abs(c) / xi_fs, t, t * xi_fs)) for t in table.t_nodes[1:-1]]
+    points = [point for point in points if all(v == v for v in point)]
+    assert len(points) > 330, "the node coordinates were found"
+    for m in range(1, 17):
+        for start in range(0, len(points), m):
+            chosen = points[start:start + m]
+            got = corrugation_table.evaluate_together([table] * len(chosen), np.stack([table.flat] * len(chosen)),
+                                                      *([list(column) for column in zip(*chosen, strict=True)]))
+            assert bits(got) == bits([table.evaluate(*point) for point in chosen]), f"{m} contacts from {start}"
+
+
+@pytest.mark.usefixtures("build_each_table_once")
+@pytest.mark.parametrize("contacts", (2, 5, 8))
+def test_contacts_on_corrugation_tables_together_are_each_contact_model_bit_for_bit(contacts):
+    """The corrugation tables evaluated together: each contact with its own radius (tables of different values) and
+    place along the corrugation, loads within the tables' (one unloaded now and then, one beyond the table once: that
+    step solves exactly), creeps from zero to full slip: every output and state is the single ContactModel's."""
+    radii = [(0.46, 0.43)[k % 2] for k in range(contacts)]
+    places = [0.0113 * k for k in range(contacts)]
+    together = ContactModels(ContactParameters(**CORRUGATION), contacts, stop_time=1.0,
+                             per_contact={"radius": radii, "initial_position": places})
+    alone = [ContactModel(ContactParameters(**CORRUGATION, radius=r, initial_position=x), stop_time=1.0)
+             for r, x in zip(radii, places, strict=True)]
+    creeps = (1e-3, 0.0, -4e-4, 2e-2, 3e-5, -3e-3)
+    for n in range(14):
+        rows = [(0.0 if n > 0 and (n + k) % 5 == 4 else 2e4 * (1.0 + 0.3 * math.sin(0.8 * n + k) * (n > 0)),
+                 creeps[(n + k) % 6], 30.0 + k) for k in range(contacts)]
+        if n == 9:
+            rows[-1] = (2e4 * 4.0, 1e-3, 30.0)  # beyond the table's loads
+        expected = tuple(m.step(n * H, H, *r) for m, r in zip(alone, rows, strict=True))
+        assert bits(together.step(n * H, H, rows)) == bits(expected), f"step {n}"
+        assert together.state.to_dict() == ContactsState(tuple(m.state for m in alone)).to_dict(), f"state {n}"
+        assert n in (0, 9) or {o.method_used for o in expected} <= {0, 6}, f"step {n} answers from the tables"
+    assert together.tables.groups, "the steps took the tables together"

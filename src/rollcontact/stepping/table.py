@@ -47,7 +47,7 @@ from rollcontact.closed_form import hertz
 from rollcontact.friction import ExponentialFalling
 from rollcontact.stepping import corrugation_table, falling_table
 from rollcontact.stepping.corrugation_table import CorrugationTable
-from rollcontact.stepping.falling_table import FallingFrictionTable, evaluate_together
+from rollcontact.stepping.falling_table import FallingFrictionTable
 from rollcontact.stepping.parameters import AUTO, POLYNOMIAL, ModelError
 from rollcontact.stepping.tabulation import TARGET
 from rollcontact.stepping.threads import one_blas_thread
@@ -108,6 +108,18 @@ class TableUse(ABC):
     @abstractmethod
     def valid_domain(self, domain: tuple[float, ...]) -> bool:
         """Whether ``domain`` (from a state) is one of the family's."""
+
+    @staticmethod
+    @abstractmethod
+    def stacking(table) -> tuple[tuple, np.ndarray]:
+        """``(key, data)``: the tables of several contacts with the same key (their node counts) are evaluated
+        together on their ``data`` stacked (:class:`TablesTogether`)."""
+
+    @staticmethod
+    @abstractmethod
+    def answers_together(uses: list, tables: list, stacked: np.ndarray, steps: list[tuple]) -> list[tuple | None]:
+        """:meth:`lookup` of each of ``uses`` in its ``table`` for its step ``(index, X, N', creep, V)``, bit for bit,
+        the tables' :meth:`stacking` data stacked in ``stacked``."""
 
     # --------------------------------------------------------------------------------------------- stepping
     def answer(self, x: float, load: float, creep: float, velocity: float) -> tuple | None:
@@ -261,6 +273,18 @@ class FallingFrictionUse(TableUse):
         return (math.copysign(tau * limit, creep) if creep != 0.0 else 0.0, a, alpha * a, self.offset, p0,
                 kappa * limit / saturation)
 
+    @staticmethod
+    def stacking(table):
+        return (table.rows.shape, table.t_nodes.size), table.rows
+
+    @staticmethod
+    def answers_together(uses, tables, stacked, steps):
+        coordinates = [use.coordinates(step[2], step[3], step[4]) for use, step in zip(uses, steps, strict=True)]
+        evaluated = falling_table.evaluate_together(tables, stacked, [c[3] for c in coordinates],
+                                                    [c[4] for c in coordinates])
+        return [use.assembled(answer, c[0], c[1], c[2], step[2], step[3])
+                for use, step, answer, c in zip(uses, steps, evaluated, coordinates, strict=True)]
+
     def see(self, load, velocity, half_width):
         self.w_seen = max(self.w_seen, self.friction.decay * velocity * self.saturation_per_half_width * half_width)
 
@@ -294,11 +318,16 @@ class CorrugationUse(TableUse):
 
     def lookup(self, table, x, load, creep, velocity):
         """The table's answer with the offset in the model's frame (the scene's mirrored)."""
-        answer = table.evaluate(x, load, creep)
-        if answer is None:
-            return None
-        force, a, a_star, offset, p0, stiffness = answer
-        return force, a, a_star, 0.0 - offset, p0, stiffness
+        return in_model_frame(table.evaluate(x, load, creep))
+
+    @staticmethod
+    def stacking(table):
+        return table.data.shape, table.flat
+
+    @staticmethod
+    def answers_together(uses, tables, stacked, steps):
+        return [in_model_frame(answer) for answer in corrugation_table.evaluate_together(
+            tables, stacked, [step[1] for step in steps], [step[2] for step in steps], [step[3] for step in steps])]
 
     def see(self, load, velocity, half_width):
         self.loads_seen = (min(self.loads_seen[0], load), max(self.loads_seen[1], load))
@@ -319,58 +348,66 @@ class CorrugationUse(TableUse):
         return f"N' in [{domain[0]:.4g}, {domain[1]:.4g}] N/m, every phase of the corrugation and every creep"
 
 
+def in_model_frame(answer: tuple | None) -> tuple | None:
+    """A corrugation table's answer with the offset in the model's frame (the scene's mirrored); None stays None."""
+    if answer is None:
+        return None
+    force, a, a_star, offset, p0, stiffness = answer
+    return force, a, a_star, 0.0 - offset, p0, stiffness
+
+
 class TablesTogether:
     """The answers of the ready tables of several contacts' uses in one step (the contacts of
-    :class:`rollcontact.stepping.contacts.ContactModels`): each :meth:`TableUse.answer`, bit for bit.
+    :class:`rollcontact.stepping.contacts.ContactModels`, of one family): each :meth:`TableUse.answer`, bit for bit.
 
-    Falling-friction tables of like node counts are evaluated together
-    (:func:`~rollcontact.stepping.falling_table.evaluate_together`: one stacked matrix product per contraction); the
-    stacked rows are made once per change of the contacts' tables.  Other families, and contacts without a ready
-    table, answer one by one.
+    The tables of like node counts (:meth:`TableUse.stacking`) are evaluated together
+    (:meth:`TableUse.answers_together`: one stacked matrix product per contraction,
+    :func:`~rollcontact.stepping.falling_table.evaluate_together`,
+    :func:`~rollcontact.stepping.corrugation_table.evaluate_together`); their data are stacked once per change of the
+    contacts' tables.  Contacts without a ready table answer one by one.
     """
 
     def __init__(self, uses: tuple[TableUse, ...]):
         self.uses = uses
-        self.falling = all(isinstance(use, FallingFrictionUse) for use in uses)
+        self.family = type(uses[0]) if len({type(use) for use in uses}) == 1 else None
         self.tables: tuple = ()
         """The tables :attr:`groups` were made of, one per use."""
         self.groups: tuple = ()
-        """Per node count: (the indices of its contacts, their tables, their rows stacked)."""
+        """Per node count: (the indices of its contacts, their tables' data stacked)."""
 
     def answers(self, steps: list[tuple[int, float, float, float, float]]) -> list[tuple | None]:
         """:meth:`TableUse.answer` for each of ``steps``: ``(contact index, X [m], N' [N/m], creep [1], V [m/s])``,
         in ascending contact order."""
         uses = self.uses
         tables = tuple(use.table for use in uses)
-        if not self.falling or None in tables:
+        if self.family is None or None in tables:
             return [uses[i].answer(x, load, creep, velocity) for i, x, load, creep, velocity in steps]
         if tables != self.tables:
             self.regroup(tables)
-        coordinates = [uses[i].coordinates(load, creep, velocity) for i, _, load, creep, velocity in steps]
         if len(self.groups) == 1 and len(steps) == len(uses):  # the usual step: every contact on tables alike
-            _, group, stacked = self.groups[0]
-            evaluated = evaluate_together(group, stacked, [c[3] for c in coordinates], [c[4] for c in coordinates])
-        else:
-            position = {step[0]: k for k, step in enumerate(steps)}
-            evaluated = [None] * len(steps)
-            for members, group, stacked in self.groups:
-                chosen = [k for k, i in enumerate(members) if i in position]
-                if chosen:
-                    here = [position[members[k]] for k in chosen]
-                    for k, answer in zip(here, evaluate_together(
-                            [group[k] for k in chosen], stacked[chosen], [coordinates[k][3] for k in here],
-                            [coordinates[k][4] for k in here]), strict=True):
-                        evaluated[k] = answer
-        return [uses[step[0]].assembled(answer, c[0], c[1], c[2], step[2], step[3])
-                for step, answer, c in zip(steps, evaluated, coordinates, strict=True)]
+            return self.family.answers_together(uses, tables, self.groups[0][1], steps)
+        by_index = {step[0]: step for step in steps}
+        answers = {}
+        for members, stacked in self.groups:
+            chosen = [k for k, i in enumerate(members) if i in by_index]
+            indices = [members[k] for k in chosen]
+            if indices:
+                for i, answer in zip(indices, self.family.answers_together(
+                        [uses[i] for i in indices], [tables[i] for i in indices],
+                        stacked if len(chosen) == len(members) else stacked[chosen], [by_index[i] for i in indices]),
+                                     strict=True):
+                    answers[i] = answer
+        return [answers[step[0]] for step in steps]
 
     def regroup(self, tables: tuple) -> None:
-        """Group the contacts by their tables' node counts and stack each group's rows."""
+        """Group the contacts by their tables' node counts and stack each group's data."""
         groups: dict = {}
         for i, table in enumerate(tables):
-            groups.setdefault((table.rows.shape, table.t_nodes.size), []).append(i)
-        self.groups = tuple((members, [tables[i] for i in members], np.stack([tables[i].rows for i in members]))
-                            for members in groups.values())
+            key, data = self.family.stacking(table)
+            groups.setdefault(key, ([], []))
+            groups[key][0].append(i)
+            groups[key][1].append(data)
+        self.groups = tuple((members, np.stack(data)) for members, data in groups.values())
         self.tables = tables
 
 
