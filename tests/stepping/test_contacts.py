@@ -13,6 +13,7 @@ from rollcontact.stepping import ContactModel, ContactParameters, ModelError, co
 from rollcontact.stepping.contacts import ContactModels, ContactsState
 from rollcontact.stepping.corrugation_table import CorrugationTable
 from rollcontact.stepping.falling_table import FallingFrictionTable
+from rollcontact.stepping.table import TOGETHER_FROM
 from rollcontact.stepping.tabulation import contract
 
 H = 1e-3
@@ -183,9 +184,10 @@ def falling_rows(n: int, contacts: int) -> list[tuple[float, float, float]]:
 @pytest.mark.usefixtures("build_each_table_once")
 @pytest.mark.parametrize("contacts", (2, 5, 8))
 def test_contacts_on_falling_friction_tables_together_are_each_contact_model_bit_for_bit(contacts):
-    """The falling-friction tables evaluated together (one stacked product per contraction), each contact with its
-    own radius (tables of different values stacked) and place, loads that come and go, creeps from zero through
-    partial slip to deep full slip, speeds from zero: every output and state is the single ContactModel's."""
+    """The falling-friction tables evaluated together (one stacked product per contraction; one by one below
+    TOGETHER_FROM table contacts), each contact with its own radius (tables of different values stacked) and place,
+    loads that come and go, creeps from zero through partial slip to deep full slip, speeds from zero: every output
+    and state is the single ContactModel's."""
     radii = [(0.46, 0.3)[k % 2] for k in range(contacts)]
     places = [0.37 * k for k in range(contacts)]
     together = ContactModels(ContactParameters(**FALLING), contacts, stop_time=1.0,
@@ -198,7 +200,7 @@ def test_contacts_on_falling_friction_tables_together_are_each_contact_model_bit
         assert bits(together.step(n * H, H, rows)) == bits(expected), f"step {n}"
         assert together.state.to_dict() == ContactsState(tuple(m.state for m in alone)).to_dict(), f"state {n}"
         assert n < 2 or {o.method_used for o in expected} <= {0, 6}, f"step {n} answers from the tables"
-    assert together.tables.groups, "the steps took the tables together"
+    assert bool(together.tables.groups) == (contacts >= TOGETHER_FROM), "the steps took the tables together"
 
 
 def on_node(scale: float, node: float) -> float:
@@ -285,9 +287,10 @@ def test_corrugation_tables_evaluated_together_are_each_evaluate_bit_for_bit():
 @pytest.mark.usefixtures("build_each_table_once")
 @pytest.mark.parametrize("contacts", (2, 5, 8))
 def test_contacts_on_corrugation_tables_together_are_each_contact_model_bit_for_bit(contacts):
-    """The corrugation tables evaluated together: each contact with its own radius (tables of different values) and
-    place along the corrugation, loads within the tables' (one unloaded now and then, one beyond the table once: that
-    step solves exactly), creeps from zero to full slip: every output and state is the single ContactModel's."""
+    """The corrugation tables evaluated together (one by one below TOGETHER_FROM table contacts): each contact with
+    its own radius (tables of different values) and place along the corrugation, loads within the tables' (one
+    unloaded now and then, one beyond the table once: that step solves exactly), creeps from zero to full slip: every
+    output and state is the single ContactModel's."""
     radii = [(0.46, 0.43)[k % 2] for k in range(contacts)]
     places = [0.0113 * k for k in range(contacts)]
     together = ContactModels(ContactParameters(**CORRUGATION), contacts, stop_time=1.0,
@@ -304,4 +307,4 @@ def test_contacts_on_corrugation_tables_together_are_each_contact_model_bit_for_
         assert bits(together.step(n * H, H, rows)) == bits(expected), f"step {n}"
         assert together.state.to_dict() == ContactsState(tuple(m.state for m in alone)).to_dict(), f"state {n}"
         assert n in (0, 9) or {o.method_used for o in expected} <= {0, 6}, f"step {n} answers from the tables"
-    assert together.tables.groups, "the steps took the tables together"
+    assert bool(together.tables.groups) == (contacts >= TOGETHER_FROM), "the steps took the tables together"

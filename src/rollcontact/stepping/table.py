@@ -356,6 +356,12 @@ def in_model_frame(answer: tuple | None) -> tuple | None:
     return force, a, a_star, 0.0 - offset, p0, stiffness
 
 
+TOGETHER_FROM = 4
+"""Fewest table contacts of a step evaluated together (:class:`TablesTogether`); fewer answer one by one, which costs
+less than the stacked products' numpy calls: together and one by one cost about the same at 3 to 4 contacts
+(``benchmarks/bench_contacts.py``, "In process"; the answers are the same bit for bit either way)."""
+
+
 class TablesTogether:
     """The answers of the ready tables of several contacts' uses in one step (the contacts of
     :class:`rollcontact.stepping.contacts.ContactModels`, of one family): each :meth:`TableUse.answer`, bit for bit.
@@ -380,7 +386,7 @@ class TablesTogether:
         in ascending contact order."""
         uses = self.uses
         tables = tuple(use.table for use in uses)
-        if self.family is None or None in tables:
+        if self.family is None or None in tables or len(steps) < TOGETHER_FROM:
             return [uses[i].answer(x, load, creep, velocity) for i, x, load, creep, velocity in steps]
         if tables != self.tables:
             self.regroup(tables)
