@@ -356,10 +356,11 @@ def in_model_frame(answer: tuple | None) -> tuple | None:
     return force, a, a_star, 0.0 - offset, p0, stiffness
 
 
-TOGETHER_FROM = 4
+TOGETHER_FROM = 5
 """Fewest table contacts of a step evaluated together (:class:`TablesTogether`); fewer answer one by one, which costs
-less than the stacked products' numpy calls: together and one by one cost about the same at 3 to 4 contacts
-(``benchmarks/bench_contacts.py``, "In process"; the answers are the same bit for bit either way)."""
+less than the stacked products' numpy calls: in process, together and one by one cost about the same at 4 falling-
+friction contacts and together costs less from 5 (``benchmarks/bench_contacts.py``, "In process"; through the FMU the
+same, a little later); the answers are the same bit for bit either way."""
 
 
 class TablesTogether:
