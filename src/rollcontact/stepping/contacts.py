@@ -200,9 +200,7 @@ class ContactModels:
                 outputs = model.closed_form_step(x, normal_load, creep, velocity)
                 if not in_bound(outputs, model.friction_bound, normal_load):
                     return None
-            else:
-                if model.stop_time is not None:  # as ContactModel.step: the steps left
-                    model.table_use.remaining = (model.stop_time - current_time) / step_size
+            else:  # (a table's steps left, TableUse.remaining, count in exact steps only: none is taken here)
                 outputs = None
                 tabled.append((len(evaluated), x, load, creep, velocity))
             evaluated.append([model, high, low, row, outputs, False])

@@ -72,7 +72,7 @@ def coefficient_rows(points: list[float], nodes: np.ndarray, weights: np.ndarray
     vectorised subtraction and division, the same correctly rounded operations per element as ``evaluate``'s, so each
     row is bit for bit the vector ``evaluate`` builds for its point."""
     if min(points) > 1e-13 and max(points) < 1.0 - 1e-13 and node_set.isdisjoint(points):
-        return weights / (np.array(points)[:, None] - nodes)
+        return np.divide(weights, np.subtract.outer(points, nodes))
     return np.array([weights / (x - nodes) if 1e-13 < x < 1.0 - 1e-13 and x not in node_set else
                      basis(x, nodes, weights) for x in points])
 
