@@ -153,7 +153,7 @@ class ContactModels:
         if len(inputs) != len(self.models):
             raise ModelError(f"{len(inputs)} input rows for {len(self.models)} contacts")
         if self.together and 0.0 < step_size < INF and -INF < current_time < INF:
-            outputs = self.steps_together(current_time, step_size, inputs)
+            outputs = self.steps_together(current_time, inputs)
             if outputs is not None:
                 return outputs
         problems = [f"contact {k}: {input_problem(current_time, step_size, *row)}"
@@ -172,8 +172,8 @@ class ContactModels:
                 raise ModelError(f"contact {k + 1}: {exc}") from None
         return tuple(outputs)
 
-    def steps_together(self, current_time: float, step_size: float, inputs) -> tuple[StepOutputs, ...] | None:
-        """The step of contacts on the closed forms or a table (module docstring) at a valid time and step size: what
+    def steps_together(self, current_time: float, inputs) -> tuple[StepOutputs, ...] | None:
+        """The step of contacts on the closed forms or a table (module docstring) at a valid time (and step size): what
         :meth:`ContactModel.step` gives each, every contact evaluated before any is committed; None, with no contact
         changed, when a contact needs its own :meth:`ContactModel.step` (an invalid input, time going backwards, a
         load beyond the floating-point range, a table without an answer, outputs out of the friction bound or not
