@@ -11,7 +11,9 @@ bound it reports):
   creep, its domain the loads ``[N_low, N_high]`` (:class:`CorrugationUse`).
 
 A model uses one (:func:`table_use`) when the scene is of such a family, ``method`` is auto or polynomial, no
-instationary model runs, ``tolerance`` is 0 or at least the target and ``table`` is not off.
+instationary model runs, ``tolerance`` is 0 or at least the target and ``table`` is not off.  The tables of several
+contacts (:class:`rollcontact.stepping.contacts.ContactModels`) answer a step together (:class:`TablesTogether`),
+each answer its own table's bit for bit.
 
 When to build
 -------------
