@@ -360,9 +360,9 @@ def in_model_frame(answer: tuple | None) -> tuple | None:
 
 TOGETHER_FROM = 5
 """Fewest table contacts of a step evaluated together (:class:`TablesTogether`); fewer answer one by one, which costs
-less than the stacked products' numpy calls: in process, together and one by one cost about the same at 4 falling-
-friction contacts and together costs less from 5 (``benchmarks/bench_contacts.py``, "In process"; through the FMU the
-same, a little later); the answers are the same bit for bit either way."""
+less than the stacked products' numpy calls: together costs about as much as one by one at 4 falling-friction
+contacts and less from 5 (``benchmarks/bench_contacts.py``, "In process"); the answers are the same bit for bit
+either way."""
 
 
 class TablesTogether:
