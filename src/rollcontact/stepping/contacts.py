@@ -12,10 +12,11 @@ contact alike: the parameters they share decide it) are stepped together (:meth:
 every contact is evaluated before any state changes and the states are committed together
 (:meth:`rollcontact.stepping.ModelState.commit`), so that no contact's state needs saving for a refusal.  Each
 closed-form contact takes :meth:`ContactModel.closed_form_step`, a Python loop over the contacts: with a handful of
-contacts the closed forms cost less as Python floats than as numpy arrays (a numpy call costs about as much as a
-contact's whole closed form).  The table contacts' answers come in one call
-(:class:`~rollcontact.stepping.table.TablesTogether`): the tables' contractions of all contacts are one stacked
-matrix product each, bit for bit each contact's own (:func:`~rollcontact.stepping.falling_table.evaluate_together`,
+contacts the closed forms cost less as Python floats than as numpy arrays (a numpy call on a few values costs about
+as much as a contact's Hertz and Carter in floats, and they take some twenty).  The table contacts' answers come in
+one call (:class:`~rollcontact.stepping.table.TablesTogether`): the tables' contractions of all contacts are one
+stacked matrix product each, bit for bit each contact's own
+(:func:`~rollcontact.stepping.falling_table.evaluate_together`,
 :func:`~rollcontact.stepping.corrugation_table.evaluate_together`); the outputs of each answer are
 :meth:`ContactModel.table_outputs`, as a single contact's.  A step that meets anything else there (an invalid input,
 time going backwards, a load beyond the floating-point range, a table without an answer, outputs out of the friction
