@@ -17,7 +17,8 @@ as much as a contact's Hertz and Carter in floats, and they take some twenty).  
 one call (:class:`~rollcontact.stepping.table.TablesTogether`): the tables' contractions of all contacts are one
 stacked matrix product each, bit for bit each contact's own
 (:func:`~rollcontact.stepping.falling_table.evaluate_together`,
-:func:`~rollcontact.stepping.corrugation_table.evaluate_together`); the outputs of each answer are
+:func:`~rollcontact.stepping.corrugation_table.evaluate_together`; fewer contacts than
+:data:`~rollcontact.stepping.table.TOGETHER_FROM` answer one by one, as they come); the outputs of each answer are
 :meth:`ContactModel.table_outputs`, as a single contact's.  A step that meets anything else there (an invalid input,
 time going backwards, a load beyond the floating-point range, a table without an answer, outputs out of the friction
 bound or not finite) is stepped contact by contact instead, which refuses, solves or corrects it as a single contact
@@ -31,6 +32,7 @@ from dataclasses import dataclass, fields
 from math import isfinite
 from operator import attrgetter
 
+from rollcontact.stepping import table
 from rollcontact.stepping.model import ContactModel, advanced_position
 from rollcontact.stepping.parameters import STATIONARY, ContactParameters, ModelError, StepOutputs, input_problem
 from rollcontact.stepping.state import ModelState
@@ -180,7 +182,8 @@ class ContactModels:
         load beyond the floating-point range, a table without an answer, outputs out of the friction bound or not
         finite)."""
         evaluated = []  # per contact: [model, high, low, inputs, outputs, unloaded]
-        tabled = []  # the loaded table contacts' (index, X, N', creep, V)
+        tabled = []  # the loaded table contacts' (index, X, N', creep, V), answered together
+        alone = len(self.models) < table.TOGETHER_FROM  # too few to answer together: each as it comes
         for model, row in zip(self.models, inputs, strict=True):
             normal_load, creep, velocity = row
             if not (0.0 <= normal_load < INF and -INF < creep < INF and 0.0 <= velocity < INF):
@@ -197,8 +200,13 @@ class ContactModels:
                 continue
             if load == INF:
                 return None
-            if model.closed_form:
-                outputs = model.closed_form_step(x, normal_load, creep, velocity)
+            if model.closed_form or alone:
+                if model.closed_form:
+                    outputs = model.closed_form_step(x, normal_load, creep, velocity)
+                elif (answer := model.table_use.answer(x, load, creep, velocity)) is not None:
+                    outputs = model.table_outputs(x, normal_load, creep, velocity, answer)
+                else:
+                    return None
                 if not in_bound(outputs, model.friction_bound, normal_load):
                     return None
             else:  # (a table's steps left, TableUse.remaining, count in exact steps only: none is taken here)
