@@ -29,7 +29,10 @@ varying signal (load 80 kN +-10 %, creepages swinging through a third of saturat
 
 Batches of all cases are interleaved and the tables show medians, so that a noisy machine affects every case alike;
 one BLAS thread (``common.py``).  The goal of the n-contact FMU: a step of 8 contacts costs at most twice a step of
-one contact of the same level, FMI version and host.  Usage: ``python benchmarks/bench_contacts.py [--rounds N]
+one contact of the same level, FMI version and host.  Last, the same 2D contacts in process, without FMU and host
+(:func:`in_process`): the step of ``ContactModels`` of 1, 2, 3, 4, 5 and 8 contacts against one ``ContactModel``, the
+certified tables (falling friction, corrugation) evaluated together and one by one, which calibrates
+``rollcontact.stepping.table.TOGETHER_FROM``.  Usage: ``python benchmarks/bench_contacts.py [--rounds N]
 [--quick]``; writes ``benchmarks/results/contacts.md`` (not after ``--quick``).
 """
 
@@ -340,6 +343,61 @@ FAMILIES = {  # label -> (model, parameters, steps per batch, spin [1/m])
 FLOORS = ("empty, pythonfmu's getters and setters", "empty, one list operation per call")
 
 
+IN_PROCESS = {  # label -> the ContactParameters of the contacts stepped in process
+    "2D closed form": {"method": 1},
+    "2D table, falling friction": FAMILIES["2D table, falling friction"][1],
+    "2D table, corrugation": {"corrugation_amplitude": 20e-6, "corrugation_wavelength": 0.04, "table": 2},
+}
+IN_PROCESS_COUNTS = (1, 2, 3, 4, 5, 8)
+
+
+def in_process(rounds: int) -> None:
+    """Print the microseconds per step of ``ContactModels`` in process (no FMU, no host) on the 2D signal of the FMU
+    cases, against one ``ContactModel``: the closed forms' loop, and the certified tables evaluated together
+    (``TablesTogether``) or one by one (``rollcontact.stepping.table.TOGETHER_FROM`` set for the batch), the same
+    answers bit for bit; the calibration of ``TOGETHER_FROM``.  Batches of every case interleaved, medians."""
+    from rollcontact.stepping import ContactModel, ContactParameters, table
+    from rollcontact.stepping.contacts import ContactModels
+
+    default = table.TOGETHER_FROM
+    modes = {"one by one": 10 ** 9, "together": 1}
+    signal = [[(8e4 * (1.0 + 0.1 * math.sin(0.01 * n + 0.7 * k)), 1e-3 * math.cos(0.01 * n + 0.7 * k), 30.0)
+               for k in range(max(IN_PROCESS_COUNTS))] for n in range(200)]
+    cases = {}  # (label, contacts, mode) -> [step(t, rows), times]
+    for label, parameters in IN_PROCESS.items():
+        single = ContactModel(ContactParameters(**parameters), stop_time=1e6)
+        cases[label, 1, "ContactModel"] = [lambda t, rows, m=single: m.step(t, 1e-3, *rows[0]), []]
+        for n in IN_PROCESS_COUNTS:
+            for mode in modes if label != "2D closed form" else ("together",):
+                models = ContactModels(ContactParameters(**parameters), n, stop_time=1e6)
+                cases[label, n, mode] = [lambda t, rows, m=models, n=n: m.step(t, 1e-3, rows[:n]), []]
+    try:
+        for round_ in range(rounds + 1):  # the first round builds the tables, untimed
+            for (_, _, mode), (step, times) in cases.items():
+                table.TOGETHER_FROM = modes.get(mode, default)
+                start = time.perf_counter()
+                for i, rows in enumerate(signal):
+                    step((round_ * len(signal) + i) * 1e-3, rows)
+                if round_:
+                    times.append((time.perf_counter() - start) / len(signal) * 1e6)
+    finally:
+        table.TOGETHER_FROM = default
+    median = {key: statistics.median(times) for key, (_, times) in cases.items()}
+    print(f"\nIn process (no FMU): us per step of n contacts (`ContactModels`) against one `ContactModel`; the tables "
+          f"evaluated one by one or together (`TOGETHER_FROM` = {default} chooses together from {default} table "
+          "contacts on); medians of the same run:\n")
+    print("| case | contacts | tables one by one | stepped together | together / one by one | "
+          "together / ContactModel |")
+    print("|---|---:|---:|---:|---:|---:|")
+    for label in IN_PROCESS:
+        one = median[label, 1, "ContactModel"]
+        print(f"| {label} | 1, ContactModel | | {one:.1f} | | 1.00 |")
+        for n in IN_PROCESS_COUNTS:
+            alone, together = median.get((label, n, "one by one")), median[label, n, "together"]
+            print(f"| {label} | {n} | {'' if alone is None else f'{alone:.1f}'} | {together:.1f} | "
+                  f"{'' if alone is None else f'{together / alone:.2f}'} | {together / one:.2f} |")
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=15, help="interleaved rounds (default 15)")
@@ -401,6 +459,7 @@ def main(argv: list[str] | None = None) -> None:
                   f"{median[label, fmi, host, n] / median[label, fmi, host, 1]:.2f} | {case.discards} |")
         for case in cases.values():
             case.free()
+    in_process(rounds)
 
 
 if __name__ == "__main__":

@@ -172,8 +172,8 @@ class TableSlave3:
         """The shared slave's step; the first step of a model sets the start time to its communication point
         (pythonfmu3 does not pass fmi3EnterInitializationMode's startTime)."""
         model = self.model
-        if model is not None and self.error is None and model.state.steps == 0 and \
-                self.next_time == self.start_time != current_time and math.isfinite(current_time):
+        if self.next_time == self.start_time != current_time and model is not None and self.error is None and \
+                math.isfinite(current_time) and model.state.steps == 0:  # last: several contacts' state is built
             self.start_time = self.next_time = float(current_time)
             model.reset(self.start_time)
             outputs = self.initial_outputs(model)

@@ -125,15 +125,16 @@ def contact_values(values: dict, name: str, contacts: int, dimensions: dict) -> 
     return (values[name],) if contacts == 1 else tuple(values[f"{name}[{k}]"] for k in range(1, contacts + 1))
 
 
-def contacts_step(step, current_time: float, step_size: float, values, width: int, arrays: bool) -> list:
-    """The outputs of a several-contact slave in its table's order from ``step(current_time, step_size, rows)``
-    (one output tuple per contact) and its input values: one array per input (``arrays``, FMI 3.0: rows are their
-    columns, outputs go output by output) or ``width`` inputs per contact in turn (FMI 2.0: contact by contact)."""
+def contacts_step(step, current_time: float, step_size: float, values, width: int, arrays: bool) -> tuple:
+    """The outputs of a several-contact slave in its table's order (a tuple: the slave's outputs as they are) from
+    ``step(current_time, step_size, rows)`` (one output tuple per contact) and its input values: one array per input
+    (``arrays``, FMI 3.0: rows are their columns, outputs go output by output) or ``width`` inputs per contact in turn
+    (FMI 2.0: contact by contact)."""
     if arrays:
-        return list(chain.from_iterable(zip(*step(current_time, step_size, list(zip(*values, strict=True))),
-                                            strict=True)))
-    return list(chain.from_iterable(step(current_time, step_size,
-                                         [values[i:i + width] for i in range(0, len(values), width)])))
+        return tuple(chain.from_iterable(zip(*step(current_time, step_size, list(zip(*values, strict=True))),
+                                             strict=True)))
+    return tuple(chain.from_iterable(step(current_time, step_size,
+                                          [values[i:i + width] for i in range(0, len(values), width)])))
 
 
 def printf_safe(message: str) -> str:

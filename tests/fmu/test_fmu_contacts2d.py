@@ -1,7 +1,8 @@
 """RollingContact2D with several contacts per instance (``build_fmu.py --contacts n``) through fmpy: n contacts equal
-n single-contact FMUs bit for bit (closed form, polynomial on a corrugation, instationary auto; each contact with its
-own radius, width and place along the track), FMI 2.0 equals FMI 3.0, validation, refusals that name the contact and
-change nothing, and a restored state that repeats the steps."""
+n single-contact FMUs bit for bit (closed form, polynomial on a corrugation, instationary auto, certified tables of
+falling friction evaluated together; each contact with its own radius, width and place along the track), FMI 2.0
+equals FMI 3.0, validation, refusals that name the contact and change nothing, and a restored state that repeats the
+steps."""
 
 from __future__ import annotations
 
@@ -60,6 +61,8 @@ def signal(n: int, k: int) -> list[tuple[float, float, float]]:
 CASES = {"closed form": ({}, 12), "instationary auto": ({"transient": 1}, 12)}
 if "polynomial" in rollcontact.METHODS:
     CASES["polynomial, corrugated"] = ({"method": 2, "corrugation_amplitude": 20e-6}, 4)
+    CASES["falling friction, certified tables"] = ({"friction_law": 1, "friction_kinetic_ratio": 0.4,
+                                                    "friction_decay": 0.6, "tolerance": 1e-3, "table": 2}, 8)
 
 
 GEOMETRY = ({"radius": 0.46, "contact_width": 0.02, "initial_position": 0.0},

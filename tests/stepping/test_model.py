@@ -11,6 +11,7 @@ from numpy.testing import assert_allclose
 from scipy import integrate
 
 import rollcontact
+from rollcontact import closed_form
 from rollcontact.closed_form import hertz
 from rollcontact.instationary import InstationaryModel, aligned_grid_load, lag_error_bound
 from rollcontact.method import MethodSpec
@@ -125,6 +126,28 @@ def test_closed_form_step_equals_the_library_solve(creep):
                 15.0 * creep * ref.tangential_force_per_length * b, ref.creep_stiffness_per_length * b]
     assert_allclose(out[:8], expected, rtol=1e-13, atol=0.0, err_msg=f"closed form at creep {creep}")
     assert out.method_used == 1, "a flat Coulomb scene uses the closed form"
+
+
+def test_closed_form_step_is_hertz_and_carter_bit_for_bit():
+    """closed_form_step writes out rollcontact.closed_form.hertz and carter: every output is theirs bit for bit, over
+    loads per length across twelve decades, radii, friction coefficients, creeps of either sign, zero, stick, the
+    onset of full slip and beyond."""
+    rng = np.random.default_rng(5)
+    checked = 0
+    for radius, mu, width in ((0.46, 0.3, 0.02), (0.05, 0.12, 0.004), (1.7, 0.6, 0.1)):
+        model = ContactModel(ContactParameters(radius=radius, friction_coefficient=mu, contact_width=width))
+        for load in (10.0 ** rng.uniform(-3.0, 9.0, 40)).tolist():
+            n = load * model.per_width  # N' as the step forms it
+            a, p0 = closed_form.hertz(n, radius, model.contact_modulus)
+            onset = mu * a / radius
+            for creep in (0.0, onset, -onset, *(onset * rng.uniform(-3.0, 3.0, 6)).tolist(), 1e-300, -5.0):
+                t, a_star, stiffness = closed_form.carter(n, creep, radius, model.contact_modulus, mu)
+                out = model.closed_form_step(0.0, load, creep, 20.0)
+                force = t * width
+                expected = (force, t / n, a, a_star, 0.0, p0, 20.0 * creep * force, stiffness * width)
+                assert repr(tuple(out[:8])) == repr(expected), f"R {radius}, mu {mu}, N {load!r}, creep {creep!r}"
+                checked += 1
+    assert checked == 3 * 40 * 11
 
 
 def test_no_load_is_no_contact():

@@ -8,13 +8,21 @@ contact's solve fails after others were stepped, those are set back, so a refuse
 of the contacts are prefixed with their contact.
 
 Quasi-steady contacts on the closed forms (a flat surface with Coulomb friction) or on a certified table (every
-contact alike: the parameters they share decide it) are stepped in one loop (:meth:`ContactModels.steps_together`):
-each contact's :meth:`ContactModel.closed_form_step` or :meth:`ContactModel.table_step` and
-:func:`~rollcontact.stepping.model.advanced_position`, evaluated for every contact before any state changes and
-committed together (:meth:`ContactModel.commit`), so that no contact's state needs saving for a refusal.  A step that
-meets anything else there (an invalid input, time going backwards, a load beyond the floating-point range, a table
-without an answer, outputs out of the friction bound or not finite) is stepped contact by contact instead, which
-refuses, solves or corrects it as a single contact does.
+contact alike: the parameters they share decide it) are stepped together (:meth:`ContactModels.steps_together`):
+every contact is evaluated before any state changes and the states are committed together
+(:meth:`rollcontact.stepping.ModelState.commit`), so that no contact's state needs saving for a refusal.  Each
+closed-form contact takes :meth:`ContactModel.closed_form_step`, a Python loop over the contacts: with a handful of
+contacts the closed forms cost less as Python floats than as numpy arrays (a numpy call on a few values costs about
+as much as a contact's Hertz and Carter in floats, and they take some twenty).  The table contacts' answers come in
+one call (:class:`~rollcontact.stepping.table.TablesTogether`): the tables' contractions of all contacts are one
+stacked matrix product each, bit for bit each contact's own
+(:func:`~rollcontact.stepping.falling_table.evaluate_together`,
+:func:`~rollcontact.stepping.corrugation_table.evaluate_together`; fewer contacts than
+:data:`~rollcontact.stepping.table.TOGETHER_FROM` answer one by one, as they come); the outputs of each answer are
+:meth:`ContactModel.table_outputs`, as a single contact's.  A step that meets anything else there (an invalid input,
+time going backwards, a load beyond the floating-point range, a table without an answer, outputs out of the friction
+bound or not finite) is stepped contact by contact instead, which refuses, solves or corrects it as a single contact
+does.
 """
 
 from __future__ import annotations
@@ -24,9 +32,11 @@ from dataclasses import dataclass, fields
 from math import isfinite
 from operator import attrgetter
 
+from rollcontact.stepping import table
 from rollcontact.stepping.model import ContactModel, advanced_position
 from rollcontact.stepping.parameters import STATIONARY, ContactParameters, ModelError, StepOutputs, input_problem
 from rollcontact.stepping.state import ModelState
+from rollcontact.stepping.table import TablesTogether
 
 __all__ = ["ContactModels", "ContactsState"]
 
@@ -104,6 +114,9 @@ class ContactModels:
         self.notices = self.models[0].notices
         self.together = all(m.instationary is None and (m.closed_form or m.table_use is not None) for m in models)
         """Whether the contacts are stepped in one loop (module docstring): :meth:`steps_together`."""
+        self.tables = TablesTogether(tuple(model.table_use for model in models)) if self.together and \
+            models[0].table_use is not None else None
+        """The table contacts' answers in one step (:class:`~rollcontact.stepping.table.TablesTogether`)."""
 
     @property
     def state(self) -> ContactsState:
@@ -143,7 +156,7 @@ class ContactModels:
         if len(inputs) != len(self.models):
             raise ModelError(f"{len(inputs)} input rows for {len(self.models)} contacts")
         if self.together and 0.0 < step_size < INF and -INF < current_time < INF:
-            outputs = self.steps_together(current_time, step_size, inputs)
+            outputs = self.steps_together(current_time, inputs)
             if outputs is not None:
                 return outputs
         problems = [f"contact {k}: {input_problem(current_time, step_size, *row)}"
@@ -162,14 +175,17 @@ class ContactModels:
                 raise ModelError(f"contact {k + 1}: {exc}") from None
         return tuple(outputs)
 
-    def steps_together(self, current_time: float, step_size: float, inputs) -> tuple[StepOutputs, ...] | None:
-        """The step of contacts on the closed forms or a table (module docstring) at a valid time and step size: what
+    def steps_together(self, current_time: float, inputs) -> tuple[StepOutputs, ...] | None:
+        """The step of contacts on the closed forms or a table (module docstring) at a valid time (and step size): what
         :meth:`ContactModel.step` gives each, every contact evaluated before any is committed; None, with no contact
         changed, when a contact needs its own :meth:`ContactModel.step` (an invalid input, time going backwards, a
         load beyond the floating-point range, a table without an answer, outputs out of the friction bound or not
         finite)."""
-        evaluated = []
-        for model, (normal_load, creep, velocity) in zip(self.models, inputs, strict=True):
+        evaluated = []  # per contact: [model, high, low, inputs, outputs, unloaded]
+        tabled = []  # the loaded table contacts' (index, X, N', creep, V), answered together
+        alone = len(self.models) < table.TOGETHER_FROM  # too few to answer together: each as it comes
+        for model, row in zip(self.models, inputs, strict=True):
+            normal_load, creep, velocity = row
             if not (0.0 <= normal_load < INF and -INF < creep < INF and 0.0 <= velocity < INF):
                 return None
             dt = current_time - model.state.time
@@ -177,29 +193,47 @@ class ContactModels:
                 return None
             high, low = advanced_position(model.state, velocity, dt)
             x = high + low
-            if model.stop_time is not None and model.table_use is not None:  # as ContactModel.step: the steps left
-                model.table_use.remaining = (model.stop_time - current_time) / step_size
             load = normal_load * model.per_width
-            unloaded = load < model.resolved_load
-            if unloaded:
-                outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, x)
-            elif load == INF:
+            if load < model.resolved_load:  # as ContactModel.step: no contact
+                evaluated.append([model, high, low, row, StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY,
+                                                                     0, x), True])
+                continue
+            if load == INF:
                 return None
-            elif model.closed_form:
-                outputs = model.closed_form_step(x, normal_load, creep, velocity)
-            else:
-                outputs = model.table_step(x, normal_load, creep, velocity)
-                if outputs is None:
+            if model.closed_form or alone:
+                if model.closed_form:
+                    outputs = model.closed_form_step(x, normal_load, creep, velocity)
+                elif (answer := model.table_use.answer(x, load, creep, velocity)) is not None:
+                    outputs = model.table_outputs(x, normal_load, creep, velocity, answer)
+                else:
                     return None
-            bound = model.friction_bound
-            # a sum of finite outputs is finite unless it overflows (the contact's own step then checks each)
-            if not (-bound * normal_load <= outputs[0] <= bound * normal_load and -bound <= outputs[1] <= bound
-                    and isfinite(sum(outputs))):
-                return None
-            evaluated.append((high, low, outputs, unloaded))
-        for model, (normal_load, creep, velocity), (high, low, outputs, unloaded) in zip(self.models, inputs, evaluated,
-                                                                                         strict=True):
+                if not in_bound(outputs, model.friction_bound, normal_load):
+                    return None
+            else:  # (a table's steps left, TableUse.remaining, count in exact steps only: none is taken here)
+                outputs = None
+                tabled.append((len(evaluated), x, load, creep, velocity))
+            evaluated.append([model, high, low, row, outputs, False])
+        if tabled:
+            for (i, x, _, creep, velocity), answer in zip(tabled, self.tables.answers(tabled), strict=True):
+                if answer is None:
+                    return None
+                item = evaluated[i]
+                model, normal_load = item[0], item[3][0]
+                item[4] = outputs = model.table_outputs(x, normal_load, creep, velocity, answer)
+                if not in_bound(outputs, model.friction_bound, normal_load):
+                    return None
+        for model, high, low, (normal_load, creep, velocity), outputs, unloaded in evaluated:
+            state = model.state
             if unloaded:
-                model.state.creep_envelope = None
-            model.commit(current_time, high, low, normal_load, creep, velocity, outputs, None)
-        return tuple(item[2] for item in evaluated)
+                state.creep_envelope = None
+            state.commit(current_time, high, low, normal_load, creep, velocity, outputs, None,
+                         None if model.table_use is None else model.table_use.domain)
+        return tuple(item[4] for item in evaluated)
+
+
+def in_bound(outputs: StepOutputs, bound: float, normal_load: float) -> bool:
+    """Whether the outputs of a contact's step are finite and within the friction bound ``|T| <= bound N``,
+    ``|T/N| <= bound`` (``bound``: the law's largest coefficient; a sum of finite outputs is finite unless it
+    overflows, and the contact's own step then checks each)."""
+    return (-bound * normal_load <= outputs[0] <= bound * normal_load and -bound <= outputs[1] <= bound
+            and isfinite(sum(outputs)))

@@ -51,6 +51,8 @@ from rollcontact.stepping.tabulation import (
     basis,
     chebyshev_points,
     chebyshev_tail,
+    coefficient_rows,
+    contract,
     onset,
     periodic_basis,
     periodic_points,
@@ -263,19 +265,79 @@ class CorrugationTable(CertifiedTable):
             rows = in_theta.reshape(-1, self.l_nodes.size) @ (self.l_weights / (ell - self.l_nodes))
         else:
             rows = self.interpolate(theta, ell)
-        v_fs, a, offset, p0, scale = rows[:NORMAL].tolist()
+        normal = self.normal(rows[:NORMAL].tolist(), load, creep)
+        t = normal[5]
+        if t >= 1.0:
+            return self.answer(normal, creep)
+        if 1e-13 < t < 1.0 - 1e-13 and t not in self.node_set:
+            partial = (rows[NORMAL:].reshape(4, -1) @ (self.t_weights / (t - self.t_nodes))).tolist()
+        else:
+            partial = (rows[NORMAL:].reshape(4, -1) @ basis(t, self.t_nodes, self.t_weights)).tolist()
+        return self.answer(normal, creep, partial)
+
+    def normal(self, values: list[float], load: float, creep: float) -> tuple[float, ...]:
+        """From the (theta, l) rows at a point (``v_fs, a/a_H, offset/a_H, p0/p0_H`` unnormalised and their barycentric
+        sum) at N' [N/m] and the creep: ``(a [m], offset [m], p0 [Pa], mu N' [N/m], xi_fs [1], t = |xi| / xi_fs)``."""
+        v_fs, a, offset, p0, scale = values
         a_h = math.sqrt(self.width_factor * load)
         xi_fs = v_fs / scale * self.mu * a_h / self.radius
-        a *= a_h / scale
-        offset *= a_h / scale
-        limit = self.mu * load
-        p0 *= 2.0 * load / (math.pi * a_h * scale)
-        t = abs(creep) / xi_fs
-        if t >= 1.0:
+        return (a * (a_h / scale), offset * (a_h / scale), p0 * (2.0 * load / (math.pi * a_h * scale)), self.mu * load,
+                xi_fs, abs(creep) / xi_fs)
+
+    @staticmethod
+    def answer(normal: tuple[float, ...], creep: float, partial: list[float] | None = None) -> tuple[float, ...]:
+        """:meth:`evaluate`'s answer from :meth:`normal` and, in partial slip, the t rows' ``(tau, a*/a, kappa)``
+        unnormalised and their barycentric sum; full slip without them: ``T' = mu N'``, ``a* = 0``, ``dT'/dxi = 0``."""
+        a, offset, p0, limit, xi_fs, _ = normal
+        if partial is None:
             return math.copysign(limit, creep), a, 0.0, offset, p0, 0.0
-        if 1e-13 < t < 1.0 - 1e-13 and t not in self.node_set:
-            tau, alpha, kappa, scale = (rows[NORMAL:].reshape(4, -1) @ (self.t_weights / (t - self.t_nodes))).tolist()
-        else:
-            tau, alpha, kappa, scale = (rows[NORMAL:].reshape(4, -1) @ basis(t, self.t_nodes, self.t_weights)).tolist()
+        tau, alpha, kappa, scale = partial
         return (math.copysign(tau * limit / scale, creep) if creep != 0.0 else 0.0, a, alpha / scale * a, offset, p0,
                 kappa * limit / (scale * xi_fs))
+
+def evaluate_together(tables: list[CorrugationTable], stacked: np.ndarray, xs: list[float], loads: list[float],
+                      creeps: list[float]) -> list[tuple[float, ...] | None]:
+    """:meth:`CorrugationTable.evaluate` of each of ``tables`` at its ``(X, N', creep)``, bit for bit, with each
+    contraction of all of them in one stacked matrix product (:func:`~rollcontact.stepping.tabulation.contract`).
+
+    The tables have the same node counts; ``stacked`` is ``np.stack([table.flat for table in tables])``.  The phase
+    and load coefficients of all contacts are one vectorised expression each (the same correctly rounded operations
+    per element as :meth:`~CorrugationTable.evaluate`'s, ``np.sin`` included, elementwise), the creep coefficients
+    :func:`~rollcontact.stepping.tabulation.coefficient_rows`; the scalar parts (the load's logarithm, the phase, the
+    units) are :meth:`~CorrugationTable.evaluate`'s Python float operations, contact by contact.  A contact whose phase
+    or load coordinate is at an end or on a node, and a lone contact, are evaluated alone.
+    """
+    answers: list = [None] * len(tables)
+    batch, thetas, ells = [], [], []
+    for i, (table, x, load, creep) in enumerate(zip(tables, xs, loads, creeps, strict=True)):
+        ell = (math.log(load) - table.log_low) / table.log_span
+        theta = (x * table.wavenumber) % TWO_PI
+        if (len(tables) > 1 and 1e-13 < ell < 1.0 - 1e-13 and 1e-13 < theta < TWO_PI - 1e-13
+                and ell not in table.node_set and theta not in table.node_set):
+            batch.append(i)
+            thetas.append(theta)
+            ells.append(ell)
+        else:
+            answers[i] = table.evaluate(x, load, creep)
+    if not batch:
+        return answers
+    first = tables[batch[0]]
+    in_theta = contract(stacked if len(batch) == len(tables) else stacked[batch],
+                        first.theta_signs / np.sin(0.5 * np.array(thetas)[:, None] - first.half_nodes))
+    rows = contract(in_theta.reshape(len(batch), -1, first.l_nodes.size),
+                    first.l_weights / (np.array(ells)[:, None] - first.l_nodes))
+    partial, t_points, normals = [], [], {}
+    for k, (i, values) in enumerate(zip(batch, rows[:, :NORMAL].tolist(), strict=True)):
+        normals[k] = normal = tables[i].normal(values, loads[i], creeps[i])
+        if normal[5] >= 1.0:
+            answers[i] = CorrugationTable.answer(normal, creeps[i])
+        else:
+            partial.append(k)
+            t_points.append(normal[5])
+    if partial:
+        blocks = rows[:, NORMAL:] if len(partial) == len(batch) else rows[partial, NORMAL:]
+        coefficients = coefficient_rows(t_points, first.t_nodes, first.t_weights, first.node_set)
+        for k, products in zip(partial, contract(blocks.reshape(len(partial), 4, -1), coefficients).tolist(),
+                               strict=True):
+            answers[batch[k]] = CorrugationTable.answer(normals[k], creeps[batch[k]], products)
+    return answers

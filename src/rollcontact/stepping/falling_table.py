@@ -45,6 +45,8 @@ from rollcontact.stepping.tabulation import (
     barycentric_weights,
     basis,
     chebyshev_points,
+    coefficient_rows,
+    contract,
     onset,
 )
 
@@ -274,3 +276,49 @@ class FallingFrictionTable(CertifiedTable):
         d_tau, d_kappa, scale = (values[split:].reshape(3, -1) @ coefficients).tolist()
         tau, kappa = self.asymptote(u, w)
         return tau + d_tau / scale, 0.0, kappa + d_kappa / scale
+
+
+def evaluate_together(tables: list[FallingFrictionTable], stacked: np.ndarray, us: list[float],
+                      ws: list[float]) -> list[tuple[float, float, float] | None]:
+    """:meth:`FallingFrictionTable.evaluate` of each of ``tables`` at its ``(u, w)``, bit for bit, with each
+    contraction of all of them in one stacked matrix product (:func:`~rollcontact.stepping.tabulation.contract`).
+
+    The tables have the same node counts; ``stacked`` is ``np.stack([table.rows for table in tables])``.  The
+    coefficients are :func:`~rollcontact.stepping.tabulation.coefficient_rows` (a coordinate at an end or on a node
+    takes the general path's :func:`~rollcontact.stepping.tabulation.basis`, as in
+    :meth:`~FallingFrictionTable.evaluate`); the scalar tails (the normalisation, the asymptote's exp) are
+    :meth:`~FallingFrictionTable.evaluate`'s Python float operations, contact by contact.  One table, whose numpy
+    calls cost more than its products, is evaluated alone.
+    """
+    if len(tables) == 1:
+        return [tables[0].evaluate(us[0], ws[0])]
+    if not all(0.0 <= w <= table.w_max for table, w in zip(tables, ws, strict=True)):  # None outside the domain
+        inside = [i for i, (table, w) in enumerate(zip(tables, ws, strict=True)) if 0.0 <= w <= table.w_max]
+        answers = [None] * len(tables)
+        if inside:
+            for i, answer in zip(inside, evaluate_together([tables[i] for i in inside], stacked[inside],
+                                                           [us[i] for i in inside], [ws[i] for i in inside]),
+                                 strict=True):
+                answers[i] = answer
+        return answers
+    first = tables[0]
+    values = contract(stacked, coefficient_rows([w / table.w_max for table, w in zip(tables, ws, strict=True)],
+                                                first.w_unit, first.w_weights, first.node_set))
+    split = 1 + 4 * first.t_nodes.size
+    onsets = (values[:, 0] / values[:, split - 1]).tolist()
+    partial = [i for i, (u, u_fs) in enumerate(zip(us, onsets, strict=True)) if u <= u_fs]
+    answers: list = [None] * len(tables)
+    if partial:
+        blocks = values[:, 1:split] if len(partial) == len(tables) else values[partial, 1:split]
+        rows = coefficient_rows([us[i] / onsets[i] for i in partial], first.t_nodes, first.t_weights, first.node_set)
+        for i, (tau, alpha, kappa, scale) in zip(partial, contract(blocks.reshape(len(partial), 4, -1), rows).tolist(),
+                                                 strict=True):
+            answers[i] = (tau / scale, alpha / scale, kappa / scale)
+    if len(partial) < len(tables):
+        full = [i for i, (u, u_fs) in enumerate(zip(us, onsets, strict=True)) if not u <= u_fs]
+        blocks = values[full, split:].reshape(len(full), 3, -1)
+        rows = coefficient_rows([onsets[i] / us[i] for i in full], first.r_nodes, first.r_weights, first.node_set)
+        for i, (d_tau, d_kappa, scale) in zip(full, contract(blocks, rows).tolist(), strict=True):
+            tau, kappa = tables[i].asymptote(us[i], ws[i])
+            answers[i] = (tau + d_tau / scale, 0.0, kappa + d_kappa / scale)
+    return answers

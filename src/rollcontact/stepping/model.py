@@ -74,7 +74,6 @@ from math import isfinite
 
 import numpy as np
 
-from rollcontact.closed_form import carter, hertz
 from rollcontact.dispatch import METHODS, solve, used_options
 from rollcontact.instationary.stationarity import stationarity_of_samples
 from rollcontact.method import unresolved
@@ -174,10 +173,10 @@ class ContactModel(InstationaryStepping):
     Notes
     -----
     With ``method`` = 0 (auto) each step uses the cheapest model the scene needs: the closed forms
-    (:func:`rollcontact.closed_form.hertz`, :func:`rollcontact.closed_form.carter`, called with precomputed
-    constants) for a flat surface with constant friction; otherwise ``"polynomial"`` and then ``"discretised"``,
-    whichever are registered in :data:`rollcontact.METHODS`, the first that accepts the scene and succeeds.
-    An explicit method is used as it is or the step fails with a :class:`ModelError`.
+    (:func:`rollcontact.closed_form.hertz` and :func:`rollcontact.closed_form.carter`, written out with precomputed
+    constants in :meth:`closed_form_step`) for a flat surface with constant friction; otherwise ``"polynomial"`` and
+    then ``"discretised"``, whichever are registered in :data:`rollcontact.METHODS`, the first that accepts the scene
+    and succeeds.  An explicit method is used as it is or the step fails with a :class:`ModelError`.
     """
 
     def __init__(self, parameters: ContactParameters | None = None, *, start_time: float = 0.0,
@@ -321,8 +320,8 @@ class ContactModel(InstationaryStepping):
                              f"largest load per length a step represents ({sys.float_info.max:.4g} N/m)")
         elif self.closed_form and self.instationary is None:
             outputs = self.closed_form_step(x, normal_load, creep, velocity)
-        elif self.table_use is not None and (table := self.table_step(x, normal_load, creep, velocity)) is not None:
-            outputs = table
+        elif self.table_use is not None and (answer := self.table_use.answer(x, load, creep, velocity)) is not None:
+            outputs = self.table_outputs(x, normal_load, creep, velocity, answer)
         else:
             # a floating-point overflow or invalid operation in the solvers (inputs or parameters beyond what they
             # represent) raises, and the step is refused with it, rather than a numpy warning in the host's streams
@@ -341,34 +340,28 @@ class ContactModel(InstationaryStepping):
             outputs = within_friction_bound(outputs, self.friction_bound, normal_load, creep, velocity)
         if not all(map(isfinite, outputs)):
             raise ModelError(non_finite(outputs, normal_load, creep, velocity))
-        self.commit(current_time, high, low, normal_load, creep, velocity, outputs, lag)
+        state.commit(current_time, high, low, normal_load, creep, velocity, outputs, lag,
+                     None if self.table_use is None else self.table_use.domain)
         return outputs
 
-    def commit(self, current_time: float, high: float, low: float, normal_load: float, creep: float, velocity: float,
-               outputs: StepOutputs, lag) -> None:
-        """Make the evaluated step the state: time, axis position (``high + low``, :func:`advanced_position`), the
-        samples, the outputs and the instationary state ``lag``."""
-        state = self.state
-        state.instationary = lag
-        if self.table_use is not None:
-            state.table_domain = self.table_use.domain
-        state.time = current_time
-        state.older = state.previous
-        state.position = high
-        state.position_error = low
-        state.previous = (high + low, normal_load, creep, velocity)
-        state.steps += 1
-        state.outputs = outputs
-
     def closed_form_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
-        """Outputs of Hertz and Carter (closed forms, no Scene built) at axis position x [m]."""
-        n = normal_load * self.per_width
-        a, p0 = hertz(n, self.radius, self.contact_modulus)
-        t, a_star, stiffness = carter(n, creep, self.radius, self.contact_modulus, self.mu)
+        """Outputs of Hertz and Carter at axis position x [m]: :func:`rollcontact.closed_form.hertz` and
+        :func:`~rollcontact.closed_form.carter` written out (their operations in their order, so bit for bit theirs,
+        ``tests/stepping/test_model.py``): no Scene, no call per formula, one square root."""
+        n, radius, modulus, mu = normal_load * self.per_width, self.radius, self.contact_modulus, self.mu
+        a = math.sqrt(4.0 * n * radius / (math.pi * modulus))
+        slip_length = radius * abs(creep) / mu  # a - a*
+        if a == 0.0:
+            t = a_star = stiffness = 0.0
+        elif slip_length >= a:
+            t, a_star, stiffness = math.copysign(mu * n, creep), 0.0, 0.0
+        else:
+            a_star, u = a - slip_length, slip_length / a
+            t, stiffness = math.copysign(mu * n * (u * (2.0 - u)), creep), 2.0 * radius * (n / a) * (a_star / a)
         force = t * self.width
-        return new_tuple(StepOutputs, (force, t / n, a, a_star, self.flat_offset, p0, velocity * creep * force,
-                                       stiffness * self.width, self.stationarity(x, normal_load, creep, velocity, a),
-                                       CLOSED_FORM, x))
+        return new_tuple(StepOutputs, (force, t / n, a, a_star, self.flat_offset, modulus * a / (2.0 * radius),
+                                       velocity * creep * force, stiffness * self.width,
+                                       self.stationarity(x, normal_load, creep, velocity, a), CLOSED_FORM, x))
 
     def solve_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs:
         """Outputs of ``rollcontact.solve`` among the model's methods (auto: polynomial, then discretised as the
@@ -418,18 +411,14 @@ class ContactModel(InstationaryStepping):
             stiffness = self.creep_stiffness_by_difference(scene, name, result, options)
         return result, stiffness
 
-    def table_step(self, x: float, normal_load: float, creep: float, velocity: float) -> StepOutputs | None:
-        """The outputs from the certified table (:mod:`rollcontact.stepping.table`), or None where it has no answer:
+    def table_outputs(self, x: float, normal_load: float, creep: float, velocity: float, answer: tuple) -> StepOutputs:
+        """The outputs of the certified table's ``answer`` (:meth:`rollcontact.stepping.table.TableUse.answer`):
         T = T' b, dT/dxi = (dT'/dxi) b with the contact width b."""
-        load = normal_load * self.per_width
-        answer = self.table_use.answer(x, load, creep, velocity)
-        if answer is None:
-            return None
         force, a, a_star, offset, p0, stiffness = answer
         force_total = force * self.width
-        return StepOutputs(force_total, force / load, a, a_star, offset, p0, velocity * creep * force_total,
-                           stiffness * self.width, self.stationarity(x, normal_load, creep, velocity, a), TABLE_CODE,
-                           x)
+        return new_tuple(StepOutputs, (force_total, force / (normal_load * self.per_width), a, a_star, offset, p0,
+                                       velocity * creep * force_total, stiffness * self.width,
+                                       self.stationarity(x, normal_load, creep, velocity, a), TABLE_CODE, x))
 
     def creep_stiffness_by_difference(self, scene: Scene, name: str, result, options: dict) -> float:
         """dT'/dxi [N/m] by a one-sided difference, for methods that do not return it.

@@ -84,6 +84,22 @@ class ModelState:
         outputs = StepOutputs(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, STATIONARY, 0, float(initial_position))
         return cls(float(start_time), float(initial_position), 0.0, None, None, 0, outputs)
 
+    def commit(self, current_time: float, high: float, low: float, normal_load: float, creep: float, velocity: float,
+               outputs: StepOutputs, lag, table_domain: tuple[float, ...] | None) -> None:
+        """Make an evaluated step the state: time [s], axis position ``high + low`` [m]
+        (:func:`rollcontact.stepping.model.advanced_position`), the samples (N [N], creep [1], V [m/s]), the outputs,
+        the instationary state ``lag`` and the domain of the table in use (None: a model without a table)."""
+        self.instationary = lag
+        if table_domain is not None:
+            self.table_domain = table_domain
+        self.time = current_time
+        self.older = self.previous
+        self.position = high
+        self.position_error = low
+        self.previous = (high + low, normal_load, creep, velocity)
+        self.steps += 1
+        self.outputs = outputs
+
     def copy(self) -> ModelState:
         """An independent copy (all fields are immutable values)."""
         return dataclasses.replace(self)

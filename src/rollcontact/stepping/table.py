@@ -11,7 +11,9 @@ bound it reports):
   creep, its domain the loads ``[N_low, N_high]`` (:class:`CorrugationUse`).
 
 A model uses one (:func:`table_use`) when the scene is of such a family, ``method`` is auto or polynomial, no
-instationary model runs, ``tolerance`` is 0 or at least the target and ``table`` is not off.
+instationary model runs, ``tolerance`` is 0 or at least the target and ``table`` is not off.  The tables of several
+contacts (:class:`rollcontact.stepping.contacts.ContactModels`) answer a step together (:class:`TablesTogether`),
+each answer its own table's bit for bit.
 
 When to build
 -------------
@@ -40,6 +42,8 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from collections.abc import Callable
+
+import numpy as np
 
 from rollcontact.closed_form import hertz
 from rollcontact.friction import ExponentialFalling
@@ -106,6 +110,18 @@ class TableUse(ABC):
     @abstractmethod
     def valid_domain(self, domain: tuple[float, ...]) -> bool:
         """Whether ``domain`` (from a state) is one of the family's."""
+
+    @staticmethod
+    @abstractmethod
+    def stacking(table) -> tuple[tuple, np.ndarray]:
+        """``(key, data)``: the tables of several contacts with the same key (their node counts) are evaluated
+        together on their ``data`` stacked (:class:`TablesTogether`)."""
+
+    @staticmethod
+    @abstractmethod
+    def answers_together(uses: list, tables: list, stacked: np.ndarray, steps: list[tuple]) -> list[tuple | None]:
+        """:meth:`lookup` of each of ``uses`` in its ``table`` for its step ``(index, X, N', creep, V)``, bit for bit,
+        the tables' :meth:`stacking` data stacked in ``stacked``."""
 
     # --------------------------------------------------------------------------------------------- stepping
     def answer(self, x: float, load: float, creep: float, velocity: float) -> tuple | None:
@@ -239,15 +255,37 @@ class FallingFrictionUse(TableUse):
 
     def lookup(self, table, x, load, creep, velocity):
         """Hertz's a and p0; ``T' = sign(xi) tau mu N'``, ``a* = (a*/a) a``, ``dT'/dxi = kappa mu N' / xi_sat``."""
+        a, p0, saturation, u, w = self.coordinates(load, creep, velocity)
+        return self.assembled(table.evaluate(u, w), a, p0, saturation, load, creep)
+
+    def coordinates(self, load: float, creep: float, velocity: float) -> tuple[float, float, float, float, float]:
+        """Hertz's a [m] and p0 [Pa], Carter's saturation creep ``xi_sat = mu_s a / R`` [1] and the table's
+        coordinates ``u = |xi| / xi_sat`` and ``w = B V xi_sat`` [1] at N' [N/m], the creep and V [m/s]."""
         a, p0 = hertz(load, self.radius, self.material.contact_modulus)
         saturation = self.saturation_per_half_width * a
-        answer = table.evaluate(abs(creep) / saturation, self.friction.decay * velocity * saturation)
+        return a, p0, saturation, abs(creep) / saturation, self.friction.decay * velocity * saturation
+
+    def assembled(self, answer: tuple | None, a: float, p0: float, saturation: float, load: float,
+                  creep: float) -> tuple | None:
+        """:meth:`lookup`'s answer from the table's ``(tau, a*/a, kappa)`` (None: none) and :meth:`coordinates`."""
         if answer is None:
             return None
         tau, alpha, kappa = answer
         limit = self.friction.static_coefficient * load
         return (math.copysign(tau * limit, creep) if creep != 0.0 else 0.0, a, alpha * a, self.offset, p0,
                 kappa * limit / saturation)
+
+    @staticmethod
+    def stacking(table):
+        return (table.rows.shape, table.t_nodes.size), table.rows
+
+    @staticmethod
+    def answers_together(uses, tables, stacked, steps):
+        coordinates = [use.coordinates(step[2], step[3], step[4]) for use, step in zip(uses, steps, strict=True)]
+        evaluated = falling_table.evaluate_together(tables, stacked, [c[3] for c in coordinates],
+                                                    [c[4] for c in coordinates])
+        return [use.assembled(answer, c[0], c[1], c[2], step[2], step[3])
+                for use, step, answer, c in zip(uses, steps, evaluated, coordinates, strict=True)]
 
     def see(self, load, velocity, half_width):
         self.w_seen = max(self.w_seen, self.friction.decay * velocity * self.saturation_per_half_width * half_width)
@@ -282,11 +320,16 @@ class CorrugationUse(TableUse):
 
     def lookup(self, table, x, load, creep, velocity):
         """The table's answer with the offset in the model's frame (the scene's mirrored)."""
-        answer = table.evaluate(x, load, creep)
-        if answer is None:
-            return None
-        force, a, a_star, offset, p0, stiffness = answer
-        return force, a, a_star, 0.0 - offset, p0, stiffness
+        return in_model_frame(table.evaluate(x, load, creep))
+
+    @staticmethod
+    def stacking(table):
+        return table.data.shape, table.flat
+
+    @staticmethod
+    def answers_together(uses, tables, stacked, steps):
+        return [in_model_frame(answer) for answer in corrugation_table.evaluate_together(
+            tables, stacked, [step[1] for step in steps], [step[2] for step in steps], [step[3] for step in steps])]
 
     def see(self, load, velocity, half_width):
         self.loads_seen = (min(self.loads_seen[0], load), max(self.loads_seen[1], load))
@@ -305,6 +348,76 @@ class CorrugationUse(TableUse):
 
     def describe(self, domain):
         return f"N' in [{domain[0]:.4g}, {domain[1]:.4g}] N/m, every phase of the corrugation and every creep"
+
+
+def in_model_frame(answer: tuple | None) -> tuple | None:
+    """A corrugation table's answer with the offset in the model's frame (the scene's mirrored); None stays None."""
+    if answer is None:
+        return None
+    force, a, a_star, offset, p0, stiffness = answer
+    return force, a, a_star, 0.0 - offset, p0, stiffness
+
+
+TOGETHER_FROM = 5
+"""Fewest table contacts of a step evaluated together (:class:`TablesTogether`); fewer answer one by one, which costs
+less than the stacked products' numpy calls: together costs about as much as one by one at 4 falling-friction
+contacts and less from 5 (``benchmarks/bench_contacts.py``, "In process"); the answers are the same bit for bit
+either way."""
+
+
+class TablesTogether:
+    """The answers of the ready tables of several contacts' uses in one step (the contacts of
+    :class:`rollcontact.stepping.contacts.ContactModels`, of one family): each :meth:`TableUse.answer`, bit for bit.
+
+    The tables of like node counts (:meth:`TableUse.stacking`) are evaluated together
+    (:meth:`TableUse.answers_together`: one stacked matrix product per contraction,
+    :func:`~rollcontact.stepping.falling_table.evaluate_together`,
+    :func:`~rollcontact.stepping.corrugation_table.evaluate_together`); their data are stacked once per change of the
+    contacts' tables.  Contacts without a ready table answer one by one.
+    """
+
+    def __init__(self, uses: tuple[TableUse, ...]):
+        self.uses = uses
+        self.family = type(uses[0]) if len({type(use) for use in uses}) == 1 else None
+        self.tables: tuple = ()
+        """The tables :attr:`groups` were made of, one per use."""
+        self.groups: tuple = ()
+        """Per node count: (the indices of its contacts, their tables' data stacked)."""
+
+    def answers(self, steps: list[tuple[int, float, float, float, float]]) -> list[tuple | None]:
+        """:meth:`TableUse.answer` for each of ``steps``: ``(contact index, X [m], N' [N/m], creep [1], V [m/s])``,
+        in ascending contact order."""
+        uses = self.uses
+        tables = tuple(use.table for use in uses)
+        if self.family is None or None in tables or len(steps) < TOGETHER_FROM:
+            return [uses[i].answer(x, load, creep, velocity) for i, x, load, creep, velocity in steps]
+        if tables != self.tables:
+            self.regroup(tables)
+        if len(self.groups) == 1 and len(steps) == len(uses):  # the usual step: every contact on tables alike
+            return self.family.answers_together(uses, tables, self.groups[0][1], steps)
+        by_index = {step[0]: step for step in steps}
+        answers = {}
+        for members, stacked in self.groups:
+            chosen = [k for k, i in enumerate(members) if i in by_index]
+            indices = [members[k] for k in chosen]
+            if indices:
+                for i, answer in zip(indices, self.family.answers_together(
+                        [uses[i] for i in indices], [tables[i] for i in indices],
+                        stacked if len(chosen) == len(members) else stacked[chosen], [by_index[i] for i in indices]),
+                                     strict=True):
+                    answers[i] = answer
+        return [answers[step[0]] for step in steps]
+
+    def regroup(self, tables: tuple) -> None:
+        """Group the contacts by their tables' node counts and stack each group's data."""
+        groups: dict = {}
+        for i, table in enumerate(tables):
+            key, data = self.family.stacking(table)
+            groups.setdefault(key, ([], []))
+            groups[key][0].append(i)
+            groups[key][1].append(data)
+        self.groups = tuple((members, np.stack(data)) for members, data in groups.values())
+        self.tables = tables
 
 
 def table_use(p, material, radius: float, friction, surface, scene: Callable, instationary: bool,

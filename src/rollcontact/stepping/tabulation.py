@@ -65,6 +65,27 @@ def basis(x: float, nodes: np.ndarray, weights: np.ndarray) -> np.ndarray:
     return out
 
 
+def coefficient_rows(points: list[float], nodes: np.ndarray, weights: np.ndarray, node_set: set) -> np.ndarray:
+    """The coefficients a table's step contracts with at each of ``points`` in [0, 1], one row each (m, nodes):
+    ``weights / (x - nodes)`` (unnormalised) for a point inside and on no node, :func:`basis` otherwise (``node_set``:
+    the table's nodes of every direction, as its ``evaluate`` tests them).  The rows of the first kind are one
+    vectorised subtraction and division, the same correctly rounded operations per element as ``evaluate``'s, so each
+    row is bit for bit the vector ``evaluate`` builds for its point."""
+    if min(points) > 1e-13 and max(points) < 1.0 - 1e-13 and node_set.isdisjoint(points):
+        return np.divide(weights, np.subtract.outer(points, nodes))
+    return np.array([weights / (x - nodes) if 1e-13 < x < 1.0 - 1e-13 and x not in node_set else
+                     basis(x, nodes, weights) for x in points])
+
+
+def contract(stacked: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """``stacked[i] @ rows[i]`` for every i, (m, R): ``stacked`` (m, R, K), ``rows`` (m, K).
+
+    numpy's stacked matmul ``(m, R, K) @ (m, K, 1)`` calls BLAS gemv once per item, as ``matrix @ vector`` does in a
+    table's ``evaluate``, so every product is bit for bit the single one (``tests/stepping/test_contacts.py`` checks it
+    over random matrices; a plain ``(R, K) @ (K, m)`` would call gemm, which rounds otherwise)."""
+    return (stacked @ rows[:, :, None]).reshape(rows.shape[0], -1)
+
+
 def periodic_points(m: int) -> np.ndarray:
     """m equispaced points ``2 pi j / m`` of the period [0, 2 pi)."""
     return TWO_PI * np.arange(m) / m
