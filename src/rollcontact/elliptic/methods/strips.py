@@ -347,6 +347,15 @@ class StripStack:
         room = 1.0 - psi * psi
         if self.usual:
             d = (psi * Y + np.sqrt(Y * Y + room * X * X)) / room
+        elif len(self.rows) == 1:  # one scene: its spin and lateral creepage decide which root, as below
+            psi_1, eta_1 = self.rows[0][10], self.rows[0][6]
+            if psi_1 * eta_1 < 0.0:
+                square = Y * Y + room * X * X
+                d = (X * X + Y * Y) / (np.sqrt(np.maximum(square, 0.0)) - psi * Y)
+                if psi_1 * psi_1 > 1.0:
+                    d = np.where(square >= 0.0, d, np.inf)
+            else:  # |psi| >= 1 with the lateral creepage not against the spin: no stick zone
+                d = np.full_like(X, np.inf)
         else:
             turned = psi * Y
             square = Y * Y + room * X * X
@@ -361,7 +370,8 @@ class StripStack:
         safe = np.where(edge, d, 1.0)
         kappa = np.where(edge, X / safe, 0.0)
         lam = np.where(edge, psi + Y / safe, 0.0)
-        if self.deep:  # |psi| >= 1 somewhere: the stick zones fade with their excess over mu p (module docstring)
+        self.share = None
+        if self.deep and partial.any():  # |psi| >= 1 somewhere: stick zones fade with their excess over mu p
             along = 1.0 - lam * psi
             rest = np.sqrt(np.where(partial, (self.half - d) / self.half, 0.0))
             with np.errstate(divide="ignore", invalid="ignore"):
