@@ -356,6 +356,11 @@ class StripStack:
                     d = np.where(square >= 0.0, d, np.inf)
             else:  # |psi| >= 1 with the lateral creepage not against the spin: no stick zone
                 d = np.full_like(X, np.inf)
+        elif not self.deep:  # |psi| < 1 in every scene: each strip's root as its scene alone takes it
+            turned = psi * Y
+            root = np.sqrt(Y * Y + room * X * X)
+            with np.errstate(divide="ignore", invalid="ignore"):  # the root not taken may be 0 / 0
+                d = np.where(turned < 0.0, (X * X + Y * Y) / (root - turned), (turned + root) / room)
         else:
             turned = psi * Y
             square = Y * Y + room * X * X
