@@ -182,6 +182,16 @@ def falling_rows(n: int, contacts: int) -> list[tuple[float, float, float]]:
 
 
 @pytest.mark.usefixtures("build_each_table_once")
+def together_and_alone(fields: dict, radii: list, places: list) -> tuple[ContactModels, list[ContactModel]]:
+    """The contacts of ``fields`` with their own radius and initial position, as one :class:`ContactModels` and as
+    single :class:`ContactModel` instances (a run to 1 s)."""
+    together = ContactModels(ContactParameters(**fields), len(radii), stop_time=1.0,
+                             per_contact={"radius": radii, "initial_position": places})
+    alone = [ContactModel(ContactParameters(**fields, radius=r, initial_position=x), stop_time=1.0)
+             for r, x in zip(radii, places, strict=True)]
+    return together, alone
+
+
 @pytest.mark.parametrize(("contacts", "groups"), ((2, 0), (6, 1), (8, 1), (12, 2)))
 def test_contacts_on_falling_friction_tables_together_are_each_contact_model_bit_for_bit(contacts, groups,
                                                                                         monkeypatch):
@@ -195,10 +205,7 @@ def test_contacts_on_falling_friction_tables_together_are_each_contact_model_bit
             lambda table: ((table.rows.shape, table.t_nodes.size, table.radius), table.rows)))
     radii = [(0.46, 0.3)[k % 2] for k in range(contacts)]
     places = [0.37 * k for k in range(contacts)]
-    together = ContactModels(ContactParameters(**FALLING), contacts, stop_time=1.0,
-                             per_contact={"radius": radii, "initial_position": places})
-    alone = [ContactModel(ContactParameters(**FALLING, radius=r, initial_position=x), stop_time=1.0)
-             for r, x in zip(radii, places, strict=True)]
+    together, alone = together_and_alone(FALLING, radii, places)
     for n in range(16):
         rows = falling_rows(n, contacts)
         expected = tuple(m.step(n * H, H, *r) for m, r in zip(alone, rows, strict=True))
@@ -298,10 +305,7 @@ def test_contacts_on_corrugation_tables_together_are_each_contact_model_bit_for_
     output and state is the single ContactModel's."""
     radii = [(0.46, 0.43)[k % 2] for k in range(contacts)]
     places = [0.0113 * k for k in range(contacts)]
-    together = ContactModels(ContactParameters(**CORRUGATION), contacts, stop_time=1.0,
-                             per_contact={"radius": radii, "initial_position": places})
-    alone = [ContactModel(ContactParameters(**CORRUGATION, radius=r, initial_position=x), stop_time=1.0)
-             for r, x in zip(radii, places, strict=True)]
+    together, alone = together_and_alone(CORRUGATION, radii, places)
     creeps = (1e-3, 0.0, -4e-4, 2e-2, 3e-5, -3e-3)
     for n in range(14):
         rows = [(0.0 if n % 3 == 1 and (n + k) % 5 == 4 else 2e4 * (1.0 + 0.3 * math.sin(0.8 * n + k) * (n > 0)),
