@@ -29,11 +29,14 @@ varying signal (load 80 kN +-10 %, creepages swinging through a third of saturat
 
 Batches of all cases are interleaved and the tables show medians, so that a noisy machine affects every case alike;
 one BLAS thread (``common.py``).  The goal of the n-contact FMU: a step of 8 contacts costs at most twice a step of
-one contact of the same level, FMI version and host.  Last, the same 2D contacts in process, without FMU and host
-(:func:`in_process`): the step of ``ContactModels`` of 1, 2, 3, 4, 5 and 8 contacts against one ``ContactModel``, the
-certified tables (falling friction, corrugation) evaluated together and one by one, which calibrates
-``rollcontact.stepping.table.TOGETHER_FROM``.  Usage: ``python benchmarks/bench_contacts.py [--rounds N]
-[--quick]``; writes ``benchmarks/results/contacts.md`` (not after ``--quick``).
+one contact of the same level, FMI version and host; what it leaves for the work of the 8 contacts is twice the step
+of one less the empty FMU of 8 contacts, printed against what their step takes above that empty FMU.  Last, the same
+2D contacts in process, without FMU and host (:func:`in_process`): the step of ``ContactModels`` of 1, 2, 3, 4, 5 and
+8 contacts against one ``ContactModel``, the certified tables (falling friction, corrugation) evaluated together and
+one by one, which calibrates ``rollcontact.stepping.table.TOGETHER_FROM``, and the 8 contacts' closed-form outputs
+alone (``ContactModel.closed_form_step``, no state, no checks): the least Python work of a closed-form step.
+Usage: ``python benchmarks/bench_contacts.py [--rounds N] [--quick]``; writes ``benchmarks/results/contacts.md``
+(not after ``--quick``).
 """
 
 from __future__ import annotations
@@ -355,7 +358,8 @@ def in_process(rounds: int) -> None:
     """Print the microseconds per step of ``ContactModels`` in process (no FMU, no host) on the 2D signal of the FMU
     cases, against one ``ContactModel``: the closed forms' loop, and the certified tables evaluated together
     (``TablesTogether``) or one by one (``rollcontact.stepping.table.TOGETHER_FROM`` set for the batch), the same
-    answers bit for bit; the calibration of ``TOGETHER_FROM``.  Batches of every case interleaved, medians."""
+    answers bit for bit; the calibration of ``TOGETHER_FROM``; and the 8 contacts' ``closed_form_step`` alone.  Batches
+    of every case interleaved, medians."""
     from rollcontact.stepping import ContactModel, ContactParameters, table
     from rollcontact.stepping.contacts import ContactModels
 
@@ -371,6 +375,10 @@ def in_process(rounds: int) -> None:
             for mode in modes if label != "2D closed form" else ("together",):
                 models = ContactModels(ContactParameters(**parameters), n, stop_time=1e6)
                 cases[label, n, mode] = [lambda t, rows, m=models, n=n: m.step(t, 1e-3, rows[:n]), []]
+    alone = ContactModels(ContactParameters(**IN_PROCESS["2D closed form"]), 8, stop_time=1e6).models
+    cases["2D closed form", 8, "closed forms alone"] = [
+        lambda t, rows, models=alone: [m.closed_form_step(30.0 * t, *row)
+                                       for m, row in zip(models, rows, strict=False)], []]
     try:
         for round_ in range(rounds + 1):  # the first round builds the tables, untimed
             for (_, _, mode), (step, times) in cases.items():
@@ -396,6 +404,9 @@ def in_process(rounds: int) -> None:
             alone, together = median.get((label, n, "one by one")), median[label, n, "together"]
             print(f"| {label} | {n} | {'' if alone is None else f'{alone:.1f}'} | {together:.1f} | "
                   f"{'' if alone is None else f'{together / alone:.2f}'} | {together / one:.2f} |")
+    alone = median["2D closed form", 8, "closed forms alone"]
+    print(f"| 2D closed form | 8, `closed_form_step` alone (no state, no checks) | | {alone:.1f} | | "
+          f"{alone / median['2D closed form', 1, 'ContactModel']:.2f} |")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -447,6 +458,15 @@ def main(argv: list[str] | None = None) -> None:
         for label in labels:
             cells = [f"{median[label, fmi, host, 8] / median[label, fmi, host, 1]:.2f}"
                      if (label, fmi, host, 8) in median else "" for fmi in (2, 3) for host in HOSTS]
+            print(f"| {label} | " + " | ".join(cells) + " |")
+        print("\nWhat the goal leaves for the work of 8 contacts: twice the step of one contact less the empty FMU of "
+              "8 contacts (one list operation per call), against what their step takes above that empty FMU (us):\n")
+        print("| case | FMI 2.0, lists | FMI 2.0, buffers | FMI 3.0, lists | FMI 3.0, buffers |")
+        print("|---|---:|---:|---:|---:|")
+        for label in FAMILIES:
+            cells = [f"{2 * median[label, fmi, host, 1] - median[FLOORS[1], fmi, host, 8]:.1f} / "
+                     f"{median[label, fmi, host, 8] - median[FLOORS[1], fmi, host, 8]:.1f}"
+                     for fmi in (2, 3) for host in HOSTS]
             print(f"| {label} | " + " | ".join(cells) + " |")
         print("\nEvery case (above the floor: minus the empty FMU of one list operation per call, same FMI version, "
               "host and contacts):\n")
