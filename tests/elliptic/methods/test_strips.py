@@ -94,12 +94,60 @@ def test_traction_bound_holds_on_the_field(creepages):
         assert f.stick.any() and not f.stick.all(), "partial slip: both zones present"
 
 
+def cell_sums(result, strips: int = 24):
+    """Fx [N] and Mz [N m] of a result's traction field, summed as the strips sum it: Gauss over y (the strips'
+    weights), midpoint cells along x."""
+    from rollcontact.elliptic.methods.strips import gauss
+
+    f = result.fields
+    area = (gauss(strips)[1] * result.b * (f.x[:, 0] - f.x[:, 1]))[:, None]
+    return float(np.sum(f.traction_x * area)), float(np.sum((f.x * f.traction_y - f.y * f.traction_x) * area))
+
+
 def test_the_field_sums_to_the_closed_form():
     s = scene(longitudinal_creepage=1e-3, lateral_creepage=-5e-4)
     closed = solve_elliptic(s, "strips")
-    marched = solve_elliptic(s, "strips", fields=True, steps=400)
-    assert abs(marched.longitudinal_force - closed.longitudinal_force) < 2e-3 * MU * LOAD, "Fx of the cells"
-    assert abs(marched.spin_moment - closed.spin_moment) < 2e-3 * MU * LOAD * closed.c, "Mz of the cells"
+    with_fields = solve_elliptic(s, "strips", fields=True, steps=400)
+    assert with_fields.force_coefficients == closed.force_coefficients, "the forces do not depend on fields"
+    fx, mz = cell_sums(with_fields)
+    assert abs(fx - closed.longitudinal_force) < 2e-3 * MU * LOAD, f"Fx of the cells {fx:.6g} N"
+    assert abs(mz - closed.spin_moment) < 2e-3 * MU * LOAD * closed.c, f"Mz of the cells {mz:.6g} N m"
+
+
+@pytest.mark.parametrize("creepages", [{"longitudinal_creepage": 3e-4}, {"lateral_creepage": -2e-3},
+                                       {"lateral_creepage": 3e-4, "spin_creepage": 0.2},
+                                       {"longitudinal_creepage": 1e-3, "spin_creepage": 2.0}])
+def test_asking_for_the_fields_changes_no_force(creepages):
+    """Without spin the forces are the closed form's, with spin the march's cells', with or without ``fields``;
+    with spin they are the sums of the field the result carries."""
+    s = scene(**creepages)
+    plain, with_fields = solve_elliptic(s, "strips"), solve_elliptic(s, "strips", fields=True)
+    assert with_fields.force_coefficients == plain.force_coefficients, \
+        f"fields changed the forces: {with_fields.force_coefficients} against {plain.force_coefficients}"
+    if s.spin_creepage != 0.0:
+        fx, mz = cell_sums(with_fields)
+        assert abs(fx - plain.longitudinal_force) < 1e-9 * MU * LOAD, \
+            f"Fx {plain.longitudinal_force} is the cells' {fx}"
+        assert abs(mz - plain.spin_moment) < 1e-9 * MU * LOAD * plain.c, f"Mz {plain.spin_moment} is the cells' {mz}"
+
+
+def test_the_stick_zone_traction_meets_the_slip_traction_at_the_stick_edge():
+    """The cells' mu p is Hertz's scaled so that the cells carry mu Fn (0.9966 at the default cells); the stick zones'
+    traction takes the same scale, so that it is mu p at the stick edge, as the slip zone's.  A strip whose stick
+    edge lies just behind a cell's centre (pure xi: the edge at ``2 d - a(y)``, ``d = X``) has that cell in its stick
+    zone at mu p; unscaled it exceeded mu p there by 0.34 %."""
+    from rollcontact.elliptic.methods.strips import DEFAULT_STEPS, StripStack
+
+    s = scene()
+    unit = StripStack((s.replace(longitudinal_creepage=1.0),), 24)  # X per unit xi
+    for k, j in ((8, 6), (12, 3), (20, 9)):  # (strip, cell of its leading half)
+        half = float(unit.half[0, k])
+        centre = half * (1 - (2 * j + 1) / DEFAULT_STEPS)
+        xi = (centre + half - 1e-9 * half) / 2 / float(unit.X[0, k])
+        f = solve_elliptic(s.replace(longitudinal_creepage=xi), "strips", fields=True).fields
+        assert f.stick[k, j] and not f.stick[k, j + 1], f"strip {k}: the stick edge just behind cell {j}"
+        ratio = f.traction_magnitude[k, j] / (MU * f.pressure[k, j])
+        assert 0.999 < ratio <= 1 + 1e-12, f"strip {k}, cell {j} at the stick edge: |q| / mu p = {ratio:.8f}"
 
 
 def test_nearly_constant_falling_friction_gives_the_coulomb_strips():

@@ -36,9 +36,11 @@ the slip:
   ``Fy(y) = (mu p0/a) (pi/2) (lambda a(y)^2 - (lambda - psi) a*^2)``,
   ``int x q_y dx = -(mu p0/a) (pi/2) (lambda - psi) d a*^2``;
 * with spin the direction turns along the strip; it is taken from the simplified theory (a FASTSIM march with the
-  elliptic bound), as FaStrip does, and the strip's tractions are summed over ``steps`` cells.  The longitudinal slip
-  of spin, ``-phi y``, is the strip's own longitudinal creepage, so the march takes it with ``L1`` and the strip's
-  stiffening ``f(y)`` (as the stick zones take it with ``f(y) E_x``), not with FASTSIM's ``L3``:
+  elliptic bound), as FaStrip does, and the strip's tractions are summed over ``steps`` cells (midpoints along x,
+  Gauss over y).  The cells' mu p is Hertz's scaled so that the cells carry mu Fn, and the stick zones' traction on
+  the cells takes the same scale, so that it meets the slip traction at the stick edge and no cell exceeds mu p.
+  The longitudinal slip of spin, ``-phi y``, is the strip's own longitudinal creepage, so the march takes it with
+  ``L1`` and the strip's stiffening ``f(y)`` (as the stick zones take it with ``f(y) E_x``), not with FASTSIM's ``L3``:
   ``q_x(x - dx) = q_x(x) + dx f(y) (xi - phi y) / L1``, ``q_y(x - dx) = q_y(x) + dx (eta / L2 + phi x_m / L3)``.
   The flexibilities are Vollebregt & Voltr's blended ones (:func:`.fastsim.blended_flexibilities`) times a factor
   that falls with the scaled spin ``|psi|`` (:func:`march_flexibilities`, calibrated): with Kalker's flexibilities
@@ -179,9 +181,10 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
     strips : int
         Strips across 2b (>= 2), at Gauss-Legendre nodes in theta.
     steps : int
-        Cells along each strip where the tractions are summed (with spin, or for ``fields``; >= 2).
+        Cells along each strip where the tractions are summed (with spin) and given (``fields``); >= 2.
     fields : bool
-        Return the tractions on the strips' cells (``result.fields``).
+        Return the tractions on the strips' cells (``result.fields``).  The forces do not depend on it: without spin
+        they are the closed form's, which the cells' sums approach with the cells.
 
     Returns
     -------
@@ -246,22 +249,21 @@ def stacked(scenes, strips: int, steps: int, fields: bool) -> list[EllipticResul
             sticking = stack.stick()
             forces = stack.closed_form(sticking)
     d, kappa, lam, partial = sticking
-    march = stack.spin | fields
     field = (None,) * len(scenes)
-    if march.all():
+    if stack.spin.all():
         out, field = marched(stack, steps, d, kappa, lam, partial, phi_c, fields)
-    else:  # the closed form; where a scene marches, its march (all scenes march together, each on its own numbers)
+    else:  # the closed form; a scene with spin takes its march's forces (all scenes march together, each on its own
+        # numbers), and fields come from the march whatever the forces
         out = np.column_stack(stack.closed_form(sticking) if forces is None else forces)
-        if march.any():
+        if fields or stack.spin.any():
             out_marched, field = marched(stack, steps, d, kappa, lam, partial, phi_c, fields)
-            out = np.where(march[:, None], out_marched, out)
+            out = np.where(stack.spin[:, None], out_marched, out)
     results = []
-    for scene, spin, marching, values, f, stick, psi, cross in zip(
-            scenes, stack.spin.tolist(), march.tolist(), out.tolist(), field,
+    for scene, spin, values, f, stick, psi, cross in zip(
+            scenes, stack.spin.tolist(), out.tolist(), field,
             (np.add.reduce(partial, axis=1, dtype=float) / partial.shape[1]).tolist(),  # each scene's partial.mean()
             stack.psi[:, 0].tolist(), phi_c[:, 0].tolist(), strict=True):
-        message = ("strip theory, slip directions of the simplified theory" if spin else "strip theory") if marching \
-            else "strip theory (closed form)"
+        message = "strip theory, slip directions of the simplified theory" if spin else "strip theory (closed form)"
         results.append(EllipticResult.from_scene(scene, "strips", True, message, values, f,
                                                  {"stick_strips": stick, "psi": psi, "cross_spin": cross}))
     return results
@@ -461,7 +463,8 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
     dx = 2.0 * half / steps
     x = half * cells(steps)  # cell centres from the leading edge
     bound = mu * (p0 * np.sqrt(np.maximum(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0)))  # mu p (Hertz)
-    bound *= np.repeat(stack.limit[:, 0] / by_scene(bound * (dx * weights), n), count)  # cells: mu Fn
+    scaling = np.repeat(stack.limit[:, 0] / by_scene(bound * (dx * weights), n), count)  # the cells carry mu Fn
+    bound *= scaling
     step = np.empty((steps, 2, columns))  # the march's increment from cell i to i + 1 (midpoint x_i - dx/2)
     step[:, 0] = dx * (xi - phi_x * y) / l1 * factor  # the strip's stiffening, as in its stick zone
     np.multiply(dx, eta / l2 + phi * (x - 0.5 * dx) / l3, out=step[:, 1])
@@ -495,6 +498,7 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
         if not gather:
             in_s &= partial
         m_s, psi_s = (m, psi) if n == 1 else (m[sticking], psi[sticking])
+        m_s = m_s * scaling[sticking]  # the cells' scale of mu p, as the bound's: continuous at the stick edge
         rest = half_s - d_s
         full = np.sqrt(np.maximum(half_s**2 - x_s * x_s, 0.0))
         inner = np.sqrt(np.maximum(rest**2 - (x_s - d_s) ** 2, 0.0))
