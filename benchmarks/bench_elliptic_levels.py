@@ -19,6 +19,8 @@ B. (Only with a level named ``discretised`` registered.)  Largest error of Fx, F
    each level against the discretised level with its ``extrapolate=True`` (Richardson pair) on the same cases,
    without and with spin, and the strips' per a/b; the accuracy models' constants cite these figures.  B2: that
    reference (the pair of 30 and 60 elements) against the pair of 60 and 120 on the strips' test of large spin.
+   B3: FASTSIM and the strips on the same cases at other Poisson's ratios (:data:`POISSON_RATIOS`; G kept), against
+   the same reference at that ratio, and the largest error over each level's own estimate.
 C. (Same condition.)  Falling friction on the Eurosprinter geometry (a/b 0.5, a 6.3 mm, Fn 106.7 kN, V 10 m/s,
    Polach's exponential law mu = 0.36 ((1 - 0.4) exp(-0.6 w) + 0.4)): Fx/(mu_s Fn) of the strips and of the
    discretised level over a creep curve, and their difference.
@@ -118,7 +120,34 @@ def accuracy() -> list[str]:
             worst = np.max([np.abs(np.array(rc.solve_elliptic(s, "strips").force_coefficients) - ref)
                             for s, ref in chosen], axis=0)
             lines.append(f"| {ratio:g} | {group} | {len(chosen)} | {worst[0]:.3f} | {worst[1]:.3f} | {worst[2]:.3f} |")
-    return lines + [""] + reference_check() + falling_curve()
+    return lines + [""] + reference_check() + poisson() + falling_curve()
+
+
+POISSON_RATIOS = (0.0, 0.14, 0.42, 0.49)
+"""The Poisson's ratios of table B3 (table B is at 0.28)."""
+
+
+def poisson() -> list[str]:
+    """Table B3: FASTSIM's and the strips' largest errors at other Poisson's ratios, without and with spin."""
+    lines = ["## B3. Other Poisson's ratios (same cases, G 82 GPa, reference at each ratio)", "",
+             "| nu | level | cases | Fx / (mu Fn) | Fy / (mu Fn) | Mz / (mu Fn c) | largest error / estimate |",
+             "|---|---|---|---|---|---|---|"]
+    for nu in POISSON_RATIOS:
+        pool = cases(poisson_ratio=nu)
+        reference = [np.array(rc.solve_elliptic(s, "discretised", extrapolate=True).force_coefficients)
+                     for _, s in pool]
+        for name in ("fastsim", "strips"):
+            for group in ("no spin", "spin"):
+                worst, ratio = np.zeros(3), 0.0
+                for (g, s), ref in zip(pool, reference, strict=True):
+                    if g == group:
+                        result = rc.solve_elliptic(s, name)
+                        error = np.abs(np.array(result.force_coefficients) - ref)
+                        worst = np.maximum(worst, error)
+                        ratio = max(ratio, error.max() / result.info["error_estimate"])
+                lines.append(f"| {nu:g} | {name} | {group} | {worst[0]:.3f} | {worst[1]:.3f} | {worst[2]:.3f} | "
+                             f"{ratio:.2f} |")
+    return lines + [""]
 
 
 def reference_check() -> list[str]:

@@ -12,24 +12,25 @@ FACTORS = (0.05, 0.3, 1.0, 3.0)
 SPIN_FACTORS = (0.4, 0.6, 1.5, 2.0, 5.0)
 
 
-def saturation(ratio: float, friction=MU):
-    """The contact at a/b = ``ratio`` without creepage, and the creepages xi, eta [1] and spin [1/m] whose linear
-    force (moment arm c for spin) is 3 mu Fn: the unit of the case sets."""
-    base = rc.EllipticScene.from_semi_axes(LOAD, C * math.sqrt(ratio), C / math.sqrt(ratio), material=MATERIAL,
+def saturation(ratio: float, friction=MU, poisson_ratio: float = MATERIAL.poisson_ratio):
+    """The contact at a/b = ``ratio`` without creepage (G 82 GPa and nu = ``poisson_ratio``), and the creepages xi, eta
+    [1] and spin [1/m] whose linear force (moment arm c for spin) is 3 mu Fn: the unit of the case sets."""
+    material = rc.Material(2 * 82e9 * (1 + poisson_ratio), poisson_ratio)
+    base = rc.EllipticScene.from_semi_axes(LOAD, C * math.sqrt(ratio), C / math.sqrt(ratio), material=material,
                                            friction=friction)
-    k = rc.creepage_coefficients(ratio, MATERIAL.poisson_ratio)
+    k = rc.creepage_coefficients(ratio, poisson_ratio)
     g = base.shear_modulus
     return base, (3 * MU * LOAD / (g * C * C * k.c11), 3 * MU * LOAD / (g * C * C * k.c22),
                   3 * MU * LOAD / (g * C**3 * k.c23))
 
 
-def cases(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), friction=MU):
+def cases(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), friction=MU, poisson_ratio: float = MATERIAL.poisson_ratio):
     """``(group, scene)`` pairs at a/b = ``ratios``: pure creepages at FACTORS and spin alone or with half of xi or
     eta (or 0.3 xi and -0.5 eta) at the last three of FACTORS and at SPIN_FACTORS, in units of the creepage whose
     linear force is 3 mu Fn."""
     out = []
     for ratio in ratios:
-        base, (xi_s, eta_s, phi_s) = saturation(ratio, friction)
+        base, (xi_s, eta_s, phi_s) = saturation(ratio, friction, poisson_ratio)
         for f in FACTORS:
             out += [("no spin", base.replace(longitudinal_creepage=f * xi_s)),
                     ("no spin", base.replace(lateral_creepage=f * eta_s)),
@@ -44,12 +45,12 @@ def cases(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), friction=MU):
     return out
 
 
-def operating_points(ratios=(0.2, 0.5, 1.0, 2.0, 5.0)) -> list:
+def operating_points(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), poisson_ratio: float = MATERIAL.poisson_ratio) -> list:
     """Small creepages with small spin, as a wheel on a rail meets them: xi 0.05 and 0.15, eta half that, spin 0.05,
     0.15 and 0.3, in the units of :func:`cases`."""
     out = []
     for ratio in ratios:
-        base, (xi_s, eta_s, phi_s) = saturation(ratio)
+        base, (xi_s, eta_s, phi_s) = saturation(ratio, poisson_ratio=poisson_ratio)
         out += [base.replace(longitudinal_creepage=f * xi_s, lateral_creepage=0.5 * f * eta_s,
                              spin_creepage=s * phi_s) for f in (0.05, 0.15) for s in (0.05, 0.15, 0.3)]
     return out
@@ -70,4 +71,18 @@ def opposed_lines(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), spins=tuple(k / 10 for k in 
             out += [(f"a/b {ratio:g}, (xi, eta) = ({cx:g}, {ce:g}) phi",
                      base.replace(longitudinal_creepage=cx * f * xi_s / 3, lateral_creepage=ce * f * eta_s / 3,
                                   spin_creepage=f * phi_s / 3)) for f in spins]
+    return out
+
+
+SWEEP = (0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0)
+"""Spins of :func:`spin_sweep`, in saturations."""
+
+
+def spin_sweep(ratios=(0.2, 0.5, 1.0, 2.0, 5.0)) -> list:
+    """Spin alone at ``SWEEP`` saturations (a third of the unit of :func:`cases`), through the strips' full slip at
+    ``|psi| = 1`` and beyond, where the strips' moment at a/b = 5 is least accurate."""
+    out = []
+    for ratio in ratios:
+        base, (_, _, phi_s) = saturation(ratio)
+        out += [base.replace(spin_creepage=f * phi_s / 3) for f in SWEEP]
     return out

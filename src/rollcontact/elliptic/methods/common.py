@@ -1,5 +1,5 @@
 """What the elliptic methods share: the scene's creepage coefficients, the applicability of the table's range of
-a/b, the no-load answer, and the normalised creepage that the accuracy models use."""
+a/b, the no-load answer, and the normalised creepage and Poisson's ratio that the accuracy models use."""
 
 from __future__ import annotations
 
@@ -52,3 +52,12 @@ def linear_ratio(scene: EllipticScene, c: CreepageCoefficients) -> float:
     spin = scene.shear_modulus * scene.hertz.c**3 * c.c23 * abs(scene.spin_creepage)
     return (math.hypot(fx, fy) + spin) / scale if scale > 0.0 else 0.0
 
+
+MEASURED_POISSON_RATIO = 0.28
+"""Poisson's ratio [1] of steel, at which the accuracy models' main constants are measured; their errors grow with
+nu above it (``benchmarks/bench_elliptic_levels.py``, table B3)."""
+
+
+def poisson_excess(scene: EllipticScene) -> float:
+    """``max(0, nu - MEASURED_POISSON_RATIO)`` [1]: how far the scene's Poisson's ratio lies above steel's."""
+    return max(0.0, scene.material.poisson_ratio - MEASURED_POISSON_RATIO)
