@@ -74,8 +74,8 @@ def opposed_lines(ratios=(0.2, 0.5, 1.0, 2.0, 5.0), spins=tuple(k / 10 for k in 
     return out
 
 
-SWEEP = (0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.5, 3.0, 4.0)
-"""Spins of :func:`spin_sweep`, in saturations."""
+SWEEP = (0.75, 1.25, 1.5, 1.75, 2.25, 2.5, 2.75, 3.5, 4.0)
+"""Spins of :func:`spin_sweep`, in saturations (apart from the levels 1, 2 and 3 of ``bench_elliptic.py``'s matrix)."""
 
 
 def spin_sweep(ratios=(0.2, 0.5, 1.0, 2.0, 5.0)) -> list:

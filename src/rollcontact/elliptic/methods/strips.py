@@ -620,8 +620,8 @@ STIFFENING_SCALE = 3.0
 """``s`` [1] of :func:`stiffening`: the a/b where the short strips' stiffening reaches half its full exponent.
 Calibrated, not derived: of s = 0.3, 0.5, 0.8, 1.2, 2, 3, 5, s = 3 keeps Fx and Fy without spin closest to the
 discretised solver on the cases of ``benchmarks/bench_elliptic_levels.py`` (table B, the calibration set: within
-0.010 mu Fn) and on the disjoint matrix of ``benchmarks/bench_elliptic.py`` (the validation set: also 0.010); the
-strips without it miss by up to 0.023."""
+0.010 mu Fn) and on the matrix of ``benchmarks/bench_elliptic.py`` (the validation set, which shares with it only
+the creepages of 3 saturations: also 0.010); the strips without it miss by up to 0.023."""
 
 SPIN_FLEXIBILITY = (1.0131, 0.0398, 0.9277, 0.1305, 10.3012, 0.775, 2.9336, 0.8)
 """``(A_x0, A_x1, A_y0, A_y1, P_1, m, R, Q)`` of :func:`march_flexibilities` (R: the spin at which the march's
@@ -629,10 +629,11 @@ longitudinal slip of spin has gone half way from the stick zones' modulus to the
 Calibrated, not derived: ``benchmarks/calibrate_strips_spin.py`` fits the first seven (Q held) to the strips' errors
 with spin against the discretised level, on the spin cases of ``benchmarks/bench_elliptic_levels.py`` (table B: spin
 around and past the strips' full slip, ``|psi|`` 0.15..15), on operating points of small creepage and spin and on
-spin alone through the strips' full slip, at nu = 0.28 and, weighted less, at nu = 0, 0.14 and 0.42; the disjoint
-matrix of ``benchmarks/bench_elliptic.py`` checks it.  The results files carry the errors.  The fit holds at the
-default counts (:data:`DEFAULT_STRIPS`, :data:`DEFAULT_STEPS`): it also absorbs the march's lag of half a cell, so
-other counts move the errors with spin (80 cells against 20 on table B: by up to 0.037 in Fy)."""
+spin alone through the strips' full slip, at nu = 0.28 and, weighted less, at nu = 0, 0.14 and 0.42; the matrix of
+``benchmarks/bench_elliptic.py`` checks it (of its cases with spin the fit holds only pure spin at 3 saturations). The
+results files carry the errors. The fit holds at the default counts (:data:`DEFAULT_STRIPS`, :data:`DEFAULT_STEPS`): it
+also absorbs the march's lag of half a cell, so other counts move the errors with spin (80 cells against 20 on table B:
+by up to 0.037 in Fy)."""
 
 STRIPS_ERROR = 0.03
 """Error [1] of the strips without spin (Fx, Fy over mu Fn, Mz over mu Fn c): against the discretised 3D solver over
