@@ -515,23 +515,13 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
         inner = np.sqrt(np.maximum(rest**2 - (x_s - d_s) ** 2, 0.0))
         stick_x, stick_y = m_s * kappa_s * (full - inner), m_s * (lam_s * full - (lam_s - psi_s) * inner)
         share = None if stack.share is None else stack.share.reshape(columns)[sticking]
-        if gather:
-            ux[:, sticking] = np.where(in_s, stick_x, ux[:, sticking])
-            uy[:, sticking] = np.where(in_s, stick_y, uy[:, sticking])
-        else:
-            np.copyto(ux, stick_x, where=in_s)
-            np.copyto(uy, stick_y, where=in_s)
+        place((ux, uy), (stick_x, stick_y), sticking if gather else None, in_s)
         if share is not None and (share < 1.0).any():  # past |psi| = 1: within mu p, faded into the slip traction
             fading = share < 1.0
             within = np.minimum(1.0, bound[:, sticking] / np.maximum(np.hypot(stick_x, stick_y), TINY))
             stick_x = np.where(fading, share * within * stick_x + (1.0 - share) * qx[:, sticking], stick_x)
             stick_y = np.where(fading, share * within * stick_y + (1.0 - share) * qy[:, sticking], stick_y)
-        if gather:
-            qx[:, sticking] = np.where(in_s, stick_x, qx[:, sticking])
-            qy[:, sticking] = np.where(in_s, stick_y, qy[:, sticking])
-        else:
-            np.copyto(qx, stick_x, where=in_s)
-            np.copyto(qy, stick_y, where=in_s)
+        place((qx, qy), (stick_x, stick_y), sticking if gather else None, in_s)
     weight = weights * dx  # Gauss over y, midpoint cells along x
     products = np.empty((3, steps, columns))
     np.subtract(qx, ux, out=ux)  # the march's departure from the closed form's traction
@@ -549,6 +539,16 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
         x, y, bound / mu, qx, qy, in_stick))
     return departure.T, tuple(TractionField(*(v[:, k].T.copy() for v in (x, y, pressure, qx, qy, in_stick)))
                            for k in range(n))
+
+
+def place(targets, values, columns, where) -> None:
+    """Write ``values`` (the stick zones' traction components) into ``targets`` (cell arrays ``(steps, columns)``) at
+    the cells ``where`` holds, in place: on the gathered ``columns`` (indices), or on all columns (None)."""
+    for target, value in zip(targets, values, strict=True):
+        if columns is None:
+            np.copyto(target, value, where=where)
+        else:
+            target[:, columns] = np.where(where, value, target[:, columns])
 
 
 def by_scene(values: np.ndarray, n: int) -> np.ndarray:
