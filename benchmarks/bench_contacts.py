@@ -17,9 +17,9 @@ per per-contact variable, so an FMI 3.0 call carries a handful of value referenc
 varying signal (load 80 kN +-10 %, creepages swinging through a third of saturation, speed 30 m/s):
 
 * ``RollingContact3D_n`` with the linear level (``method`` = linear: the contacts' linear theory without a solver
-  call per contact, :class:`rollcontact.stepping.elliptic.LinearContacts`), with the strips without spin and with
+  call per contact, :class:`rollcontact.stepping.elliptic.linear.LinearContacts`), with the strips without spin and with
   spin (one ``solve_strips_many`` over the contacts), n = 1, 2, 4, 8;
-* the 2D closed form: ``RollingContact2D_n`` (:class:`rollcontact.stepping.contacts.ContactModels`), and n
+* the 2D closed form: ``RollingContact2D_n`` (:class:`rollcontact.stepping.line.contacts.ContactModels`), and n
   single-contact instances stepped one after another (what a host pays without several contacts per instance);
 * the 2D certified table of falling friction (exponential law A 0.4, B 0.6 s/m, tolerance 1e-3, ``table`` = on:
   each contact builds its table at its first loaded step, in the untimed warm-up, and answers every step from it);
@@ -33,7 +33,7 @@ one contact of the same level, FMI version and host; what it leaves for the work
 of one less the empty FMU of 8 contacts, printed against what their step takes above that empty FMU.  Last, the same
 2D contacts in process, without FMU and host (:func:`in_process`): the step of ``ContactModels`` of 1, 2, 3, 4, 5 and
 8 contacts against one ``ContactModel``, the certified tables (falling friction, corrugation) evaluated together and
-one by one, which calibrates ``rollcontact.stepping.table.TOGETHER_FROM``, and the 8 contacts' closed-form outputs
+one by one, which calibrates ``rollcontact.stepping.line.table.TOGETHER_FROM``, and the 8 contacts' closed-form outputs
 alone (``ContactModel.closed_form_step``, no state, no checks): the least Python work of a closed-form step.
 Usage: ``python benchmarks/bench_contacts.py [--rounds N] [--quick]``; writes ``benchmarks/results/contacts.md``
 (not after ``--quick``).
@@ -357,11 +357,12 @@ IN_PROCESS_COUNTS = (1, 2, 3, 4, 5, 8)
 def in_process(rounds: int) -> None:
     """Print the microseconds per step of ``ContactModels`` in process (no FMU, no host) on the 2D signal of the FMU
     cases, against one ``ContactModel``: the closed forms' loop, and the certified tables evaluated together
-    (``TablesTogether``) or one by one (``rollcontact.stepping.table.TOGETHER_FROM`` set for the batch), the same
+    (``TablesTogether``) or one by one (``rollcontact.stepping.line.table.TOGETHER_FROM`` set for the batch), the same
     answers bit for bit; the calibration of ``TOGETHER_FROM``; and the 8 contacts' ``closed_form_step`` alone.  Batches
     of every case interleaved, medians."""
-    from rollcontact.stepping import ContactModel, ContactParameters, table
-    from rollcontact.stepping.contacts import ContactModels
+    from rollcontact.stepping import ContactModel, ContactParameters
+    from rollcontact.stepping.line import table
+    from rollcontact.stepping.line.contacts import ContactModels
 
     default = table.TOGETHER_FROM
     modes = {"one by one": 10 ** 9, "together": 1}

@@ -13,10 +13,11 @@ import math
 import common  # before numpy: limits BLAS to one thread
 
 import rollcontact as rc
-from rollcontact.closed_form import carter, hertz
-from rollcontact.halfspace.grid import automatic_grid
-from rollcontact.halfspace.solver import TransientSolver
-from rollcontact.methods.discretised.steady import solve_discretised
+from rollcontact.line.carter import carter
+from rollcontact.line.halfspace.grid import automatic_grid
+from rollcontact.line.halfspace.solver import TransientSolver
+from rollcontact.line.hertz import hertz
+from rollcontact.line.methods.discretised.steady import solve_discretised
 
 LOAD = 1e7  # N' [N/m]
 MU = 0.3

@@ -18,8 +18,8 @@ Estimates compared with it, for each element count n of ``DISCRETISED_ELEMENTS``
 References: Hertz/Carter closed forms; the polynomial method at tolerance 1e-12 (512 slip nodes for velocity-dependent
 friction) where it applies; for split contacts, which only the discretised solver treats, the first-order Richardson
 extrapolation ``2 T_4000 - T_2000`` of discretised solves on a window fitted to the patches, each the mean over
-:data:`REFERENCE_PLACEMENTS` grid placements (``rollcontact.methods.discretised.steady.extrapolated``); its uncertainty
-u is the change from ``T_4000`` and an estimate counts as a bound only when it is >= error + u.
+:data:`REFERENCE_PLACEMENTS` grid placements (``rollcontact.line.methods.discretised.steady.extrapolated``); its
+uncertainty u is the change from ``T_4000`` and an estimate counts as a bound only when it is >= error + u.
 
 Table C calibrates the extrapolated setting (``solve_discretised(..., extrapolate=m)``, :func:`extrapolated`): T'
 from n and 2n elements on a window fitted to the patches, each level the mean over m placements, for m = 2, 4, 8,
@@ -41,16 +41,17 @@ import time
 import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 
 import rollcontact as rc
-from rollcontact.closed_form import carter, hertz
-from rollcontact.halfspace.grid import automatic_grid
-from rollcontact.halfspace.solver import contact_window
-from rollcontact.methods.discretised.accuracy import (
+from rollcontact.line.carter import carter
+from rollcontact.line.halfspace.grid import automatic_grid
+from rollcontact.line.halfspace.solver import contact_window
+from rollcontact.line.hertz import hertz
+from rollcontact.line.methods.discretised.accuracy import (
     DISCRETISED_FORCE_ERROR,
     EXTRAPOLATED_FORCE_ERROR,
     EXTRAPOLATION_PLACEMENTS,
     DiscretisedAccuracy,
 )
-from rollcontact.methods.discretised.steady import DISCRETISED_ELEMENTS, extrapolated, solve_discretised
+from rollcontact.line.methods.discretised.steady import DISCRETISED_ELEMENTS, extrapolated, solve_discretised
 
 SAFETY = 3.0  # factor of the two-grid estimate: the largest error / raw difference measured here is 2.52
 RADIUS = 0.46

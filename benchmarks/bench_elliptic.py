@@ -28,9 +28,9 @@ import time
 import common  # before numpy: limits BLAS to one thread
 import numpy as np
 
-from rollcontact.friction import Coulomb
-from rollcontact.halfspace.rolling3d import ellipse_grid, hertz_pressure, solve_steady, total_forces
-from rollcontact.halfspace.surface3d import operator_for
+from rollcontact.core.friction import Coulomb
+from rollcontact.core.halfspace.rolling import ellipse_grid, hertz_pressure, solve_steady, total_forces
+from rollcontact.core.halfspace.surface import operator_for
 
 YOUNG, NU, LOAD, SIZE, MU = 210e9, 0.28, 100e3, 6e-3, 0.3  # Pa, 1, N, c = sqrt(ab) [m], 1
 SHEAR = YOUNG / (2 * (1 + NU))
@@ -178,8 +178,8 @@ def part_cost(matrix, quick):
 
 
 def scene_of(ratio, creepages, **fields):
+    from rollcontact.core.materials import Material
     from rollcontact.elliptic import EllipticScene
-    from rollcontact.scene import Material
 
     a, b = axes(ratio)
     xi, eta, phi = creepages
@@ -190,7 +190,7 @@ def scene_of(ratio, creepages, **fields):
 
 def levels():
     """(label, method, options) of part B: every registered level with its defaults, and the discretised grids."""
-    from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS
+    from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
 
     out = [(name, name, {}) for name in sorted(ELLIPTIC_METHODS) if name != "discretised"]
     out += [("discretised 20", "discretised", {"elements": 20, "extrapolate": False}),
@@ -203,7 +203,7 @@ def levels():
 
 def part_b(matrix, reference):
     """Each level's largest error per a/b and kind of case against the reference, and its median time."""
-    from rollcontact.elliptic.dispatch import solve_elliptic
+    from rollcontact.elliptic.dispatch import solve as solve_elliptic
 
     table, worst, timing = {}, {}, {}
     for label, method, options in levels():
@@ -250,7 +250,7 @@ def part_d(matrix, reference):
     """``solve_elliptic(scene, tolerance=t)`` over the matrix: what auto chooses, whether it meets t, its time."""
     from collections import Counter
 
-    from rollcontact.elliptic.dispatch import solve_elliptic
+    from rollcontact.elliptic.dispatch import solve as solve_elliptic
 
     rows, points = [], []
     for tolerance in TOLERANCES:
@@ -284,9 +284,10 @@ POLACH = (0.55, 0.4, 0.6)
 
 def part_c(quick):
     """Falling friction on the Eurosprinter: a creep curve by the discretised pair and by strips, when present."""
+    from rollcontact.core.friction import ExponentialFalling
     from rollcontact.elliptic import EllipticScene
-    from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS, solve_elliptic
-    from rollcontact.friction import ExponentialFalling
+    from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
+    from rollcontact.elliptic.dispatch import solve as solve_elliptic
 
     law = ExponentialFalling(*POLACH)
     creeps = (0.001, 0.003, 0.006) if quick else (0.0005, 0.001, 0.002, 0.003, 0.005, 0.0075, 0.01, 0.02, 0.04,

@@ -38,7 +38,7 @@ import numpy as np
 from elliptic_cases import LOAD, MATERIAL, MU, C, cases
 
 import rollcontact as rc
-from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS
+from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
 from rollcontact.elliptic.methods.strips import solve_strips, solve_strips_many
 
 

@@ -23,8 +23,9 @@ import common  # before numpy: limits BLAS to one thread
 import numpy as np
 
 import rollcontact as rc
-from rollcontact.closed_form import carter, hertz
-from rollcontact.instationary import (
+from rollcontact.line.carter import carter
+from rollcontact.line.hertz import hertz
+from rollcontact.line.instationary import (
     InstationaryModel,
     OscillatingForce,
     oscillating_force_chebyshev,

@@ -1,4 +1,4 @@
-"""Several contact patches by the polynomial method (``rollcontact.methods.polynomial.patches``): where it
+"""Several contact patches by the polynomial method (``rollcontact.line.methods.polynomial.patches``): where it
 applies, what it costs, and what it shows about the discretised solver's error bounds on such scenes.
 
 Run ``.venv/bin/python benchmarks/bench_multipatch.py``: writes ``benchmarks/results/multipatch.md`` (~4 min).

@@ -12,11 +12,11 @@ FMU's model: the lag (``transient`` = 2), quasi-static Carter (``transient`` = 0
 transient pair 200/400 (error <= 16/400^2 = 1e-4 mu N', ``benchmarks/bench_transient_pairs.py``).  Error:
 ``|T' - T'_ref|`` in units of mu N' at each step of the last cycle.
 
-Calibration of :func:`rollcontact.instationary.lag_error_bound`: at each step the creep envelope of the FMU's
-model (:func:`rollcontact.instationary.creep_envelope`, memory :data:`~rollcontact.instationary.LAG_MEMORY`
+Calibration of :func:`rollcontact.line.instationary.lag_error_bound`: at each step the creep envelope of the FMU's
+model (:func:`rollcontact.line.instationary.creep_envelope`, memory :data:`~rollcontact.line.instationary.LAG_MEMORY`
 relaxation lengths) gives ``w = (high - low)/2 (1 - d)_+``; 'ratio' is the largest ``(error - e_0)_+ / w`` over the
-cycle (``e_0`` = :data:`~rollcontact.instationary.LAG_ERROR_FLOOR`, the reference's own bound), and
-:data:`~rollcontact.instationary.LAG_ERROR_COEFFICIENT` is 1.4 times the largest ratio.  'margin': the smallest
+cycle (``e_0`` = :data:`~rollcontact.line.instationary.LAG_ERROR_FLOOR`, the reference's own bound), and
+:data:`~rollcontact.line.instationary.LAG_ERROR_COEFFICIENT` is 1.4 times the largest ratio.  'margin': the smallest
 ``bound / error`` over the cycle.
 
 What it shows (564 s, the run behind the constants): the lag's error is linear in the swing, 0.7-2.6 % of the
@@ -39,7 +39,7 @@ import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 import numpy as np
 from instationary_case import LIMIT, instationary_stepper, lag_bounds, pair_stepper, run_instationary
 
-from rollcontact.instationary import LAG_ERROR_COEFFICIENT, LAG_ERROR_FLOOR, LAG_MEMORY
+from rollcontact.line.instationary import LAG_ERROR_COEFFICIENT, LAG_ERROR_FLOOR, LAG_MEMORY
 
 SWINGS = ((0.5, 0.3), (0.0, 0.3), (0.2, 0.1), (0.7, 0.3), (0.8, 0.15), (0.9, 0.3), (0.95, 0.1), (1.2, 0.3),
           (2.0, 0.5), (0.0, 0.9), (0.0, 3.0), (0.0, 10.0))  # (mean, amplitude) / (mu a/R)

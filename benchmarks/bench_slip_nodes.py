@@ -4,7 +4,7 @@ Run: ``python benchmarks/bench_slip_nodes.py [--quick] [--jobs N] [--records FIL
 on two cores; ``--quick``: 48 cases against 512 nodes, ~1 min; ``--records`` keeps the measurements of A-C).
 Prints markdown tables:
 
-A. The a-posteriori estimate (:func:`rollcontact.methods.polynomial.slip.force_error_estimate`) against the true
+A. The a-posteriori estimate (:func:`rollcontact.line.methods.polynomial.slip.force_error_estimate`) against the true
    relative T' error, over exponential laws (B = 1..100 s/m), two rational laws and a user table law, V = 1..50 m/s,
    creeps 0.1-0.95 of Carter's saturation creep and beyond the peak of the creep curve (2 and 5 times), on a flat and
    a 40 mm / 20 um corrugated surface, at every node count of auto's ladder up to 128.  True error: against the slip
@@ -14,7 +14,7 @@ A. The a-posteriori estimate (:func:`rollcontact.methods.polynomial.slip.force_e
    ``SLIP_NODE_ERROR beta/N^2``.  Summary by error level: the basis of ``ESTIMATE_SAFETY``.
 B. The fine grids of the estimate: the ratio ``|T'_K/T'_M - 1| / error`` for K = 2M, 3M, 4M, 6M and the larger
    of two (ESTIMATE_REFINEMENTS).
-C. The a-priori bound of ``rollcontact.methods.polynomial.accuracy``: the largest ``error N^2/beta``
+C. The a-priori bound of ``rollcontact.line.methods.polynomial.accuracy``: the largest ``error N^2/beta``
    (SLIP_NODE_ERROR bounds it with a margin); and a replay of the adaptive path (start, escalate by
    ``PolynomialAccuracy.escalation``) on every case at t = 1e-2 .. 1e-6, its modelled cost against the cheapest
    rung whose estimate meets t, starting at the floor or where the bound meets t, for several SLIP_CONVERGENCE.
@@ -45,11 +45,11 @@ from pareto_cases import FULL, steady_cases
 from scipy import optimize
 
 import rollcontact as rc
-from rollcontact.dispatch import METHODS
-from rollcontact.method import friction_sharpness
-from rollcontact.methods.polynomial import accuracy as polynomial_accuracy
-from rollcontact.methods.polynomial import slip
-from rollcontact.methods.polynomial.accuracy import (
+from rollcontact.line.dispatch import METHODS
+from rollcontact.line.methods.common import friction_sharpness
+from rollcontact.line.methods.polynomial import accuracy as polynomial_accuracy
+from rollcontact.line.methods.polynomial import slip
+from rollcontact.line.methods.polynomial.accuracy import (
     POLYNOMIAL_COST,
     POLYNOMIAL_HARMONIC_COST,
     SLIP_COST,

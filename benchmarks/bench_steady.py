@@ -32,8 +32,8 @@ import common  # before numpy: limits BLAS to one thread
 import numpy as np
 
 import rollcontact as rc
-from rollcontact.methods.polynomial import solver
-from rollcontact.methods.polynomial.slip import solve_velocity_dependent
+from rollcontact.line.methods.polynomial import solver
+from rollcontact.line.methods.polynomial.slip import solve_velocity_dependent
 
 median_time = partial(common.median_time, warmups=3)  # the polynomial paths fill size-keyed caches
 

@@ -6,7 +6,7 @@ Run: ``python benchmarks/bench_step_budget.py [--quick]`` (about 1 minute; ``--q
 
 A. Time of one whole-element substep of the discretised transient on n elements (median over steps that roll 60
    elements at a slowly varying creep), the least-squares fit ``a + b n^2`` and the constants the stepping model
-   uses (:data:`rollcontact.stepping.transient.SUBSTEP_COST`).
+   uses (:data:`rollcontact.stepping.line.transient.SUBSTEP_COST`).
 B. Steps that take long without a budget, each timed over a few steps of varying inputs (median wall time per step)
    with ``step_budget`` = 0 (no budget) and the default, the budget's modelled cost, and what the budget costs in
    accuracy (the force difference against the unbudgeted step, in mu N):
@@ -29,10 +29,10 @@ import common
 import numpy as np
 
 import rollcontact as rc
-from rollcontact.instationary import InstationaryModel, aligned_grid_load
+from rollcontact.line.instationary import InstationaryModel, aligned_grid_load
 from rollcontact.stepping import ContactModel, ContactParameters
+from rollcontact.stepping.line.transient import SUBSTEP_COST
 from rollcontact.stepping.parameters import DEFAULT_STEP_BUDGET
-from rollcontact.stepping.transient import SUBSTEP_COST
 
 R, MU, LOAD = 0.46, 0.3, 1e6
 ESTAR = rc.Material().contact_modulus

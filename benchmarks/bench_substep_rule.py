@@ -8,14 +8,14 @@ a fraction ``r = d/h`` of the coarse element; with them the extrapolating pair's
 largest where r is far from 1 (``benchmarks/results/substep_rule.md``: at lambda/a = 2, 4.4 at n = 440, r = 0.97;
 26.2 at n = 460, r = 0.68), and the pair's quasi-steady bias varies with r.  Whole elements, the model's rule:
 substeps of exactly one element, the rest of the roll carried to the next host step
-(:meth:`rollcontact.instationary.InstationaryModel.advance`; the output is a provisional substep of that pending
+(:meth:`rollcontact.line.instationary.InstationaryModel.advance`; the output is a provisional substep of that pending
 roll).  This benchmark measures both rules on the same grids.
 
 Method.  The Pareto study's instationary scenario (``instationary_case.creep_signal``: N' = 1e7 N/m, mu = 0.3,
 V = 10 m/s, 64 host steps per cycle of ``xi = (0.5 + 0.3 sin) mu a/R``) at lambda/a = 1, 2, 5 (host steps of
 0.016-0.08 a, up to several coarse elements), from no traction, the last cycle measured.  Grids: the model's for the
-pair (:func:`rollcontact.instationary.aligned_grid_load` with ``multiple`` = 2).  Whole-element commits: the
-library's :class:`rollcontact.instationary.InstationaryModel` with ``extrapolate=True``.  Equal substeps: the same
+pair (:func:`rollcontact.line.instationary.aligned_grid_load` with ``multiple`` = 2).  Whole-element commits: the
+library's :class:`rollcontact.line.instationary.InstationaryModel` with ``extrapolate=True``.  Equal substeps: the same
 solvers stepped ``ceil(ds/h_c)`` (coarse) and twice that (fine) equal substeps per host step
 (:func:`equal_substeps`).  Reference: the library's pair at :data:`REFERENCE` elements; the same pair with equal
 substeps is printed against it (both rules converge to the same solution of the host's zero-order-hold creep).
@@ -34,8 +34,8 @@ import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 import numpy as np
 from instationary_case import ESTAR, LIMIT, LOAD_I, MU_I, R_I, SPEED, creep_signal
 
-from rollcontact.instationary import InstationaryModel, aligned_grid_load
-from rollcontact.stepping.transient import GRID_LOAD_FACTOR
+from rollcontact.line.instationary import InstationaryModel, aligned_grid_load
+from rollcontact.stepping.line.transient import GRID_LOAD_FACTOR
 
 # (lambda/a, the pairs' n): n where the equal substeps' ratio r is far from 1 and, for contrast, near it
 SIGNALS = ((1.0, (64, 128, 156, 300, 460)), (2.0, (100, 156, 300, 440, 460)), (5.0, (64, 100, 200, 300, 460)))

@@ -33,8 +33,9 @@ from pathlib import Path
 import common
 
 import rollcontact as rc
-from rollcontact.stepping import ContactModel, ContactParameters, falling_table
-from rollcontact.stepping.falling_table import FallingFrictionTable
+from rollcontact.stepping import ContactModel, ContactParameters
+from rollcontact.stepping.line import falling_table
+from rollcontact.stepping.line.falling_table import FallingFrictionTable
 from rollcontact.stepping.threads import one_blas_thread
 
 WIDTH = common.CONTACT_WIDTH
@@ -178,7 +179,7 @@ def largest_domains(quick: bool) -> list[str]:
 
 THREADS_SCRIPT = """
 import time
-from rollcontact.stepping.falling_table import FallingFrictionTable, w_limit
+from rollcontact.stepping.line.falling_table import FallingFrictionTable, w_limit
 from rollcontact.stepping.threads import one_blas_thread
 for limited in (False, True, False, True):
     table = FallingFrictionTable(0.6, w_limit(0.6))

@@ -8,9 +8,9 @@ Scenario: the instationary study of ``benchmarks/pareto.py`` (its signal and ste
 measure the same thing): N' = 1e7 N/m, mu = 0.3, R = 0.46 m, V = 10 m/s, creep control ``xi = (0.5 + 0.3 sin(2 pi
 sigma/lambda)) mu a/R``, 64 host steps per cycle, lambda/a = 5, 10, 20, 40, at least 40 a rolled before the measured
 last cycle.  The transient runs on the grid the FMU's model builds
-(:data:`rollcontact.stepping.transient.GRID_LOAD_FACTOR`: window +-1.25 a(2 N'), n elements) and starts from steady
-rolling at the first creep (:meth:`rollcontact.instationary.InstationaryModel.steady_state`, as the model does when it
-switches the transient in).
+(:data:`rollcontact.stepping.line.transient.GRID_LOAD_FACTOR`: window +-1.25 a(2 N'), n elements) and starts from steady
+rolling at the first creep (:meth:`rollcontact.line.instationary.InstationaryModel.steady_state`, as the model does when
+it switches the transient in).
 
 Reference: first-order Richardson extrapolation of n = 400/800, ``T'_ref = 2 T'_800 - T'_400``.  The order is
 observed from three grids n, 2n, 4n as ``log2(max|T'_2n - T'_n| / max|T'_4n - T'_2n|)`` (:func:`observed_order`),
@@ -21,8 +21,8 @@ out of the fit.
 Tables: (1) error, elements rolled and median time per host step for each lambda/a and n; (2) steady rolling on the grid
 against Carter, the force jump when the model switches the transient in or hands back; (3) the error model ``error(n) <=
 C / n^p``: p fitted by least squares to log(max over lambda/a of the error) for n <= 400, C the largest ``error n^p``,
-against the constants the model uses (:data:`rollcontact.stepping.transient.TRANSIENT_ERROR_CONSTANT`,
-:data:`rollcontact.stepping.transient.TRANSIENT_ERROR_ORDER`);
+against the constants the model uses (:data:`rollcontact.stepping.line.transient.TRANSIENT_ERROR_CONSTANT`,
+:data:`rollcontact.stepping.line.transient.TRANSIENT_ERROR_ORDER`);
 (4) what ``transient`` = 1 chooses at tolerance 1e-2, 1e-3, 1e-4, its error and time per host step.
 
 What it prints goes to ``benchmarks/results/transient_auto.md`` with the machine (not after ``--quick``).
@@ -50,10 +50,10 @@ from instationary_case import (
 )
 from pareto_cases import TOLERANCES
 
-from rollcontact.closed_form import carter
-from rollcontact.instationary import InstationaryModel, aligned_grid_load
+from rollcontact.line.carter import carter
+from rollcontact.line.instationary import InstationaryModel, aligned_grid_load
 from rollcontact.stepping import ContactModel, ContactParameters
-from rollcontact.stepping.transient import GRID_LOAD_FACTOR, TRANSIENT_ERROR_CONSTANT, TRANSIENT_ERROR_ORDER
+from rollcontact.stepping.line.transient import GRID_LOAD_FACTOR, TRANSIENT_ERROR_CONSTANT, TRANSIENT_ERROR_ORDER
 
 
 def grid_model(elements: int) -> InstationaryModel:

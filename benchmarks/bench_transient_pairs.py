@@ -12,7 +12,7 @@ stepped through the FMU's model (``method`` = 3, ``transient`` = 2) from no trac
 (:data:`SIGNALS`): lambda/a = 1 and 2 (host steps shorter than an element of most grids), and a creep reversal
 ``0.9 sin`` at lambda/a = 5 and 20, so that the constant is known to hold beyond the study's signal.
 
-The pair: :class:`rollcontact.instationary.InstationaryModel` with ``extrapolate=True`` on n elements (swapped into
+The pair: :class:`rollcontact.line.instationary.InstationaryModel` with ``extrapolate=True`` on n elements (swapped into
 the FMU's model in place of its plain transient, ``instationary_case.pair_stepper``): the grid of n/2 elements on
 the same window, both aligned to the load (``aligned_grid_load`` with ``multiple`` = 2), each committing whole-element
 substeps, and ``T' = 2 T'_n - T'_(n/2)``. Reference: the pair 500/1000 (its own error, 6.6/1000^2 = 6.6e-6 mu N' by
@@ -21,7 +21,7 @@ over the last cycle in units of mu N'. The plain transient on n elements is show
 
 Tables: (1) per lambda/a and n, the pair's error, ``error n^2`` and time per host step, the plain transient's error and
 time; (2) the error model ``error <= C / n^2`` over the measured n: the largest ``error n^2`` and 1.4 times it, against
-:data:`rollcontact.stepping.transient.EXTRAPOLATED_ERROR_CONSTANT`.  ``--crosscheck``: the reference against the
+:data:`rollcontact.stepping.line.transient.EXTRAPOLATED_ERROR_CONSTANT`.  ``--crosscheck``: the reference against the
 first-order Richardson extrapolation of plain transients on n = 800/1600 (non-nested grids, an independent route).
 
 What it prints goes to ``benchmarks/results/transient_pairs.md`` with the machine (not after ``--quick``).
@@ -36,7 +36,7 @@ import common  # noqa: F401  (before numpy: limits BLAS to one thread)
 import numpy as np
 from instationary_case import LIMIT, instationary_stepper, pair_stepper, richardson, run_instationary
 
-from rollcontact.stepping.transient import EXTRAPOLATED_ERROR_CONSTANT
+from rollcontact.stepping.line.transient import EXTRAPOLATED_ERROR_CONSTANT
 
 # (lambda/a, mean, amplitude) of the creep signal (mean + amplitude sin) mu a/R: the Pareto study's, then faster
 # oscillations and a creep reversal (the error is not monotone in lambda/a, so the model is checked beyond them)

@@ -102,10 +102,10 @@ def influence_cache_clear() -> Callable[[], None]:
     Returns
     -------
     callable
-        ``rollcontact.halfspace.elements.operators_for.cache_clear``: after it, a discretised solve builds its matrices
-        again, as the first solve on a grid does.
+        ``rollcontact.core.halfspace.elements.operators_for.cache_clear``: after it, a discretised solve builds its
+        matrices again, as the first solve on a grid does.
     """
-    from rollcontact.halfspace.elements import operators_for
+    from rollcontact.core.halfspace.elements import operators_for
 
     return operators_for.cache_clear
 
@@ -355,7 +355,7 @@ def scene_toml(scene) -> str:
 
     The FMU reads the file's surface in its own frame and solves the mirrored scene with the axis at ``-X``
     (:mod:`rollcontact.stepping`), so the file holds the mirror of the scene's surface
-    (:func:`rollcontact.stepping.mirrored` is its own inverse); start the FMU at ``initial_position =
+    (:func:`rollcontact.stepping.line.model.mirrored` is its own inverse); start the FMU at ``initial_position =
     -scene.axis_position``.  The load, creep, axis and speed in the file are placeholders: the FMU's inputs replace
     them.
 
@@ -370,7 +370,7 @@ def scene_toml(scene) -> str:
         The file's text.
     """
     import rollcontact as rc
-    from rollcontact.stepping import mirrored
+    from rollcontact.stepping.line.model import mirrored
 
     return rc.scene_toml(scene.replace(surface=mirrored(scene.surface)))
 

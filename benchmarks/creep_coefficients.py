@@ -9,7 +9,7 @@ discretisation (below) beside the table and the published values.
 
 Method.  At a creepage of 1e-9 no element slips and the tangential problem is linear (Kalker's linear theory):
 ``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^4 C33 phi`` (forces on the rail, c =
-sqrt(ab); :mod:`rollcontact.halfspace.rolling3d`).  Each coefficient is computed on square elements, N of them
+sqrt(ab); :mod:`rollcontact.core.halfspace.rolling`).  Each coefficient is computed on square elements, N of them
 across the shorter axis (N = 24, 32, 48, 64, 96), and
 
 * scaled by the ratio of the ellipse's area ``pi a b`` to the area of the elements whose centres lie inside it,
@@ -32,9 +32,9 @@ import time
 import common  # before numpy: limits BLAS to one thread
 import numpy as np
 
-from rollcontact.friction import Coulomb
-from rollcontact.halfspace.rolling3d import ellipse_grid, hertz_pressure, solve_steady, total_forces
-from rollcontact.halfspace.surface3d import operator_for
+from rollcontact.core.friction import Coulomb
+from rollcontact.core.halfspace.rolling import ellipse_grid, hertz_pressure, solve_steady, total_forces
+from rollcontact.core.halfspace.surface import operator_for
 
 LEVELS = (24, 32, 48, 64, 96)
 """Elements across the shorter axis of the ellipse, square elements."""
@@ -122,8 +122,8 @@ def table_module(table: dict) -> str:
              "",
              "Written by ``benchmarks/creep_coefficients.py --write-table`` (do not edit by hand): the discretised 3D "
              "solver",
-             "(:mod:`rollcontact.halfspace.rolling3d`) at vanishing creepage, extrapolated to zero element size; the "
-             "script's",
+             "(:mod:`rollcontact.core.halfspace.rolling`) at vanishing creepage, extrapolated to zero element size; "
+             "the script's",
              "results file ``benchmarks/results/creep_coefficients.md`` compares them with Kalker 1990, Table E.3.  "
              "Layout:",
              "``ASPECT_RATIOS`` (a/b, increasing), ``POISSON_RATIOS`` (increasing), and for each coefficient a tuple "

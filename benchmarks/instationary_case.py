@@ -17,8 +17,14 @@ import numpy as np
 from common import CONTACT_WIDTH
 
 import rollcontact as rc
-from rollcontact.closed_form import hertz
-from rollcontact.instationary import LAG_MEMORY, InstationaryModel, creep_envelope, lag_error_bound, relaxation_length
+from rollcontact.line.hertz import hertz
+from rollcontact.line.instationary import (
+    LAG_MEMORY,
+    InstationaryModel,
+    creep_envelope,
+    lag_error_bound,
+    relaxation_length,
+)
 from rollcontact.stepping import ContactModel, ContactParameters
 
 ESTAR = rc.Material().contact_modulus  # Pa, steel on steel
@@ -141,7 +147,7 @@ def instationary_stepper(kind: str, elements: int = 0, tolerance: float = 0.0) -
 def pair_stepper(elements: int) -> Callable[[float, float], float]:
     """The FMU's model with the extrapolating transient pair in place of its plain transient.
 
-    The model runs ``method`` = 3, ``transient`` = 2, with :class:`rollcontact.instationary.InstationaryModel` on
+    The model runs ``method`` = 3, ``transient`` = 2, with :class:`rollcontact.line.instationary.InstationaryModel` on
     ``elements``/2 and ``elements`` elements, extrapolated: what auto builds for a tolerance below about 4e-3.
 
     Parameters
@@ -164,8 +170,8 @@ def pair_stepper(elements: int) -> Callable[[float, float], float]:
 def lag_bounds(wavelength: float, mean: float = 0.5, amplitude: float = 0.3) -> np.ndarray:
     """The relaxation lag's error bound at each step of the measured cycle of :func:`creep_signal`.
 
-    As auto's model computes it: :func:`rollcontact.instationary.lag_error_bound` of the creep envelope
-    (:func:`rollcontact.instationary.creep_envelope`) over the host steps.
+    As auto's model computes it: :func:`rollcontact.line.instationary.lag_error_bound` of the creep envelope
+    (:func:`rollcontact.line.instationary.creep_envelope`) over the host steps.
 
     Parameters
     ----------

@@ -18,20 +18,21 @@ elements moves the answer by about its error, and in use that placement is arbit
 exact (Hertz/Carter); otherwise the polynomial method at truncation tolerance 1e-12 (1024 slip nodes for
 velocity-dependent friction), cross-checked against the Richardson-extrapolated discretised solver (n = 800/1600 on a
 window of +-1.25 a about the patch, whose edges then fall on element boundaries, as in ``tests/test_cross_methods.py``);
-for a split contact (several patches, ``rollcontact.methods.polynomial.patches``) against the first-order Richardson
-extrapolation of the discretised T' from n = 2000/4000, each level the mean over 8 grid placements on a window fitted to
-the patches; a contact the polynomial method cannot treat would take that extrapolation as its reference
-(:func:`pareto_cases.split_reference`), its uncertainty shown as the change from n = 1000/2000. The extrapolated
-discretised settings (``extrapolate`` = m = 8, 16: n/2n, each level the mean over m placements) average over placements
-themselves and are measured as they run. Instationary rolling (creep control, ``xi = (0.5 + 0.3 sin(2 pi sigma/lambda))
-mu a/R`` at lambda/a = 5..40, and a creep reversal ``0.9 sin`` at lambda/a = 5, where the relaxation lag errs most; 64
-host steps per cycle): max |T' - T'_ref| over the last cycle in units of mu N', reference the extrapolating transient
-pair n = 500/1000 (nested grids, second order: ``bench_transient_pairs.py``; the plain transient's on the same finest
-grid shown). Every instationary setting, the transients in the rows and the reference included, steps the FMU's model
-(quasi-static: ``transient`` = 0; relaxation: 2; transient: ``method`` = 3, ``transient`` = 2, ``elements`` = n; pair:
-that model with the extrapolating transient swapped in, :func:`instationary_case.pair_stepper`): the grids auto's
-transient runs on (window about +-1.77 a, the Hertz patch edges on element boundaries, ``ContactModel.prepare_grid``)
-and the model's overhead, so auto and the rows compare like for like.
+for a split contact (several patches, ``rollcontact.line.methods.polynomial.patches``) against the first-order
+Richardson extrapolation of the discretised T' from n = 2000/4000, each level the mean over 8 grid placements on a
+window fitted to the patches; a contact the polynomial method cannot treat would take that extrapolation as its
+reference (:func:`pareto_cases.split_reference`), its uncertainty shown as the change from n = 1000/2000. The
+extrapolated discretised settings (``extrapolate`` = m = 8, 16: n/2n, each level the mean over m placements) average
+over placements themselves and are measured as they run. Instationary rolling (creep control, ``xi = (0.5 + 0.3 sin(2 pi
+sigma/lambda)) mu a/R`` at lambda/a = 5..40, and a creep reversal ``0.9 sin`` at lambda/a = 5, where the relaxation lag
+errs most; 64 host steps per cycle): max |T' - T'_ref| over the last cycle in units of mu N', reference the
+extrapolating transient pair n = 500/1000 (nested grids, second order: ``bench_transient_pairs.py``; the plain
+transient's on the same finest grid shown). Every instationary setting, the transients in the rows and the reference
+included, steps the FMU's model (quasi-static: ``transient`` = 0; relaxation: 2; transient: ``method`` = 3,
+``transient`` = 2, ``elements`` = n; pair: that model with the extrapolating transient swapped in,
+:func:`instationary_case.pair_stepper`): the grids auto's transient runs on (window about +-1.77 a, the Hertz patch
+edges on element boundaries, ``ContactModel.prepare_grid``) and the model's overhead, so auto and the rows compare like
+for like.
 
 Time. Median over repeated calls (timeit-style batches, at least 3 samples); discretised solves with the caches of
 influence matrices emptied first (a first solve on a new grid, as for a moving axis); instationary: median per host

@@ -13,9 +13,9 @@ import numpy as np
 from pareto_cases import NOT_STEADY_2D, Row, fmt_error, fmt_time
 from scipy import optimize, stats
 
-from rollcontact.methods.closed_form import CLOSED_FORM_COST
-from rollcontact.methods.discretised.accuracy import DIRECT_COST, STRUCTURED_COST, STRUCTURED_ITERATIONS
-from rollcontact.methods.polynomial.accuracy import (
+from rollcontact.line.methods.closed_form import CLOSED_FORM_COST
+from rollcontact.line.methods.discretised.accuracy import DIRECT_COST, STRUCTURED_COST, STRUCTURED_ITERATIONS
+from rollcontact.line.methods.polynomial.accuracy import (
     POLYNOMIAL_COST,
     POLYNOMIAL_HARMONIC_COST,
     SLIP_COST,

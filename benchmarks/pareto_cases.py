@@ -11,10 +11,10 @@ from dataclasses import dataclass
 from instationary_case import ESTAR
 
 import rollcontact as rc
-from rollcontact.closed_form import hertz
-from rollcontact.methods.discretised.accuracy import DiscretisedAccuracy
-from rollcontact.methods.discretised.steady import DISCRETISED_ELEMENTS
-from rollcontact.methods.polynomial.accuracy import SLIP_NODES, TRUNCATIONS
+from rollcontact.line.hertz import hertz
+from rollcontact.line.methods.discretised.accuracy import DiscretisedAccuracy
+from rollcontact.line.methods.discretised.steady import DISCRETISED_ELEMENTS
+from rollcontact.line.methods.polynomial.accuracy import SLIP_NODES, TRUNCATIONS
 
 TOLERANCES = (1e-2, 1e-3, 1e-4)  # the tolerances requested of auto
 NOT_STEADY_2D = ("instationary", "elliptic (3D)")  # families outside the 2D steady analyses and cost-model fits
@@ -178,10 +178,10 @@ SPLIT_REFERENCE_PLACEMENTS = 8
 
 
 def split_reference(scene: rc.Scene, sizes: tuple[int, int], why: str) -> Reference:
-    """A contact only the discretised solver treats: :func:`rollcontact.methods.discretised.steady.extrapolated` from n
-    = sizes (first-order Richardson extrapolation of T', each level the mean over :data:`SPLIT_REFERENCE_PLACEMENTS`
-    grid placements; p0, second order, the finer level's mean), at least twice as fine as every extrapolated setting
-    measured; its uncertainty: the change from half the elements."""
+    """A contact only the discretised solver treats: :func:`rollcontact.line.methods.discretised.steady.extrapolated`
+    from n = sizes (first-order Richardson extrapolation of T', each level the mean over
+    :data:`SPLIT_REFERENCE_PLACEMENTS` grid placements; p0, second order, the finer level's mean), at least twice as
+    fine as every extrapolated setting measured; its uncertainty: the change from half the elements."""
     ref = rc.methods.discretised.steady.extrapolated(scene, sizes, SPLIT_REFERENCE_PLACEMENTS)
     half = rc.methods.discretised.steady.extrapolated(scene, tuple(n // 2 for n in sizes), SPLIT_REFERENCE_PLACEMENTS)
     change = abs(half.tangential_force_per_length / ref.tangential_force_per_length - 1.0)

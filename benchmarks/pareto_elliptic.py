@@ -17,7 +17,8 @@ import common
 from pareto_cases import AutoChoice, Row, setting_label
 
 import rollcontact as rc
-from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS, solve_elliptic
+from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
+from rollcontact.elliptic.dispatch import solve as solve_elliptic
 
 FAMILY = "elliptic (3D)"
 MU, LOAD, SIZE = 0.3, 1e5, 6e-3  # Coulomb coefficient, Fn [N], c = sqrt(ab) [m]

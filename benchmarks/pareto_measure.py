@@ -38,9 +38,9 @@ from pareto_cases import (
 )
 
 import rollcontact as rc
-from rollcontact.method import friction_sharpness
-from rollcontact.stepping.parameters import INSTATIONARY_CODES
-from rollcontact.stepping.transient import transient_model_error, transient_setting
+from rollcontact.line.methods.common import friction_sharpness
+from rollcontact.stepping.line.parameters import INSTATIONARY_CODES
+from rollcontact.stepping.line.transient import transient_model_error, transient_setting
 
 # ------------------------------------------------------------------------------------------------------ timing
 BATCH_SECONDS = 2e-3  # s: the least duration of one timing sample (timeit-style batches of calls)

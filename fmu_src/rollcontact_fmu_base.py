@@ -45,7 +45,7 @@ from pythonfmu import Real
 from pythonfmu.enums import Fmi2Causality, Fmi2Initial, Fmi2Status, Fmi2Variability
 from pythonfmu.variables import Integer, String
 
-from rollcontact.friction import RAIL_CONDITIONS
+from rollcontact.core.friction import RAIL_CONDITIONS
 from rollcontact.stepping.parameters import RAIL_CONDITION_CODES
 
 UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
@@ -103,7 +103,7 @@ RAIL_CONDITION_ITEMS = ((0, "custom", "the friction_* parameters"),
                           for code, name in RAIL_CONDITION_CODES.items() if code
                           for c in (RAIL_CONDITIONS[name],)))
 """Items of the contact FMUs' RailCondition enumeration: ``rollcontact.stepping.parameters.RAIL_CONDITION_CODES``
-with the values of ``rollcontact.friction.RAIL_CONDITIONS``."""
+with the values of ``rollcontact.core.friction.RAIL_CONDITIONS``."""
 
 RAIL_CONDITION_TEXT = "Rail condition replacing the friction_* parameters unless custom (RailCondition)"
 """Description of the contact FMUs' ``rail_condition`` parameter."""

@@ -45,10 +45,10 @@ from rollcontact_fmu_base import (
 )
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
-from rollcontact.scene import Scene, scene_toml
-from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, ModelError, ModelState
-from rollcontact.stepping.contacts import ContactModels, ContactsState
-from rollcontact.stepping.parameters import METHOD_LEVELS, METHOD_NAMES
+from rollcontact.line.scene import Scene, scene_toml
+from rollcontact.stepping import ContactModel, ContactParameters, ModelError, ModelState
+from rollcontact.stepping.line.contacts import ContactModels, ContactsState
+from rollcontact.stepping.line.parameters import METHOD_LEVELS, METHOD_NAMES, STATIONARY
 
 try:
     import tomllib
@@ -162,7 +162,7 @@ ENUMERATIONS = {
                             (2, "on", "built at the first loaded step"))),
 }
 """Integer variables declared as FMI enumerations: variable -> (type, items (value, name, description)); ``method``
-and ``method_used`` from :data:`rollcontact.stepping.parameters.METHOD_LEVELS`.
+and ``method_used`` from :data:`rollcontact.stepping.line.parameters.METHOD_LEVELS`.
 
 ``build_fmu.py --integer-codes`` builds the FMU with plain Integer variables instead (their codes in the
 descriptions), for hosts that do not support FMI enumerations: libcosim does not list them, so it could neither set
@@ -318,8 +318,8 @@ class RollingContact2D(RollingContact2DShared, TableSlave2):
 
 
 class RollingContact2DContacts(RollingContact2DShared):
-    """Several 2D contacts of one parameter set in one instance (:class:`rollcontact.stepping.contacts.ContactModels`;
-    :func:`slave_class` sets the table)."""
+    """Several 2D contacts of one parameter set in one instance
+    (:class:`rollcontact.stepping.line.contacts.ContactModels`; :func:`slave_class` sets the table)."""
 
     CONTACTS = 1
     INPUT_NAMES: tuple = ()

@@ -3,15 +3,15 @@ stepping model (in both FMI versions), :class:`RollingContact3D` is its FMI 2.0 
 
 The entry module ``contact3d_slave.py`` only imports the class from here (pythonfmu re-executes the entry module on
 every instantiation: ``rollcontact_fmu_slave.py``'s docstring).  No physics here: the parameters become a
-:class:`rollcontact.stepping.elliptic.EllipticParameters`, each ``do_step`` is one
-:meth:`rollcontact.stepping.elliptic.EllipticModel.step` over every contact, and the output variables read its
-:class:`~rollcontact.stepping.elliptic.EllipticOutputs` by position.  Refusals, the emulated fmi2Error, the echo of
-refusals and the FMU state are the shared :class:`rollcontact_fmu_base.TableSlave`'s.
+:class:`rollcontact.stepping.elliptic.parameters.EllipticParameters`, each ``do_step`` is one
+:meth:`rollcontact.stepping.elliptic.model.EllipticModel.step` over every contact, and the output variables read its
+:class:`~rollcontact.stepping.elliptic.parameters.EllipticOutputs` by position.  Refusals, the emulated fmi2Error, the
+echo of refusals and the FMU state are the shared :class:`rollcontact_fmu_base.TableSlave`'s.
 
 One declaration for every variant: :func:`declaration` writes the variable table and the enumerations for n
 contacts, with enumerations or integer codes (the method enumerations are
-:data:`rollcontact.stepping.elliptic.ELLIPTIC_LEVELS`), and :func:`slave_class` gives the variant's class, one per
-variant and process (a Python host may load several variants: this module is imported once).  The entry module
+:data:`rollcontact.stepping.elliptic.parameters.METHOD_LEVELS`), and :func:`slave_class` gives the variant's class, one
+per variant and process (a Python host may load several variants: this module is imported once).  The entry module
 names the variant (``contact3d_slave.py``, ``fmi3_contact3d_slave.py`` with ``fmi=3``; ``build_fmu.py --contacts
 n`` writes its own).  With one contact the
 variables are named ``normal_load`` ...; with n they are ``normal_load[1]`` ... ``normal_load[n]`` in FMI 2.0 (its
@@ -40,14 +40,15 @@ from rollcontact_fmu_base import (
 )
 
 from rollcontact import __version__ as ROLLCONTACT_VERSION
-from rollcontact.stepping.elliptic import (
-    ELLIPTIC_LEVELS,
+from rollcontact.stepping.elliptic.model import EllipticModel, EllipticState
+from rollcontact.stepping.elliptic.parameters import (
     INPUTS,
     JACOBIAN_MODES,
-    EllipticModel,
     EllipticOutputs,
     EllipticParameters,
-    EllipticState,
+)
+from rollcontact.stepping.elliptic.parameters import (
+    METHOD_LEVELS as ELLIPTIC_LEVELS,
 )
 
 INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
@@ -108,10 +109,9 @@ APPENDED_PARAMETERS = (
 
 ENUMERATIONS = {
     "method": ("Method3D", ((0, "auto", "the lowest-ranked level that applies; with a tolerance the cheapest"),
-                            *((code, name, text) for code, (name, text) in enumerate(ELLIPTIC_LEVELS, start=1)))),
+                            *((level.code, level.name, level.choice) for level in ELLIPTIC_LEVELS if level.choice))),
     "method_used": ("MethodUsed3D", ((0, "none", "no contact"),
-                                     *((code, name, text) for code, (name, text) in enumerate(ELLIPTIC_LEVELS,
-                                                                                              start=1)))),
+                                     *((level.code, level.name, level.used) for level in ELLIPTIC_LEVELS))),
     "friction_law": ("FrictionLaw", FRICTION_LAW_ITEMS),
     "rail_condition": ("RailCondition", RAIL_CONDITION_ITEMS),
     "jacobian": ("JacobianMode", ((0, "linear", "the linear theory's slopes at the step's ellipse"),

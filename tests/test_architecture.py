@@ -1,5 +1,6 @@
-"""The package's shape: imports go one way, no module or class too large to read, and a fidelity level is added
-through the public extension point alone (``docs/contributing.md``, "Adding a method")."""
+"""The package's shape: imports go one way (core <- geometries <- stepping <- FMUs), the geometries stand in one
+order (line <- elliptic), the co-simulation uses the public API only, and a fidelity level is added through the
+public extension point alone (``docs/contributing.md``, "Adding a method")."""
 
 from __future__ import annotations
 
@@ -11,40 +12,55 @@ import pytest
 
 import rollcontact
 from rollcontact import METHODS, Coulomb, Scene, register_method, solve
-from rollcontact.closed_form import hertz
-from rollcontact.method import AccuracyModel
-from rollcontact.result import ContactResult
+from rollcontact.core.method import AccuracyModel
+from rollcontact.line.hertz import hertz
+from rollcontact.line.result import ContactResult
 from rollcontact.stepping import ContactModel, ContactParameters
 
-SRC = Path(__file__).resolve().parents[1] / "src"
+ROOT = Path(__file__).resolve().parents[1]
+SRC = ROOT / "src"
 
-LAYERS = ("rollcontact.checks rollcontact.friction rollcontact.scene rollcontact.result rollcontact.closed_form",
-          "rollcontact.method",
-          "rollcontact.halfspace",
-          "rollcontact.methods",
-          "rollcontact.dispatch",
+LAYERS = ("rollcontact.core.checks",
+          "rollcontact.core.materials rollcontact.core.friction",
+          "rollcontact.core.method rollcontact.core.halfspace",
+          "rollcontact.core.dispatch rollcontact.core",
+          "rollcontact.line.scene rollcontact.line.result rollcontact.line.hertz rollcontact.line.carter "
           "rollcontact.elliptic.scene rollcontact.elliptic.hertz rollcontact.elliptic.result "
-          "rollcontact.elliptic.creep_table rollcontact.elliptic.creep_coefficients rollcontact.elliptic",
+          "rollcontact.elliptic.creep_table rollcontact.elliptic.creep_coefficients",
+          "rollcontact.line.halfspace",
+          "rollcontact.line.methods",
+          "rollcontact.line.dispatch rollcontact.line",
+          "rollcontact.line.instationary",
           "rollcontact.elliptic.methods",
-          "rollcontact.elliptic.dispatch",
-          "rollcontact.instationary",
+          "rollcontact.elliptic.dispatch rollcontact.elliptic",
+          "rollcontact.stepping.base rollcontact.stepping.parameters rollcontact.stepping.threads",
+          "rollcontact.stepping.line rollcontact.stepping.elliptic",
           "rollcontact.stepping",
           "rollcontact rollcontact.__main__")
-"""Layers from data up to the package's entry points: a module imports only from its own layer or those below.
-The elliptic (3D) package stands above the 2D dispatcher: it may use the 2D data, methods and dispatcher, and no 2D
-module may import it."""
+"""Layers from the shared core up to the package's entry points: a module imports only from its own layer or those
+below.  Each geometry's data stands above the core, its half-space and methods above its data, its dispatcher above
+its methods; the stepping models above every geometry."""
+
+GEOMETRIES = ("rollcontact.line", "rollcontact.elliptic")
+"""The geometries in the order they may use each other: a geometry imports only the ones before it (the elliptic
+strips solve each strip with the line contact's kernel), never one after it."""
+
+PUBLIC = {"src/rollcontact_cosim": ("rollcontact", "rollcontact.stepping"), "fmu_src": ("rollcontact",)}
+"""What the co-simulation package and the FMU slaves may import from the solver: the co-simulation the public API
+(the names of ``rollcontact`` and ``rollcontact.stepping``), the slaves the public API and the stepping models."""
 
 
-def modules() -> dict[str, Path]:
+def modules(root: Path = SRC) -> dict[str, Path]:
     found = {}
-    for path in SRC.rglob("*.py"):
-        name = ".".join(path.relative_to(SRC).with_suffix("").parts)
+    for path in root.rglob("*.py"):
+        name = ".".join(path.relative_to(root).with_suffix("").parts)
         found[name.removesuffix(".__init__")] = path
     return found
 
 
-def imports_of(name: str, path: Path, known) -> set[str]:
-    """Modules of ``known`` that the module imports, anywhere in it (lazy imports too)."""
+def imported(name: str, path: Path) -> set[str]:
+    """Every module path the module imports, anywhere in it (lazy imports too), with the names it imports from them
+    as ``module.name`` (which may be modules themselves)."""
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     out = set()
     for node in ast.walk(ast.parse(path.read_text())):
@@ -56,8 +72,13 @@ def imports_of(name: str, path: Path, known) -> set[str]:
                 parts = package.split(".")[:len(package.split(".")) - node.level + 1]
                 base = ".".join(parts + ([base] if base else []))
             out |= {base} | {f"{base}.{a.name}" for a in node.names}
-    return {m for m in out if m in known and m != name and not (path.name == "__init__.py"
-                                                                  and m.startswith(name + "."))}
+    return out
+
+
+def imports_of(name: str, path: Path, known) -> set[str]:
+    """Modules of ``known`` that the module imports (a package's ``__init__`` not counting its own submodules)."""
+    return {m for m in imported(name, path) if m in known and m != name and not (path.name == "__init__.py"
+                                                                                  and m.startswith(name + "."))}
 
 
 def layer(name: str) -> int:
@@ -69,6 +90,10 @@ def layer(name: str) -> int:
                     best = (rank, len(member))
     assert best is not None, f"{name} belongs to no layer of LAYERS"
     return best[0]
+
+
+def geometry(name: str) -> int | None:
+    return next((k for k, g in enumerate(GEOMETRIES) if name == g or name.startswith(g + ".")), None)
 
 
 def test_no_import_cycles_under_src():
@@ -94,17 +119,24 @@ def test_no_import_cycles_under_src():
     assert not cycles, "import cycles: " + "; ".join(cycles)
 
 
-def test_imports_go_one_way_from_data_to_stepping():
+def test_imports_go_one_way_from_the_core_to_the_stepping_models():
     known = modules()
     wrong = []
     for name, path in known.items():
         if not name.startswith("rollcontact.") and name != "rollcontact":
             continue
         for target in imports_of(name, path, known):
-            if target.startswith("rollcontact") and not target.startswith("rollcontact_cosim") \
-                    and layer(target) > layer(name):
+            if not target.startswith("rollcontact_cosim") and layer(target) > layer(name):
                 wrong.append(f"{name} imports {target}")
     assert not wrong, "imports against the layers: " + "; ".join(sorted(wrong))
+
+
+def test_a_geometry_uses_only_the_geometries_before_it():
+    known = modules()
+    wrong = [f"{name} imports {target}" for name, path in known.items() if geometry(name) is not None
+             for target in imports_of(name, path, known)
+             if geometry(target) is not None and geometry(target) > geometry(name)]
+    assert not wrong, "a geometry imports one after it: " + "; ".join(sorted(wrong))
 
 
 def test_the_solver_never_imports_fmi_tools():
@@ -115,18 +147,17 @@ def test_the_solver_never_imports_fmi_tools():
                 assert f"import {tool}" not in text and f"from {tool}" not in text, f"{name} imports {tool}"
 
 
-@pytest.mark.parametrize(("kind", "limit"), [("module", 800), ("class", 310)])
-def test_no_module_or_class_too_long_to_read(kind, limit):
-    long = []
-    for name, path in modules().items():
-        text = path.read_text()
-        if kind == "module" and text.count("\n") > limit:
-            long.append(f"{name}: {text.count(chr(10))} lines")
-        if kind == "class":
-            long += [f"{name}.{node.name}: {node.end_lineno - node.lineno + 1} lines"
-                     for node in ast.walk(ast.parse(text))
-                     if isinstance(node, ast.ClassDef) and node.end_lineno - node.lineno + 1 > limit]
-    assert not long, f"{ {'module': 'modules', 'class': 'classes'}[kind]} above {limit} lines: " + "; ".join(long)
+@pytest.mark.parametrize("place", sorted(PUBLIC))
+def test_the_cosimulation_and_the_slaves_use_the_public_api_only(place):
+    public = PUBLIC[place]
+    wrong = []
+    for name, path in modules(ROOT / place).items():
+        for target in imported(name, path):
+            if (target == "rollcontact" or target.startswith("rollcontact.")) and target not in public \
+                    and target.rpartition(".")[0] not in public \
+                    and not (place == "fmu_src" and target.startswith("rollcontact.stepping")):
+                wrong.append(f"{place}/{name} imports {target}")
+    assert not wrong, f"imports beyond what {place} may use ({', '.join(public)}): " + "; ".join(sorted(wrong))
 
 
 def linear_creep(scene: Scene, *, clamp: bool = True) -> ContactResult:

@@ -30,8 +30,8 @@ from matplotlib.patches import Rectangle
 from scipy import optimize
 
 import rollcontact as rc
-from rollcontact.closed_form import CarterDistributions
-from rollcontact.instationary import OscillatingForce, oscillating_force_chebyshev, quasi_steady_deviation
+from rollcontact.line.carter import CarterDistributions
+from rollcontact.line.instationary import OscillatingForce, oscillating_force_chebyshev, quasi_steady_deviation
 from rollcontact_cosim.cli import Progress
 
 HERE = Path(__file__).resolve().parent

@@ -1,30 +1,26 @@
-"""rollcontact: fast, accurate 2D rolling contact of quasi-identical elastic bodies.
+"""rollcontact: fast, accurate rolling contact of quasi-identical elastic bodies (wheel on rail, roller on race),
+for co-simulation.
 
-Conventions (used by every module; docs/physics.md, Conventions)
----------------------------------------------------------
-* 2D plane strain, half-space theory, quasi-identical bodies: the normal problem is solved first, the
-  tangential one on top of it.  Contact modulus ``E* = E / (2 (1 - nu^2))``.
-* SI units.  Quantities of the 2D core are per unit length and named so: ``normal_load_per_length`` N' [N/m],
-  ``tangential_force_per_length`` T' [N/m].
-* ``X`` is the surface-fixed coordinate [m]; the cylinder axis stands above ``X = x_c`` (``axis_position``).
-  Distributions are evaluated at ``x = X - x_c`` [m].  The contact centre is at ``x = Delta``
-  (``contact_offset``), the half-width is ``a``.
-* Material flows through the contact in +x (the cylinder rolls towards -x): the leading edge is
-  ``x = Delta - a`` and the stick zone of steady rolling touches it.
-* ``q`` is the traction the cylinder exerts on the counter-surface; the tangential displacement difference
-  obeys ``du/dx = (2 / (pi E*)) PV-int q(z) / (x - z) dz``; the slip is ``s = xi + du/dx + (1/V) du/dt``
-  and in slip ``q = mu p sign(s)``.  Hence creep xi > 0 gives T' > 0, and Carter's ``a* = a - R xi / mu``.
-* Surface height ``Z(X)`` points towards the cylinder; the undeformed gap is ``(X - x_c)^2 / (2R) - Z(X)``.
+One subpackage per geometry, each of the same shape (a scene, a result type, a ``methods`` folder of fidelity levels
+with their accuracy models, and a dispatcher ``solve`` over its method table), on a shared core:
 
-Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`ContactResult`; for the elliptic (3D)
-contact :class:`EllipticScene`, :func:`solve_elliptic`, :class:`EllipticResult` (:mod:`rollcontact.elliptic`).
+* :mod:`rollcontact.line`: the line (2D) contact, per unit length, by J.B. Nielsen's methods;
+* :mod:`rollcontact.elliptic`: the elliptic (3D) contact with creep and spin, from Kalker's linear theory to his
+  exact theory;
+* :mod:`rollcontact.core`: checks, material, friction laws, the method contract, the dispatch engine, the
+  discretised half-space;
+* :mod:`rollcontact.stepping`: the FMUs' stepping models (parameters -> state, inputs, step -> outputs).
+
+Conventions (docs/physics.md): SI units; per-length quantities of the line contact named so
+(``normal_load_per_length`` N' [N/m]); x the rolling direction; a positive creepage gives a positive force on the
+counter-surface (the rail).
+
+Entry points: :class:`Scene` (and :func:`load_scene`), :func:`solve`, :class:`ContactResult` for the line contact;
+:class:`EllipticScene`, :func:`solve_elliptic`, :class:`EllipticResult` for the elliptic contact.
 """
 
-from rollcontact.closed_form import carter, hertz
-from rollcontact.dispatch import METHODS, choose_method, register_method, solve
-from rollcontact.elliptic import EllipticResult, EllipticScene, HertzEllipse, creepage_coefficients, hertz_ellipse
-from rollcontact.elliptic.dispatch import ELLIPTIC_METHODS, register_elliptic_method, solve_elliptic
-from rollcontact.friction import (
+from rollcontact.core.checks import SceneError
+from rollcontact.core.friction import (
     Coulomb,
     ExponentialFalling,
     FrictionLaw,
@@ -34,8 +30,22 @@ from rollcontact.friction import (
     TabulatedFriction,
     rail_condition,
 )
-from rollcontact.result import ContactResult
-from rollcontact.scene import Harmonic, Material, Scene, SceneError, Surface, load_scene, scene_toml
+from rollcontact.core.materials import Material
+from rollcontact.elliptic import EllipticResult, EllipticScene, HertzEllipse, creepage_coefficients, hertz_ellipse
+from rollcontact.elliptic.dispatch import (
+    METHODS as ELLIPTIC_METHODS,
+)
+from rollcontact.elliptic.dispatch import (
+    register_method as register_elliptic_method,
+)
+from rollcontact.elliptic.dispatch import (
+    solve as solve_elliptic,
+)
+from rollcontact.line.carter import carter
+from rollcontact.line.dispatch import METHODS, choose_method, register_method, solve
+from rollcontact.line.hertz import hertz
+from rollcontact.line.result import ContactResult
+from rollcontact.line.scene import Harmonic, Scene, Surface, load_scene, scene_toml
 
 __version__ = "0.1.0"
 

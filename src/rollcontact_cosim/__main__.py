@@ -59,7 +59,8 @@ def friction_title(contact: dict) -> str:
     table over the FMU's defaults; a ``scene_file`` there is read), e.g. ``"friction: exponential falling mu(v) =
     mu_s [(1 - A) exp(-B v) + A], mu_s = 0.35, A = 0.4, B = 0.6 s/m"``; a ``rail_condition`` is named before its
     law (``"friction: wet rail (Polach 2005), exponential falling ..."``)."""
-    from rollcontact.stepping.parameters import RAIL_CONDITION_CODES, ContactParameters, contact_bodies
+    from rollcontact.stepping.line.parameters import ContactParameters, contact_bodies
+    from rollcontact.stepping.parameters import RAIL_CONDITION_CODES
 
     parameters = ContactParameters(**contact)
     friction = contact_bodies(parameters)[2]

@@ -4,8 +4,8 @@ A scene couples one ``WheelRig`` host FMU and one ``RollingContact2D`` contact F
 model names) through :data:`CONNECTIONS` and says how long, with which macro step and master algorithm to run,
 which variables to record and how closely a rerun must follow the reference result.  Names are checked against
 the models behind the FMUs (:class:`~rollcontact_cosim.wheel_rig.WheelRigParameters`,
-:class:`rollcontact.stepping.parameters.ContactParameters` and their outputs), so loading a scene needs no FMU; values
-are checked by constructing those parameter objects.
+:class:`rollcontact.stepping.line.parameters.ContactParameters` and their outputs), so loading a scene needs no FMU;
+values are checked by constructing those parameter objects.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
 """Host model of the co-simulation: a driven wheel on a rail carrying its share of the vehicle (no FMI here).
 
 The ``WheelRig`` FMU (``fmu_src/wheel_rig_slave.py``) only maps its variables to a :class:`WheelRigModel`, as the
-``RollingContact2D`` FMU does with :class:`rollcontact.stepping.model.ContactModel`; this module imports neither fmpy
-nor pythonfmu and is bundled in the FMU's resources.
+``RollingContact2D`` FMU does with :class:`rollcontact.stepping.line.model.ContactModel`; this module imports neither
+fmpy nor pythonfmu and is bundled in the FMU's resources.
 
 Equations (SI units; T is the tangential force of the rail on the wheel, positive forwards)
 -------------------------------------------------------------------------------------------

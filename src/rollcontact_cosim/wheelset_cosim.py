@@ -9,8 +9,8 @@ integrator of :class:`~rollcontact_cosim.wheelset.WheelsetModel`.  Both contacts
 convention) and the gap curvatures ``A = 1/(2 r0)``, ``B = 1/(2 R_rail)`` (:func:`contact_parameters`).
 
 :class:`LibraryContactLaw` is the contact FMU's model in process (the same
-:class:`rollcontact.stepping.elliptic.EllipticModel`): ``simulate`` with it is the co-simulation bit for bit, which
-``tests/cosim/test_wheelset_cosim.py`` checks.  :func:`cosim_hunting_sweep` is the speed sweep of
+:class:`rollcontact.stepping.elliptic.model.EllipticModel`): ``simulate`` with it is the co-simulation bit for bit,
+which ``tests/cosim/test_wheelset_cosim.py`` checks.  :func:`cosim_hunting_sweep` is the speed sweep of
 :func:`rollcontact_cosim.wheelset_study.hunting_sweep` co-simulated (one task per speed, on dask or in process),
 against the eigenvalues of the wheelset linearised with the contact FMU's own Jacobian at zero creepage.
 :func:`cosimulate_libcosim` runs the same system with libcosim's fixed-step (Jacobi) algorithm, and the sweep runs
@@ -29,7 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rollcontact.stepping.elliptic import EllipticModel, EllipticParameters
+from rollcontact.stepping.elliptic.model import EllipticModel
+from rollcontact.stepping.elliptic.parameters import EllipticParameters
 from rollcontact_cosim.master import Slave
 from rollcontact_cosim.wheelset import HOST, ContactForces, WheelsetParameters
 from rollcontact_cosim.wheelset_stability import critical_speed, klingel_wavelength, least_damped, linearised
@@ -54,7 +55,7 @@ def contact_parameters(parameters: WheelsetParameters, *, rail_profile_radius: f
                        method: int = 1) -> dict:
     """The contact FMU's parameters for the wheelset: one material and law, both contacts with the curvatures
     ``A = 1/(2 r0)`` (rolling radius) and ``B = 1/(2 R_rail)`` (straight cone on a rail head of profile radius
-    ``rail_profile_radius`` [m]); ``method`` a code of :data:`rollcontact.stepping.elliptic.ELLIPTIC_LEVELS`
+    ``rail_profile_radius`` [m]); ``method`` a code of :data:`rollcontact.stepping.elliptic.parameters.METHOD_LEVELS`
     (default 1, the linear theory)."""
     curvatures = (0.5 / parameters.rolling_radius, 0.5 / rail_profile_radius)
     return {"youngs_modulus": youngs_modulus, "poisson_ratio": poisson_ratio,

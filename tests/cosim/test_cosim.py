@@ -16,8 +16,9 @@ from fmpy.fmi1 import FMICallException
 from fmpy.validation import validate_fmu
 from numpy.testing import assert_allclose
 
-from rollcontact.closed_form import carter, hertz
-from rollcontact.scene import Material
+from rollcontact.core.materials import Material
+from rollcontact.line.carter import carter
+from rollcontact.line.hertz import hertz
 from rollcontact_cosim.__main__ import main as main_job
 from rollcontact_cosim.master import Slave, ensure_fmus, run_cosimulation, summarise
 from rollcontact_cosim.reference import compare, read_reference, write_reference

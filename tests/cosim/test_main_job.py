@@ -12,8 +12,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from rollcontact.closed_form import carter, hertz
-from rollcontact.scene import Material
+from rollcontact.core.materials import Material
+from rollcontact.line.carter import carter
+from rollcontact.line.hertz import hertz
 from rollcontact_cosim.__main__ import figure, friction_title
 from rollcontact_cosim.master import CosimResult
 from rollcontact_cosim.scenes import load_cosim_scene

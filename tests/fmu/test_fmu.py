@@ -6,6 +6,7 @@ the one bundled in ``resources/`` (Python caches modules per process); the C hos
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import shutil
 import subprocess
@@ -22,8 +23,9 @@ from fmpy.validation import validate_fmu
 from numpy.testing import assert_allclose
 
 import rollcontact
-from rollcontact.method import MethodSpec
-from rollcontact.stepping import STATIONARY, ContactModel, ContactParameters, StepOutputs
+from rollcontact.core.method import MethodSpec
+from rollcontact.stepping import ContactModel, ContactParameters, StepOutputs
+from rollcontact.stepping.line.parameters import STATIONARY
 
 ROOT = Path(__file__).resolve().parents[2]
 DISCARD = 2
@@ -116,7 +118,8 @@ def test_fmu_validates_and_declares_units_bounds_and_starts(fmu_path, descriptio
     caps = description.coSimulation
     assert caps.canGetAndSetFMUstate and caps.canSerializeFMUstate, "state handling must be declared"
     params = {v.name: v for v in description.modelVariables if v.causality == "parameter"}
-    assert set(params) == set(ContactParameters.__dataclass_fields__), "one FMU parameter per ContactParameters field"
+    assert set(params) == {f.name for f in dataclasses.fields(ContactParameters)}, \
+        "one FMU parameter per ContactParameters field"
     for name, v in params.items():
         default = getattr(ContactParameters(), name)
         start = {"Real": float, "Integer": int, "Enumeration": int, "String": str}[v.type](v.start)
@@ -316,15 +319,14 @@ def test_enumerations_bounds_and_descriptions_say_what_the_model_accepts(descrip
     """method, friction_law, transient and method_used are FMI enumerations with the model's codes; every
     description fits a tooltip; every declared min and max is a value the model accepts, and the next value beyond
     it one it refuses (FMI bounds are inclusive: > 0 is declared as the smallest normal double)."""
-    from rollcontact.stepping.parameters import (
-        FRICTION_LAWS,
+    from rollcontact.stepping.line.parameters import (
         INSTATIONARY_CODES,
         METHOD_NAMES,
-        RAIL_CONDITION_CODES,
         TABLE_CODE,
         TABLE_MODES,
         TRANSIENT_MODES,
     )
+    from rollcontact.stepping.parameters import FRICTION_LAWS, RAIL_CONDITION_CODES
 
     variables = {v.name: v for v in description.modelVariables}
     types = {t.name: {item.value: item.name for item in t.items} for t in description.typeDefinitions}

@@ -15,8 +15,15 @@ from fmpy.fmi1 import FMICallException
 from fmu_checks import assert_fmu_is_valid
 
 from rollcontact import EllipticScene, Material, solve_elliptic
-from rollcontact.friction import Coulomb
-from rollcontact.stepping.elliptic import ELLIPTIC_LEVELS, EllipticModel, EllipticOutputs, EllipticParameters
+from rollcontact.core.friction import Coulomb
+from rollcontact.stepping.elliptic.model import EllipticModel
+from rollcontact.stepping.elliptic.parameters import (
+    METHOD_LEVELS as ELLIPTIC_LEVELS,
+)
+from rollcontact.stepping.elliptic.parameters import (
+    EllipticOutputs,
+    EllipticParameters,
+)
 from rollcontact_cosim.master import Slave
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -77,7 +84,7 @@ def test_the_fmu_is_the_library_bit_for_bit(make, fmi, method):
     slave = make(fmi, method=method)
     p = EllipticParameters(method=method)
     model = EllipticModel(p)
-    name = "auto" if method == 0 else ELLIPTIC_LEVELS[method - 1][0]
+    name = "auto" if method == 0 else ELLIPTIC_LEVELS[method - 1].name
     A, B = p.curvature_longitudinal[0], p.curvature_lateral[0]
     for n, row in enumerate(signal(12)):
         got = step(slave, n * H, [row])

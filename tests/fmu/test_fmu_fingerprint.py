@@ -5,7 +5,7 @@
 pure floating-point arithmetic in Python (closed form, relaxation lag) are compared exactly; the steady paths through
 LAPACK/BLAS (polynomial, discretised) to 1e-12 of each output's scale, because another CPU may take another BLAS
 kernel with another rounding; the discretised transients to 1e-6 of it, because they iterate every substep to their
-iteration tolerance (``rollcontact.halfspace.grid.ITERATION_TOLERANCE``, 1e-9) and carry the state over the run, so
+iteration tolerance (``rollcontact.line.halfspace.grid.ITERATION_TOLERANCE``, 1e-9) and carry the state over the run, so
 another kernel's rounding moves each substep within that tolerance and the differences add up over the run's
 substeps.  On one machine every path repeats bit for bit (``tests/stepping/test_table.py``, the runs with delays).
 """

@@ -11,7 +11,7 @@ import time
 import numpy as np
 from fmpy import simulate_fmu
 
-from rollcontact import dispatch
+from rollcontact.line import dispatch
 
 STEPS, H = 4000, 1e-3
 PARAMETERS = {"friction_law": 1, "friction_coefficient": 0.3, "friction_kinetic_ratio": 0.6,

@@ -3,8 +3,8 @@ longitudinal, lateral and spin creepage, at several fidelity levels behind one d
 
 * :mod:`.scene` (:class:`EllipticScene`), :mod:`.hertz` (Hertz's ellipse), :mod:`.result` (:class:`EllipticResult`),
   :mod:`.creep_coefficients` (Kalker's C11..C33, from the table :mod:`.creep_table`): the data layer;
-* :mod:`.methods`: the fidelity levels, each exporting ``METHOD`` (a :class:`rollcontact.method.MethodSpec`);
-* :mod:`.dispatch`: :func:`solve_elliptic`, the method table and the registry.
+* :mod:`.methods`: the fidelity levels, each exporting ``METHOD`` (a :class:`rollcontact.core.method.MethodSpec`);
+* :mod:`.dispatch`: :func:`~.dispatch.solve`, the method table and the registry.
 
 Conventions in docs/physics.md (Elliptic contact) and :mod:`.scene`; the result reports the forces the wheel exerts
 on the rail.

@@ -19,8 +19,8 @@ from typing import NamedTuple
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from rollcontact.checks import check_real
-from rollcontact.elliptic import creep_table
+import rollcontact.elliptic.creep_table as creep_table
+from rollcontact.core.checks import check_real
 
 __all__ = ["CreepageCoefficients", "aspect_ratio_range", "creepage_coefficients"]
 

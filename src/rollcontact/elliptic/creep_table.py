@@ -1,7 +1,7 @@
 """Kalker's creepage coefficients as a table: the data behind :mod:`rollcontact.elliptic.creep_coefficients`.
 
 Written by ``benchmarks/creep_coefficients.py --write-table`` (do not edit by hand): the discretised 3D solver
-(:mod:`rollcontact.halfspace.rolling3d`) at vanishing creepage, extrapolated to zero element size; the script's
+(:mod:`rollcontact.core.halfspace.rolling`) at vanishing creepage, extrapolated to zero element size; the script's
 results file ``benchmarks/results/creep_coefficients.md`` compares them with Kalker 1990, Table E.3.  Layout:
 ``ASPECT_RATIOS`` (a/b, increasing), ``POISSON_RATIOS`` (increasing), and for each coefficient a tuple per aspect
 ratio of values per Poisson ratio.

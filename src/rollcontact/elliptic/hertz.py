@@ -26,7 +26,7 @@ from functools import lru_cache
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
-from rollcontact.checks import check_real
+from rollcontact.core.checks import check_real
 
 __all__ = ["HertzEllipse", "curvatures_from_radii", "curvatures_from_semi_axes", "hertz_ellipse"]
 

@@ -13,10 +13,10 @@ import math
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 
-from rollcontact.checks import SceneError, check_real
+from rollcontact.core.checks import SceneError, check_real
+from rollcontact.core.friction import Coulomb, FrictionLaw
+from rollcontact.core.materials import Material
 from rollcontact.elliptic.hertz import HertzEllipse, curvatures_from_radii, curvatures_from_semi_axes, hertz_ellipse
-from rollcontact.friction import Coulomb, FrictionLaw
-from rollcontact.scene import Material
 
 __all__ = ["EllipticScene"]
 

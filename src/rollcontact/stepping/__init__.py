@@ -1,28 +1,24 @@
-"""The FMU's stepping model: parameters -> (state, inputs, step) -> outputs, with no FMI tool involved.
+"""The FMUs' stepping models: parameters -> (state, inputs, step) -> outputs, with no FMI tool involved.
 
-* :mod:`.parameters`: the fixed parameters (:class:`ContactParameters`), the outputs of a step
-  (:class:`StepOutputs`) and the codes of the FMU's integer variables;
-* :mod:`.state`: :class:`ModelState`, everything a model remembers between steps (copyable, serialisable);
-* :mod:`.model`: :class:`ContactModel`, one quasi-steady communication step through ``rollcontact.solve`` (or the
-  closed forms directly);
-* :mod:`.transient`: its instationary half, the relaxation lag and the discretised transient switched in and out;
-* :mod:`.table`: when a step answers from a certified table and when the table is built; the tables of
-  :mod:`.falling_table` (falling friction on a flat surface) and :mod:`.corrugation_table` (a one-harmonic
-  corrugation with Coulomb friction), on the interpolation of :mod:`.tabulation`.
+* :mod:`.base`: :class:`SteppingModel`, what every geometry's model shares (messages said once, the explicit state,
+  the budget and tolerance of a step, the checks of a step's arguments), and :class:`ModelError`;
+* :mod:`.parameters`: :class:`ModelParameters`, the validated parameter block every geometry shares (material,
+  friction law, rail condition, method, tolerance, step budget), and the codes of the FMUs' integer variables;
+* :mod:`.line`: the line contact's model (:class:`ContactModel`, several contacts :class:`ContactModels`), its
+  instationary half and its certified tables;
+* :mod:`.elliptic`: the elliptic contact's model (:class:`EllipticModel`, one or several contacts);
+* :mod:`.threads`: one BLAS thread while a model steps.
 """
 
-from rollcontact.stepping.model import ContactModel, mirrored
-from rollcontact.stepping.parameters import (
-    AUTO,
-    METHOD_LEVELS,
-    METHOD_NAMES,
-    OPTION_NAMES,
-    STATIONARY,
-    ContactParameters,
-    ModelError,
-    StepOutputs,
-)
-from rollcontact.stepping.state import ModelState
+from rollcontact.stepping.base import ModelError, SteppingModel
+from rollcontact.stepping.elliptic.model import EllipticModel, EllipticState
+from rollcontact.stepping.elliptic.parameters import EllipticOutputs, EllipticParameters
+from rollcontact.stepping.line.contacts import ContactModels
+from rollcontact.stepping.line.model import ContactModel
+from rollcontact.stepping.line.parameters import ContactParameters, StepOutputs
+from rollcontact.stepping.line.state import ModelState
+from rollcontact.stepping.parameters import ModelParameters
 
-__all__ = ["AUTO", "METHOD_LEVELS", "METHOD_NAMES", "OPTION_NAMES", "STATIONARY", "ContactModel", "ContactParameters",
-           "ModelError", "ModelState", "StepOutputs", "mirrored"]
+__all__ = ["ContactModel", "ContactModels", "ContactParameters", "EllipticModel", "EllipticOutputs",
+           "EllipticParameters", "EllipticState", "ModelError", "ModelParameters", "ModelState", "StepOutputs",
+           "SteppingModel"]

@@ -291,9 +291,9 @@ def test_cross_coefficient_against_the_half_space_influence(ratio):
     elements, G = 1 Pa), is ``K x y`` on the ellipse; the strips' closed form gives ``phi_c = -K`` per unit Fy.
     Tolerance 0.5 % (the grid's error of the fitted slope, 0.05 % measured); the circle also against Johnson's
     ``K = pi nu q0 / (8 G a)`` to 1e-12."""
+    from rollcontact.core.halfspace.rolling import ellipse_grid, hertz_pressure
+    from rollcontact.core.halfspace.surface import operator_for
     from rollcontact.elliptic.methods.strips import cross_coefficient
-    from rollcontact.halfspace.rolling3d import ellipse_grid, hertz_pressure
-    from rollcontact.halfspace.surface3d import operator_for
 
     s = scene(6e-3, 6e-3 / ratio)
     h, nu = s.hertz, s.material.poisson_ratio

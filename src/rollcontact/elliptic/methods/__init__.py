@@ -1,5 +1,5 @@
 """The elliptic fidelity levels: each module solves a steady elliptic scene one way and exports ``METHOD``, its
-:class:`~rollcontact.method.MethodSpec` (solver, applicability, rank, accuracy model), which the method table of
+:class:`~rollcontact.core.method.MethodSpec` (solver, applicability, rank, accuracy model), which the method table of
 :mod:`rollcontact.elliptic.dispatch` lists.
 
 * :mod:`~rollcontact.elliptic.methods.linear`: Kalker's linear theory (the creepage coefficients);

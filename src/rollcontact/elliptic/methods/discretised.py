@@ -5,7 +5,7 @@ The ellipse's ``2a x 2b`` is covered by ``nx x ny`` elements (``elements``, 60 x
 Hertz's sampled at the element centres and scaled to the load (``normal="hertz"``), or the discretised normal
 problem on the gap ``A x^2 + B y^2`` (``normal="discretised"``, three elements of margin around the ellipse): on the
 tangential forces the two differ by far less than the discretisation error (``tests/halfspace/test_rolling3d.py``).
-The tangential problem is :func:`rollcontact.halfspace.rolling3d.solve_steady` (steady slip with the upwind rolling
+The tangential problem is :func:`rollcontact.core.halfspace.rolling.solve_steady` (steady slip with the upwind rolling
 operator, semismooth Newton with FFT-preconditioned GMRES, Coulomb or velocity-dependent friction), on the rigid
 slip ``w = (xi - phi y, eta + phi x)``.  Forces are those the wheel exerts on the rail (docs/physics.md).
 
@@ -21,10 +21,7 @@ import math
 
 import numpy as np
 
-from rollcontact.elliptic.methods.common import no_load
-from rollcontact.elliptic.result import EllipticResult, TractionField
-from rollcontact.elliptic.scene import EllipticScene
-from rollcontact.halfspace.rolling3d import (
+from rollcontact.core.halfspace.rolling import (
     NEWTON_ITERATIONS,
     ellipse_grid,
     hertz_pressure,
@@ -32,8 +29,11 @@ from rollcontact.halfspace.rolling3d import (
     solve_steady,
     total_forces,
 )
-from rollcontact.halfspace.surface3d import MAX_ELEMENTS_3D, MIN_ELEMENTS_3D, operator_for
-from rollcontact.method import AccuracyModel, MethodSpec
+from rollcontact.core.halfspace.surface import MAX_ELEMENTS_3D, MIN_ELEMENTS_3D, operator_for
+from rollcontact.core.method import AccuracyModel, MethodSpec
+from rollcontact.elliptic.methods.common import no_load
+from rollcontact.elliptic.result import EllipticResult, TractionField
+from rollcontact.elliptic.scene import EllipticScene
 
 DEFAULT_ELEMENTS = 60
 """Elements across 2a and across 2b."""

@@ -26,10 +26,10 @@ import math
 
 import numpy as np
 
-from rollcontact.checks import check_real
+from rollcontact.core.checks import check_real
+from rollcontact.core.method import AccuracyModel, MethodSpec
 from rollcontact.elliptic.methods.common import coefficients, linear_ratio, no_load, outside_table, poisson_excess
 from rollcontact.elliptic.result import EllipticResult, TractionField
-from rollcontact.method import AccuracyModel, MethodSpec
 
 BOUNDS = ("elliptic", "parabolic")
 

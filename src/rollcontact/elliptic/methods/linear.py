@@ -8,9 +8,9 @@ accuracy model says.
 
 from __future__ import annotations
 
+from rollcontact.core.method import AccuracyModel, MethodSpec, Setting
 from rollcontact.elliptic.methods.common import coefficients, linear_forces, linear_ratio, no_load, outside_table
 from rollcontact.elliptic.result import EllipticResult
-from rollcontact.method import AccuracyModel, MethodSpec, Setting
 
 TABLE_ERROR = 0.01
 """Relative error [1] of the interpolated creepage coefficients (the table's three digits and its interpolation

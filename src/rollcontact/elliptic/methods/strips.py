@@ -82,14 +82,15 @@ from functools import lru_cache
 
 import numpy as np
 
-from rollcontact.checks import check_real
-from rollcontact.dispatch import solve as solve_2d
+from rollcontact.core.checks import check_real
+from rollcontact.core.materials import Material
+from rollcontact.core.method import AccuracyModel, MethodSpec
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.methods.common import coefficients, linear_ratio, no_load, outside_table, poisson_excess
 from rollcontact.elliptic.methods.fastsim import blended
 from rollcontact.elliptic.result import EllipticResult, TractionField
-from rollcontact.method import AccuracyModel, MethodSpec
-from rollcontact.scene import Material, Scene
+from rollcontact.line.dispatch import solve as solve_2d
+from rollcontact.line.scene import Scene
 
 DEFAULT_STRIPS = 24
 DEFAULT_STEPS = 20

@@ -1,0 +1,369 @@
+"""Stepping model of the elliptic (3D) contact for co-simulation: parameters -> (state, inputs, step) -> outputs.
+
+The library half of the ``RollingContact3D`` FMU (``fmu_src/rollcontact_fmu_contact3d.py`` maps its variables here
+and back, nothing else): one or several wheel/rail contacts of one material and friction law, each with its own gap
+curvatures, stepped together.
+
+* :class:`~rollcontact.stepping.elliptic.parameters.EllipticParameters` holds the fixed parameters (FMU parameters
+  of the same names; the curvatures one per contact) and checks them all at once;
+* :class:`EllipticModel` evaluates one communication step, :meth:`EllipticModel.step`: for each contact the steady
+  elliptic contact of the inputs sampled at ``t_n`` through :func:`rollcontact.solve_elliptic`, with the parameters'
+  method, tolerance and step budget (the budget bounds each contact's solve in modelled seconds: no clock is read,
+  so every output is a function of parameters and inputs alone);
+* :class:`EllipticState` is what the model remembers: the last communication point and the number of steps.  The
+  steady contact has no history, so a restored state repeats the steps bit for bit.
+
+Signs (docs/physics.md, Elliptic contact): the forces and moment are those the wheel exerts on the rail, so each
+creepage > 0 gives its force > 0; in Kalker's linear theory ``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23
+phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab).
+
+Jacobian: the outputs ``dFx_dxi`` ... ``dMz_dphi`` are d(Fx, Fy, Mz)/d(xi, eta, phi) at the step's contact.  With
+``jacobian`` = 0 they are the linear theory's slopes at the step's ellipse (the derivatives of the relations above:
+exact for the linear level and at vanishing creepage, the stiffness an implicit host linearises with; they do not
+fall with saturation); with ``jacobian`` = 1 forward differences of the step's own method, three more solves per
+contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation value (``mu Fn`` over the linear
+slope), each within the step budget; the linear level's derivatives are its slopes in either mode (exact).
+
+Contacts together: with ``method`` = linear (and no tolerance) the step evaluates the linear theory of every contact
+without a solver call (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse`
+and the linear level take for one contact; with ``method`` = strips (no tolerance, Coulomb friction, the cost with
+spin within the budget) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
+(:meth:`EllipticModel.strips_step`).  Each contact's outputs are bit for bit those of
+:func:`rollcontact.solve_elliptic`; the other levels solve the contacts one after another through it.
+
+Frictional power: ``V (xi Fx + eta Fy + phi Mz)`` [W], the power the creepages put into the contact (the rigid slip
+velocities times the forces on the rail), which steady rolling dissipates by slip.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from rollcontact.core.materials import Material
+from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
+from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
+from rollcontact.elliptic.dispatch import solve as solve_elliptic
+from rollcontact.elliptic.methods.strips import solve_strips_many
+from rollcontact.elliptic.scene import EllipticScene
+from rollcontact.stepping.base import ModelError, SteppingModel, argument_problems, time_problems
+from rollcontact.stepping.elliptic.linear import LinearContacts
+from rollcontact.stepping.elliptic.parameters import (
+    INPUTS,
+    LEVEL_CODES,
+    METHOD_NAMES,
+    NO_STICK,
+    ZERO,
+    EllipticOutputs,
+    EllipticParameters,
+    method_code,
+)
+from rollcontact.stepping.parameters import AUTO, friction_law
+
+__all__ = ["DIFFERENCE_STEP", "EllipticModel", "EllipticState"]
+
+DIFFERENCE_STEP = 1e-4
+"""Increment of a forward difference, as a share of the creepage's saturation value ``mu Fn / slope`` [1]: small
+against the curvature of the creep-force curves (which bend over the saturation value), large against the rounding
+of the forces (1e-16 of mu Fn)."""
+
+
+
+
+
+
+
+
+
+
+
+
+
+
+
+
+
+@dataclass
+class EllipticState:
+    """What an :class:`EllipticModel` remembers between steps: the last communication point [s] and the steps taken
+    (the steady contact has no other history)."""
+
+    time: float
+    steps: int = 0
+
+    @classmethod
+    def initial(cls, start_time: float) -> EllipticState:
+        """The state at ``start_time`` [s] before any step."""
+        return cls(float(start_time))
+
+    def copy(self) -> EllipticState:
+        return EllipticState(self.time, self.steps)
+
+    def to_dict(self) -> dict:
+        """A JSON-compatible dict (:meth:`parse` reads it back)."""
+        return {"version": 1, "time": self.time, "steps": self.steps}
+
+    @classmethod
+    def parse(cls, data) -> EllipticState:
+        """The state of :meth:`to_dict`'s dict, every field checked (ModelError naming the first problem)."""
+        if not isinstance(data, dict) or set(data) != {"version", "time", "steps"}:
+            keys = sorted(map(str, data)) if isinstance(data, dict) else type(data).__name__
+            raise ModelError(f"an elliptic model state has exactly the keys version, time, steps; got {keys}")
+        if data["version"] != 1 or type(data["version"]) is not int:
+            raise ModelError(f"elliptic model state version {data['version']!r} is not supported (this reads 1)")
+        time, steps = data["time"], data["steps"]
+        if type(time) not in (int, float) or not math.isfinite(time):
+            raise ModelError(f"elliptic model state time = {time!r} must be a finite real number")
+        if type(steps) is not int or steps < 0:
+            raise ModelError(f"elliptic model state steps = {steps!r} must be a whole number >= 0")
+        return cls(float(time), steps)
+
+
+class EllipticModel(SteppingModel):
+    """n elliptic contacts of one material and friction law stepped together (module docstring).
+
+    Parameters
+    ----------
+    parameters : EllipticParameters
+        The fixed parameters (default: one contact of the defaults).
+    start_time : float
+        The first communication point [s].
+
+    Raises
+    ------
+    ModelError
+        The material or friction law is invalid, or a contact's ellipse is one the chosen method cannot treat
+        (e.g. a/b outside the creepage-coefficient table); the message names the contact.
+    """
+
+    STATE = EllipticState
+
+    def __init__(self, parameters: EllipticParameters | None = None, *, start_time: float = 0.0):
+        p = EllipticParameters() if parameters is None else parameters
+        if not isinstance(p, EllipticParameters):
+            raise TypeError(f"parameters must be EllipticParameters, got {type(p).__name__}")
+        super().__init__(p)
+        try:
+            self.material = Material(p.youngs_modulus, p.poisson_ratio)
+            self.friction = friction_law(p)
+        except ValueError as exc:
+            raise ModelError(str(exc)) from None
+        self.method = "auto" if p.method == AUTO else METHOD_NAMES[p.method]
+        self.curvatures = tuple(zip(p.curvature_longitudinal, p.curvature_lateral, strict=True))
+        self.shear_modulus = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
+        problems = [why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None]
+        if problems:
+            raise ModelError("; ".join(problems))
+        self.batch = LinearContacts(self) if self.method == "linear" and self.tolerance is None and \
+            self.fits_budget("linear") else None
+        """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
+        self.strips_together = self.method == "strips" and self.tolerance is None and self.friction.is_constant \
+            and p.contacts > 1 and self.fits_budget("strips", spin=True)
+        """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`, bit
+        for bit each contact's solve; one contact goes through solve_elliptic, whose strips are the same code)."""
+        self.notices: tuple[str, ...] = ()
+        """Messages worth showing once at initialisation (none: every parameter is used)."""
+        self.reset(start_time)
+
+    @property
+    def contacts(self) -> int:
+        return self.parameters.contacts
+
+    def fits_budget(self, method: str, spin: bool = False) -> bool:
+        """Whether the level's modelled cost (with spin: its cost with spin) fits the step budget (else each contact's
+        solve is left to solve_elliptic, which refuses or takes a cheaper setting)."""
+        spec = ELLIPTIC_METHODS[method]
+        A, B = self.curvatures[0]
+        scene = EllipticScene(1.0, A, B, spin_creepage=1.0 if spin else 0.0, material=self.material,
+                              friction=self.friction)
+        return self.budget is None or spec.accuracy is None or spec.accuracy.cost(scene, {}) <= self.budget
+
+    def label(self, k: int) -> str:
+        """``"contact k: "`` (k from 1) with several contacts, else ``""``: the prefix of a contact's messages."""
+        return f"contact {k + 1}: " if self.contacts > 1 else ""
+
+    def inapplicable(self, k: int) -> str | None:
+        """Why contact ``k`` (from 0) cannot be solved by the method at any load (its ellipse's a/b is that of every
+        load), or None."""
+        A, B = self.curvatures[k]
+        scene = EllipticScene(1.0, A, B, material=self.material, friction=self.friction)
+        if self.method == "auto":
+            reasons = [f"{s.name}: {why}" for s in ELLIPTIC_METHODS.values() if (why := s.inapplicable(scene))]
+            if len(reasons) < len(ELLIPTIC_METHODS):
+                return None
+            why = "no elliptic method can solve it (" + "; ".join(reasons) + ")"
+        else:
+            spec = ELLIPTIC_METHODS.get(self.method)
+            if spec is None:
+                return f"method {self.method!r} is not registered in rollcontact.ELLIPTIC_METHODS"
+            why = spec.inapplicable(scene)
+            if why is None:
+                return None
+        low, high = aspect_ratio_range()
+        return (f"{self.label(k)}curvatures A = {A!r}, B = {B!r} 1/m: {why} (a/b = {scene.hertz.aspect_ratio:.4g}; "
+                f"the creepage-coefficient table serves a/b in [{low:g}, {high:g}])")
+
+    # stepping ---------------------------------------------------------------------------------------------------
+    def step(self, current_time: float, step_size: float, inputs) -> tuple[EllipticOutputs, ...]:
+        """Evaluate every contact for the inputs sampled at ``current_time``.
+
+        Parameters
+        ----------
+        current_time : float
+            Communication point t_n [s], not before the previous one.
+        step_size : float
+            h [s] > 0.
+        inputs : sequence
+            Per contact ``(normal_load [N] >= 0, longitudinal_creep [1], lateral_creep [1], spin [1/m],
+            velocity [m/s] >= 0)``, all finite.
+
+        Returns
+        -------
+        tuple of EllipticOutputs
+            One per contact.
+
+        Raises
+        ------
+        ModelError
+            Invalid inputs (every one named, with its contact), time going backwards, or a contact no allowed
+            method solves within the budget.  The state is then unchanged.
+        """
+        inf = math.inf
+        try:  # five real numbers per contact (a row of another length or type: the problems are listed below)
+            rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v in inputs]
+        except (TypeError, ValueError):
+            rows = None
+        valid = rows is not None and len(rows) == self.contacts and 0.0 < step_size < inf and -inf < current_time < inf
+        for fn, xi, eta, phi, v in rows if valid else ():
+            if not (0.0 <= fn < inf and -inf < xi < inf and -inf < eta < inf and -inf < phi < inf and 0.0 <= v < inf):
+                valid = False
+                break
+        if not valid:
+            raise ModelError("; ".join(self.input_problems(current_time, step_size, inputs)) or
+                             f"invalid step inputs {inputs!r}")
+        if current_time < self.state.time:
+            raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
+                             f"{self.state.time!r} s; restore a saved state to step from an earlier time")
+        if self.batch is not None:
+            outputs = self.batch.step(rows)
+        elif self.strips_together:
+            outputs = self.strips_step(rows)
+        else:
+            outputs = tuple(self.contact_step(k, *(float(v) for v in row)) for k, row in enumerate(inputs))
+        self.state.time = float(current_time)
+        self.state.steps += 1
+        return outputs
+
+    def input_problems(self, current_time, step_size, inputs) -> list[str]:
+        """Every invalid step argument: what, which value, which limit (with its contact)."""
+        problems = time_problems(current_time, step_size)
+        if len(inputs) != self.contacts:
+            return [*problems, f"{len(inputs)} input rows for {self.contacts} contacts"]
+        for k, row in enumerate(inputs):
+            problems += argument_problems(((name, value, unit, lower, False)
+                                           for (name, unit, lower), value in zip(INPUTS, row, strict=True)),
+                                          self.label(k))
+        return problems
+
+    def scene(self, k: int, normal_load: float, xi: float, eta: float, phi: float, velocity: float) -> EllipticScene:
+        """The scene of contact ``k`` (from 0) for the inputs."""
+        A, B = self.curvatures[k]
+        return EllipticScene(normal_load, A, B, xi, eta, phi, self.material, self.friction, velocity)
+
+    def solved(self, k: int, scene: EllipticScene, method: str):
+        """:func:`rollcontact.solve_elliptic` of the scene with the parameters' tolerance and budget; ModelError
+        (naming the contact) when it fails."""
+        try:
+            result = solve_elliptic(scene, method, tolerance=self.tolerance, budget=self.budget)
+        except ValueError as exc:
+            raise ModelError(f"{self.label(k)}{exc}") from None
+        if not result.success:
+            raise ModelError(f"{self.label(k)}{result.method} failed: {result.message}")
+        if result.info.get("tolerance_met") is False:
+            self.notice_once(f"tolerance {k}", f"{self.label(k)}the tolerance {self.tolerance!r} is not met within "
+                             f"the step budget {self.budget!r} s: {result.method}'s error estimate is "
+                             f"{result.info.get('error_estimate')!r} (said once)")
+        return result
+
+    def contact_step(self, k: int, normal_load: float, xi: float, eta: float, phi: float,
+                     velocity: float) -> EllipticOutputs:
+        """The outputs of contact ``k`` (from 0) for its inputs (module docstring)."""
+        if normal_load == 0.0:
+            return ZERO
+        scene = self.scene(k, normal_load, xi, eta, phi, velocity)
+        result = self.solved(k, scene, self.method)
+        forces = (result.longitudinal_force, result.lateral_force, result.spin_moment)
+        if not all(map(math.isfinite, forces)):
+            raise ModelError(f"{self.label(k)}{result.method} returned non-finite forces {forces!r}")
+        slopes = self.linear_slopes(scene)
+        if self.parameters.jacobian == 1 and method_code(result.method) != LEVEL_CODES["linear"]:
+            jacobian = self.differences(k, scene, result, forces, slopes)
+        else:
+            jacobian = tuple(v for row in slopes for v in row)
+        stick = result.info.get("stick_fraction", NO_STICK)
+        power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
+        return EllipticOutputs(*forces, result.a, result.b, result.max_pressure, float(stick), power, *jacobian,
+                               method_code(result.method))
+
+    def strips_step(self, rows) -> tuple[EllipticOutputs, ...]:
+        """Every loaded contact's strips in one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with
+        ``jacobian`` = difference also the three shifted scenes of each), the outputs as :meth:`contact_step` makes
+        them from each contact's own solve."""
+        loaded = [k for k, row in enumerate(rows) if row[0] != 0.0]
+        scenes = [self.scene(k, *rows[k]) for k in loaded]
+        slopes = [self.linear_slopes(scene) for scene in scenes]
+        shifted = []
+        if self.parameters.jacobian == 1:
+            for scene, slope in zip(scenes, slopes, strict=True):
+                shifted += [scene.replace(**{name: scene.creepages[j] + delta})
+                            for j, name, delta in self.increments(scene, slope)]
+        results = solve_strips_many(scenes + shifted)
+        outputs = [ZERO] * len(rows)
+        for i, (k, scene) in enumerate(zip(loaded, scenes, strict=True)):
+            result = results[i]
+            forces = (result.longitudinal_force, result.lateral_force, result.spin_moment)
+            if self.parameters.jacobian == 1:
+                others = results[len(scenes) + 3 * i:len(scenes) + 3 * i + 3]
+                columns = [[(v - f) / delta for v, f in zip((r.longitudinal_force, r.lateral_force, r.spin_moment),
+                                                            forces, strict=True)]
+                           for r, (_, _, delta) in zip(others, self.increments(scene, slopes[i]), strict=True)]
+                jacobian = tuple(columns[j][m] for m in range(3) for j in range(3))
+            else:
+                jacobian = tuple(v for row in slopes[i] for v in row)
+            xi, eta, phi, velocity = rows[k][1:]
+            power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
+            outputs[k] = EllipticOutputs(*forces, result.a, result.b, result.max_pressure, NO_STICK, power, *jacobian,
+                                         LEVEL_CODES["strips"])
+        return tuple(outputs)
+
+    def increments(self, scene: EllipticScene, slopes):
+        """``(index, creepage name, increment)`` of the forward differences (:meth:`differences`)."""
+        limit = scene.friction_coefficient * scene.normal_load
+        return [(j, name, DIFFERENCE_STEP * (limit * (scene.hertz.c if j == 2 else 1.0) / slopes[j][j]))
+                for j, name in enumerate(("longitudinal_creepage", "lateral_creepage", "spin_creepage"))]
+
+    def linear_slopes(self, scene: EllipticScene) -> tuple[tuple[float, float, float], ...]:
+        """The linear theory's d(Fx, Fy, Mz)/d(xi, eta, phi) at the scene's ellipse: ``G c^2 C11``, ``G c^2 C22``,
+        ``G c^3 C23`` (Fy of phi), ``-G c^3 C23`` (Mz of eta), ``G c^4 C33``, the others 0 (module docstring)."""
+        h = scene.hertz
+        c = creepage_coefficients(h.aspect_ratio, scene.material.poisson_ratio)
+        length = h.c
+        area = self.shear_modulus * length * length
+        return ((area * c.c11, 0.0, 0.0),
+                (0.0, area * c.c22, area * length * c.c23),
+                (0.0, -area * length * c.c23, area * length * length * c.c33))
+
+    def differences(self, k: int, scene: EllipticScene, result, forces, slopes) -> tuple[float, ...]:
+        """Forward differences of the step's method (``result.method``) in each creepage, row-major (Fx, Fy, Mz) x
+        (xi, eta, phi); the increment :data:`DIFFERENCE_STEP` times ``mu Fn / slope`` (``mu Fn c`` for phi)."""
+        creepages = scene.creepages
+        columns = []
+        for j, name, delta in self.increments(scene, slopes):
+            shifted = self.solved(k, scene.replace(**{name: creepages[j] + delta}), result.method)
+            values = (shifted.longitudinal_force, shifted.lateral_force, shifted.spin_moment)
+            columns.append([(values[i] - forces[i]) / delta for i in range(3)])
+        return tuple(columns[j][i] for i in range(3) for j in range(3))
+
+
+
+

@@ -1,0 +1,203 @@
+"""The elliptic stepping model (rollcontact.stepping.elliptic.parameters): parameters checked all at once, the library's
+answer per contact, signs, the Jacobian against differences of the linear theory and of the level, frictional power,
+budget, state and repeatability."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rollcontact import EllipticScene, Material, solve_elliptic
+from rollcontact.core.friction import Coulomb
+from rollcontact.elliptic.dispatch import BUILTIN
+from rollcontact.stepping import ModelError
+from rollcontact.stepping.elliptic.model import EllipticModel, EllipticState
+from rollcontact.stepping.elliptic.parameters import (
+    METHOD_LEVELS as ELLIPTIC_LEVELS,
+)
+from rollcontact.stepping.elliptic.parameters import (
+    NO_STICK,
+    EllipticParameters,
+)
+from rollcontact.stepping.elliptic.parameters import (
+    method_code as level_code,
+)
+
+H = 1e-3
+ROW = (1e5, 1e-3, -5e-4, 0.2, 30.0)  # Fn [N], xi, eta, phi [1/m], V [m/s]
+
+
+def jacobian(outputs) -> np.ndarray:
+    return np.reshape(outputs[8:17], (3, 3))
+
+
+def test_every_builtin_elliptic_method_has_a_code():
+    for spec in BUILTIN:
+        assert level_code(spec.name) > 0, f"{spec.name} has no FMU code in ELLIPTIC_LEVELS"
+    assert [level.name for level in ELLIPTIC_LEVELS] == ["linear", "fastsim", "strips", "discretised"], \
+        "codes are append only"
+
+
+def test_invalid_parameters_are_named_all_at_once():
+    with pytest.raises(ModelError) as caught:
+        EllipticParameters(youngs_modulus=0.0, poisson_ratio=0.5, friction_law=9, method=-1, jacobian=2,
+                           curvature_longitudinal=(1.0, -2.0), curvature_lateral=(1.0, math.nan), step_budget=-1.0)
+    message = str(caught.value)
+    for part in ("youngs_modulus = 0.0 is out of range: it must be > 0", "poisson_ratio = 0.5 is out of range",
+                 "friction_law = 9", "method = -1", "jacobian = 2", "curvature_longitudinal[2] = -2.0 1/m",
+                 "curvature_lateral[2] = nan", "step_budget = -1.0"):
+        assert part in message, f"{part!r} missing from {message!r}"
+    with pytest.raises(ModelError, match="one curvature of each per contact"):
+        EllipticParameters(curvature_longitudinal=(1.0, 2.0), curvature_lateral=(1.0,))
+
+
+@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+def test_each_contact_is_solve_elliptic_bit_for_bit(method):
+    curvatures = ((1.087, 1.667), (2.5, 1.2))
+    p = EllipticParameters(curvature_longitudinal=tuple(c[0] for c in curvatures),
+                           curvature_lateral=tuple(c[1] for c in curvatures), method=method)
+    rows = [ROW, (5e4, -2e-3, 1e-3, -0.5, 10.0)]
+    outputs = EllipticModel(p).step(0.0, H, rows)
+    name = "auto" if method == 0 else ELLIPTIC_LEVELS[method - 1].name
+    for k, (row, (A, B)) in enumerate(zip(rows, curvatures, strict=True)):
+        r = solve_elliptic(EllipticScene(row[0], A, B, *row[1:4], Material(), Coulomb(0.3), row[4]), name,
+                           budget=p.step_budget)
+        assert outputs[k][:6] == (r.longitudinal_force, r.lateral_force, r.spin_moment, r.a, r.b, r.max_pressure), \
+            f"contact {k + 1}"
+        assert outputs[k].method_used == level_code(r.method)
+        assert outputs[k].stick_fraction == r.info.get("stick_fraction", NO_STICK)
+
+
+@pytest.mark.parametrize("method", (1, 3))
+@pytest.mark.parametrize("component", range(3))
+def test_each_creepage_above_zero_gives_its_force_above_zero(method, component):
+    row = [1e5, 0.0, 0.0, 0.0, 20.0]
+    row[1 + component] = (1e-4, 1e-4, 0.05)[component]
+    out = EllipticModel(EllipticParameters(method=method)).step(0.0, H, [row])[0]
+    assert out[component] > 0.0, f"{('xi', 'eta', 'phi')[component]} > 0 gives {out[:3]}"
+
+
+def test_linear_slopes_are_the_derivatives_of_the_linear_theory():
+    """The linear level is linear: a central difference of it is its slope to rounding."""
+    model = EllipticModel(EllipticParameters(method=1))
+    slopes = jacobian(model.step(0.0, H, [ROW])[0])
+    steps = (1e-6, 1e-6, 1e-3)
+    for j in range(3):
+        up, down = list(ROW), list(ROW)
+        up[1 + j] += steps[j]
+        down[1 + j] -= steps[j]
+        difference = (np.array(model.step(0.0, H, [up])[0][:3]) - np.array(model.step(0.0, H, [down])[0][:3])) / (
+            2 * steps[j])
+        scale = np.abs(slopes[:, j]).max()
+        assert np.allclose(difference, slopes[:, j], rtol=0, atol=1e-7 * scale), f"column {j}: {difference}"
+    assert slopes[0, 1] == slopes[0, 2] == slopes[1, 0] == slopes[2, 0] == 0.0
+    assert slopes[2, 1] == -slopes[1, 2], "Mz of eta is minus Fy of phi (G c^3 C23)"
+
+
+def test_the_difference_jacobian_falls_with_saturation_and_meets_the_slope_at_zero():
+    linear = jacobian(EllipticModel(EllipticParameters(method=3)).step(0.0, H, [(1e5, 0, 0, 0, 20.0)])[0])
+    near_zero = jacobian(EllipticModel(EllipticParameters(method=3, jacobian=1)).step(
+        0.0, H, [(1e5, 0.0, 0.0, 0.0, 20.0)])[0])
+    for i in range(2):
+        assert abs(near_zero[i, i] / linear[i, i] - 1.0) < 0.01, \
+            f"strips reproduce the linear theory at vanishing creepage: {near_zero[i, i]} against {linear[i, i]}"
+    saturated = jacobian(EllipticModel(EllipticParameters(method=3, jacobian=1)).step(
+        0.0, H, [(1e5, 0.05, 0.0, 0.0, 20.0)])[0])
+    assert 0.0 <= saturated[0, 0] < 0.01 * linear[0, 0], f"full slip: dFx/dxi {saturated[0, 0]} about 0"
+
+
+@pytest.mark.parametrize("method", (2, 3))
+def test_frictional_power_is_the_creepage_power_and_not_negative(method):
+    model = EllipticModel(EllipticParameters(method=method))
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        row = (1e5, *rng.normal(0.0, 2e-3, 2), rng.normal(0.0, 0.5), 25.0)
+        out = model.step(0.0, H, [row])[0]
+        power = row[4] * (row[1] * out[0] + row[2] * out[1] + row[3] * out[2])
+        assert out.frictional_power == power
+        assert power >= -1e-9 * row[4] * 0.3 * row[0] * 1e-3, f"dissipation >= 0: {power} W at {row}"
+
+
+def test_no_load_is_no_contact():
+    out = EllipticModel(EllipticParameters()).step(0.0, H, [(0.0, 1e-3, 1e-3, 1.0, 10.0)])[0]
+    assert tuple(out) == (0.0,) * 17 + (0,)
+
+
+def test_a_budget_below_the_cheapest_setting_refuses_the_step_naming_the_contact():
+    model = EllipticModel(EllipticParameters(method=2, step_budget=1e-9, curvature_longitudinal=(1.0, 1.0),
+                                             curvature_lateral=(1.0, 1.0)))
+    with pytest.raises(ModelError, match="contact 1: .*budget"):
+        model.step(0.0, H, [ROW, ROW])
+    assert model.state.steps == 0, "a refused step changes nothing"
+
+
+def test_bad_inputs_are_named_with_their_contact_and_change_nothing():
+    model = EllipticModel(EllipticParameters(curvature_longitudinal=(1.0, 1.0), curvature_lateral=(1.0, 1.0)))
+    with pytest.raises(ModelError) as caught:
+        model.step(0.0, H, [ROW, (-1.0, math.nan, 0.0, 0.0, -2.0)])
+    message = str(caught.value)
+    for part in ("contact 2: normal_load = -1.0 N", "contact 2: longitudinal_creep = nan",
+                 "contact 2: velocity = -2.0 m/s"):
+        assert part in message, message
+    assert "contact 1" not in message and model.state.steps == 0
+
+
+def test_a_restored_state_repeats_the_steps_and_a_bad_state_is_refused():
+    model = EllipticModel(EllipticParameters())
+    model.step(0.0, H, [ROW])
+    saved = EllipticState.parse(model.get_state().to_dict())
+    first = [model.step(n * H, H, [ROW]) for n in range(1, 4)]
+    model.set_state(saved)
+    assert [model.step(n * H, H, [ROW]) for n in range(1, 4)] == first
+    with pytest.raises(ModelError, match="time going|lies before"):
+        model.step(0.0, H, [ROW])
+    for bad in ({"version": 1, "time": math.nan, "steps": 0}, {"version": 1, "time": 0.0, "steps": -1},
+                {"version": 2, "time": 0.0, "steps": 0}, {"time": 0.0}):
+        with pytest.raises(ModelError):
+            EllipticState.parse(bad)
+
+
+def test_the_contacts_linear_theory_together_is_each_contact_alone_bit_for_bit():
+    """LinearContacts (numpy over the contacts) against the per-contact path through solve_elliptic, every output,
+    over loads from 0 to 2e5 N, both orientations of the ellipse and creepages of either sign."""
+    rng = np.random.default_rng(7)
+    curvatures = ((1.087, 1.667), (2.5, 1.2), (0.9, 4.0), (3.0, 3.0), (1.0, 1.0 + 1e-12))
+    p = EllipticParameters(method=1, curvature_longitudinal=tuple(c[0] for c in curvatures),
+                           curvature_lateral=tuple(c[1] for c in curvatures))
+    together = EllipticModel(p)
+    alone = EllipticModel(p)
+    alone.batch = None
+    assert together.batch is not None, "the linear level is evaluated over the contacts together"
+    for n in range(30):
+        rows = [(float(rng.choice([0.0, rng.uniform(1e3, 2e5)])), *rng.normal(0, 2e-3, 2), float(rng.normal(0, 0.5)),
+                 float(rng.uniform(0, 40))) for _ in curvatures]
+        assert together.step(n * H, H, rows) == alone.step(n * H, H, rows), f"step {n}: {rows}"
+
+
+@pytest.mark.parametrize("jacobian", (0, 1))
+def test_the_contacts_strips_together_are_each_contact_alone_bit_for_bit(jacobian):
+    """The strips of every contact in one solve_strips_many against each contact through solve_elliptic, every
+    output, with and without spin, with the linear or the difference Jacobian."""
+    rng = np.random.default_rng(5)
+    curvatures = ((1.087, 1.667), (2.5, 1.2), (0.9, 4.0), (3.0, 3.0))
+    p = EllipticParameters(method=3, jacobian=jacobian, curvature_longitudinal=tuple(c[0] for c in curvatures),
+                           curvature_lateral=tuple(c[1] for c in curvatures))
+    together, alone = EllipticModel(p), EllipticModel(p)
+    alone.strips_together = False
+    assert together.strips_together, "the strips of the contacts are solved together"
+    for n in range(12):
+        rows = [(float(rng.choice([0.0, rng.uniform(1e3, 2e5)])), *rng.normal(0, 2e-3, 2),
+                 float(rng.choice([0.0, rng.normal(0, 0.5)])), float(rng.uniform(0, 40))) for _ in curvatures]
+        assert together.step(n * H, H, rows) == alone.step(n * H, H, rows), f"step {n}: {rows}"
+
+
+def test_the_linear_levels_jacobian_is_its_slopes_in_either_mode():
+    rows = [ROW, (5e4, -2e-3, 1e-3, -0.5, 10.0)]
+    p = {"method": 1, "curvature_longitudinal": (1.087, 2.5), "curvature_lateral": (1.667, 1.2)}
+    slopes = EllipticModel(EllipticParameters(**p)).step(0.0, H, rows)
+    together = EllipticModel(EllipticParameters(**p, jacobian=1))
+    alone = EllipticModel(EllipticParameters(**p, jacobian=1))
+    alone.batch = None
+    assert together.step(0.0, H, rows) == alone.step(0.0, H, rows) == slopes
