@@ -41,6 +41,46 @@ def contact_variants(tmp_path_factory) -> dict[int, Path]:
 
 
 @pytest.fixture(scope="session")
+def fmu_folders(tmp_path_factory) -> dict[int, Path]:
+    """``python build_fmu.py --fmi 2,3 --all --dest <tmp>`` once per test run: version -> folder of the four FMUs
+    (RollingContact2D, WheelRig, Wheelset, RollingContact3D; FMI 3.0 below ``fmi3/``)."""
+    dest = tmp_path_factory.mktemp("fmi2_and_fmi3")
+    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--all", "--dest", str(dest)],
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, f"build_fmu.py --fmi 2,3 --all failed:\n{done.stdout}\n{done.stderr}"
+    folders = {2: dest, 3: dest / "fmi3"}
+    for folder in folders.values():
+        assert {p.name for p in folder.glob("*.fmu")} == {"RollingContact2D.fmu", "WheelRig.fmu", "Wheelset.fmu",
+                                                        "RollingContact3D.fmu"}, \
+            done.stdout
+    return folders
+
+
+@pytest.fixture(scope="session")
+def eight_contacts(tmp_path_factory) -> dict[int, Path]:
+    """``build_fmu.py --fmi 2,3 --contacts 8`` (RollingContact2D_8 and RollingContact3D_8) once per test run:
+    FMI version -> folder."""
+    dest = tmp_path_factory.mktemp("eight_contacts")
+    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--contacts", "8", "--dest",
+                           str(dest)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, f"build_fmu.py --contacts 8 failed:\n{done.stdout}\n{done.stderr}"
+    return {2: dest, 3: dest / "fmi3"}
+
+
+@pytest.fixture(scope="session")
+def integer_codes(tmp_path_factory) -> Path:
+    """``build_fmu.py --integer-codes`` (RollingContact2D) and ``--contacts 2 --integer-codes`` (RollingContact2D_2,
+    RollingContact3D_2), FMI 2.0 with plain Integer variables for the enumerations, once per test run into one
+    folder."""
+    dest = tmp_path_factory.mktemp("integer_codes")
+    for args in (["--integer-codes"], ["--contacts", "2", "--integer-codes"]):
+        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), *args, "--dest", str(dest)],
+                              capture_output=True, text=True, timeout=600)
+        assert done.returncode == 0, f"build_fmu.py {' '.join(args)} failed:\n{done.stdout}\n{done.stderr}"
+    return dest
+
+
+@pytest.fixture(scope="session")
 def unzipped(fmu_path, tmp_path_factory) -> Path:
     from fmpy import extract
 

@@ -109,13 +109,14 @@ def test_the_cosimulated_reference_results_are_the_sweeps(fmu_dir, tmp_path):
 
 
 @pytest.fixture(scope="module")
-def integer_codes_dir(fmu_dir, tmp_path_factory) -> Path:
-    """The Wheelset FMU and the integer-codes build of RollingContact3D_2 (libcosim lists no enumerations), in the
-    ``integer_codes/`` folder where :func:`~rollcontact_cosim.wheelset_cosim.ensure_wheelset_fmus` looks for them."""
+def integer_codes_dir(fmu_dir, integer_codes, tmp_path_factory) -> Path:
+    """The Wheelset FMU and the integer-codes build of RollingContact3D_2 (libcosim lists no enumerations; the
+    session's ``--contacts 2 --integer-codes`` build, ``tests/conftest.py``), in the ``integer_codes/`` folder where
+    :func:`~rollcontact_cosim.wheelset_cosim.ensure_wheelset_fmus` looks for them."""
     dest = tmp_path_factory.mktemp("wheelset_osp") / "integer_codes"
-    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--contacts", "2", "--integer-codes",
-                           "--dest", str(dest)], capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, f"build_fmu.py --contacts 2 --integer-codes failed:\n{done.stdout}\n{done.stderr}"
+    dest.mkdir()
+    for name in ("RollingContact2D_2.fmu", "RollingContact3D_2.fmu"):
+        (dest / name).write_bytes((integer_codes / name).read_bytes())
     (dest / "Wheelset.fmu").write_bytes((fmu_dir / "Wheelset.fmu").read_bytes())
     return dest
 

@@ -706,15 +706,12 @@ def test_a_c_host_gets_the_same_numbers_as_fmpy(unzipped, description, instance,
         assert got == expected, f"step {n}: the C host and fmpy must agree exactly:\n{got}\n{expected}"
 
 
-def test_the_integer_codes_build_serves_hosts_without_enumerations(tmp_path):
-    """``build_fmu.py --integer-codes``: the same FMU with plain Integer variables whose descriptions give the
-    codes (libcosim lists no enumeration variables); fmpy validates it."""
+def test_the_integer_codes_build_serves_hosts_without_enumerations(integer_codes):
+    """``build_fmu.py --integer-codes`` (the session's build, ``tests/conftest.py``): the same FMU with plain Integer
+    variables whose descriptions give the codes (libcosim lists no enumeration variables); fmpy validates it."""
     from fmpy import read_model_description
 
-    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--integer-codes", "--dest", str(tmp_path)],
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stderr
-    path = tmp_path / "RollingContact2D.fmu"
+    path = integer_codes / "RollingContact2D.fmu"
     assert validate_fmu(str(path)) == [], "fmpy validates the integer-codes build"
     variables = {v.name: v for v in read_model_description(str(path)).modelVariables}
     for name, codes in (("method", "0 auto, 1 closed_form, 2 polynomial, 3 discretised"),

@@ -1,35 +1,16 @@
-"""The FMI 2.0 and FMI 3.0 FMUs built once per test run, and initialised instances of either version.
+"""Initialised instances of the FMI 2.0 and FMI 3.0 FMUs built once per test run.
 
-``build_fmu.py --fmi 2,3 --all`` writes both pairs into one temporary folder (FMI 3.0 below ``fmi3/``).  Instances
+``build_fmu.py --fmi 2,3 --all`` writes both sets into one temporary folder (FMI 3.0 below ``fmi3/``; the
+``fmu_folders`` fixture of ``tests/conftest.py``, which the model-description snapshot shares).  Instances
 are :class:`rollcontact_cosim.master.Slave` objects: ``slave.fmu`` answers the same (FMI 2.0-named) calls in both
 versions, so a test written once runs against both (the ``fmi`` fixture).
 """
 
 from __future__ import annotations
 
-import subprocess
-import sys
-from pathlib import Path
-
 import pytest
 
-ROOT = Path(__file__).resolve().parents[2]
 VERSIONS = {2: "FMI 2.0", 3: "FMI 3.0"}
-
-
-@pytest.fixture(scope="session")
-def fmu_folders(tmp_path_factory) -> dict[int, Path]:
-    """``python build_fmu.py --fmi 2,3 --all --dest <tmp>`` once per test run: version -> folder of both FMUs."""
-    dest = tmp_path_factory.mktemp("fmi2_and_fmi3")
-    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--all", "--dest", str(dest)],
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, f"build_fmu.py --fmi 2,3 --all failed:\n{done.stdout}\n{done.stderr}"
-    folders = {2: dest, 3: dest / "fmi3"}
-    for folder in folders.values():
-        assert {p.name for p in folder.glob("*.fmu")} == {"RollingContact2D.fmu", "WheelRig.fmu", "Wheelset.fmu",
-                                                        "RollingContact3D.fmu"}, \
-            done.stdout
-    return folders
 
 
 @pytest.fixture(params=list(VERSIONS), ids=list(VERSIONS.values()))
