@@ -4,11 +4,11 @@
 3D level.
 
 Run: ``python benchmarks/calibrate_strips_spin.py`` (a few minutes; ``--quick``: a/b 1 only, nothing written).  Prints
-markdown tables and writes ``benchmarks/results/calibrate_strips_spin.md``.
+markdown tables and writes ``benchmarks/results/strips_spin.md``.
 
 Cases (Coulomb friction, mu 0.3, Fn 100 kN, c = sqrt(ab) = 6 mm, G 82 GPa, nu 0.28, a/b 0.2, 0.5, 1, 2, 5):
 
-* ``table B``: the spin cases of ``benchmarks/bench_elliptic_levels.py`` (spin alone and with longitudinal and/or
+* ``table B``: the spin cases of ``benchmarks/calibrate_elliptic_levels.py`` (spin alone and with longitudinal and/or
   lateral creepage, from the linear range to deep spin, around and past the strips' full slip);
 * ``operating points``: small creepages with small spin, as a wheel on a rail meets them (xi 0.05 and 0.15, eta half
   that, spin 0.05, 0.15 and 0.3, in units of the creepage whose linear force is 3 mu Fn), where the march's
@@ -24,7 +24,7 @@ Cases (Coulomb friction, mu 0.3, Fn 100 kN, c = sqrt(ab) = 6 mm, G 82 GPa, nu 0.
   the error between neighbouring spins of a line (0.1 saturations apart), a measure of the jumps that are left.
 
 Reference: the discretised level's default (the Richardson pair of 30 and 60 elements, within about 0.004 of the
-converged solution: ``bench_elliptic_levels.md``, B2).  Error: |dFx|, |dFy| over mu Fn and |dMz| over mu Fn c.  The fit
+converged solution: ``elliptic_levels.md``, B2).  Error: |dFx|, |dFy| over mu Fn and |dMz| over mu Fn c.  The fit
 (Nelder-Mead from the constants in force) minimises a smooth stand-in for the largest error, the 12-norm of the
 errors of the first three sets with the operating points' weighted 1.5 (so that the fit for deep spin does not cost the
 common case) and those at the other Poisson's ratios weighted :data:`OTHER_WEIGHT`, over the first seven constants; the
@@ -168,4 +168,4 @@ def main():
 
 
 if __name__ == "__main__":
-    common.run_and_publish(main, "calibrate_strips_spin.md")
+    common.run_and_publish(main, "strips_spin.md")

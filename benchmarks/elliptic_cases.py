@@ -1,5 +1,5 @@
-"""The elliptic case sets the elliptic studies share (``bench_elliptic_levels.py``, ``calibrate_strips_spin.py``): the
-contact (Coulomb friction mu 0.3, Fn 100 kN, c = sqrt(ab) = 6 mm, G 82 GPa, nu 0.28) at a/b 0.2 ... 5 and creepages
+"""The elliptic case sets the elliptic studies share (``calibrate_elliptic_levels.py``, ``calibrate_strips_spin.py``):
+the contact (Coulomb friction mu 0.3, Fn 100 kN, c = sqrt(ab) = 6 mm, G 82 GPa, nu 0.28) at a/b 0.2 ... 5 and creepages
 in units of the creepage whose linear force is 3 mu Fn.  Not a study: nothing to run."""
 
 import math

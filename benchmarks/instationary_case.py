@@ -198,7 +198,7 @@ def richardson(coarse: np.ndarray, fine: np.ndarray, refinement: float) -> np.nd
 
     The transient's observed order is 0.97-0.98 at lambda/a = 5..40 (``benchmarks/bench_transient_auto.py``, from
     n, 2n, 4n); the steady discretised T' is first order in the elements across the contact
-    (``benchmarks/bench_discretised_estimate.py``).
+    (``benchmarks/calibrate_discretised_estimate.py``).
 
     Parameters
     ----------

@@ -26,7 +26,7 @@ extrapolated discretised settings (``extrapolate`` = m = 8, 16: n/2n, each level
 over placements themselves and are measured as they run. Instationary rolling (creep control, ``xi = (0.5 + 0.3 sin(2 pi
 sigma/lambda)) mu a/R`` at lambda/a = 5..40, and a creep reversal ``0.9 sin`` at lambda/a = 5, where the relaxation lag
 errs most; 64 host steps per cycle): max |T' - T'_ref| over the last cycle in units of mu N', reference the
-extrapolating transient pair n = 500/1000 (nested grids, second order: ``bench_transient_pairs.py``; the plain
+extrapolating transient pair n = 500/1000 (nested grids, second order: ``calibrate_transient_pairs.py``; the plain
 transient's on the same finest grid shown). Every instationary setting, the transients in the rows and the reference
 included, steps the FMU's model (quasi-static: ``transient`` = 0; relaxation: 2; transient: ``method`` = 3,
 ``transient`` = 2, ``elements`` = n; pair: that model with the extrapolating transient swapped in,

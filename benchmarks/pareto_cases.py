@@ -279,7 +279,7 @@ def steady_settings(scene: rc.Scene, config: Config, patches: int = 1) -> list[t
 PLACEMENTS = (0.0, 0.25, 0.5, 0.75)
 """Shifts of the discretised grid, in elements, over which a discretised setting's error is the largest: the answer
 at one n moves by about its error with where the patch edges fall in their elements
-(``benchmarks/bench_discretised_estimate.py``), and in use (an FMU rolling along the rail) that placement is
+(``benchmarks/calibrate_discretised_estimate.py``), and in use (an FMU rolling along the rail) that placement is
 arbitrary, so a setting meets t only if it does at every placement."""
 
 

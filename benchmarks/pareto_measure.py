@@ -223,7 +223,7 @@ def instationary_study(config: Config) -> tuple[list[Row], list[AutoChoice], lis
         window = reference.model.instationary.solver.grid.x_max / A_I
         references.append((case, f"the extrapolating transient pair n = {fine // 2}/{fine} (nested grids, window "
                                  f"+-{window:.3f} a, the Hertz patch edges on element boundaries of both; second "
-                                 "order, benchmarks/bench_transient_pairs.py) in the FMU model",
+                                 "order, benchmarks/calibrate_transient_pairs.py) in the FMU model",
                            f"the plain transient n = {fine} differs from it by "
                            f"{np.abs(plain_forces - ref).max() / limit:.1e} mu N'"))
         settings = [("quasi-static", {}), ("relaxation", {})]

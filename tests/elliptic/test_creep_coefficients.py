@@ -35,12 +35,12 @@ KALKER_E3 = {  # a/b: {nu: (C11, C22, C23)}, nu = 0, 0.25, 0.5
 
 
 EXTREME_ROWS = {0.1: 0.015, 10.0: 0.015}
-"""Tolerance at the table's end rows.  There the solver's extrapolated coefficients (benchmarks/creep_coefficients.py,
-its results file) depart from Kalker's by up to 1.3 % (C22 at a/b = 10, C23 at a/b = 0.1 and nu = 0.5) while the
-extrapolation's own spread there is below 0.05 % and a second discretisation, elements shaped as the ellipse
-(``--end-rows``, results/creep_coefficients_end_rows.md), agrees with the table within 0.3 %; the rows next to them
-(a/b 0.2 and 5) are met within 0.8 %, so the departure grows only at the end rows.  Every value of the other 17 rows
-(153 of the table's 171) is met within 1 %."""
+"""Tolerance at the table's end rows.  There the solver's extrapolated coefficients
+(benchmarks/calibrate_creep_coefficients.py, its results file) depart from Kalker's by up to 1.3 % (C22 at a/b = 10, C23
+at a/b = 0.1 and nu = 0.5) while the extrapolation's own spread there is below 0.05 % and a second discretisation,
+elements shaped as the ellipse (``--end-rows``, results/creep_coefficients_end_rows.md), agrees with the table within
+0.3 %; the rows next to them (a/b 0.2 and 5) are met within 0.8 %, so the departure grows only at the end rows.  Every
+value of the other 17 rows (153 of the table's 171) is met within 1 %."""
 
 
 @pytest.mark.parametrize("ratio", sorted(KALKER_E3))

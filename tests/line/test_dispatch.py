@@ -205,7 +205,7 @@ UNSOLVED_SPLIT = Scene(1e6, creep=0.5 * SATURATION, axis_position=0.010 * 13 / 2
 # How pessimistic each kind of setting's error bound may be (bound / error, measured by benchmarks/pareto.py): auto
 # pays at most for that much accuracy it did not need.  The polynomial truncation tolerance costs nothing (flat cost
 # model), so its slack only concerns the slip iteration's nodes.  The extrapolated discretised pair errs too
-# erratically for any slack (bound / error 1.4 to 1000, benchmarks/bench_discretised_estimate.py table C): it
+# erratically for any slack (bound / error 1.4 to 1000, benchmarks/calibrate_discretised_estimate.py table C): it
 # enters only the comparison with settings whose own bound meets t.
 SLACK = {"closed_form": 1.0, "polynomial": 20.0, "discretised": 12.0, "discretised extrapolated": math.inf}
 
@@ -470,7 +470,7 @@ FALLING = Scene(1e6, creep=1e-3, rolling_speed=20.0, friction=ExponentialFalling
 
 def test_auto_escalates_the_slip_nodes_until_its_estimate_meets_the_tolerance():
     """The slip iteration starts at its cheapest node count; its a-posteriori estimate (a bound of the error,
-    benchmarks/bench_slip_nodes.py) then drives the count up until it meets t, checked here against 512 nodes."""
+    benchmarks/calibrate_slip_nodes.py) then drives the count up until it meets t, checked here against 512 nodes."""
     start = choose_setting(FALLING, 1e-6).options["nodes"]
     result = solve(FALLING, tolerance=1e-6)
     fine = solve(FALLING, method="polynomial", nodes=512)

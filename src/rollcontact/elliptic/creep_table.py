@@ -1,13 +1,14 @@
 """Kalker's creepage coefficients as a table: the data behind :mod:`rollcontact.elliptic.creep_coefficients`.
 
-Written by ``benchmarks/creep_coefficients.py --write-table`` (do not edit by hand): the discretised 3D solver
-(:mod:`rollcontact.core.halfspace.rolling`) at vanishing creepage, extrapolated to zero element size; the script's
-results file ``benchmarks/results/creep_coefficients.md`` compares them with Kalker 1990, Table E.3.  Layout:
+Written by ``benchmarks/calibrate_creep_coefficients.py --write-table`` (do not edit by hand): the discretised
+3D solver (:mod:`rollcontact.core.halfspace.rolling`) at vanishing creepage, extrapolated to zero element size;
+the script's results file ``benchmarks/results/creep_coefficients.md`` compares them with Kalker 1990, Table E.3.
+Layout:
 ``ASPECT_RATIOS`` (a/b, increasing), ``POISSON_RATIOS`` (increasing), and for each coefficient a tuple per aspect
 ratio of values per Poisson ratio.
 """
 
-SOURCE = "discretised 3D solver at vanishing creepage (benchmarks/creep_coefficients.py)"
+SOURCE = "discretised 3D solver at vanishing creepage (benchmarks/calibrate_creep_coefficients.py)"
 
 ASPECT_RATIOS = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.111111, 1.25, 1.428571, 1.666667, 2.0,
                  2.5, 3.333333, 5.0, 6.666667, 10.0)

@@ -8,7 +8,7 @@ elliptic method predicts
 
 * ``error``: the largest of ``|dFx| / (mu Fn)``, ``|dFy| / (mu Fn)`` and ``|dMz| / (mu Fn c)`` [1] against the exact
   (Kalker's) steady solution, c = sqrt(ab);
-* ``cost``: the modelled time of one solve [s] (``benchmarks/bench_elliptic_levels.py`` measures them).
+* ``cost``: the modelled time of one solve [s] (``benchmarks/calibrate_elliptic_levels.py`` measures them).
 """
 
 from __future__ import annotations

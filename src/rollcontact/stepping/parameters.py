@@ -105,7 +105,7 @@ closed-form steps' hot path)."""
 
 DEFAULT_STEP_BUDGET = 0.05
 """Default ``step_budget`` [s]: a few tens of milliseconds, what a host stepping a few contacts at 1 kHz in a
-soft real-time loop can give one contact; ``benchmarks/bench_step_budget.py`` measures the steps it bounds."""
+soft real-time loop can give one contact; ``benchmarks/calibrate_step_budget.py`` measures the steps it bounds."""
 
 
 @dataclass(frozen=True)

@@ -45,7 +45,7 @@ def saturation(c=6e-3):
 def test_linear_limit_matches_kalkers_coefficients_on_a_coarse_grid():
     """nu = 0.25, a/b = 1 (Kalker 1990, Table E.3: C11 4.12, C22 3.67, C23 1.47): at vanishing creepage no element
     slips and ``F = G c^2 C xi``; 32 x 32 elements are within 3 % (the 1 % of the table needs the extrapolation of
-    benchmarks/creep_coefficients.py)."""
+    benchmarks/calibrate_creep_coefficients.py)."""
     case = setup(1.0, 32, nu=0.25)
     c, e = 6e-3, 1e-9
     table = {"C11": 4.12, "C22": 3.67, "C23": 1.47}

@@ -30,7 +30,7 @@ def test_each_creepage_gives_its_force_on_the_rail_positive():
 
 def test_linear_limit_matches_the_coefficient_table():
     """At vanishing creepage ``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23 phi)``: 32 x 32 elements within
-    3 % of the table (which benchmarks/creep_coefficients.py extrapolates from the same solver)."""
+    3 % of the table (which benchmarks/calibrate_creep_coefficients.py extrapolates from the same solver)."""
     base = scene(ratio=1.5)
     nu, g, c = base.material.poisson_ratio, base.shear_modulus, base.hertz.c
     table = creepage_coefficients(base.hertz.aspect_ratio, nu)

@@ -16,7 +16,7 @@ def circle(**creepages):
 
 def test_forces_on_the_rail_follow_kalkers_table():
     """a/b = 1, nu = 0.25: C11 4.12, C22 3.67, C23 1.47 (Kalker 1990, Table E.3), within the 1 % to which the
-    table (the discretised solver's, benchmarks/creep_coefficients.py) meets Kalker's."""
+    table (the discretised solver's, benchmarks/calibrate_creep_coefficients.py) meets Kalker's."""
     s = circle(longitudinal_creepage=1e-4, lateral_creepage=-2e-4)
     g, c = s.shear_modulus, s.hertz.c
     result = solve_elliptic(s, "linear")

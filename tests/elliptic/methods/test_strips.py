@@ -210,7 +210,7 @@ def saturated(ratio, xi=0.0, eta=0.0, phi=0.0, poisson_ratio=None):
 def test_spin_against_the_discretised_solution(ratio, creepages):
     """Large spin (psi 1..3), alone and with longitudinal and lateral creepage, at a/b 0.2, 1, 2 and 5, against the
     discretised solver's Richardson pair of 30 and 60 elements (within 0.0038 of the pair of 60 and 120 on these
-    cases: ``benchmarks/bench_elliptic_levels.py``, table B2).  The goal is 0.03 mu Fn (Fx, Fy) and 0.03 mu Fn c
+    cases: ``benchmarks/calibrate_elliptic_levels.py``, table B2).  The goal is 0.03 mu Fn (Fx, Fy) and 0.03 mu Fn c
     (Mz).  Every error is also within the level's own estimate."""
     s = saturated(ratio, *creepages)
     reference = np.array(solve_elliptic(s, "discretised", elements=60, extrapolate=True).force_coefficients)

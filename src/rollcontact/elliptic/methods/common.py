@@ -55,7 +55,7 @@ def linear_ratio(scene: EllipticScene, c: CreepageCoefficients) -> float:
 
 MEASURED_POISSON_RATIO = 0.28
 """Poisson's ratio [1] of steel, at which the accuracy models' main constants are measured; their errors grow with
-nu above it (``benchmarks/bench_elliptic_levels.py``, table B3)."""
+nu above it (``benchmarks/calibrate_elliptic_levels.py``, table B3)."""
 
 
 def poisson_excess(scene: EllipticScene) -> float:

@@ -171,14 +171,14 @@ FASTSIM_THEORY_ERROR = 0.1
 """Largest error [1] of the simplified theory against the exact one over mu Fn (mu Fn c for Mz) between the linear
 range and saturation: against the discretised 3D solver over a/b 0.2..5, pure and combined creepages up to 9 mu Fn of
 linear force and spin, this FASTSIM (elliptic bound, blended flexibilities, 40 x 40) misses by up to
-0.027 / 0.085 / 0.047 (Fx / Fy / Mz; ``benchmarks/bench_elliptic_levels.py``, table B; with Kalker's three
+0.027 / 0.085 / 0.047 (Fx / Fy / Mz; ``benchmarks/calibrate_elliptic_levels.py``, table B; with Kalker's three
 flexibilities alone 0.075 / 0.096 / 0.065); the field's FASTSIM by up to 0.037 / 0.081 / 0.047 on the issue's
 matrix."""
 
 FASTSIM_POISSON_ERROR = 0.1
 """Growth [1 per unit nu] of :data:`FASTSIM_THEORY_ERROR` with Poisson's ratio above steel's 0.28
 (:func:`~rollcontact.elliptic.methods.common.poisson_excess`): at nu = 0.49 FASTSIM misses Fy of spin by up to 0.123
-(``benchmarks/bench_elliptic_levels.py``, table B3; below 0.28 it stays within its error at 0.28)."""
+(``benchmarks/calibrate_elliptic_levels.py``, table B3; below 0.28 it stays within its error at 0.28)."""
 
 FASTSIM_GRID_ERROR = 0.5
 """The grid's error [1] is modelled as this over min(nx, ny) (first order in the step;
@@ -186,7 +186,7 @@ FASTSIM_GRID_ERROR = 0.5
 
 FASTSIM_COST_PER_STEP = 9e-6
 """Modelled time [s] per step along the strips (one vector operation over the ny strips;
-``benchmarks/bench_elliptic_levels.py``)."""
+``benchmarks/calibrate_elliptic_levels.py``)."""
 
 
 class FastsimAccuracy(AccuracyModel):

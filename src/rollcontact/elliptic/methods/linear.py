@@ -19,7 +19,7 @@ between rows; ``tests/elliptic/test_creep_coefficients.py`` checks the rows with
 LINEAR_MARGIN = 2.5
 """Factor on the Vermeulen-Johnson excess: the exact creep-force curves (the moment of lateral creepage most) bend
 away from the linear theory faster than the cubic; against the discretised 3D solver the excess times 2.5 bounds the
-linear theory's error over a/b 0.2..5 (``benchmarks/bench_elliptic_levels.py``, table B)."""
+linear theory's error over a/b 0.2..5 (``benchmarks/calibrate_elliptic_levels.py``, table B)."""
 
 MOMENT_SATURATION = 0.5
 """Level [1 of mu Fn c] at which the accuracy model lets the spin moment saturate: below the full-slip moment of pure
@@ -28,7 +28,7 @@ moment bounds its error over a/b 0.2..5 against the discretised 3D solver (``ben
 reference forces in ``benchmarks/results/bench_elliptic.json``: the largest error/estimate is 0.69)."""
 
 LINEAR_COST = 6e-6
-"""Modelled time of one solve [s] (``benchmarks/bench_elliptic_levels.py``, results/bench_elliptic_levels.md)."""
+"""Modelled time of one solve [s] (``benchmarks/calibrate_elliptic_levels.py``, results/elliptic_levels.md)."""
 
 
 def solve_linear(scene, **options) -> EllipticResult:

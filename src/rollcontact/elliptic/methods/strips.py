@@ -615,12 +615,12 @@ def inapplicable(scene) -> str | None:
 
 CROSS_ITERATIONS = 2
 """Fixed-point passes of the lateral force's longitudinal creepage (:func:`cross_coefficient`) through the closed form
-(the second changes the forces by less than 1e-3 mu Fn on ``benchmarks/bench_elliptic_levels.py``'s cases)."""
+(the second changes the forces by less than 1e-3 mu Fn on ``benchmarks/calibrate_elliptic_levels.py``'s cases)."""
 
 STIFFENING_SCALE = 3.0
 """``s`` [1] of :func:`stiffening`: the a/b where the short strips' stiffening reaches half its full exponent.
 Calibrated, not derived: of s = 0.3, 0.5, 0.8, 1.2, 2, 3, 5, s = 3 keeps Fx and Fy without spin closest to the
-discretised solver on the cases of ``benchmarks/bench_elliptic_levels.py`` (table B, the calibration set: within
+discretised solver on the cases of ``benchmarks/calibrate_elliptic_levels.py`` (table B, the calibration set: within
 0.010 mu Fn) and on the matrix of ``benchmarks/bench_elliptic.py`` (the validation set, which shares with it only
 the creepages of 3 saturations: also 0.010); the strips without it miss by up to 0.023."""
 
@@ -628,7 +628,7 @@ SPIN_FLEXIBILITY = (1.0131, 0.0398, 0.9277, 0.1305, 10.3012, 0.775, 2.9336, 0.8)
 """``(A_x0, A_x1, A_y0, A_y1, P_1, m, R, Q)`` of :func:`march_flexibilities` (R: the spin at which the march's
 longitudinal slip of spin has gone half way from the stick zones' modulus to the rigid slip, module docstring).
 Calibrated, not derived: ``benchmarks/calibrate_strips_spin.py`` fits the first seven (Q held) to the strips' errors
-with spin against the discretised level, on the spin cases of ``benchmarks/bench_elliptic_levels.py`` (table B: spin
+with spin against the discretised level, on the spin cases of ``benchmarks/calibrate_elliptic_levels.py`` (table B: spin
 around and past the strips' full slip, ``|psi|`` 0.15..15), on operating points of small creepage and spin and on
 spin alone through the strips' full slip, at nu = 0.28 and, weighted less, at nu = 0, 0.14 and 0.42; the matrix of
 ``benchmarks/bench_elliptic.py`` checks it (of its cases with spin the fit holds only pure spin at 3 saturations). The
@@ -639,13 +639,13 @@ by up to 0.037 in Fy)."""
 STRIPS_ERROR = 0.03
 """Error [1] of the strips without spin (Fx, Fy over mu Fn, Mz over mu Fn c): against the discretised 3D solver over
 a/b 0.2..5 and creepages up to 9 mu Fn of linear force, the largest is Mz of lateral creepage at a/b = 5
-(``benchmarks/bench_elliptic_levels.py``, table B)."""
+(``benchmarks/calibrate_elliptic_levels.py``, table B)."""
 
 STRIPS_SPIN_ERROR = 0.06
 """Error [1] of the strips with spin beyond ``|psi|`` = :data:`SPIN_ONSET` (the slip directions of the march):
 against the discretised solver the largest error with spin at nu = 0.28 is 0.045, on spin with the lateral creepage
 against it where the stick zones past ``|psi| = 1`` fade out (``benchmarks/calibrate_strips_spin.py``, the opposed
-lines; at most 0.034 on table B of ``benchmarks/bench_elliptic_levels.py``, and 0.049 at nu = 0); this bound keeps a
+lines; at most 0.034 on table B of ``benchmarks/calibrate_elliptic_levels.py``, and 0.049 at nu = 0); this bound keeps a
 margin over it and the reference's own error."""
 
 SPIN_ONSET = 0.5
@@ -656,7 +656,7 @@ POISSON_ERROR = 0.15
 (:func:`~rollcontact.elliptic.methods.common.poisson_excess`): the lateral
 force's cross influence, taken of Hertz's shape, and the march's constants, fitted at 0.28 first, miss more as nu
 grows (at nu = 0.49 the largest errors are 0.055 without spin, Mz of lateral creepage at a/b = 0.2, and 0.076 with
-spin: ``benchmarks/bench_elliptic_levels.py``, table B3; below 0.28 they stay within the errors at 0.28)."""
+spin: ``benchmarks/calibrate_elliptic_levels.py``, table B3; below 0.28 they stay within the errors at 0.28)."""
 
 STICK_FADE = 1.3
 """Excess ``v`` [1] at which a strip's stick zone past ``|psi| = 1`` has faded out: a stick zone whose traction
@@ -671,7 +671,7 @@ STRIPS_COST = 1.2e-4
 STRIPS_COST_PER_CELL = 2.5e-6
 STRIPS_FALLING_COST_PER_STRIP = 5e-4
 """Modelled times [s]: the closed form, each cell of a march, each strip's 2D polynomial solve
-(``benchmarks/bench_elliptic_levels.py``)."""
+(``benchmarks/calibrate_elliptic_levels.py``)."""
 
 
 class StripsAccuracy(AccuracyModel):

@@ -22,11 +22,11 @@ Models
   transient's grid as the fixed point of the whole-element substeps, to switch the transient in mid-run without a
   jump.  With ``extrapolate=True`` the transient runs on two nested grids (n/2 and n elements, both aligned by
   :func:`aligned_grid_load`, each committing its own elements) and reports ``2 T'_n - T'_(n/2)``: their
-  first-order errors cancel and the rest falls as n^-2 (``benchmarks/bench_transient_pairs.py``).
+  first-order errors cancel and the rest falls as n^-2 (``benchmarks/calibrate_transient_pairs.py``).
 * ``mode="relaxation"``: the lag (R1) around Carter (:mod:`rollcontact.line.instationary.relaxation`): closed-form
   arithmetic per substep, no grid.  How closely it tracks the transient, and where quasi-static Carter fails, is
   checked by ``tests/instationary/test_instationary.py::test_relaxation_model_tracks_creep_controlled_transient``
-  and measured by ``benchmarks/bench_relaxation.py`` and ``benchmarks/bench_instationary.py``.
+  and measured by ``benchmarks/calibrate_relaxation.py`` and ``benchmarks/bench_instationary.py``.
 
 Oscillating force control is :mod:`rollcontact.line.instationary.oscillating`, the stationarity measure
 :mod:`rollcontact.line.instationary.stationarity`.

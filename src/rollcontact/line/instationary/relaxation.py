@@ -47,7 +47,7 @@ RELAXATION_FLOOR = 0.1
 LAG_ERROR_COEFFICIENT = 0.038
 """C of :func:`lag_error_bound` [1 of mu N' per saturation creep]: 1.4 times the largest ratio of the lag's error
 less :data:`LAG_ERROR_FLOOR` to ``(high - low)/2 (1 - d)_+`` at any step of the measured cycle ('ratio' in the table
-of ``benchmarks/bench_relaxation.py``: creep control ``(mean + amplitude sin) mu a/R`` at lambda/a = 2..320, from
+of ``benchmarks/calibrate_relaxation.py``: creep control ``(mean + amplitude sin) mu a/R`` at lambda/a = 2..320, from
 ``0.2 + 0.1 sin`` to ``10 sin``, near saturation and wholly in full slip; N' = 1e7 N/m, R = 0.46 m, datum R).  The
 lag's error is linear in the swing, largest where the swing passes zero creep, small near saturation and none
 wholly in full slip."""
@@ -55,15 +55,15 @@ wholly in full slip."""
 
 LAG_ERROR_FLOOR = 1e-4
 """e_0 of :func:`lag_error_bound` [1 of mu N']: below it the lag's error is not resolved, being of the order of the
-error of the reference pair 200/400 of ``benchmarks/bench_relaxation.py`` (its model bound
+error of the reference pair 200/400 of ``benchmarks/calibrate_relaxation.py`` (its model bound
 :data:`~rollcontact.stepping.line.transient.EXTRAPOLATED_ERROR_CONSTANT`/400^2,
-``benchmarks/bench_transient_pairs.py``)."""
+``benchmarks/calibrate_transient_pairs.py``)."""
 
 
 LAG_MEMORY = 8.0
 """Memory of :func:`creep_envelope` in relaxation lengths at T' = 0 (about 35 a for a railway wheel): shorter memories
 forget the stiff part of a slow swing while its error persists, and :data:`LAG_ERROR_COEFFICIENT` then has to be
-larger; longer ones do not lower it (``benchmarks/bench_relaxation.py``)."""
+larger; longer ones do not lower it (``benchmarks/calibrate_relaxation.py``)."""
 
 
 CREEP_RATIO_CAP = 1e6

@@ -42,7 +42,7 @@ the inputs vary slowly and switches the instationary model in when the stationar
 starting from the previous step's quasi-steady state (:meth:`ContactModel.switch_in`), and switches back once the
 inputs are slow again and its force is back within the tolerance of the quasi-steady one.  The relaxation lag's
 error grows with the creep swing, up to its bound :data:`~rollcontact.stepping.line.transient.RELAXATION_ACCURACY` mu N
-(calibrated by ``benchmarks/bench_relaxation.py``): it is the default (``tolerance`` = 0), which promises no
+(calibrated by ``benchmarks/calibrate_relaxation.py``): it is the default (``tolerance`` = 0), which promises no
 accuracy.  For a ``tolerance`` below that bound, with ``method`` = 0, ``transient`` = 1 bounds the lag's error by
 the creep swing of the last few relaxation lengths (:func:`rollcontact.line.instationary.lag_error_bound` of the
 envelope in ``state.creep_envelope``) and runs the lag while that bound meets the tolerance, the discretised

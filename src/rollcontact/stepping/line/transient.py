@@ -5,7 +5,7 @@
 swing seen (:func:`rollcontact.line.instationary.lag_error_bound`) meets the tolerance, else the discretised transient
 on the cheapest grid, or extrapolating pair of nested grids, whose error model ``C / n^p`` meets it
 (:func:`transient_setting`).  The constants of those error models are calibrated by
-``benchmarks/bench_transient_auto.py`` and ``benchmarks/bench_transient_pairs.py``.  A module of its own so that
+``benchmarks/bench_transient_auto.py`` and ``benchmarks/calibrate_transient_pairs.py``.  A module of its own so that
 :mod:`rollcontact.stepping.line.model` keeps the quasi-steady step and this the instationary models and their choice.
 """
 
@@ -34,7 +34,7 @@ DEFAULT_TRANSIENT_TOLERANCE = 1e-2
 
 RELAXATION_ACCURACY = 0.21
 """Error bound [1 of mu N] of the relaxation lag: 1.4 times the largest error against the discretised transient
-measured by ``benchmarks/bench_relaxation.py`` (its table) over lambda/a = 1..40 and creep swings up to 10
+measured by ``benchmarks/calibrate_relaxation.py`` (its table) over lambda/a = 1..40 and creep swings up to 10
 saturation creeps.  The lag's error grows with the swing, most where it passes zero creep.  So ``transient`` = 1
 with ``method`` = 0 and a ``tolerance`` below this runs the lag only while its bound for the swing actually seen
 (:func:`rollcontact.line.instationary.lag_error_bound`) meets the tolerance and the discretised transient
@@ -55,13 +55,13 @@ sqrt(2) times; :func:`rollcontact.line.instationary.aligned_grid_load`)."""
 TRANSIENT_ERROR_ORDER = 1.0
 """p of the discretised transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
 (:func:`transient_error`; n elements on the model's grid): with whole-element substeps ``error n`` is regular
-in n on every signal of ``benchmarks/bench_transient_pairs.py`` (``benchmarks/results/transient_pairs.md``), and
+in n on every signal of ``benchmarks/calibrate_transient_pairs.py`` (``benchmarks/results/transient_pairs.md``), and
 ``benchmarks/bench_transient_auto.py`` observes first order (``benchmarks/results/transient_auto.md``, section (3)
 Error model)."""
 
 
 TRANSIENT_ERROR_CONSTANT = 0.82
-"""C of that error model: 1.4 times the largest ``error n`` measured by ``benchmarks/bench_transient_pairs.py``
+"""C of that error model: 1.4 times the largest ``error n`` measured by ``benchmarks/calibrate_transient_pairs.py``
 (the single grids of ``benchmarks/results/transient_pairs.md`` against the pair 500/1000, lambda/a = 1..40 and creep
 reversals, n = 50..500), checked up to n = 600 against a Richardson 400/800 by ``benchmarks/bench_transient_auto.py``
 (``benchmarks/results/transient_auto.md``, section (3)).  Whole-element substeps keep the error regular: what remains
@@ -82,14 +82,14 @@ extrapolated); the cost per host step grows about as n^2.5 (``benchmarks/results
 EXTRAPOLATED_ERROR_ORDER = 2.0
 """p of the extrapolating transient's error model ``max |T' - T'_converged| <= C / n^p`` [1 of mu N]
 (:func:`transient_model_error`; n the finer grid's elements): the first-order errors of the nested grids cancel
-and what remains falls as n^-2 (``benchmarks/bench_transient_pairs.py``, ``benchmarks/results/transient_pairs.md``).
+and what remains falls as n^-2 (``benchmarks/calibrate_transient_pairs.py``, ``benchmarks/results/transient_pairs.md``).
 Each grid commits whole-element substeps (:meth:`InstationaryModel.advance`): with equal substeps of a fraction r of
 an element per host step ``error n^2`` is erratic in r (``benchmarks/bench_substep_rule.py``,
 ``benchmarks/results/substep_rule.md``)."""
 
 
 EXTRAPOLATED_ERROR_CONSTANT = 6.6
-"""C of that model: 1.4 times the largest ``error n^2`` measured by ``benchmarks/bench_transient_pairs.py``
+"""C of that model: 1.4 times the largest ``error n^2`` measured by ``benchmarks/calibrate_transient_pairs.py``
 (``benchmarks/results/transient_pairs.md``) against the pair 500/1000, over lambda/a = 1..40,
 ``(0.5 + 0.3 sin) mu a/R`` and a creep reversal ``0.9 sin`` at lambda/a = 5 and 20, n = 50..500.  By this model the
 pair 129/258 certifies 1e-4 mu N'."""
@@ -102,7 +102,7 @@ finer reference (the pair 500/1000)."""
 
 EXTRAPOLATION_COST = 1.4
 """Time per step of a pair over the single grid of n elements: the median of the ratio of the pair's to the plain
-transient's time per step in ``benchmarks/results/transient_pairs.md`` (``benchmarks/bench_transient_pairs.py``):
+transient's time per step in ``benchmarks/results/transient_pairs.md`` (``benchmarks/calibrate_transient_pairs.py``):
 the coarse grid adds about 2^-2.5 of the cost (it grows as n^2.5) and one provisional substep per host step."""
 
 
@@ -110,7 +110,7 @@ def transient_error(elements: int) -> float:
     """Modelled error [1 of mu N] of the discretised transient with n elements: ``C / n^p``.
 
     :data:`TRANSIENT_ERROR_CONSTANT` and :data:`TRANSIENT_ERROR_ORDER` bound max |T' - T'_converged| / (mu N') of
-    ``benchmarks/bench_transient_auto.py`` and ``benchmarks/bench_transient_pairs.py`` on the model's grid
+    ``benchmarks/bench_transient_auto.py`` and ``benchmarks/calibrate_transient_pairs.py`` on the model's grid
     (:func:`rollcontact.line.instationary.aligned_grid_load`).
     """
     return TRANSIENT_ERROR_CONSTANT / elements ** TRANSIENT_ERROR_ORDER
@@ -183,7 +183,7 @@ def instationary_unavailable(surface: Surface, friction) -> str | None:
 SUBSTEP_COST = (9e-5, 1.6e-9)
 """Modelled time [s] of one whole-element substep of the discretised transient on n elements, ``a + b n^2``
 (the active-set solve on the stick block and the convected traction; measured and fitted by
-``benchmarks/bench_step_budget.py``, table A, which prints the fit next to these constants)."""
+``benchmarks/calibrate_step_budget.py``, table A, which prints the fit next to these constants)."""
 
 
 def max_substeps(budget: float, elements: int, extrapolate: bool) -> int | None:

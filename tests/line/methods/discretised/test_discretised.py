@@ -154,7 +154,7 @@ def test_placement_means_shrink_the_extrapolated_error(creep_fraction):
     """The part of the first-order error that depends on where the patch edges fall in their elements is periodic
     in the grid shift: averaged over 8 placements it leaves an extrapolated T' (100/200) about a tenth of one grid
     of 200's error (measured 0.07-0.12; at 0.8 saturation that grid happens to err little, 0.22) and within the
-    model's bound (``api.EXTRAPOLATED_FORCE_ERROR``, calibrated in ``benchmarks/bench_discretised_estimate.py``,
+    model's bound (``api.EXTRAPOLATED_FORCE_ERROR``, calibrated in ``benchmarks/calibrate_discretised_estimate.py``,
     table C)."""
     scene = SCENE.replace(creep=creep_fraction * SATURATION)
     exact = rc.solve(scene, method="closed_form").tangential_force_per_length
@@ -492,7 +492,7 @@ def test_bad_transient_inputs_raise():
 @pytest.mark.parametrize("elements", [100, 1600])
 def test_the_a_priori_bound_holds_where_its_coefficient_peaks(elements):
     """The 10 mm / 20 um corrugation at x_c = 0 has the largest first-order coefficient measured by
-    benchmarks/bench_discretised_estimate.py (T' error 1.68 w/n at n = 100 and 1600, above the former 1.4 w/n):
+    benchmarks/calibrate_discretised_estimate.py (T' error 1.68 w/n at n = 100 and 1600, above the former 1.4 w/n):
     the reported bound must still cover the error against the polynomial method (exact to 1e-12 here)."""
     scene = rc.Scene(1e6, creep=1e-3, surface=rc.Surface(harmonics=(rc.Harmonic.from_wavelength(0.01, 20e-6),)))
     exact = rc.solve(scene, method="polynomial", truncation=1e-12)

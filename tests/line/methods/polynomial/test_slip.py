@@ -269,7 +269,7 @@ POLYNOMIAL = METHODS["polynomial"].accuracy
 
 def test_error_estimate_bounds_the_error():
     """The a-posteriori estimate reported by solve bounds the T' error, typically at 2-3 times it
-    (benchmarks/bench_slip_nodes.py: median 2.2; more where M happens to err much less than 2M, as the table law at
+    (benchmarks/calibrate_slip_nodes.py: median 2.2; more where M happens to err much less than 2M, as the table law at
     16 nodes; the a-priori bound beta/N^2 is mostly 10-100 times pessimistic)."""
     ratios = []
     for name, s in ESTIMATE_CASES.items():

@@ -5,7 +5,7 @@ over m placements), their error bounds and their modelled cost.
 order in the elements across the contact, ``max(c w/n, 3 (w/n)^2)`` with w the window over the Hertz width 2a; a
 result's estimate puts in its patches' widths (:func:`patch_widths`).  A module of its own so that the solver
 modules do not carry the calibration.  The error constants are calibrated by
-``benchmarks/bench_discretised_estimate.py`` (its Summary, and table C for the extrapolated pair) and checked on
+``benchmarks/calibrate_discretised_estimate.py`` (its Summary, and table C for the extrapolated pair) and checked on
 several patches by ``benchmarks/bench_multipatch.py`` (table B); the cost constants against
 ``benchmarks/pareto.py`` (``benchmarks/results/pareto.md``, section "Cost and error models of auto").
 """
@@ -34,7 +34,7 @@ STRUCTURED_COST = (1.5e-4, 9.6e-9, 8.9e-12)  # s per such Newton iteration, a + 
 
 
 # relative T' error <= 4.0 w/n (w = window over the Hertz width 2a): a margin over the largest coefficient measured
-# by benchmarks/bench_discretised_estimate.py (its Summary; the largest is on the split contact at small creep)
+# by benchmarks/calibrate_discretised_estimate.py (its Summary; the largest is on the split contact at small creep)
 DISCRETISED_FORCE_ERROR = 4.0
 
 
@@ -43,7 +43,7 @@ DISCRETISED_PRESSURE_ERROR = 3.0  # relative p0 error <= 3 (w/n)^2
 
 # The extrapolated setting (solve_discretised(extrapolate=m)): T' from n and 2n elements, each level the mean over m
 # grid placements.  Relative T' error <= 3.2 w/(m n) (n the coarser level): the placement mean leaves a first-order
-# residue that falls like 1/m (benchmarks/bench_discretised_estimate.py, table C: m c = err m n / w, largest on the
+# residue that falls like 1/m (benchmarks/calibrate_discretised_estimate.py, table C: m c = err m n / w, largest on the
 # split contact near full stick, scanned densely at n = 50..400; m = 2, 4, 8, 16 alike; table C also gives the
 # bound's margin over every error on the automatic window); p0 is the finer level's, <= 3 (w/2n)^2.
 # Calibrated for m in [2, 16]; auto offers m = 8 and 16
@@ -60,7 +60,7 @@ class DiscretisedAccuracy(AccuracyModel):
     """Discretised method: T' first order and p0 second order in the elements across the contact.
 
     The bound ``max(4.0 w/n, 3 (w/n)^2)`` (w the grid length over the Hertz width 2a, n the elements) holds
-    for every case of ``benchmarks/bench_discretised_estimate.py`` (Hertz/Carter at three loads on a fixed window
+    for every case of ``benchmarks/calibrate_discretised_estimate.py`` (Hertz/Carter at three loads on a fixed window
     and six creeps of both signs, corrugations up to a split contact at four creeps, a quartic profile,
     falling friction).  The first-order coefficient varies with where the patch edges fall on the grid and with
     the creep (largest on the split contact at small creep), so the bound is several times pessimistic in the
@@ -137,7 +137,7 @@ class DiscretisedAccuracy(AccuracyModel):
         resolution); when none does, the most accurate of them at their largest counts, with its bound.
 
         Not only the ladder's rungs: the bounds are within a small factor of the worst error measured
-        (``benchmarks/bench_discretised_estimate.py``), so the next rung up, up to twice the elements needed, would
+        (``benchmarks/calibrate_discretised_estimate.py``), so the next rung up, up to twice the elements needed, would
         cost up to 4-8 times (n^2 to n^3).
         """
         if scene.normal_load_per_length == 0.0:

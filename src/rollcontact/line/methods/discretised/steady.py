@@ -455,11 +455,11 @@ def extrapolated(scene: Scene, elements: tuple[int, int] = (1000, 2000), placeme
     ``T'_ref = T'_2 + (T'_2 - T'_1)/(r - 1)`` with ``r = n_2/n_1`` (T' is first order in the element width), where
     ``T'_k`` is the mean of the solves at ``n_k`` elements on :func:`contact_window` (fitted to the patches) shifted
     by ``j h_k / m``, j = 0..m-1 (m = ``placements``).  The answer at one n moves by about its error with where the
-    patch edges fall in their elements (``benchmarks/bench_discretised_estimate.py``): that part of the error is
+    patch edges fall in their elements (``benchmarks/calibrate_discretised_estimate.py``): that part of the error is
     periodic in the shift, the mean over m placements is its trapezoidal average, and extrapolation alone would
     amplify it.  The smooth first-order part is then removed by the extrapolation.  The error is bounded by
     ``c w/(m n_1)`` (w the window over the Hertz width 2a), erratic in n and largest on a split contact at small
-    creep, with c calibrated for m = 2 to 16 by ``benchmarks/bench_discretised_estimate.py`` (table C, n_2 = 2 n_1;
+    creep, with c calibrated for m = 2 to 16 by ``benchmarks/calibrate_discretised_estimate.py`` (table C, n_2 = 2 n_1;
     :data:`rollcontact.line.methods.discretised.accuracy.EXTRAPOLATED_FORCE_ERROR`).  The other fields are the finer
     level's first placement; p0 (second order) is the finer level's mean.
 

@@ -8,7 +8,7 @@ modules do not carry the calibration, and the dispatcher does not import the sol
 
 Calibration: the cost constants (:data:`POLYNOMIAL_COST`, :data:`POLYNOMIAL_HARMONIC_COST`, :data:`SLIP_COST`) are
 checked against ``benchmarks/pareto.py`` (``benchmarks/results/pareto.md``, section "Cost and error models of
-auto"); the slip iteration's constants by ``benchmarks/bench_slip_nodes.py`` (tables C and E).
+auto"); the slip iteration's constants by ``benchmarks/calibrate_slip_nodes.py`` (tables C and E).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ POLYNOMIAL_COST = 7.5e-5  # s, normal Newton, tangential root and validity check
 POLYNOMIAL_HARMONIC_COST = 7.5e-5  # s per surface harmonic
 
 
-# slip iteration (benchmarks/bench_slip_nodes.py, table E): Newton steps ~ 3 + 6.8 beta (beta: friction_sharpness);
+# slip iteration (benchmarks/calibrate_slip_nodes.py, table E): Newton steps ~ 3 + 6.8 beta (beta: friction_sharpness);
 # s per step with N nodes a + b N^2 + c N^3 (dense node tables; a also carries the a-posteriori estimate's share)
 SLIP_ITERATIONS = (3.0, 6.8)
 
@@ -44,7 +44,7 @@ TRUNCATIONS = tuple(10.0**-k for k in range(2, 13))
 SLIP_NODES = (8, 16, 32, 64, 128, 256, 512)  # requested; the ladder offers the distinct counts that run
 
 
-# Slip-iteration T' error against the nodes N that run (benchmarks/bench_slip_nodes.py, table C, 1024-node
+# Slip-iteration T' error against the nodes N that run (benchmarks/calibrate_slip_nodes.py, table C, 1024-node
 # references): the bound with a margin over the largest ``error N^2/beta`` measured there
 SLIP_NODE_ERROR = 1.5  # relative T' error <= SLIP_NODE_ERROR * sharpness / N^2
 
@@ -60,7 +60,7 @@ class PolynomialAccuracy(AccuracyModel):
     iteration's ``nodes``.  Counts are the nodes N that run (:func:`slip_nodes`: requests below the law's and the
     pressure's floor run the floor, so the ladder offers each count once).  A priori the T' error is below
     ``SLIP_NODE_ERROR * beta / N^2`` with the law's sharpness ``beta`` (:func:`friction_sharpness`), a bound over
-    ``benchmarks/bench_slip_nodes.py``'s cases but mostly pessimistic (its table A); a result carries the slip
+    ``benchmarks/calibrate_slip_nodes.py``'s cases but mostly pessimistic (its table A); a result carries the slip
     iteration's a-posteriori estimate (:func:`rollcontact.line.methods.polynomial.slip.force_error_estimate`), which
     :meth:`achieved` reports.  So :meth:`setting_for` starts at the cheapest count and :meth:`escalation` names
     the count to run next while the estimate misses the tolerance.  An explicit ``order`` has no prediction
@@ -98,7 +98,7 @@ class PolynomialAccuracy(AccuracyModel):
         """The truncation residual and, for the slip iteration, its a-posteriori estimate (a Newton step's cost,
         :func:`slip_estimate`); with a ``tolerance`` that the a-priori bound ``SLIP_NODE_ERROR beta/N^2`` of the
         nodes that ran already meets (a converged result), that bound instead: as certain as the estimate (both
-        are calibrated on ``benchmarks/bench_slip_nodes.py``'s cases, the discretised method is certified by its
+        are calibrated on ``benchmarks/calibrate_slip_nodes.py``'s cases, the discretised method is certified by its
         bound alone) and free, where the estimate costs a Newton step (:func:`ran_slip_bound`)."""
         # residual: the first neglected coefficients relative to the leading one (inf when the solve failed)
         if not math.isfinite(result.residual):
@@ -123,7 +123,7 @@ class PolynomialAccuracy(AccuracyModel):
 
         Starting at the floor rather than where the bound meets t is cheaper: the bound is pessimistic for most
         laws, and escalation from the floor costs little more than the cheapest count whose estimate meets t
-        (``benchmarks/bench_slip_nodes.py``, table C, the replay of the adaptive path).
+        (``benchmarks/calibrate_slip_nodes.py``, table C, the replay of the adaptive path).
         """
         if scene.friction.is_constant:
             # every truncation tolerance costs the same and bounds the error by itself: the loosest one <= t (the
@@ -138,7 +138,7 @@ class PolynomialAccuracy(AccuracyModel):
         """Options to run next when a result run with ``options`` has error ``estimate`` above ``tolerance``.
 
         For velocity-dependent friction, the rung expected to meet it: the slip estimate ``E`` at N nodes typically
-        falls like ``N^-SLIP_CONVERGENCE`` (``benchmarks/bench_slip_nodes.py``, table C), so the first count
+        falls like ``N^-SLIP_CONVERGENCE`` (``benchmarks/calibrate_slip_nodes.py``, table C), so the first count
         ``>= N (E/t)^(1/SLIP_CONVERGENCE)``, else the largest.  None when the estimate meets the tolerance (or is
         NaN), for Coulomb friction, or when no count of the ladder exceeds N: every call moves up, so escalating
         until None ends.

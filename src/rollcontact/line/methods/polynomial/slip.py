@@ -33,9 +33,9 @@ M = 256 of ``benchmarks/bench_steady.py`` table C (random exponential, rational 
 saturation, flat and corrugated); for steep laws small M can have several discrete solutions.  Because the
 convergence is so erratic (a larger M can err more), every converged solution carries an a-posteriori estimate of
 its T' error, computed when first read (the distributions' ``force_error``), :func:`force_error_estimate` (one
-step of the fixed point on 2M and 6M nodes from the converged slip), calibrated by ``benchmarks/bench_slip_nodes.py``
-(table A) to bound every error against 1024 nodes over exponential B = 1-100 s/m, rational and table laws,
-V = 1-50 m/s, creeps 0.1-5 saturation, flat and corrugated (:data:`ESTIMATE_SAFETY`).
+step of the fixed point on 2M and 6M nodes from the converged slip), calibrated by
+``benchmarks/calibrate_slip_nodes.py`` (table A) to bound every error against 1024 nodes over exponential B = 1-100 s/m,
+rational and table laws, V = 1-50 m/s, creeps 0.1-5 saturation, flat and corrugated (:data:`ESTIMATE_SAFETY`).
 
 Creep stiffness.  ``dT'/dxi`` of the discrete solution follows from the converged state by the implicit function
 theorem (:meth:`SlipEquations.force_slope`): one more Jacobian and linear solve, where a difference quotient would
@@ -86,12 +86,12 @@ ESTIMATE_REFINEMENTS = (2, 6)
 """Fine nodes per patch node, K/M, of the a-posteriori estimate (:func:`force_error_estimate`, the larger of the
 steps).  One step alone misses where T'_K happens to err like T'_M (erratic convergence); two rarely both do.  Each
 grid nests in the finest (6M holds the nodes of 2M), which shares the evaluations; none may nest with M's (3M:
-M and 3M often err alike).  ``benchmarks/bench_slip_nodes.py``, table B."""
+M and 3M often err alike).  ``benchmarks/calibrate_slip_nodes.py``, table B."""
 
 
 ESTIMATE_SAFETY = 2.0
 """Factor on ``max_K |T'_K/T'_M - 1|`` in :func:`force_error_estimate`: with it the estimate exceeds the error against
-1024 nodes, with a margin, in every case of ``benchmarks/bench_slip_nodes.py`` (table A)."""
+1024 nodes, with a margin, in every case of ``benchmarks/calibrate_slip_nodes.py`` (table A)."""
 
 
 @dataclass(frozen=True)
@@ -257,8 +257,7 @@ def stick_maps(ops: SlipOperators, eta: float) -> StickMaps:
     and ``w_j = 1/(sigma_j + sqrt(sigma_j^2 - 1))`` (the cancellation-free form of ``sigma - sqrt(sigma^2 - 1)``);
     inside it the powers are zero.  ``root`` is 1 inside (``sqrt(sigma^2 - 1)`` behind), so that the divisions here
     and in the eta-derivative stay finite without branches.  ``cos(n psi) + i sin(n psi) = (e^(i psi))^n`` by
-    cumulative products: one complex exponential per node instead of 2M cosines and sines, 2-3 times faster at
-    M = 16-64, rounding ~M eps.
+    cumulative products: one complex exponential per node instead of 2M cosines and sines, rounding ~M eps.
     """
     psi = np.arccos(eta * ops.sigma_plus_one - 1.0)
     rotations = np.empty((psi.size, ops.n.size), dtype=complex)
@@ -592,7 +591,7 @@ def force_error_estimate(eq: SlipEquations, st: SlipState, pressure_coefficients
     :func:`cosine_sine_sums`), a* re-solved from ``F_0 + xi = 0`` to first order, and
     ``T' = (pi a/2) (e_1 - (E*/2) eta F_1)``.  From the converged state that step lands within a few per cent of
     the K-node solution, so ``T'_K - T'_M`` is, up to T'_K's own smaller error, the error of T'_M.
-    ``benchmarks/bench_slip_nodes.py`` calibrates ``ESTIMATE_SAFETY`` against 1024-node solutions.  Cost:
+    ``benchmarks/calibrate_slip_nodes.py`` calibrates ``ESTIMATE_SAFETY`` against 1024-node solutions.  Cost:
     ``O(K log K)`` transforms and ``O(K^1.5)`` products; about a Newton step of the M-node solve.
     """
     ops = estimate_operators(eq.ops.n.size, ESTIMATE_REFINEMENTS)

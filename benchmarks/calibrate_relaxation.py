@@ -1,6 +1,6 @@
 """How accurate the relaxation lag is, and the calibration of its error bound for a creep swing.
 
-Run as ``.venv/bin/python benchmarks/bench_relaxation.py`` (about 10 minutes, most of it in the reference at
+Run as ``.venv/bin/python benchmarks/calibrate_relaxation.py`` (about 10 minutes, most of it in the reference at
 lambda/a >= 80).  Prints a markdown table; asserts nothing.  One BLAS thread.
 
 Scenario: the instationary study of ``benchmarks/pareto.py`` (``instationary_case.py``: N' = 1e7 N/m, mu = 0.3,
@@ -9,7 +9,7 @@ control ``xi = (mean + amplitude sin(2 pi sigma/lambda)) mu a/R`` for lambda/a =
 ``0.2 + 0.1 sin`` to creep reversals far beyond saturation (``10 sin``), near saturation and wholly in full slip
 (``2 + 0.5 sin``); slow swings (lambda/a = 80..320) near zero creep and near saturation.  Each setting steps the
 FMU's model: the lag (``transient`` = 2), quasi-static Carter (``transient`` = 0).  Reference: the extrapolating
-transient pair 200/400 (error <= 16/400^2 = 1e-4 mu N', ``benchmarks/bench_transient_pairs.py``).  Error:
+transient pair 200/400 (error <= 16/400^2 = 1e-4 mu N', ``benchmarks/calibrate_transient_pairs.py``).  Error:
 ``|T' - T'_ref|`` in units of mu N' at each step of the last cycle.
 
 Calibration of :func:`rollcontact.line.instationary.lag_error_bound`: at each step the creep envelope of the FMU's

@@ -1,7 +1,7 @@
 """The work of one step under a budget: the discretised transient's substep cost model, and the worst steps with
 and without the FMU's default ``step_budget``.
 
-Run: ``python benchmarks/bench_step_budget.py [--quick]`` (about 1 minute; ``--quick`` a few seconds).  Writes
+Run: ``python benchmarks/calibrate_step_budget.py [--quick]`` (about 1 minute; ``--quick`` a few seconds).  Writes
 ``benchmarks/results/step_budget.md`` and prints it.
 
 A. Time of one whole-element substep of the discretised transient on n elements (median over steps that roll 60

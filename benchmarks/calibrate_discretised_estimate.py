@@ -1,6 +1,6 @@
 """Calibration of error estimates of the discretised solver: the a-priori bound and a two-grid a-posteriori estimate.
 
-Run as ``.venv/bin/python benchmarks/bench_discretised_estimate.py`` (about a minute, one BLAS thread).  Prints
+Run as ``.venv/bin/python benchmarks/calibrate_discretised_estimate.py`` (about a minute, one BLAS thread).  Prints
 markdown tables; asserts nothing.
 
 Error: the larger relative error of T' and of the peak pressure p0 (the contract of ``solve(scene, tolerance=t)``).

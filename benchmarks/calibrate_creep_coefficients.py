@@ -1,7 +1,7 @@
 """Kalker's creepage coefficients C11, C22, C23, C33 from the discretised 3D solver at vanishing creepage.
 
-Run: ``python benchmarks/creep_coefficients.py [--quick] [--write-table]`` (about ten minutes; ``--quick``: three
-aspect ratios, nu = 0.25, about ten seconds).  Writes ``benchmarks/results/creep_coefficients.md``; with
+Run: ``python benchmarks/calibrate_creep_coefficients.py [--quick] [--write-table]`` (about ten minutes; ``--quick``:
+three aspect ratios, nu = 0.25, about ten seconds).  Writes ``benchmarks/results/creep_coefficients.md``; with
 ``--write-table`` also the data module ``src/rollcontact/elliptic/creep_table.py`` that
 :mod:`rollcontact.elliptic.creep_coefficients` interpolates.  ``--end-rows`` (about two minutes) writes
 ``benchmarks/results/creep_coefficients_end_rows.md`` instead: Kalker's end rows a/b = 0.1 and 10 by a second
@@ -120,18 +120,19 @@ def table_module(table: dict) -> str:
     lines = ['"""Kalker\'s creepage coefficients as a table: the data behind '
              ':mod:`rollcontact.elliptic.creep_coefficients`.',
              "",
-             "Written by ``benchmarks/creep_coefficients.py --write-table`` (do not edit by hand): the discretised 3D "
-             "solver",
-             "(:mod:`rollcontact.core.halfspace.rolling`) at vanishing creepage, extrapolated to zero element size; "
-             "the script's",
-             "results file ``benchmarks/results/creep_coefficients.md`` compares them with Kalker 1990, Table E.3.  "
+             "Written by ``benchmarks/calibrate_creep_coefficients.py --write-table`` (do not edit by hand): the "
+             "discretised",
+             "3D solver (:mod:`rollcontact.core.halfspace.rolling`) at vanishing creepage, extrapolated to zero "
+             "element size;",
+             "the script's results file ``benchmarks/results/creep_coefficients.md`` compares them with Kalker 1990, "
+             "Table E.3.",
              "Layout:",
              "``ASPECT_RATIOS`` (a/b, increasing), ``POISSON_RATIOS`` (increasing), and for each coefficient a tuple "
              "per aspect",
              "ratio of values per Poisson ratio.",
              '"""',
              "",
-             'SOURCE = "discretised 3D solver at vanishing creepage (benchmarks/creep_coefficients.py)"',
+             'SOURCE = "discretised 3D solver at vanishing creepage (benchmarks/calibrate_creep_coefficients.py)"',
              "",
              *textwrap.wrap(f"ASPECT_RATIOS = {tuple(ASPECT_RATIOS)!r}", 116, subsequent_indent=" " * 17),
              '"""a/b [1] of the rows."""',
@@ -193,7 +194,8 @@ def main():
             table[(g, nu)], spread[(g, nu)] = extrapolated(g, nu)
     lines = ["# Kalker's creepage coefficients from the discretised 3D solver", "", *common.machine(load), "",
              f"Square elements, N = {', '.join(map(str, LEVELS))} across the shorter axis, staircase area corrected, "
-             "extrapolated linearly in 1/N (benchmarks/creep_coefficients.py); 'spread' is |linear - quadratic fit|. "
+             "extrapolated linearly in 1/N (benchmarks/calibrate_creep_coefficients.py); 'spread' is "
+             "|linear - quadratic fit|. "
              f"Computed in {time.perf_counter() - started:.0f} s.", "",
              "## Against Kalker 1990, Table E.3", "",
              "| a/b | nu | C11 | Kalker | dev % | C22 | Kalker | dev % | C23 | Kalker | dev % |",

@@ -1,6 +1,6 @@
 """The extrapolating discretised transient (a pair of nested grids, n/2 and n): error vs elements, time per step.
 
-Run as ``.venv/bin/python benchmarks/bench_transient_pairs.py [--crosscheck] [--signals 0,2,...]`` (about 40
+Run as ``.venv/bin/python benchmarks/calibrate_transient_pairs.py [--crosscheck] [--signals 0,2,...]`` (about 40
 minutes; ``--signals`` runs a subset, e.g. to split the run over two processes; ``--crosscheck`` adds the plain
 n = 800/1600 Richardson at lambda/a = 5 and 40, about 8 minutes more).  Prints markdown tables; asserts nothing.
 One BLAS thread.

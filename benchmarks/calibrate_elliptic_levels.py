@@ -3,8 +3,8 @@
 creepages from the linear range to deep saturation; and, where the discretised 3D level is registered, each level's
 error against it.
 
-Run: ``python benchmarks/bench_elliptic_levels.py`` (``--quick``: fewer repeats, results not written).  Prints
-markdown tables and writes ``benchmarks/results/bench_elliptic_levels.md``:
+Run: ``python benchmarks/calibrate_elliptic_levels.py`` (``--quick``: fewer repeats, results not written).  Prints
+markdown tables and writes ``benchmarks/results/elliptic_levels.md``:
 
 A. Median time per case [us] of each level through ``solve_elliptic(scene, name)`` and directly (the method's
    function), per group of cases, with the ratio to the linear theory measured in the same run.  The cases
@@ -202,7 +202,7 @@ def main():
     lines = ["# Elliptic levels: time per case and error", "", *common.machine(load), "", *timing(args.quick)]
     if not args.quick:
         lines += accuracy()
-    common.publish(lines, "bench_elliptic_levels.md", args.quick)
+    common.publish(lines, "elliptic_levels.md", args.quick)
 
 
 if __name__ == "__main__":

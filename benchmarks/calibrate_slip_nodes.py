@@ -1,6 +1,6 @@
 """Velocity-dependent friction: calibration of the slip iteration's error estimate and of auto's node choice.
 
-Run: ``python benchmarks/bench_slip_nodes.py [--quick] [--jobs N] [--records FILE]`` (full: ~340 cases, ~20 min
+Run: ``python benchmarks/calibrate_slip_nodes.py [--quick] [--jobs N] [--records FILE]`` (full: ~340 cases, ~20 min
 on two cores; ``--quick``: 48 cases against 512 nodes, ~1 min; ``--records`` keeps the measurements of A-C).
 Prints markdown tables:
 
