@@ -25,7 +25,7 @@ from rollcontact import (
     solve,
 )
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
+MODELS = Path(__file__).resolve().parents[2] / "models"
 
 FULL_TOML = """
 [scene]

@@ -13,7 +13,7 @@ import pytest
 from rollcontact.stepping import ContactModel, ContactParameters
 from rollcontact.stepping.line.table import CorrugationUse
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 H = 1e-3
 LIMIT = 250
 """Characters of one message at most."""
