@@ -21,6 +21,10 @@ B. (Only with a level named ``discretised`` registered.)  Largest error of Fx, F
    reference (the pair of 30 and 60 elements) against the pair of 60 and 120 on the strips' test of large spin.
    B3: FASTSIM and the strips on the same cases at other Poisson's ratios (:data:`POISSON_RATIOS`; G kept), against
    the same reference at that ratio, and the largest error over each level's own estimate.
+D. (Same condition.)  The discretised level's work: operator applications per solve on 16, 30 and 60 elements
+   (median, p99, largest) over table B's cases and a third of them with each rail condition's law, the time per
+   application, and the largest real time against the capped cost model: the constants ``WORK_CAP`` and
+   ``APPLICATION_SECONDS`` of :mod:`rollcontact.elliptic.methods.discretised`.
 C. (Same condition.)  Falling friction on the Eurosprinter geometry (a/b 0.5, a 6.3 mm, Fn 106.7 kN, V 10 m/s,
    Polach's exponential law mu = 0.36 ((1 - 0.4) exp(-0.6 w) + 0.4)): Fx/(mu_s Fn) of the strips and of the
    discretised level over a creep curve, and their difference.
@@ -46,7 +50,8 @@ def timing(quick: bool) -> list[str]:
     coulomb = cases()
     falling = [(g, s.replace(friction=rc.ExponentialFalling(MU, 0.4, 0.6), rolling_speed=10.0)) for g, s in coulomb
                if g == "no spin"]
-    levels = [("linear", "no spin", coulomb), ("fastsim", "no spin", coulomb), ("fastsim", "spin", coulomb),
+    levels = [("linear", "no spin", coulomb), ("saturated", "spin", coulomb), ("fastsim", "no spin", coulomb),
+              ("fastsim", "spin", coulomb),
               ("strips", "no spin", coulomb), ("strips", "spin", coulomb),
               ("strips", "no spin (falling friction)", falling)]
     seconds = 0.02 if quick else 0.1
@@ -98,7 +103,7 @@ def accuracy() -> list[str]:
     lines = ["## B. Largest error against the discretised level (Richardson pair, 60 elements)", "",
              "| level | cases | n | Fx / (mu Fn) | Fy / (mu Fn) | Mz / (mu Fn c) | largest error / estimate |",
              "|---|---|---|---|---|---|---|"]
-    for name in ("linear", "fastsim", "strips"):
+    for name in ("linear", "saturated", "fastsim", "strips"):
         for group in ("no spin", "spin"):
             worst, ratio, n = np.zeros(3), 0.0, 0
             for (g, s), ref in zip(pool, reference, strict=True):
@@ -177,6 +182,46 @@ def saturated(ratio, xi, eta, phi):
                         spin_creepage=phi * unit / (k.c23 * C))
 
 
+WORK_GRIDS = (16, 30, 60)
+"""Element counts of table D."""
+
+
+def work() -> list[str]:
+    """Table D: the discretised level's operator applications per solve on one grid (uncapped) over the case matrix
+    and the rail conditions' falling laws, the time per application, and the largest real time against the capped
+    model (:func:`rollcontact.elliptic.methods.discretised.bounded_cost`)."""
+    import time
+
+    from rollcontact.elliptic.methods.discretised import APPLICATION_SECONDS, bounded_cost, work_cap
+
+    pool = cases()
+    pool += [(g, s.replace(friction=rc.rail_condition("wet"), rolling_speed=30.0)) for g, s in cases()[::3]]
+    pool += [(g, s.replace(friction=rc.rail_condition("dry"), rolling_speed=5.0)) for g, s in cases()[::3]]
+    lines = ["## D. The discretised level's work: operator applications and time per solve (one grid, uncapped)", "",
+             f"{len(pool)} cases: table B's and a third of them with each rail condition's law (wet at 30 m/s, dry at "
+             "5 m/s).", "",
+             "| elements | applications median | p99 | max | cap | time per application median [us] | min [us] | "
+             "modelled [us] | largest time [ms] | capped model [ms] | largest / model |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for n in WORK_GRIDS:
+        applications, seconds = [], []
+        for _, s in pool:
+            started = time.perf_counter()
+            result = rc.solve_elliptic(s, "discretised", elements=n, extrapolate=False, bounded=False)
+            seconds.append(time.perf_counter() - started)
+            applications.append(result.info["operator_applications"])
+        applications, seconds = np.array(applications), np.array(seconds)
+        per = seconds / applications
+        modelled = APPLICATION_SECONDS[0] + APPLICATION_SECONDS[1] * n * n / 3600.0
+        lines.append(f"| {n} x {n} | {np.median(applications):.0f} | {np.percentile(applications, 99):.0f} | "
+                     f"{applications.max()} | {work_cap((n, n))} | {np.median(per) * 1e6:.0f} | "
+                     f"{per.min() * 1e6:.0f} | {modelled * 1e6:.0f} | {seconds.max() * 1e3:.1f} | "
+                     f"{bounded_cost((n, n)) * 1e3:.1f} | {seconds.max() / bounded_cost((n, n)):.2f} |")
+    return lines + ["", "The cap (`WORK_CAP`) is a margin over the largest; the time per application (`APPLICATION_"
+                    "SECONDS`) is fitted to the medians of an idle run; a run on a loaded machine takes longer than "
+                    "its model.", ""]
+
+
 def falling_curve() -> list[str]:
     law = rc.ExponentialFalling(0.36, 0.4, 0.6)
     base = rc.EllipticScene.from_semi_axes(106.7e3, 6.3e-3, 12.6e-3, friction=law, rolling_speed=10.0)
@@ -201,7 +246,7 @@ def main():
     load = os.getloadavg()[0]
     lines = ["# Elliptic levels: time per case and error", "", *common.machine(load), "", *timing(args.quick)]
     if not args.quick:
-        lines += accuracy()
+        lines += accuracy() + work()
     common.publish(lines, "elliptic_levels.md", args.quick)
 
 

@@ -22,7 +22,10 @@ the finer settings its model names until one meets t (:meth:`Dispatcher.run_to_t
 
 The result reports ``info["error_estimate"]`` (the method's estimate for the options actually used, a posteriori
 where the method returns one), and with a tolerance also ``info["tolerance"]``, ``info["tolerance_met"]`` and
-``info["setting"]``.  When no setting meets the tolerance, the most accurate one is used and the message says so.
+``info["setting"]`` (the options run; also with a budget), ``info["predicted_cost"]`` (the modelled cost of the
+setting that gave the result) and ``info["modelled_cost"]`` (with a budget: the modelled cost of everything the solve
+ran, failures and fallbacks included).  When no setting meets the tolerance, the most accurate one is used and the
+message says so.
 
 Budget
 ------
@@ -193,6 +196,7 @@ class Dispatcher:
         best = closest = None
         unmodelled = []
         over = []
+        reasons = []
         for spec in self.ranked():
             if allowed is not None and spec.name not in allowed:
                 continue
@@ -201,7 +205,9 @@ class Dispatcher:
             if best is not None and (model is None or model.floor >= best.cost
                                      or model.minimum_cost(scene) >= best.cost):
                 continue
-            if spec.inapplicable(scene) is not None:
+            why = spec.inapplicable(scene)
+            if why is not None:
+                reasons.append(f"{spec.name}: {why}")
                 continue
             if model is None:
                 unmodelled.append(spec.name)
@@ -225,7 +231,8 @@ class Dispatcher:
         if over:
             raise OverBudget(f"no setting fits the budget of {budget.seconds:.3g} s: " + "; ".join(over))
         raise ValueError("no registered method can solve this scene"
-                         + (f" among {sorted(allowed)}" if allowed is not None else ""))
+                         + (f" among {sorted(allowed)}" if allowed is not None else "")
+                         + (f" ({'; '.join(reasons)})" if reasons else ""))
 
     def setting_for(self, name: str, scene, tolerance: float) -> Setting:
         """The cheapest setting of method ``name`` whose error estimate meets ``tolerance`` (else its most accurate).
@@ -336,7 +343,7 @@ class Dispatcher:
         if budget.fits(cost):
             budget.charge(cost)
             result = call_with_known_options(spec, scene, options, estimate)
-            result.info["predicted_cost"] = cost
+            result.info.update(predicted_cost=cost, setting=used)
             return result
         fitting = within_budget(model, spec.name, scene, budget.left())
         if fitting is None:
@@ -345,7 +352,7 @@ class Dispatcher:
                                f"more than the budget of {budget.seconds:.3g} s", True)
         budget.charge(fitting.cost)
         result = call_with_known_options(spec, scene, {**fitting.options, **options}, estimate)
-        result.info["predicted_cost"] = fitting.cost
+        result.info.update(predicted_cost=fitting.cost, setting=used_options(spec, {**fitting.options, **options}))
         return type(result)(**{**result.__dict__, "message": f"{result.message} (budget: the default setting is "
                                f"modelled at {cost:.3g} s, more than {budget.seconds:.3g} s; ran {fitting.options}, "
                                f"modelled at {fitting.cost:.3g} s)"})

@@ -15,17 +15,17 @@ from __future__ import annotations
 
 from rollcontact.core.dispatch import Dispatcher
 from rollcontact.core.method import MethodSpec
-from rollcontact.elliptic.methods import discretised, fastsim, linear, strips
+from rollcontact.elliptic.methods import discretised, fastsim, linear, saturated, strips
 from rollcontact.elliptic.result import EllipticResult
 from rollcontact.elliptic.scene import EllipticScene
 
 __all__ = ["BUILTIN", "DISPATCHER", "METHODS", "choose_method", "choose_setting", "register_method", "setting_for",
            "solve"]
 
-BUILTIN: tuple[MethodSpec, ...] = (strips.METHOD, fastsim.METHOD, linear.METHOD, discretised.METHOD)
+BUILTIN: tuple[MethodSpec, ...] = (strips.METHOD, fastsim.METHOD, saturated.METHOD, linear.METHOD, discretised.METHOD)
 """The elliptic method table: the levels shipped with the package, one line each.  Their ranks order ``auto``
-without a tolerance by expected accuracy: strips (10), FASTSIM (20), the linear theory (30); the discretised
-solver (100) is the fallback, above them."""
+without a tolerance by expected accuracy: strips (10), FASTSIM (20), the saturated linear theory (25), the linear
+theory (30); the discretised solver (100) is the fallback, above them."""
 
 
 def refused(scene: EllipticScene, name: str, message: str, over_budget: bool = True) -> EllipticResult:

@@ -224,3 +224,20 @@ def test_a_law_falling_faster_than_the_grid_resolves_is_reported():
     assert not sol.converged, "this law is beyond what the grid resolves, yet the solve reports convergence"
     assert "stagnates" in sol.message and "not monotone" in sol.message, sol.message
     assert sol.newton_iterations < 40, f"the stall took {sol.newton_iterations} Newton iterations to detect"
+
+
+def test_the_work_cap_bounds_the_operator_applications_and_says_so():
+    """A spin case needs several Newton steps: a cap of 40 applications stops it, within one GMRES iteration (an
+    operator and a preconditioner application) and a step's backtracking of the cap; uncapped it converges, spending
+    more."""
+    grid, op, p, x, y = setup(1.0, 16)
+    s = saturation()
+    slip = (0.5 * s + 0 * x, 1.5 * s / 6e-3 * x)
+    free = solve_steady(op, p, slip, G, Coulomb(MU))
+    assert free.converged and free.applications > 40, f"uncapped: {free.applications} applications"
+    capped = solve_steady(op, p, slip, G, Coulomb(MU), max_applications=40)
+    assert not capped.converged and "work cap of 40 operator applications" in capped.message, capped.message
+    assert capped.applications <= 40 + 2 + 7, f"{capped.applications} applications for a cap of 40"
+    again = solve_steady(op, p, slip, G, Coulomb(MU), max_applications=free.applications + 50)
+    assert again.converged and np.array_equal(again.traction_x, free.traction_x), \
+        "a cap the solve does not reach changes nothing"

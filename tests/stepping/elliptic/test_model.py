@@ -1,10 +1,11 @@
-"""The elliptic stepping model (rollcontact.stepping.elliptic.parameters): parameters checked all at once, the library's
-answer per contact, signs, the Jacobian against differences of the linear theory and of the level, frictional power,
-budget, state and repeatability."""
+"""The elliptic stepping model (rollcontact.stepping.elliptic): parameters checked all at once, the library's answer
+per contact, signs, the Jacobian against differences of the linear theory and of the level, frictional power,
+budget, state, repeatability, and the refusals of what no level represents."""
 
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -14,16 +15,9 @@ from rollcontact.core.friction import Coulomb
 from rollcontact.elliptic.dispatch import BUILTIN
 from rollcontact.stepping import ModelError
 from rollcontact.stepping.elliptic.model import EllipticModel, EllipticState
-from rollcontact.stepping.elliptic.parameters import (
-    METHOD_LEVELS as ELLIPTIC_LEVELS,
-)
-from rollcontact.stepping.elliptic.parameters import (
-    NO_STICK,
-    EllipticParameters,
-)
-from rollcontact.stepping.elliptic.parameters import (
-    method_code as level_code,
-)
+from rollcontact.stepping.elliptic.parameters import METHOD_LEVELS as ELLIPTIC_LEVELS
+from rollcontact.stepping.elliptic.parameters import NO_STICK, EllipticParameters
+from rollcontact.stepping.elliptic.parameters import method_code as level_code
 
 H = 1e-3
 ROW = (1e5, 1e-3, -5e-4, 0.2, 30.0)  # Fn [N], xi, eta, phi [1/m], V [m/s]
@@ -36,8 +30,9 @@ def jacobian(outputs) -> np.ndarray:
 def test_every_builtin_elliptic_method_has_a_code():
     for spec in BUILTIN:
         assert level_code(spec.name) > 0, f"{spec.name} has no FMU code in ELLIPTIC_LEVELS"
-    assert [level.name for level in ELLIPTIC_LEVELS] == ["linear", "fastsim", "strips", "discretised"], \
-        "codes are append only"
+    assert [level.name for level in ELLIPTIC_LEVELS][:5] == ["linear", "fastsim", "strips", "discretised",
+                                                             "saturated"], "codes are append only"
+    assert [level.code for level in ELLIPTIC_LEVELS] == list(range(1, len(ELLIPTIC_LEVELS) + 1)), "codes 1, 2, ..."
 
 
 def test_invalid_parameters_are_named_all_at_once():
@@ -56,8 +51,9 @@ def test_invalid_parameters_are_named_all_at_once():
 @pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
 def test_each_contact_is_solve_elliptic_bit_for_bit(method):
     curvatures = ((1.087, 1.667), (2.5, 1.2))
+    budget = {"step_budget": 2.0} if ELLIPTIC_LEVELS[method - 1].name == "discretised" else {}  # its capped work
     p = EllipticParameters(curvature_longitudinal=tuple(c[0] for c in curvatures),
-                           curvature_lateral=tuple(c[1] for c in curvatures), method=method)
+                           curvature_lateral=tuple(c[1] for c in curvatures), method=method, **budget)
     rows = [ROW, (5e4, -2e-3, 1e-3, -0.5, 10.0)]
     outputs = EllipticModel(p).step(0.0, H, rows)
     name = "auto" if method == 0 else ELLIPTIC_LEVELS[method - 1].name
@@ -201,3 +197,74 @@ def test_the_linear_levels_jacobian_is_its_slopes_in_either_mode():
     alone = EllipticModel(EllipticParameters(**p, jacobian=1))
     alone.batch = None
     assert together.step(0.0, H, rows) == alone.step(0.0, H, rows) == slopes
+
+
+# what no level represents, and the bounds of a step (each a finding of a fuzz of the 3D FMUs)
+
+@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+def test_outputs_beyond_floating_point_are_refused_by_name_without_a_numpy_warning(method):
+    """E = 1e-300 Pa under 1e9 N: the ellipse overflows; every level refuses the step, naming the output."""
+    model = EllipticModel(EllipticParameters(method=method, youngs_modulus=1e-300, step_budget=0.0))
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        with pytest.raises(ModelError, match="is not finite at normal_load = 1000000000.0 N") as refused:
+            model.step(0.0, H, [(1e9, 1e-3, 0.0, 0.0, 1.0)])
+    assert not seen, f"no warning escapes the step: {[str(w.message) for w in seen]}"
+    assert "youngs_modulus = 1e-300 Pa" in str(refused.value), "the message names the parameter"
+    assert model.step(0.0, H, [(0.0, 0.0, 0.0, 0.0, 1.0)])[0].method_used == 0, "the model stays usable"
+
+
+def test_a_contact_no_level_can_step_is_refused_at_initialisation_by_name():
+    for method in range(len(ELLIPTIC_LEVELS) + 1):
+        with pytest.raises(ModelError, match=r"contact 2: curvatures A = 0\.001, B = 1000\.0 1/m give a/b = "
+                                             r"2890\.59, outside \[0\.1, 10\]") as refused:
+            EllipticModel(EllipticParameters(method=method, curvature_longitudinal=(1.087, 1e-3),
+                                             curvature_lateral=(1.667, 1e3)))
+        assert "Jacobian" in str(refused.value), "the message says why every level needs the range"
+
+
+def test_an_arithmetic_breakdown_names_the_level_and_the_values():
+    model = EllipticModel(EllipticParameters(method=3, youngs_modulus=1e-300))
+    with pytest.raises(ModelError, match=r"strips cannot represent this contact in floating point \(Overflow"):
+        model.step(0.0, H, [(1e-9, 1e-3, 0.0, 0.0, 1.0)])
+
+
+def test_a_level_that_cannot_treat_a_step_says_why():
+    model = EllipticModel(EllipticParameters(method=3, rail_condition=1))
+    with pytest.raises(ModelError, match="strips: strips with velocity-dependent friction take no spin"):
+        model.step(0.0, H, [(1e5, 1e-3, 0.0, 0.2, 30.0)])
+
+
+def test_the_cheapest_fallback_a_budget_forces_keeps_the_friction_limit():
+    """auto, tolerance 1e-3 and a budget of 1e-4 s: only the linear levels fit; the saturated one answers."""
+    law = {"friction_law": 1, "friction_coefficient": 0.6557}
+    model = EllipticModel(EllipticParameters(method=0, tolerance=1e-3, step_budget=1e-4, **law))
+    out = model.step(0.0, H, [(1e5, -0.0046, 0.0, 0.0, 10.0)])[0]
+    assert out.method_used == 5, f"the saturated linear theory ({out.method_used})"
+    assert abs(out.longitudinal_force) <= 0.6557 * 1e5, f"|Fx| = {abs(out.longitudinal_force)} > mu Fn"
+    assert any("not met within the step budget" in m for m in model.take_messages()), "the miss is said"
+
+
+@pytest.mark.parametrize("method", [3, 0])
+def test_all_contacts_unloaded_give_no_contact(method):
+    n = 8
+    model = EllipticModel(EllipticParameters(method=method, curvature_longitudinal=(1.087,) * n,
+                                             curvature_lateral=(1.667,) * n))
+    outputs = model.step(0.0, H, [(0.0, 1e-3, 0.0, 0.1, 10.0)] * n)
+    assert all(o.method_used == 0 and o.longitudinal_force == 0.0 for o in outputs), "zeros without load"
+
+
+def test_the_difference_jacobian_is_paid_within_the_step_budget():
+    """jacobian = difference: three more solves of the step's own setting; a budget that pays the step's solve but
+    not the three leaves the linear slopes, said once; a budget that pays them gives the differences."""
+    from rollcontact import ELLIPTIC_METHODS
+
+    row = [(1e5, 2e-3, 0.0, 0.0, 10.0)]
+    one = ELLIPTIC_METHODS["fastsim"].accuracy.cost(EllipticScene(1e5, 1.087, 1.667, 2e-3), {})
+    tight = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=2.0 * one))
+    out = tight.step(0.0, H, row)[0]
+    linear = EllipticModel(EllipticParameters(method=1)).step(0.0, H, row)[0]
+    assert out[8:17] == linear[8:17], "the linear slopes stand in"
+    assert any("no room for the difference Jacobian" in m for m in tight.take_messages()), "said once"
+    roomy = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=5.0 * one)).step(0.0, H, row)[0]
+    assert roomy.dFx_dxi < 0.9 * linear.dFx_dxi, f"FASTSIM's slope falls with saturation ({roomy.dFx_dxi:.4g})"

@@ -156,8 +156,11 @@ class SteadySolution3D:
         Elements in stick (``|q + r s| <= g``).
     bound : ndarray
         g = mu p [Pa] at the solution's slip velocities.
-    newton_iterations, linear_iterations : int
-        Newton steps and GMRES iterations (FFT operator applications) spent.
+    newton_iterations : int
+        Newton steps taken.
+    applications : int
+        FFT operator applications spent (the rolling operator in residuals and GMRES products, the preconditioner):
+        the solve's work, which ``max_applications`` bounds.
     converged : bool
     message : str
     residual : float
@@ -171,7 +174,7 @@ class SteadySolution3D:
     stick: np.ndarray
     bound: np.ndarray
     newton_iterations: int
-    linear_iterations: int
+    applications: int
     converged: bool
     message: str
     residual: float
@@ -198,6 +201,8 @@ class _Problem:
         spectra = operator.spectra
         self.sxx, self.syy, self.sxy = spectra["xx"], spectra["yy"], spectra["xy"]
         self.det = self.sxx * self.syy - self.sxy * self.sxy
+        self.applications = 0
+        """FFT operator applications so far (:attr:`SteadySolution3D.applications`)."""
 
     def pack(self, x, y):
         return np.concatenate((x.ravel()[self.index], y.ravel()[self.index]))
@@ -210,6 +215,7 @@ class _Problem:
         return x.reshape(self.p.shape), y.reshape(self.p.shape)
 
     def slip(self, qx, qy):
+        self.applications += 1
         kx, ky = self.op.rolling(qx, qy)
         return (np.where(self.contact, self.wx - kx / self.G, 0.0),
                 np.where(self.contact, self.wy - ky / self.G, 0.0))
@@ -244,10 +250,8 @@ class _Problem:
             slope = self.friction.derivative(self.speed * sn) * self.speed * self.p
             ux = np.where(sn > 0.0, st["sx"] / np.where(sn > 0.0, sn, 1.0), nx)
             uy = np.where(sn > 0.0, st["sy"] / np.where(sn > 0.0, sn, 1.0), ny)
-        counter = [0]
-
         def apply(v):
-            counter[0] += 1
+            self.applications += 1
             vx, vy = self.unpack(v)
             kx, ky = self.op.rolling(vx, vy)
             dsx, dsy = -kx / self.G, -ky / self.G
@@ -261,7 +265,7 @@ class _Problem:
             oy = np.where(stick, -self.r * dsy, vy - py)
             return self.pack(ox, oy)
 
-        return LinearOperator((2 * self.m, 2 * self.m), matvec=apply), counter
+        return LinearOperator((2 * self.m, 2 * self.m), matvec=apply)
 
     def full_stick(self):
         """``P_g`` of the full-stick traction ``K q = G w`` on the contact: the start of Newton (stick at the leading
@@ -269,6 +273,7 @@ class _Problem:
         stick = self.contact
 
         def apply(v):
+            self.applications += 1
             kx, ky = self.op.rolling(*self.unpack(v))
             return self.pack(kx * (self.r / self.G), ky * (self.r / self.G))
 
@@ -288,6 +293,7 @@ class _Problem:
         nx, ny = self.op.grid.nx, self.op.grid.ny
 
         def apply(v):
+            self.applications += 1
             vx, vy = self.unpack(v)
             # K q = D A q: D^-1 sums the slip rate from the leading edge (x = +a, the last row) upstream
             ux = np.where(stick, vx, 0.0)[::-1].cumsum(axis=0)[::-1] * (self.dx * self.G / self.r)
@@ -303,7 +309,7 @@ class _Problem:
 def solve_steady(operator: SurfaceOperator, pressure: np.ndarray, rigid_slip: tuple[np.ndarray, np.ndarray],
                  shear_modulus: float, friction: FrictionLaw, rolling_speed: float = 1.0, tolerance: float = 1e-8,
                  max_iterations: int = NEWTON_ITERATIONS, initial: tuple[np.ndarray, np.ndarray] | None = None,
-                 ) -> SteadySolution3D:
+                 max_applications: int | None = None) -> SteadySolution3D:
     """Steady rolling stick/slip by semismooth Newton on ``F(q) = q - P_g(q + r s(q)) = 0`` (module docstring).
 
     Parameters
@@ -326,6 +332,10 @@ def solve_steady(operator: SurfaceOperator, pressure: np.ndarray, rigid_slip: tu
         Newton cap; beyond it the result says so (``converged`` False and the residual in the message).
     initial : (ndarray, ndarray), optional
         Starting traction (a neighbouring case's solution).
+    max_applications : int, optional
+        Work cap: FFT operator applications the solve may spend (:attr:`SteadySolution3D.applications`).  No Newton
+        step starts, and no GMRES iteration, beyond it; a solve stopped by it returns ``converged`` False and says
+        so.  None: only ``max_iterations`` and the stall bound the work.
     """
     problem = _Problem(operator, pressure, rigid_slip, shear_modulus, friction, rolling_speed)
     if problem.m == 0:
@@ -336,7 +346,8 @@ def solve_steady(operator: SurfaceOperator, pressure: np.ndarray, rigid_slip: tu
         qx, qy = problem.full_stick()
     else:
         qx, qy = (np.where(problem.contact, q, 0.0) for q in initial)
-    run = _newton(problem, qx, qy, tolerance, max_iterations)
+    cap = math.inf if max_applications is None else max_applications
+    run = _newton(problem, qx, qy, tolerance, max_iterations, cap)
     st = run.state
     message = run.message
     if not run.converged and not friction.is_constant:
@@ -346,8 +357,8 @@ def solve_steady(operator: SurfaceOperator, pressure: np.ndarray, rigid_slip: tu
             message += (f"; the friction law falls faster than the grid resolves: an element's slip equation is not "
                         f"monotone where -(p / r) V dmu/dv = {falling:.3g} > 1 (r = G / K_ii), so the discrete "
                         f"steady problem may have several solutions")
-    return SteadySolution3D(run.qx, run.qy, st["sx"], st["sy"], st["stick"], st["g"], run.iterations, run.linear,
-                            run.converged, message, run.residual)
+    return SteadySolution3D(run.qx, run.qy, st["sx"], st["sy"], st["stick"], st["g"], run.iterations,
+                            problem.applications, run.converged, message, run.residual)
 
 
 STALL_WINDOW = 10
@@ -359,36 +370,41 @@ class _Run(NamedTuple):
     qy: np.ndarray
     state: dict
     iterations: int
-    linear: int
     converged: bool
     message: str
     residual: float
 
 
-def _newton(problem: _Problem, qx, qy, tolerance: float, max_iterations: int) -> _Run:
+def _newton(problem: _Problem, qx, qy, tolerance: float, max_iterations: int, cap: float) -> _Run:
     """Semismooth Newton from ``(qx, qy)``: GMRES per step, backtracking on ``|F|_2``, stops at the tolerance,
-    the cap or a stall (:data:`STALL_WINDOW`)."""
+    the cap of iterations or of operator applications, or a stall (:data:`STALL_WINDOW`)."""
     st = problem.state(qx, qy)
     scale = float(st["g"].max()) if st["g"].max() > 0.0 else 1.0
     norm = float(np.hypot(st["fx"], st["fy"]).max()) / scale
     merit = float(np.sum(st["fx"] ** 2 + st["fy"] ** 2))
     history = [merit]
-    linear = 0
     for iteration in range(max_iterations + 1):
         if norm <= tolerance:
-            return _Run(qx, qy, st, iteration, linear, True, "converged", norm)
+            return _Run(qx, qy, st, iteration, True, "converged", norm)
         if iteration == max_iterations:
             break
         if len(history) > STALL_WINDOW and history[-1] > 0.5 * history[-1 - STALL_WINDOW]:
-            return _Run(qx, qy, st, iteration, linear, False,
+            return _Run(qx, qy, st, iteration, False,
                         f"Newton stagnates after {iteration} iterations: residual {norm:.2e} of max mu p "
                         f"(tolerance {tolerance:.1e})", norm)
-        jac, counter = problem.jacobian(st)
+        # a GMRES iteration applies the operator and the preconditioner; the step's backtracking up to 7 residuals
+        left = (cap - problem.applications - 7) // 2
+        if left < 1:
+            return _Run(qx, qy, st, iteration, False,
+                        f"the work cap of {cap:.0f} operator applications is reached after {iteration} Newton "
+                        f"iterations: residual {norm:.2e} of max mu p (tolerance {tolerance:.1e})", norm)
+        jac = problem.jacobian(st)
         rhs = -problem.pack(st["fx"], st["fy"])
         forcing = min(0.1, max(0.1 * tolerance, norm))  # inexact Newton: the linear solve only as tight as needed
-        step, _ = gmres(jac, rhs, rtol=forcing, atol=0.0, restart=GMRES_RESTART, maxiter=GMRES_CYCLES,
+        restart = int(min(GMRES_RESTART, left))
+        step, _ = gmres(jac, rhs, rtol=forcing, atol=0.0, restart=restart,
+                        maxiter=int(max(1, min(GMRES_CYCLES, left // restart))),
                         M=problem.preconditioner(st["stick"]))
-        linear += counter[0]
         dx, dy = problem.unpack(step)
         # backtracking on the merit |F|_2: a full step first; one that does not decrease it is halved, at most 6 times
         t = 1.0
@@ -401,7 +417,7 @@ def _newton(problem: _Problem, qx, qy, tolerance: float, max_iterations: int) ->
         qx, qy, st, merit = qx + t * dx, qy + t * dy, trial, trial_merit
         norm = float(np.hypot(st["fx"], st["fy"]).max()) / scale
         history.append(merit)
-    return _Run(qx, qy, st, max_iterations, linear, False,
+    return _Run(qx, qy, st, max_iterations, False,
                 f"Newton did not converge in {max_iterations} iterations: residual {norm:.2e} of max mu p "
                 f"(tolerance {tolerance:.1e})", norm)
 

@@ -57,11 +57,32 @@ the largest error stays below 20); the first-order term, calibrated at N = 60 (s
 bound from trusting the second order beyond the grids measured."""
 
 
-SECONDS_AT_60 = 0.13
-COST_EXPONENT = 2.5
-"""Modelled time of one solve [s]: ``SECONDS_AT_60 (sqrt(nx ny) / 60)^COST_EXPONENT`` (FFTs of n^2 log n per
-Krylov iteration, the Krylov and Newton iterations growing with n): ``benchmarks/bench_elliptic.py``, the median
-time at 60 x 60 of section A and the exponent of section "Cost against the element count"."""
+APPLICATION_SECONDS = (2.0e-4, 4.0e-4)
+"""Modelled time [s] of one FFT operator application on a grid of ``nx x ny`` elements:
+``APPLICATION_SECONDS[0] + APPLICATION_SECONDS[1] nx ny / 3600`` (the padded FFTs and the element-wise products grow
+with the elements, the Python and scipy calls around them do not): ``benchmarks/calibrate_elliptic_levels.py``,
+table D."""
+
+WORK_CAP = (1500, 1.0)
+"""Operator applications a solve on ``nx x ny`` elements may spend: ``WORK_CAP[0] (sqrt(nx ny) / 60)^WORK_CAP[1]``,
+a margin over the largest the case matrix needs with Coulomb friction and the rail conditions' falling laws
+(``benchmarks/calibrate_elliptic_levels.py``, table D); a solve the cap stops says so."""
+
+SOLVE_SECONDS = 2e-3
+"""Modelled time [s] of a solve's set-up on a grid (the pressure, the rigid slip, the start of Newton) beyond its
+operator applications (``benchmarks/calibrate_elliptic_levels.py``, table D)."""
+
+
+def work_cap(counts: tuple[int, int]) -> int:
+    """Operator applications a solve on ``counts = (nx, ny)`` elements may spend (:data:`WORK_CAP`)."""
+    return int(math.ceil(WORK_CAP[0] * (math.sqrt(counts[0] * counts[1]) / 60.0) ** WORK_CAP[1]))
+
+
+def bounded_cost(counts: tuple[int, int]) -> float:
+    """Modelled time [s] of a solve on ``counts`` elements that spends its whole :func:`work_cap`: an upper bound of
+    the real time on the machine of the calibration."""
+    nx, ny = counts
+    return SOLVE_SECONDS + work_cap(counts) * (APPLICATION_SECONDS[0] + APPLICATION_SECONDS[1] * nx * ny / 3600.0)
 
 
 LADDER = (16, 24, 32, 48, 60, 90, 120, 180, 240)
@@ -84,7 +105,7 @@ def element_counts(elements) -> tuple[int, int]:
 
 
 def solve_on_grid(scene: EllipticScene, counts: tuple[int, int], normal: str, tolerance: float,
-                  max_iterations: int):
+                  max_iterations: int, max_applications: int | None = None):
     """Grid, pressure, the steady solution and the forces (Fx, Fy, Mz) on ``counts`` elements."""
     h = scene.hertz
     nu, shear = scene.material.poisson_ratio, scene.shear_modulus
@@ -104,13 +125,13 @@ def solve_on_grid(scene: EllipticScene, counts: tuple[int, int], normal: str, to
     x, y = grid.mesh()
     xi, eta, phi = scene.creepages
     steady = solve_steady(op, pressure, (xi - phi * y, eta + phi * x), shear, scene.friction, scene.rolling_speed,
-                          tolerance, max_iterations)
+                          tolerance, max_iterations, max_applications=max_applications)
     return grid, pressure, steady, total_forces(grid, steady.traction_x, steady.traction_y), normal_message
 
 
 def solve_discretised_3d(scene: EllipticScene, *, elements=DEFAULT_ELEMENTS, extrapolate: bool = True,
                          normal: str = "hertz", fields: bool = False, iteration_tolerance: float = 1e-8,
-                         max_iterations: int = NEWTON_ITERATIONS) -> EllipticResult:
+                         max_iterations: int = NEWTON_ITERATIONS, bounded: bool = True) -> EllipticResult:
     """Discretised steady rolling of an elliptic scene (module docstring).
 
     Parameters
@@ -128,12 +149,16 @@ def solve_discretised_3d(scene: EllipticScene, *, elements=DEFAULT_ELEMENTS, ext
         Newton's tolerance on ``max |q - P_g(q + r s)| / max mu p``.
     max_iterations : int
         Newton cap; a solve that does not converge returns ``success`` False with the residual in the message.
+    bounded : bool
+        Cap each grid's work at :func:`work_cap` operator applications, so that no solve costs more than its
+        modelled cost (:class:`DiscretisedAccuracy3D`); a solve the cap stops returns ``success`` False and says so.
+        False: only ``max_iterations`` and the stall bound the work.
 
     Returns
     -------
     EllipticResult
-        ``info``: ``elements``, ``newton_iterations``, ``linear_iterations`` (FFT operator applications),
-        ``residual``, ``stick_fraction``, ``error_estimate`` (:class:`DiscretisedAccuracy3D`).
+        ``info``: ``elements``, ``newton_iterations``, ``operator_applications`` (FFT operator applications of both
+        grids), ``residual``, ``stick_fraction``, ``error_estimate`` (:class:`DiscretisedAccuracy3D`).
     """
     counts = element_counts(elements)
     if normal not in ("hertz", "discretised"):
@@ -142,24 +167,24 @@ def solve_discretised_3d(scene: EllipticScene, *, elements=DEFAULT_ELEMENTS, ext
         raise ValueError(f"extrapolate needs even element counts, got {counts}")
     if scene.normal_load == 0.0:
         return no_load(scene, "discretised")
-    grid, pressure, steady, forces, normal_message = solve_on_grid(scene, counts, normal, iteration_tolerance,
-                                                                   max_iterations)
-    newton, linear = steady.newton_iterations, steady.linear_iterations
+    grid, pressure, steady, forces, normal_message = solve_on_grid(
+        scene, counts, normal, iteration_tolerance, max_iterations, work_cap(counts) if bounded else None)
+    newton, applications = steady.newton_iterations, steady.applications
     success = steady.converged and normal_message is None
     messages = [m for m in (normal_message, None if steady.converged else steady.message) if m]
     options = {"elements": counts, "extrapolate": extrapolate}
     if extrapolate:
         half = (counts[0] // 2, counts[1] // 2)
-        _, _, coarse, coarse_forces, coarse_normal = solve_on_grid(scene, half, normal, iteration_tolerance,
-                                                                   max_iterations)
+        _, _, coarse, coarse_forces, coarse_normal = solve_on_grid(
+            scene, half, normal, iteration_tolerance, max_iterations, work_cap(half) if bounded else None)
         forces = tuple(2.0 * f - g for f, g in zip(forces, coarse_forces, strict=True))
         newton += coarse.newton_iterations
-        linear += coarse.linear_iterations
+        applications += coarse.applications
         success = success and coarse.converged and coarse_normal is None
         messages += [f"coarse level: {m}" for m in (coarse_normal, None if coarse.converged else coarse.message) if m]
     contact = pressure > 0.0
     info = {"elements": counts, "extrapolate": extrapolate, "normal": normal, "newton_iterations": newton,
-            "linear_iterations": linear, "residual": steady.residual,
+            "operator_applications": applications, "residual": steady.residual,
             "stick_fraction": float(steady.stick[contact].mean()) if contact.any() else 0.0,
             "error_estimate": DiscretisedAccuracy3D().error(scene, options)}
     traction = None
@@ -180,10 +205,10 @@ def inapplicable(scene: EllipticScene) -> str | None:
 
 class DiscretisedAccuracy3D(AccuracyModel):
     """First-order error in the element count, ``ERROR_PER_ELEMENT / N`` with N = min(nx, ny) (the Richardson pair
-    ``max(PAIR_ERROR[0] / N^2, PAIR_ERROR[1] / N)``), and a cost growing like ``(sqrt(nx ny))^COST_EXPONENT``
-    (the constants' docstrings cite the benchmark that calibrates them)."""
+    ``max(PAIR_ERROR[0] / N^2, PAIR_ERROR[1] / N)``), and the cost of each grid's capped work
+    (:func:`bounded_cost`; the constants' docstrings cite the benchmark that calibrates them)."""
 
-    floor = SECONDS_AT_60 * (16 / 60) ** COST_EXPONENT
+    floor = bounded_cost((LADDER[0], LADDER[0]))
 
     def ladder(self, scene):
         return (tuple({"elements": n, "extrapolate": False} for n in LADDER)
@@ -199,8 +224,8 @@ class DiscretisedAccuracy3D(AccuracyModel):
 
     def cost(self, scene, options):
         nx, ny = self.counts(options)
-        one = SECONDS_AT_60 * (math.sqrt(nx * ny) / 60.0) ** COST_EXPONENT
-        return one * (1.0 + 2.0 ** -COST_EXPONENT) if self.paired(options) else one
+        one = bounded_cost((nx, ny))
+        return one + bounded_cost((nx // 2, ny // 2)) if self.paired(options) else one
 
     def error(self, scene, options):
         n = min(self.counts(options))

@@ -38,7 +38,10 @@ velocities times the forces on the rail), which steady rolling dissipates by sli
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
+
+import numpy as np
 
 from rollcontact.core.materials import Material
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
@@ -163,6 +166,10 @@ class EllipticModel(SteppingModel):
         for bit each contact's solve; one contact goes through solve_elliptic, whose strips are the same code)."""
         self.notices: tuple[str, ...] = ()
         """Messages worth showing once at initialisation (none: every parameter is used)."""
+        self.last_modelled_cost = 0.0
+        """The modelled work [s] of the last step's costliest contact, its failures, fallbacks and difference
+        Jacobian included: what ``step_budget`` bounds (``benchmarks/bench_worst_step.py`` sets it against the real
+        time)."""
         self.reset(start_time)
 
     @property
@@ -170,38 +177,42 @@ class EllipticModel(SteppingModel):
         return self.parameters.contacts
 
     def fits_budget(self, method: str, spin: bool = False) -> bool:
-        """Whether the level's modelled cost (with spin: its cost with spin) fits the step budget (else each contact's
-        solve is left to solve_elliptic, which refuses or takes a cheaper setting)."""
+        """Whether the level's modelled cost (with spin: its cost with spin; with ``jacobian`` = difference four
+        times it) fits the step budget (else each contact's solve is left to solve_elliptic, which refuses or takes a
+        cheaper setting)."""
         spec = ELLIPTIC_METHODS[method]
         A, B = self.curvatures[0]
         scene = EllipticScene(1.0, A, B, spin_creepage=1.0 if spin else 0.0, material=self.material,
                               friction=self.friction)
-        return self.budget is None or spec.accuracy is None or spec.accuracy.cost(scene, {}) <= self.budget
+        solves = 4 if self.parameters.jacobian == 1 else 1
+        return self.budget is None or spec.accuracy is None or solves * spec.accuracy.cost(scene, {}) <= self.budget
 
     def label(self, k: int) -> str:
         """``"contact k: "`` (k from 1) with several contacts, else ``""``: the prefix of a contact's messages."""
         return f"contact {k + 1}: " if self.contacts > 1 else ""
 
     def inapplicable(self, k: int) -> str | None:
-        """Why contact ``k`` (from 0) cannot be solved by the method at any load (its ellipse's a/b is that of every
-        load), or None."""
+        """Why contact ``k`` (from 0) cannot be stepped at any load (its ellipse's a/b is that of every load), or
+        None: an a/b outside Kalker's coefficient table (every step's Jacobian outputs and the linear, FASTSIM and
+        strips levels need the coefficients), or a method that cannot treat the ellipse."""
         A, B = self.curvatures[k]
         scene = EllipticScene(1.0, A, B, material=self.material, friction=self.friction)
+        low, high = aspect_ratio_range()
+        ratio = scene.hertz.aspect_ratio
+        where = f"{self.label(k)}curvatures A = {A!r}, B = {B!r} 1/m give a/b = {ratio:.6g}"
+        if not low <= ratio <= high:
+            return (f"{where}, outside [{low:g}, {high:g}], the range of Kalker's creepage coefficients that every "
+                    "step's Jacobian outputs need (and the linear, FASTSIM and strips levels)")
         if self.method == "auto":
             reasons = [f"{s.name}: {why}" for s in ELLIPTIC_METHODS.values() if (why := s.inapplicable(scene))]
             if len(reasons) < len(ELLIPTIC_METHODS):
                 return None
-            why = "no elliptic method can solve it (" + "; ".join(reasons) + ")"
-        else:
-            spec = ELLIPTIC_METHODS.get(self.method)
-            if spec is None:
-                return f"method {self.method!r} is not registered in rollcontact.ELLIPTIC_METHODS"
-            why = spec.inapplicable(scene)
-            if why is None:
-                return None
-        low, high = aspect_ratio_range()
-        return (f"{self.label(k)}curvatures A = {A!r}, B = {B!r} 1/m: {why} (a/b = {scene.hertz.aspect_ratio:.4g}; "
-                f"the creepage-coefficient table serves a/b in [{low:g}, {high:g}])")
+            return f"{where}: no elliptic method can solve it (" + "; ".join(reasons) + ")"
+        spec = ELLIPTIC_METHODS.get(self.method)
+        if spec is None:
+            return f"method {self.method!r} is not registered in rollcontact.ELLIPTIC_METHODS"
+        why = spec.inapplicable(scene)
+        return None if why is None else f"{where}: {why}"
 
     # stepping ---------------------------------------------------------------------------------------------------
     def step(self, current_time: float, step_size: float, inputs) -> tuple[EllipticOutputs, ...]:
@@ -244,15 +255,46 @@ class EllipticModel(SteppingModel):
         if current_time < self.state.time:
             raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
                              f"{self.state.time!r} s; restore a saved state to step from an earlier time")
-        if self.batch is not None:
-            outputs = self.batch.step(rows)
-        elif self.strips_together:
-            outputs = self.strips_step(rows)
-        else:
-            outputs = tuple(self.contact_step(k, *(float(v) for v in row)) for k, row in enumerate(inputs))
+        self.last_modelled_cost = 0.0
+        with np.errstate(all="ignore"):  # what overflows is refused below, by its output: no numpy warning escapes
+            outputs = self.evaluate(rows)
+        for k, (contact, row) in enumerate(zip(outputs, rows, strict=True)):
+            if not all(map(math.isfinite, contact)):
+                raise ModelError(self.non_finite(k, contact, row))
         self.state.time = float(current_time)
         self.state.steps += 1
         return outputs
+
+    def evaluate(self, rows) -> tuple[EllipticOutputs, ...]:
+        """The outputs of every contact for its checked inputs: together where the level allows
+        (:class:`~rollcontact.stepping.elliptic.linear.LinearContacts`, :meth:`strips_step`), else contact by
+        contact (:meth:`contact_step`), which also answers a batch that breaks down in floating point, naming the
+        contact."""
+        if self.batch is not None or self.strips_together:
+            try:
+                outputs = self.batch.step(rows) if self.batch is not None else self.strips_step(rows)
+                level = "linear" if self.batch is not None else "strips"
+                solves = 4 if self.parameters.jacobian == 1 and level == "strips" else 1
+                self.last_modelled_cost = max((solves * ELLIPTIC_METHODS[level].accuracy.cost(self.scene(k, *row), {})
+                                               for k, row in enumerate(rows) if row[0] != 0.0), default=0.0)
+                return outputs
+            except ArithmeticError:
+                pass
+        return tuple(self.contact_step(k, *row) for k, row in enumerate(rows))
+
+    def non_finite(self, k: int, outputs: EllipticOutputs, row) -> str:
+        """The message for contact ``k``'s outputs that are not all finite: which output, its value, the inputs."""
+        name, value = next((n, v) for n, v in zip(EllipticOutputs._fields, outputs, strict=True)
+                           if not math.isfinite(v))
+        return self.beyond_floats(k, f"{name} = {value!r}", row)
+
+    def beyond_floats(self, k: int, what: str, row) -> str:
+        """The message for contact ``k`` whose ``what`` (a quantity and its value) is not finite at the inputs
+        ``row``."""
+        return (f"{self.label(k)}{what} is not finite at normal_load = {row[0]!r} N, creepages "
+                f"{row[1]!r}, {row[2]!r}, spin {row[3]!r} 1/m, velocity {row[4]!r} m/s: these inputs with "
+                f"youngs_modulus = {self.parameters.youngs_modulus!r} Pa are beyond what the level represents in "
+                f"floating point (outputs up to {sys.float_info.max:.4g} in SI units)")
 
     def input_problems(self, current_time, step_size, inputs) -> list[str]:
         """Every invalid step argument: what, which value, which limit (with its contact)."""
@@ -270,16 +312,24 @@ class EllipticModel(SteppingModel):
         A, B = self.curvatures[k]
         return EllipticScene(normal_load, A, B, xi, eta, phi, self.material, self.friction, velocity)
 
-    def solved(self, k: int, scene: EllipticScene, method: str):
-        """:func:`rollcontact.solve_elliptic` of the scene with the parameters' tolerance and budget; ModelError
-        (naming the contact) when it fails."""
+    def solved(self, k: int, scene: EllipticScene, method: str, setting: dict | None = None):
+        """:func:`rollcontact.solve_elliptic` of the scene with the parameters' tolerance and budget, or with a fixed
+        ``setting`` (the options of an earlier solve: no choice, no budget); ModelError (naming the contact) when it
+        fails."""
         try:
-            result = solve_elliptic(scene, method, tolerance=self.tolerance, budget=self.budget)
+            if setting is None:
+                result = solve_elliptic(scene, method, tolerance=self.tolerance, budget=self.budget)
+            else:
+                result = solve_elliptic(scene, method, **setting)
         except ValueError as exc:
             raise ModelError(f"{self.label(k)}{exc}") from None
+        except ArithmeticError as exc:
+            raise ModelError(f"{self.label(k)}{method} cannot represent this contact in floating point "
+                             f"({type(exc).__name__}: {exc}) at normal_load = {scene.normal_load!r} N with "
+                             f"youngs_modulus = {self.parameters.youngs_modulus!r} Pa") from None
         if not result.success:
             raise ModelError(f"{self.label(k)}{result.method} failed: {result.message}")
-        if result.info.get("tolerance_met") is False:
+        if setting is None and result.info.get("tolerance_met") is False:
             self.notice_once(f"tolerance {k}", f"{self.label(k)}the tolerance {self.tolerance!r} is not met within "
                              f"the step budget {self.budget!r} s: {result.method}'s error estimate is "
                              f"{result.info.get('error_estimate')!r} (said once)")
@@ -291,14 +341,21 @@ class EllipticModel(SteppingModel):
         if normal_load == 0.0:
             return ZERO
         scene = self.scene(k, normal_load, xi, eta, phi, velocity)
+        h = scene.hertz
+        if not (math.isfinite(h.a) and math.isfinite(h.b) and math.isfinite(h.max_pressure)):
+            raise ModelError(self.beyond_floats(k, f"the contact ellipse a = {h.a!r} m, b = {h.b!r} m, p0 = "
+                                                   f"{h.max_pressure!r} Pa", (normal_load, xi, eta, phi, velocity)))
         result = self.solved(k, scene, self.method)
         forces = (result.longitudinal_force, result.lateral_force, result.spin_moment)
-        if not all(map(math.isfinite, forces)):
-            raise ModelError(f"{self.label(k)}{result.method} returned non-finite forces {forces!r}")
         slopes = self.linear_slopes(scene)
+        jacobian = None
+        cost = result.info.get("modelled_cost", result.info.get("predicted_cost", 0.0))
         if self.parameters.jacobian == 1 and method_code(result.method) != LEVEL_CODES["linear"]:
             jacobian = self.differences(k, scene, result, forces, slopes)
-        else:
+            if jacobian is not None:
+                cost += 3.0 * result.info.get("predicted_cost", 0.0)
+        self.last_modelled_cost = max(self.last_modelled_cost, cost)
+        if jacobian is None:
             jacobian = tuple(v for row in slopes for v in row)
         stick = result.info.get("stick_fraction", NO_STICK)
         power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
@@ -310,6 +367,8 @@ class EllipticModel(SteppingModel):
         ``jacobian`` = difference also the three shifted scenes of each), the outputs as :meth:`contact_step` makes
         them from each contact's own solve."""
         loaded = [k for k, row in enumerate(rows) if row[0] != 0.0]
+        if not loaded:
+            return (ZERO,) * len(rows)
         scenes = [self.scene(k, *rows[k]) for k in loaded]
         slopes = [self.linear_slopes(scene) for scene in scenes]
         shifted = []
@@ -353,17 +412,25 @@ class EllipticModel(SteppingModel):
                 (0.0, area * c.c22, area * length * c.c23),
                 (0.0, -area * length * c.c23, area * length * length * c.c33))
 
-    def differences(self, k: int, scene: EllipticScene, result, forces, slopes) -> tuple[float, ...]:
-        """Forward differences of the step's method (``result.method``) in each creepage, row-major (Fx, Fy, Mz) x
-        (xi, eta, phi); the increment :data:`DIFFERENCE_STEP` times ``mu Fn / slope`` (``mu Fn c`` for phi)."""
+    def differences(self, k: int, scene: EllipticScene, result, forces, slopes) -> tuple[float, ...] | None:
+        """Forward differences of the step's solve in each creepage, row-major (Fx, Fy, Mz) x (xi, eta, phi), each
+        with the solve's own setting (``result.method`` and ``info["setting"]``); the increment
+        :data:`DIFFERENCE_STEP` times ``mu Fn / slope`` (``mu Fn c`` for phi).  Within the step budget: the three
+        solves' modelled cost must fit what the step's solve left of it (its failures and fallbacks included), else
+        None (the linear slopes stand in, said once)."""
+        setting = result.info.get("setting", {})
+        if self.budget is not None:
+            spent = result.info.get("modelled_cost", 0.0)
+            each = result.info.get("predicted_cost", math.nan)
+            if not spent + 3.0 * each <= self.budget:
+                self.notice_once(f"jacobian {k}", f"{self.label(k)}the step budget {self.budget!r} s leaves no room "
+                                 f"for the difference Jacobian of {result.method} (three solves modelled at {each:.3g} "
+                                 f"s each after {spent:.3g} s): the linear theory's slopes stand in (said once)")
+                return None
         creepages = scene.creepages
         columns = []
         for j, name, delta in self.increments(scene, slopes):
-            shifted = self.solved(k, scene.replace(**{name: creepages[j] + delta}), result.method)
+            shifted = self.solved(k, scene.replace(**{name: creepages[j] + delta}), result.method, setting)
             values = (shifted.longitudinal_force, shifted.lateral_force, shifted.spin_moment)
             columns.append([(values[i] - forces[i]) / delta for i in range(3)])
         return tuple(columns[j][i] for i in range(3) for j in range(3))
-
-
-
-

@@ -21,6 +21,8 @@ METHOD_LEVELS = (
     Level(2, "fastsim", "FASTSIM, Kalker's simplified theory", "FASTSIM, Kalker's simplified theory"),
     Level(3, "strips", "strip theory with FaStrip's slip directions", "strip theory with FaStrip's slip directions"),
     Level(4, "discretised", "the discretised 3D steady-rolling solver", "the discretised 3D steady-rolling solver"),
+    Level(5, "saturated", "linear theory saturated at mu Fn (Shen, Hedrick, Elkins)",
+          "linear theory saturated at mu Fn (Shen, Hedrick, Elkins)"),
 )
 """The elliptic fidelity levels as the FMU numbers them: the ``method`` choices, the ``method_used`` codes, the FMU's
 ``Method3D`` and ``MethodUsed3D`` enumerations and their documented table all follow from it.  Append only (a new
