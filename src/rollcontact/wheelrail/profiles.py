@@ -33,10 +33,11 @@ from scipy.interpolate import BSpline, make_interp_spline, make_smoothing_spline
 __all__ = ["DEFAULT_SMOOTHING", "DEFAULT_SAMPLE_STEP", "Profile", "ProfileError", "ProfileSamples", "read_profile",
            "read_simpack", "read_miniprof", "read_text_profile"]
 
-DEFAULT_SMOOTHING = 1.0e-3
-"""L_c [m]: the wavelength along the profile that the default smoothing spline halves (module docstring).  Noise at
-0.4 mm (twice a Miniprof spacing of 0.2 mm) is divided by ``1 + (1/0.4)^4 = 40``; a design arc of radius R moves by
-about ``lambda / R^3`` (0.3 um for the 13 mm gauge corner)."""
+DEFAULT_SMOOTHING = 2.0e-3
+"""L_c [m]: the wavelength along the profile that the default smoothing spline halves (module docstring).  White
+noise of 1 um on points 0.2 mm apart (a Miniprof measurement) leaves a curvature noise of a few 1/m (enough for a
+13 mm gauge corner, 77 1/m; a 300 mm crown, 3.3 1/m, needs a longer L_c), and the shared design profiles' contact
+radii move by micrometres (``tests/wheelrail/test_profiles.py``)."""
 
 DEFAULT_SAMPLE_STEP = 1.0e-4
 """Arc-length step [m] of the profile's samples that the contact search interpolates (Hermite, with the slopes)."""
@@ -44,7 +45,7 @@ DEFAULT_SAMPLE_STEP = 1.0e-4
 MIN_POINTS = 5
 """Fewest points a profile may have (a cubic smoothing spline needs more than 4)."""
 
-GAP_FACTOR = 25.0
+GAP_FACTOR = 10.0
 """A spacing of consecutive points above GAP_FACTOR times their median spacing is reported as a gap in the data."""
 
 
@@ -153,6 +154,11 @@ class Profile:
         spline = fit_spline(y, z, weights, smoothing)
         object.__setattr__(self, "_spline", spline)
         object.__setattr__(self, "_samples", sample_spline(spline, step, self.source))
+
+    def __repr__(self) -> str:
+        lo, hi = self.lateral_extent
+        return (f"Profile({self.source!r}, kind={self.kind!r}, {self.y.size} points, y {lo:.6g} to {hi:.6g} m, "
+                f"smoothing={self.smoothing!r} m)")
 
     # -------------------------------------------------------------------------------------------- evaluation
     @property

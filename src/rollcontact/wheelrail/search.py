@@ -524,7 +524,8 @@ def run_around(mask: np.ndarray, k: int) -> tuple[int, int]:
 def creepages(wheelset: Wheelset, pose: Pose, velocities: Velocities, point: ContactPoint) -> Creepages:
     """Kalker's creepages at a contact point from the wheelset's motion.
 
-    The wheel's material point at the contact P moves relative to the (resting) rail with ``v = v_C + Omega x
+    The wheel's material point at the contact P (the wheel's surface point above the rail's contact point, the
+    vertical gap above it) moves relative to the (resting) rail with ``v = v_C + Omega x
     (P - C)``: C the axle's centre moving with ``v_C = (V, dy/dt, dz/dt)``, ``Omega = omega e_a + dpsi/dt e_z +
     dphi/dt e_x`` with the axle's direction ``e_a = R_z(psi) R_x(phi) e_y`` and the pitch rate omega (negative
     forwards).  In the contact frame, right wheel ``n = (0, sin(delta), cos(delta))``, left wheel
@@ -558,7 +559,8 @@ def creepages(wheelset: Wheelset, pose: Pose, velocities: Velocities, point: Con
     ea = (-spsi * cphi, cpsi * cphi, sphi)
     Om = (omega * ea[0] + velocities.roll_rate, omega * ea[1], omega * ea[2] + velocities.yaw_rate)
     px, py, pz = point.position
-    d = (px, py - pose.lateral_shift, pz - (pose.vertical - wheelset.nominal_radius))
+    # the wheel's material point: the locus point above the rail's, by the vertical gap
+    d = (px, py - pose.lateral_shift, pz - point.vertical_gap - (pose.vertical - wheelset.nominal_radius))
     vx = V + Om[1] * d[2] - Om[2] * d[1]
     vy = velocities.lateral_velocity + Om[2] * d[0] - Om[0] * d[2]
     vz = velocities.vertical_velocity + Om[0] * d[1] - Om[1] * d[0]
