@@ -315,8 +315,9 @@ class ContactTable:
     """The contact-geometry functions tabulated over lateral shift and yaw, for a host to interpolate.
 
     Nodes: for each yaw node, the lateral shifts of :func:`contact_functions` (each jump resolved: two nodes a
-    :data:`JUMP_RESOLUTION` apart).  Lookup (:meth:`__call__`): linear in y between the nodes of the segment
-    (between jumps) the query lies in, and linear in yaw between the two yaw nodes around the query, the jump
+    :data:`JUMP_RESOLUTION` apart; the intervals refined until linear interpolation meets :data:`TOLERANCES` at
+    their midpoints).  Lookup (:meth:`__call__`): linear in y between the nodes of the segment (between jumps) the
+    query lies in, and quadratic in yaw through the three yaw nodes nearest the query (linear with two), the jump
     positions themselves interpolated in yaw so that a tread value is never blended with a flange value (where the
     yaw nodes have different numbers of jumps, plain interpolation in y at each node).  The error of the lookup
     against direct searches between the nodes is measured by :meth:`interpolation_error`.
@@ -391,11 +392,22 @@ class ContactTable:
         if not (yaws[0] <= psi <= yaws[-1]):
             raise GeometryError(f"yaw = {psi!r} rad is outside the table's [{yaws[0]!r}, {yaws[-1]!r}] rad")
         k = min(max(int(np.searchsorted(yaws, psi, side="right")), 1), yaws.size - 1)
-        w = (psi - yaws[k - 1]) / (yaws[k] - yaws[k - 1])
+        if yaws.size == 2:
+            nodes = (k - 1, k)
+        else:  # the three nodes around psi: quadratic in yaw (the lift of a yawed flange grows as psi^2)
+            c = min(max(k if psi - yaws[k - 1] > yaws[k] - psi else k - 1, 1), yaws.size - 2)
+            nodes = (c - 1, c, c + 1)
+        weights = []
+        for i in nodes:
+            w = 1.0
+            for j in nodes:
+                if j != i:
+                    w *= (psi - yaws[j]) / (yaws[i] - yaws[j])
+            weights.append(w)
         jumps = None
         if self._aligned:
-            jumps = self._prepared[k - 1][2] * (1.0 - w) + self._prepared[k][2] * w
-        return self._at_node(k - 1, y, jumps) * (1.0 - w) + self._at_node(k, y, jumps) * w
+            jumps = sum(w * self._prepared[i][2] for i, w in zip(nodes, weights, strict=True))
+        return sum(w * self._at_node(i, y, jumps) for i, w in zip(nodes, weights, strict=True))
 
     def lookup(self, lateral_shift: float, yaw: float = 0.0) -> dict:
         """:meth:`__call__` as a dict by quantity name."""
