@@ -170,6 +170,7 @@ class Wheelset:
     flange_back_spacing: float = 1.360
     flange_back_distance: float = 0.070
     samples: WheelSamples = field(init=False, repr=False)
+    steepest: float = field(init=False, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.wheel, Profile):
@@ -191,6 +192,7 @@ class Wheelset:
                                                          np.sin(smp.angle[keep]), np.tan(smp.angle[keep]),
                                                          self.taping_line + smp.y[keep],
                                                          smp.curvature[keep]))
+        object.__setattr__(self, "steepest", float(np.max(np.abs(self.samples.tan))))
 
     @property
     def taping_line(self) -> float:

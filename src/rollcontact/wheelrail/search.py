@@ -58,10 +58,11 @@ from rollcontact.wheelrail.patch import PatchGap
 __all__ = ["DEFAULT_DEPTH", "MIN_RISE", "PATCH_STEP", "ContactPoint", "Creepages", "Patch", "WheelContact",
            "creepages", "search_wheel"]
 
-DEFAULT_DEPTH = 3.0e-4
+DEFAULT_DEPTH = 2.0e-4
 """The largest elastic approach [m] the search prepares for: contact points up to this gap above the least one, and
-patch regions where the gap is below the patch's least gap plus this (Hertz's approach of S1002 on UIC60 reaches
-it at wheel loads of a few hundred kN; benchmarks/results/wheelrail_geometry.md)."""
+patch regions where the gap is below the patch's least gap plus this.  On S1002/UIC60 Hertz's approach reaches it at
+a normal load of a few hundred kN on the tread and well over 100 kN on the flange
+(benchmarks/results/wheelrail_geometry.md, part E)."""
 
 MIN_RISE = 1.0e-6
 """[m]: two minima of the gap are distinct contact points only where the gap between them rises at least this much
@@ -226,40 +227,56 @@ STRIDE = SEARCH_STRIDE
 
 
 def wheel_locus(wheelset: Wheelset, pose: Pose, idx: slice, coarse: bool = False):
-    """The right wheel's contact locus (right-side frame) at the wheel samples ``idx``: Y, Z [m], dZ/dY, the
-    longitudinal shift [m] ahead of each circle's centre, x [m], and whether the sample's normal can lie in the y-z
-    plane (module docstring).  ``coarse``: ``idx`` indexes every STRIDE-th sample."""
+    """The right wheel's contact locus (right-side frame) at the wheel samples ``idx``: Y, Z [m], dZ/dY, and
+    whether each sample's normal can lie in the y-z plane (None: all can).  ``coarse``: ``idx`` indexes every
+    STRIDE-th sample (module docstring)."""
     smp = wheelset.samples
     cpsi, spsi = math.cos(pose.yaw), math.sin(pose.yaw)
     cphi, sphi = math.cos(pose.roll), math.sin(pose.roll)
     arrays = smp.coarse if coarse else smp.__dict__
-    r, ca, sa, ta = arrays["radius"][idx], arrays["cos"][idx], arrays["sin"][idx], arrays["tan"][idx]
+    r, ta, b = arrays["radius"][idx], arrays["tan"][idx], arrays["axle"][idx]
     # A sin(theta) + B cos(theta) = C: theta = asin(C / rho) - beta
     rho = math.hypot(cpsi, sphi * spsi)
     cb, sb = cpsi / rho, sphi * spsi / rho
-    c = ta * (-cphi * spsi / rho)
-    ok = np.abs(c) < 0.99
-    np.clip(c, -0.99, 0.99, out=c)
+    k1 = -cphi * spsi / rho
+    c = ta * k1
+    ok = None
+    if abs(k1) * wheelset.steepest >= 0.99:  # only a large yaw on steep samples can leave no solution
+        ok = np.abs(c) < 0.99
+        np.clip(c, -0.99, 0.99, out=c)
     root = np.sqrt(1.0 - c * c)
     st = c * cb - root * sb
     ct = root * cb + c * sb
     a = r * st
-    b = arrays["axle"][idx]
     cc = r * ct
     v = b * cphi - cc * sphi
-    x = a * cpsi - v * spsi
     y = a * spsi + v * cpsi + pose.lateral_shift
     z = b * sphi + cc * cphi + (pose.vertical - wheelset.nominal_radius)
-    ny = (st * spsi - ct * sphi * cpsi) * ca - sa * (cphi * cpsi)
-    nz = ct * ca * cphi - sa * sphi
-    shift = a * cpsi + cc * (sphi * spsi)
-    return y, z, -ny / nz, shift, x, ok
+    # the normal over cos(alpha): ny = st sin(psi) - ct sin(phi) cos(psi) - tan(alpha) cos(phi) cos(psi),
+    # nz = ct cos(phi) - tan(alpha) sin(phi); the locus' slope is -ny / nz
+    ny = st * spsi - ct * (sphi * cpsi) - ta * (cphi * cpsi)
+    nz = ct * cphi - ta * sphi
+    return y, z, -ny / nz, ok
+
+
+def locus_point(wheelset: Wheelset, pose: Pose, radius: float, tan_alpha: float, axle: float) -> tuple:
+    """(x, longitudinal shift) [m] of the locus point of one circle (radius, profile slope, axle coordinate)."""
+    cpsi, spsi = math.cos(pose.yaw), math.sin(pose.yaw)
+    cphi, sphi = math.cos(pose.roll), math.sin(pose.roll)
+    rho = math.hypot(cpsi, sphi * spsi)
+    c = min(max(-tan_alpha * cphi * spsi / rho, -0.99), 0.99)
+    root = math.sqrt(1.0 - c * c)
+    st = c * cpsi / rho - root * sphi * spsi / rho
+    ct = root * cpsi / rho + c * sphi * spsi / rho
+    a, cc = radius * st, radius * ct
+    v = axle * cphi - cc * sphi
+    return a * cpsi - v * spsi, a * cpsi + cc * sphi * spsi
 
 
 def hermite_gap(ry, rz, rslope, wy, wz, wslope):
     """The vertical gap g = Z_rail - Z_wheel and its slope at the rail's samples ry (inside wy's range), the wheel
     locus interpolated by cubic Hermite with its slopes."""
-    j = np.searchsorted(wy, ry)
+    j = wy.searchsorted(ry)
     i = j - 1
     y0, z0, m0 = wy[i], wz[i], wslope[i]
     h = wy[j] - y0
@@ -328,21 +345,23 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
     wsmp = wheelset.samples
     base = frame.lateral_shift + wheelset.taping_line
     margin = 2e-3 + (abs(frame.roll) + abs(frame.yaw)) * 1.2 * wheelset.nominal_radius
-    i0 = max(int(np.searchsorted(wsmp.y, rail.y[0] - base - margin)) - STRIDE, 0)
-    i1 = min(int(np.searchsorted(wsmp.y, rail.y[-1] - base + margin)) + STRIDE, wsmp.y.size)
+    i0 = max(int(wsmp.y.searchsorted(rail.y[0] - base - margin)) - STRIDE, 0)
+    i1 = min(int(wsmp.y.searchsorted(rail.y[-1] - base + margin)) + STRIDE, wsmp.y.size)
     i0 -= i0 % STRIDE
-    wy, wz, wslope, wshift, wx, wok = wheel_locus(wheelset, frame, slice(i0 // STRIDE, -(-i1 // STRIDE)), True)
-    valid = wok[:-1] & wok[1:] & (wy[1:] > wy[:-1])
-    lo, hi = longest_run(valid)
+    wy, wz, wslope, wok = wheel_locus(wheelset, frame, slice(i0 // STRIDE, -(-i1 // STRIDE)), True)
+    valid = wy[1:] > wy[:-1]
+    if wok is not None:
+        valid &= wok[:-1] & wok[1:]
+    lo, hi = (0, wy.size - 1) if valid.all() else longest_run(valid)
     hi += 1
     if hi - lo < 4:
         raise GeometryError(f"{side} wheel: the wheel profile does not reach over the rail at lateral_shift = "
                             f"{pose.lateral_shift!r} m (the rail spans track y {float(rail.y[0])!r} to "
                             f"{float(rail.y[-1])!r} m)")
-    wy, wz, wslope, wshift, wx = wy[lo:hi], wz[lo:hi], wslope[lo:hi], wshift[lo:hi], wx[lo:hi]
+    wy, wz, wslope = wy[lo:hi], wz[lo:hi], wslope[lo:hi]
     w_first = i0 + lo * STRIDE  # the wheel sample of wy[0]
-    k0 = int(np.searchsorted(rail.y, wy[0], side="right"))
-    k1 = int(np.searchsorted(rail.y, wy[-1], side="left"))
+    k0 = int(rail.y.searchsorted(wy[0], side="right"))
+    k1 = int(rail.y.searchsorted(wy[-1], side="left"))
     k0 += (-k0) % STRIDE
     if k1 - k0 < 4 * STRIDE:
         raise GeometryError(f"{side} wheel and rail do not overlap at lateral_shift = {pose.lateral_shift!r} m: the "
@@ -352,8 +371,8 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
     ry = rail.coarse[0][rsl]
     g, dg = hermite_gap(ry, rail.coarse[1][rsl], rail.coarse[2][rsl], wy, wz, wslope)
     n = g.size
-    k_least = int(np.argmin(g))
-    cand = np.nonzero((dg[:-1] <= 0.0) & (dg[1:] > 0.0))[0]
+    k_least = int(g.argmin())
+    cand = np.flatnonzero((dg[:-1] <= 0.0) & (dg[1:] > 0.0))
     if k_least in (0, n - 1) or cand.size == 0:
         at_start = k_least == 0
         edge_w = float((wy[0] if at_start else wy[-1]) - base)
@@ -372,15 +391,15 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
     for m in order[1:]:
         if gc[m] > least + depth:
             break
-        if all(float(np.max(g[min(cand[m], cand[q]):max(cand[m], cand[q]) + 2])) - gc[m] >= MIN_RISE
+        if all(float(g[min(cand[m], cand[q]):max(cand[m], cand[q]) + 2].max()) - gc[m] >= MIN_RISE
                for q in keep):
             keep.append(m)
     keep.sort(key=lambda m: yc[m])
-    pts = [point_at(track, wheelset, yc[m], gc[m], wy, w_first, wshift, wx) for m in keep]
+    pts = [point_at(track, wheelset, frame, yc[m], gc[m], wy, w_first) for m in keep]
     # patches: neighbours whose regions at the approach depth merge
     groups = [[0]]
     for i in range(1, len(keep)):
-        hill = float(np.max(g[cand[keep[i - 1]]:cand[keep[i]] + 2]))
+        hill = float(g[cand[keep[i - 1]]:cand[keep[i]] + 2].max())
         if hill < min(pts[i - 1][0], pts[i][0]) + depth:
             groups[-1].append(i)
         else:
@@ -405,17 +424,14 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
     return WheelContact(side, points, tuple(patches), pose)
 
 
-def point_at(track, wheelset, y0, g0, wy, w_first, wshift, wx):
+def point_at(track, wheelset, frame, y0, g0, wy, w_first):
     """The contact point's quantities at track y0 (right-side frame) with vertical gap g0: the wheel's interpolated
     linearly on all its samples at the locus' fractional sample, the rail's (Hermite for its height) on all its
     samples."""
     rail = track.samples
     wsmp = wheelset.samples
-    k = int(np.searchsorted(wy, y0))
-    k = min(max(k, 1), wy.size - 1)
+    k = min(max(int(wy.searchsorted(y0)), 1), wy.size - 1)
     ft = (y0 - float(wy[k - 1])) / float(wy[k] - wy[k - 1])
-    shift = float(wshift[k - 1]) * (1.0 - ft) + float(wshift[k]) * ft
-    x = float(wx[k - 1]) * (1.0 - ft) + float(wx[k]) * ft
     jf = w_first + (k - 1 + ft) * STRIDE
     j = min(int(jf), wsmp.y.size - 2)
     t = jf - j
@@ -423,8 +439,7 @@ def point_at(track, wheelset, y0, g0, wy, w_first, wshift, wx):
     def on_wheel(arr):
         return float(arr[j]) * (1.0 - t) + float(arr[j + 1]) * t
 
-    i = int(np.searchsorted(rail.y, y0))
-    i = min(max(i, 1), rail.y.size - 1)
+    i = min(max(int(rail.y.searchsorted(y0)), 1), rail.y.size - 1)
     ya, h = float(rail.y[i - 1]), float(rail.y[i] - rail.y[i - 1])
     u = (y0 - ya) / h
 
@@ -435,6 +450,7 @@ def point_at(track, wheelset, y0, g0, wy, w_first, wshift, wx):
         float(rail.slope[i])
     zr = za + u * (h * m0 + u * ((3.0 * dz - h * (2.0 * m0 + m1)) + u * (h * (m0 + m1) - 2.0 * dz)))
     r = on_wheel(wsmp.radius)
+    x, shift = locus_point(wheelset, frame, r, on_wheel(wsmp.tan), on_wheel(wsmp.axle))
     return (g0, y0, zr, -on_rail(rail.angle), on_rail(rail.profile_y), on_wheel(wsmp.y), r,
             on_wheel(wsmp.cos) / r, -on_wheel(wsmp.curvature), on_rail(rail.curvature), shift, x)
 
@@ -488,7 +504,7 @@ def patch_gap(pr: PatchRegion) -> PatchGap:
     margin = 1e-3 + (abs(pr.frame.roll) + abs(pr.frame.yaw)) * 1.2 * pr.wheelset.nominal_radius
     j_a = max(int(np.searchsorted(wsmp.y, rail.y[k_a] - base - margin)) - 1, 0)
     j_b = min(int(np.searchsorted(wsmp.y, rail.y[k_b - 1] - base + margin)) + 1, wsmp.y.size)
-    wy, wz, _, _, _, ok = wheel_locus(pr.wheelset, pr.frame, slice(j_a, j_b))
+    wy, wz, _, ok = wheel_locus(pr.wheelset, pr.frame, slice(j_a, j_b))
     ry, rz = rail.y[k_a:k_b], rail.z[k_a:k_b]
     rs = (ry - y0) * cd - (rz - z0) * sd
     rn = (ry - y0) * sd + (rz - z0) * cd
@@ -496,7 +512,10 @@ def patch_gap(pr: PatchRegion) -> PatchGap:
     wn = (wy - y0) * sd + (wz - z0) * cd
     # the parts where both curves are graphs over s, around the point
     rl, rh = run_around(np.concatenate(([True], np.diff(rs) > 0.0)), int(np.argmin(np.abs(rs))))
-    wl, wh = run_around(np.concatenate(([True], (np.diff(ws) > 0.0) & ok[1:])), int(np.argmin(np.abs(ws))))
+    wmono = ws[1:] > ws[:-1]
+    if ok is not None:
+        wmono &= ok[1:]
+    wl, wh = run_around(np.concatenate(([True], wmono)), int(np.argmin(np.abs(ws))))
     s_lo = max(float(rs[rl]), float(ws[wl]))
     s_hi = min(float(rs[rh - 1]), float(ws[wh - 1]))
     s = np.arange(math.ceil(s_lo / PATCH_STEP - 1e-9), math.floor(s_hi / PATCH_STEP + 1e-9) + 1) * PATCH_STEP
