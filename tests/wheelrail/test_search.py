@@ -192,3 +192,12 @@ def test_bad_input_messages(track, wheelset, s1002):
     lifted = search_wheel(track, wheelset, Pose(0.0, 0.0, 0.0, -1e-3), "right")
     assert not lifted.in_contact and "lifted off" in lifted.message, lifted.message
     assert all(math.isfinite(p.gap) and p.gap > 0 for p in lifted.points), "a lifted wheel's gaps must be > 0"
+
+
+def test_repeatable_bit_for_bit(track, wheelset):
+    pose = Pose(0.0052, 0.0125, -0.0004, 2e-5)
+    a, b = (search_wheel(track, wheelset, pose, "right") for _ in range(2))
+    assert a.points == b.points, "two searches of one pose differ"
+    ga, gb = a.patches[0].gap, b.patches[0].gap
+    for name in ("lateral", "lateral_gap", "longitudinal_curvature"):
+        assert np.array_equal(getattr(ga, name), getattr(gb, name)), f"two patch gaps differ in {name}"

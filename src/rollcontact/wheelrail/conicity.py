@@ -25,6 +25,7 @@ amplitude y^; its Annex B integrates the nonlinear equation, its Annex C lineari
 from __future__ import annotations
 
 import math
+from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
 import numpy as np
@@ -348,66 +349,77 @@ class ContactTable:
                               for p in psi))
 
     def __post_init__(self):
-        prepared = []
+        shifts, jumps, cuts, offsets, rows = [], [], [], [], []
+        total = 0
         for f in self.functions:
-            cuts = [0]
-            for j in f.jumps:
-                cuts.append(int(np.searchsorted(f.shift, j)))
-            cuts.append(f.shift.size)
-            prepared.append((f.shift, f.values, np.array(f.jumps), cuts))
-        object.__setattr__(self, "_prepared", prepared)
-        counts = {len(f.jumps) for f in self.functions}
-        object.__setattr__(self, "_aligned", len(counts) == 1)
+            shifts.append(f.shift.tolist())
+            jumps.append(list(f.jumps))
+            cut = [0] + [int(np.searchsorted(f.shift, j)) for j in f.jumps] + [f.shift.size]
+            cuts.append(cut)
+            offsets.append(total)
+            rows.append(f.values.T)
+            total += f.shift.size
+        object.__setattr__(self, "_shifts", shifts)
+        object.__setattr__(self, "_jumps", jumps)
+        object.__setattr__(self, "_cuts", cuts)
+        object.__setattr__(self, "_offsets", offsets)
+        object.__setattr__(self, "_rows", np.ascontiguousarray(np.concatenate(rows)))
+        object.__setattr__(self, "_yaws", self.yaws.tolist())
+        object.__setattr__(self, "_aligned", len({len(j) for j in jumps}) == 1)
 
-    def _at_node(self, k: int, y: float, jumps: np.ndarray | None) -> np.ndarray:
-        shift, values, own_jumps, cuts = self._prepared[k]
-        if jumps is None or not self._aligned:
-            i = int(np.searchsorted(shift, y, side="right"))
-            i = min(max(i, 1), shift.size - 1)
-        else:
-            seg = int(np.searchsorted(jumps, y))
-            a, b = cuts[seg], cuts[seg + 1]
-            if b - a < 2:
-                a, b = 0, shift.size
-            i = a + int(np.searchsorted(shift[a:b], y, side="right"))
-            i = min(max(i, a + 1), b - 1)
+    def _node(self, k: int, y: float, jumps: list | None) -> tuple[int, float]:
+        """(row, t): the query y lies between the rows ``row`` and ``row + 1`` of the yaw node k at fraction t."""
+        shift = self._shifts[k]
+        a, b = 0, len(shift)
+        if jumps is not None:
+            seg = bisect_left(jumps, y)
+            cut = self._cuts[k]
+            if cut[seg + 1] - cut[seg] >= 2:
+                a, b = cut[seg], cut[seg + 1]
+        i = min(max(bisect_right(shift, y, a, b), a + 1), b - 1)
         y0, y1 = shift[i - 1], shift[i]
-        t = (y - y0) / (y1 - y0) if y1 > y0 else 1.0
-        return values[:, i - 1] * (1.0 - t) + values[:, i] * t
+        return self._offsets[k] + i - 1, ((y - y0) / (y1 - y0) if y1 > y0 else 1.0)
 
     def __call__(self, lateral_shift: float, yaw: float = 0.0) -> np.ndarray:
         """The :data:`QUANTITIES` at the lateral shift [m] and yaw [rad] (class docstring); outside the table's
         range GeometryError names the value and the range."""
         y = float(lateral_shift)
         psi = float(yaw)
-        f0 = self.functions[0]
-        if not (f0.shift[0] <= y <= f0.shift[-1]):
-            raise GeometryError(f"lateral_shift = {y!r} m is outside the table's [{f0.shift[0]!r}, "
-                                f"{f0.shift[-1]!r}] m")
-        yaws = self.yaws
-        if yaws.size == 1:
+        s0 = self._shifts[0]
+        if not (s0[0] <= y <= s0[-1]):
+            raise GeometryError(f"lateral_shift = {y!r} m is outside the table's [{s0[0]!r}, {s0[-1]!r}] m")
+        yaws = self._yaws
+        n = len(yaws)
+        if n == 1:
             if abs(psi - yaws[0]) > 1e-12:
                 raise GeometryError(f"yaw = {psi!r} rad: the table has the one yaw {yaws[0]!r} rad")
-            return self._at_node(0, y, self._prepared[0][2])
-        if not (yaws[0] <= psi <= yaws[-1]):
-            raise GeometryError(f"yaw = {psi!r} rad is outside the table's [{yaws[0]!r}, {yaws[-1]!r}] rad")
-        k = min(max(int(np.searchsorted(yaws, psi, side="right")), 1), yaws.size - 1)
-        if yaws.size == 2:
-            nodes = (k - 1, k)
-        else:  # the three nodes around psi: quadratic in yaw (the lift of a yawed flange grows as psi^2)
-            c = min(max(k if psi - yaws[k - 1] > yaws[k] - psi else k - 1, 1), yaws.size - 2)
-            nodes = (c - 1, c, c + 1)
-        weights = []
-        for i in nodes:
-            w = 1.0
-            for j in nodes:
-                if j != i:
-                    w *= (psi - yaws[j]) / (yaws[i] - yaws[j])
-            weights.append(w)
+            nodes, weights = (0,), (1.0,)
+        else:
+            if not (yaws[0] <= psi <= yaws[-1]):
+                raise GeometryError(f"yaw = {psi!r} rad is outside the table's [{yaws[0]!r}, {yaws[-1]!r}] rad")
+            k = min(max(bisect_right(yaws, psi), 1), n - 1)
+            if n == 2:
+                nodes = (0, 1)
+            else:  # the three nodes around psi: quadratic in yaw (the lift of a yawed flange grows as psi^2)
+                c = min(max(k if psi - yaws[k - 1] > yaws[k] - psi else k - 1, 1), n - 2)
+                nodes = (c - 1, c, c + 1)
+            weights = []
+            for i in nodes:
+                w = 1.0
+                for j in nodes:
+                    if j != i:
+                        w *= (psi - yaws[j]) / (yaws[i] - yaws[j])
+                weights.append(w)
         jumps = None
         if self._aligned:
-            jumps = sum(w * self._prepared[i][2] for i, w in zip(nodes, weights, strict=True))
-        return sum(w * self._at_node(i, y, jumps) for i, w in zip(nodes, weights, strict=True))
+            count = len(self._jumps[0])
+            jumps = [sum(w * self._jumps[i][m] for i, w in zip(nodes, weights, strict=True)) for m in range(count)]
+        index, coef = [], []
+        for i, w in zip(nodes, weights, strict=True):
+            row, t = self._node(i, y, jumps)
+            index += (row, row + 1)
+            coef += (w * (1.0 - t), w * t)
+        return np.dot(coef, self._rows[index])
 
     def lookup(self, lateral_shift: float, yaw: float = 0.0) -> dict:
         """:meth:`__call__` as a dict by quantity name."""
