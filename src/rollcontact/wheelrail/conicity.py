@@ -318,9 +318,11 @@ class ContactTable:
     Nodes: for each yaw node, the lateral shifts of :func:`contact_functions` (each jump resolved: two nodes a
     :data:`JUMP_RESOLUTION` apart; the intervals refined until linear interpolation meets :data:`TOLERANCES` at
     their midpoints).  Lookup (:meth:`__call__`): linear in y between the nodes of the segment (between jumps) the
-    query lies in, and quadratic in yaw through the three yaw nodes nearest the query (linear with two), the jump
-    positions themselves interpolated in yaw so that a tread value is never blended with a flange value (where the
-    yaw nodes have different numbers of jumps, plain interpolation in y at each node).  The error of the lookup
+    query lies in, and quadratic in yaw through the three yaw nodes nearest the query (linear with two).  The jump
+    positions are interpolated in yaw too, and the query's fraction of its segment (between the interpolated jumps,
+    or a jump and the table's end) is read at the same fraction of each yaw node's own segment, so that no node is
+    read across its jump and a tread value is never blended with a flange value (where the yaw nodes have
+    different numbers of jumps, plain interpolation in y at each node).  The error of the lookup
     against direct searches between the nodes is measured by :meth:`interpolation_error`.
 
     Attributes
@@ -367,18 +369,21 @@ class ContactTable:
         object.__setattr__(self, "_yaws", self.yaws.tolist())
         object.__setattr__(self, "_aligned", len({len(j) for j in jumps}) == 1)
 
-    def _node(self, k: int, y: float, jumps: list | None) -> tuple[int, float]:
-        """(row, t): the query y lies between the rows ``row`` and ``row + 1`` of the yaw node k at fraction t."""
+    def _node(self, k: int, y: float, jumps: list | None, seg: int | None = None) -> tuple[int, float]:
+        """(row, t): the query y lies between the rows ``row`` and ``row + 1`` of the yaw node k at fraction t
+        (within the segment ``seg`` between the jumps, by default the one y lies in)."""
         shift = self._shifts[k]
         a, b = 0, len(shift)
         if jumps is not None:
-            seg = bisect_left(jumps, y)
+            if seg is None:
+                seg = bisect_left(jumps, y)
             cut = self._cuts[k]
             if cut[seg + 1] - cut[seg] >= 2:
                 a, b = cut[seg], cut[seg + 1]
         i = min(max(bisect_right(shift, y, a, b), a + 1), b - 1)
         y0, y1 = shift[i - 1], shift[i]
-        return self._offsets[k] + i - 1, ((y - y0) / (y1 - y0) if y1 > y0 else 1.0)
+        t = min(max((y - y0) / (y1 - y0), 0.0), 1.0) if y1 > y0 else 1.0
+        return self._offsets[k] + i - 1, t
 
     def __call__(self, lateral_shift: float, yaw: float = 0.0) -> np.ndarray:
         """The :data:`QUANTITIES` at the lateral shift [m] and yaw [rad] (class docstring); outside the table's
@@ -410,15 +415,28 @@ class ContactTable:
                     if j != i:
                         w *= (psi - yaws[j]) / (yaws[i] - yaws[j])
                 weights.append(w)
-        jumps = None
-        if self._aligned:
+        index, coef = [], []
+        if self._aligned and len(nodes) > 1:
+            # jump-aligned: the query's fraction u of its segment between the interpolated jumps (or the table's
+            # ends) is taken at the same fraction of each node's own segment, so no node is read across its jump
             count = len(self._jumps[0])
             jumps = [sum(w * self._jumps[i][m] for i, w in zip(nodes, weights, strict=True)) for m in range(count)]
-        index, coef = [], []
-        for i, w in zip(nodes, weights, strict=True):
-            row, t = self._node(i, y, jumps)
-            index += (row, row + 1)
-            coef += (w * (1.0 - t), w * t)
+            seg = bisect_left(jumps, y)
+            lo = jumps[seg - 1] if seg > 0 else s0[0]
+            hi = jumps[seg] if seg < count else s0[-1]
+            u = (y - lo) / (hi - lo) if hi > lo else 0.0
+            for i, w in zip(nodes, weights, strict=True):
+                own = self._jumps[i]
+                lo_i = own[seg - 1] if seg > 0 else self._shifts[i][0]
+                hi_i = own[seg] if seg < count else self._shifts[i][-1]
+                row, t = self._node(i, lo_i + u * (hi_i - lo_i), own, seg)
+                index += (row, row + 1)
+                coef += (w * (1.0 - t), w * t)
+        else:
+            for i, w in zip(nodes, weights, strict=True):
+                row, t = self._node(i, y, self._jumps[i] if len(nodes) == 1 else None)
+                index += (row, row + 1)
+                coef += (w * (1.0 - t), w * t)
         return np.dot(coef, self._rows[index])
 
     def lookup(self, lateral_shift: float, yaw: float = 0.0) -> dict:
