@@ -201,3 +201,21 @@ def test_repeatable_bit_for_bit(track, wheelset):
     ga, gb = a.patches[0].gap, b.patches[0].gap
     for name in ("lateral", "lateral_gap", "longitudinal_curvature"):
         assert np.array_equal(getattr(ga, name), getattr(gb, name)), f"two patch gaps differ in {name}"
+
+
+def test_inclination_cants_an_upright_rail(track, wheelset, uic60):
+    """UIC60 turned upright by atan(1/40) and canted back by the track's inclination is the shared canted rail."""
+    c = math.atan(1 / 40)
+    y = math.cos(c) * uic60.y - math.sin(c) * uic60.z
+    z = math.sin(c) * uic60.y + math.cos(c) * uic60.z
+    upright = Profile(y, z, kind="rail", source="upright UIC60")
+    canted = Track(upright, 1.435, 0.014, inclination=c)
+    assert abs(canted.rail_offset - track.rail_offset) < 1e-9, (
+        f"rail offset {canted.rail_offset!r} m, the canted profile's {track.rail_offset!r} m")
+    for pose in (Pose(), Pose(0.004, 0.008, -0.0002), Pose(0.007, 0.017, -0.0064)):
+        a = search_wheel(canted, wheelset, pose, "right").points[0]
+        b = search_wheel(track, wheelset, pose, "right").points[0]
+        # (the rail positions differ: each is in its own profile's axes, upright or canted)
+        assert abs(a.rolling_radius - b.rolling_radius) < 1e-9 and abs(a.contact_angle - b.contact_angle) < 1e-9, (
+            f"{pose}: canted upright rail r {a.rolling_radius!r}, delta {a.contact_angle!r}; shared rail "
+            f"{b.rolling_radius!r}, {b.contact_angle!r}")
