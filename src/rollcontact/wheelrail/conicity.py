@@ -363,6 +363,7 @@ class ContactTable:
             total += f.shift.size
         object.__setattr__(self, "_shifts", shifts)
         object.__setattr__(self, "_jumps", jumps)
+        object.__setattr__(self, "_bounds", [[sh[0], *j, sh[-1]] for sh, j in zip(shifts, jumps, strict=True)])
         object.__setattr__(self, "_cuts", cuts)
         object.__setattr__(self, "_offsets", offsets)
         object.__setattr__(self, "_rows", np.ascontiguousarray(np.concatenate(rows)))
@@ -415,24 +416,26 @@ class ContactTable:
                     if j != i:
                         w *= (psi - yaws[j]) / (yaws[i] - yaws[j])
                 weights.append(w)
-        index, coef = [], []
         if self._aligned and len(nodes) > 1:
             # jump-aligned: the query's fraction u of its segment between the interpolated jumps (or the table's
             # ends) is taken at the same fraction of each node's own segment, so no node is read across its jump
-            count = len(self._jumps[0])
-            jumps = [sum(w * self._jumps[i][m] for i, w in zip(nodes, weights, strict=True)) for m in range(count)]
-            seg = bisect_left(jumps, y)
-            lo = jumps[seg - 1] if seg > 0 else s0[0]
-            hi = jumps[seg] if seg < count else s0[-1]
+            bounds = [self._bounds[i] for i in nodes]
+            if len(nodes) == 3:
+                w0, w1, w2 = weights
+                mixed = [w0 * p + w1 * q + w2 * r for p, q, r in zip(*bounds, strict=True)]
+            else:
+                w0, w1 = weights
+                mixed = [w0 * p + w1 * q for p, q in zip(*bounds, strict=True)]
+            seg = min(max(bisect_left(mixed, y, 1, len(mixed) - 1), 1), len(mixed) - 1) - 1
+            lo, hi = mixed[seg], mixed[seg + 1]
             u = (y - lo) / (hi - lo) if hi > lo else 0.0
-            for i, w in zip(nodes, weights, strict=True):
-                own = self._jumps[i]
-                lo_i = own[seg - 1] if seg > 0 else self._shifts[i][0]
-                hi_i = own[seg] if seg < count else self._shifts[i][-1]
-                row, t = self._node(i, lo_i + u * (hi_i - lo_i), own, seg)
+            index, coef = [], []
+            for i, w, own in zip(nodes, weights, bounds, strict=True):
+                row, t = self._node(i, own[seg] + u * (own[seg + 1] - own[seg]), self._jumps[i], seg)
                 index += (row, row + 1)
                 coef += (w * (1.0 - t), w * t)
         else:
+            index, coef = [], []
             for i, w in zip(nodes, weights, strict=True):
                 row, t = self._node(i, y, self._jumps[i] if len(nodes) == 1 else None)
                 index += (row, row + 1)
