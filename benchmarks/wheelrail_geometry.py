@@ -30,8 +30,8 @@ import time
 import common  # before numpy: limits BLAS to one thread
 import numpy as np
 
+from rollcontact.core.materials import Material
 from rollcontact.elliptic.hertz import hertz_ellipse
-from rollcontact.scene import Material
 from rollcontact.wheelrail.conicity import QUANTITIES, ContactTable, contact_functions, equivalent_conicity
 from rollcontact.wheelrail.geometry import Pose, Track, Wheelset
 from rollcontact.wheelrail.normal import loaded_position, rigid_position, solve_normal

@@ -14,8 +14,8 @@ import math
 
 import numpy as np
 import pytest
-from conftest import circular_head, cone
 from scipy.optimize import brentq
+from wheelrail_cases import circular_head, cone
 
 from rollcontact.wheelrail.conicity import (
     QUANTITIES,

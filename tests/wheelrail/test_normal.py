@@ -12,10 +12,10 @@ import math
 
 import numpy as np
 import pytest
-from conftest import circular_head, manchester_rows
+from wheelrail_cases import circular_head, manchester_rows
 
+from rollcontact.core.materials import Material
 from rollcontact.elliptic.hertz import hertz_ellipse
-from rollcontact.scene import Material
 from rollcontact.wheelrail.geometry import Pose, Track, Wheelset
 from rollcontact.wheelrail.normal import loaded_position, rigid_position, solve_normal, wheel_forces_at_pose
 from rollcontact.wheelrail.profiles import Profile

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import PROFILES, manchester_pose, manchester_rows
+from wheelrail_cases import PROFILES, manchester_pose, manchester_rows
 
 from rollcontact.wheelrail.geometry import Track, Wheelset
 from rollcontact.wheelrail.profiles import (

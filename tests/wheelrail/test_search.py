@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import circular_head, cone, manchester_pose, manchester_rows
+from wheelrail_cases import circular_head, cone, manchester_pose, manchester_rows
 
 from rollcontact.wheelrail.geometry import GeometryError, Pose, Track, Velocities, Wheelset
 from rollcontact.wheelrail.profiles import Profile

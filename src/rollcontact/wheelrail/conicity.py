@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from rollcontact.checks import check_real
+from rollcontact.core.checks import check_real
 from rollcontact.wheelrail.geometry import GeometryError, Track, Wheelset
 from rollcontact.wheelrail.normal import rigid_position
 

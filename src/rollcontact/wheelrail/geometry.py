@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from rollcontact.checks import check_real
+from rollcontact.core.checks import check_real
 from rollcontact.wheelrail.profiles import Profile, ProfileError
 
 __all__ = ["GeometryError", "MAX_SURFACE_ANGLE", "SEARCH_STRIDE", "Pose", "Track", "Velocities", "Wheelset"]

@@ -27,9 +27,9 @@ from dataclasses import dataclass
 
 from scipy.optimize import brentq
 
-from rollcontact.checks import check_real
+from rollcontact.core.checks import check_real
+from rollcontact.core.materials import Material
 from rollcontact.elliptic.hertz import HertzEllipse, hertz_ellipse
-from rollcontact.scene import Material
 from rollcontact.wheelrail.geometry import GeometryError, Pose, Track, Wheelset
 from rollcontact.wheelrail.search import DEFAULT_DEPTH, Patch, WheelContact, search_wheel
 
@@ -44,7 +44,7 @@ MIN_LATERAL_CURVATURE = 1.0e-3
 """[1/m]: Hertz's lateral curvature B is taken at least this (a radius of 500 m) where the profiles conform."""
 
 STEEL = Material()
-"""The default material: E = 210 GPa, nu = 0.28 (:class:`rollcontact.scene.Material`)."""
+"""The default material: E = 210 GPa, nu = 0.28 (:class:`rollcontact.core.materials.Material`)."""
 
 ROLL_TOLERANCE = 1.0e-11
 """[m]: the rigid wheelset's roll is iterated until the two wheels' vertical displacements agree to this."""
