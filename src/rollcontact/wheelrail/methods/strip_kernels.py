@@ -1,0 +1,127 @@
+"""Influence of one lateral strip of semi-elliptic pressure on the centre line of the others: the kernels of the
+non-Hertzian strip normal problem (docs/physics-wheelrail-patches.md, "The strips' normal problem").
+
+A strip ``t_lo < t < t_hi`` across the patch carries ``p(x) = p0 sqrt(1 - x^2/a^2)`` along the rolling direction.
+On the centre line ``x = 0`` at the lateral distance ``d`` its normal displacement (two quasi-identical bodies,
+Boussinesq: ``u_z = (1/(pi E*)) int int p / r``) and the curvature of that displacement along x are
+
+    ``u_z = (p0 a / (pi E*)) [Jc(rho_lo) - Jc(rho_hi)]``,
+    ``d^2 u_z / dx^2 = (p0 / (pi E* a)) [Mc(rho_lo) - Mc(rho_hi)]``,  ``rho = (s - t) / a``,
+
+with ``Jc``, ``Mc`` the antiderivatives (odd, zero at 0) of the line kernels of a semi-ellipse of unit half-length,
+
+    ``j(rho) = int_{-1}^{1} sqrt(1 - u^2) / sqrt(u^2 + rho^2) du = 2 sqrt(1 + rho^2) (K(mu) - E(mu))``,
+    ``m(rho) = int_{-1}^{1} sqrt(1 - u^2) (2 u^2 - rho^2) / (u^2 + rho^2)^(5/2) du = -j(rho) / (1 + rho^2)``,
+
+``mu = 1 / (1 + rho^2)``, K and E the complete elliptic integrals (``m = -(1/rho) d(rho j')/drho`` since the surface
+Laplacian of ``1/r`` is ``1/r^3``).  Near 0, ``j = 2 ln(4/rho) - 2 + O(rho^2 ln rho)`` and ``Jc = 2 rho ln(4/rho)``;
+for large rho, ``Jc = (pi/2) ln(rho) + pi ln 2 + pi/4 + O(rho^-2)`` and ``Mc -> -pi``, the 2D half-plane's
+``-2 pi``, so that an infinitely wide strip has ``d^2 u_z/dx^2 = -2 p0/(E* a)``, the 2D Hertz relation.
+
+``Jc`` and ``Mc`` are tabulated in ``t = ln(rho)`` (cumulative Simpson of the closed-form ``rho j`` and ``rho m``)
+and read by cubic Hermite interpolation with their exact t-derivatives ``rho j`` and ``rho m``.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+from scipy.integrate import cumulative_simpson
+from scipy.special import ellipe, ellipkm1
+
+TABLE_STEP = 0.01
+"""Spacing of the tables in ``t = ln(rho)``: the Hermite interpolation's error is about ``TABLE_STEP^4 / 384``
+relative."""
+
+TABLE_RANGE = (-14.0, 14.0)
+"""``t`` covered by the tables; below it ``Jc = 2 rho ln(4/rho)`` and ``Mc = -Jc`` (to ``O(rho^3 ln rho)``), above
+it both are linear in t to ``O(rho^-2)`` (the last interval extrapolates)."""
+
+SERIES_BELOW = 0.01
+"""``mu`` below which ``K - E`` is taken from its series (the difference of K and E cancels there)."""
+
+
+def line_kernels(rho: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(j(rho), m(rho))`` (module docstring), rho > 0 (arrays)."""
+    rho = np.asarray(rho, dtype=float)
+    s = 1.0 + rho * rho
+    mu = 1.0 / s
+    with np.errstate(divide="ignore", invalid="ignore"):
+        difference = ellipkm1(rho * rho / s) - ellipe(mu)
+    series = 0.5 * math.pi * mu * (0.5 + mu * (3.0 / 16.0 + mu * (15.0 / 128.0 + mu * (175.0 / 2048.0))))
+    difference = np.where(mu < SERIES_BELOW, series, difference)
+    root = np.sqrt(s)
+    return 2.0 * root * difference, -2.0 * difference / root
+
+
+@lru_cache(maxsize=1)
+def tables() -> tuple[float, float, np.ndarray]:
+    """``(t_0, step, table)``: ``table[k, i]`` for ``k`` = 0..3 is ``Jc``, ``Mc``, ``step dJc/dt``,
+    ``step dMc/dt`` at ``t_0 + i step`` (read-only; built once, a few milliseconds)."""
+    t_min, t_max = TABLE_RANGE
+    fine = 0.5 * TABLE_STEP
+    start = -40.0
+    t = start + fine * np.arange(int(round((t_max - start) / fine)) + 1)
+    rho = np.exp(t)
+    j, m = line_kernels(rho)
+    edge = 2.0 * rho[0] * math.log(4.0 / rho[0])  # Jc and -Mc at rho_0 = e^-40, to O(rho_0^3)
+    jc = edge + cumulative_simpson(rho * j, dx=fine, initial=0.0)
+    mc = -edge + cumulative_simpson(rho * m, dx=fine, initial=0.0)
+    keep = slice(int(round((t_min - start) / fine)), None, 2)
+    table = np.stack([jc[keep], mc[keep], TABLE_STEP * rho[keep] * j[keep], TABLE_STEP * rho[keep] * m[keep]])
+    table.flags.writeable = False
+    return t_min, TABLE_STEP, table
+
+
+def integrated(rho: np.ndarray, derivative: bool = False):
+    """``(Jc(rho), Mc(rho))`` stacked (shape ``(2, *rho.shape)``) for rho > 0, and with ``derivative`` also their
+    t-derivatives ``(rho j, rho m)`` (cubic Hermite on :func:`tables`)."""
+    t0, step, table = tables()
+    with np.errstate(divide="ignore"):
+        f = (np.log(rho) - t0) * (1.0 / step)
+    f = np.maximum(f, 0.0)
+    i = np.minimum(f.astype(np.intp), table.shape[1] - 2)
+    u = f - i
+    lo = table[:, i]
+    hi = table[:, i + 1]
+    rise = hi[:2] - lo[:2]
+    v = 1.0 - u
+    # Hermite: f0 + u rise + u v [v (d0 - rise) - u (d1 - rise)]
+    a0 = lo[2:] - rise
+    a1 = hi[2:] - rise
+    value = lo[:2] + u * (rise + v * (v * a0 - u * a1))
+    if not derivative:
+        return value
+    slope = (rise + a0 * v * (1.0 - 3.0 * u) + a1 * u * (3.0 * u - 2.0)) * (1.0 / step)
+    return value, slope
+
+
+def strip_matrices(centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, half_lengths: np.ndarray,
+                   contact_modulus: float, derivative: bool = False):
+    """The strips' influence on each other's centre lines, per unit ``e = p0 a`` [Pa m] and ``q = p0 / a`` [Pa/m].
+
+    Returns ``(U, C)`` [1/Pa], each ``(n, m)`` for n field points ``centres`` and m source strips
+    ``[lower, upper]`` of half-lengths ``half_lengths``: the centre-line displacement
+    ``u_z(s_i) = sum_j U_ij e_j`` and the curvature ``-(1/2) d^2u_z/dx^2 (s_i) = sum_j C_ij q_j``, i.e.
+    ``U = (Jc(rho_lo) - Jc(rho_hi)) / (pi E*)``, ``C = -(Mc(rho_lo) - Mc(rho_hi)) / (2 pi E*)`` (module docstring).
+    With ``derivative`` also ``(dU, dC)``, their derivatives times ``a_j`` with respect to ``a_j``
+    (``a d/da K(x/a) = -dK/dt``).
+    """
+    x_lo = centres[:, None] - lower[None, :]
+    x_hi = centres[:, None] - upper[None, :]
+    inverse = 1.0 / half_lengths
+    rho = np.stack([x_lo, x_hi]) * inverse  # (2, n, m): lower and upper ends
+    size = np.abs(rho)
+    sign = np.sign(rho)
+    scale = np.array([1.0 / (math.pi * contact_modulus), -0.5 / (math.pi * contact_modulus)])[:, None, None]
+    if not derivative:
+        values = integrated(size) * sign
+        return tuple((values[:, 0] - values[:, 1]) * scale)
+    values, slopes = integrated(size, derivative=True)
+    values = values * sign
+    slopes = slopes * sign
+    influence = (values[:, 0] - values[:, 1]) * scale
+    change = -(slopes[:, 0] - slopes[:, 1]) * scale
+    return influence[0], influence[1], change[0], change[1]
