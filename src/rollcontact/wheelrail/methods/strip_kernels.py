@@ -36,8 +36,8 @@ TABLE_STEP = 0.01
 relative."""
 
 TABLE_RANGE = (-14.0, 14.0)
-"""``t`` covered by the tables; below it ``Jc = 2 rho ln(4/rho)`` and ``Mc = -Jc`` (to ``O(rho^3 ln rho)``), above
-it both are linear in t to ``O(rho^-2)`` (the last interval extrapolates)."""
+"""``t`` covered by the tables; below it ``Jc = 2 rho ln(4/rho)`` and ``Mc = -Jc`` (to ``O(rho^3 ln rho)``, relative
+1e-12 there), above it both are linear in t to ``O(rho^-2)`` (the last interval extrapolates)."""
 
 SERIES_BELOW = 0.01
 """``mu`` below which ``K - E`` is taken from its series (the difference of K and E cancels there)."""
@@ -80,8 +80,8 @@ def integrated(rho: np.ndarray, derivative: bool = False):
     t-derivatives ``(rho j, rho m)`` (cubic Hermite on :func:`tables`)."""
     t0, step, table = tables()
     with np.errstate(divide="ignore"):
-        f = (np.log(rho) - t0) * (1.0 / step)
-    f = np.maximum(f, 0.0)
+        raw = (np.log(rho) - t0) * (1.0 / step)
+    f = np.maximum(raw, 0.0)
     i = np.minimum(f.astype(np.intp), table.shape[1] - 2)
     u = f - i
     lo = table[:, i]
@@ -92,10 +92,17 @@ def integrated(rho: np.ndarray, derivative: bool = False):
     a0 = lo[2:] - rise
     a1 = hi[2:] - rise
     value = lo[:2] + u * (rise + v * (v * a0 - u * a1))
-    if not derivative:
-        return value
-    slope = (rise + a0 * v * (1.0 - 3.0 * u) + a1 * u * (3.0 * u - 2.0)) * (1.0 / step)
-    return value, slope
+    slope = (rise + a0 * v * (1.0 - 3.0 * u) + a1 * u * (3.0 * u - 2.0)) * (1.0 / step) if derivative else None
+    below = raw < 0.0
+    if below.any():  # Jc = 2 rho ln(4/rho) = -Mc, t-derivatives 2 rho (ln(4/rho) - 1)
+        r = np.where(below, rho, 1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            near = np.where(r > 0.0, 2.0 * r * np.log(4.0 / r), 0.0)
+            value = np.where(below, np.stack([near, -near]), value)
+            if derivative:
+                rate = np.where(r > 0.0, near - 2.0 * r, 0.0)
+                slope = np.where(below, np.stack([rate, -rate]), slope)
+    return (value, slope) if derivative else value
 
 
 def strip_matrices(centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, half_lengths: np.ndarray,

@@ -302,8 +302,8 @@ def marched(lobes: Lobes, steps: int, stick, fields: bool):
                           float(np.sum((x * dqy - s * dqx) * weight))])
     if not fields:
         return departure, None
-    field = TractionField(x.T.copy(), np.broadcast_to(s, x.shape).T.copy(), (bound / lobes.m).T.copy(), qx.T.copy(),
-                          qy.T.copy(), in_stick.T.copy())
+    pressure = bound * (lobes.q / lobes.m)
+    field = TractionField(*(v.T.copy() for v in (x, np.broadcast_to(s, x.shape), pressure, qx, qy, in_stick)))
     return departure, field
 
 
