@@ -43,14 +43,21 @@ from rollcontact.wheelrail.patch import PatchGap
 DEFAULT_STRIPS = 24
 """Strips across the patch's lateral extent."""
 
-FIRST_STRIPS = 16
+FIRST_STRIPS = 32
 """Uniform strips of the first pass over the rigid interpenetration."""
 
 FIRST_ROUNDS = 2
 """Rounds of the first pass: the linear problems (I) and (II), then the half-lengths."""
 
+FIRST_MARGIN = 0.3
+"""Share of a first-pass strip by which the first placement widens the first pass's extent at each end."""
+
 FIXED_POINT_TOLERANCE = 1e-6
 """The fixed point stops when no half-length changes by more than this share of the largest."""
+
+PLACEMENT_TOLERANCE = 1e-3
+"""The fixed point of a placement stops at this (relative change of the half-lengths) to judge the placement; the
+placement kept then goes on to :data:`FIXED_POINT_TOLERANCE`."""
 
 FIXED_POINT_ITERATIONS = 60
 """Cap of the fixed-point iterations of one placement."""
@@ -58,9 +65,8 @@ FIXED_POINT_ITERATIONS = 60
 ANDERSON = 3
 """Earlier iterates Anderson's mixing takes."""
 
-REENTRIES = 2
-"""Times a strip may enter the contact in one fixed point: a strip at an edge may otherwise flip in and out (with
-its half-length) for ever."""
+SETTLING = 3
+"""Iterations of a fixed point after which a strip that leaves the contact stays out."""
 
 PLACEMENTS = 5
 """Cap of the placements of the strips over the lateral extent."""
@@ -342,7 +348,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         if not (q > 0.0).any():
             raise _Failure("the first pass found no strip of positive curvature ratio")
         low, high = contact_edges(centres, lower, upper, e)
-        margin = 0.5 * float(widths[0])  # the edges are known to about a strip of the first pass
+        margin = FIRST_MARGIN * float(widths[0])  # the edges are known to a fraction of a strip of this pass
         return delta, (low - margin, high + margin), (centres, e, q)
     raise _Failure(f"no rigid interpenetration held the contact after {LOAD_GUESSES} enlargements")
 
@@ -406,7 +412,7 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
         active = e > 0.0
         e = np.where(active, e, 0.0)
         delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load,
-                                                 delta, e, q, active)
+                                                 delta, e, q, active, PLACEMENT_TOLERANCE)
         iterations += used
         widths = upper - lower
         width = hi - lo
@@ -415,6 +421,9 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
         spare = EXTENT_MARGIN * (high - low)
         slack = EXTENT_MARGIN * width
         if -slack <= low - lo <= EXTENT_TOLERANCE * width and -slack <= hi - high <= EXTENT_TOLERANCE * width:
+            delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load,
+                                                     delta, e, q, active, FIXED_POINT_TOLERANCE)
+            iterations += used
             converged = True
             break
         extent = (low - spare if low >= lo else low, high + spare if high <= hi else high)
@@ -428,21 +437,24 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
                         iterations)
 
 
-def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active):
+def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active, tolerance):
     """Fixed-point iteration on the half-lengths: with them fixed, (I) is a linear complementarity problem in e
     (:func:`_complementarity`, the load's equation with it) and (II) a linear system in q on the strips in contact;
-    then ``a = sqrt(e/q)``, accelerated by Anderson's mixing of the last :data:`ANDERSON` iterates in ``ln a``.
-    Stops when no a changes by more than :data:`FIXED_POINT_TOLERANCE` of the largest.  Returns
+    then ``a = sqrt(e/q)``, accelerated by Anderson's mixing of the last :data:`ANDERSON` iterates in ``ln a`` (the
+    strips off contact at a third of their nearest neighbour's, :func:`_spread`).  After :data:`SETTLING`
+    iterations a strip that leaves the contact stays out (an edge strip may otherwise flip in and out with its
+    half-length).  Stops when no a changes by more than ``tolerance`` of the largest.  Returns
     ``(delta, e, q, active, iterations)``."""
     widths = upper - lower
     half = _spread(centres, np.where(active, np.sqrt(np.where(active, e, 0.0) / np.where(active, q, 1.0)), 0.0))
     history: list[tuple[np.ndarray, np.ndarray]] = []
-    previous_active = active.copy()
-    entries = np.zeros(centres.size, dtype=int)
+    barred = np.zeros(centres.size, dtype=bool)
     for used in range(1, FIXED_POINT_ITERATIONS + 1):
         U, C = strip_matrices(centres, lower, upper, half, estar)
-        delta, e, active = _complementarity(U, gaps, widths, approach, normal_load, active, entries < REENTRIES)
-        entries += active & ~previous_active
+        before = active
+        delta, e, active = _complementarity(U, gaps, widths, approach, normal_load, active, ~barred)
+        if used > SETTLING:
+            barred |= before & ~active
         sub = np.flatnonzero(active)
         q = np.zeros(centres.size)
         q[sub] = np.linalg.solve(C[np.ix_(sub, sub)], curv[sub])
@@ -450,22 +462,18 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
             raise _Failure("the strips' curvature condition gave a strip a negative pressure curvature")
         target = _spread(centres, np.where(active, np.sqrt(e / np.where(active, q, 1.0)), 0.0))
         change = float(np.max(np.abs(target - half)[sub])) / float(target[sub].max())
-        if change <= FIXED_POINT_TOLERANCE:
+        if change <= tolerance:
             return delta, e, q, active, used
-        if not np.array_equal(active, previous_active):
-            history = []
-            previous_active = active.copy()
-        x, fx = np.log(half[sub]), np.log(target[sub]) - np.log(half[sub])
+        x = np.log(half)
+        fx = np.log(target) - x
         history.append((x, fx))
         history = history[-(ANDERSON + 1):]
         if len(history) > 1:
             dx = np.stack([history[k + 1][0] - history[k][0] for k in range(len(history) - 1)], axis=1)
             df = np.stack([history[k + 1][1] - history[k][1] for k in range(len(history) - 1)], axis=1)
             gamma = np.linalg.lstsq(df, fx, rcond=None)[0]
-            mixed = x + fx - (dx + df) @ gamma
-            step = np.clip(mixed - x, -1.0, 1.0)  # at most a factor e per iteration
-            half[sub] = np.exp(x + step)
-            half = _spread(centres, np.where(active, half, 0.0))
+            step = np.clip(fx - (dx + df) @ gamma, -1.0, 1.0)  # at most a factor e per iteration
+            half = _spread(centres, np.where(active, np.exp(x + step), 0.0))
         else:
             half = target
     raise _Failure(f"the strips' half-lengths did not settle in {FIXED_POINT_ITERATIONS} iterations")
