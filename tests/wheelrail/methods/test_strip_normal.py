@@ -80,11 +80,12 @@ def test_mirror_symmetry(make):
     gap = make()
     one = strip_normal(gap, ESTAR, normal_load=5e4)
     other = strip_normal(mirrored(gap), ESTAR, normal_load=5e4)
-    assert math.isclose(one.approach, other.approach, rel_tol=1e-9), "the mirrored gap's approach"
-    assert math.isclose(one.max_pressure, other.max_pressure, rel_tol=1e-9), "the mirrored gap's peak pressure"
+    tolerance = 1e-6  # the fixed point's: its iterates differ in round-off from the mirror's
+    assert math.isclose(one.approach, other.approach, rel_tol=tolerance), "the mirrored gap's approach"
+    assert math.isclose(one.max_pressure, other.max_pressure, rel_tol=tolerance), "the mirrored gap's peak pressure"
     low, high = one.extent
     mirror_low, mirror_high = other.extent
-    assert math.isclose(low, -mirror_high, rel_tol=1e-9) and math.isclose(high, -mirror_low, rel_tol=1e-9), \
+    assert math.isclose(low, -mirror_high, rel_tol=tolerance) and math.isclose(high, -mirror_low, rel_tol=tolerance), \
         f"extents {one.extent} and mirrored {other.extent}"
 
 

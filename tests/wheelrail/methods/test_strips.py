@@ -96,10 +96,10 @@ def test_traction_bound_holds_on_the_cells(make, creepages):
 def test_mirror_symmetry(make, creepages):
     scene = patch_scene(make(), *creepages, normal_load=3e4)
     one, other = solve_strips(scene), solve_strips(scene.mirrored)
-    scale = MU * 3e4
-    assert abs(one.longitudinal_force - other.longitudinal_force) < 1e-9 * scale, "Fx of the mirrored patch"
-    assert abs(one.lateral_force + other.lateral_force) < 1e-9 * scale, "Fy of the mirrored patch changes sign"
-    assert abs(one.spin_moment + other.spin_moment) < 1e-9 * scale * one.c, "Mz of the mirrored patch changes sign"
+    scale = 1e-6 * MU * 3e4  # the normal fixed point's tolerance: its iterates differ in round-off from the mirror's
+    assert abs(one.longitudinal_force - other.longitudinal_force) < scale, "Fx of the mirrored patch"
+    assert abs(one.lateral_force + other.lateral_force) < scale, "Fy of the mirrored patch changes sign"
+    assert abs(one.spin_moment + other.spin_moment) < scale * one.c, "Mz of the mirrored patch changes sign"
 
 
 def test_moment_is_about_the_rigid_contact_point():
