@@ -43,24 +43,27 @@ from rollcontact.wheelrail.patch import PatchGap
 DEFAULT_STRIPS = 24
 """Strips across the patch's lateral extent."""
 
-FIRST_STRIPS = 32
+FIRST_STRIPS = 24
 """Uniform strips of the first pass over the rigid interpenetration."""
 
 FIRST_ROUNDS = 2
 """Rounds of the first pass: the linear problems (I) and (II), then the half-lengths."""
 
-FIRST_MARGIN = 0.3
+FIRST_MARGIN = 0.5
 """Share of a first-pass strip by which the first placement widens the first pass's extent at each end."""
 
 FIXED_POINT_TOLERANCE = 1e-6
 """The fixed point stops when no half-length changes by more than this share of the largest."""
 
-PLACEMENT_TOLERANCE = 1e-3
+PLACEMENT_TOLERANCE = 1e-2
 """The fixed point of a placement stops at this (relative change of the half-lengths) to judge the placement; the
 placement kept then goes on to :data:`FIXED_POINT_TOLERANCE`."""
 
 FIXED_POINT_ITERATIONS = 60
 """Cap of the fixed-point iterations of one placement."""
+
+POLISH_ITERATIONS = 6
+"""Cap of the Newton iterations that finish a placement's fixed point."""
 
 ANDERSON = 3
 """Earlier iterates Anderson's mixing takes."""
@@ -71,7 +74,7 @@ SETTLING = 3
 PLACEMENTS = 5
 """Cap of the placements of the strips over the lateral extent."""
 
-EXTENT_TOLERANCE = 0.03
+EXTENT_TOLERANCE = 0.05
 """The strips are placed again where the converged contact is cut at an end of them or leaves more than this share
 of their extent free at an end (with cosine spacing the narrowest one or two strips)."""
 
@@ -421,8 +424,12 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
         spare = EXTENT_MARGIN * (high - low)
         slack = EXTENT_MARGIN * width
         if -slack <= low - lo <= EXTENT_TOLERANCE * width and -slack <= hi - high <= EXTENT_TOLERANCE * width:
-            delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load,
-                                                     delta, e, q, active, FIXED_POINT_TOLERANCE)
+            polished = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active)
+            if polished is None:  # Newton did not take: the fixed point goes on
+                delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach,
+                                                         normal_load, delta, e, q, active, FIXED_POINT_TOLERANCE)
+            else:
+                delta, e, q, used = polished
             iterations += used
             converged = True
             break
@@ -477,6 +484,54 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
         else:
             half = target
     raise _Failure(f"the strips' half-lengths did not settle in {FIXED_POINT_ITERATIONS} iterations")
+
+
+def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active):
+    """Newton's method on (I) and (II) (and the load) with the strips in contact fixed, from a fixed point near the
+    solution: ``(delta, e, q, iterations)`` once no e or q changes by more than :data:`FIXED_POINT_TOLERANCE` of the
+    largest, None where a step would empty a strip, lose the curvature's sign or the residual grows (the fixed point
+    then goes on).  ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables' t-derivatives
+    (:func:`~rollcontact.wheelrail.methods.strip_kernels.strip_matrices`)."""
+    index = np.flatnonzero(active)
+    n = index.size
+    widths = (upper - lower)[index]
+    ea, qa = e[index].copy(), q[index].copy()
+    e_scale, q_scale = float(ea.max()), float(qa.mean())
+    size = 2 * n + (approach is None)
+    previous = math.inf
+    for used in range(1, POLISH_ITERATIONS + 1):
+        half = np.sqrt(ea / qa)
+        U, C, dU, dC = strip_matrices(centres[index], lower[index], upper[index], half, estar, derivative=True)
+        residual = np.empty(size)
+        residual[:n] = (U @ ea - (delta - gaps[index])) / delta
+        residual[n:2 * n] = C @ qa / curv[index] - 1.0
+        jacobian = np.zeros((size, size))
+        # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
+        jacobian[:n, :n] = (U + 0.5 * dU) * (e_scale / delta)
+        jacobian[:n, n:2 * n] = dU * (-0.5 * q_scale / delta * ea / qa)
+        jacobian[n:2 * n, :n] = dC * (0.5 * e_scale * qa / ea) / curv[index][:, None]
+        jacobian[n:2 * n, n:2 * n] = (C - 0.5 * dC) * (q_scale / curv[index][:, None])
+        if approach is None:
+            jacobian[:n, 2 * n] = -1.0
+            jacobian[2 * n, :n] = 0.5 * math.pi * widths * e_scale / normal_load
+            residual[2 * n] = 0.5 * math.pi * float(widths @ ea) / normal_load - 1.0
+        norm = float(np.abs(residual).max())
+        if norm > previous:
+            return None
+        previous = norm
+        step = np.linalg.solve(jacobian, -residual)
+        de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
+        if np.any(ea + de <= 0.0) or np.any(qa + dq <= 0.0):
+            return None
+        ea, qa = ea + de, qa + dq
+        if approach is None:
+            delta *= 1.0 + float(step[2 * n])
+        change = max(float(np.abs(de).max()) / float(ea.max()), float(np.abs(dq).max()) / float(qa.max()))
+        if change <= FIXED_POINT_TOLERANCE:
+            e, q = np.zeros(centres.size), np.zeros(centres.size)
+            e[index], q[index] = ea, qa
+            return delta, e, q, used
+    return None
 
 
 def _spread(centres, half):
