@@ -183,9 +183,9 @@ def forces(result) -> np.ndarray:
 
 def reference_element(width: float, quick: bool) -> float:
     """The reference's element [m]: at most 0.1 mm (0.2 mm quick), at most a 25th (12th quick) of the width,
-    rounded to 0.025 mm steps."""
+    rounded down to 0.01 mm steps."""
     top, share = (0.2e-3, 12.0) if quick else (0.1e-3, 25.0)
-    return max(0.025e-3, min(top, 0.025e-3 * math.floor(width / share / 0.025e-3)))
+    return max(0.01e-3, min(top, 0.01e-3 * math.floor(width / share / 0.01e-3)))
 
 
 # ----------------------------------------------------------------------------------------------- sections

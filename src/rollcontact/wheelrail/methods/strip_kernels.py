@@ -105,6 +105,74 @@ def integrated(rho: np.ndarray, derivative: bool = False):
     return (value, slope) if derivative else value
 
 
+@lru_cache(maxsize=1)
+def _packed() -> np.ndarray:
+    """The tables by interval: row i holds ``Jc, Mc, step dJc/dt, step dMc/dt`` at nodes i and i + 1 (read-only)."""
+    _, _, table = tables()
+    packed = np.concatenate([table[:, :-1].T, table[:, 1:].T], axis=1)
+    packed.flags.writeable = False
+    return packed
+
+
+class StripGeometry:
+    """Field points and source strips of fixed positions (one placement): the logarithms of their distances and
+    their signs, so that each evaluation of :meth:`matrices` for new half-lengths only shifts the logarithms.
+
+    Parameters
+    ----------
+    centres : ndarray
+        n field points s_i [m].
+    lower, upper : ndarray
+        m source strips' edges [m]; no field point on an edge.
+    contact_modulus : float
+        E* [Pa].
+    """
+
+    def __init__(self, centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, contact_modulus: float):
+        distances = np.stack([centres[:, None] - lower[None, :], centres[:, None] - upper[None, :]])
+        self.sign = np.sign(distances)
+        with np.errstate(divide="ignore"):
+            self.log_distance = np.log(np.abs(distances))
+        t0, step, _ = tables()
+        self.offset = (self.log_distance - t0) * (1.0 / step)  # the table's index of a = 1 m
+        self.inverse_step = 1.0 / step
+        self.scale = (1.0 / (math.pi * contact_modulus), -0.5 / (math.pi * contact_modulus))
+
+    def matrices(self, half_lengths: np.ndarray, derivative: bool = False):
+        """``(U, C)`` (:func:`strip_matrices`) at the sources' ``half_lengths`` [m], with ``derivative`` also
+        ``(dU, dC)``."""
+        packed = _packed()
+        raw = self.offset - np.log(half_lengths) * self.inverse_step
+        f = np.maximum(raw, 0.0)
+        i = np.minimum(f.astype(np.intp), packed.shape[0] - 1)
+        u = (f - i)[..., None]
+        rows = packed[i]  # (2, n, m, 8)
+        lo, d0, hi, d1 = rows[..., 0:2], rows[..., 2:4], rows[..., 4:6], rows[..., 6:8]
+        rise = hi - lo
+        v = 1.0 - u
+        a0 = d0 - rise
+        a1 = d1 - rise
+        value = lo + u * (rise + v * (v * a0 - u * a1))  # (2 ends, n, m, 2 kernels)
+        if derivative:
+            slope = (rise + a0 * v * (1.0 - 3.0 * u) + a1 * u * (3.0 * u - 2.0)) * self.inverse_step
+        below = raw < 0.0
+        if below.any():  # Jc = 2 rho ln(4/rho) = -Mc below the table, t-derivatives 2 rho (ln(4/rho) - 1)
+            r = np.where(below, np.exp(self.log_distance) / half_lengths, 1.0)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                near = np.where(r > 0.0, 2.0 * r * np.log(4.0 / r), 0.0)[..., None] * np.array([1.0, -1.0])
+                value = np.where(below[..., None], near, value)
+                if derivative:
+                    rate = np.where(r > 0.0, 2.0 * r * (np.log(4.0 / r) - 1.0), 0.0)[..., None] * np.array([1.0, -1.0])
+                    slope = np.where(below[..., None], rate, slope)
+        sign_lo, sign_hi = self.sign[0][..., None], self.sign[1][..., None]
+        influence = sign_lo * value[0] - sign_hi * value[1]
+        U, C = influence[..., 0] * self.scale[0], influence[..., 1] * self.scale[1]
+        if not derivative:
+            return U, C
+        change = sign_hi * slope[1] - sign_lo * slope[0]
+        return U, C, change[..., 0] * self.scale[0], change[..., 1] * self.scale[1]
+
+
 def strip_matrices(centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, half_lengths: np.ndarray,
                    contact_modulus: float, derivative: bool = False):
     """The strips' influence on each other's centre lines, per unit ``e = p0 a`` [Pa m] and ``q = p0 / a`` [Pa/m].
@@ -114,21 +182,7 @@ def strip_matrices(centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, ha
     ``u_z(s_i) = sum_j U_ij e_j`` and the curvature ``-(1/2) d^2u_z/dx^2 (s_i) = sum_j C_ij q_j``, i.e.
     ``U = (Jc(rho_lo) - Jc(rho_hi)) / (pi E*)``, ``C = -(Mc(rho_lo) - Mc(rho_hi)) / (2 pi E*)`` (module docstring).
     With ``derivative`` also ``(dU, dC)``, their derivatives times ``a_j`` with respect to ``a_j``
-    (``a d/da K(x/a) = -dK/dt``).
+    (``a d/da K(x/a) = -dK/dt``).  One evaluation of :class:`StripGeometry`.
     """
-    x_lo = centres[:, None] - lower[None, :]
-    x_hi = centres[:, None] - upper[None, :]
-    inverse = 1.0 / half_lengths
-    rho = np.stack([x_lo, x_hi]) * inverse  # (2, n, m): lower and upper ends
-    size = np.abs(rho)
-    sign = np.sign(rho)
-    scale = np.array([1.0 / (math.pi * contact_modulus), -0.5 / (math.pi * contact_modulus)])[:, None, None]
-    if not derivative:
-        values = integrated(size) * sign
-        return tuple((values[:, 0] - values[:, 1]) * scale)
-    values, slopes = integrated(size, derivative=True)
-    values = values * sign
-    slopes = slopes * sign
-    influence = (values[:, 0] - values[:, 1]) * scale
-    change = -(slopes[:, 0] - slopes[:, 1]) * scale
-    return influence[0], influence[1], change[0], change[1]
+    return StripGeometry(centres, lower, upper, contact_modulus).matrices(half_lengths, derivative)
+

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rollcontact.elliptic.hertz import hertz_ellipse
-from rollcontact.wheelrail.methods.strip_kernels import strip_matrices
+from rollcontact.wheelrail.methods.strip_kernels import StripGeometry
 from rollcontact.wheelrail.patch import PatchGap
 
 DEFAULT_STRIPS = 24
@@ -55,9 +55,16 @@ FIRST_MARGIN = 0.5
 FIXED_POINT_TOLERANCE = 1e-6
 """The fixed point stops when no half-length changes by more than this share of the largest."""
 
-PLACEMENT_TOLERANCE = 1e-2
-"""The fixed point of a placement stops at this (relative change of the half-lengths) to judge the placement; the
-placement kept then goes on to :data:`FIXED_POINT_TOLERANCE`."""
+PLACEMENT_TOLERANCE = 0.1
+"""The fixed point of a placement stops at this (relative change of the half-lengths) to judge the placement; on the
+placement kept Newton's method finishes (:func:`_polish`), or the fixed point goes on to :data:`POLISH_RETRIES` and
+Newton tries again, and failing that the fixed point to :data:`FIXED_POINT_TOLERANCE`."""
+
+POLISH_DROPS = 2
+"""Times Newton's method may drop edge strips that a step would empty."""
+
+POLISH_RETRIES = (1e-2, 1e-3)
+"""Closer starts for Newton's method where it did not take."""
 
 FIXED_POINT_ITERATIONS = 60
 """Cap of the fixed-point iterations of one placement."""
@@ -335,8 +342,9 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         widths = upper - lower
         active = np.ones(index.size, dtype=bool)
         q = np.zeros(index.size)
+        geometry = StripGeometry(centres, lower, upper, estar)
         for _ in range(FIRST_ROUNDS):
-            matrix, curving = strip_matrices(centres, lower, upper, half, estar)
+            matrix, curving = geometry.matrices(half)
             delta, e, active = _complementarity(matrix, gaps, widths, approach, normal_load, active)
             sub = np.flatnonzero(active)
             q = np.zeros(index.size)
@@ -424,13 +432,20 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
         spare = EXTENT_MARGIN * (high - low)
         slack = EXTENT_MARGIN * width
         if -slack <= low - lo <= EXTENT_TOLERANCE * width and -slack <= hi - high <= EXTENT_TOLERANCE * width:
-            polished = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active)
-            if polished is None:  # Newton did not take: the fixed point goes on
+            for closer in (*POLISH_RETRIES, None):
+                polished = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q,
+                                   active)
+                if polished is not None:
+                    delta, e, q, used, active = polished
+                    iterations += used
+                    break
+                # Newton did not take: the fixed point goes closer (to the end where Newton never takes)
                 delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach,
-                                                         normal_load, delta, e, q, active, FIXED_POINT_TOLERANCE)
-            else:
-                delta, e, q, used = polished
-            iterations += used
+                                                         normal_load, delta, e, q, active,
+                                                         FIXED_POINT_TOLERANCE if closer is None else closer)
+                iterations += used
+                if closer is None:
+                    break
             converged = True
             break
         extent = (low - spare if low >= lo else low, high + spare if high <= hi else high)
@@ -456,8 +471,9 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
     half = _spread(centres, np.where(active, np.sqrt(np.where(active, e, 0.0) / np.where(active, q, 1.0)), 0.0))
     history: list[tuple[np.ndarray, np.ndarray]] = []
     barred = np.zeros(centres.size, dtype=bool)
+    geometry = StripGeometry(centres, lower, upper, estar)
     for used in range(1, FIXED_POINT_ITERATIONS + 1):
-        U, C = strip_matrices(centres, lower, upper, half, estar)
+        U, C = geometry.matrices(half)
         before = active
         delta, e, active = _complementarity(U, gaps, widths, approach, normal_load, active, ~barred)
         if used > SETTLING:
@@ -486,12 +502,13 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
     raise _Failure(f"the strips' half-lengths did not settle in {FIXED_POINT_ITERATIONS} iterations")
 
 
-def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active):
+def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active, depth=0):
     """Newton's method on (I) and (II) (and the load) with the strips in contact fixed, from a fixed point near the
-    solution: ``(delta, e, q, iterations)`` once no e or q changes by more than :data:`FIXED_POINT_TOLERANCE` of the
-    largest, None where a step would empty a strip, lose the curvature's sign or the residual grows (the fixed point
-    then goes on).  ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables' t-derivatives
-    (:func:`~rollcontact.wheelrail.methods.strip_kernels.strip_matrices`)."""
+    solution: ``(delta, e, q, iterations, active)`` once no e or q changes by more than :data:`FIXED_POINT_TOLERANCE`
+    of the largest; a step that would empty strips at the ends of runs in contact only drops them (at most
+    :data:`POLISH_DROPS` times); None where a step would empty another strip, lose the curvature's sign or the
+    residual grows (the fixed point then goes on).  ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables'
+    t-derivatives (:class:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry`)."""
     index = np.flatnonzero(active)
     n = index.size
     widths = (upper - lower)[index]
@@ -499,9 +516,10 @@ def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, del
     e_scale, q_scale = float(ea.max()), float(qa.mean())
     size = 2 * n + (approach is None)
     previous = math.inf
+    geometry = StripGeometry(centres[index], lower[index], upper[index], estar)
     for used in range(1, POLISH_ITERATIONS + 1):
         half = np.sqrt(ea / qa)
-        U, C, dU, dC = strip_matrices(centres[index], lower[index], upper[index], half, estar, derivative=True)
+        U, C, dU, dC = geometry.matrices(half, derivative=True)
         residual = np.empty(size)
         residual[:n] = (U @ ea - (delta - gaps[index])) / delta
         residual[n:2 * n] = C @ qa / curv[index] - 1.0
@@ -521,7 +539,21 @@ def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, del
         previous = norm
         step = np.linalg.solve(jacobian, -residual)
         de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
-        if np.any(ea + de <= 0.0) or np.any(qa + dq <= 0.0):
+        emptied = ea + de <= 0.0
+        if emptied.any() and depth < POLISH_DROPS:
+            ends = np.zeros(n, dtype=bool)
+            ends[[0, -1]] = True
+            ends[1:-1] = (np.diff(index)[1:] > 1) | (np.diff(index)[:-1] > 1)
+            if np.all(ends[emptied]):  # the contact ends before these edge strips: they leave, Newton restarts
+                e, q = np.zeros(centres.size), np.zeros(centres.size)
+                e[index], q[index] = ea, qa
+                kept = active.copy()
+                kept[index[emptied]] = False
+                e[~kept] = 0.0
+                again = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, kept,
+                                depth + 1)
+                return None if again is None else (*again[:3], again[3] + used, again[4])
+        if emptied.any() or np.any(qa + dq <= 0.0):
             return None
         ea, qa = ea + de, qa + dq
         if approach is None:
@@ -530,19 +562,19 @@ def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, del
         if change <= FIXED_POINT_TOLERANCE:
             e, q = np.zeros(centres.size), np.zeros(centres.size)
             e[index], q[index] = ea, qa
-            return delta, e, q, used
+            return delta, e, q, used, active
     return None
 
 
 def _spread(centres, half):
-    """The half-lengths of the strips in contact (``half > 0``), and for the others the nearest strip's in contact
-    scaled by a third: the length a strip entering the contact starts with."""
+    """The half-lengths of the strips in contact (``half > 0``), and for the others a third of those of the strips in
+    contact interpolated by index (the nearest one's beyond the ends): the length a strip entering the contact starts
+    with."""
     inside = half > 0.0
     if inside.all():
         return half
-    nearest = np.flatnonzero(inside)[np.argmin(np.abs(np.flatnonzero(inside)[None, :]
-                                                      - np.arange(centres.size)[:, None]), axis=1)]
-    return np.where(inside, half, half[nearest] / 3.0)
+    index = np.flatnonzero(inside)
+    return np.where(inside, half, np.interp(np.arange(centres.size), index, half[index]) / 3.0)
 
 
 def refined(contact: StripContact, gap: PatchGap, count: int) -> StripContact:
