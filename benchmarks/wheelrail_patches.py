@@ -10,14 +10,15 @@ Hertz. Quadratic gaps over a/b 0.2..5: the strips' normal solution against Hertz
    at his load), the strips' forces against the elliptic strips and the discretised patch level against the elliptic
    discretised level on the same grid (the largest over the creepage set), both patch levels against the elliptic
    discretised level's Richardson pair (60/30 elements).
-Normal. The realistic patches (:data:`PATCHES`): the strips' and the default discretised level's (0.2 mm) Fn at the
-   reference's approach, approach at the load, peak pressure, length and width, against the reference.
+Normal. The realistic patches (:data:`PATCHES`): the strips' and the default discretised level's (0.2 mm, finer on a
+   patch narrower than 12 elements) Fn at the reference's approach, approach at the load, peak pressure, length and
+   width, against the reference.
 Tangential. Per patch and creepage (:func:`creepage_set`, in units of the equivalent ellipse's saturation): the
    reference's forces and the errors of both levels, ``|dFx|, |dFy|`` over mu Fn and ``|dMz|`` over mu Fn c (c =
    sqrt(area/pi)), with each level's own estimate.  The accuracy models' constants cite this table.
 Convergence. The discretised level's forces, Fn at a given approach and peak pressure at element sizes halving
    down to the reference's, their changes and the observed order ``log2(change ratio)``.
-Time. Median time per patch of the strips (without and with spin), of the discretised level at 0.2 mm (normal and
+Time. Median time per patch of the strips (without and with spin), of the default discretised level (normal and
    tangential), and of the elliptic strips on one ellipse as this machine's yardstick (its docs state its time on an
    idle machine).
 
@@ -196,7 +197,7 @@ def hertz_section(quick: bool) -> list[str]:
              "discretised patch against elliptic discretised on its grid (30 x 30 and margin), the patch strips, the "
              "elliptic strips and the discretised patch (0.2 mm) against the elliptic Richardson pair 60/30.", "",
              "| a/b | Fn | p0 | a | b | strips vs elliptic strips | discretised vs elliptic (same grid) | "
-             "strips vs pair | elliptic strips vs pair | discretised 0.2 mm vs pair |",
+             "strips vs pair | elliptic strips vs pair | discretised default vs pair |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     ratios = (0.2, 1.0, 5.0) if quick else (0.2, 0.5, 1.0, 2.0, 5.0)
     for ratio in ratios:
@@ -263,7 +264,7 @@ def normal_section(patches, quick: bool) -> list[str]:
         at_approach = scene.replace(approach=reference.approach)
         for level, by_load, by_approach in (
                 ("strips", solve_strips(scene), solve_strips(at_approach)),
-                ("discretised 0.2 mm", solve_discretised(scene), solve_discretised(at_approach))):
+                ("discretised default", solve_discretised(scene), solve_discretised(at_approach))):
             errors = [by_approach.normal_load / scene.normal_load - 1, by_load.approach / reference.approach - 1,
                       by_load.max_pressure / reference.max_pressure - 1, by_load.length / reference.length - 1,
                       by_load.width / reference.width - 1]
@@ -280,7 +281,7 @@ def tangential_section(patches, quick: bool) -> list[str]:
              "sqrt(area/pi), about the rigid contact point) and the errors of each level, the largest of the three, "
              "with the level's estimate.", "",
              "| patch | creepages | reference Fx, Fy, Mz | strips error (Fx, Fy, Mz) | strips largest / estimate | "
-             "discretised 0.2 mm largest / estimate |", "|---|---|---|---|---|---|"]
+             "discretised default largest / estimate |", "|---|---|---|---|---|---|"]
     summary = {}
     for patch in patches:
         scene = patch["scene"]
@@ -297,7 +298,7 @@ def tangential_section(patches, quick: bool) -> list[str]:
                          + ", ".join(f"{v:.3f}" for v in strip_error) + f" | {strip_error.max():.3f} / "
                          f"{strips.info['error_estimate']:.3f} | {disc_error.max():.3f} / "
                          f"{discretised.info['error_estimate']:.3f} |")
-    lines += ["", "| patch | strips: largest error | discretised 0.2 mm: largest error |", "|---|---|---|"]
+    lines += ["", "| patch | strips: largest error | discretised default: largest error |", "|---|---|---|"]
     for name, values in summary.items():
         lines.append(f"| {name} | {max(v[0] for v in values):.3f} | {max(v[1] for v in values):.3f} |")
     return lines + [""]
@@ -342,7 +343,7 @@ def time_section(patches, quick: bool) -> list[str]:
     yardstick = common.median_time(lambda: elliptic_strips(ellipse), min_seconds=seconds)
     lines = ["## Time", "", f"The elliptic strips with spin on one ellipse, this run: {yardstick * 1e6:.0f} us.", "",
              "| patch | strips, no spin [ms] | strips, spin [ms] | strips / elliptic strips | "
-             "discretised 0.2 mm, normal + tangential [s] | elements in contact |", "|---|---|---|---|---|---|"]
+             "discretised default, normal + tangential [s] | elements in contact |", "|---|---|---|---|---|---|"]
     for patch in patches:
         scene = patch["scene"]
         _, creepages = creepage_set(scene, False)[0]
@@ -378,8 +379,7 @@ def figure(patches, path: Path) -> None:
         top.set_title(f"{patch['name']}, {scene.normal_load / 1e3:g} kN")
         top.set_xlabel("s [mm]")
         top.set_ylabel("x [mm]")
-        top.set_aspect("equal")
-        top.legend(loc="upper right", fontsize=7)
+        top.legend(loc="lower right", fontsize=7)
         fig.colorbar(image, ax=top, label="p [MPa] (discretised)")
         bottom = axes[1, column]
         centre = np.argmin(np.abs(field.x[:, 0]))

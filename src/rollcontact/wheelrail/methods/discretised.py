@@ -1,12 +1,12 @@
 """The discretised reference level of a patch (``"discretised"``): the 3D half-space on the patch's actual gap
 (docs/physics-wheelrail-patches.md, "The discretised patch").
 
-A grid of square elements (``element``, :data:`DEFAULT_ELEMENT` by default) in the patch's tangent plane covers the
-contact with a margin: sized from the strips' solution (:mod:`~rollcontact.wheelrail.methods.strip_normal`), grown
-while the contact touches its border.  The normal problem is Polonsky & Keer's constrained conjugate gradients on
-``g(x, s) = h(s) + A(s) x^2`` (Wear 231, 1999): for a given load
-:func:`rollcontact.halfspace.rolling3d.solve_normal`, for a given approach :func:`normal_at_approach` (the same
-iteration without the load's constraint).  The tangential problem is
+A grid of square elements (``element``: :data:`DEFAULT_ELEMENT` by default, smaller for a patch narrower than
+:data:`MIN_ACROSS` of them) in the patch's tangent plane covers the contact with a margin: sized from the strips'
+solution (:mod:`~rollcontact.wheelrail.methods.strip_normal`), grown while the contact touches its border.  The
+normal problem is Polonsky & Keer's constrained conjugate gradients on ``g(x, s) = h(s) + A(s) x^2`` (Wear 231,
+1999): for a given load :func:`rollcontact.halfspace.rolling3d.solve_normal`, for a given approach
+:func:`normal_at_approach` (the same iteration without the load's constraint).  The tangential problem is
 :func:`rollcontact.halfspace.rolling3d.solve_steady` (Kalker's exact steady rolling, any friction law) on the grid
 trimmed to the elements in contact (exact: the tractions vanish outside), on the rigid slip
 ``w = (xi - phi s, eta + phi x)`` about the rigid contact point; Mz is taken about it.  The influence coefficients
@@ -40,6 +40,10 @@ __all__ = ["DiscretisedPatchAccuracy", "normal_at_approach", "solve_discretised"
 
 DEFAULT_ELEMENT = 0.2e-3
 """Element size [m] (square elements)."""
+
+MIN_ACROSS = 12
+"""Fewest elements across the patch's shorter extent of the default element (with it the default's error on the
+flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", stays within the goal of 0.02 mu Fn)."""
 
 MARGIN = 0.15
 """Share of the strips' contact length and width the first grid adds on each side (and two elements)."""
@@ -114,13 +118,27 @@ def _touches(contact: np.ndarray) -> bool:
     return bool(contact[0].any() or contact[-1].any() or contact[:, 0].any() or contact[:, -1].any())
 
 
-def normal_problem(scene: PatchScene, element: float, grid: SurfaceGrid | None, tolerance: float):
+def guide_for(scene: PatchScene):
+    """The strips' normal solution of the scene, which sizes the grid."""
+    return strip_normal(scene.gap, scene.material.contact_modulus, approach=scene.approach,
+                        normal_load=scene.normal_load)
+
+
+def automatic_element(guide) -> float:
+    """The default element [m]: :data:`DEFAULT_ELEMENT`, or less so that the strips' patch is at least
+    :data:`MIN_ACROSS` elements across its shorter extent (a flange's narrow patch)."""
+    if not guide.converged or not guide.contact.any():
+        return DEFAULT_ELEMENT
+    return min(DEFAULT_ELEMENT, min(guide.length, guide.width) / MIN_ACROSS)
+
+
+def normal_problem(scene: PatchScene, element: float, grid: SurfaceGrid | None, tolerance: float, guide=None):
     """``(grid, pressure, approach, message or None, iterations)`` of the scene's normal problem on a grid of
-    ``element`` [m] sized and grown as the module docstring says (or on ``grid`` as given)."""
+    ``element`` [m] sized and grown as the module docstring says (or on ``grid`` as given); ``guide``: the strips'
+    normal solution, if already at hand."""
     shear = scene.shear_modulus
     if grid is None:
-        guide = strip_normal(scene.gap, scene.material.contact_modulus, approach=scene.approach,
-                             normal_load=scene.normal_load)
+        guide = guide_for(scene) if guide is None else guide
         if not guide.converged:
             s, h, _ = check_gap(scene.gap)
             depth = scene.approach if scene.approach is not None else None
@@ -182,10 +200,11 @@ def trimmed(grid: SurfaceGrid, contact: np.ndarray) -> tuple[SurfaceGrid, tuple[
 
 
 def solve_on_grid(scene: PatchScene, element: float, grid: SurfaceGrid | None, iteration_tolerance: float,
-                  max_iterations: int, normal_tolerance: float):
+                  max_iterations: int, normal_tolerance: float, guide=None):
     """One level: the normal problem, then the steady tangential problem on the trimmed grid.  Returns a dict of
     what the result needs."""
-    current, pressure, approach, message, normal_iterations = normal_problem(scene, element, grid, normal_tolerance)
+    current, pressure, approach, message, normal_iterations = normal_problem(scene, element, grid, normal_tolerance,
+                                                                             guide)
     if current is None:
         return {"failure": message}
     contact = pressure > 0.0
@@ -210,7 +229,7 @@ def solve_on_grid(scene: PatchScene, element: float, grid: SurfaceGrid | None, i
             "elements": (current.nx, current.ny), "contact_elements": int(in_contact.sum())}
 
 
-def solve_discretised(scene: PatchScene, *, element: float = DEFAULT_ELEMENT, grid: SurfaceGrid | None = None,
+def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: SurfaceGrid | None = None,
                       extrapolate: bool = False, fields: bool = False, iteration_tolerance: float = 1e-8,
                       max_iterations: int = NEWTON_ITERATIONS, normal_tolerance: float = 1e-10) -> PatchResult:
     """Normal and tangential contact of a patch on the discretised half-space (module docstring).
@@ -219,8 +238,9 @@ def solve_discretised(scene: PatchScene, *, element: float = DEFAULT_ELEMENT, gr
     ----------
     scene : PatchScene
         Any friction law.
-    element : float
-        Element size [m] (square), ignored with ``grid``.
+    element : float, optional
+        Element size [m] (square), ignored with ``grid``; by default :data:`DEFAULT_ELEMENT`, smaller where the
+        patch is narrower than :data:`MIN_ACROSS` of them (:func:`automatic_element`).
     grid : SurfaceGrid, optional
         Solve the normal problem on this grid (x along the track, y the patch's s) as given, without sizing or
         growing it.
@@ -239,18 +259,20 @@ def solve_discretised(scene: PatchScene, *, element: float = DEFAULT_ELEMENT, gr
     Returns
     -------
     PatchResult
-        ``info``: ``elements`` (the normal grid's), ``contact_elements``, ``normal_iterations``,
+        ``info``: ``element`` [m], ``elements`` (the normal grid's), ``contact_elements``, ``normal_iterations``,
         ``newton_iterations``, ``linear_iterations``, ``residual``, ``stick_fraction``, ``error_estimate``,
         ``normal_error_estimate``, ``pressure_error_estimate``.
     """
-    element = float(element)
-    if not (math.isfinite(element) and element > 0.0):
-        raise ValueError(f"element = {element!r} m must be finite and > 0")
     if extrapolate and grid is not None:
         raise ValueError("extrapolate takes the grids from element, not from grid")
+    guide = guide_for(scene) if grid is None else None
+    element = automatic_element(guide) if element is None and guide is not None else \
+        DEFAULT_ELEMENT if element is None else float(element)
+    if not (math.isfinite(element) and element > 0.0):
+        raise ValueError(f"element = {element!r} m must be finite and > 0")
     xi, eta, phi = scene.creepages
     mu = scene.friction_coefficient
-    fine = solve_on_grid(scene, element, grid, iteration_tolerance, max_iterations, normal_tolerance)
+    fine = solve_on_grid(scene, element, grid, iteration_tolerance, max_iterations, normal_tolerance, guide)
     if fine["failure"] is not None:
         return PatchResult("discretised", False, fine["failure"], math.nan, math.nan, math.nan, math.nan, math.nan,
                            math.nan, math.nan, math.nan, xi, eta, phi, mu, math.nan)
@@ -262,7 +284,8 @@ def solve_discretised(scene: PatchScene, *, element: float = DEFAULT_ELEMENT, gr
     steady = fine["steady"]
     newton, linear = steady.newton_iterations, steady.linear_iterations
     if extrapolate:
-        coarse = solve_on_grid(scene, 2.0 * element, None, iteration_tolerance, max_iterations, normal_tolerance)
+        coarse = solve_on_grid(scene, 2.0 * element, None, iteration_tolerance, max_iterations, normal_tolerance,
+                               guide)
         if coarse["failure"] is not None or coarse["empty"]:
             messages.append(f"coarse level: {coarse['failure'] or 'no contact'}")
         else:
@@ -271,7 +294,7 @@ def solve_discretised(scene: PatchScene, *, element: float = DEFAULT_ELEMENT, gr
             newton += coarse["steady"].newton_iterations
             linear += coarse["steady"].linear_iterations
     in_contact = fine["pressure"] > 0.0
-    info = {"elements": fine["elements"], "contact_elements": fine["contact_elements"],
+    info = {"element": element, "elements": fine["elements"], "contact_elements": fine["contact_elements"],
             "normal_iterations": fine["normal_iterations"], "newton_iterations": newton,
             "linear_iterations": linear, "residual": steady.residual,
             "stick_fraction": float(steady.stick[in_contact].mean()), "extrapolate": extrapolate}

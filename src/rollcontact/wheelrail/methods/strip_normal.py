@@ -20,12 +20,13 @@ pressure satisfies (I) and (II) exactly on every line ``x = 0``, so the strips c
 
 Solution: a first pass on uniform strips over the rigid interpenetration ``h < delta`` (each ``a_j`` first the
 half-length of the rigid interpenetration of ``(delta - h)/2``, a circle's ratio, then from (I) and (II) with the
-half-lengths fixed) finds the strips in contact and hence the patch's lateral extent.  Then strips spaced as
+half-lengths fixed) finds the strips in contact and hence the patch's lateral extent.  Strips spaced as
 ``cos(theta)`` over that extent (narrow towards its edges, where ``a`` falls like a square root) take the fixed point
 on the half-lengths: with them fixed, (I) is a linear complementarity problem in e (active sets) and (II) a linear
-system in q; ``a = sqrt(e/q)``, accelerated by Anderson's mixing.  The strips are placed again over the converged
-contact (each edge extrapolated linearly to ``e = 0``, as the load per width vanishes at a smooth edge) where it is
-cut at an end of them or leaves more than :data:`EXTENT_TOLERANCE` of them free.  For a given load the approach
+system in q; ``a = sqrt(e/q)``, accelerated by Anderson's mixing, to :data:`PLACEMENT_TOLERANCE`.  The strips are
+placed again over the converged contact (each edge extrapolated linearly to ``e = 0``, as the load per width vanishes
+at a smooth edge) where it is cut at an end of them or leaves more than :data:`EXTENT_TOLERANCE` of them free; on the
+placement kept Newton's method on (I) and (II) together finishes (:func:`_polish`).  For a given load the approach
 follows from ``Fn`` with (I), which is linear in it.
 """
 
