@@ -135,7 +135,7 @@ OUTSIDE_TABLE_ERROR = 0.05
 power law): the flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", whose largest error (Mz of
 combined creepage at two saturations) this keeps within its estimate."""
 
-STRIPS_PATCH_COST = 1.5e-3
+STRIPS_PATCH_COST = 3e-3
 STRIPS_PATCH_COST_PER_CELL = 5e-6
 """Modelled times [s] on an idle machine: the normal solution and the closed form, each cell of the march
 (``benchmarks/wheelrail_patches.py``, table "Time", as a multiple of the elliptic strips' time in the same run)."""
