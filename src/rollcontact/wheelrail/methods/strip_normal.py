@@ -117,7 +117,7 @@ class StripContact:
     converged : bool
     message : str
     iterations : int
-        Fixed-point iterations over the placements.
+        Fixed-point and Newton iterations over the placements.
     """
 
     centres: np.ndarray
