@@ -1,0 +1,356 @@
+"""The discretised reference level of a patch (``"discretised"``): the 3D half-space on the patch's actual gap
+(docs/physics-wheelrail-patches.md, "The discretised patch").
+
+A grid of square elements (``element``: :data:`DEFAULT_ELEMENT` by default, smaller for a patch narrower than
+:data:`MIN_ACROSS` of them) in the patch's tangent plane covers the contact with a margin: sized from the strips'
+solution (:mod:`~rollcontact.wheelrail.methods.strip_normal`), grown while the contact touches its border.  The
+normal problem is Polonsky & Keer's constrained conjugate gradients on ``g(x, s) = h(s) + A(s) x^2`` (Wear 231,
+1999): for a given load :func:`rollcontact.core.halfspace.rolling.solve_normal`, for a given approach
+:func:`normal_at_approach` (the same iteration without the load's constraint).  The tangential problem is
+:func:`rollcontact.core.halfspace.rolling.solve_steady` (Kalker's exact steady rolling, any friction law) on the grid
+trimmed to the elements in contact (exact: the tractions vanish outside), on the rigid slip
+``w = (xi - phi s, eta + phi x)`` about the rigid contact point; Mz is taken about it.  The influence coefficients
+are cached per grid and nu (:func:`rollcontact.core.halfspace.surface.operator_for`).
+
+Forces converge at first order in the element size (docs/physics.md, "Discretised 3D steady rolling");
+``extrapolate=True`` returns the Richardson pair ``2 F(h) - F(2 h)``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from rollcontact.core.halfspace.rolling import (
+    NEWTON_ITERATIONS,
+    NORMAL_ITERATIONS,
+    solve_normal,
+    solve_steady,
+    total_forces,
+)
+from rollcontact.core.halfspace.surface import MAX_ELEMENTS_3D, SurfaceGrid, operator_for
+from rollcontact.core.method import AccuracyModel
+from rollcontact.elliptic.result import TractionField
+from rollcontact.wheelrail.methods.strip_normal import check_gap, rigid_range, strip_normal
+from rollcontact.wheelrail.result import PatchResult
+from rollcontact.wheelrail.scene import PatchScene
+
+__all__ = ["DiscretisedPatchAccuracy", "normal_at_approach", "solve_discretised"]
+
+DEFAULT_ELEMENT = 0.2e-3
+"""Element size [m] (square elements)."""
+
+MIN_ACROSS = 12
+"""Fewest elements across the patch's shorter extent of the default element (with it the default's error on the
+flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", stays within the goal of 0.02 mu Fn)."""
+
+MARGIN = 0.15
+"""Share of the strips' contact length and width the first grid adds on each side (and two elements)."""
+
+GROWTHS = 4
+"""Times the grid grows by half while the contact touches its border."""
+
+
+def normal_at_approach(operator, gap: np.ndarray, approach: float, shear_modulus: float, tolerance: float = 1e-10,
+                       max_iterations: int = NORMAL_ITERATIONS):
+    """Normal contact at a given approach delta [m] by Polonsky & Keer's constrained conjugate gradients (Wear 231,
+    1999, their scheme without the load's constraint): ``g = h0 + A_zz p / G - delta >= 0``, ``p >= 0``,
+    ``p g = 0``.  Returns ``(pressure [Pa], iterations, converged, message)``; stops when the pressure changes by
+    less than ``tolerance`` of its sum in one iteration."""
+    # start: half the rigid interpenetration over the self-influence of an element
+    p = np.maximum(approach - gap, 0.0) * (0.5 * shear_modulus / operator.diagonal["zz"])
+    direction = np.zeros(gap.shape)
+    previous = 1.0
+    restart = True
+    change = math.inf
+    for iteration in range(1, max_iterations + 1):
+        contact = p > 0.0
+        if not contact.any():
+            return p, iteration, False, "the pressure vanished everywhere"
+        surface = gap + operator.normal(p) / shear_modulus - approach
+        residual = np.where(contact, surface, 0.0)
+        norm = float(np.sum(residual * residual))
+        direction = residual + (0.0 if restart else norm / previous) * direction
+        direction[~contact] = 0.0
+        previous = norm
+        response = operator.normal(direction) / shear_modulus
+        denominator = float(np.sum(response[contact] * direction[contact]))
+        step = norm / denominator if denominator > 0.0 else 0.0
+        old = p
+        p = np.clip(p - step * direction, 0.0, None)
+        overlap = (p == 0.0) & (surface < 0.0)
+        restart = bool(overlap.any())
+        if restart:
+            p[overlap] -= step * surface[overlap]
+        total = float(p.sum())
+        change = float(np.abs(p - old).sum()) / total if total > 0.0 else math.inf
+        if change <= tolerance:
+            return p, iteration, True, "converged"
+    return p, max_iterations, False, (f"pressure still changes by {change:.2e} of its sum after {max_iterations} "
+                                      "iterations")
+
+
+def patch_grid(centre_x: float, x_half: float, s_low: float, s_high: float, element: float) -> SurfaceGrid:
+    """The grid of square elements ``element`` [m] covering ``[-x_half, x_half] x [s_low, s_high]`` [m] (x symmetric
+    about 0, where the gap is even in x), each direction at least :data:`MIN_ELEMENTS` (ValueError beyond
+    :data:`~rollcontact.core.halfspace.surface.MAX_ELEMENTS_3D`)."""
+    nx = max(MIN_ELEMENTS, 2 * int(math.ceil(x_half / element)))
+    s_low = element * math.floor(s_low / element)
+    ny = max(MIN_ELEMENTS, int(math.ceil((s_high - s_low) / element)))
+    if max(nx, ny) > MAX_ELEMENTS_3D:
+        raise ValueError(f"the patch needs {nx} x {ny} elements of {element:.3g} m, beyond {MAX_ELEMENTS_3D} per "
+                         "direction: take larger elements")
+    return SurfaceGrid(nx, ny, element, element, centre_x - 0.5 * nx * element, s_low)
+
+
+MIN_ELEMENTS = 8
+"""Fewest elements per direction of a patch grid."""
+
+
+def _gap_on(grid: SurfaceGrid, scene: PatchScene) -> np.ndarray:
+    s, h, curvature = check_gap(scene.gap)
+    x, y = grid.mesh()
+    return np.interp(y, s, h) + np.interp(y, s, curvature) * x * x
+
+
+def _touches(contact: np.ndarray) -> bool:
+    return bool(contact[0].any() or contact[-1].any() or contact[:, 0].any() or contact[:, -1].any())
+
+
+def guide_for(scene: PatchScene):
+    """The strips' normal solution of the scene, which sizes the grid."""
+    return strip_normal(scene.gap, scene.material.contact_modulus, approach=scene.approach,
+                        normal_load=scene.normal_load)
+
+
+def automatic_element(guide) -> float:
+    """The default element [m]: :data:`DEFAULT_ELEMENT`, or less so that the strips' patch is at least
+    :data:`MIN_ACROSS` elements across its shorter extent (a flange's narrow patch)."""
+    if not guide.converged or not guide.contact.any():
+        return DEFAULT_ELEMENT
+    return min(DEFAULT_ELEMENT, min(guide.length, guide.width) / MIN_ACROSS)
+
+
+def normal_problem(scene: PatchScene, element: float, grid: SurfaceGrid | None, tolerance: float, guide=None):
+    """``(grid, pressure, approach, message or None, iterations)`` of the scene's normal problem on a grid of
+    ``element`` [m] sized and grown as the module docstring says (or on ``grid`` as given); ``guide``: the strips'
+    normal solution, if already at hand."""
+    shear = scene.shear_modulus
+    if grid is None:
+        guide = guide_for(scene) if guide is None else guide
+        if not guide.converged:
+            s, h, _ = check_gap(scene.gap)
+            depth = scene.approach if scene.approach is not None else None
+            bounds = rigid_range(s, h, depth) if depth is not None else None
+            if bounds is None:
+                return None, None, math.nan, f"no grid: the strips' normal problem failed ({guide.message})", 0
+            x_half = math.sqrt(depth / float(np.min(scene.gap.longitudinal_curvature)))
+            low, high = bounds
+        else:
+            low, high = guide.extent
+            x_half = 0.5 * guide.length
+            spare = MARGIN * (high - low)
+            low, high, x_half = low - spare, high + spare, x_half * (1.0 + 2.0 * MARGIN)
+        low, high, x_half = low - 2.0 * element, high + 2.0 * element, x_half + 2.0 * element
+    iterations = 0
+    for _ in range(GROWTHS + 1):
+        if grid is None:
+            current = patch_grid(0.0, x_half, low, high, element)
+        else:
+            current = grid
+        op = operator_for(current, scene.material.poisson_ratio)
+        gap = _gap_on(current, scene)
+        if scene.approach is None:
+            solution = solve_normal(op, gap, scene.normal_load, shear, tolerance=tolerance)
+            pressure, approach, converged, message = (solution.pressure, solution.approach, solution.converged,
+                                                      solution.message)
+            iterations += solution.iterations
+        else:
+            pressure, used, converged, message = normal_at_approach(op, gap, scene.approach, shear, tolerance)
+            approach = scene.approach
+            iterations += used
+        if grid is not None or not _touches(pressure > 0.0):
+            return current, pressure, approach, None if converged else f"normal problem: {message}", iterations
+        width, middle = high - low, 0.5 * (low + high)
+        low, high, x_half = middle - 0.75 * width, middle + 0.75 * width, 1.5 * x_half
+    return current, pressure, approach, (f"the contact still touches the grid's border after {GROWTHS} growths"
+                                         ), iterations
+
+
+def trimmed(grid: SurfaceGrid, contact: np.ndarray) -> tuple[SurfaceGrid, tuple[slice, slice]]:
+    """The grid reduced to the bounding box of the elements in contact (at least :data:`MIN_ELEMENTS` each way,
+    within the grid) and the slices that cut it out."""
+    rows = np.flatnonzero(contact.any(axis=1))
+    columns = np.flatnonzero(contact.any(axis=0))
+
+    def span(indices, size):
+        low, high = int(indices[0]), int(indices[-1]) + 1
+        missing = MIN_ELEMENTS - (high - low)
+        if missing > 0:
+            low = max(0, low - (missing + 1) // 2)
+            high = min(size, low + MIN_ELEMENTS)
+            low = max(0, high - MIN_ELEMENTS)
+        return slice(low, high)
+
+    sx, sy = span(rows, grid.nx), span(columns, grid.ny)
+    sub = SurfaceGrid(sx.stop - sx.start, sy.stop - sy.start, grid.dx, grid.dy, grid.x_min + sx.start * grid.dx,
+                      grid.y_min + sy.start * grid.dy)
+    return sub, (sx, sy)
+
+
+def solve_on_grid(scene: PatchScene, element: float, grid: SurfaceGrid | None, iteration_tolerance: float,
+                  max_iterations: int, normal_tolerance: float, guide=None):
+    """One level: the normal problem, then the steady tangential problem on the trimmed grid.  Returns a dict of
+    what the result needs."""
+    current, pressure, approach, message, normal_iterations = normal_problem(scene, element, grid, normal_tolerance,
+                                                                             guide)
+    if current is None:
+        return {"failure": message}
+    contact = pressure > 0.0
+    if not contact.any():
+        return {"failure": None, "empty": True, "approach": approach}
+    sub, (sx, sy) = trimmed(current, contact)
+    p = pressure[sx, sy]
+    x, s = sub.mesh()
+    xi, eta, phi = scene.creepages
+    op = operator_for(sub, scene.material.poisson_ratio)
+    steady = solve_steady(op, p, (xi - phi * s, eta + phi * x), scene.shear_modulus, scene.friction,
+                          scene.rolling_speed, iteration_tolerance, max_iterations)
+    forces = total_forces(sub, steady.traction_x, steady.traction_y)
+    in_contact = p > 0.0
+    rows = np.flatnonzero(in_contact.any(axis=1))
+    columns = np.flatnonzero(in_contact.any(axis=0))
+    messages = [m for m in (message, None if steady.converged else f"tangential problem: {steady.message}") if m]
+    return {"failure": None, "empty": False, "grid": sub, "pressure": p, "steady": steady, "forces": forces,
+            "approach": approach, "normal_load": float(p.sum() * sub.area), "max_pressure": float(p.max()),
+            "length": float((rows[-1] - rows[0] + 1) * sub.dx), "width": float((columns[-1] - columns[0] + 1) * sub.dy),
+            "area": float(in_contact.sum() * sub.area), "messages": messages, "normal_iterations": normal_iterations,
+            "elements": (current.nx, current.ny), "contact_elements": int(in_contact.sum())}
+
+
+def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: SurfaceGrid | None = None,
+                      extrapolate: bool = False, fields: bool = False, iteration_tolerance: float = 1e-8,
+                      max_iterations: int = NEWTON_ITERATIONS, normal_tolerance: float = 1e-10) -> PatchResult:
+    """Normal and tangential contact of a patch on the discretised half-space (module docstring).
+
+    Parameters
+    ----------
+    scene : PatchScene
+        Any friction law.
+    element : float, optional
+        Element size [m] (square), ignored with ``grid``; by default :data:`DEFAULT_ELEMENT`, smaller where the
+        patch is narrower than :data:`MIN_ACROSS` of them (:func:`automatic_element`).
+    grid : SurfaceGrid, optional
+        Solve the normal problem on this grid (x along the track, y the patch's s) as given, without sizing or
+        growing it.
+    extrapolate : bool
+        Richardson ``2 F(h) - F(2h)`` of the forces (the normal load and sizes stay the finer grid's); not with
+        ``grid``.
+    fields : bool
+        Attach the pressure and traction on the elements in contact's bounding box.
+    iteration_tolerance : float
+        Newton's tolerance of the tangential problem on ``max |q - P_g(q + r s)| / max mu p``.
+    max_iterations : int
+        Newton's cap; a solve that does not converge returns ``success`` False with the reason.
+    normal_tolerance : float
+        The conjugate gradients' tolerance on the change of the pressure.
+
+    Returns
+    -------
+    PatchResult
+        ``info``: ``element`` [m], ``elements`` (the normal grid's), ``contact_elements``, ``normal_iterations``,
+        ``newton_iterations``, ``operator_applications``, ``residual``, ``stick_fraction``, ``error_estimate``,
+        ``normal_error_estimate``, ``pressure_error_estimate``.
+    """
+    if extrapolate and grid is not None:
+        raise ValueError("extrapolate takes the grids from element, not from grid")
+    guide = guide_for(scene) if grid is None else None
+    element = automatic_element(guide) if element is None and guide is not None else \
+        DEFAULT_ELEMENT if element is None else float(element)
+    if not (math.isfinite(element) and element > 0.0):
+        raise ValueError(f"element = {element!r} m must be finite and > 0")
+    xi, eta, phi = scene.creepages
+    mu = scene.friction_coefficient
+    fine = solve_on_grid(scene, element, grid, iteration_tolerance, max_iterations, normal_tolerance, guide)
+    if fine["failure"] is not None:
+        return PatchResult("discretised", False, fine["failure"], math.nan, math.nan, math.nan, math.nan, math.nan,
+                           math.nan, math.nan, math.nan, xi, eta, phi, mu, math.nan)
+    if fine["empty"]:
+        return PatchResult("discretised", True, "no contact", 0.0, fine["approach"], 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, xi,
+                           eta, phi, mu, 0.0, info={"error_estimate": 0.0})
+    forces = np.array(fine["forces"])
+    messages = list(fine["messages"])
+    steady = fine["steady"]
+    newton, applications = steady.newton_iterations, steady.applications
+    if extrapolate:
+        coarse = solve_on_grid(scene, 2.0 * element, None, iteration_tolerance, max_iterations, normal_tolerance,
+                               guide)
+        if coarse["failure"] is not None or coarse["empty"]:
+            messages.append(f"coarse level: {coarse['failure'] or 'no contact'}")
+        else:
+            forces = 2.0 * forces - np.array(coarse["forces"])
+            messages += [f"coarse level: {m}" for m in coarse["messages"]]
+            newton += coarse["steady"].newton_iterations
+            applications += coarse["steady"].applications
+    in_contact = fine["pressure"] > 0.0
+    info = {"element": element, "elements": fine["elements"], "contact_elements": fine["contact_elements"],
+            "normal_iterations": fine["normal_iterations"], "newton_iterations": newton,
+            "operator_applications": applications, "residual": steady.residual,
+            "stick_fraction": float(steady.stick[in_contact].mean()), "extrapolate": extrapolate}
+    result_fields = None
+    if fields:
+        x, s = fine["grid"].mesh()
+        result_fields = TractionField(x, s, fine["pressure"], steady.traction_x, steady.traction_y,
+                                      steady.stick & in_contact)
+    provisional = PatchResult("discretised", not messages, "; ".join(messages) or "converged", fine["normal_load"],
+                              fine["approach"], fine["max_pressure"], fine["length"], fine["width"], *forces, xi, eta,
+                              phi, mu, fine["area"], result_fields, info)
+    info.update(DiscretisedPatchAccuracy().estimates(provisional, element, extrapolate))
+    return provisional
+
+
+solve_discretised.options = ("element", "extrapolate", "fields")
+
+
+ERROR_PER_ELEMENT = 0.5
+"""The error [1] of Fx, Fy (over mu Fn) and Mz (over mu Fn c) on one grid is at most this over the elements across the
+patch's shorter extent: a margin over the largest error times that count in ``benchmarks/wheelrail_patches.py``,
+table "Tangential" (the default 0.2 mm on the three patches; the two-lobed tread's is the largest)."""
+
+PAIR_ERROR = (20.0, 0.3)
+"""The same for the Richardson pair, ``max(20 / N^2, 0.3 / N)``: the elliptic discretised level's
+(``benchmarks/bench_elliptic.py``, section B), whose first-order term is above the single grid's constant here."""
+
+NORMAL_PER_ELEMENT = 0.05
+PRESSURE_PER_ELEMENT = 0.1
+"""Relative errors [1] of Fn (at a given approach) and of the peak pressure times the elements across the shorter
+extent: margins over ``benchmarks/wheelrail_patches.py``, table "Normal" (the flange's pressure the largest)."""
+
+SECONDS_PER_ELEMENT = 1e-4
+"""Modelled time [s] per element in contact on an idle machine (``benchmarks/wheelrail_patches.py``, table "Time":
+the normal and the tangential problem and the grid's sizing by the strips)."""
+
+
+class DiscretisedPatchAccuracy(AccuracyModel):
+    """First order in the element size: the errors above over the elements across the patch's shorter extent; cost
+    proportional to the elements in contact."""
+
+    def ladder(self, scene):
+        return tuple({"element": e, "extrapolate": False} for e in (0.4e-3, 0.3e-3, 0.2e-3, 0.15e-3, 0.1e-3))
+
+    def cost(self, scene, options):
+        """Before solving, for a patch of 1000 elements in contact at the default element."""
+        return SECONDS_PER_ELEMENT * 1000.0 * (DEFAULT_ELEMENT / options.get("element", DEFAULT_ELEMENT)) ** 2
+
+    def error(self, scene, options):
+        """Before solving, for a patch 20 default elements across."""
+        return ERROR_PER_ELEMENT / 20.0 * options.get("element", DEFAULT_ELEMENT) / DEFAULT_ELEMENT
+
+    def estimates(self, result: PatchResult, element: float, extrapolate: bool) -> dict:
+        """``error_estimate``, ``normal_error_estimate``, ``pressure_error_estimate`` of a solved patch."""
+        across = max(1.0, min(result.length, result.width) / element)
+        tangential = max(PAIR_ERROR[0] / across**2, PAIR_ERROR[1] / across) if extrapolate else \
+            ERROR_PER_ELEMENT / across
+        return {"error_estimate": tangential, "normal_error_estimate": NORMAL_PER_ELEMENT / across,
+                "pressure_error_estimate": PRESSURE_PER_ELEMENT / across}

@@ -1,0 +1,337 @@
+"""Tangential contact of a patch by the strips of its normal solution (docs/physics-wheelrail-patches.md, "The
+strips' tangential problem"): the elliptic strips (:mod:`rollcontact.elliptic.methods.strips`, docs/physics.md,
+"Strips") on general strips.
+
+Each strip j of :func:`~rollcontact.wheelrail.methods.strip_normal.strip_normal` carries the semi-elliptic pressure
+``p = q_j sqrt(a_j^2 - x^2)`` (``q_j = p0_j / a_j``) and solves its 2D rolling problem as the elliptic strips do: the
+stick zone at the leading edge ``[2 d - a_j, a_j]`` in closed form, the slip zones at ``mu p`` along the slip, with
+the slip directions of spin from a FASTSIM march.  On an ellipse ``q_j`` is the same on every strip; here each strip
+takes its own in the slip length ``1 / (2 mu q_j)`` and the scaled spin ``psi_j = phi E_phi / (2 mu q_j)``.
+
+A run of strips in contact (a lobe) takes the constants that the elliptic strips take from their ellipse from an
+equivalent ellipse (the stated rule): its area is the lobe's, ``2 sum_j w_j a_j``, and its a/b that of the Hertz
+ellipse whose strips are stiffened as the lobe's are, ``F(a/b) = k``, where ``k`` is the lobe's load-weighted mean
+of ``q_j / (E* A_j)`` and ``F(a/b) = p0 / (a E* A)`` Hertz's ratio (1 in the strip limit, 4/pi on a circle;
+:func:`stiffening_ratio`).  On a Hertzian patch this is its own ellipse.  Its Kalker coefficients give the moduli
+``E_x = 4 G C11 / pi^2``, ``E_y = 4 G C22 / pi^2``, ``E_phi = 3 G C23 sqrt(b/a) / pi``, the moment ratio r that keeps
+C33 (about the lobe's centroid ``s_L``, so that the lobe sees the longitudinal creepage ``xi - phi s_L`` and spin
+about its centroid), the short strips' stiffening ``f_j = K (a_j / a_max)^(-gamma)`` (``(1 - y^2/b^2)^(-gamma/2)``
+on an ellipse, K keeping ``sum w a f = sum w a``), the lateral force's cross influence and the march's
+flexibilities.  ``Mz`` is taken about the rigid contact point, ``s = 0``.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from rollcontact.core.materials import Material
+from rollcontact.elliptic.creep_coefficients import CreepageCoefficients, aspect_ratio_range, creepage_coefficients
+from rollcontact.elliptic.hertz import differences
+from rollcontact.elliptic.methods.strips import (
+    CROSS_ITERATIONS,
+    SPIN_FLEXIBILITY,
+    STICK_FADE,
+    STIFFENING_SCALE,
+    TINY,
+    cells,
+    cross_coefficients,
+    gauss,
+    march_flexibilities,
+)
+from rollcontact.elliptic.result import TractionField
+from rollcontact.line.dispatch import solve as solve_2d
+from rollcontact.line.scene import Scene
+from rollcontact.wheelrail.methods.strip_normal import StripContact
+
+DEFAULT_STEPS = 20
+"""Cells along each strip of the march (with spin, or for the fields)."""
+
+
+def stiffening_ratio(ratio):
+    """Hertz's ``F(a/b) = p0 / (a E* A)`` [1] (A the gap's curvature along a): ``(a/b) e^2 / (K - E)`` for
+    ``a >= b`` (``e^2 = 1 - b^2/a^2``), ``e^2 / (E - (a/b)^2 K)`` below (``e^2 = 1 - a^2/b^2``); 1 in the strip limit
+    a/b -> 0, 4/pi on a circle (docs/physics.md, "Hertz's ellipse")."""
+    if ratio >= 1.0:
+        m = -math.expm1(-2.0 * math.log(ratio))
+        return ratio / differences(m)[0]
+    m = -math.expm1(2.0 * math.log(ratio))
+    return 1.0 / (ratio * ratio * differences(m)[1])
+
+
+@lru_cache(maxsize=1)
+def _ratio_table() -> tuple[np.ndarray, np.ndarray]:
+    logs = np.linspace(math.log(1e-3), math.log(1e3), 1201)
+    values = np.array([stiffening_ratio(math.exp(v)) for v in logs])
+    return np.log(values), logs
+
+
+def equivalent_ratio(stiffening: float) -> float:
+    """The a/b [1] whose Hertz ratio :func:`stiffening_ratio` is ``stiffening`` (>= 1; interpolated in logs over
+    a/b 1e-3 .. 1e3, held at the ends)."""
+    log_values, logs = _ratio_table()
+    return math.exp(float(np.interp(math.log(max(stiffening, 1.0)), log_values, logs)))
+
+
+def coefficients(ratio: float, poisson_ratio: float) -> CreepageCoefficients:
+    """Kalker's C11, C22, C23, C33 at a/b and nu: the table's (:func:`~rollcontact.elliptic.creep_coefficients.
+    creepage_coefficients`) within its range, beyond it each ``log C`` continued linearly in ``log(a/b)`` from the
+    table's two end rows (a power law; a flange patch is longer than the table's a/b = 10)."""
+    low, high = aspect_ratio_range()
+    if low <= ratio <= high:
+        return creepage_coefficients(ratio, poisson_ratio)
+    first, second = (high, high / 1.5) if ratio > high else (low, low * 1.5)
+    end, inner = creepage_coefficients(first, poisson_ratio), creepage_coefficients(second, poisson_ratio)
+    power = math.log(ratio / first) / math.log(first / second)
+    return CreepageCoefficients(*(e * (e / i) ** power for e, i in zip(end, inner, strict=True)))
+
+
+@lru_cache(maxsize=256)
+def _spread_shape(gamma: float) -> float:
+    nodes, weights, root = gauss(64)
+    shape = root ** (-gamma)
+    factor = float(weights @ root) / float(weights @ (root * shape))
+    return float(weights @ (factor * shape * nodes * nodes * root))
+
+
+def moment_ratio(ratio: float, c33: float, c11: float) -> float:
+    """The elliptic strips' r on the ellipse of a/b ``ratio`` (docs/physics.md, "Strips"): Kalker's spin moment
+    ``G c^4 C33`` over the strips' own ``(pi/2) E_x int f(y) y^2 a(y) dy``, ``E_x = 4 G C11 / pi^2`` (f the short
+    strips' stiffening), i.e. ``C33 pi / (2 C11 b^2 ... )`` in units free of the ellipse's size.  A lobe takes its
+    equivalent ellipse's r: the factor by which the half-space stiffens the strips' moment of spin, applied to the
+    lobe's own spread of strips."""
+    gamma = ratio / (ratio + STIFFENING_SCALE)
+    # G c^4 C33 / ((pi/2) (4 G C11 / pi^2) a b^3 I) with c^4 = a^2 b^2: C33 pi a / (2 C11 b I)
+    return c33 * math.pi * ratio / (2.0 * c11 * _spread_shape(gamma))
+
+
+class Lobes:
+    """The strips in contact grouped in runs (lobes) with their equivalent ellipses' constants, as per-strip arrays
+    (module docstring).  Attributes are arrays over the strips in contact (``index`` into the contact's strips) or
+    lists over the lobes."""
+
+    def __init__(self, contact: StripContact, material: Material, mu: float, creepages):
+        xi, eta, phi = creepages
+        g, nu = material.youngs_modulus / (2.0 * (1.0 + material.poisson_ratio)), material.poisson_ratio
+        estar = material.contact_modulus
+        self.index = np.flatnonzero(contact.contact)
+        self.s = contact.centres[self.index]
+        self.w = contact.widths[self.index]
+        self.half = contact.half_lengths[self.index]
+        self.q = contact.peak_pressures[self.index] / self.half
+        self.m = mu * self.q
+        loads = 0.5 * math.pi * contact.peak_pressures[self.index] * self.half
+        breaks = np.flatnonzero(np.diff(self.index) > 1) + 1
+        self.runs = np.split(np.arange(self.index.size), breaks)
+        count = self.index.size
+        names = ("modulus_x", "modulus_y", "modulus_phi", "factor", "centroid", "ratio", "march_ratio", "cross",
+                 "l1", "l2", "l3", "limit")
+        for name in names:
+            setattr(self, name, np.empty(count))
+        self.ratios, self.clamped, self.psi_e = [], [], []
+        low, high = aspect_ratio_range()
+        for run in self.runs:
+            w, half, s = self.w[run], self.half[run], self.s[run]
+            curvature = contact.longitudinal_curvature[self.index[run]]
+            stiff = float(np.sum(w * loads[run] * self.q[run] / (estar * curvature)) / np.sum(w * loads[run]))
+            ratio = equivalent_ratio(stiff)
+            self.clamped.append(not low <= ratio <= high)
+            self.ratios.append(ratio)
+            area = 2.0 * float(w @ half)
+            a_e, b_e = math.sqrt(area * ratio / math.pi), math.sqrt(area / (math.pi * ratio))
+            c = coefficients(ratio, nu)
+            load = float(w @ loads[run])
+            p0_e = 1.5 * load / (math.pi * a_e * b_e)
+            gamma = ratio / (ratio + STIFFENING_SCALE)
+            shape = (half / half.max()) ** (-gamma)
+            factor = shape * float(w @ half) / float(w @ (half * shape))
+            centroid = float(w @ (half * s)) / float(w @ half)
+            modulus_x = 4.0 * g * c.c11 / math.pi**2
+            r = moment_ratio(ratio, c.c33, c.c11)
+            psi_e = phi * (3.0 * g * c.c23 * math.sqrt(b_e / a_e) / math.pi) * a_e / (2.0 * mu * p0_e)
+            self.psi_e.append(psi_e)
+            x0, x1, y0, y1, scale, power, spin_half, _ = SPIN_FLEXIBILITY
+            log_ratio = math.log(ratio)
+            xi_lobe = xi - phi * centroid
+            flex = march_flexibilities(a_e, b_e, g, mu, load, c.c11, c.c22, c.c23, xi_lobe, eta, phi, psi_e,
+                                       x0 + x1 * log_ratio, y0 + y1 * log_ratio, scale * (1.0 + ratio) ** power)
+            cross = 0.0 if phi != 0.0 else float(cross_coefficients(
+                *(np.array([[v]]) for v in (a_e, b_e, a_e * a_e, b_e * b_e, nu, g)))[0, 0])
+            values = (modulus_x, 4.0 * g * c.c22 / math.pi**2, 3.0 * g * c.c23 * math.sqrt(b_e / a_e) / math.pi,
+                      factor, centroid, r, 1.0 + (r - 1.0) / (1.0 + abs(psi_e) / spin_half), cross, *flex, mu * load)
+            for name, value in zip(names, values, strict=True):
+                getattr(self, name)[run] = value
+        self.xi, self.eta, self.phi = xi, eta, phi
+        self.scale = self.factor / (2.0 * self.m)
+        self.psi = phi * self.modulus_phi / (2.0 * self.m)
+        self.offset = self.s - self.centroid
+        self.longitudinal = xi - phi * self.centroid  # each lobe's longitudinal creepage about its centroid
+        self.Y = eta * self.modulus_y * self.scale
+        self.couple(np.zeros(count))
+
+    def couple(self, phi_c: np.ndarray) -> None:
+        """Set the scaled longitudinal slip X with the cross creepage ``phi_c`` [1/m] per strip (0 with spin)."""
+        self.phi_c = phi_c
+        rigid = self.longitudinal - (self.ratio * self.phi + phi_c) * self.offset
+        self.X = rigid * self.modulus_x * self.scale
+
+    def lobe_forces(self, values: np.ndarray) -> np.ndarray:
+        """Each strip's lobe's sum of ``values * w`` (per strip)."""
+        out = np.empty_like(values)
+        for run in self.runs:
+            out[run] = float(self.w[run] @ values[run])
+        return out
+
+
+def stick_zones(X, Y, psi, half):
+    """``(d, kappa, lambda, partial, share)`` per strip (the elliptic strips' stick zones, docs/physics.md,
+    "Strips"): the root d of ``(1 - psi^2) d^2 - 2 psi Y d - (X^2 + Y^2) = 0`` (the cancellation-free form where
+    ``psi Y < 0``), the stick edge's traction direction ``(X/d, psi + Y/d)``, whether the strip sticks and, past
+    ``|psi| = 1``, the share of its stick traction kept (``(F - v)/(F - 1)``, F = :data:`STICK_FADE`); full slip
+    along ``(X, Y)``."""
+    turned = psi * Y
+    room = 1.0 - psi * psi
+    square = Y * Y + room * X * X
+    real = square >= 0.0
+    root = np.sqrt(np.where(real, square, 0.0))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        alike = (turned + root) / np.where(room > 0.0, room, 1.0)
+        opposed = (X * X + Y * Y) / (root - turned)
+    d = np.where(turned < 0.0, np.where(real, opposed, np.inf), np.where(room > 0.0, alike, np.inf))
+    partial = d < half
+    edge = partial & (d > 0.0)
+    safe = np.where(edge, d, 1.0)
+    kappa = np.where(edge, X / safe, 0.0)
+    lam = np.where(edge, psi + Y / safe, 0.0)
+    share = np.ones_like(X)
+    if (np.abs(psi) >= 1.0).any() and partial.any():
+        along = 1.0 - lam * psi
+        rest = np.sqrt(np.where(partial, (half - d) / half, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            excess = np.where(room > 0.0, 0.0, np.where(along > 0.0, rest * (2.0 * along - room) / (2.0 * along),
+                                                        np.inf))
+        partial &= excess < STICK_FADE
+        share = np.clip((STICK_FADE - excess) / (STICK_FADE - 1.0), 0.0, 1.0)
+    norm = np.hypot(X, Y)
+    slipping = norm > 0.0
+    safe_norm = np.where(slipping, norm, 1.0)
+    kappa = np.where(partial, kappa, np.where(slipping, X / safe_norm, 0.0))
+    lam = np.where(partial, lam, np.where(slipping, Y / safe_norm, 0.0))
+    return np.where(partial, d, half), kappa, lam, partial, share
+
+
+def closed_form(lobes: Lobes, stick) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per strip and unit width ``(Fx, Fy, Mz)`` [N/m, N/m, N]: ``(pi m/2) kappa (a^2 - a*^2)``,
+    ``(pi m/2) (lambda a^2 - (lambda - psi) a*^2)``, ``-(pi m/2)(lambda - psi) d a*^2 - s Fx`` (the elliptic
+    strips' closed form with ``m = mu q_j``; Mz about the rigid contact point)."""
+    d, kappa, lam, partial, _ = stick
+    rest2 = np.where(partial, lobes.half - d, 0.0) ** 2
+    turned = lam - lobes.psi
+    area = 0.5 * math.pi * lobes.m
+    fx = area * kappa * (lobes.half**2 - rest2)
+    fy = area * (lam * lobes.half**2 - turned * rest2)
+    return fx, fy, -area * turned * d * rest2 - lobes.s * fx
+
+
+def coulomb_forces(lobes: Lobes, steps: int, fields: bool):
+    """``((Fx, Fy, Mz), field)`` [N, N, N m] of Coulomb friction: the closed form with the cross influence's fixed
+    point (without spin), plus the march's departure with spin; the field on the cells with ``fields``."""
+    stick = stick_zones(lobes.X, lobes.Y, lobes.psi, lobes.half)
+    spin = lobes.phi != 0.0
+    if not spin and (lobes.cross != 0.0).any():
+        for _ in range(CROSS_ITERATIONS):
+            fy = lobes.lobe_forces(closed_form(lobes, stick)[1])
+            lobes.couple(lobes.cross * fy)
+            stick = stick_zones(lobes.X, lobes.Y, lobes.psi, lobes.half)
+    per_strip = closed_form(lobes, stick)
+    forces = np.array([float(lobes.w @ f) for f in per_strip])
+    field = None
+    if spin or fields:
+        departure, field = marched(lobes, steps, stick, fields)
+        if spin:
+            forces = forces + departure
+    return forces, field
+
+
+def marched(lobes: Lobes, steps: int, stick, fields: bool):
+    """The strips on ``steps`` cells each: the stick zones' closed-form traction, ``mu p`` along a FASTSIM march's
+    traction in the slip zones (the elliptic strips' march, docs/physics.md, "Strips", with each strip's own bound
+    ``mu q_j sqrt(a_j^2 - x^2)``, scaled on the cells to carry the strip's ``mu`` times its load).  Returns the
+    march's departure from the closed form ``(dFx, dFy, dMz)`` and, with ``fields``, the traction field."""
+    d, kappa, lam, partial, share = stick
+    half, s, w = lobes.half, lobes.s, lobes.w
+    dx = 2.0 * half / steps
+    x = half * cells(steps)  # (steps, strips): cell centres from the leading edge
+    full = np.sqrt(np.maximum(half * half - x * x, 0.0))
+    bound = lobes.m * full
+    scaling = (0.5 * math.pi * lobes.m * half * half) / np.maximum(np.sum(bound, axis=0) * dx, TINY)
+    bound *= scaling
+    phi_x = lobes.march_ratio * lobes.phi + lobes.phi_c
+    increment = np.empty((steps, 2, s.size))
+    increment[:, 0] = dx * (lobes.longitudinal - phi_x * lobes.offset) / lobes.l1 * lobes.factor
+    increment[:, 1] = dx * (lobes.eta / lobes.l2 + lobes.phi * (x - 0.5 * dx) / lobes.l3)
+    trial = np.empty((steps, 2, s.size))
+    trial[0, 0] = 0.5 * increment[0, 0]
+    trial[0, 1] = 0.5 * dx * (lobes.eta / lobes.l2 + lobes.phi * (half - 0.25 * dx) / lobes.l3)
+    for i in range(steps - 1):
+        size = np.maximum(np.hypot(trial[i, 0], trial[i, 1]), TINY)
+        with np.errstate(over="ignore"):
+            ratio = np.minimum(1.0, bound[i] / size)
+        trial[i + 1] = trial[i] * ratio + increment[i]
+    size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
+    qx, qy = bound * trial[:, 0] / size, bound * trial[:, 1] / size
+    if lobes.phi == 0.0:  # without spin the slip direction is uniform along the strip
+        qx, qy = bound * kappa, bound * lam
+    ux, uy = bound * kappa, bound * lam
+    in_stick = partial & (x > 2.0 * d - half)
+    if partial.any():
+        rest = half - d
+        inner = np.sqrt(np.maximum(rest * rest - (x - d) ** 2, 0.0))
+        m = lobes.m * scaling
+        stick_x, stick_y = m * kappa * (full - inner), m * (lam * full - (lam - lobes.psi) * inner)
+        ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
+        if (share < 1.0).any():
+            within = np.minimum(1.0, bound / np.maximum(np.hypot(stick_x, stick_y), TINY))
+            stick_x = np.where(share < 1.0, share * within * stick_x + (1.0 - share) * qx, stick_x)
+            stick_y = np.where(share < 1.0, share * within * stick_y + (1.0 - share) * qy, stick_y)
+        qx, qy = np.where(in_stick, stick_x, qx), np.where(in_stick, stick_y, qy)
+    weight = w * dx
+    dqx, dqy = qx - ux, qy - uy
+    departure = np.array([float(np.sum(dqx * weight)), float(np.sum(dqy * weight)),
+                          float(np.sum((x * dqy - s * dqx) * weight))])
+    if not fields:
+        return departure, None
+    pressure = bound * (lobes.q / lobes.m)
+    field = TractionField(*(v.T.copy() for v in (x, np.broadcast_to(s, x.shape), pressure, qx, qy, in_stick)))
+    return departure, field
+
+
+def falling_forces(lobes: Lobes, material: Material, friction, rolling_speed: float):
+    """Velocity-dependent friction without spin: each strip the 2D scene ``N' = (pi/2) q a^2``, ``R = E / (2 q)``,
+    ``E* = E`` with ``E = f E_x``, creep ``|(X, Y)| 2 mu q / E`` along ``(X, Y)``, by the project's polynomial
+    method (as the elliptic strips; the cross influence is not applied).  Returns ``((Fx, Fy, Mz), failures)``."""
+    nu = material.poisson_ratio
+    norm = np.hypot(lobes.X, lobes.Y)
+    direction_x = np.where(norm > 0.0, lobes.X / np.where(norm > 0.0, norm, 1.0), 0.0)
+    direction_y = np.where(norm > 0.0, lobes.Y / np.where(norm > 0.0, norm, 1.0), 0.0)
+    nodes, weights, _ = gauss(32)
+    force = np.empty(lobes.s.size)
+    lever = np.empty(lobes.s.size)
+    failures = []
+    for j in range(lobes.s.size):
+        modulus = lobes.modulus_x[j] * lobes.factor[j]
+        creep = float(norm[j] / (lobes.modulus_x[j] * lobes.scale[j]))
+        scene = Scene(0.5 * math.pi * lobes.q[j] * lobes.half[j] ** 2, creep=creep, radius=modulus / (2.0 * lobes.q[j]),
+                      material=Material(2.0 * modulus * (1.0 - nu * nu), nu), friction=friction,
+                      rolling_speed=rolling_speed)
+        result = solve_2d(scene, "polynomial")
+        if not result.success:
+            failures.append(f"strip s = {lobes.s[j]:.4g} m: {result.message}")
+        force[j] = result.tangential_force_per_length
+        x2d = result.contact_offset + result.contact_half_width * nodes
+        lever[j] = -result.contact_half_width * float(weights @ ((x2d - result.contact_offset) * result.traction(x2d)))
+    fx, fy = direction_x * force, direction_y * force
+    w = lobes.w
+    return np.array([float(w @ fx), float(w @ fy), float(w @ (direction_y * lever - lobes.s * fx))]), failures

@@ -1,0 +1,190 @@
+"""The fast non-Hertzian level of a patch (``"strips"``): lateral strips, each a 2D normal problem with its own
+curvature and interpenetration corrected for the half-space (:mod:`~rollcontact.wheelrail.methods.strip_normal`),
+then each the 2D tangential problem of the elliptic strips on its semi-elliptic pressure
+(:mod:`~rollcontact.wheelrail.methods.strip_tangential`).  docs/physics-wheelrail-patches.md, "Strips on a patch".
+
+Coulomb friction, and velocity-dependent friction without spin (one 2D polynomial solve per strip); spin with a
+velocity-dependent law is left out (:func:`inapplicable` says so).
+"""
+
+from __future__ import annotations
+
+import math
+
+from rollcontact.core.checks import check_real
+from rollcontact.core.method import AccuracyModel
+from rollcontact.elliptic.methods.strips import POISSON_ERROR, SPIN_ONSET, STRIPS_ERROR, STRIPS_SPIN_ERROR
+from rollcontact.wheelrail.methods.strip_normal import DEFAULT_STRIPS, StripContact, refined, strip_normal
+from rollcontact.wheelrail.methods.strip_tangential import (
+    DEFAULT_STEPS,
+    Lobes,
+    coefficients,
+    coulomb_forces,
+    falling_forces,
+)
+from rollcontact.wheelrail.result import PatchResult
+from rollcontact.wheelrail.scene import PatchScene
+
+__all__ = ["PatchStripsAccuracy", "inapplicable", "normal_contact", "solve_strips"]
+
+TANGENTIAL_STRIPS = 24
+"""Strips of the tangential problem: the elliptic strips' count, at which their march's constants are calibrated."""
+
+
+def inapplicable(scene: PatchScene) -> str | None:
+    """Why the strips cannot treat the scene, or None: spin with a velocity-dependent friction law (the strips'
+    velocity-dependent path solves one 2D problem per strip, whose kernel has one traction component, so the slip
+    directions of spin are left for later)."""
+    if not scene.friction.is_constant and scene.spin_creepage != 0.0:
+        return ("the patch strips take no spin with a velocity-dependent friction law (not yet: the 2D kernel of "
+                "their falling-friction path has one traction component); use the discretised level")
+    return None
+
+
+def normal_contact(scene: PatchScene, strips: int = DEFAULT_STRIPS) -> StripContact:
+    """The strips' normal solution of the scene, at its approach or its load
+    (:func:`~rollcontact.wheelrail.methods.strip_normal.strip_normal`)."""
+    return strip_normal(scene.gap, scene.material.contact_modulus, approach=scene.approach,
+                        normal_load=scene.normal_load, strips=strips)
+
+
+def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_strips: int = TANGENTIAL_STRIPS,
+                 steps: int = DEFAULT_STEPS, fields: bool = False) -> PatchResult:
+    """Normal and tangential contact of a patch by strips (module docstring).
+
+    Parameters
+    ----------
+    scene : PatchScene
+        The patch's case; Coulomb friction, or a velocity-dependent law without spin.
+    strips : int
+        Strips across the patch of the normal problem (>= 4).
+    tangential_strips : int
+        Strips of the tangential problem, the normal solution carried over to them
+        (:func:`~rollcontact.wheelrail.methods.strip_normal.refined`; >= 4).
+    steps : int
+        Cells along each strip of the march (with spin) and of the fields (>= 2).
+    fields : bool
+        Return the pressure and traction on the strips' cells (Coulomb friction).
+
+    Returns
+    -------
+    PatchResult
+        ``info``: ``strips_in_contact``, ``lobes`` (runs of strips in contact), ``equivalent_ratios`` (each lobe's
+        a/b), ``outside_table`` (a lobe's a/b beyond the coefficient table's, its coefficients continued as a power
+        law), ``normal_iterations``,
+        ``error_estimate``, ``normal_error_estimate``, ``pressure_error_estimate``.
+
+    Raises
+    ------
+    ValueError
+        A scene the strips cannot solve (:func:`inapplicable`), or a count out of range.
+    """
+    why = inapplicable(scene)
+    if why is not None:
+        raise ValueError(f"strips cannot solve this scene: {why}")
+    steps = int(check_real("steps", steps, lower=2))
+    contact = normal_contact(scene, strips)
+    mu = scene.friction_coefficient
+    xi, eta, phi = scene.creepages
+    if not contact.converged:
+        return PatchResult("strips", False, f"normal problem: {contact.message}", contact.normal_load,
+                           contact.approach, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan, xi, eta, phi,
+                           mu, math.nan, info={"normal_iterations": contact.iterations})
+    if not contact.contact.any():
+        return PatchResult("strips", True, contact.message, 0.0, contact.approach, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, xi,
+                           eta, phi, mu, 0.0, info={"error_estimate": 0.0})
+    tangential_strips = int(check_real("tangential_strips", tangential_strips, lower=4))
+    lobes = Lobes(refined(contact, scene.gap, tangential_strips), scene.material, mu, scene.creepages)
+    field = None
+    failures: list[str] = []
+    if scene.friction.is_constant:
+        forces, field = coulomb_forces(lobes, steps, fields)
+    else:
+        forces, failures = falling_forces(lobes, scene.material, scene.friction, scene.rolling_speed)
+    area = 2.0 * float(contact.widths @ contact.half_lengths)
+    info = {"strips_in_contact": int(contact.contact.sum()), "lobes": len(lobes.runs),
+            "equivalent_ratios": tuple(lobes.ratios), "outside_table": any(lobes.clamped),
+            "normal_iterations": contact.iterations}
+    accuracy = PatchStripsAccuracy()
+    info.update(accuracy.estimates(scene, lobes, contact))
+    message = "strips" if not failures else "strips, polynomial method per strip: " + "; ".join(failures)
+    return PatchResult("strips", not failures, message, contact.normal_load, contact.approach, contact.max_pressure,
+                       contact.length, contact.width, float(forces[0]), float(forces[1]), float(forces[2]), xi, eta,
+                       phi, mu, area, field, info)
+
+
+solve_strips.options = ("strips", "tangential_strips", "steps", "fields")
+
+
+NORMAL_ERROR = 0.01
+"""Relative error [1] of Fn at a given approach (of the approach at a given load) of the default 24 strips against the
+reference: a margin over the largest in ``benchmarks/wheelrail_patches.py``, table "Normal" (the flange patch)."""
+
+PRESSURE_ERROR = 0.03
+"""Relative error [1] of the peak pressure of the default 24 strips against the reference: a margin over the largest
+in ``benchmarks/wheelrail_patches.py``, table "Normal" (the two-lobed tread's narrow lobe)."""
+
+PATCH_ERROR = 0.02
+"""Error [1] (Fx, Fy over mu Fn, Mz over mu Fn c) that a non-elliptic patch adds to the elliptic strips' estimate on
+its equivalent ellipse, at full creepage: with it every largest error of ``benchmarks/wheelrail_patches.py``, table
+"Tangential", lies within its estimate (the largest on the tread and the flange root is Mz of lateral creepage and of
+spin)."""
+
+OUTSIDE_TABLE_ERROR = 0.05
+"""Error [1] added where a lobe's equivalent a/b lies beyond the coefficient table (its coefficients continued as a
+power law): the flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", whose largest error (Mz of
+combined creepage at two saturations) this keeps within its estimate."""
+
+STRIPS_PATCH_COST = 3e-3
+STRIPS_PATCH_COST_PER_CELL = 5e-6
+"""Modelled times [s] on an idle machine: the normal solution and the closed form, each cell of the march
+(``benchmarks/wheelrail_patches.py``, table "Time", as a multiple of the elliptic strips' time in the same run)."""
+
+
+class PatchStripsAccuracy(AccuracyModel):
+    """The strips' error: the elliptic strips' estimate (:class:`rollcontact.elliptic.methods.strips.StripsAccuracy`'s
+    form) on each lobe's equivalent ellipse, plus :data:`PATCH_ERROR` for a non-elliptic patch (scaled, like the
+    elliptic estimate, by the creepage in units of saturation), and the normal level's :data:`NORMAL_ERROR` and
+    :data:`PRESSURE_ERROR`.  Cost: the normal solution and the march."""
+
+    floor = STRIPS_PATCH_COST
+
+    def ladder(self, scene):
+        return ({},)
+
+    def cost(self, scene, options):
+        if scene.spin_creepage == 0.0 and not options.get("fields"):
+            return STRIPS_PATCH_COST
+        return STRIPS_PATCH_COST + STRIPS_PATCH_COST_PER_CELL * options.get("steps", DEFAULT_STEPS)
+
+    def error(self, scene, options):
+        """Before solving: the largest the estimate can be, the elliptic strips' bound with spin plus the patch's."""
+        poisson = POISSON_ERROR * max(0.0, scene.material.poisson_ratio - 0.28)
+        spin = STRIPS_SPIN_ERROR if scene.spin_creepage != 0.0 else STRIPS_ERROR
+        return spin + poisson + PATCH_ERROR
+
+    def estimates(self, scene: PatchScene, lobes: Lobes, contact: StripContact) -> dict:
+        """``error_estimate``, ``normal_error_estimate`` and ``pressure_error_estimate`` of a solved scene."""
+        mu, load = scene.friction_coefficient, contact.normal_load
+        g, nu = scene.shear_modulus, scene.material.poisson_ratio
+        xi, eta, phi = scene.creepages
+        worst = 0.0
+        for run, ratio, psi_e in zip(lobes.runs, lobes.ratios, lobes.psi_e, strict=True):
+            w, half = lobes.w[run], lobes.half[run]
+            area = 2.0 * float(w @ half)
+            lobe_load = float(w @ (0.5 * math.pi * lobes.q[run] * half * half))
+            c2 = area / math.pi
+            c = coefficients(ratio, nu)
+            xi_lobe = xi - phi * float(lobes.centroid[run][0])
+            linear = math.hypot(g * c2 * c.c11 * xi_lobe, g * c2 * c.c22 * eta) + g * c2**1.5 * c.c23 * abs(phi)
+            tau = min(1.0, linear / (mu * lobe_load)) if lobe_load > 0.0 else 0.0
+            spin = min(1.0, abs(psi_e) / SPIN_ONSET)
+            poisson = POISSON_ERROR * max(0.0, nu - 0.28)
+            lobe = 0.01 * tau + (STRIPS_ERROR + (STRIPS_SPIN_ERROR - STRIPS_ERROR) * spin + poisson) * min(
+                1.0, 5.0 * tau + spin)
+            share = lobe_load / load if load > 0.0 else 0.0
+            worst = max(worst, share * lobe)
+        tau_patch = min(1.0, 5.0 * worst / max(STRIPS_ERROR, 1e-12))
+        ratio_penalty = OUTSIDE_TABLE_ERROR if any(lobes.clamped) else 0.0
+        return {"error_estimate": worst + PATCH_ERROR * tau_patch + ratio_penalty,
+                "normal_error_estimate": NORMAL_ERROR, "pressure_error_estimate": PRESSURE_ERROR}

@@ -1,0 +1,138 @@
+"""The discretised patch level against the elliptic discretised level on the same grid (a quadratic gap is Hertz's
+contact; the two solve the same discrete problems), Hertz's normal contact at its approach, and the identities:
+load balance, the load and approach entry points inverse to each other, |q| <= mu p on every element, zero creepage
+gives no force, large creepage saturates at mu Fn, mirror symmetry, convergence with the element size, and the
+strips within the goals of the fast level on non-Hertzian gaps."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from wheelrail_gaps import MU, quadratic, two_wells, varying_curvature
+
+from rollcontact import ExponentialFalling
+from rollcontact.core.halfspace.rolling import ellipse_grid
+from rollcontact.elliptic.methods.discretised import solve_discretised_3d
+from rollcontact.wheelrail.methods.discretised import normal_at_approach, patch_grid, solve_discretised
+from rollcontact.wheelrail.methods.strips import solve_strips
+from rollcontact.wheelrail.scene import PatchScene
+
+LOAD = 3e4
+COARSE = 0.4e-3
+"""Element size [m] of the quick tests: about 500 elements in contact at 30 kN."""
+
+
+def patch_scene(gap, xi=0.0, eta=0.0, phi=0.0, friction=MU, **fields):
+    fields.setdefault("normal_load", LOAD)
+    return PatchScene(gap, longitudinal_creepage=xi, lateral_creepage=eta, spin_creepage=phi, friction=friction,
+                      **fields)
+
+
+@pytest.mark.parametrize("creepages", [(1e-3, 0.0, 0.5), (0.0, 1e-3, -1.0)])
+@pytest.mark.parametrize("friction", [MU, ExponentialFalling(MU, 0.4, 0.5)])
+def test_same_grid_as_the_elliptic_discretised_level(creepages, friction):
+    gap, scene = quadratic(0.5, samples=4001)
+    xi, eta, phi = creepages
+    elliptic = solve_discretised_3d(scene.replace(longitudinal_creepage=xi, lateral_creepage=eta, spin_creepage=phi,
+                                                  friction=friction, rolling_speed=2.0),
+                                    elements=24, extrapolate=False, normal="discretised")
+    h = scene.hertz
+    grid = ellipse_grid(h.a, h.b, 24, margin=3)
+    patch = solve_discretised(patch_scene(gap, *creepages, friction=friction, normal_load=scene.normal_load,
+                                          rolling_speed=2.0), grid=grid)
+    assert patch.success, patch.message
+    scale = MU * scene.normal_load
+    got = np.array([patch.longitudinal_force, patch.lateral_force, patch.spin_moment / h.c]) / scale
+    assert np.abs(got - np.array(elliptic.force_coefficients)).max() < 1e-5, \
+        f"patch {got} vs elliptic discretised {elliptic.force_coefficients} on the same grid"
+
+
+def test_hertz_at_its_approach():
+    gap, scene = quadratic(1.0, load=LOAD)
+    result = solve_discretised(patch_scene(gap, approach=scene.hertz.approach, normal_load=None), element=0.2e-3)
+    assert result.success, result.message
+    assert math.isclose(result.normal_load, LOAD, rel_tol=5e-3), f"Fn {result.normal_load:.6g} N at Hertz's approach"
+    assert math.isclose(result.max_pressure, scene.hertz.max_pressure, rel_tol=0.02), "p0 at Hertz's approach"
+
+
+def test_load_and_approach_entry_points_agree():
+    by_load = solve_discretised(patch_scene(two_wells()), element=COARSE)
+    by_approach = solve_discretised(patch_scene(two_wells(), approach=by_load.approach, normal_load=None),
+                                    element=COARSE)
+    assert math.isclose(by_load.normal_load, LOAD, rel_tol=1e-9), f"load balance: {by_load.normal_load!r}"
+    assert math.isclose(by_approach.normal_load, LOAD, rel_tol=2e-3), \
+        f"Fn {by_approach.normal_load:.6g} N at the load's approach"
+
+
+def test_approach_conjugate_gradients_meet_the_gap():
+    gap, scene = quadratic(1.0, load=LOAD)
+    grid = patch_grid(0.0, 6e-3, -6e-3, 6e-3, COARSE)
+    from rollcontact.core.halfspace.surface import operator_for
+
+    x, s = grid.mesh()
+    h0 = scene.longitudinal_curvature * x * x + scene.lateral_curvature * s * s
+    op = operator_for(grid, scene.material.poisson_ratio)
+    delta = scene.hertz.approach
+    p, _, converged, message = normal_at_approach(op, h0, delta, scene.shear_modulus)
+    assert converged, message
+    deformed = h0 + op.normal(p) / scene.shear_modulus - delta
+    contact = p > 0.0
+    assert np.abs(deformed[contact]).max() < 1e-8 * delta, "the deformed gap vanishes where there is pressure"
+    assert deformed[~contact].min() > -1e-8 * delta, "no interpenetration off contact"
+
+
+@pytest.mark.parametrize("creepages", [(1e-3, 5e-4, 0.0), (5e-4, -5e-4, 2.0)])
+def test_traction_bound_and_zero_creepage(creepages):
+    result = solve_discretised(patch_scene(varying_curvature(), *creepages), element=COARSE, fields=True)
+    field = result.fields
+    excess = field.traction_magnitude - MU * field.pressure
+    assert excess.max() <= 1e-9 * MU * field.pressure.max(), f"|q| exceeds mu p by {excess.max():.3g} Pa"
+    rest = solve_discretised(patch_scene(varying_curvature()), element=COARSE)
+    assert abs(rest.longitudinal_force) + abs(rest.lateral_force) < 1e-12 * MU * LOAD, "forces without creepage"
+
+
+def test_large_creepage_saturates_at_mu_fn():
+    result = solve_discretised(patch_scene(two_wells(), xi=0.3, eta=-0.4), element=COARSE)
+    force = math.hypot(result.longitudinal_force, result.lateral_force)
+    assert math.isclose(force, MU * LOAD, rel_tol=1e-6), f"|F| = {force:.8g} N at full slip, mu Fn = {MU * LOAD} N"
+    assert math.isclose(result.longitudinal_force / force, 0.6, abs_tol=1e-3), "the force along the rigid slip"
+
+
+def test_mirror_symmetry():
+    scene = patch_scene(varying_curvature(), 1e-3, 5e-4, 1.0)
+    one, other = solve_discretised(scene, element=COARSE), solve_discretised(scene.mirrored, element=COARSE)
+    scale = MU * LOAD
+    assert abs(one.longitudinal_force - other.longitudinal_force) < 1e-6 * scale, "Fx of the mirrored patch"
+    assert abs(one.lateral_force + other.lateral_force) < 1e-6 * scale, "Fy of the mirrored patch changes sign"
+    assert abs(one.spin_moment + other.spin_moment) < 1e-6 * scale * one.c, "Mz of the mirrored patch changes sign"
+
+
+@pytest.mark.slow
+def test_converges_at_first_order_in_the_element_size():
+    """The change of the forces from one element size to its half halves (first order): 0.4, 0.2, 0.1 mm on the
+    varying gap."""
+    scene = patch_scene(varying_curvature(), 1e-3, 5e-4, 1.0)
+    forces = [np.array([r.longitudinal_force, r.lateral_force, r.spin_moment / r.c]) / (MU * LOAD)
+              for r in (solve_discretised(scene, element=e) for e in (0.4e-3, 0.2e-3, 0.1e-3))]
+    first, second = np.abs(forces[1] - forces[0]).max(), np.abs(forces[2] - forces[1]).max()
+    assert 1.4 < first / second < 3.5, f"changes {first:.3e} then {second:.3e}: not first order"
+    assert second < 0.02, f"the 0.1 mm grid still moves by {second:.3e} mu Fn"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("make", [two_wells, varying_curvature])
+@pytest.mark.parametrize("creepages", [(1e-3, 0.0, 0.0), (0.0, 1e-3, 0.0), (5e-4, 5e-4, 1.0)])
+def test_strips_within_the_fast_goal(make, creepages):
+    """The fast level within 0.05 mu Fn of the Richardson-extrapolated reference, Fn within 3 %, p0 within 15 %."""
+    scene = patch_scene(make(), *creepages)
+    reference = solve_discretised(scene, element=0.2e-3, extrapolate=True)
+    fast = solve_strips(scene)
+    scale = MU * LOAD
+    for name in ("longitudinal_force", "lateral_force"):
+        error = abs(getattr(fast, name) - getattr(reference, name)) / scale
+        assert error < 0.05, f"{name}: strips off the reference by {error:.3f} mu Fn"
+    assert abs(fast.spin_moment - reference.spin_moment) / (scale * reference.c) < 0.05, "Mz"
+    assert math.isclose(fast.approach, reference.approach, rel_tol=0.03), "the approach at the load"
+    assert math.isclose(fast.max_pressure, reference.max_pressure, rel_tol=0.15), "the peak pressure"

@@ -1,0 +1,124 @@
+"""The strips' normal problem against Hertz on quadratic gaps (a, b, p0 and Fn at a given approach converge with the
+strips; tolerances measured at the default 24 strips and stated per quantity), its identities (load balance, the
+given-load and given-approach entry points inverse to each other, mirror symmetry) and general gaps: two separate
+interpenetration intervals, a curvature along x that varies across the patch, a gap sampled too narrowly."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from wheelrail_gaps import mirrored, quadratic, two_wells, varying_curvature
+
+from rollcontact import Material
+from rollcontact.wheelrail.methods.strip_normal import strip_normal
+from rollcontact.wheelrail.patch import PatchGap
+
+ESTAR = Material().contact_modulus
+
+HERTZ_TOLERANCE = {"Fn": 4e-3, "p0": 3e-3, "a": 1e-2, "b": 1e-2}
+"""Relative errors at 24 strips over a/b 0.2..5 (the largest measured: Fn 2.5e-3 at a/b = 5, p0 1.9e-3, a 3e-3, b 7e-3;
+b is the edge extrapolated from the outermost strips)."""
+
+
+@pytest.mark.parametrize("ratio", [0.2, 0.5, 1.0, 2.0, 5.0])
+def test_quadratic_gap_gives_hertz(ratio):
+    gap, scene = quadratic(ratio)
+    h = scene.hertz
+    contact = strip_normal(gap, ESTAR, approach=h.approach)
+    assert contact.converged, contact.message
+    errors = {"Fn": contact.normal_load / scene.normal_load - 1, "p0": contact.max_pressure / h.max_pressure - 1,
+              "a": contact.length / (2 * h.a) - 1, "b": contact.width / (2 * h.b) - 1}
+    for name, error in errors.items():
+        assert abs(error) < HERTZ_TOLERANCE[name], f"a/b = {ratio}: {name} off Hertz by {error:+.2e}"
+
+
+def test_hertz_converges_with_the_strips():
+    """The error of Fn and p0 falls with the strip count (a circle: 12, 24, 48 strips)."""
+    gap, scene = quadratic(1.0)
+    h = scene.hertz
+    errors = []
+    for count in (12, 24, 48):
+        contact = strip_normal(gap, ESTAR, approach=h.approach, strips=count)
+        errors.append(abs(contact.max_pressure / h.max_pressure - 1))
+    assert errors[2] < errors[1] < errors[0], f"p0 errors at 12, 24, 48 strips: {errors}"
+    assert errors[2] < 1e-3, f"p0 at 48 strips off by {errors[2]:.2e}"
+
+
+@pytest.mark.parametrize("make", [lambda: quadratic(0.5)[0], two_wells, varying_curvature])
+def test_load_and_approach_entry_points_agree(make):
+    gap = make()
+    by_load = strip_normal(gap, ESTAR, normal_load=4e4)
+    assert by_load.converged, by_load.message
+    by_approach = strip_normal(gap, ESTAR, approach=by_load.approach)
+    assert by_approach.converged, by_approach.message
+    assert math.isclose(by_approach.normal_load, 4e4, rel_tol=5e-3), \
+        f"Fn at the load's approach {by_approach.normal_load:.6g} N, not 4e4 N"
+
+
+@pytest.mark.parametrize("make", [lambda: quadratic(2.0)[0], two_wells, varying_curvature])
+def test_load_balance(make):
+    contact = strip_normal(make(), ESTAR, normal_load=3e4)
+    carried = float(contact.widths @ contact.loads_per_width)
+    assert math.isclose(carried, 3e4, rel_tol=1e-9), f"the strips carry {carried:.9g} N of 3e4 N"
+
+
+def test_two_separate_intervals_make_two_lobes():
+    gap = two_wells()
+    contact = strip_normal(gap, ESTAR, approach=12e-6)
+    assert contact.converged, contact.message
+    runs = np.flatnonzero(np.diff(np.concatenate([[0], contact.contact.astype(int), [0]])) == 1)
+    assert runs.size == 2, f"{runs.size} runs of strips in contact on two wells"
+    left = contact.loads_per_width[contact.centres < 4e-3] @ contact.widths[contact.centres < 4e-3]
+    right = contact.loads_per_width[contact.centres > 4e-3] @ contact.widths[contact.centres > 4e-3]
+    assert left > right > 0.0, f"the deeper well carries {left:.4g} N, the shallower {right:.4g} N"
+
+
+@pytest.mark.parametrize("make", [two_wells, varying_curvature])
+def test_mirror_symmetry(make):
+    gap = make()
+    one = strip_normal(gap, ESTAR, normal_load=5e4)
+    other = strip_normal(mirrored(gap), ESTAR, normal_load=5e4)
+    tolerance = 1e-6  # the fixed point's: its iterates differ in round-off from the mirror's
+    assert math.isclose(one.approach, other.approach, rel_tol=tolerance), "the mirrored gap's approach"
+    assert math.isclose(one.max_pressure, other.max_pressure, rel_tol=tolerance), "the mirrored gap's peak pressure"
+    low, high = one.extent
+    mirror_low, mirror_high = other.extent
+    assert math.isclose(low, -mirror_high, rel_tol=tolerance) and math.isclose(high, -mirror_low, rel_tol=tolerance), \
+        f"extents {one.extent} and mirrored {other.extent}"
+
+
+def test_the_curvature_along_x_shapes_the_strips():
+    """Where A(s) is larger the strips are shorter: the varying gap's strips against the same gap at constant A."""
+    gap = varying_curvature()
+    flat = PatchGap(gap.lateral, gap.lateral_gap, np.full(len(gap.lateral), 1.1))
+    varying, constant = (strip_normal(g, ESTAR, normal_load=5e4) for g in (gap, flat))
+    inside = varying.contact
+    ratio = np.interp(varying.centres[inside], constant.centres[constant.contact],
+                      constant.half_lengths[constant.contact]) / varying.half_lengths[inside]
+    right = (varying.centres[inside] > 1e-3) & (varying.centres[inside] < 0.8 * varying.extent[1])
+    assert np.all(ratio[right] > 1.0), f"where A grows (s > 0) the strips are shorter than at constant A: {ratio}"
+
+
+def test_no_interpenetration_no_contact():
+    gap, _ = quadratic(1.0)
+    contact = strip_normal(gap, ESTAR, approach=0.0)
+    assert contact.converged and contact.normal_load == 0.0 and not contact.contact.any(), contact.message
+
+
+def test_a_gap_sampled_too_narrowly_is_reported():
+    gap, scene = quadratic(1.0, span=0.8)
+    contact = strip_normal(gap, ESTAR, approach=scene.hertz.approach)
+    assert not contact.converged, "the contact reaching the end of the gap's samples must not pass as converged"
+    assert "sampling" in contact.message, contact.message
+
+
+def test_arguments_are_checked():
+    gap, _ = quadratic(1.0)
+    with pytest.raises(ValueError, match="exactly one"):
+        strip_normal(gap, ESTAR, approach=1e-5, normal_load=1e4)
+    with pytest.raises(ValueError, match="strips"):
+        strip_normal(gap, ESTAR, approach=1e-5, strips=2)
+    with pytest.raises(ValueError, match="increase"):
+        strip_normal(PatchGap(np.array([0.0, 0.0, 1.0]), np.zeros(3), np.ones(3)), ESTAR, approach=1e-5)

@@ -1,0 +1,46 @@
+"""Synthetic patch gaps for the wheel/rail patch tests: a quadratic gap (Hertz's), two separate wells (a two-lobed
+patch), a longitudinal curvature that varies strongly across the patch, and their mirror images."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rollcontact import EllipticScene
+from rollcontact.wheelrail.patch import PatchGap
+
+LOAD = 1e5
+MU = 0.3
+
+
+def quadratic(ratio: float = 1.0, c: float = 6e-3, load: float = LOAD, samples: int = 1201, span: float = 3.0):
+    """``(PatchGap, EllipticScene)`` of the gap ``A x^2 + B s^2`` whose Hertz ellipse under ``load`` has
+    ``a/b = ratio`` and ``sqrt(ab) = c``; s sampled over ``+-span b``."""
+    a, b = c * ratio**0.5, c / ratio**0.5
+    scene = EllipticScene.from_semi_axes(load, a, b, friction=MU)
+    s = np.linspace(-span * b, span * b, samples)
+    return PatchGap(s, scene.lateral_curvature * s * s, np.full(s.size, scene.longitudinal_curvature)), scene
+
+
+def two_wells(separation: float = 8e-3, depth: float = 6e-6, curvature: float = 4.0, longitudinal: float = 1.1,
+              samples: int = 1601) -> PatchGap:
+    """Two parabolic wells ``B (s - s_k)^2`` (B = ``curvature`` [1/m]) at ``s = 0`` and ``s = separation``, the second
+    ``depth`` [m] shallower, their crossing the ridge between them: two separate interpenetration intervals at
+    moderate approaches."""
+    s = np.linspace(-separation, 2.0 * separation, samples)
+    h = np.minimum(curvature * s * s, curvature * (s - separation) ** 2 + depth)
+    return PatchGap(s, h, np.full(s.size, longitudinal))
+
+
+def varying_curvature(slope: float = 60.0, lateral: float = 3.0, longitudinal: float = 1.1,
+                      samples: int = 1201) -> PatchGap:
+    """``h = B s^2 + C s^3`` (a flange root's lopsided gap) with ``A(s) = A0 (1 + slope s)`` held above A0 / 4: the
+    curvature along x changes by half across a 10 mm patch."""
+    s = np.linspace(-15e-3, 15e-3, samples)
+    h = lateral * s * s + 60.0 * np.abs(s) ** 3
+    return PatchGap(s, h, longitudinal * np.maximum(1.0 + slope * s, 0.25))
+
+
+def mirrored(gap: PatchGap) -> PatchGap:
+    """``h(-s)``, ``A(-s)``."""
+    return PatchGap(-np.asarray(gap.lateral)[::-1], np.asarray(gap.lateral_gap)[::-1],
+                    np.asarray(gap.longitudinal_curvature)[::-1])
