@@ -1,6 +1,6 @@
 """The package's shape: imports go one way (core <- geometries <- stepping <- FMUs), the geometries stand in one
-order (line <- elliptic), the co-simulation uses the public API only, and a fidelity level is added through the
-public extension point alone (``docs/contributing.md``, "Adding a method")."""
+order (line <- elliptic <- wheel/rail), the co-simulation uses the public API only, and a fidelity level is added
+through the public extension point alone (``docs/contributing.md``, "Adding a method")."""
 
 from __future__ import annotations
 
@@ -33,6 +33,12 @@ LAYERS = ("rollcontact.core.checks",
           "rollcontact.line.instationary",
           "rollcontact.elliptic.methods",
           "rollcontact.elliptic.dispatch rollcontact.elliptic",
+          "rollcontact.wheelrail.patch rollcontact.wheelrail.profiles rollcontact.wheelrail.geometry "
+          "rollcontact.wheelrail.search rollcontact.wheelrail.normal rollcontact.wheelrail.conicity "
+          "rollcontact.wheelrail.scene rollcontact.wheelrail.result",
+          "rollcontact.wheelrail.wheels",
+          "rollcontact.wheelrail.methods",
+          "rollcontact.wheelrail.dispatch rollcontact.wheelrail",
           "rollcontact.stepping.base rollcontact.stepping.parameters rollcontact.stepping.threads",
           "rollcontact.stepping.line rollcontact.stepping.elliptic",
           "rollcontact.stepping",
@@ -41,9 +47,10 @@ LAYERS = ("rollcontact.core.checks",
 below.  Each geometry's data stands above the core, its half-space and methods above its data, its dispatcher above
 its methods; the stepping models above every geometry."""
 
-GEOMETRIES = ("rollcontact.line", "rollcontact.elliptic")
+GEOMETRIES = ("rollcontact.line", "rollcontact.elliptic", "rollcontact.wheelrail")
 """The geometries in the order they may use each other: a geometry imports only the ones before it (the elliptic
-strips solve each strip with the line contact's kernel), never one after it."""
+strips solve each strip with the line contact's kernel, the wheel/rail levels use the elliptic ones), never one after
+it."""
 
 PUBLIC = {"src/rollcontact_cosim": ("rollcontact", "rollcontact.stepping"), "fmu_src": ("rollcontact",)}
 """What the co-simulation package and the FMU slaves may import from the solver: the co-simulation the public API

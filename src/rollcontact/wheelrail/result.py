@@ -1,4 +1,6 @@
-"""The answer for one contact patch of a wheel on a rail, the same for every patch method: :class:`PatchResult`.
+"""The answers of the wheel/rail contact: :class:`WheelRailResult`, one type for every wheel/rail level (both wheels,
+each a :class:`WheelResult` of its patches), and :class:`PatchResult`, one patch's answer, the same for every patch
+method.
 
 Sign convention (docs/physics.md, Elliptic contact): forces and moment are those the WHEEL EXERTS ON THE RAIL, in the
 patch's contact plane (x along the track, s across the patch), each positive for its creepage positive; ``Mz`` is
@@ -13,7 +15,7 @@ from dataclasses import dataclass, field
 
 from rollcontact.elliptic.result import TractionField
 
-__all__ = ["PatchResult", "TractionField"]
+__all__ = ["PatchResult", "TractionField", "WheelPatch", "WheelRailResult", "WheelResult"]
 
 
 @dataclass(frozen=True)
@@ -90,3 +92,90 @@ class PatchResult:
         if not scale > 0.0:
             return 0.0, 0.0, 0.0
         return self.longitudinal_force / scale, self.lateral_force / scale, self.spin_moment / (scale * self.c)
+
+
+@dataclass(frozen=True)
+class WheelPatch:
+    """One patch of a wheel in the wheel/rail answer: where it is and what it carries.
+
+    Attributes
+    ----------
+    point : ContactPoint
+        Its rigid contact point (the patch's deepest): contact angle, rolling radius, positions on wheel and rail
+        (:class:`~rollcontact.wheelrail.search.ContactPoint`).
+    result : PatchResult
+        Its normal and tangential contact in the contact plane.
+    track_force : tuple of float
+        (Fx, Fy, Fz) [N]: the force the wheel exerts on the rail through the patch, in track axes.
+    """
+
+    point: object
+    result: PatchResult
+    track_force: tuple
+
+
+@dataclass(frozen=True)
+class WheelResult:
+    """One wheel's answer (SI units, track axes; forces of the wheel on the rail).
+
+    Attributes
+    ----------
+    side : str
+        ``"left"`` or ``"right"``.
+    patches : tuple of WheelPatch
+        By decreasing normal force.
+    vertical_load : float
+        Q [N], the load the wheel was to carry.
+    vertical_displacement : float
+        d [m] the wheel is pressed down from the pose to carry it.
+    force : tuple of float
+        (Fx, Fy, Fz) [N], the patches' track forces summed; Fz is the vertical force it carries.
+    message : str
+        The state of contact.
+    """
+
+    side: str
+    patches: tuple
+    vertical_load: float
+    vertical_displacement: float
+    force: tuple
+    message: str
+
+    @property
+    def in_contact(self) -> bool:
+        """Whether the wheel carries load."""
+        return any(p.result.normal_load > 0.0 for p in self.patches)
+
+
+@dataclass(frozen=True)
+class WheelRailResult:
+    """The answer of every wheel/rail level: both wheels' patches and forces (SI units; track axes).
+
+    Attributes
+    ----------
+    method : str
+        The level that produced it.
+    success : bool
+        False when a patch's method failed or a wheel's load could not be carried; ``message`` says why.
+    message : str
+        Human-readable status.
+    wheels : tuple of WheelResult
+        (left, right).
+    info : dict
+        ``error_estimate`` (the largest of the patches': Fx, Fy over mu Fn, Mz over mu Fn c), with a tolerance also
+        ``tolerance``, ``tolerance_met``, ``setting``; ``predicted_cost`` [s] where the dispatcher chose by cost.
+    """
+
+    method: str
+    success: bool
+    message: str
+    wheels: tuple
+    info: dict = field(default_factory=dict, repr=False)
+
+    @property
+    def left(self) -> WheelResult:
+        return self.wheels[0]
+
+    @property
+    def right(self) -> WheelResult:
+        return self.wheels[1]

@@ -40,6 +40,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import NamedTuple
 
 import numpy as np
 
@@ -202,8 +203,7 @@ class WheelContact:
                 "the pose: no contact")
 
 
-@dataclass(frozen=True)
-class Creepages:
+class Creepages(NamedTuple):
     """Kalker's creepages at a contact point (docs/physics.md, Elliptic contact: rigid slip ``w_x = xi - phi s``,
     ``w_y = eta + phi x`` of the wheel relative to the rail over V) in the contact frame (x, s, n).
 
@@ -491,10 +491,12 @@ def longest_run(mask: np.ndarray) -> tuple[int, int]:
 
 def patch_gap(pr: PatchRegion) -> PatchGap:
     """The undeformed gap in the tangent plane at the patch's deepest point (right-side frame), over its region
-    widened by PATCH_MARGIN; s mirrored to increase with the track's y on a left wheel."""
+    widened by PATCH_MARGIN; s mirrored to increase with the track's y on a left wheel.  The wheel's locus is first
+    lowered by the point's vertical gap, so that it touches the rail at the point: a pose that interpenetrates (or
+    stands off) moves the wheel along z, which in a tilted tangent plane has an s component as well as an n one."""
     rail = pr.track.samples
     wsmp = pr.wheelset.samples
-    g0, y0, z0, delta = pr.point[:4]
+    g0, y0, z0, delta = pr.point[:4]  # g0: the point's vertical gap
     cd, sd = math.cos(delta), math.sin(delta)
     y_lo, y_hi = pr.region
     pad = max(PATCH_MARGIN * (y_hi - y_lo), 4 * PATCH_STEP)
@@ -505,6 +507,7 @@ def patch_gap(pr: PatchRegion) -> PatchGap:
     j_a = max(int(np.searchsorted(wsmp.y, rail.y[k_a] - base - margin)) - 1, 0)
     j_b = min(int(np.searchsorted(wsmp.y, rail.y[k_b - 1] - base + margin)) + 1, wsmp.y.size)
     wy, wz, _, ok = wheel_locus(pr.wheelset, pr.frame, slice(j_a, j_b))
+    wz = wz + g0  # the wheel lowered by its vertical gap g0 to touch: the gap is the shape, not the pose's offset
     ry, rz = rail.y[k_a:k_b], rail.z[k_a:k_b]
     rs = (ry - y0) * cd - (rz - z0) * sd
     rn = (ry - y0) * sd + (rz - z0) * cd
@@ -520,7 +523,7 @@ def patch_gap(pr: PatchRegion) -> PatchGap:
     s_hi = min(float(rs[rh - 1]), float(ws[wh - 1]))
     s = np.arange(math.ceil(s_lo / PATCH_STEP - 1e-9), math.floor(s_hi / PATCH_STEP + 1e-9) + 1) * PATCH_STEP
     h = np.interp(s, rs[rl:rh], rn[rl:rh]) - np.interp(s, ws[wl:wh], wn[wl:wh])
-    lateral_gap = np.maximum(h - g0 * cd, 0.0)
+    lateral_gap = np.maximum(h, 0.0)
     lateral_gap[s == 0.0] = 0.0
     wsl = slice(j_a + wl, j_a + wh)
     a = np.interp(s, ws[wl:wh], wsmp.cos[wsl] / (2.0 * wsmp.radius[wsl]))

@@ -35,6 +35,7 @@ from rollcontact.elliptic.result import TractionField
 from rollcontact.wheelrail.methods.strip_normal import check_gap, rigid_range, strip_normal
 from rollcontact.wheelrail.result import PatchResult
 from rollcontact.wheelrail.scene import PatchScene
+from rollcontact.wheelrail.wheels import PatchLevel, wheel_method
 
 __all__ = ["DiscretisedPatchAccuracy", "normal_at_approach", "solve_discretised"]
 
@@ -126,10 +127,12 @@ def guide_for(scene: PatchScene):
 
 def automatic_element(guide) -> float:
     """The default element [m]: :data:`DEFAULT_ELEMENT`, or less so that the strips' patch is at least
-    :data:`MIN_ACROSS` elements across its shorter extent (a flange's narrow patch)."""
+    :data:`MIN_ACROSS` elements across its shorter extent (a flange's narrow patch), but no less than a grid of
+    half the largest count across the longer extent allows (a sliver of a patch that barely touches)."""
     if not guide.converged or not guide.contact.any():
         return DEFAULT_ELEMENT
-    return min(DEFAULT_ELEMENT, min(guide.length, guide.width) / MIN_ACROSS)
+    return max(min(DEFAULT_ELEMENT, min(guide.length, guide.width) / MIN_ACROSS),
+               2.0 * max(guide.length, guide.width) / MAX_ELEMENTS_3D)
 
 
 def normal_problem(scene: PatchScene, element: float, grid: SurfaceGrid | None, tolerance: float, guide=None):
@@ -354,3 +357,20 @@ class DiscretisedPatchAccuracy(AccuracyModel):
             ERROR_PER_ELEMENT / across
         return {"error_estimate": tangential, "normal_error_estimate": NORMAL_PER_ELEMENT / across,
                 "pressure_error_estimate": PRESSURE_PER_ELEMENT / across}
+
+
+def discretised_normal_force(gap, approach: float, material) -> float:
+    """The discretised normal force [N] of a patch at the normal approach [m] (the wheel level's normal law)."""
+    grid, pressure, _, message, _ = normal_problem(PatchScene(gap, approach=approach, material=material),
+                                                   automatic_element(guide_for(PatchScene(gap, approach=approach,
+                                                                                          material=material))),
+                                                   None, 1e-10)
+    if message is not None:
+        raise ArithmeticError(f"the discretised normal problem at approach {approach!r} m failed: {message}")
+    return float(pressure.sum() * grid.area)
+
+
+LEVEL = PatchLevel("discretised", discretised_normal_force, solve_discretised, DiscretisedPatchAccuracy())
+"""The discretised patch as a patch level of the wheels (:mod:`rollcontact.wheelrail.wheels`)."""
+
+METHOD = wheel_method(LEVEL, rank=100, fallback=True)

@@ -24,6 +24,7 @@ from rollcontact.wheelrail.methods.strip_tangential import (
 )
 from rollcontact.wheelrail.result import PatchResult
 from rollcontact.wheelrail.scene import PatchScene
+from rollcontact.wheelrail.wheels import PatchLevel, wheel_method
 
 __all__ = ["PatchStripsAccuracy", "inapplicable", "normal_contact", "solve_strips"]
 
@@ -188,3 +189,14 @@ class PatchStripsAccuracy(AccuracyModel):
         ratio_penalty = OUTSIDE_TABLE_ERROR if any(lobes.clamped) else 0.0
         return {"error_estimate": worst + PATCH_ERROR * tau_patch + ratio_penalty,
                 "normal_error_estimate": NORMAL_ERROR, "pressure_error_estimate": PRESSURE_ERROR}
+
+
+def strips_normal_force(gap, approach: float, material) -> float:
+    """The strips' normal force [N] of a patch at the normal approach [m] (the wheel level's normal law)."""
+    return strip_normal(gap, material.contact_modulus, approach=approach).normal_load
+
+
+LEVEL = PatchLevel("strips", strips_normal_force, solve_strips, PatchStripsAccuracy())
+"""The strips as a patch level of the wheels (:mod:`rollcontact.wheelrail.wheels`)."""
+
+METHOD = wheel_method(LEVEL, rank=10)

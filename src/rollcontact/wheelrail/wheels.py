@@ -1,0 +1,247 @@
+"""What every wheel/rail level does around its patch solver: from a wheelset's scene to both wheels' patches, their
+normal and tangential contact and the forces on the rails (:func:`solve_wheels`; docs/physics.md, Wheel/rail contact:
+the wheels).
+
+For each wheel, at the scene's pose (:attr:`WheelRailScene.contacts`):
+
+1. Normal: the wheel is pressed down by d until the z components of its contact forces carry its vertical load Q.
+   Patch i, first touching at the vertical gap g_i with the contact angle delta_i, has the normal approach
+   ``delta_i(d) = (d - g_i) cos(delta_i)`` and carries ``N_i(delta_i)`` of the level's normal law; its force on the
+   rail has the z component ``N_i cos(delta_i) + T_i`` with ``T_i = -sign sin(delta_i) Fs_i`` the tangential force's
+   (sign +1 right, -1 left; s the contact frame's lateral axis, ``s = (0, cos(delta), -sign sin(delta))``,
+   ``n = (0, sign sin(delta), cos(delta))`` into the rail, :func:`~rollcontact.wheelrail.search.creepages`).  The
+   balance ``sum N_i (cos(delta_i) + r_i) = Q`` with ``r_i = T_i / N_i`` of the previous pass (0 in the first) is
+   solved from Hertz's displacement by the power-law update ``d <- g + (d - g) (Q / Q(d))^(2/3)`` (exact for one
+   Hertzian patch, g the first touch), which the levels' laws follow closely.
+2. Tangential: each loaded patch's creepages at its rigid contact point from the wheelset's motion
+   (:func:`~rollcontact.wheelrail.search.creepages`), the patch level's solve at its approach.
+3. A second pass repeats 1 and 2 with the ratios r_i of the first where the tangential forces carry more than
+   :data:`COUPLING` of the load (flange contact), so that the wheel carries Q with its tangential forces.
+
+Forces are those the wheel exerts on the rail: per patch ``F = Fx e_x + Fs s + N n`` in track axes.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Callable
+from typing import NamedTuple
+
+from rollcontact.core.method import AccuracyModel, MethodSpec
+from rollcontact.wheelrail.geometry import side_sign
+from rollcontact.wheelrail.result import PatchResult, WheelPatch, WheelRailResult, WheelResult
+from rollcontact.wheelrail.scene import PatchScene, WheelRailScene
+from rollcontact.wheelrail.search import creepages
+
+__all__ = ["COUPLING", "PatchLevel", "WheelAccuracy", "patch_scenes", "solve_wheels", "track_force", "wheel_method"]
+
+BALANCE_TOLERANCE = 1e-6
+"""Relative residual [1] of the vertical balance ``|Q(d) - Q| / Q`` at which the normal problem stops (the strips'
+normal problem settles to about this: ``rollcontact.wheelrail.methods.strip_normal.FIXED_POINT_TOLERANCE``)."""
+
+BALANCE_ITERATIONS = 40
+"""Cap of the power-law updates of the vertical balance."""
+
+COUPLING = 1e-3
+"""Share [1] of the load the tangential forces' z components must reach for the second pass (module docstring)."""
+
+
+class PatchLevel(NamedTuple):
+    """A patch solver as the wheel levels use it.
+
+    Attributes
+    ----------
+    name : str
+        The level's name.
+    normal : callable
+        ``normal(gap, approach, material) -> N`` [N]: the patch's normal force at the normal approach [m].
+    solve : callable
+        ``solve(scene, **options) -> PatchResult`` of a :class:`~rollcontact.wheelrail.scene.PatchScene` at its
+        approach.
+    accuracy : AccuracyModel or None
+        The patch solver's accuracy model.
+    """
+
+    name: str
+    normal: Callable
+    solve: Callable
+    accuracy: AccuracyModel | None
+
+
+def track_force(point, result: PatchResult) -> tuple[float, float, float]:
+    """(Fx, Fy, Fz) [N] of a patch's forces on the rail in track axes (module docstring)."""
+    sign = side_sign(point.side)
+    sd, cd = math.sin(point.contact_angle), math.cos(point.contact_angle)
+    fs, n = result.lateral_force, result.normal_load
+    return result.longitudinal_force, fs * cd + n * sign * sd, -fs * sign * sd + n * cd
+
+
+def balance(items, load: float, start: float, law) -> tuple[float, list[float], list[float], str | None]:
+    """The displacement d, the patches' approaches and normal forces at which ``sum N_i (cos_i + r_i) = load``
+    (module docstring); ``items`` are ``(g_i, cos_i, r_i, key)``, ``law(key, approach) -> N``; the message is None
+    or why the balance failed.  The power-law update ``d <- g + (d - g) (Q / Q(d))^(2/3)`` is kept within the
+    bracket of the displacements seen on either side of the load (bisection where it would leave it); where the law
+    steps over the load (the strips' normal force steps where a strip leaves the contact) the bracket closes on the
+    step and the last side evaluated stands (the wheel's force then differs from its load by the step, which the
+    result shows)."""
+    first = min(g for g, _, _, _ in items)
+
+    def carried(d):
+        approaches = [(d - g) * c for g, c, _, _ in items]
+        forces = [law(key, a) if a > 0.0 else 0.0 for (_, _, _, key), a in zip(items, approaches, strict=True)]
+        return sum(f * (c + r) for f, (_, c, r, _) in zip(forces, items, strict=True)), approaches, forces
+
+    low, high = first, math.inf
+    d = max(start, first + 1e-12)
+    for _ in range(BALANCE_ITERATIONS):
+        q, approaches, forces = carried(d)
+        if not (math.isfinite(q) and q >= 0.0):
+            return d, approaches, forces, f"the normal forces carry {q!r} N at a displacement of {d - first!r} m"
+        if abs(q - load) <= BALANCE_TOLERANCE * load:
+            return d, approaches, forces, None
+        if q < load:
+            low = max(low, d)
+        else:
+            high = min(high, d)
+        if math.isfinite(high) and high - low <= BALANCE_TOLERANCE * (high - first):  # the law steps over the load
+            return d, approaches, forces, None
+        proposal = first + (d - first) * (load / q) ** (2.0 / 3.0) if q > 0.0 else first + 2.0 * (d - first)
+        if not low < proposal < high:
+            proposal = 0.5 * (low + high) if math.isfinite(high) else low + 2.0 * (low - first)
+        d = proposal
+    return d, approaches, forces, (f"the vertical balance did not settle in {BALANCE_ITERATIONS} updates: "
+                                   f"{q!r} N for {load!r} N")
+
+
+def solve_wheels(scene: WheelRailScene, level: PatchLevel, **options) -> WheelRailResult:
+    """Both wheels of the scene with the patch level ``level`` (module docstring); ``options`` go to its solve."""
+    wheels, failures, estimates = [], [], []
+    for contact, hertz in zip(scene.contacts, scene.hertz, strict=True):
+        wheel, problems, estimate = solve_wheel(scene, contact, hertz, level, options)
+        wheels.append(wheel)
+        failures += problems
+        estimates.append(estimate)
+    success = not failures
+    message = f"{level.name}: " + ("; ".join(failures) if failures else
+                                   "; ".join(w.message for w in wheels))
+    return WheelRailResult(level.name, success, message, tuple(wheels), {"error_estimate": max(estimates)})
+
+
+def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
+    """One wheel: ``(WheelResult, problems, error estimate)`` (module docstring)."""
+    side, load = contact.side, scene.load(contact.side)
+    if load == 0.0:
+        return (WheelResult(side, (), 0.0, 0.0, (0.0, 0.0, 0.0), f"{side} wheel: no load, no contact"), [], 0.0)
+    points = contact.points
+    references = [points[patch.points[0]] for patch in contact.patches]
+    ratios = [0.0] * len(references)
+    material = scene.material
+    problems: list[str] = []
+    start = hertz.vertical_displacement
+    for _ in range(2):
+        items = [(point.vertical_gap, math.cos(point.contact_angle), r, k)
+                 for k, (point, r) in enumerate(zip(references, ratios, strict=True))]
+        d, approaches, forces, why = balance(
+            items, load, start, lambda k, approach: level.normal(contact.patches[k].gap, approach, material))
+        if why is not None:
+            return (WheelResult(side, (), load, d, (math.nan,) * 3, f"{side} wheel: {why}"),
+                    [f"{side} wheel: {why}"], math.nan)
+        patches = []
+        for k, (point, approach, force) in enumerate(zip(references, approaches, forces, strict=True)):
+            if not force > 0.0:
+                continue
+            xi, eta, phi = creepages(scene.wheelset, scene.pose, scene.velocities, point)
+            patch_scene = PatchScene(contact.patches[k].gap, approach=approach, longitudinal_creepage=xi,
+                                     lateral_creepage=eta, spin_creepage=phi, material=material,
+                                     friction=scene.friction, rolling_speed=scene.forward_speed,
+                                     name=f"{side} patch {k + 1}")
+            result = level.solve(patch_scene, **options)
+            patches.append((k, WheelPatch(point, result, track_force(point, result))))
+        tangential = [(k, p.track_force[2] - p.result.normal_load * math.cos(p.point.contact_angle))
+                      for k, p in patches]
+        if sum(abs(t) for _, t in tangential) <= COUPLING * load:
+            break
+        ratios = [0.0] * len(references)
+        for (k, t), (_, p) in zip(tangential, patches, strict=True):
+            ratios[k] = t / p.result.normal_load if p.result.normal_load > 0.0 else 0.0
+        start = d
+    patches = sorted((p for _, p in patches), key=lambda p: -p.result.normal_load)
+    problems += [f"{side} wheel, patch at rail y = {p.point.rail_lateral:.4g} m: {p.result.message}"
+                 for p in patches if not p.result.success]
+    force = tuple(sum(p.track_force[i] for p in patches) for i in range(3))
+    estimate = max((p.result.info.get("error_estimate", math.nan) for p in patches), default=0.0)
+    message = (f"{side} wheel carries {force[2]:.6g} N of {load:.6g} N on {len(patches)} patch(es)")
+    return WheelResult(side, tuple(patches), load, d, force, message), problems, estimate
+
+
+
+GEOMETRY_COST = 4e-4
+"""Modelled time [s] of the contact search of both wheels and Hertz's normal problem
+(``benchmarks/wheelrail_geometry.py``)."""
+
+PATCH_SOLVES = 3.0
+"""A wheel's work per loaded patch in units of the patch level's modelled solve: the vertical balance's normal
+solves and the tangential solve, twice where the tangential forces carry part of the load."""
+
+
+def patch_scenes(scene: WheelRailScene) -> list[PatchScene]:
+    """Each loaded patch's case at Hertz's normal load (the sum of its points'), with its creepages: what the
+    accuracy models judge a wheel level by before it runs."""
+    out = []
+    for contact, normal in zip(scene.contacts, scene.hertz, strict=True):
+        if scene.load(contact.side) == 0.0:
+            continue
+        for patch in contact.patches:
+            load = sum(normal.normal_forces[i] for i in patch.points)
+            if not load > 0.0:
+                continue
+            point = contact.points[patch.points[0]]
+            xi, eta, phi = creepages(scene.wheelset, scene.pose, scene.velocities, point)
+            out.append(PatchScene(patch.gap, normal_load=load, longitudinal_creepage=xi, lateral_creepage=eta,
+                                  spin_creepage=phi, material=scene.material, friction=scene.friction,
+                                  rolling_speed=scene.forward_speed))
+    return out
+
+
+class WheelAccuracy(AccuracyModel):
+    """A wheel level's error and cost from its patch level's: the largest error of the loaded patches (at Hertz's
+    loads, before solving; the patches' own estimates after), and the cost of :data:`PATCH_SOLVES` solves per patch
+    plus the geometry's."""
+
+    def __init__(self, level: PatchLevel):
+        self.level = level
+        self.floor = GEOMETRY_COST
+
+    def ladder(self, scene):
+        patches = patch_scenes(scene)
+        return self.level.accuracy.ladder(patches[0]) if patches else ({},)
+
+    def cost(self, scene, options):
+        return GEOMETRY_COST + PATCH_SOLVES * sum(self.level.accuracy.cost(p, options) for p in patch_scenes(scene))
+
+    def error(self, scene, options):
+        return max((self.level.accuracy.error(p, options) for p in patch_scenes(scene)), default=0.0)
+
+    def achieved(self, scene, options, result, tolerance=None):
+        return result.info.get("error_estimate", math.nan)
+
+
+def wheel_method(level: PatchLevel, rank: int, fallback: bool = False) -> MethodSpec:
+    """The wheel level of a patch level: :func:`solve_wheels` with it, the patch level's applicability to every
+    loaded patch, :class:`WheelAccuracy`."""
+
+    def solve(scene: WheelRailScene, **options) -> WheelRailResult:
+        return solve_wheels(scene, level, **options)
+
+    def inapplicable(scene: WheelRailScene) -> str | None:
+        check = getattr(sys.modules[level.solve.__module__], "inapplicable", None)
+        for patch in patch_scenes(scene) if check is not None else ():
+            why = check(patch)
+            if why is not None:
+                return why
+        return None
+
+    solve.options = getattr(level.solve, "options", ())
+    solve.__doc__ = f"Both wheels of a wheel/rail scene by the patch level {level.name!r} (:func:`solve_wheels`)."
+    return MethodSpec(level.name, solve, inapplicable, rank, fallback, WheelAccuracy(level))
