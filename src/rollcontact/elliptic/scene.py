@@ -14,11 +14,11 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 from rollcontact.core.checks import SceneError, check_real
-from rollcontact.core.friction import Coulomb, FrictionLaw
+from rollcontact.core.friction import Coulomb, FrictionLaw, friction_from_dict
 from rollcontact.core.materials import Material
 from rollcontact.elliptic.hertz import HertzEllipse, curvatures_from_radii, curvatures_from_semi_axes, hertz_ellipse
 
-__all__ = ["EllipticScene"]
+__all__ = ["EllipticScene", "scene_from_dict"]
 
 
 @dataclass(frozen=True)
@@ -128,3 +128,44 @@ class EllipticScene:
     def replace(self, **changes) -> EllipticScene:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
+
+
+def scene_from_dict(data: dict, *, name: str = "") -> EllipticScene:
+    """An EllipticScene from the nested dict of a TOML scene file (``models/README.md``, "Elliptic scenes"):
+    ``[scene]`` (``geometry = "elliptic"``, ``name``, ``description``), ``[material]``, ``[ellipse]``
+    (``longitudinal_curvature``, ``lateral_curvature`` [1/m], or ``semi_axes = [a, b]`` [m] at the load),
+    ``[load]`` (``normal_load`` [N], ``longitudinal_creepage``, ``lateral_creepage``, ``spin_creepage`` [1/m]),
+    ``[rolling]`` (``rolling_speed``), ``[friction]`` (a law or a ``rail_condition``).
+
+    Raises
+    ------
+    SceneError
+        An unknown table or key, or an invalid value (named).
+    """
+    known = {"scene": {"geometry", "name", "description"}, "material": {"youngs_modulus", "poisson_ratio"},
+             "ellipse": {"longitudinal_curvature", "lateral_curvature", "semi_axes"},
+             "load": {"normal_load", "longitudinal_creepage", "lateral_creepage", "spin_creepage"},
+             "rolling": {"rolling_speed"}, "friction": None}
+    for table, value in data.items():
+        if table not in known:
+            raise SceneError(f"unknown table [{table}] in an elliptic scene; valid tables are {sorted(known)}")
+        if known[table] is not None and set(value) - known[table]:
+            raise SceneError(f"unknown key(s) {sorted(set(value) - known[table])} in [{table}]; valid keys are "
+                             f"{sorted(known[table])}")
+    material = Material(**data.get("material", {}))
+    friction = friction_from_dict(data["friction"]) if "friction" in data else Coulomb(0.3)
+    load = dict(data.get("load", {}))
+    ellipse = dict(data.get("ellipse", {}))
+    fields_ = dict(load, rolling_speed=data.get("rolling", {}).get("rolling_speed", 1.0), friction=friction,
+                   name=str(data.get("scene", {}).get("name", name)))
+    if "normal_load" not in fields_:
+        raise SceneError("[load] needs normal_load [N]")
+    normal_load = fields_.pop("normal_load")
+    if "semi_axes" in ellipse:
+        if set(ellipse) != {"semi_axes"}:
+            raise SceneError("[ellipse] takes semi_axes or the two curvatures, not both")
+        a, b = ellipse["semi_axes"]
+        return EllipticScene.from_semi_axes(normal_load, a, b, material=material, **fields_)
+    if set(ellipse) != {"longitudinal_curvature", "lateral_curvature"}:
+        raise SceneError("[ellipse] needs longitudinal_curvature and lateral_curvature [1/m] (or semi_axes [m])")
+    return EllipticScene(normal_load, material=material, **ellipse, **fields_)

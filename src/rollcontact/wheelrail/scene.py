@@ -9,18 +9,21 @@ and s across the patch from its rigid contact point.
 
 from __future__ import annotations
 
+import csv
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from pathlib import Path
 
 from rollcontact.core.checks import SceneError, check_real
-from rollcontact.core.friction import Coulomb, FrictionLaw
+from rollcontact.core.friction import Coulomb, FrictionLaw, friction_from_dict
 from rollcontact.core.materials import Material
 from rollcontact.wheelrail.geometry import Pose, Track, Velocities, Wheelset
 from rollcontact.wheelrail.normal import WheelLoad, loaded_position, solve_normal
 from rollcontact.wheelrail.patch import PatchGap
+from rollcontact.wheelrail.profiles import read_profile
 from rollcontact.wheelrail.search import WheelContact, search_wheel
 
-__all__ = ["SIDES", "PatchScene", "WheelRailScene"]
+__all__ = ["POSITION_COLUMNS", "SIDES", "PatchScene", "WheelRailScene", "cases_from_dict", "read_positions"]
 
 
 @dataclass(frozen=True)
@@ -238,3 +241,89 @@ class WheelRailScene:
 
 SIDES = ("left", "right")
 """The wheels in the order of :attr:`WheelRailScene.contacts` and of the result's ``wheels``."""
+
+
+POSITION_COLUMNS = ("case", "lateral_shift_mm", "yaw_rad", "roll_rad", "vertical_load_per_wheel_N",
+                    "forward_speed_m_s", "pitch_rate_rad_s")
+"""Columns of a positions file (``[positions] file``): the Manchester benchmark's CSV of case A-2.2."""
+
+
+def cases_from_dict(data: dict, folder: Path, *, name: str = "") -> list[tuple[dict, WheelRailScene]]:
+    """The cases of a wheel/rail TOML scene file (``models/wheelrail/README.md``): ``(fields, scene)`` pairs, the
+    fields ``case``, ``lateral_shift`` [m] and ``yaw`` [rad] that name each case.
+
+    Tables: ``[scene]`` (``geometry = "wheelrail"``, ``name``, ``description``); ``[track]`` (``rail_profile``, a
+    path relative to the file, ``gauge``, ``gauge_height``, ``inclination``); ``[wheelset]`` (``wheel_profile``,
+    ``nominal_radius``, ``flange_back_spacing``, ``flange_back_distance``); ``[material]``; ``[friction]`` (a law
+    or a ``rail_condition``); and either ``[positions]`` (``file``: a CSV of :data:`POSITION_COLUMNS`, relative to
+    the file; ``forward_speed`` [m/s] optional, replacing the file's and scaling its pitch rates alike) or
+    ``[pose]`` (the :class:`WheelRailScene` fields ``lateral_shift`` ... ``pitch_rate`` of one case).
+
+    Raises
+    ------
+    SceneError
+        An unknown table or key, a missing field, an invalid value (named), a profile or positions file that cannot
+        be read.
+    """
+    known = {"scene": {"geometry", "name", "description"},
+             "track": {"rail_profile", "gauge", "gauge_height", "inclination"},
+             "wheelset": {"wheel_profile", "nominal_radius", "flange_back_spacing", "flange_back_distance"},
+             "material": {"youngs_modulus", "poisson_ratio"}, "friction": None,
+             "positions": {"file", "forward_speed"},
+             "pose": {"lateral_shift", "yaw", "roll", "vertical_load_left", "vertical_load_right", "forward_speed",
+                      "lateral_velocity", "yaw_rate", "pitch_rate"}}
+    for table, value in data.items():
+        if table not in known:
+            raise SceneError(f"unknown table [{table}] in a wheel/rail scene; valid tables are {sorted(known)}")
+        if known[table] is not None and set(value) - known[table]:
+            raise SceneError(f"unknown key(s) {sorted(set(value) - known[table])} in [{table}]; valid keys are "
+                             f"{sorted(known[table])}")
+    if ("positions" in data) == ("pose" in data):
+        raise SceneError("a wheel/rail scene needs one of [positions] (a file of cases) and [pose] (one case)")
+    track_data, wheel_data = dict(data.get("track", {})), dict(data.get("wheelset", {}))
+    for table, key in ((track_data, "rail_profile"), (wheel_data, "wheel_profile")):
+        if key not in table:
+            raise SceneError(f"[{'track' if key == 'rail_profile' else 'wheelset'}] needs {key} (a profile file)")
+    rail = read_profile(folder / track_data.pop("rail_profile"))
+    wheel = read_profile(folder / wheel_data.pop("wheel_profile"))
+    track, wheelset = Track(rail, **track_data), Wheelset(wheel, **wheel_data)
+    common = {"material": Material(**data.get("material", {})),
+              "friction": friction_from_dict(data["friction"]) if "friction" in data else Coulomb(0.3),
+              "name": str(data.get("scene", {}).get("name", name))}
+    if "pose" in data:
+        scene = WheelRailScene(track, wheelset, **data["pose"], **common)
+        return [({"case": 1, "lateral_shift": scene.lateral_shift, "yaw": scene.yaw}, scene)]
+    positions = dict(data["positions"])
+    if "file" not in positions:
+        raise SceneError("[positions] needs file (a CSV of cases)")
+    out = []
+    for row in read_positions(folder / positions["file"]):
+        speed = row["forward_speed_m_s"]
+        scale = positions.get("forward_speed", speed) / speed
+        scene = WheelRailScene(track, wheelset, row["lateral_shift_mm"] * 1e-3, row["yaw_rad"], row["roll_rad"],
+                               row["vertical_load_per_wheel_N"], row["vertical_load_per_wheel_N"], speed * scale,
+                               pitch_rate=row["pitch_rate_rad_s"] * scale, **common)
+        out.append(({"case": int(row["case"]), "lateral_shift": scene.lateral_shift, "yaw": scene.yaw}, scene))
+    return out
+
+
+def read_positions(path: Path) -> list[dict]:
+    """The rows of a positions file (:data:`POSITION_COLUMNS`, numbers); SceneError naming the file and the line
+    otherwise."""
+    try:
+        with open(path, newline="") as fh:
+            rows = list(csv.DictReader(fh))
+    except OSError as exc:
+        raise SceneError(f"cannot read the positions file {str(path)!r}: {exc}") from None
+    out = []
+    for line, row in enumerate(rows, start=2):
+        missing = [c for c in POSITION_COLUMNS if c not in row]
+        if missing:
+            raise SceneError(f"{path.name}: the columns {missing} are missing (needed: {list(POSITION_COLUMNS)})")
+        try:
+            out.append({c: float(row[c]) for c in POSITION_COLUMNS})
+        except (TypeError, ValueError):
+            raise SceneError(f"{path.name}, line {line}: a value is not a number: {row}") from None
+    if not out:
+        raise SceneError(f"{path.name}: no positions")
+    return out
