@@ -6,10 +6,10 @@ and the recorded time histories, whose title names the friction law and its valu
 ``--fmi 3`` runs the FMI 3.0 FMUs (``models/fmi3/``, fmpy master) instead of the FMI 2.0 ones.
 
 ``--scene NAME`` is the same as the positional scene.  The scene ``wheelset_hunting`` runs in process
-(:func:`rollcontact_cosim.wheelset_study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
+(:func:`rollcontact_cosim.wheelset.study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
 speed sweep on a local dask cluster against the linear stability analysis, Klingel's wavelength), prints its
 tables and writes its figure; with ``--fmu-dir`` or ``--master libcosim`` its speed sweep is co-simulated through
-that master (fmpy by default) with the Wheelset and RollingContact3D_2 FMUs (:mod:`rollcontact_cosim.wheelset_cosim`);
+that master (fmpy by default) with the Wheelset and RollingContact3D_2 FMUs (:mod:`rollcontact_cosim.wheelset.cosim`);
 the other co-simulation options do not apply.
 """
 
@@ -197,8 +197,8 @@ def wheelset_hunting(args) -> int:
     """The ``wheelset_hunting`` scene in process: the tables on stdout, the figure to ``--plot``; with ``--fmu-dir``
     or ``--master libcosim`` the speed sweep co-simulated through ``--master`` with the Wheelset and
     RollingContact3D_2 FMUs of ``--fmu-dir`` (default models/; built there when missing, libcosim's in its
-    ``integer_codes/`` folder): :func:`rollcontact_cosim.wheelset_cosim.write_cosim_reference`'s table."""
-    from rollcontact_cosim.wheelset_study import report, run_hunting_study
+    ``integer_codes/`` folder): :func:`rollcontact_cosim.wheelset.cosim.write_cosim_reference`'s table."""
+    from rollcontact_cosim.wheelset.study import report, run_hunting_study
 
     if args.fmi != 2 or args.algorithm or args.step_size or args.csv:
         raise ValueError("the wheelset_hunting scene runs in process, or co-simulated with --fmu-dir or --master: "
@@ -207,7 +207,7 @@ def wheelset_hunting(args) -> int:
     if args.fmu_dir or args.master != "fmpy":
         import tempfile
 
-        from rollcontact_cosim.wheelset_cosim import write_cosim_reference
+        from rollcontact_cosim.wheelset.cosim import write_cosim_reference
 
         with tempfile.TemporaryDirectory(prefix="wheelset_hunting_") as tmp:
             table = write_cosim_reference(args.fmu_dir or FMU_DIR, Path(tmp, "report.md"), path, master=args.master,

@@ -43,7 +43,7 @@ With ``F_(x,y), M_z`` the forces and moment on the rail of each contact (wheel a
 (the moment of ``-F`` at ``+/- e n`` about the centre is ``+/- e Fx``).  Linearised with the linear law this is
 Wickens' wheelset: ``m y'' + (2 f22/V) y' - 2 f22 psi + (2 f23/V) psi' + k_y y = 0`` and
 ``I psi'' + (2 e^2 f11/V + 2 f33/V) psi' + (2 e f11 lambda/r0) y - (2 f23/V) y' + 2 f23 psi + k_psi psi = 0``
-(:func:`rollcontact_cosim.wheelset_stability.state_matrix`).  Gravitational stiffness is not modelled: with cones
+(:func:`rollcontact_cosim.wheelset.stability.state_matrix`).  Gravitational stiffness is not modelled: with cones
 on knife-edge rails the contact angles do not change with y, so the lateral components of the normal loads
 cancel (no lateral gravitational stiffness); the yaw gravitational stiffness of profiled wheels is neglected.
 The normal load N per wheel is constant.
@@ -216,7 +216,7 @@ class SaturatedKalkerLaw:
     With ``F_lin = (f11 xi, f22 eta + f23 phi)``, ``u = |F_lin| / (mu N)`` the tangential force is scaled by
     ``g(u) / u`` with ``g(u) = u - u^2/3 + u^3/27`` for ``u < 3`` and ``g = 1`` beyond; the spin moment by the
     same factor.  Its Jacobian at zero creepage is the linear law's, so it serves as the nonlinear right-hand side
-    whose linearisation :mod:`rollcontact_cosim.wheelset_stability` must reproduce.  With spin terms (f23 > 0)
+    whose linearisation :mod:`rollcontact_cosim.wheelset.stability` must reproduce.  With spin terms (f23 > 0)
     the conicity's spin ``-/+ delta0 / r0`` loads each contact laterally in the centred state and the saturation
     lowers the slopes there: the linear analysis with Kalker's coefficients then describes the law only without
     spin.

@@ -10,8 +10,8 @@ convention) and the gap curvatures ``A = 1/(2 r0)``, ``B = 1/(2 R_rail)`` (:func
 
 :class:`LibraryContactLaw` is the contact FMU's model in process (the same
 :class:`rollcontact.stepping.elliptic.model.EllipticModel`): ``simulate`` with it is the co-simulation bit for bit,
-which ``tests/cosim/test_wheelset_cosim.py`` checks.  :func:`cosim_hunting_sweep` is the speed sweep of
-:func:`rollcontact_cosim.wheelset_study.hunting_sweep` co-simulated (one task per speed, on dask or in process),
+which ``tests/cosim/wheelset/test_cosim.py`` checks.  :func:`cosim_hunting_sweep` is the speed sweep of
+:func:`rollcontact_cosim.wheelset.study.hunting_sweep` co-simulated (one task per speed, on dask or in process),
 against the eigenvalues of the wheelset linearised with the contact FMU's own Jacobian at zero creepage.
 :func:`cosimulate_libcosim` runs the same system with libcosim's fixed-step (Jacobi) algorithm, and the sweep runs
 through either master (:data:`MASTERS`), each with its reference results (:data:`REFERENCES`).
@@ -31,15 +31,16 @@ import numpy as np
 
 from rollcontact.stepping.elliptic.model import EllipticModel
 from rollcontact.stepping.elliptic.parameters import EllipticParameters
+from rollcontact_cosim.fmus import ROOT
 from rollcontact_cosim.master import Slave
-from rollcontact_cosim.wheelset import HOST, ContactForces, WheelsetParameters
-from rollcontact_cosim.wheelset_stability import critical_speed, klingel_wavelength, least_damped, linearised
-from rollcontact_cosim.wheelset_study import SPEEDS, HuntingSweep, SpeedRun, decay_rate, plot_hunting, zero_crossing
+from rollcontact_cosim.scenes import COSIM_DIR
+from rollcontact_cosim.wheelset.model import HOST, ContactForces, WheelsetParameters
+from rollcontact_cosim.wheelset.stability import critical_speed, klingel_wavelength, least_damped, linearised
+from rollcontact_cosim.wheelset.study import SPEEDS, HuntingSweep, SpeedRun, decay_rate, plot_hunting, zero_crossing
 
 __all__ = ["CONTACT_MODEL", "MASTERS", "REFERENCES", "LibraryContactLaw", "contact_parameters", "cosim_hunting_sweep",
            "cosimulate", "cosimulate_libcosim", "ensure_wheelset_fmus", "write_cosim_reference"]
 
-ROOT = Path(__file__).resolve().parents[2]
 
 CONTACT_MODEL = "RollingContact3D_2"
 """The contact FMU of the scene: the elliptic contact with two contacts (``build_fmu.py --contacts 2``)."""
@@ -144,7 +145,7 @@ def ensure_wheelset_fmus(fmu_dir: Path | str, master: str = "fmpy") -> Path:
 def cosim_speed(parameters: WheelsetParameters, speed: float, fmu_dir: str, contact: dict, periods: int = 12,
                 steps_per_period: int = 200, settle: int = 2, amplitude_limit: float = 0.01,
                 master: str = "fmpy") -> SpeedRun:
-    """:func:`rollcontact_cosim.wheelset_study.run_speed` co-simulated through ``master`` (:data:`MASTERS`; the FMUs
+    """:func:`rollcontact_cosim.wheelset.study.run_speed` co-simulated through ``master`` (:data:`MASTERS`; the FMUs
     in ``fmu_dir`` suit it): the decay rate of y at ``speed`` over ``periods`` kinematic periods (after ``settle``,
     while |y| <= ``amplitude_limit`` [m]) against the eigenvalues of the wheelset linearised with the contact's
     Jacobian at zero creepage."""
@@ -183,8 +184,7 @@ def cosim_hunting_sweep(speeds, fmu_dir: Path | str, parameters: WheelsetParamet
                         zero_crossing(speeds, [run.simulated for run in runs]))
 
 
-REFERENCES = {"fmpy": ROOT / "models" / "cosim" / "wheelset_hunting_cosim.md",
-              "libcosim": ROOT / "models" / "cosim" / "wheelset_hunting_libcosim.md"}
+REFERENCES = {"fmpy": COSIM_DIR / "wheelset_hunting_cosim.md", "libcosim": COSIM_DIR / "wheelset_hunting_libcosim.md"}
 """Reference results of the co-simulated sweep through each master (:func:`write_cosim_reference`)."""
 
 COUPLING = {"fmpy": "through fmpy (Gauss-Seidel, the contact first)",
@@ -204,7 +204,7 @@ def write_cosim_reference(fmu_dir: Path | str, path: Path | str | None = None, p
         plot_hunting(sweep, plot, p, linearised(LibraryContactLaw(contact), p))
     path = REFERENCES[master] if path is None else path
     lines = [f"# wheelset_hunting: reference results co-simulated through {master}", "",
-             *textwrap.wrap(f"Written by `rollcontact_cosim.wheelset_cosim.write_cosim_reference(master={master!r})`:"
+             *textwrap.wrap(f"Written by `rollcontact_cosim.wheelset.cosim.write_cosim_reference(master={master!r})`:"
                             " the default wheelset of `rollcontact_cosim.wheelset` co-simulated "
                             f"{COUPLING[master]} with `RollingContact3D_2` (linear theory, `contact_parameters`), 200 "
                             "steps per kinematic period; the eigenvalues with the contact FMU's Jacobian at zero "
@@ -237,7 +237,7 @@ def cosimulate_libcosim(parameters: WheelsetParameters, stop_time: float, step_s
     from libcosimpy.CosimObserver import CosimObserver
 
     from rollcontact_cosim.osp import NAMESPACE, NS_PER_S, lookup, samples, set_start_values
-    from rollcontact_cosim.wheelset import CONNECTIONS, CONTACT
+    from rollcontact_cosim.wheelset.model import CONNECTIONS, CONTACT
 
     n = int(round(stop_time / step_size))
     step_ns = round(step_size * NS_PER_S)
