@@ -23,7 +23,7 @@ from rollcontact_cosim.__main__ import main as main_job
 from rollcontact_cosim.master import Slave, ensure_fmus, run_cosimulation, summarise
 from rollcontact_cosim.reference import compare, read_reference, write_reference
 from rollcontact_cosim.scenes import CONTACT, HOST, SCENE_NAMES, Band, CosimSceneError, load_cosim_scene
-from rollcontact_cosim.stability import deviation, is_stable
+from rollcontact_cosim.stable_step import deviation, is_stable
 from rollcontact_cosim.wheel_rig import INPUT_NAMES, WheelRigModel, WheelRigOutputs, WheelRigParameters
 
 DISCARD = 2
