@@ -59,12 +59,11 @@ def friction_title(contact: dict) -> str:
     table over the FMU's defaults; a ``scene_file`` there is read), e.g. ``"friction: exponential falling mu(v) =
     mu_s [(1 - A) exp(-B v) + A], mu_s = 0.35, A = 0.4, B = 0.6 s/m"``; a ``rail_condition`` is named before its
     law (``"friction: wet rail (Polach 2005), exponential falling ..."``)."""
-    from rollcontact.stepping.line.parameters import ContactParameters, contact_bodies
-    from rollcontact.stepping.parameters import RAIL_CONDITION_CODES
+    from rollcontact.stepping import ContactModel, ContactParameters
 
     parameters = ContactParameters(**contact)
-    friction = contact_bodies(parameters)[2]
-    condition = (f"{RAIL_CONDITION_CODES[parameters.rail_condition]} rail (Polach 2005), "
+    friction = ContactModel(parameters).friction
+    condition = (f"{parameters.codes()['rail_condition'][parameters.rail_condition]} rail (Polach 2005), "
                  if parameters.rail_condition and not parameters.scene_file else "")
     return f"friction: {condition}{friction.describe()}"
 

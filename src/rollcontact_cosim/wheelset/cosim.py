@@ -9,7 +9,7 @@ integrator of :class:`~rollcontact_cosim.wheelset.WheelsetModel`.  Both contacts
 convention) and the gap curvatures ``A = 1/(2 r0)``, ``B = 1/(2 R_rail)`` (:func:`contact_parameters`).
 
 :class:`LibraryContactLaw` is the contact FMU's model in process (the same
-:class:`rollcontact.stepping.elliptic.model.EllipticModel`): ``simulate`` with it is the co-simulation bit for bit,
+:class:`rollcontact.stepping.EllipticModel`): ``simulate`` with it is the co-simulation bit for bit,
 which ``tests/cosim/wheelset/test_cosim.py`` checks.  :func:`cosim_hunting_sweep` is the speed sweep of
 :func:`rollcontact_cosim.wheelset.study.hunting_sweep` co-simulated (one task per speed, on dask or in process),
 against the eigenvalues of the wheelset linearised with the contact FMU's own Jacobian at zero creepage.
@@ -29,8 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rollcontact.stepping.elliptic.model import EllipticModel
-from rollcontact.stepping.elliptic.parameters import EllipticParameters
+from rollcontact.stepping import EllipticModel, EllipticParameters
 from rollcontact_cosim.fmus import ROOT
 from rollcontact_cosim.master import Slave
 from rollcontact_cosim.scenes import COSIM_DIR
