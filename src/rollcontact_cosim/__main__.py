@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from rollcontact_cosim.cli import run
-from rollcontact_cosim.master import FMU_DIR, CosimResult, ensure_fmus, run_cosimulation, summarise
-from rollcontact_cosim.scenes import ALGORITHMS, DEFAULT_SCENE, load_cosim_scene
+from rollcontact_cosim.master import FMU_DIR, CosimResult, prepare, run_cosimulation, summarise
+from rollcontact_cosim.scenes import ALGORITHMS, CONTACT, DEFAULT_SCENE, load_cosim_scene
 
 LABELS = {  # variable -> axis label
     "WheelRig.creep": "creep xi [1]",
@@ -199,7 +199,7 @@ def wheelset_hunting(args) -> int:
     ``integer_codes/`` folder): :func:`rollcontact_cosim.wheelset.cosim.write_cosim_reference`'s table."""
     from rollcontact_cosim.wheelset.study import report, run_hunting_study
 
-    if args.fmi != 2 or args.algorithm or args.step_size or args.csv:
+    if args.fmi is not None or args.algorithm or args.step_size or args.csv:
         raise ValueError("the wheelset_hunting scene runs in process, or co-simulated with --fmu-dir or --master: "
                          "--fmi, --algorithm, --step-size and --csv do not apply")
     path = args.plot or "cosim_wheelset_hunting.png"
@@ -223,13 +223,14 @@ IN_PROCESS = {"wheelset_hunting": wheelset_hunting}
 """Scenes run in process (no FMU), by name: a function of the parsed arguments returning the exit code."""
 
 
-def recorded_units(names, fmu_dir=None, master: str = "fmpy", fmi_version: int = 2) -> dict[str, str]:
+def recorded_units(names, scene, fmu_dir=None, master: str = "fmpy", fmi_version: int | None = None
+                   ) -> dict[str, str]:
     """The unit of each recorded ``"Instance.variable"`` of ``names`` as the FMUs declare it (``"1"`` for a
-    variable without unit: the integer codes), read from the modelDescription of the FMUs the run used."""
+    variable without unit: the integer codes), read from the modelDescription of the FMUs the run of ``scene`` used
+    (through ``master``, from ``fmu_dir``, in ``fmi_version``)."""
     from fmpy import read_model_description
 
-    paths = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, integer_codes=master == "libcosim",
-                        fmi_version=fmi_version)
+    paths = prepare(scene, master, fmu_dir, fmi_version)
     declared = {f"{instance}.{v.name}": v.unit for instance, path in paths.items()
                 for v in read_model_description(str(path)).modelVariables}
     return {name: declared.get(name) or "1" for name in names}
@@ -287,8 +288,9 @@ def parser() -> argparse.ArgumentParser:
                    help="co-simulation master (default fmpy; libcosim needs libcosimpy)")
     p.add_argument("--fmu-dir", metavar="DIR",
                    help="folder of the FMUs, built there if missing or stale (default: models/)")
-    p.add_argument("--fmi", type=int, default=2, choices=(2, 3),
-                   help="FMI version of the FMUs: 2 (default) or 3 (FMI 3.0, in <fmu-dir>/fmi3; fmpy master)")
+    p.add_argument("--fmi", type=int, choices=(2, 3),
+                   help="FMI version of the FMUs: 2 or 3 (FMI 3.0, in <fmu-dir>/fmi3; fmpy master); default: the "
+                        "scene's (2)")
     return p
 
 
@@ -302,10 +304,11 @@ def job(argv: list[str] | None) -> int:
     scene = args.scene_option or args.scene
     if scene in IN_PROCESS:
         return IN_PROCESS[scene](args)
+    scene = load_cosim_scene(scene)
     result = run_cosimulation(scene, master=args.master, algorithm=args.algorithm, step_size=args.step_size,
                               fmu_dir=args.fmu_dir, fmi_version=args.fmi)
     s = summarise(result)
-    version = " (FMI 3.0)" if args.fmi == 3 else ""
+    version = " (FMI 3.0)" if (args.fmi or scene.system.fmi_version) == 3 else ""
     print(f"scene {result.scene}: {result.master} master{version}, {result.algorithm}, H = {result.step_size:g} s, "
           f"{s['steps']} macro steps, {s['wall_time']:.3g} s wall, {s['wall_time_per_step_us']:.0f} us per step")
     if "peak_traction_coefficient" in s:
@@ -313,11 +316,11 @@ def job(argv: list[str] | None) -> int:
               f"(t = {s['time_at_peak']:.4g} s)")
     if not result.success:
         print(f"stopped early: {result.message}", file=sys.stderr)
-    friction = friction_title(load_cosim_scene(args.scene).contact_parameters())
+    friction = friction_title(scene.contact_parameters()) if scene.system.contact.model == CONTACT else ""
     path = plot(result, args.plot or f"cosim_{result.scene}.png", friction)
     print(f"plot: {path}")
     if args.csv:
-        units = recorded_units(result.values.dtype.names[1:], args.fmu_dir, args.master, args.fmi)
+        units = recorded_units(result.values.dtype.names[1:], scene, args.fmu_dir, args.master, args.fmi)
         print(f"csv: {write_csv(result, args.csv, units)}")
     return 0 if result.success else 1
 

@@ -73,22 +73,28 @@ import numpy as np
 
 from rollcontact import Material, creepage_coefficients, hertz_ellipse
 
-__all__ = ["CONNECTIONS", "CONTACT", "HOST", "ContactForces", "CreepForceLaw", "KalkerLinearLaw",
+__all__ = ["INPUT_NAMES", "OUTPUT_NAMES", "ContactForces", "CreepForceLaw", "KalkerLinearLaw",
            "SaturatedKalkerLaw", "WheelsetError", "WheelsetModel", "WheelsetParameters", "WheelsetState",
            "creepage_jacobian", "creepages", "linear_law", "simulate"]
 
-HOST, CONTACT = "Wheelset", "RollingContact3D"
-"""Instance (= model) names of the hunting scene's FMUs: this host and a contact FMU with two contacts."""
-CONNECTIONS = tuple(
-    [(f"{HOST}.{name}[{k}]", f"{CONTACT}.{name}[{k}]") for k in (1, 2)
-     for name in ("normal_load", "longitudinal_creep", "lateral_creep", "spin", "velocity")]
-    + [(f"{CONTACT}.{name}[{k}]", f"{HOST}.{name}[{k}]") for k in (1, 2)
-       for name in ("longitudinal_force", "lateral_force", "spin_moment")])
-"""(source output, target input) of the hunting scene: contact k = 1 left, 2 right, the same names on both sides
-(the host FMU declares the contact FMU's).  The host's Jacobian inputs ``dFx_dxi[k]`` ... ``dMz_dphi[k]`` take the
-contact's Jacobian outputs, whose names the contact FMU declares; unconnected they stay 0 (forces held over the
-step).  Both contacts use the same axes (x rolling direction, y to the left, z up): the right contact is not
-mirrored."""
+CONTACTS = (1, 2)
+"""The contacts' numbers in the host's variable names: ``name[1]`` the left wheel, ``name[2]`` the right one."""
+CONTACT_OUTPUTS = ("normal_load", "longitudinal_creep", "lateral_creep", "spin", "velocity")
+"""Per contact, the outputs the contact FMU takes as inputs of the same names: N [N], xi, eta [1], phi [1/m], V
+[m/s] (:meth:`WheelsetModel.outputs`)."""
+STATES = ("lateral_displacement", "yaw_angle", "lateral_velocity", "yaw_rate")
+"""The state outputs y [m], psi [rad], y' [m/s], psi' [rad/s], after the contacts' outputs."""
+FORCES = ("longitudinal_force", "lateral_force", "spin_moment")
+"""Per contact, the inputs Fx, Fy [N], Mz [N m] on the rail (wheel axes), the contact FMU's outputs of those names."""
+JACOBIAN = tuple(f"d{force}_d{symbol}" for force in ("Fx", "Fy", "Mz") for symbol in ("xi", "eta", "phi"))
+"""Per contact, the inputs ``dFx_dxi`` ... ``dMz_dphi``: ``d(Fx, Fy, Mz)/d(xi, eta, phi)`` row-major, the contact
+FMU's Jacobian outputs of those names (0: the forces held over the step)."""
+OUTPUT_NAMES = (*(f"{name}[{k}]" for k in CONTACTS for name in CONTACT_OUTPUTS), *STATES)
+"""The host FMU's outputs, in :meth:`WheelsetModel.outputs`' order."""
+INPUT_NAMES = tuple(f"{name}[{k}]" for k in CONTACTS for name in FORCES + JACOBIAN)
+"""The host FMU's inputs: per contact the forces, then the Jacobian.  Both contacts use the same axes (x rolling
+direction, y to the left, z up): the right contact is not mirrored."""
+
 
 class WheelsetError(ValueError):
     """A parameter, input or step the wheelset model cannot use; the message names the value and the limit."""

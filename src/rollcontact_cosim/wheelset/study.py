@@ -215,7 +215,7 @@ def hunting_sweep(speeds, parameters: WheelsetParameters | None = None, law: Cre
     if client is None and scheduler is None and n_workers == 0:
         runs = [run_speed(*args) for args in arguments]
     else:
-        runs = submit(run_speed, arguments, client, scheduler, n_workers, fmus=False)
+        runs = submit(run_speed, arguments, client, scheduler, n_workers)
     return HuntingSweep(tuple(runs), critical_speed(p, linearised(law, p)),
                         zero_crossing(speeds, [run.simulated for run in runs]))
 

@@ -112,7 +112,7 @@ def test_the_cosimulated_reference_results_are_the_sweeps(fmu_dir, tmp_path):
 def integer_codes_dir(fmu_dir, integer_codes, tmp_path_factory) -> Path:
     """The Wheelset FMU and the integer-codes build of RollingContact3D_2 (libcosim lists no enumerations; the
     session's ``--contacts 2 --integer-codes`` build, ``tests/conftest.py``), in the ``integer_codes/`` folder where
-    :func:`~rollcontact_cosim.wheelset.cosim.ensure_wheelset_fmus` looks for them."""
+    the libcosim master looks for them (below the folder it is given)."""
     dest = tmp_path_factory.mktemp("wheelset_osp") / "integer_codes"
     dest.mkdir()
     for name in ("RollingContact2D_2.fmu", "RollingContact3D_2.fmu"):
@@ -125,10 +125,8 @@ def test_libcosim_runs_the_jacobi_sequence_of_the_in_process_run(integer_codes_d
     """libcosim's fixed-step algorithm with force_lag = 1 against simulate(jacobi=True) with the FMU's own model:
     equal to the rounding of libcosim's nanosecond clock (the step it passes is not exactly H)."""
     pytest.importorskip("libcosimpy")
-    from rollcontact_cosim.wheelset.cosim import cosimulate_libcosim
-
     p = WheelsetParameters(speed=40.0, initial_lateral_displacement=2e-3)
-    times, states = cosimulate_libcosim(p, 0.2, 1e-3, integer_codes_dir)
+    times, states = cosimulate(p, 0.2, 1e-3, integer_codes_dir.parent, master="libcosim")
     reference = simulate(dataclasses.replace(p, force_lag=1), LibraryContactLaw(contact_parameters(p)), 0.2, 1e-3,
                          jacobi=True)[1]
     scale = np.abs(reference).max(axis=0)
