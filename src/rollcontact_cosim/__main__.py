@@ -1,5 +1,5 @@
 """The main job, ``python -m rollcontact_cosim``: co-simulates a scene of ``models/cosim`` (default
-``traction_ramp``) with the WheelRig and RollingContact2D FMUs (built first when missing or stale), prints a summary
+``traction_ramp``, the WheelRig and RollingContact2D FMUs, built first when missing or stale), prints a summary
 (peak adhesion and the creep where it occurs, macro steps, wall time per step), writes a PNG of the adhesion curve
 and the recorded time histories, whose title names the friction law and its values (:func:`figure`), and with
 ``--csv PATH`` the recorded time histories as CSV with their units in the header (:func:`write_csv`).
@@ -9,8 +9,8 @@ and the recorded time histories, whose title names the friction law and its valu
 (:func:`rollcontact_cosim.wheelset.study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
 speed sweep on a local dask cluster against the linear stability analysis, Klingel's wavelength), prints its
 tables and writes its figure; with ``--fmu-dir`` or ``--master libcosim`` its speed sweep is co-simulated through
-that master (fmpy by default) with the Wheelset and RollingContact3D_2 FMUs (:mod:`rollcontact_cosim.wheelset.cosim`);
-the other co-simulation options do not apply.
+that master (fmpy by default) with the scene's system, the Wheelset and RollingContact3D_2 FMUs
+(:mod:`rollcontact_cosim.wheelset.cosim`); the other co-simulation options do not apply.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from rollcontact_cosim.cli import run
-from rollcontact_cosim.master import FMU_DIR, CosimResult, prepare, run_cosimulation, summarise
+from rollcontact_cosim.master import FMU_DIR, CosimResult, ensure_scene_fmus, run_cosimulation, summarise
 from rollcontact_cosim.scenes import ALGORITHMS, CONTACT, DEFAULT_SCENE, load_cosim_scene
 
 LABELS = {  # variable -> axis label
@@ -195,7 +195,7 @@ def time_history(ax, time, series, name: str, start: float) -> None:
 def wheelset_hunting(args) -> int:
     """The ``wheelset_hunting`` scene in process: the tables on stdout, the figure to ``--plot``; with ``--fmu-dir``
     or ``--master libcosim`` the speed sweep co-simulated through ``--master`` with the Wheelset and
-    RollingContact3D_2 FMUs of ``--fmu-dir`` (default models/; built there when missing, libcosim's in its
+    RollingContact3D_2 FMUs of ``--fmu-dir`` (default models/; built there when missing or stale, libcosim's in its
     ``integer_codes/`` folder): :func:`rollcontact_cosim.wheelset.cosim.write_cosim_reference`'s table."""
     from rollcontact_cosim.wheelset.study import report, run_hunting_study
 
@@ -230,7 +230,7 @@ def recorded_units(names, scene, fmu_dir=None, master: str = "fmpy", fmi_version
     (through ``master``, from ``fmu_dir``, in ``fmi_version``)."""
     from fmpy import read_model_description
 
-    paths = prepare(scene, master, fmu_dir, fmi_version)
+    paths = ensure_scene_fmus(scene, master, fmu_dir, fmi_version)
     declared = {f"{instance}.{v.name}": v.unit for instance, path in paths.items()
                 for v in read_model_description(str(path)).modelVariables}
     return {name: declared.get(name) or "1" for name in names}
@@ -259,7 +259,7 @@ variable against time [s]; its title names the friction law and its values.
 The scene wheelset_hunting runs in process: a hunting wheelset's speed sweep against its linear
 stability analysis, and Klingel's wavelength; with --fmu-dir DIR (or --master libcosim) the sweep is
 co-simulated through the master with the Wheelset and RollingContact3D_2 FMUs of DIR (default models/;
-built there when missing).
+built there when missing or stale).
 
 examples:
   python -m rollcontact_cosim

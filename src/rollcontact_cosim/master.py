@@ -38,7 +38,7 @@ from fmpy.fmi3 import FMU3Slave
 from rollcontact_cosim.fmus import FMU_DIR, CosimResult, ensure_fmus, summarise
 from rollcontact_cosim.scenes import CosimScene, check_algorithm, check_fmi_version, load_cosim_scene, macro_steps
 
-__all__ = ["FMU_DIR", "MASTERS", "CosimResult", "ensure_fmus", "prepare", "run_cosimulation", "summarise"]
+__all__ = ["FMU_DIR", "MASTERS", "CosimResult", "ensure_fmus", "ensure_scene_fmus", "run_cosimulation", "summarise"]
 
 MASTERS = ("fmpy", "libcosim")
 STATUS = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
@@ -230,14 +230,13 @@ def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algor
             slave.free()
 
 
-def prepare(scene: str | Path | CosimScene, master: str = "fmpy", fmu_dir: Path | str | None = None,
-            fmi_version: int | None = None) -> dict[str, Path]:
-    """Build the FMUs that runs of ``scene`` through ``master`` take from ``fmu_dir`` where they are missing or
-    stale (before runs with ``build=False``, e.g. on a sweep's workers); their paths by instance name."""
-    system = load_cosim_scene(scene).system
-    return ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, system=system,
-                       **({"integer_codes": True, "fmi_version": 2} if master == "libcosim" else
-                          {"fmi_version": fmi_version}))
+def ensure_scene_fmus(scene: str | Path | CosimScene, master: str = "fmpy", fmu_dir: Path | str | None = None,
+                      fmi_version: int | None = None) -> dict[str, Path]:
+    """Build the FMUs that runs of ``scene`` through ``master`` take from ``fmu_dir`` (``models/`` when None) where
+    they are missing or stale, before runs with ``build=False`` (a sweep's workers); their paths by instance name.
+    libcosim takes the FMI 2.0 integer-codes build (:func:`rollcontact_cosim.osp.run_osp`)."""
+    variant = {"integer_codes": True, "fmi_version": 2} if master == "libcosim" else {"fmi_version": fmi_version}
+    return ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, system=load_cosim_scene(scene).system, **variant)
 
 
 def step_loop(scene: CosimScene, slaves: dict[str, Slave], algorithm: str, step: float, steps: int) -> CosimResult:

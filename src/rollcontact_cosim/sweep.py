@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from rollcontact_cosim.cli import Progress, run
-from rollcontact_cosim.master import MASTERS, prepare, run_cosimulation, summarise
+from rollcontact_cosim.master import MASTERS, ensure_scene_fmus, run_cosimulation, summarise
 from rollcontact_cosim.scenes import SCENE_NAMES
 
 __all__ = ["Case", "CaseResult", "run_case", "run_regression", "run_sweep"]
@@ -131,7 +131,7 @@ def run_sweep(cases: Iterable[Case], *, client=None, scheduler: str | None = Non
     """
     cases = list(cases)
     for scene, master in dict.fromkeys((case.scene, case.master) for case in cases):
-        prepare(scene, master)
+        ensure_scene_fmus(scene, master)
     return submit(run_case, [(case,) for case in cases], client, scheduler, n_workers)
 
 
@@ -140,7 +140,7 @@ def run_regression(scenes: Iterable[str] = SCENE_NAMES, masters: Iterable[str] =
     """Every scene with every master against its reference result: ``(scene, master, problems)`` per pair."""
     pairs = list(itertools.product(scenes, masters))
     for scene, master in pairs:
-        prepare(scene, master)  # a misspelt scene fails here, not in a worker
+        ensure_scene_fmus(scene, master)  # a misspelt scene fails here, not in a worker
     return submit(check_case, pairs, client, scheduler, n_workers)
 
 

@@ -88,18 +88,6 @@ def test_an_instance_names_its_fmu_and_build():
      "[contact]: poisson_ratio = 0.6 is out of range"),
     ("[run]\nstop_time = 1.0\nstep_size = 0.1\nalgorithm = 'euler'\noutputs = ['WheelRig.creep']\n",
      "algorithm = 'euler' is unknown: use one of gauss-seidel, jacobi"),
-])
-def test_bad_scene_files_are_refused_with_the_reason(tmp_path, text, message):
-    path = tmp_path / "bad.toml"
-    path.write_text(text)
-    with pytest.raises(CosimSceneError, match="bad.toml") as caught:
-        load_cosim_scene(path)
-    assert message in str(caught.value), f"error {caught.value} should say {message!r}"
-
-
-
-
-@pytest.mark.parametrize("text, message", [
     ('[system]\nhost = "Wheelset"\n' + RUN, "[system] contact is missing"),
     (WHEELSET_SYSTEM.replace('"Wheelset"', '"Bogie"') + RUN, "host = 'Bogie' is not a model: use one of WheelRig"),
     (WHEELSET_SYSTEM.replace("contacts = 2", "contacts = 3") + RUN,
@@ -116,7 +104,7 @@ def test_bad_scene_files_are_refused_with_the_reason(tmp_path, text, message):
     (WHEELSET_SYSTEM + RUN.replace("Wheelset.yaw_angle", "RollingContact3D.spin_moment"),
      "RollingContact3D has no output 'spin_moment'"),
 ])
-def test_bad_system_descriptions_are_refused_with_the_reason(tmp_path, text, message):
+def test_bad_scene_files_are_refused_with_the_reason(tmp_path, text, message):
     path = tmp_path / "bad.toml"
     path.write_text(text)
     with pytest.raises(CosimSceneError, match="bad.toml") as caught:

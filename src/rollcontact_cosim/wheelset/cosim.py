@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from rollcontact.stepping import EllipticModel, EllipticParameters
-from rollcontact_cosim.master import MASTERS, prepare, run_cosimulation
+from rollcontact_cosim.master import MASTERS, ensure_scene_fmus, run_cosimulation
 from rollcontact_cosim.scenes import COSIM_DIR
 from rollcontact_cosim.wheelset.model import STATES, ContactForces, WheelsetParameters
 from rollcontact_cosim.wheelset.stability import critical_speed, klingel_wavelength, least_damped, linearised
@@ -148,7 +148,7 @@ def cosim_hunting_sweep(speeds, fmu_dir: Path | str, parameters: WheelsetParamet
         raise ValueError(f"master = {master!r}: the wheelset runs through {' or '.join(MASTERS)}")
     p = WheelsetParameters() if parameters is None else parameters
     contact = contact_parameters(p) if contact is None else contact
-    prepare(SCENE, master, fmu_dir)
+    ensure_scene_fmus(SCENE, master, fmu_dir)
     folder = str(Path(fmu_dir).resolve())
     speeds = sorted(float(v) for v in speeds)
     arguments = [(p, v, folder, contact, periods, steps_per_period, 2, 0.01, master) for v in speeds]
