@@ -1,10 +1,10 @@
 """Largest stable macro step per co-simulation scene: explicit vs linearly implicit WheelRig coupling.
 
 For every scene and master algorithm: a fine-step reference run (the scene's step / ``--refine``, linearly
-implicit, Gauss-Seidel), then :func:`rollcontact_cosim.stability.largest_stable_step` for ``coupling`` = 0
+implicit, Gauss-Seidel), then :func:`rollcontact_cosim.stable_step.largest_stable_step` for ``coupling`` = 0
 (explicit: the contact force held over the macro step) and 1 (linearly implicit with ``creep_stiffness``).
 "Stable" = the run completes and T/N stays within 5 % of max |T/N| of the fine run at every communication point
-but the first two (definition in :mod:`rollcontact_cosim.stability`).  Prints a markdown table and the deviation
+but the first two (definition in :mod:`rollcontact_cosim.stable_step`).  Prints a markdown table and the deviation
 of every tried step.
 
 ``--oscillation H`` measures instead what one macro step H (e.g. 1e-3 s) does to the contact force of every scene,
@@ -28,7 +28,7 @@ import numpy as np
 
 from rollcontact_cosim.master import ensure_fmus, run_cosimulation
 from rollcontact_cosim.scenes import ALGORITHMS, CONTACT, SCENE_NAMES, load_cosim_scene
-from rollcontact_cosim.stability import largest_stable_step
+from rollcontact_cosim.stable_step import largest_stable_step
 
 FORCE = f"{CONTACT}.tangential_force"
 

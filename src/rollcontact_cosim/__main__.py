@@ -1,16 +1,16 @@
 """The main job, ``python -m rollcontact_cosim``: co-simulates a scene of ``models/cosim`` (default
-``traction_ramp``) with the WheelRig and RollingContact2D FMUs (built first when missing or stale), prints a summary
+``traction_ramp``, the WheelRig and RollingContact2D FMUs, built first when missing or stale), prints a summary
 (peak adhesion and the creep where it occurs, macro steps, wall time per step), writes a PNG of the adhesion curve
 and the recorded time histories, whose title names the friction law and its values (:func:`figure`), and with
 ``--csv PATH`` the recorded time histories as CSV with their units in the header (:func:`write_csv`).
 ``--fmi 3`` runs the FMI 3.0 FMUs (``models/fmi3/``, fmpy master) instead of the FMI 2.0 ones.
 
 ``--scene NAME`` is the same as the positional scene.  The scene ``wheelset_hunting`` runs in process
-(:func:`rollcontact_cosim.wheelset_study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
+(:func:`rollcontact_cosim.wheelset.study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
 speed sweep on a local dask cluster against the linear stability analysis, Klingel's wavelength), prints its
 tables and writes its figure; with ``--fmu-dir`` or ``--master libcosim`` its speed sweep is co-simulated through
-that master (fmpy by default) with the Wheelset and RollingContact3D_2 FMUs (:mod:`rollcontact_cosim.wheelset_cosim`);
-the other co-simulation options do not apply.
+that master (fmpy by default) with the scene's system, the Wheelset and RollingContact3D_2 FMUs
+(:mod:`rollcontact_cosim.wheelset.cosim`); the other co-simulation options do not apply.
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from rollcontact_cosim.cli import run
-from rollcontact_cosim.master import FMU_DIR, CosimResult, ensure_fmus, run_cosimulation, summarise
-from rollcontact_cosim.scenes import ALGORITHMS, DEFAULT_SCENE, load_cosim_scene
+from rollcontact_cosim.master import FMU_DIR, CosimResult, ensure_scene_fmus, run_cosimulation, summarise
+from rollcontact_cosim.scenes import ALGORITHMS, CONTACT, DEFAULT_SCENE, load_cosim_scene
 
 LABELS = {  # variable -> axis label
     "WheelRig.creep": "creep xi [1]",
@@ -59,12 +59,11 @@ def friction_title(contact: dict) -> str:
     table over the FMU's defaults; a ``scene_file`` there is read), e.g. ``"friction: exponential falling mu(v) =
     mu_s [(1 - A) exp(-B v) + A], mu_s = 0.35, A = 0.4, B = 0.6 s/m"``; a ``rail_condition`` is named before its
     law (``"friction: wet rail (Polach 2005), exponential falling ..."``)."""
-    from rollcontact.stepping.line.parameters import ContactParameters, contact_bodies
-    from rollcontact.stepping.parameters import RAIL_CONDITION_CODES
+    from rollcontact.stepping import ContactModel, ContactParameters
 
     parameters = ContactParameters(**contact)
-    friction = contact_bodies(parameters)[2]
-    condition = (f"{RAIL_CONDITION_CODES[parameters.rail_condition]} rail (Polach 2005), "
+    friction = ContactModel(parameters).friction
+    condition = (f"{parameters.codes()['rail_condition'][parameters.rail_condition]} rail (Polach 2005), "
                  if parameters.rail_condition and not parameters.scene_file else "")
     return f"friction: {condition}{friction.describe()}"
 
@@ -196,18 +195,18 @@ def time_history(ax, time, series, name: str, start: float) -> None:
 def wheelset_hunting(args) -> int:
     """The ``wheelset_hunting`` scene in process: the tables on stdout, the figure to ``--plot``; with ``--fmu-dir``
     or ``--master libcosim`` the speed sweep co-simulated through ``--master`` with the Wheelset and
-    RollingContact3D_2 FMUs of ``--fmu-dir`` (default models/; built there when missing, libcosim's in its
-    ``integer_codes/`` folder): :func:`rollcontact_cosim.wheelset_cosim.write_cosim_reference`'s table."""
-    from rollcontact_cosim.wheelset_study import report, run_hunting_study
+    RollingContact3D_2 FMUs of ``--fmu-dir`` (default models/; built there when missing or stale, libcosim's in its
+    ``integer_codes/`` folder): :func:`rollcontact_cosim.wheelset.cosim.write_cosim_reference`'s table."""
+    from rollcontact_cosim.wheelset.study import report, run_hunting_study
 
-    if args.fmi != 2 or args.algorithm or args.step_size or args.csv:
+    if args.fmi is not None or args.algorithm or args.step_size or args.csv:
         raise ValueError("the wheelset_hunting scene runs in process, or co-simulated with --fmu-dir or --master: "
                          "--fmi, --algorithm, --step-size and --csv do not apply")
     path = args.plot or "cosim_wheelset_hunting.png"
     if args.fmu_dir or args.master != "fmpy":
         import tempfile
 
-        from rollcontact_cosim.wheelset_cosim import write_cosim_reference
+        from rollcontact_cosim.wheelset.cosim import write_cosim_reference
 
         with tempfile.TemporaryDirectory(prefix="wheelset_hunting_") as tmp:
             table = write_cosim_reference(args.fmu_dir or FMU_DIR, Path(tmp, "report.md"), path, master=args.master,
@@ -224,13 +223,14 @@ IN_PROCESS = {"wheelset_hunting": wheelset_hunting}
 """Scenes run in process (no FMU), by name: a function of the parsed arguments returning the exit code."""
 
 
-def recorded_units(names, fmu_dir=None, master: str = "fmpy", fmi_version: int = 2) -> dict[str, str]:
+def recorded_units(names, scene, fmu_dir=None, master: str = "fmpy", fmi_version: int | None = None
+                   ) -> dict[str, str]:
     """The unit of each recorded ``"Instance.variable"`` of ``names`` as the FMUs declare it (``"1"`` for a
-    variable without unit: the integer codes), read from the modelDescription of the FMUs the run used."""
+    variable without unit: the integer codes), read from the modelDescription of the FMUs the run of ``scene`` used
+    (through ``master``, from ``fmu_dir``, in ``fmi_version``)."""
     from fmpy import read_model_description
 
-    paths = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, integer_codes=master == "libcosim",
-                        fmi_version=fmi_version)
+    paths = ensure_scene_fmus(scene, master, fmu_dir, fmi_version)
     declared = {f"{instance}.{v.name}": v.unit for instance, path in paths.items()
                 for v in read_model_description(str(path)).modelVariables}
     return {name: declared.get(name) or "1" for name in names}
@@ -259,7 +259,7 @@ variable against time [s]; its title names the friction law and its values.
 The scene wheelset_hunting runs in process: a hunting wheelset's speed sweep against its linear
 stability analysis, and Klingel's wavelength; with --fmu-dir DIR (or --master libcosim) the sweep is
 co-simulated through the master with the Wheelset and RollingContact3D_2 FMUs of DIR (default models/;
-built there when missing).
+built there when missing or stale).
 
 examples:
   python -m rollcontact_cosim
@@ -288,8 +288,9 @@ def parser() -> argparse.ArgumentParser:
                    help="co-simulation master (default fmpy; libcosim needs libcosimpy)")
     p.add_argument("--fmu-dir", metavar="DIR",
                    help="folder of the FMUs, built there if missing or stale (default: models/)")
-    p.add_argument("--fmi", type=int, default=2, choices=(2, 3),
-                   help="FMI version of the FMUs: 2 (default) or 3 (FMI 3.0, in <fmu-dir>/fmi3; fmpy master)")
+    p.add_argument("--fmi", type=int, choices=(2, 3),
+                   help="FMI version of the FMUs: 2 or 3 (FMI 3.0, in <fmu-dir>/fmi3; fmpy master); default: the "
+                        "scene's (2)")
     return p
 
 
@@ -303,10 +304,11 @@ def job(argv: list[str] | None) -> int:
     scene = args.scene_option or args.scene
     if scene in IN_PROCESS:
         return IN_PROCESS[scene](args)
+    scene = load_cosim_scene(scene)
     result = run_cosimulation(scene, master=args.master, algorithm=args.algorithm, step_size=args.step_size,
                               fmu_dir=args.fmu_dir, fmi_version=args.fmi)
     s = summarise(result)
-    version = " (FMI 3.0)" if args.fmi == 3 else ""
+    version = " (FMI 3.0)" if (args.fmi or scene.system.fmi_version) == 3 else ""
     print(f"scene {result.scene}: {result.master} master{version}, {result.algorithm}, H = {result.step_size:g} s, "
           f"{s['steps']} macro steps, {s['wall_time']:.3g} s wall, {s['wall_time_per_step_us']:.0f} us per step")
     if "peak_traction_coefficient" in s:
@@ -314,11 +316,11 @@ def job(argv: list[str] | None) -> int:
               f"(t = {s['time_at_peak']:.4g} s)")
     if not result.success:
         print(f"stopped early: {result.message}", file=sys.stderr)
-    friction = friction_title(load_cosim_scene(args.scene).contact_parameters())
+    friction = friction_title(scene.contact_parameters()) if scene.system.contact.model == CONTACT else ""
     path = plot(result, args.plot or f"cosim_{result.scene}.png", friction)
     print(f"plot: {path}")
     if args.csv:
-        units = recorded_units(result.values.dtype.names[1:], args.fmu_dir, args.master, args.fmi)
+        units = recorded_units(result.values.dtype.names[1:], scene, args.fmu_dir, args.master, args.fmi)
         print(f"csv: {write_csv(result, args.csv, units)}")
     return 0 if result.success else 1
 

@@ -1,11 +1,13 @@
-"""The two FMUs a co-simulation needs, built when missing or stale, and what a co-simulation returns.
+"""The FMUs a co-simulation needs, built when missing or stale, and what a co-simulation returns.
 
 Shared by the masters (:mod:`rollcontact_cosim.master` on fmpy, :mod:`rollcontact_cosim.osp` on libcosim).
+:func:`ensure_fmus` asks ``build_fmu.py`` (in a subprocess: the builder imports the slaves) for each FMU of a
+scene's system with ``--if-stale``, which builds only what is missing or older than its sources: ``--only MODEL``
+or ``--contacts N``, ``--fmi 2|3``, ``--integer-codes`` as the system's variant says, into ``--dest``.
 """
 
 from __future__ import annotations
 
-import importlib.util
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -13,11 +15,12 @@ from pathlib import Path
 
 import numpy as np
 
-from rollcontact_cosim.scenes import CONTACT, HOST
+from rollcontact_cosim.scenes import CONTACT, HOST, WHEEL_RIG, Instance, System
 
 ROOT = Path(__file__).resolve().parents[2]
 FMU_DIR = ROOT / "models"
-"""Default folder of ``RollingContact2D.fmu`` and ``WheelRig.fmu``."""
+"""Default folder of the FMUs (``build_fmu.py``'s default ``--dest``)."""
+BUILD_FMU = ROOT / "build_fmu.py"
 
 
 @dataclass
@@ -87,39 +90,49 @@ def summarise(result: CosimResult) -> dict[str, float]:
     return out
 
 
-FMI_VERSIONS = (2, 3)
-"""FMI versions of the FMUs: 2 (FMI 2.0, pythonfmu; the default) or 3 (FMI 3.0, pythonfmu3)."""
+_checked: set[tuple[str, ...]] = set()
+"""The build commands this process has run (the staleness check runs once per process, folder and FMU)."""
 
 
-def check_fmi_version(fmi_version) -> int:
-    """``fmi_version`` if it is 2 or 3, else ValueError."""
-    if isinstance(fmi_version, bool) or fmi_version not in FMI_VERSIONS:
-        raise ValueError(f"fmi_version = {fmi_version!r} is unknown: use 2 (FMI 2.0) or 3 (FMI 3.0)")
-    return int(fmi_version)
+def ensure_fmus(fmu_dir: Path | str = FMU_DIR, integer_codes: bool | None = None, fmi_version: int | None = None,
+                system: System | None = None) -> dict[str, Path]:
+    """The system's FMUs in ``fmu_dir`` (instance name -> path), each built first when missing or stale.
+
+    Parameters
+    ----------
+    fmu_dir : Path
+        The folder ``build_fmu.py --dest`` builds into; the FMI 3.0 FMUs are in its ``fmi3/`` folder, the
+        integer-codes build (for hosts without FMI enumerations: libcosim) in its ``integer_codes/`` folder.
+    integer_codes : bool, optional
+        The integer-codes build (``build_fmu.py --integer-codes``, FMI 2.0 only); the system's when None.
+    fmi_version : int, optional
+        2 (FMI 2.0) or 3 (FMI 3.0); the system's when None.
+    system : System, optional
+        The scene's system (:attr:`rollcontact_cosim.scenes.CosimScene.system`); the wheel rig's when None.
+
+    Raises
+    ------
+    ValueError
+        A variant that does not exist (FMI 3.0 with integer codes, an unknown FMI version).
+    RuntimeError
+        ``build_fmu.py`` failed (its output in the message).
+    """
+    system = (WHEEL_RIG if system is None else system).variant(fmi_version, integer_codes)
+    paths = system.fmus(fmu_dir)
+    for instance in system.instances:
+        build(instance, system, fmu_dir, paths[instance.name])
+    return paths
 
 
-def ensure_fmus(fmu_dir: Path | str = FMU_DIR, integer_codes: bool = False, fmi_version: int = 2) -> dict[str, Path]:
-    """Paths of both FMUs in ``fmu_dir``, built by ``build_fmu.py --all --if-stale`` when missing or stale; with
-    ``integer_codes`` the build for hosts without FMI enumerations (``build_fmu.py --integer-codes``), in the
-    folder ``integer_codes/`` below ``fmu_dir``; with ``fmi_version`` 3 the FMI 3.0 FMUs (``build_fmu.py --fmi
-    3``), in the folder ``fmi3/`` below ``fmu_dir``."""
-    fmi_version = check_fmi_version(fmi_version)
-    if integer_codes and fmi_version == 3:
-        raise ValueError("the integer-codes build (for libcosim) is an FMI 2.0 build: use fmi_version = 2")
-    fmu_dir = Path(fmu_dir) / "integer_codes" if integer_codes else Path(fmu_dir)
-    spec = importlib.util.spec_from_file_location("rollcontact_build_fmu", ROOT / "build_fmu.py")
-    builder = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(builder)  # only for is_stale: the build itself runs in a subprocess
-    folder = builder.fmi_dest(fmu_dir, fmi_version)
-    if any(builder.is_stale(name, folder, fmi_version) for name in builder.FMUS):
-        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--all", "--if-stale", "--dest",
-                               str(fmu_dir), "--fmi", str(fmi_version),
-                               *(["--integer-codes"] if integer_codes else [])],
-                              capture_output=True, text=True, timeout=600)
-        if done.returncode != 0:
-            raise RuntimeError(f"build_fmu.py --all failed:\n{done.stdout}\n{done.stderr}")
-    return {name: folder / f"{name}.fmu" for name in (HOST, CONTACT)}
-
-
-
-
+def build(instance: Instance, system: System, fmu_dir: Path | str, path: Path) -> None:
+    """``build_fmu.py --only MODEL|--contacts N --if-stale --fmi V [--integer-codes] --dest DIR`` for the instance
+    in the system's variant, unless this process ran that command already and ``path`` is there."""
+    dest = Path(fmu_dir).resolve() / "integer_codes" if system.integer_codes else Path(fmu_dir).resolve()
+    command = (sys.executable, str(BUILD_FMU), *instance.build_selection, "--if-stale", "--fmi",
+               str(system.fmi_version), *(("--integer-codes",) if system.integer_codes else ()), "--dest", str(dest))
+    if command in _checked and path.is_file():
+        return
+    done = subprocess.run(command, capture_output=True, text=True, timeout=600)
+    if done.returncode != 0:
+        raise RuntimeError(f"build_fmu.py {' '.join(command[2:])} failed:\n{done.stdout}\n{done.stderr}")
+    _checked.add(command)

@@ -1,25 +1,24 @@
-"""Fixed-step co-simulation master on fmpy's ``FMU2Slave`` (or ``FMU3Slave``): WheelRig host + RollingContact2D contact.
+"""The fixed-step co-simulation master on fmpy's ``FMU2Slave`` (or ``FMU3Slave``), for every scene.
 
-:func:`run_cosimulation` runs a scene (:mod:`rollcontact_cosim.scenes`) with macro step H from t_0 to
-t_end = t_0 + N H (communication points ``t_n = t_0 + n H``, never accumulated) and returns a
-:class:`CosimResult`.  Algorithms (``[run] algorithm``):
+:func:`run_cosimulation` runs a scene (:mod:`rollcontact_cosim.scenes`: its system of a host and a contact FMU,
+their parameters and connections) with macro step H from t_0 to t_end = t_0 + N H (communication points
+``t_n = t_0 + n H``, never accumulated) and returns a :class:`CosimResult`.  Algorithms (``[run] algorithm``):
 
 * ``"gauss-seidel"`` (default): per macro step the contact is stepped first with the host's outputs at t_n, then
-  the host with the contact's fresh force and creep stiffness, i.e. the host integrates with ``T(xi(t_n))``.  For
-  the quasi-static contact this is the explicit Euler coupling without extra delay: the most accurate ordering,
-  and for explicit coupling stable up to twice the step of Jacobi.
-* ``"jacobi"``: both FMUs step from the outputs of t_n; the host's force is then the one the contact computed in
-  the previous macro step, ``T(xi(t_(n-1)))`` (and the contact's start values in the first step).  This is
+  the host with the contact's fresh forces and their derivatives (creep stiffness, Jacobian), i.e. the host
+  integrates with ``F(c(t_n))``.  For a quasi-static contact this is the explicit Euler coupling without extra
+  delay: the most accurate ordering, and for explicit coupling stable up to twice the step of Jacobi.
+* ``"jacobi"``: both FMUs step from the outputs of t_n; the host's forces are then the ones the contact computed
+  in the previous macro step, ``F(c(t_(n-1)))`` (and the contact's start values in the first step).  This is
   libcosim's fixed-step algorithm, used to compare the two masters.
 
 The host's ``force_lag`` follows the algorithm (:meth:`~rollcontact_cosim.scenes.CosimScene.host_parameters`).
 Result rows: row k holds ``t_k``, the host's outputs at t_k and the contact's outputs of its step started at t_k
 (evaluated with the host's outputs at t_k); the contact is stepped once more at t_N to complete the last row.
 
-The FMUs are taken from ``models/`` (or ``fmu_dir``) and built first by ``build_fmu.py --all --if-stale`` (in a
-subprocess: the builder imports the slaves) when missing or older than their sources.  ``fmi_version=3`` runs the
-FMI 3.0 pair of ``models/fmi3/`` (``build_fmu.py --fmi 3``) through fmpy's ``FMU3Slave`` behind the same calls
-(:class:`FMU3Calls`): the same results bit for bit.
+The FMUs are taken from ``models/`` (or ``fmu_dir``), each built first when missing or older than its sources
+(:func:`~rollcontact_cosim.fmus.ensure_fmus`).  ``fmi_version=3`` runs the FMI 3.0 FMUs of ``models/fmi3/``
+through fmpy's ``FMU3Slave`` behind the same calls (:class:`FMU3Calls`): the same results bit for bit.
 """
 
 from __future__ import annotations
@@ -36,18 +35,10 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
 from fmpy.fmi3 import FMU3Slave
 
-from rollcontact_cosim.fmus import FMU_DIR, CosimResult, check_fmi_version, ensure_fmus, summarise
-from rollcontact_cosim.scenes import (
-    CONNECTIONS,
-    CONTACT,
-    HOST,
-    CosimScene,
-    check_algorithm,
-    load_cosim_scene,
-    macro_steps,
-)
+from rollcontact_cosim.fmus import FMU_DIR, CosimResult, ensure_fmus, summarise
+from rollcontact_cosim.scenes import CosimScene, check_algorithm, check_fmi_version, load_cosim_scene, macro_steps
 
-__all__ = ["FMU_DIR", "MASTERS", "CosimResult", "ensure_fmus", "run_cosimulation", "summarise"]
+__all__ = ["FMU_DIR", "MASTERS", "CosimResult", "ensure_fmus", "ensure_scene_fmus", "run_cosimulation", "summarise"]
 
 MASTERS = ("fmpy", "libcosim")
 STATUS = {0: "OK", 1: "Warning", 2: "Discard", 3: "Error", 4: "Fatal", 5: "Pending"}
@@ -175,8 +166,8 @@ class Slave:
 
 def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algorithm: str | None = None,
                      step_size: float | None = None, stop_time: float | None = None, host: dict | None = None,
-                     contact: dict | None = None, fmu_dir: Path | str | None = None,
-                     fmi_version: int = 2) -> CosimResult:
+                     contact: dict | None = None, fmu_dir: Path | str | None = None, fmi_version: int | None = None,
+                     build: bool = True) -> CosimResult:
     """Co-simulate a scene with a fixed macro step.
 
     Parameters
@@ -184,19 +175,22 @@ def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algor
     scene : str, Path or CosimScene
         Scene name (``"traction_ramp"``), TOML path or loaded scene.
     master : str
-        ``"fmpy"`` (this module) or ``"libcosim"`` (``rollcontact_cosim.osp.run_cosimulation``, same arguments;
-        Jacobi only, so ``algorithm`` None means Jacobi there).
+        ``"fmpy"`` (this module) or ``"libcosim"`` (:func:`rollcontact_cosim.osp.run_osp`, same arguments; Jacobi
+        only, so ``algorithm`` None means Jacobi there).
     algorithm : str, optional
         ``"gauss-seidel"`` or ``"jacobi"``; the scene's when None.
     step_size, stop_time : float, optional
         Macro step H [s] and end time [s] replacing the scene's; ``(stop_time - start_time) / H`` must be whole.
     host, contact : dict, optional
-        Parameter values applied over the scene's ``[host]`` / ``[contact]`` tables (e.g. ``{"coupling": 0}``).
+        Parameter values applied over the scene's host and contact parameters (e.g. ``{"coupling": 0}``).
     fmu_dir : Path, optional
-        Folder with (or for) the FMUs; ``models/`` when None.  Missing or stale FMUs are built first.
-    fmi_version : int
+        Folder with (or for) the FMUs; ``models/`` when None.
+    fmi_version : int, optional
         2: the FMI 2.0 FMUs of ``fmu_dir``; 3: the FMI 3.0 FMUs of ``fmu_dir/fmi3`` (fmpy master only: libcosim
-        loads FMI 2.0 FMUs only).
+        loads FMI 2.0 FMUs only); the scene's when None.
+    build : bool
+        Build the FMUs first where they are missing or stale (:func:`~rollcontact_cosim.fmus.ensure_fmus`); False
+        where the caller did (the workers of a sweep).
 
     Returns
     -------
@@ -206,27 +200,28 @@ def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algor
     scene = load_cosim_scene(scene)
     if master not in MASTERS:
         raise ValueError(f"master = {master!r} is unknown: use one of {', '.join(MASTERS)}")
-    if check_fmi_version(fmi_version) == 3 and master == "libcosim":
-        raise ValueError("the libcosim master runs the FMI 2.0 FMUs only (libcosim cannot load FMI 3.0 FMUs): "
-                         "use the fmpy master for FMI 3.0")
     if master == "libcosim":  # Jacobi only, whatever the scene says
+        if fmi_version is not None and check_fmi_version(fmi_version) == 3:
+            raise ValueError("the libcosim master runs the FMI 2.0 FMUs only (libcosim cannot load FMI 3.0 FMUs): "
+                             "use the fmpy master for FMI 3.0")
         from rollcontact_cosim import osp
 
-        return osp.run_cosimulation(scene, algorithm=algorithm, step_size=step_size, stop_time=stop_time, host=host,
-                                    contact=contact, fmu_dir=fmu_dir)
+        return osp.run_osp(scene, step_size, algorithm=algorithm, stop_time=stop_time, host=host, contact=contact,
+                           fmu_dir=fmu_dir, build=build)
     algorithm = scene.algorithm if algorithm is None else check_algorithm(algorithm)
     step = scene.step_size if step_size is None else float(step_size)
     stop = scene.stop_time if stop_time is None else float(stop_time)
     steps = macro_steps(scene.start_time, stop, step)
-    host_values = {**scene.host_parameters(algorithm), **(host or {})}
-    contact_values = {**scene.contact_parameters(), **(contact or {})}
-    paths = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, fmi_version=fmi_version)
+    system = scene.system.variant(fmi_version)
+    start_values = {system.host.name: {**scene.host_parameters(algorithm), **(host or {})},
+                    system.contact.name: {**scene.contact_parameters(), **(contact or {})}}
+    fmu_dir = FMU_DIR if fmu_dir is None else fmu_dir
+    paths = ensure_fmus(fmu_dir, system=system) if build else system.fmus(fmu_dir)
     slaves = {}
     try:
-        for name in (HOST, CONTACT):
-            slaves[name] = Slave(paths[name], name)
-        slaves[HOST].set_start_values(host_values)
-        slaves[CONTACT].set_start_values(contact_values)
+        for instance in (system.host, system.contact):
+            slaves[instance.name] = Slave(paths[instance.name], instance.name)
+            slaves[instance.name].set_start_values(start_values[instance.name])
         for slave in slaves.values():
             slave.initialise(scene.start_time)
         return step_loop(scene, slaves, algorithm, step, steps)
@@ -235,18 +230,27 @@ def run_cosimulation(scene: str | Path | CosimScene, master: str = "fmpy", algor
             slave.free()
 
 
+def ensure_scene_fmus(scene: str | Path | CosimScene, master: str = "fmpy", fmu_dir: Path | str | None = None,
+                      fmi_version: int | None = None) -> dict[str, Path]:
+    """Build the FMUs that runs of ``scene`` through ``master`` take from ``fmu_dir`` (``models/`` when None) where
+    they are missing or stale, before runs with ``build=False`` (a sweep's workers); their paths by instance name.
+    libcosim takes the FMI 2.0 integer-codes build (:func:`rollcontact_cosim.osp.run_osp`)."""
+    variant = {"integer_codes": True, "fmi_version": 2} if master == "libcosim" else {"fmi_version": fmi_version}
+    return ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, system=load_cosim_scene(scene).system, **variant)
+
+
 def step_loop(scene: CosimScene, slaves: dict[str, Slave], algorithm: str, step: float, steps: int) -> CosimResult:
     """The macro-step loop of :func:`run_cosimulation` on initialised slaves."""
-    host, contact = slaves[HOST], slaves[CONTACT]
+    host, contact = slaves[scene.system.host.name], slaves[scene.system.contact.name]
     # per FMU one getReal of [connection sources..., recorded reals...] and one getInteger of recorded integers
-    wiring = {HOST: ([], []), CONTACT: ([], [])}  # instance -> (source vrs, target vrs of the other instance)
-    for source, target in CONNECTIONS:
+    wiring = {host.name: ([], []), contact.name: ([], [])}  # instance -> (source vrs, target vrs of the other)
+    for source, target in scene.system.connections:
         s_instance, s_name = source.split(".", 1)
         t_instance, t_name = target.split(".", 1)
         wiring[s_instance][0].append(slaves[s_instance].reference(s_name, "output"))
         wiring[s_instance][1].append(slaves[t_instance].reference(t_name, "input"))
-    reals = {HOST: list(wiring[HOST][0]), CONTACT: list(wiring[CONTACT][0])}
-    integers: dict[str, list[int]] = {HOST: [], CONTACT: []}
+    reals = {name: list(sources) for name, (sources, _) in wiring.items()}
+    integers: dict[str, list[int]] = {host.name: [], contact.name: []}
     columns = []  # (instance, is_integer, position in that read)
     for name in scene.outputs:
         instance, variable = name.split(".", 1)
@@ -256,38 +260,40 @@ def step_loop(scene: CosimScene, slaves: dict[str, Slave], algorithm: str, step:
         target = integers[instance] if integer else reals[instance]
         columns.append((instance, integer, len(target)))
         target.append(vr)
-    n_host = len(wiring[HOST][0])
-    n_contact = len(wiring[CONTACT][0])
+    n_host = len(wiring[host.name][0])
+    n_contact = len(wiring[contact.name][0])
+    to_contact, to_host = wiring[host.name][1], wiring[contact.name][1]
     rows = np.empty((steps + 1, 1 + len(columns)))
     t0 = scene.start_time
     jacobi = algorithm == "jacobi"
-    host_reals = host.fmu.getReal(reals[HOST])
-    host_integers = host.fmu.getInteger(integers[HOST]) if integers[HOST] else []
-    contact_sources = contact.fmu.getReal(wiring[CONTACT][0])  # start values: Jacobi's first host step
+    host_reals = host.fmu.getReal(reals[host.name])
+    host_integers = host.fmu.getInteger(integers[host.name]) if integers[host.name] else []
+    contact_sources = contact.fmu.getReal(wiring[contact.name][0])  # start values: Jacobi's first host step
     message, success, n, stepping, complete = "completed", True, 0, contact, 0
     start = time.perf_counter()
     try:
         for n in range(steps + 1):
             t = t0 + n * step
-            contact.fmu.setReal(wiring[HOST][1], host_reals[:n_host])
+            contact.fmu.setReal(to_contact, host_reals[:n_host])
             if jacobi:
-                host.fmu.setReal(wiring[CONTACT][1], contact_sources)
+                host.fmu.setReal(to_host, contact_sources)
             stepping = contact
             contact.fmu.doStep(t, step)
-            contact_reals = contact.fmu.getReal(reals[CONTACT])
-            contact_integers = contact.fmu.getInteger(integers[CONTACT]) if integers[CONTACT] else []
-            record(rows[n], t, columns, {HOST: (host_reals, host_integers), CONTACT: (contact_reals, contact_integers)})
+            contact_reals = contact.fmu.getReal(reals[contact.name])
+            contact_integers = contact.fmu.getInteger(integers[contact.name]) if integers[contact.name] else []
+            record(rows[n], t, columns, {host.name: (host_reals, host_integers),
+                                         contact.name: (contact_reals, contact_integers)})
             complete = n + 1
             if n == steps:
                 break
             contact_sources = contact_reals[:n_contact]
             if not jacobi:
-                host.fmu.setReal(wiring[CONTACT][1], contact_sources)
+                host.fmu.setReal(to_host, contact_sources)
             stepping = host
             host.fmu.doStep(t, step)
-            host_reals = host.fmu.getReal(reals[HOST])
-            if integers[HOST]:
-                host_integers = host.fmu.getInteger(integers[HOST])
+            host_reals = host.fmu.getReal(reals[host.name])
+            if integers[host.name]:
+                host_integers = host.fmu.getInteger(integers[host.name])
     except FMICallException as exc:
         success = False
         message = (f"{stepping.name}: {exc.function} failed with status {STATUS.get(exc.status, exc.status)} at "

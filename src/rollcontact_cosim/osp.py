@@ -1,17 +1,18 @@
-"""libcosim master (Open Simulation Platform, through ``libcosimpy``): WheelRig host + RollingContact2D contact.
+"""The libcosim master (Open Simulation Platform, through ``libcosimpy``), for every scene.
 
 :func:`run_osp` runs a scene (:mod:`rollcontact_cosim.scenes`) with libcosim's fixed-step algorithm and returns
-the fmpy master's :class:`~rollcontact_cosim.master.CosimResult` (``master = "libcosim"``, ``algorithm =
+the fmpy master's :class:`~rollcontact_cosim.fmus.CosimResult` (``master = "libcosim"``, ``algorithm =
 "jacobi"``); ``run_cosimulation(scene, master="libcosim")`` of :mod:`rollcontact_cosim.master` calls it.
 
 System
-    :data:`OSP_CONFIG` (``models/cosim/OspSystemStructure.xml``) holds both FMUs (sources relative to the file,
-    instance names = model names), the connections :data:`~rollcontact_cosim.scenes.CONNECTIONS` and the host's
-    ``force_lag = 1``.  libcosimpy takes the step size and the start time only from such a file (it creates the
-    execution without a start time of its own), so each run loads a copy with the run's ``BaseStepSize`` and
-    ``StartTime`` and absolute FMU paths, written to a temporary folder.  The parameters are set with
-    ``CosimExecution.*_initial_value`` (typed by the FMU's variable) before the first step, when libcosim applies
-    start values.
+    :func:`system_structure` writes the scene's system as an ``OspSystemStructure.xml``: both FMUs of the
+    integer-codes build (libcosim lists no FMI enumeration variables) by their absolute paths under their instance
+    names, every connection of the description, the run's ``BaseStepSize`` and ``StartTime`` (libcosimpy takes
+    the step size and the start time only from such a file).  Each run loads one written to a temporary folder.
+    The parameters are set with ``CosimExecution.*_initial_value`` (typed by the FMU's variable) before the first
+    step, when libcosim applies start values; the host's ``force_lag`` is 1 (Jacobi).
+    ``models/cosim/OspSystemStructure.xml`` is the wheel rig's system for libcosim's own tools (sources relative to
+    that folder, ``force_lag = 1`` as an initial value).
 Algorithm
     Jacobi only: per macro step libcosim steps every FMU from the inputs transferred after the previous step, then
     transfers every connection (it also propagates values in initialisation mode, as many rounds as there are
@@ -48,20 +49,12 @@ from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
 from libcosimpy.CosimObserver import CosimObserver
 
 from rollcontact_cosim.fmus import FMU_DIR, CosimResult, ensure_fmus
-from rollcontact_cosim.scenes import (
-    CONTACT,
-    COSIM_DIR,
-    HOST,
-    CosimScene,
-    check_algorithm,
-    load_cosim_scene,
-    macro_steps,
-)
+from rollcontact_cosim.scenes import COSIM_DIR, CosimScene, System, check_algorithm, load_cosim_scene, macro_steps
 
-__all__ = ["OSP_CONFIG", "run_cosimulation", "run_osp"]
+__all__ = ["OSP_CONFIG", "run_osp", "system_structure"]
 
 OSP_CONFIG = COSIM_DIR / "OspSystemStructure.xml"
-"""The libcosim system structure of both FMUs (a template for :func:`run_osp`)."""
+"""The wheel rig's system for libcosim's own tools (:func:`system_structure` of the wheel rig scenes)."""
 NAMESPACE = "http://opensimulationplatform.com/MSMI/OSPSystemStructure"
 NS_PER_S = 1_000_000_000
 INITIAL_VALUE = {  # FMU variable type -> CosimExecution setter, Python type
@@ -74,7 +67,8 @@ INITIAL_VALUE = {  # FMU variable type -> CosimExecution setter, Python type
 
 def run_osp(scene: str | Path | CosimScene, step_size: float | None = None, *, algorithm: str | None = None,
             stop_time: float | None = None, host: dict | None = None, contact: dict | None = None,
-            fmu_dir: Path | str | None = None, log_level: CosimLogLevel = CosimLogLevel.WARNING) -> CosimResult:
+            fmu_dir: Path | str | None = None, build: bool = True,
+            log_level: CosimLogLevel = CosimLogLevel.WARNING) -> CosimResult:
     """Co-simulate a scene with libcosim's fixed-step (Jacobi) algorithm.
 
     Parameters
@@ -89,7 +83,9 @@ def run_osp(scene: str | Path | CosimScene, step_size: float | None = None, *, a
         Parameter values applied over :meth:`CosimScene.host_parameters` for Jacobi (``force_lag = 1``) and
         :meth:`CosimScene.contact_parameters`.
     fmu_dir : Path, optional
-        Folder with (or for) the FMUs; ``models/`` when None.  Missing or stale FMUs are built first.
+        Folder whose ``integer_codes/`` folder holds (or gets) the FMUs; ``models/`` when None.
+    build : bool
+        Build the FMUs first where they are missing or stale; False where the caller did.
     log_level : CosimLogLevel
         libcosim's log level, set for the whole process.
 
@@ -119,49 +115,54 @@ def run_osp(scene: str | Path | CosimScene, step_size: float | None = None, *, a
     step_ns = round(step * NS_PER_S)
     if abs(step * NS_PER_S - step_ns) > 1e-6 * step_ns:
         raise ValueError(f"step_size = {step!r} s is not a whole number of nanoseconds (libcosim's time unit)")
-    start_values = {HOST: {**scene.host_parameters("jacobi"), **(host or {})},
-                    CONTACT: {**scene.contact_parameters(), **(contact or {})}}
-    # libcosim lists no FMI enumeration variables: it runs the build with integer codes
-    fmus = ensure_fmus(FMU_DIR if fmu_dir is None else fmu_dir, integer_codes=True)
+    system = scene.system.variant(fmi_version=2, integer_codes=True)  # libcosim lists no FMI enumerations
+    start_values = {system.host.name: {**scene.host_parameters("jacobi"), **(host or {})},
+                    system.contact.name: {**scene.contact_parameters(), **(contact or {})}}
+    fmu_dir = FMU_DIR if fmu_dir is None else fmu_dir
+    fmus = ensure_fmus(fmu_dir, system=system) if build else system.fmus(fmu_dir)
     log_output_level(log_level)
     with tempfile.TemporaryDirectory(prefix="rollcontact_osp_") as folder:
-        config = write_config(Path(folder) / "OspSystemStructure.xml", scene.start_time, step, fmus)
+        config = Path(folder) / "OspSystemStructure.xml"
+        system_structure(system, {name: path.resolve().as_uri() for name, path in fmus.items()}, scene.start_time,
+                         step).write(config, encoding="utf-8", xml_declaration=True)
         try:
             execution = CosimExecution.from_osp_config_file(str(config))
         except AssertionError as exc:  # libcosimpy's way of reporting a failed load
-            raise RuntimeError(f"libcosim cannot load {OSP_CONFIG} (as {config}): {exc}") from None
+            raise RuntimeError(f"libcosim cannot load the system of {scene.name} (FMUs {fmus}): {exc}") from None
     try:
         return simulate(execution, scene, start_values, step, step_ns, steps)
     finally:
         del execution  # frees the FMU instances and libcosim's worker threads now, not at garbage collection
 
 
-def run_cosimulation(scene: str | Path | CosimScene, *, algorithm: str | None = None, step_size: float | None = None,
-                     stop_time: float | None = None, host: dict | None = None, contact: dict | None = None,
-                     fmu_dir: Path | str | None = None) -> CosimResult:
-    """:func:`run_osp` with the keywords of :func:`rollcontact_cosim.master.run_cosimulation` (its libcosim branch)."""
-    return run_osp(scene, step_size, algorithm=algorithm, stop_time=stop_time, host=host, contact=contact,
-                   fmu_dir=fmu_dir)
-
-
-def write_config(path: Path, start_time: float, step: float, fmus: dict[str, Path]) -> Path:
-    """:data:`OSP_CONFIG` with ``StartTime``, ``BaseStepSize`` and absolute FMU sources (``fmus``), as ``path``."""
+def system_structure(system: System, sources: dict[str, str], start_time: float, step: float,
+                     initial_values: dict[str, dict[str, int]] | None = None) -> ET.ElementTree:
+    """The ``OspSystemStructure.xml`` of ``system``: its instances with their FMUs' ``sources`` (instance name ->
+    URI or path relative to the file), every connection, ``StartTime`` ``start_time`` [s], ``BaseStepSize`` ``step``
+    [s], libcosim's fixed-step algorithm, and Integer ``initial_values`` (instance -> variable -> value)."""
     ET.register_namespace("", NAMESPACE)
-    tree = ET.parse(OSP_CONFIG)
-    root = tree.getroot()
-    for tag, value in (("StartTime", start_time), ("BaseStepSize", step)):
-        element = root.find(f"{{{NAMESPACE}}}{tag}")
-        if element is None:
-            raise RuntimeError(f"{OSP_CONFIG} has no {tag} element")
-        element.text = repr(float(value))
-    simulators = root.findall(f"{{{NAMESPACE}}}Simulators/{{{NAMESPACE}}}Simulator")
-    names = sorted(s.get("name") for s in simulators)
-    if names != sorted(fmus):
-        raise RuntimeError(f"{OSP_CONFIG} has the simulators {names}, expected {sorted(fmus)}")
-    for simulator in simulators:
-        simulator.set("source", Path(fmus[simulator.get("name")]).resolve().as_uri())
-    tree.write(path, encoding="utf-8", xml_declaration=True)
-    return path
+    root = ET.Element(f"{{{NAMESPACE}}}OspSystemStructure", version="0.1")
+    for tag, text in (("StartTime", repr(float(start_time))), ("BaseStepSize", repr(float(step))),
+                      ("Algorithm", "fixedStep")):
+        ET.SubElement(root, f"{{{NAMESPACE}}}{tag}").text = text
+    simulators = ET.SubElement(root, f"{{{NAMESPACE}}}Simulators")
+    for instance in (system.host, system.contact):
+        simulator = ET.SubElement(simulators, f"{{{NAMESPACE}}}Simulator", name=instance.name,
+                                  source=sources[instance.name])
+        values = (initial_values or {}).get(instance.name, {})
+        if values:
+            initial = ET.SubElement(simulator, f"{{{NAMESPACE}}}InitialValues")
+            for variable, value in values.items():
+                element = ET.SubElement(initial, f"{{{NAMESPACE}}}InitialValue", variable=variable)
+                ET.SubElement(element, f"{{{NAMESPACE}}}Integer", value=str(int(value)))
+    connections = ET.SubElement(root, f"{{{NAMESPACE}}}Connections")
+    for link in system.connections:
+        connection = ET.SubElement(connections, f"{{{NAMESPACE}}}VariableConnection")
+        for end in link:
+            instance, variable = end.split(".", 1)
+            ET.SubElement(connection, f"{{{NAMESPACE}}}Variable", simulator=instance, name=variable)
+    ET.indent(root, space="    ")
+    return ET.ElementTree(root)
 
 
 def set_start_values(execution: CosimExecution, start_values: dict[str, dict]) -> tuple[dict, dict]:
@@ -208,7 +209,7 @@ def simulate(execution: CosimExecution, scene: CosimScene, start_values: dict[st
     values = np.empty(rows, dtype=[("time", float)] + [(output, float) for output in scene.outputs])
     values["time"] = scene.start_time + np.arange(rows) * step  # as the fmpy master
     for output, name, v in recorded:
-        shift = 1 if name == CONTACT else 0
+        shift = 1 if name == scene.system.contact.name else 0
         values[output] = samples(observer, index[name], v, rows + shift)[shift:]
     return CosimResult(scene.name, "libcosim", "jacobi", step, values, steps if success else rows, wall, success,
                        message)

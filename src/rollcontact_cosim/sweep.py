@@ -31,8 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from rollcontact_cosim.cli import Progress, run
-from rollcontact_cosim.master import MASTERS, ensure_fmus, run_cosimulation, summarise
-from rollcontact_cosim.scenes import SCENE_NAMES, load_cosim_scene
+from rollcontact_cosim.master import MASTERS, ensure_scene_fmus, run_cosimulation, summarise
+from rollcontact_cosim.scenes import SCENE_NAMES
 
 __all__ = ["Case", "CaseResult", "run_case", "run_regression", "run_sweep"]
 
@@ -92,11 +92,12 @@ class CaseResult:
 
 
 def run_case(case: Case) -> CaseResult:
-    """Run one case (in a worker); exceptions become an unsuccessful :class:`CaseResult` naming them."""
+    """Run one case (in a worker, its FMUs built already); exceptions become an unsuccessful :class:`CaseResult`
+    naming them."""
     try:
         result = run_cosimulation(case.scene, master=case.master, algorithm=case.algorithm,
                                   step_size=case.step_size, stop_time=case.stop_time, host=dict(case.host),
-                                  contact=dict(case.contact))
+                                  contact=dict(case.contact), build=False)
     except Exception as exc:  # noqa: BLE001 - one bad case must not lose the sweep's other results
         return CaseResult(case, False, f"{type(exc).__name__}: {exc}", {})
     return CaseResult(case, result.success, result.message, summarise(result),
@@ -104,11 +105,12 @@ def run_case(case: Case) -> CaseResult:
 
 
 def check_case(scene: str, master: str) -> tuple[str, str, list[str]]:
-    """``(scene, master, problems)`` of one scene's run against its reference (in a worker)."""
+    """``(scene, master, problems)`` of one scene's run against its reference (in a worker, its FMUs built
+    already)."""
     from rollcontact_cosim.reference import check
 
     try:
-        return scene, master, check(scene, master=master)
+        return scene, master, check(scene, master=master, build=False)
     except Exception as exc:  # noqa: BLE001 - reported as the case's problem
         return scene, master, [f"{type(exc).__name__}: {exc}"]
 
@@ -127,25 +129,26 @@ def run_sweep(cases: Iterable[Case], *, client=None, scheduler: str | None = Non
     n_workers : int
         Worker processes of the local cluster started when neither is given (one thread each).
     """
+    cases = list(cases)
+    for scene, master in dict.fromkeys((case.scene, case.master) for case in cases):
+        ensure_scene_fmus(scene, master)
     return submit(run_case, [(case,) for case in cases], client, scheduler, n_workers)
 
 
 def run_regression(scenes: Iterable[str] = SCENE_NAMES, masters: Iterable[str] = MASTERS, *, client=None,
                    scheduler: str | None = None, n_workers: int = 2) -> list[tuple[str, str, list[str]]]:
     """Every scene with every master against its reference result: ``(scene, master, problems)`` per pair."""
-    for scene in scenes:
-        load_cosim_scene(scene)  # a misspelt scene fails here, not in a worker
-    return submit(check_case, list(itertools.product(scenes, masters)), client, scheduler, n_workers)
+    pairs = list(itertools.product(scenes, masters))
+    for scene, master in pairs:
+        ensure_scene_fmus(scene, master)  # a misspelt scene fails here, not in a worker
+    return submit(check_case, pairs, client, scheduler, n_workers)
 
 
-def submit(function, arguments: list[tuple], client, scheduler: str | None, n_workers: int, *,
-           fmus: bool = True) -> list:
-    """``function(*args)`` for each tuple of ``arguments`` on the given, addressed or a new local cluster; the FMUs
-    are built first unless ``fmus`` is False (tasks that run no FMU, such as the in-process wheelset runs)."""
+def submit(function, arguments: list[tuple], client, scheduler: str | None, n_workers: int) -> list:
+    """``function(*args)`` for each tuple of ``arguments`` on the given, addressed or a new local cluster (the
+    callers build the FMUs the tasks need before: workers never build)."""
     from dask.distributed import Client
 
-    if fmus:
-        ensure_fmus()
     if client is not None:
         return gather(client, function, arguments)
     if scheduler is not None:

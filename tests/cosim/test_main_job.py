@@ -1,5 +1,5 @@
 """The main job's command line and figure: help that reads as text, a figure whose title names the friction law and
-its values, axes that say what they show (the CSV of a run is tested with the FMUs in test_cosim.py)."""
+its values, axes that say what they show, the summary and the run as CSV with its units."""
 
 from __future__ import annotations
 
@@ -16,10 +16,12 @@ from rollcontact.core.materials import Material
 from rollcontact.line.carter import carter
 from rollcontact.line.hertz import hertz
 from rollcontact_cosim.__main__ import figure, friction_title
+from rollcontact_cosim.__main__ import main as main_job
 from rollcontact_cosim.master import CosimResult
-from rollcontact_cosim.scenes import load_cosim_scene
+from rollcontact_cosim.scenes import CONTACT, HOST, load_cosim_scene
 
 ROOT = Path(__file__).resolve().parents[2]
+CREEP, FORCE = f"{HOST}.creep", f"{CONTACT}.tangential_force"
 REST = re.compile(r"``|:(func|class|meth|mod|data|attr|ref):`")
 
 
@@ -108,3 +110,31 @@ def test_the_linear_curve_shows_the_start_and_the_peak_of_a_long_run():
         assert log.get_xlim()[1] >= np.max(np.abs(creep)), "the log panel shows the whole run"
     finally:
         plt.close(fig)
+
+
+def test_main_job_prints_the_summary_and_writes_the_plot(fmu_dir, tmp_path, capsys):
+    png = tmp_path / "carter.png"
+    assert main_job(["carter_sanity", "--plot", str(png), "--fmu-dir", str(fmu_dir)]) == 0, "main job failed"
+    out = capsys.readouterr().out
+    assert "peak adhesion T/N = 0.15" in out and "500 macro steps" in out and "us per step" in out, out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", "the plot must be a PNG"
+
+
+def test_main_job_writes_the_run_as_csv_with_units(fmu_dir, run, tmp_path, capsys):
+    import csv
+
+    path = tmp_path / "carter.csv"
+    assert main_job(["carter_sanity", "--plot", str(tmp_path / "c.png"), "--csv", str(path),
+                     "--fmu-dir", str(fmu_dir)]) == 0, "main job failed"
+    assert f"csv: {path}" in capsys.readouterr().out
+    with open(path, newline="") as fh:
+        header, *rows = list(csv.reader(fh))
+    expected = run("carter_sanity").values
+    names = expected.dtype.names
+    assert header[0] == "time [s]" and f"{FORCE} [N]" in header and f"{CREEP} [1]" in header and \
+        f"{HOST}.velocity [m/s]" in header and f"{CONTACT}.contact_half_width [m]" in header, header
+    assert [h.split(" [")[0] for h in header] == list(names), "one column per recorded variable, in order"
+    table = np.genfromtxt(path, delimiter=",", skip_header=1)
+    assert table.shape == (expected.size, len(names)) and len(rows) == expected.size
+    for j, name in enumerate(names):
+        assert np.array_equal(table[:, j], expected[name]), f"{name}: the CSV holds other values than the run"

@@ -1,4 +1,6 @@
-"""The libcosim master (rollcontact_cosim.osp) against the fmpy master and the reference results, every scene.
+"""The libcosim master (rollcontact_cosim.osp): the system structure it writes from a scene's description, and its
+runs against the fmpy master and the reference results, every wheel rig scene (the wheelset's in
+``wheelset/test_cosim.py``).
 
 Both masters run the same FMUs in this process with the same Jacobi algorithm and macro step and record the same
 rows (libcosim's observer samples the contact one step later; osp shifts it back).  They make the same FMU calls
@@ -21,41 +23,42 @@ import pytest
 
 pytest.importorskip("libcosimpy", reason="libcosimpy is not installed (pip install -e '.[test]' installs it)")
 
-from rollcontact_cosim.master import FMU_DIR, ensure_fmus, run_cosimulation  # noqa: E402
-from rollcontact_cosim.osp import NAMESPACE, OSP_CONFIG, run_osp  # noqa: E402
+from rollcontact_cosim.master import run_cosimulation  # noqa: E402
+from rollcontact_cosim.osp import NAMESPACE, OSP_CONFIG, run_osp, system_structure  # noqa: E402
 from rollcontact_cosim.reference import compare, read_reference  # noqa: E402
-from rollcontact_cosim.scenes import CONNECTIONS, CONTACT, HOST, SCENE_NAMES, load_cosim_scene  # noqa: E402
+from rollcontact_cosim.scenes import CONTACT, HOST, SCENE_NAMES, WHEEL_RIG, load_cosim_scene  # noqa: E402
 
 MASTER_RTOL = 1e-7
 """Largest libcosim - fmpy difference of a recorded variable over its range (module docstring)."""
 
 
-@pytest.fixture(scope="module")
-def fmus():
-    """Both FMUs in models/, built when missing or stale (where OspSystemStructure.xml points)."""
-    return ensure_fmus()
-
-
 @pytest.fixture(scope="module", params=SCENE_NAMES)
-def runs(request, fmus):
+def runs(request, fmu_dir, run):
     """(scene, libcosim result, fmpy Jacobi result) of one scene, run once for the module."""
     scene = load_cosim_scene(request.param)
-    return scene, run_osp(scene), run_cosimulation(scene, algorithm="jacobi")
+    return scene, run_osp(scene, fmu_dir=fmu_dir), run(request.param, algorithm="jacobi")
 
 
-def test_config_is_the_scenes_system():
-    """OspSystemStructure.xml: both FMUs of models/ under their instance names, CONNECTIONS, force_lag = 1."""
+def test_the_static_system_structure_is_the_wheel_rig_description():
+    """models/cosim/OspSystemStructure.xml (for libcosim's own tools) is what system_structure writes of the wheel
+    rig's description: both FMUs of models/ under their instance names, every connection, force_lag = 1."""
+    written = system_structure(WHEEL_RIG, {name: f"../{name}.fmu" for name in (HOST, CONTACT)}, 0.0, 1e-3,
+                               {HOST: {"force_lag": 1}})
+    assert ET.canonicalize(ET.tostring(written.getroot()), strip_text=True) == \
+        ET.canonicalize(from_file=str(OSP_CONFIG), strip_text=True), f"{OSP_CONFIG} is not the description's"
+
+
+def test_the_system_structure_holds_every_connection_of_the_description():
+    system = load_cosim_scene("wheelset_hunting").system
+    root = system_structure(system, {"Wheelset": "file:///a/Wheelset.fmu",
+                                     "RollingContact3D": "file:///a/RollingContact3D_2.fmu"}, 0.0, 2e-3).getroot()
     ns = {"osp": NAMESPACE}
-    root = ET.parse(OSP_CONFIG).getroot()
-    sources = {s.get("name"): (OSP_CONFIG.parent / s.get("source")).resolve()
-               for s in root.findall("osp:Simulators/osp:Simulator", ns)}
-    assert sources == {name: (FMU_DIR / f"{name}.fmu").resolve() for name in (HOST, CONTACT)}, sources
-    connections = {tuple(f"{v.get('simulator')}.{v.get('name')}" for v in c.findall("osp:Variable", ns))
-                   for c in root.findall("osp:Connections/osp:VariableConnection", ns)}
-    assert connections == set(CONNECTIONS), connections ^ set(CONNECTIONS)
-    lag = root.findall(f"osp:Simulators/osp:Simulator[@name='{HOST}']/osp:InitialValues/"
-                       "osp:InitialValue[@variable='force_lag']/osp:Integer", ns)
-    assert [e.get("value") for e in lag] == ["1"], "the host needs force_lag = 1 under libcosim's Jacobi stepping"
+    assert root.find("osp:BaseStepSize", ns).text == "0.002" and root.find("osp:Algorithm", ns).text == "fixedStep"
+    sources = {s.get("name"): s.get("source") for s in root.findall("osp:Simulators/osp:Simulator", ns)}
+    assert sources == {"Wheelset": "file:///a/Wheelset.fmu", "RollingContact3D": "file:///a/RollingContact3D_2.fmu"}
+    connections = [tuple(f"{v.get('simulator')}.{v.get('name')}" for v in c.findall("osp:Variable", ns))
+                   for c in root.findall("osp:Connections/osp:VariableConnection", ns)]
+    assert connections == list(system.connections), "every connection, the Jacobians' too, in the description's order"
 
 
 def test_libcosim_equals_fmpy_jacobi(runs):
@@ -82,21 +85,21 @@ def test_libcosim_within_reference_band(runs):
                          f"{header.get('algorithm')}): {problems}"
 
 
-def test_parameter_overrides_reach_the_fmus(fmus):
+def test_parameter_overrides_reach_the_fmus(fmu_dir):
     """``host``/``contact`` override the scene's parameters in both masters alike (short run, through the
     dispatcher of rollcontact_cosim.master)."""
     options = dict(stop_time=0.02, host={"static_load": 50e3}, contact={"friction_coefficient": 0.25})
-    osp = run_cosimulation("carter_sanity", master="libcosim", **options)
-    fmpy = run_cosimulation("carter_sanity", algorithm="jacobi", **options)
+    osp = run_cosimulation("carter_sanity", master="libcosim", fmu_dir=fmu_dir, **options)
+    fmpy = run_cosimulation("carter_sanity", algorithm="jacobi", fmu_dir=fmu_dir, **options)
     assert osp.success and osp.master == "libcosim", osp.message
     np.testing.assert_array_equal(osp.values[f"{HOST}.normal_load"], 50e3)
     np.testing.assert_allclose(osp.values[f"{CONTACT}.tangential_force"], fmpy.values[f"{CONTACT}.tangential_force"],
                                rtol=MASTER_RTOL)
 
 
-def test_refused_step_is_reported(fmus):
+def test_refused_step_is_reported(fmu_dir):
     """A Discard ends the run with success False, the instance named and only complete rows."""
-    result = run_osp("carter_sanity", stop_time=0.01, contact={"friction_coefficient": -1.0})
+    result = run_osp("carter_sanity", stop_time=0.01, contact={"friction_coefficient": -1.0}, fmu_dir=fmu_dir)
     assert not result.success
     assert f"{CONTACT}: Step not complete" in result.message, result.message
     assert result.steps == 0 and result.values.size == 0, (result.steps, result.values)

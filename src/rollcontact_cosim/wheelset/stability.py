@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from rollcontact_cosim.wheelset import KalkerLinearLaw, WheelsetError, WheelsetParameters
+from rollcontact_cosim.wheelset.model import KalkerLinearLaw, WheelsetError, WheelsetParameters
 
 __all__ = ["critical_speed", "eigenvalues", "kinematic_frequency", "klingel_wavelength", "least_damped", "linearised",
            "state_matrix"]

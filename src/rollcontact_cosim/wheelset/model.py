@@ -43,7 +43,7 @@ With ``F_(x,y), M_z`` the forces and moment on the rail of each contact (wheel a
 (the moment of ``-F`` at ``+/- e n`` about the centre is ``+/- e Fx``).  Linearised with the linear law this is
 Wickens' wheelset: ``m y'' + (2 f22/V) y' - 2 f22 psi + (2 f23/V) psi' + k_y y = 0`` and
 ``I psi'' + (2 e^2 f11/V + 2 f33/V) psi' + (2 e f11 lambda/r0) y - (2 f23/V) y' + 2 f23 psi + k_psi psi = 0``
-(:func:`rollcontact_cosim.wheelset_stability.state_matrix`).  Gravitational stiffness is not modelled: with cones
+(:func:`rollcontact_cosim.wheelset.stability.state_matrix`).  Gravitational stiffness is not modelled: with cones
 on knife-edge rails the contact angles do not change with y, so the lateral components of the normal loads
 cancel (no lateral gravitational stiffness); the yaw gravitational stiffness of profiled wheels is neglected.
 The normal load N per wheel is constant.
@@ -70,33 +70,30 @@ from dataclasses import dataclass
 from typing import NamedTuple, Protocol
 
 import numpy as np
-from scipy.special import ellipe, ellipk
 
-__all__ = ["CONNECTIONS", "CONTACT", "HOST", "ContactForces", "CreepForceLaw", "KalkerLinearLaw",
+from rollcontact import Material, creepage_coefficients, hertz_ellipse
+
+__all__ = ["INPUT_NAMES", "OUTPUT_NAMES", "ContactForces", "CreepForceLaw", "KalkerLinearLaw",
            "SaturatedKalkerLaw", "WheelsetError", "WheelsetModel", "WheelsetParameters", "WheelsetState",
-           "creepage_jacobian", "creepages", "hertz_semi_axes", "kalker_coefficients", "linear_law", "simulate"]
+           "creepage_jacobian", "creepages", "linear_law", "simulate"]
 
-HOST, CONTACT = "Wheelset", "RollingContact3D"
-"""Instance (= model) names of the hunting scene's FMUs: this host and a contact FMU with two contacts."""
-CONNECTIONS = tuple(
-    [(f"{HOST}.{name}[{k}]", f"{CONTACT}.{name}[{k}]") for k in (1, 2)
-     for name in ("normal_load", "longitudinal_creep", "lateral_creep", "spin", "velocity")]
-    + [(f"{CONTACT}.{name}[{k}]", f"{HOST}.{name}[{k}]") for k in (1, 2)
-       for name in ("longitudinal_force", "lateral_force", "spin_moment")])
-"""(source output, target input) of the hunting scene: contact k = 1 left, 2 right, the same names on both sides
-(the host FMU declares the contact FMU's).  The host's Jacobian inputs ``dFx_dxi[k]`` ... ``dMz_dphi[k]`` take the
-contact's Jacobian outputs, whose names the contact FMU declares; unconnected they stay 0 (forces held over the
-step).  Both contacts use the same axes (x rolling direction, y to the left, z up): the right contact is not
-mirrored."""
-
-KALKER_ASPECT_RATIOS = (0.1, 0.5, 1.0, 2.0, 10.0)
-KALKER_POISSON_RATIOS = (0.0, 0.25, 0.5)
-KALKER_TABLE = {  # Kalker 1990, Table E.3 (rows a/b, columns nu = 0, 0.25, 0.5)
-    "C11": ((2.51, 3.31, 4.85), (2.88, 3.62, 4.83), (3.40, 4.12, 5.20), (4.37, 5.10, 6.11), (10.7, 11.7, 12.9)),
-    "C22": ((2.51, 2.52, 2.53), (2.88, 3.01, 3.14), (3.40, 3.67, 3.98), (4.37, 4.90, 5.56), (10.7, 12.8, 16.0)),
-    "C23": ((0.334, 0.473, 0.731), (0.827, 0.929, 1.07), (1.33, 1.47, 1.63), (2.35, 2.62, 2.96),
-            (12.2, 14.6, 18.0)),
-}
+CONTACTS = (1, 2)
+"""The contacts' numbers in the host's variable names: ``name[1]`` the left wheel, ``name[2]`` the right one."""
+CONTACT_OUTPUTS = ("normal_load", "longitudinal_creep", "lateral_creep", "spin", "velocity")
+"""Per contact, the outputs the contact FMU takes as inputs of the same names: N [N], xi, eta [1], phi [1/m], V
+[m/s] (:meth:`WheelsetModel.outputs`)."""
+STATES = ("lateral_displacement", "yaw_angle", "lateral_velocity", "yaw_rate")
+"""The state outputs y [m], psi [rad], y' [m/s], psi' [rad/s], after the contacts' outputs."""
+FORCES = ("longitudinal_force", "lateral_force", "spin_moment")
+"""Per contact, the inputs Fx, Fy [N], Mz [N m] on the rail (wheel axes), the contact FMU's outputs of those names."""
+JACOBIAN = tuple(f"d{force}_d{symbol}" for force in ("Fx", "Fy", "Mz") for symbol in ("xi", "eta", "phi"))
+"""Per contact, the inputs ``dFx_dxi`` ... ``dMz_dphi``: ``d(Fx, Fy, Mz)/d(xi, eta, phi)`` row-major, the contact
+FMU's Jacobian outputs of those names (0: the forces held over the step)."""
+OUTPUT_NAMES = (*(f"{name}[{k}]" for k in CONTACTS for name in CONTACT_OUTPUTS), *STATES)
+"""The host FMU's outputs, in :meth:`WheelsetModel.outputs`' order."""
+INPUT_NAMES = tuple(f"{name}[{k}]" for k in CONTACTS for name in FORCES + JACOBIAN)
+"""The host FMU's inputs: per contact the forces, then the Jacobian.  Both contacts use the same axes (x rolling
+direction, y to the left, z up): the right contact is not mirrored."""
 
 
 class WheelsetError(ValueError):
@@ -120,64 +117,6 @@ class CreepForceLaw(Protocol):
     def __call__(self, normal_load: float, xi: float, eta: float, phi: float, velocity: float) -> ContactForces: ...
 
     def jacobian(self, normal_load: float, xi: float, eta: float, phi: float, velocity: float) -> np.ndarray: ...
-
-
-# contact geometry and Kalker's coefficients (one place; the elliptic package offers the same) ------------------
-def hertz_semi_axes(normal_load: float, longitudinal_curvature: float, lateral_curvature: float,
-                    contact_modulus: float) -> tuple[float, float]:
-    """Semi-axes (a along x, b along y) [m] of Hertz's ellipse of the gap ``A x^2 + B y^2`` under ``normal_load``.
-
-    With ``e^2 = 1 - (b/a)^2`` for ``a >= b`` (A <= B), K and E the complete elliptic integrals of the parameter
-    ``m = e^2`` (Johnson, Contact Mechanics, 1985, section 4.2)::
-
-        B / A = ((a/b)^2 E - K) / (K - E),       a^3 = 3 N (K - E) / (2 pi E* m A),       b = a sqrt(1 - m)
-
-    and A = B gives the sphere ``a = b = (3 N R / (4 E*))^(1/3)``, ``R = 1 / (2 A)``, used with
-    ``R = 1 / (2 sqrt(A B))`` for ``B/A - 1 < 1e-6`` (where ``a/b - 1 ~ (B/A - 1) / 2`` < 1e-6 and ``K - E`` loses
-    its digits).  ``A > B`` swaps the axes.
-    ``contact_modulus`` is E* [Pa] (``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``), the curvatures are [1/m].
-    """
-    from scipy.optimize import brentq
-
-    for name, value in (("normal_load", normal_load), ("longitudinal_curvature", longitudinal_curvature),
-                        ("lateral_curvature", lateral_curvature), ("contact_modulus", contact_modulus)):
-        if not (math.isfinite(value) and value > 0.0):
-            raise WheelsetError(f"{name} = {value!r} is out of range: it must be finite and > 0")
-    small, large = sorted((longitudinal_curvature, lateral_curvature))
-    ratio = large / small
-    if ratio - 1.0 < 1e-6:
-        radius = 0.5 / math.sqrt(small * large)
-        a = (3.0 * normal_load * radius / (4.0 * contact_modulus)) ** (1.0 / 3.0)
-        return a, a
-
-    def mismatch(m):
-        k, e = ellipk(m), ellipe(m)
-        return (e / (1.0 - m) - k) / (k - e) - ratio
-
-    m = brentq(mismatch, 1e-7, 1.0 - 1e-15, xtol=1e-16, rtol=1e-15)
-    k, e = ellipk(m), ellipe(m)
-    major = (3.0 * normal_load * (k - e) / (2.0 * math.pi * contact_modulus * m * small)) ** (1.0 / 3.0)
-    minor = major * math.sqrt(1.0 - m)
-    return (major, minor) if longitudinal_curvature <= lateral_curvature else (minor, major)
-
-
-def kalker_coefficients(aspect_ratio: float, poisson_ratio: float) -> tuple[float, float, float]:
-    """Kalker's C11, C22, C23 [1] at ``a/b = aspect_ratio`` from Kalker's Table E.3 (Kalker 1990).
-
-    ``poisson_ratio`` must be a column of the table (0, 0.25, 0.5); between rows, log C is interpolated linearly
-    in log(a/b) (exact at the rows a/b = 0.1, 0.5, 1, 2, 10).
-    """
-    if poisson_ratio not in KALKER_POISSON_RATIOS:
-        raise WheelsetError(f"poisson_ratio = {poisson_ratio!r} is not a column of Kalker's table "
-                            f"{KALKER_POISSON_RATIOS}")
-    low, high = KALKER_ASPECT_RATIOS[0], KALKER_ASPECT_RATIOS[-1]
-    if not (low <= aspect_ratio <= high):
-        raise WheelsetError(f"aspect ratio a/b = {aspect_ratio!r} is outside Kalker's table [{low}, {high}]")
-    column = KALKER_POISSON_RATIOS.index(poisson_ratio)
-    log_rows = np.log(KALKER_ASPECT_RATIOS)
-    return tuple(float(np.exp(np.interp(math.log(aspect_ratio), log_rows,
-                                        np.log([row[column] for row in KALKER_TABLE[name]]))))
-                 for name in ("C11", "C22", "C23"))
 
 
 # creep-force laws -----------------------------------------------------------------------------------------------
@@ -216,7 +155,7 @@ class SaturatedKalkerLaw:
     With ``F_lin = (f11 xi, f22 eta + f23 phi)``, ``u = |F_lin| / (mu N)`` the tangential force is scaled by
     ``g(u) / u`` with ``g(u) = u - u^2/3 + u^3/27`` for ``u < 3`` and ``g = 1`` beyond; the spin moment by the
     same factor.  Its Jacobian at zero creepage is the linear law's, so it serves as the nonlinear right-hand side
-    whose linearisation :mod:`rollcontact_cosim.wheelset_stability` must reproduce.  With spin terms (f23 > 0)
+    whose linearisation :mod:`rollcontact_cosim.wheelset.stability` must reproduce.  With spin terms (f23 > 0)
     the conicity's spin ``-/+ delta0 / r0`` loads each contact laterally in the centred state and the saturation
     lowers the slopes there: the linear analysis with Kalker's coefficients then describes the law only without
     spin.
@@ -346,21 +285,28 @@ class WheelsetParameters:
 def linear_law(parameters: WheelsetParameters | None = None, *, youngs_modulus: float = 210e9,
                poisson_ratio: float = 0.25, rail_profile_radius: float | None = None,
                spin: bool = False) -> KalkerLinearLaw:
-    """Kalker's linear law of one contact of the wheelset: Hertz's ellipse and Kalker's table.
+    """Kalker's linear law of one contact of the wheelset, with the library's Hertz ellipse
+    (:func:`rollcontact.hertz_ellipse`) and creepage coefficients (:func:`rollcontact.creepage_coefficients`).
 
     The gap is ``A x^2 + B y^2`` with ``A = 1/(2 r0)`` (wheel rolling radius, straight rail) and
     ``B = 1/(2 R_rail)`` (straight cone generatrix, rail head profile radius ``rail_profile_radius``, default r0:
-    a circular contact, a row of Kalker's table).  Identical steel bodies: ``E* = E / (2 (1 - nu^2))``,
-    ``G = E / (2 (1 + nu))``, ``c = sqrt(a b)``, ``f11 = G c^2 C11``, ``f22 = G c^2 C22`` and, with ``spin``,
-    ``f23 = G c^3 C23`` (the spin moment's ``f33`` is left out: the table has no C33).
+    a circular contact).  Identical steel bodies: ``E* = E / (2 (1 - nu^2))``, ``G = E / (2 (1 + nu))``,
+    ``c = sqrt(a b)``, ``f11 = G c^2 C11``, ``f22 = G c^2 C22`` and, with ``spin``, the lateral force of spin
+    ``f23 = G c^3 C23`` (the spin moment's ``f33`` is left out).
+
+    Raises
+    ------
+    ValueError
+        A load, radius or modulus out of range, or an aspect ratio a/b outside the coefficients' table; the message
+        names the value and the limit.
     """
     p = WheelsetParameters() if parameters is None else parameters
     rail = p.rolling_radius if rail_profile_radius is None else rail_profile_radius
-    a, b = hertz_semi_axes(p.normal_load, 0.5 / p.rolling_radius, 0.5 / rail,
-                           youngs_modulus / (2.0 * (1.0 - poisson_ratio ** 2)))
-    c11, c22, c23 = kalker_coefficients(a / b, poisson_ratio)
+    ellipse = hertz_ellipse(p.normal_load, 0.5 / p.rolling_radius, 0.5 / rail,
+                            Material(youngs_modulus, poisson_ratio).contact_modulus)
+    c11, c22, c23, _ = creepage_coefficients(ellipse.aspect_ratio, poisson_ratio)
     shear = youngs_modulus / (2.0 * (1.0 + poisson_ratio))
-    c2 = a * b
+    c2 = ellipse.a * ellipse.b
     return KalkerLinearLaw(shear * c2 * c11, shear * c2 * c22, shear * c2 * math.sqrt(c2) * c23 if spin else 0.0)
 
 

@@ -14,7 +14,7 @@ from fmpy.validation import validate_fmu
 from rollcontact_cosim.master import Slave
 from rollcontact_cosim.wheelset import SaturatedKalkerLaw, WheelsetParameters, linear_law, simulate
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 FORCES = ("longitudinal_force", "lateral_force", "spin_moment")
 CREEPAGES = ("longitudinal_creep", "lateral_creep", "spin")
 JACOBIAN = tuple(f"d{f}_d{c}" for f in ("Fx", "Fy", "Mz") for c in ("xi", "eta", "phi"))

@@ -2,7 +2,7 @@
 
 Runs the model of :mod:`rollcontact_cosim.wheelset` with a creep-force law evaluated in process (Kalker's linear
 law by default) by :func:`rollcontact_cosim.wheelset.simulate`, the step sequence of a Gauss-Seidel master, and
-compares what the time histories show with :mod:`rollcontact_cosim.wheelset_stability`:
+compares what the time histories show with :mod:`rollcontact_cosim.wheelset.stability`:
 
 * :func:`klingel_study`: the wavelength of the lateral oscillation, from the upward zero crossings of y over
   several periods (:func:`wavelength`), against Klingel's ``2 pi sqrt(r0 e / lambda)``, with the suspension scaled
@@ -12,7 +12,7 @@ compares what the time histories show with :mod:`rollcontact_cosim.wheelset_stab
   the log decrement per second, :func:`decay_rate`) at each speed, one task per speed on dask.distributed (a local
   cluster as :mod:`rollcontact_cosim.sweep` starts, or serial in process with ``n_workers=0``); the simulated
   critical speed is the zero crossing of the decay rate, interpolated linearly between the bracketing speeds,
-  against the eigenvalues' :func:`~rollcontact_cosim.wheelset_stability.critical_speed`.
+  against the eigenvalues' :func:`~rollcontact_cosim.wheelset.stability.critical_speed`.
 * :func:`plot_hunting`: the figure (decay rate against speed, eigenvalue prediction overlaid, critical speeds
   marked); :func:`run_hunting_study` runs both studies and writes the figure (the entry of the
   ``wheelset_hunting`` scene's in-process mode).
@@ -32,7 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rollcontact_cosim.wheelset import (
+from rollcontact_cosim.scenes import COSIM_DIR
+from rollcontact_cosim.wheelset.model import (
     CreepForceLaw,
     KalkerLinearLaw,
     WheelsetError,
@@ -40,7 +41,7 @@ from rollcontact_cosim.wheelset import (
     linear_law,
     simulate,
 )
-from rollcontact_cosim.wheelset_stability import critical_speed, klingel_wavelength, least_damped, linearised
+from rollcontact_cosim.wheelset.stability import critical_speed, klingel_wavelength, least_damped, linearised
 
 __all__ = ["REFERENCE", "SPEEDS", "HuntingSweep", "KlingelPoint", "SpeedRun", "decay_rate", "hunting_sweep",
            "klingel_study", "plot_hunting", "report", "run_hunting_study", "run_speed", "wavelength",
@@ -214,7 +215,7 @@ def hunting_sweep(speeds, parameters: WheelsetParameters | None = None, law: Cre
     if client is None and scheduler is None and n_workers == 0:
         runs = [run_speed(*args) for args in arguments]
     else:
-        runs = submit(run_speed, arguments, client, scheduler, n_workers, fmus=False)
+        runs = submit(run_speed, arguments, client, scheduler, n_workers)
     return HuntingSweep(tuple(runs), critical_speed(p, linearised(law, p)),
                         zero_crossing(speeds, [run.simulated for run in runs]))
 
@@ -228,7 +229,7 @@ def plot_hunting(sweep: HuntingSweep, path: Path | str, parameters: WheelsetPara
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from rollcontact_cosim.wheelset_stability import eigenvalues
+    from rollcontact_cosim.wheelset.stability import eigenvalues
 
     p = WheelsetParameters() if parameters is None else parameters
     law = linear_law(p) if law is None else law
@@ -256,11 +257,11 @@ def plot_hunting(sweep: HuntingSweep, path: Path | str, parameters: WheelsetPara
     return Path(path)
 
 
-REFERENCE = Path(__file__).resolve().parents[2] / "models" / "cosim" / "wheelset_hunting_inprocess.md"
+REFERENCE = COSIM_DIR / "wheelset_hunting_inprocess.md"
 """Reference results of the in-process study (:func:`write_reference`)."""
 REFERENCE_HEADER = """# wheelset_hunting: in-process reference results
 
-Written by `rollcontact_cosim.wheelset_study.write_reference()` (the study of `python -m rollcontact_cosim --scene
+Written by `rollcontact_cosim.wheelset.study.write_reference()` (the study of `python -m rollcontact_cosim --scene
 wheelset_hunting`: default parameters of `rollcontact_cosim.wheelset`, Kalker's linear creep forces, 200 steps per
 kinematic period); every figure is a function of the parameters only.
 
