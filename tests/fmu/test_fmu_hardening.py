@@ -22,13 +22,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import test_fmu
 from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
-from test_fmu import DISCARD, H, Instance, discarded, model_outputs
+from fmu_host import DISCARD, H, Instance, discarded, model_outputs
 
 ERROR = 3
-instance = test_fmu.instance  # the fixture: initialised instances, freed after the test
 ROW = (1e5, 1e-3, 20.0)  # normal load [N], creep, speed [m/s]
 
 
@@ -169,7 +167,7 @@ ZERO_LENGTH = """
 import sys
 sys.path.insert(0, {tests!r})
 from fmpy import read_model_description
-from test_fmu import Instance, H
+from fmu_host import Instance, H
 fmu = Instance({unzipped!r}, read_model_description({unzipped!r}))
 good = fmu.fmu.getFMUstate()
 for data in (b"", b"", b"\\x00", b"{{"):  # twice: the second call after a Fatal crashed pythonfmu 0.7 hosts
@@ -188,7 +186,7 @@ def test_zero_length_and_garbage_bytes_neither_crash_nor_fatal(unzipped):
     """fmpy's ``deSerializeFMUstate(b"")`` once ended in fmi2Fatal, after which pythonfmu 0.7 leaves dangling
     pointers (docs/fmu.md): the next call on the instance was a use after free (SIGSEGV).  Now every such state is
     an ordinary refused state, in a subprocess that must exit normally."""
-    script = ZERO_LENGTH.format(tests=str(Path(__file__).parent), unzipped=str(unzipped))
+    script = ZERO_LENGTH.format(tests=str(Path(__file__).parents[1]), unzipped=str(unzipped))
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, f"exit {done.returncode} (signal {-done.returncode} if < 0):\n{done.stderr[-3000:]}"
     assert "errors 4 force" in done.stdout, f"four refused states expected:\n{done.stdout}\n{done.stderr[-2000:]}"
@@ -245,7 +243,7 @@ import json, sys
 sys.path.insert(0, {tests!r})
 from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
-from test_fmu import Instance, H
+from fmu_host import Instance, H
 results = {{}}
 for path in {paths!r}:
     fmu = Instance({unzipped!r}, read_model_description({unzipped!r}), scene_file=path)
@@ -276,7 +274,7 @@ def test_devices_fifos_big_and_foreign_files_are_refused_unread_without_echoing_
     expected = {"/dev/zero": "is a character device", str(fifo): "is a FIFO", str(tmp_path): "is a directory",
                 str(big): "more than a scene's limit of 1048576 bytes", str(foreign): "is not a scene",
                 str(binary): "it is not UTF-8 text", str(text): "is not a scene: a TOML syntax error (at line 1"}
-    script = SCENE_PROBE.format(tests=str(Path(__file__).parent), unzipped=str(unzipped), paths=list(expected))
+    script = SCENE_PROBE.format(tests=str(Path(__file__).parents[1]), unzipped=str(unzipped), paths=list(expected))
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr[-3000:]
     results = json.loads(done.stdout.splitlines()[-1])

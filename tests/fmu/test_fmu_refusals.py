@@ -19,7 +19,7 @@ import pytest
 from fmpy import instantiate_fmu, simulate_fmu
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
-from test_fmu import C_HOST, DISCARD, H, model_outputs, shared_libpython
+from fmu_host import C_HOST, DISCARD, H, model_outputs, shared_libpython
 
 ERROR = 3
 ROW = (1e5, 1e-3, 20.0)  # normal load [N], creep, speed [m/s]
