@@ -1,8 +1,5 @@
-"""The WheelRig FMU's slave, host of the RollingContact2D FMU: :class:`WheelRigShared` (both FMI versions) and
-its FMI 2.0 class :class:`WheelRig`.
-
-The FMU's entry module ``wheel_rig_slave.py`` only imports :class:`WheelRig` from here (pythonfmu re-executes the
-entry module on every instantiation: ``rollcontact_fmu_slave.py``'s docstring).
+"""The WheelRig FMU's slave, host of the RollingContact2D FMU: :class:`WheelRigShared` (both FMI versions);
+:func:`slave_class` gives the FMU's class.
 
 A driven wheel on a rail with its share of the vehicle: wheel rotation ``J domega/dt = M(t) - r T``, vehicle
 ``m dv/dt = T - F_res(v)``, normal load ``N(t)``, creep ``xi = (omega r - v) / max(|v|, v_reg)`` (regularised
@@ -14,7 +11,7 @@ single table :data:`VARIABLES` (value references follow its order: append, never
 
 * Bad inputs (non-finite), invalid parameters and failed steps are logged (status Discard) and answered with
   ``do_step`` returning False (fmi2Discard); no exception reaches pythonfmu (it would become fmi2Fatal).  What
-  FMI 2 answers with fmi2Error is emulated (``rollcontact_fmu_base`` module docstring).
+  FMI 2 answers with fmi2Error is emulated (:mod:`rollcontact_fmu.slave`).
 * The FMU state holds every non-output variable plus the model's state as a JSON-compatible dict, checked
   completely (:func:`parse_wheel_rig_state`) before anything changes when a host sets it.
 * ``rollcontact_cosim`` is bundled in ``resources/``; a host process that imported it before loading the FMU uses
@@ -25,16 +22,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from functools import cache
 
-from fmi2_table_slave import TableSlave2
-from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
+from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_base import TableSlave
+from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, TableSlave
 
 from rollcontact_cosim.wheel_rig import WheelRigModel, WheelRigParameters, WheelRigState
 
-INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
-CONTINUOUS, FIXED = Fmi2Variability.continuous, Fmi2Variability.fixed
 DEFAULT = WheelRigParameters()
 START = WheelRigModel(DEFAULT).outputs()  # outputs at the default parameters (start values of the outputs)
 
@@ -163,5 +158,12 @@ class WheelRigShared(TableSlave):
         return tuple(self.model.outputs())
 
 
-class WheelRig(WheelRigShared, TableSlave2):
-    """The WheelRig FMU's FMI 2.0 slave: :class:`WheelRigShared` on pythonfmu (``fmi2_table_slave``)."""
+def declaration() -> tuple[tuple, dict]:
+    """The variable table and enumerations (none) of the WheelRig FMU."""
+    return VARIABLES, {}
+
+
+@cache
+def slave_class() -> type:
+    """The shared slave class (no FMI binding) of the WheelRig FMU, named ``WheelRig``, one per process."""
+    return type("WheelRig", (WheelRigShared,), {"__doc__": WheelRigShared.__doc__, "__module__": __name__})

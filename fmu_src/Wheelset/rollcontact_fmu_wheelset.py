@@ -1,8 +1,5 @@
 """The Wheelset FMU's slave, host of the hunting scene with two contacts: :class:`WheelsetShared` (both FMI
-versions) and its FMI 2.0 class :class:`Wheelset`.
-
-The FMU's entry module ``wheelset_slave.py`` only imports :class:`Wheelset` from here (pythonfmu re-executes the
-entry module on every instantiation: ``rollcontact_fmu_slave.py``'s docstring).
+versions); :func:`slave_class` gives the FMU's class.
 
 A suspended wheelset with conical wheels on straight track (lateral displacement and yaw); no physics here: the
 parameters become a :class:`rollcontact_cosim.wheelset.WheelsetParameters` (equations, signs and integrator in
@@ -17,16 +14,14 @@ its order: append, never reorder).
 from __future__ import annotations
 
 import dataclasses
+from functools import cache
 
-from fmi2_table_slave import TableSlave2
-from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
+from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_base import TableSlave
+from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, TableSlave
 
 from rollcontact_cosim.wheelset import WheelsetModel, WheelsetParameters, WheelsetState
 
-INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
-CONTINUOUS, FIXED = Fmi2Variability.continuous, Fmi2Variability.fixed
 DEFAULT = WheelsetParameters()
 START = WheelsetModel(DEFAULT).outputs()
 CONTACTS = (1, 2)
@@ -142,5 +137,12 @@ class WheelsetShared(TableSlave):
         return self.model.outputs()
 
 
-class Wheelset(WheelsetShared, TableSlave2):
-    """The Wheelset FMU's FMI 2.0 slave: :class:`WheelsetShared` on pythonfmu (``fmi2_table_slave``)."""
+def declaration() -> tuple[tuple, dict]:
+    """The variable table and enumerations (none) of the Wheelset FMU."""
+    return VARIABLES, {}
+
+
+@cache
+def slave_class() -> type:
+    """The shared slave class (no FMI binding) of the Wheelset FMU, named ``Wheelset``, one per process."""
+    return type("Wheelset", (WheelsetShared,), {"__doc__": WheelsetShared.__doc__, "__module__": __name__})
