@@ -276,10 +276,8 @@ class RollingContact2DShared(TableSlave):
     """2D wheel/rail rolling contact (Hertz/Carter, polynomial and discretised methods of rollcontact): the slave
     logic of both FMI versions."""
 
-    author = "rollcontact"
     description = ("2D rolling contact of a wheel on a smooth or corrugated surface, steady or instationary: "
                    "tangential force, contact geometry and frictional power from normal load, creep and speed")
-    license = "MIT"
     version = ROLLCONTACT_VERSION
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
 

@@ -177,11 +177,9 @@ class RollingContact3DShared(TableSlave):
     """Elliptic wheel/rail rolling contact (linear theory, FASTSIM, strips, discretised) of rollcontact: the slave
     logic of both FMI versions."""
 
-    author = "rollcontact"
     description = ("Elliptic (3D) wheel/rail rolling contact: longitudinal and lateral force, spin moment, contact "
                    "ellipse and creep-force Jacobian from normal load, creepages and speed, for one or several "
                    "contacts")
-    license = "MIT"
     version = ROLLCONTACT_VERSION
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
 

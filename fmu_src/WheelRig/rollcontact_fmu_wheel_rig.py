@@ -26,7 +26,7 @@ from functools import cache
 
 from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, TableSlave
+from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, HostSlave
 
 from rollcontact_cosim.wheel_rig import WheelRigModel, WheelRigParameters, WheelRigState
 
@@ -126,36 +126,23 @@ def parse_wheel_rig_state(data) -> WheelRigState:
     return WheelRigState.from_dict(data)
 
 
-class WheelRigShared(TableSlave):
+class WheelRigShared(HostSlave):
     """Driven wheel on a rail (or roller rig) with longitudinal vehicle dynamics, host of RollingContact2D."""
 
-    author = "rollcontact"
     description = ("Driven railway wheel with its share of the vehicle: wheel rotation under a motor torque "
                    "profile, longitudinal dynamics with running resistance, normal load; outputs the regularised "
                    "creep, speed and load for a contact model, takes its tangential force and creep stiffness")
-    license = "MIT"
     version = "0.1.0"
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
 
     VARIABLES = VARIABLES
-    INITIAL_DEPENDENCIES = None  # the initial outputs are computed from the parameters
-
-    def new_model(self, values: dict):
-        """A WheelRigModel at the start time."""
-        return WheelRigModel(WheelRigParameters(**values), start_time=self.start_time), ()
-
-    def initial_outputs(self, model):
-        """The model's initial outputs become the FMU's."""
-        return tuple(model.outputs())
+    MODEL, PARAMETERS = WheelRigModel, WheelRigParameters
 
     def step_model(self, current_time, step_size):
         return self.model.step(current_time, step_size, *(getattr(self, name) for name in INPUTS))
 
     def parse_model_state(self, data):
         return parse_wheel_rig_state(data)
-
-    def restored_outputs(self, saved):
-        return tuple(self.model.outputs())
 
 
 def declaration() -> tuple[tuple, dict]:

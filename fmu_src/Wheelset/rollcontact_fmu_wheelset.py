@@ -18,7 +18,7 @@ from functools import cache
 
 from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, TableSlave
+from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, HostSlave
 
 from rollcontact_cosim.wheelset import WheelsetModel, WheelsetParameters, WheelsetState
 
@@ -102,26 +102,17 @@ FORCE_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in FORCES)
 JACOBIAN_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in JACOBIAN)
 
 
-class WheelsetShared(TableSlave):
+class WheelsetShared(HostSlave):
     """Suspended wheelset with conical wheels on straight track, host of a contact FMU with two contacts."""
 
-    author = "rollcontact"
     description = ("Wheelset on straight track (lateral displacement and yaw, conical wheels, primary suspension "
                    "to a frame at constant speed): outputs the creepages, loads and speeds of its two contacts, "
                    "takes their forces and Jacobians")
-    license = "MIT"
     version = "0.1.0"
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=2.0, step_size=1e-3)
 
     VARIABLES = VARIABLES
-    INITIAL_DEPENDENCIES = None  # the initial outputs are computed from the parameters
-
-    def new_model(self, values: dict):
-        """A WheelsetModel at the start time."""
-        return WheelsetModel(WheelsetParameters(**values), start_time=self.start_time), ()
-
-    def initial_outputs(self, model):
-        return model.outputs()
+    MODEL, PARAMETERS = WheelsetModel, WheelsetParameters
 
     def step_model(self, current_time, step_size):
         forces = [[getattr(self, FORCE_INPUTS[3 * k + i]) for i in range(3)] for k in range(2)]
@@ -132,9 +123,6 @@ class WheelsetShared(TableSlave):
 
     def parse_model_state(self, data):
         return WheelsetState.from_dict(data)  # a WheelsetError (ValueError) names the first bad field
-
-    def restored_outputs(self, saved):
-        return self.model.outputs()
 
 
 def declaration() -> tuple[tuple, dict]:

@@ -81,6 +81,11 @@ class TableSlave(FmuState):
     non-output variables, the outputs, the life-cycle fields and the model's state dict.
     """
 
+    author = "rollcontact"
+    license = "MIT"
+    """The model description's author and license (a slave gives its ``description``, ``version`` and
+    ``default_experiment``)."""
+
     VARIABLES: tuple = ()
     ENUMERATIONS: dict = {}
     DIMENSIONS: dict = {}
@@ -378,3 +383,23 @@ class TableSlave(FmuState):
         if isinstance(index, tuple):
             return lambda: [self.outputs[i] for i in index]
         return lambda: self.outputs[index]
+
+
+class HostSlave(TableSlave):
+    """A slave whose model is ``MODEL(PARAMETERS(**values), start_time=...)`` with ``outputs()`` in the table's order
+    (the co-simulation hosts of ``rollcontact_cosim``): its outputs follow the model from initialisation on, and
+    after a restored state."""
+
+    MODEL: type
+    PARAMETERS: type
+    INITIAL_DEPENDENCIES = None  # the initial outputs are computed from the parameters
+
+    def new_model(self, values: dict):
+        """The model at the start time (no notices)."""
+        return self.MODEL(self.PARAMETERS(**values), start_time=self.start_time), ()
+
+    def initial_outputs(self, model):
+        return model.outputs()
+
+    def restored_outputs(self, saved):
+        return self.model.outputs()
