@@ -1,236 +1,310 @@
-"""Build the project's FMUs (FMI 2.0 co-simulation) with PythonFMU.
+"""Build the project's FMUs from their manifests: FMI 2.0 with pythonfmu 0.7, FMI 3.0 with pythonfmu3 0.3.4.
 
-Usage: ``python build_fmu.py [--dest models]`` writes ``<dest>/RollingContact2D.fmu`` from the slave
-``fmu_src/rollcontact_fmu_slave.py`` and bundles the ``src/rollcontact`` package in the FMU's resources, so the
-FMU needs only numpy and scipy from the host's Python.  ``--all`` also writes ``<dest>/WheelRig.fmu``, the
-co-simulation host (slave ``fmu_src/wheel_rig_slave.py``, bundling ``src/rollcontact_cosim``), and
-``<dest>/Wheelset.fmu``, the host of the wheelset hunting scene with two contacts (slave
-``fmu_src/wheelset_slave.py``, class in ``fmu_src/rollcontact_fmu_wheelset.py``); ``--if-stale``
-builds only the FMUs that are missing or older than one of their sources; ``--integer-codes`` declares the
-enumerations' variables as plain Integer, for hosts without FMI enumerations (libcosim); ``--docs`` writes the
-variable table of ``docs/fmu.md`` from the slave's.  Every FMU can get, set and serialise
-their state; all bundle the shared slave base and modelDescription helper ``fmu_src/rollcontact_fmu_base.py`` and
-the FMI 2.0 binding ``fmu_src/fmi2_table_slave.py``.
-The slave files are tiny entry modules that import the slave class from a bundled module
-(``fmu_src/rollcontact_fmu_contact.py``, ``fmu_src/rollcontact_fmu_wheel_rig.py``): pythonfmu re-executes the
-entry module on every instantiation (``fmu_src/rollcontact_fmu_slave.py``'s docstring).
+Usage::
 
-``--fmi 3`` builds the FMI 3.0 co-simulation variants into ``<dest>/fmi3/`` with pythonfmu3 instead (``--fmi 2,3``
-both): the same shared slave classes, without the FMI 2.0 binding, put on pythonfmu3 by
-``fmu_src/fmi3_table_slave.py`` (entry modules
-``fmu_src/fmi3_rollcontact_slave.py``, ``fmu_src/fmi3_wheel_rig_slave.py``, ``fmu_src/fmi3_wheelset_slave.py``);
-they also bundle pythonfmu's Python
-files, in whose types the shared slave's variable table is written.  The default builds FMI 2.0 only.
+    python build_fmu.py [--only MODEL | --all | --contacts N] [--fmi 2|3|2,3] [--integer-codes] [--if-stale]
+                        [--dest DIR] [--docs]
+
+Without a selection it builds RollingContact2D; ``--only MODEL`` one FMU, ``--all`` every FMU (one folder
+``fmu_src/<MODEL>/`` with a ``manifest.toml`` each), ``--contacts N`` the contact FMUs with N contacts per instance
+(``RollingContact2D_N``, ``RollingContact3D_N``).  FMI 2.0 goes into ``<dest>/`` (default ``models/``), FMI 3.0 into
+``<dest>/fmi3/``; ``--fmi 2,3`` builds both.  ``--integer-codes`` declares the enumerations' variables as plain
+Integer (FMI 2.0, for hosts without FMI enumerations such as libcosim; an FMU without enumerations is built as it
+is).  ``--if-stale`` builds only the FMUs that are missing or older than one of their sources (:func:`sources`).
+``--docs`` writes the variable tables of docs/fmu.md from the slaves' declarations and builds nothing.
+
+Python API: :func:`build`, :func:`is_stale` and :func:`ensure` (build when missing or stale) of one FMU into one
+folder; :data:`FMUS`, the manifests by model name; :func:`fmi_dest`, the folder of an FMI version under ``--dest``.
+
+An FMU bundles its slave module, the support package ``fmu_src/rollcontact_fmu/`` and the manifest's packages in
+``resources/``, with an entry module written from one template (``fmu_src/tools/entry.py``); its Linux binary gets
+the exit fix of ``fmu_src/tools/pythonfmu_exit_fix.py``.  How a build imports, and what a manifest holds:
+docs/fmu-internals.md.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import importlib.util
 import math
 import shutil
 import sys
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
+from typing import NamedTuple
+
+try:
+    import tomllib
+except ImportError:  # Python 3.10
+    import tomli as tomllib
 
 ROOT = Path(__file__).resolve().parent
 SOURCES = ROOT / "src"
-SLAVE_BASE = ROOT / "fmu_src" / "rollcontact_fmu_base.py"
-FMI2_BINDING = ROOT / "fmu_src" / "fmi2_table_slave.py"
-"""The shared slave base and the FMI 2.0 binding (the slave modules define their FMI 2.0 classes with it), bundled
-into every FMU."""
-EXIT_FIX = ROOT / "fmu_src" / "pythonfmu_exit_fix.py"
-"""The build's fix of pythonfmu's export library (not bundled into the FMUs)."""
-SLAVE = ROOT / "fmu_src" / "rollcontact_fmu_slave.py"
-PACKAGE = SOURCES / "rollcontact"
-HOST_SLAVE = ROOT / "fmu_src" / "wheel_rig_slave.py"
-HOST_PACKAGE = SOURCES / "rollcontact_cosim"
-
-FMUS = {  # model name -> (entry module, bundled packages and modules)
-    "RollingContact2D": (SLAVE, (PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_contact.py")),
-    "WheelRig": (HOST_SLAVE, (HOST_PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_wheel_rig.py")),
-    "Wheelset": (ROOT / "fmu_src" / "wheelset_slave.py",
-                 (HOST_PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_wheelset.py")),
-    "RollingContact3D": (ROOT / "fmu_src" / "contact3d_slave.py",
-                         (PACKAGE, ROOT / "fmu_src" / "rollcontact_fmu_contact3d.py")),
-}
-
-FMI3_HELPER = ROOT / "fmu_src" / "fmi3_table_slave.py"
-FMUS3 = {  # model name -> (FMI 3.0 entry module, bundled packages and modules besides the FMI 2.0 ones)
-    "RollingContact2D": (ROOT / "fmu_src" / "fmi3_rollcontact_slave.py", (FMI3_HELPER,)),
-    "WheelRig": (ROOT / "fmu_src" / "fmi3_wheel_rig_slave.py", (FMI3_HELPER,)),
-    "Wheelset": (ROOT / "fmu_src" / "fmi3_wheelset_slave.py", (FMI3_HELPER,)),
-    "RollingContact3D": (ROOT / "fmu_src" / "fmi3_contact3d_slave.py", (FMI3_HELPER,)),
-}
-CONTACT3D = "RollingContact3D"
-"""The FMU built in variants (:func:`build_variant`): n contacts, enumerations or integer codes."""
-VARIANT_SLAVES = {"RollingContact2D": "rollcontact_fmu_contact", CONTACT3D: "rollcontact_fmu_contact3d"}
-"""The contact FMUs built in variants (``--contacts``) -> their slave module (with ``declaration`` and
-``slave_class``)."""
-DEFAULT_VARIANT = "contacts=1, integer_codes=False"
-"""The arguments of ``slave_class`` in the elliptic contact FMU's entry modules, which a variant build replaces."""
+FMU_SOURCES = ROOT / "fmu_src"
+SUPPORT = FMU_SOURCES / "rollcontact_fmu"
+"""The support package, bundled into every FMU."""
+TOOLS = FMU_SOURCES / "tools"
+"""The build's own modules (the entry template, the exit fix), bundled into no FMU."""
+MODELS = ROOT / "models"
+DOCS = ROOT / "docs" / "fmu.md"
+DEFAULT_MODEL = "RollingContact2D"
 FMI_VERSIONS = (2, 3)
-MAX_CONTACTS = 64
-"""Most contacts of one FMU (``--contacts``)."""
 FMI3_FOLDER = "fmi3"
 """Subfolder of ``--dest`` that ``--fmi 3`` builds into."""
+MAX_CONTACTS = 64
+"""Most contacts of one FMU (``--contacts``)."""
+MANIFEST_KEYS = frozenset({"model", "slave", "packages", "docs", "variants"})
+VARIANT_KEYS = frozenset({"contacts", "enumerations", "arrays"})
+"""The keys of a manifest and of its ``[variants]`` table."""
 
 
-def build_model(model: str, dest: Path | str = ROOT / "models", integer_codes: bool = False, fmi: int = 2,
-                contacts: int = 1) -> Path:
+class Manifest(NamedTuple):
+    """What the build needs to know of one FMU: its ``fmu_src/<model>/manifest.toml`` (docs/fmu-internals.md).
+
+    Attributes
+    ----------
+    model : str
+        The model name (its folder's name): the FMU is ``<model>.fmu``, a variant of n contacts ``<model>_n.fmu``.
+    folder : Path
+        Its folder, holding the manifest and the slave module.
+    slave : str
+        The slave module (``<folder>/<slave>.py``), giving ``slave_class(**variant)`` (the shared slave class, no FMI
+        binding) and ``declaration(**variant)`` (its variable table and enumerations).
+    packages : tuple of Path
+        The packages bundled in ``resources/`` besides the slave module and the support package.
+    contacts : bool
+        Whether it is built with n contacts (``--contacts``; the variant argument ``contacts``).
+    enumerations : bool
+        Whether it declares FMI enumerations, which ``--integer-codes`` turns into Integer variables (the variant
+        argument ``integer_codes``); an FMU without is built as it is.
+    arrays : bool
+        Whether FMI 3.0 declares its per-contact variables as arrays (the variant argument ``arrays``).
+    docs : bool
+        Whether docs/fmu.md holds its variable table (``--docs``).
+    """
+
+    model: str
+    folder: Path
+    slave: str
+    packages: tuple[Path, ...]
+    contacts: bool
+    enumerations: bool
+    arrays: bool
+    docs: bool
+
+    @classmethod
+    def read(cls, folder: Path) -> Manifest:
+        """The manifest of the FMU folder ``folder``; ValueError naming the file and what is wrong with it."""
+        path = folder / "manifest.toml"
+        data = tomllib.loads(path.read_text())
+        variants = data.get("variants", {})
+        problems = []
+        if set(data) - MANIFEST_KEYS or set(variants) - VARIANT_KEYS:
+            problems.append(f"unknown keys {sorted(set(data) - MANIFEST_KEYS)}, unknown variants "
+                            f"{sorted(set(variants) - VARIANT_KEYS)} (keys: {sorted(MANIFEST_KEYS)}; variants: "
+                            f"{sorted(VARIANT_KEYS)})")
+        if data.get("model") != folder.name:
+            problems.append(f"model = {data.get('model')!r} is not the folder's name {folder.name!r}")
+        if not (folder / f"{data.get('slave')}.py").is_file():
+            problems.append(f"slave = {data.get('slave')!r} names no module of the folder")
+        packages = tuple(data.get("packages", ()))
+        problems += [f"package {package!r} is no package folder of the repository" for package in packages
+                     if not (ROOT / package / "__init__.py").is_file()]
+        flags = {key: variants.get(key, False) for key in VARIANT_KEYS} | {"docs": data.get("docs", False)}
+        problems += [f"{key} = {value!r} is not true or false" for key, value in flags.items()
+                     if not isinstance(value, bool)]
+        if problems:
+            raise ValueError(f"{path}: " + "; ".join(problems))
+        return cls(folder.name, folder, data["slave"], tuple(ROOT / package for package in packages), **flags)
+
+    def name(self, contacts: int = 1) -> str:
+        """The model name of the variant with ``contacts`` contacts."""
+        return self.model if contacts == 1 else f"{self.model}_{contacts}"
+
+    def variant(self, fmi: int = 2, contacts: int = 1, integer_codes: bool = False) -> dict:
+        """The arguments of ``slave_class`` for the variant (those the manifest makes variants of); ValueError for
+        a variant it has not or an FMI version or contact count out of range."""
+        if fmi not in FMI_VERSIONS:
+            raise ValueError(f"fmi = {fmi!r}: give one of {FMI_VERSIONS}")
+        if isinstance(contacts, bool) or not isinstance(contacts, int) or not 1 <= contacts <= MAX_CONTACTS:
+            raise ValueError(f"contacts = {contacts!r} must be a whole number from 1 to {MAX_CONTACTS}")
+        if contacts != 1 and not self.contacts:
+            raise ValueError(f"{self.model} has no n-contact build (--contacts builds "
+                             f"{', '.join(m for m, f in FMUS.items() if f.contacts)})")
+        if integer_codes and fmi == 3:
+            raise ValueError("--integer-codes is an FMI 2.0 build (for libcosim); FMI 3.0 declares enumerations")
+        arguments = {"contacts": contacts} if self.contacts else {}
+        if self.enumerations:
+            arguments["integer_codes"] = bool(integer_codes)
+        if self.arrays:
+            arguments["arrays"] = fmi == 3
+        return arguments
+
+
+def manifests() -> dict[str, Manifest]:
+    """The manifests of ``fmu_src/*/manifest.toml`` by model name, in the folders' order."""
+    return {folder.name: Manifest.read(folder) for folder in sorted(FMU_SOURCES.iterdir())
+            if (folder / "manifest.toml").is_file()}
+
+
+FMUS = manifests()
+"""Every FMU the project builds: model name -> :class:`Manifest`."""
+
+
+def manifest(model: str) -> Manifest:
+    """The manifest of ``model``; ValueError listing the FMUs for another name."""
+    if model not in FMUS:
+        raise ValueError(f"no FMU {model!r}: the FMUs are {', '.join(FMUS)} (a folder of fmu_src/ with a manifest)")
+    return FMUS[model]
+
+
+def tool(name: str):
+    """The build's module ``fmu_src/tools/<name>.py``, loaded once per process (under ``rollcontact_build_<name>``)."""
+    key = f"rollcontact_build_{name}"
+    if key not in sys.modules:
+        spec = importlib.util.spec_from_file_location(key, TOOLS / f"{name}.py")
+        module = sys.modules[key] = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    return sys.modules[key]
+
+
+@contextmanager
+def source_path(fmu: Manifest):
+    """``sys.path`` with the sources of ``fmu`` first (its folder, ``fmu_src/``, ``src/``), restored afterwards."""
+    saved = sys.path[:]
+    sys.path[:0] = [str(fmu.folder), str(FMU_SOURCES), str(SOURCES)]
+    try:
+        yield
+    finally:
+        sys.path[:] = saved
+
+
+def slave_module(fmu: Manifest, fmi: int = 2):
+    """The slave module of ``fmu`` with every module a build of FMI version ``fmi`` imports, imported from the
+    source tree (once per process): the support package's binding and workarounds, the slave module (and through it
+    what it imports) and the bundled packages.
+
+    pythonfmu's builders run the entry module from a temporary copy of the FMU's files, first on ``sys.path``, and
+    delete it afterwards: a module first imported there would stay in ``sys.modules`` with its files gone, and the
+    next build in the process would fail to import from it.  Imported here first, every module the entry module
+    names is taken from ``sys.modules``, and the submodules of a package from the package's own (source) folder.
+    """
+    with source_path(fmu):
+        for name in (f"rollcontact_fmu.fmi{fmi}", "rollcontact_fmu.workarounds",
+                     *(package.name for package in fmu.packages)):
+            importlib.import_module(name)
+        return importlib.import_module(fmu.slave)
+
+
+def copies(before: set[str]) -> list[str]:
+    """Modules imported since ``before`` (names in ``sys.modules``) whose file no longer exists: imported from a
+    builder's deleted temporary copy."""
+    return sorted(name for name, module in list(sys.modules.items()) if name not in before
+                  and getattr(module, "__file__", None) and not Path(module.__file__).exists())
+
+
+def build(model: str, dest: Path | str = MODELS, *, fmi: int = 2, contacts: int = 1,
+          integer_codes: bool = False) -> Path:
     """Build the FMU ``model`` (a key of :data:`FMUS`) into the folder ``dest`` [created if missing]; its path.
 
-    ``integer_codes``: declare the enumerations' variables as plain Integer (for hosts without FMI enumerations,
-    such as libcosim): a variant of the contact FMUs (:func:`build_variant`); the hosts declare no enumerations and
-    are built as they are.  ``fmi``: 2 (pythonfmu) or 3 (pythonfmu3, :func:`build_model3`).  ``contacts``: the
-    contacts of the contact FMUs (:func:`build_variant`).
+    Parameters
+    ----------
+    model : str
+        The FMU's model name (its folder under ``fmu_src/``).
+    dest : Path or str
+        The folder the FMU is written to (the CLI's ``<dest>/fmi3/`` for FMI 3.0 is :func:`fmi_dest`'s).
+    fmi : int
+        2 (pythonfmu 0.7) or 3 (pythonfmu3 0.3.4).
+    contacts : int
+        Contacts per instance (1 to :data:`MAX_CONTACTS`; more than one only for a manifest with ``contacts``): the
+        FMU ``<model>_<contacts>``.
+    integer_codes : bool
+        Declare the enumerations' variables as plain Integer (FMI 2.0).
+
+    Raises
+    ------
+    ValueError
+        An unknown model or a variant it has not; RuntimeError if the builder imported a module from its temporary
+        copy (:func:`slave_module`) or named the FMU otherwise.
     """
-    if model in VARIANT_SLAVES and (model == CONTACT3D or contacts != 1 or integer_codes):
-        return build_variant(dest, contacts, integer_codes, fmi, model)
-    if contacts != 1:
-        raise ValueError(f"{model} has no n-contact build (--contacts builds {', '.join(VARIANT_SLAVES)})")
-    if fmi == 3:
-        return build_model3(model, dest)
-    slave, packages = FMUS[model]
-    # the builder imports the slave, which imports the packages: use the copies that get bundled
-    return pack(slave, packages, dest)
-
-
-def variant_name(contacts: int, model: str = CONTACT3D) -> str:
-    """Model name of the contact FMU ``model`` with ``contacts`` contacts: ``model``, else ``model_n``."""
-    return model if contacts == 1 else f"{model}_{contacts}"
-
-
-def build_variant(dest: Path | str, contacts: int = 1, integer_codes: bool = False, fmi: int = 2,
-                  model: str = CONTACT3D) -> Path:
-    """Build the contact FMU ``model`` (a key of :data:`VARIANT_SLAVES`) with ``contacts`` contacts into ``dest``;
-    its path.
-
-    The entry module is the elliptic contact's (``fmu_src/contact3d_slave.py``, ``fmu_src/fmi3_contact3d_slave.py``)
-    with the variant's slave module, model name and ``slave_class`` arguments in place of the elliptic
-    single-contact FMU's (FMI 3.0: ``arrays``, each per-contact variable one array), in a module named after the
-    variant (a host may load several variants: pythonfmu3 imports
-    an entry module once per process).  The single-contact RollingContact2D is its own build (:func:`build_model`).
-    Integer codes are an FMI 2.0 build (for libcosim).
-    """
-    if isinstance(contacts, bool) or not isinstance(contacts, int) or not 1 <= contacts <= MAX_CONTACTS:
-        raise ValueError(f"contacts = {contacts!r} must be a whole number from 1 to {MAX_CONTACTS}")
-    if integer_codes and fmi == 3:
-        raise ValueError("--integer-codes is an FMI 2.0 build (for libcosim); FMI 3.0 declares enumerations")
-    if model != CONTACT3D and contacts == 1 and not integer_codes:
-        return build_model(model, dest, integer_codes, fmi)
-    name = variant_name(contacts, model)
-    template = FMUS[CONTACT3D][0] if fmi == 2 else FMUS3[CONTACT3D][0]
-    text = template.read_text()
-    if DEFAULT_VARIANT not in text:
-        raise RuntimeError(f"{template} does not call slave_class({DEFAULT_VARIANT}): cannot write the variant")
-    text = text.replace(DEFAULT_VARIANT, f"contacts={contacts}, integer_codes={integer_codes}, arrays={fmi == 3}")
-    text = text.replace(VARIANT_SLAVES[CONTACT3D], VARIANT_SLAVES[model]).replace(CONTACT3D, name)
-    stem = template.stem.replace("contact3d", f"contact{model[-2:].lower()}" + (f"_{contacts}" if contacts > 1 else ""))
-    with tempfile.TemporaryDirectory(prefix="rollcontact_variant_") as tmp:
-        entry = Path(tmp, f"{stem}.py")
-        entry.write_text(text)
-        forgotten = (VARIANT_SLAVES[model], template.stem, stem)
-        forget(forgotten)
-        sys.path[:0] = [tmp, str(ROOT / "fmu_src")]
+    fmu = manifest(model)
+    arguments = fmu.variant(fmi, contacts, integer_codes)
+    name = fmu.name(contacts)
+    entries = tool("entry")
+    with tempfile.TemporaryDirectory(prefix="rollcontact_entry_") as tmp:
+        entry = entries.write_entry(Path(tmp), name, fmi, fmu.folder.name, fmu.slave, arguments)
+        slave_module(fmu, fmi)
+        before, saved = set(sys.modules), sys.path[:]
+        files = [fmu.folder / f"{fmu.slave}.py", SUPPORT, *fmu.packages]
         try:
-            if fmi == 3:
-                return build_model3(model, dest, slave=entry)
-            return pack(entry, FMUS[model][1], dest)
+            built = Path(pack2(entry, files, dest) if fmi == 2 else pack3(entry, files, dest))
         finally:
-            del sys.path[:2]
-            forget(forgotten)
+            sys.path[:] = saved  # pythonfmu 0.7's builder leaves the entry's folder on sys.path
+            sys.modules.pop(entry.stem, None)
+        stale = copies(before)
+        if stale:
+            raise RuntimeError(f"building {name} imported {', '.join(stale)} from the builder's temporary copy: "
+                               f"import them in {fmu.slave} or list their package in {fmu.folder.name}/manifest.toml")
+    if built.name != f"{name}.fmu":
+        raise RuntimeError(f"the builder wrote {built.name}, not {name}.fmu: the slave class is named otherwise")
+    tool("pythonfmu_exit_fix").patch_fmu(built)
+    return built
 
 
-def forget(modules) -> None:
-    """Drop ``modules`` from the import cache (the builder imports a variant's entry and slave modules by name)."""
-    for module in modules:
-        sys.modules.pop(module, None)
+def pack2(entry: Path, files: list[Path], dest: Path | str) -> Path:
+    """pythonfmu 0.7's FMI 2.0 build of the entry module ``entry`` bundling ``files``."""
+    from pythonfmu.builder import FmuBuilder
+
+    return FmuBuilder.build_FMU(entry, dest=dest, project_files=files, canGetAndSetFMUstate=True,
+                                canSerializeFMUstate=True)
 
 
-def pack(slave: Path, packages, dest: Path | str) -> Path:
-    """pythonfmu's FMI 2.0 build of the entry module ``slave`` with the bundled ``packages`` and the shared slave
-    base."""
-    sys.path.insert(0, str(SOURCES))
-    try:
-        from pythonfmu.builder import FmuBuilder
-
-        return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest, project_files=[*packages, SLAVE_BASE, FMI2_BINDING],
-                                               canGetAndSetFMUstate=True, canSerializeFMUstate=True))
-    finally:
-        sys.path.remove(str(SOURCES))
-
-
-def build_model3(model: str, dest: Path | str, slave: Path | None = None, extra: tuple = ()) -> Path:
-    """Build the FMI 3.0 FMU ``model`` (a key of :data:`FMUS3`) with pythonfmu3 into ``dest``; its path.
-
-    Besides the FMI 2.0 build's files it bundles the FMI 3.0 entry module and binding and pythonfmu's Python files
-    (the slave's variable table is written in its types); state handling and a variable communication step size
-    are declared explicitly (pythonfmu3 0.3.4 writes the latter from another option's value otherwise).  ``slave``
-    replaces the entry module and ``extra`` adds bundled files (a variant build, :func:`build_variant`).
-    """
+def pack3(entry: Path, files: list[Path], dest: Path | str) -> Path:
+    """pythonfmu3's FMI 3.0 build of the entry module ``entry`` bundling ``files`` and pythonfmu's Python files (the
+    variable tables are written in its types); state handling and a variable communication step size declared
+    explicitly (pythonfmu3 0.3.4 writes the latter from another option's value otherwise)."""
     import pythonfmu
     from pythonfmu3 import FmuBuilder
 
-    slave = FMUS3[model][0] if slave is None else slave
-    extra = (*FMUS3[model][1], *extra)
-    packages = FMUS[model][1]
-    sys.path.insert(0, str(SOURCES))
-    try:
-        with tempfile.TemporaryDirectory(prefix="rollcontact_fmi3_") as tmp:
-            framework = Path(tmp, "pythonfmu")
-            framework.mkdir()
-            for source in Path(pythonfmu.__file__).parent.glob("*.py"):
-                shutil.copy2(source, framework)
-            return exit_fixed(FmuBuilder.build_FMU(slave, dest=dest,
-                                                   project_files=[*packages, *extra, SLAVE_BASE, FMI2_BINDING,
-                                                                  framework],
-                                                   canGetAndSetFMUState=True, canSerializeFMUState=True,
-                                                   canHandleVariableCommunicationStepSize=True))
-    finally:
-        sys.path.remove(str(SOURCES))
+    with tempfile.TemporaryDirectory(prefix="rollcontact_fmi3_") as tmp:
+        framework = Path(tmp, "pythonfmu")
+        framework.mkdir()
+        for source in Path(pythonfmu.__file__).parent.glob("*.py"):
+            shutil.copy2(source, framework)
+        return FmuBuilder.build_FMU(entry, dest=dest, project_files=[*files, framework], canGetAndSetFMUState=True,
+                                    canSerializeFMUState=True, canHandleVariableCommunicationStepSize=True)
 
 
-def exit_fixed(fmu: Path | str) -> Path:
-    """The built FMU ``fmu`` with pythonfmu's exit-time double release fixed in its Linux binary
-    (``fmu_src/pythonfmu_exit_fix.py``, docs/fmu.md "Exit"); RuntimeError if the binary is not a pinned release's."""
-    fix = sys.modules.get("pythonfmu_exit_fix")
-    if fix is None:
-        spec = importlib.util.spec_from_file_location("pythonfmu_exit_fix", EXIT_FIX)
-        fix = sys.modules[spec.name] = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(fix)
-    fix.patch_fmu(fmu)
-    return Path(fmu)
+def sources(model: str) -> list[Path]:
+    """The files the FMU ``model`` is built from: its folder's manifest and modules, the support package, the
+    bundled packages' modules, the build's tools and this script."""
+    fmu = manifest(model)
+    return [fmu.folder / "manifest.toml", *sorted(fmu.folder.glob("*.py")), *sorted(SUPPORT.rglob("*.py")),
+            *(f for package in fmu.packages for f in sorted(package.rglob("*.py"))), *sorted(TOOLS.glob("*.py")),
+            Path(__file__).resolve()]
 
 
-def build(dest: Path | str = ROOT / "models") -> Path:
-    """Build the RollingContact2D FMU into the folder ``dest`` [created if missing] and return the FMU's path."""
-    return build_model("RollingContact2D", dest)
-
-
-def sources(model: str, fmi: int = 2) -> list[Path]:
-    """Files the FMU ``model`` is built from (its slave, the shared slave base and the bundled packages' modules;
-    for FMI 3.0 also its entry module and the FMI 3.0 binding)."""
-    slave, packages = FMUS[model]
-    files = [slave, SLAVE_BASE, FMI2_BINDING, *(f for package in packages
-                                  for f in ([package] if package.is_file() else package.rglob("*.py")))]
-    return files if fmi == 2 else [FMUS3[model][0], *FMUS3[model][1], *files]
-
-
-def is_stale(model: str, dest: Path | str = ROOT / "models", fmi: int = 2) -> bool:
-    """True when ``<dest>/<model>.fmu`` is missing or older than one of its :func:`sources`."""
-    fmu = Path(dest) / f"{model}.fmu"
-    if not fmu.is_file():
+def is_stale(model: str, dest: Path | str = MODELS, fmi: int = 2, *, contacts: int = 1,
+             integer_codes: bool = False) -> bool:
+    """True when the FMU :func:`build` would write (``<dest>/<model>[_<contacts>].fmu``) is missing or older than one
+    of its :func:`sources`; ValueError for a variant :func:`build` refuses."""
+    fmu = manifest(model)
+    fmu.variant(fmi, contacts, integer_codes)
+    path = Path(dest) / f"{fmu.name(contacts)}.fmu"
+    if not path.is_file():
         return True
-    built = fmu.stat().st_mtime
-    return any(f.stat().st_mtime > built for f in sources(model, fmi))
+    built = path.stat().st_mtime
+    return any(f.stat().st_mtime > built for f in sources(model))
 
 
-def build_all(dest: Path | str = ROOT / "models", if_stale: bool = False,
-              integer_codes: bool = False, fmi: int = 2) -> dict[str, Path]:
-    """Build every FMU of :data:`FMUS` into ``dest`` (only the stale ones with ``if_stale``); model -> path."""
-    return {model: build_model(model, dest, integer_codes, fmi) if not if_stale or is_stale(model, dest, fmi)
-            else Path(dest) / f"{model}.fmu" for model in FMUS}
+def ensure(model: str, dest: Path | str = MODELS, *, fmi: int = 2, contacts: int = 1,
+           integer_codes: bool = False) -> Path:
+    """The path of the FMU ``model`` in ``dest``, built by :func:`build` when missing or stale (:func:`is_stale`)."""
+    if is_stale(model, dest, fmi, contacts=contacts, integer_codes=integer_codes):
+        return build(model, dest, fmi=fmi, contacts=contacts, integer_codes=integer_codes)
+    return Path(dest) / f"{manifest(model).name(contacts)}.fmu"
 
 
 def fmi_versions(text: str) -> tuple[int, ...]:
@@ -249,27 +323,16 @@ def fmi_dest(dest: Path | str, fmi: int) -> Path:
     return Path(dest) if fmi == 2 else Path(dest) / FMI3_FOLDER
 
 
-DOCS = ROOT / "docs" / "fmu.md"
-BEGIN, END = "<!-- variables: written by build_fmu.py --docs -->", "<!-- end of variables -->"
-DOCUMENTED = {"RollingContact2D": ("rollcontact_fmu_contact", (BEGIN, END)),
-              CONTACT3D: ("rollcontact_fmu_contact3d", (BEGIN.replace("variables", f"variables of {CONTACT3D}"),
-                                                        END.replace("variables", f"variables of {CONTACT3D}")))}
-"""Model -> (slave module, markers of its variable table in docs/fmu.md)."""
+def markers(model: str) -> tuple[str, str]:
+    """The lines around the variable table of ``model`` in docs/fmu.md."""
+    return (f"<!-- variables of {model}: written by build_fmu.py --docs -->",
+            f"<!-- end of variables of {model} -->")
 
 
-def variables_table(model: str = "RollingContact2D") -> str:
-    """The variables and enumerations of ``model`` (a key of :data:`DOCUMENTED`; the single-contact FMU) as
-    markdown, from the slave's single table."""
-    sys.path[:0] = [str(SOURCES), str(ROOT / "fmu_src")]
-    try:
-        import importlib
-
-        slave = importlib.import_module(DOCUMENTED[model][0])
-        if model == CONTACT3D:
-            return variables_markdown(*slave.declaration())
-        return variables_markdown(slave.VARIABLES, slave.ENUMERATIONS)
-    finally:
-        del sys.path[:2]
+def variables_table(model: str = DEFAULT_MODEL) -> str:
+    """The variables and enumerations of the single-contact FMU ``model`` as markdown, from its slave's
+    declaration."""
+    return variables_markdown(*slave_module(manifest(model)).declaration())
 
 
 def variables_markdown(variables, enumerations: dict | None = None) -> str:
@@ -301,30 +364,45 @@ def variables_markdown(variables, enumerations: dict | None = None) -> str:
 
 
 def write_docs(path: Path = DOCS) -> Path:
-    """Replace the variable table between each model's markers in docs/fmu.md with :func:`variables_table`."""
+    """Replace the variable table between each documented model's :func:`markers` in docs/fmu.md with
+    :func:`variables_table`; ValueError if a documented model has no markers there."""
     text = path.read_text()
-    for model, (_, (begin, end)) in DOCUMENTED.items():
-        head, _, rest = text.partition(begin)
-        _, _, tail = rest.partition(end)
-        text = f"{head}{begin}\n{variables_table(model)}{end}{tail}"
+    for model, fmu in FMUS.items():
+        if not fmu.docs:
+            continue
+        begin, end = markers(model)
+        head, found, rest = text.partition(begin)
+        if not found or end not in rest:
+            raise ValueError(f"{path.name} has no lines {begin!r} ... {end!r} for the variables of {model}")
+        text = f"{head}{begin}\n{variables_table(model)}{end}{rest.partition(end)[2]}"
     path.write_text(text)
     return path
 
 
+def selection(args) -> list[tuple[str, int]]:
+    """The (model, contacts) pairs the command line selects."""
+    if args.contacts is not None:
+        return [(model, args.contacts) for model, fmu in FMUS.items() if fmu.contacts]
+    if args.all:
+        return [(model, 1) for model in FMUS]
+    return [(args.only or DEFAULT_MODEL, 1)]
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--dest", default=str(ROOT / "models"), help="output folder (default: models/)")
-    parser.add_argument("--all", action="store_true", help="also build the host FMUs (WheelRig, Wheelset)")
-    parser.add_argument("--if-stale", action="store_true",
-                        help="build only FMUs that are missing or older than their sources")
-    parser.add_argument("--docs", action="store_true", help="write the variable table of docs/fmu.md (no build)")
-    parser.add_argument("--integer-codes", action="store_true",
-                        help="plain Integer variables instead of FMI enumerations (for hosts such as libcosim)")
+    chosen = parser.add_mutually_exclusive_group()
+    chosen.add_argument("--only", choices=list(FMUS), help="build this FMU only (default: RollingContact2D)")
+    chosen.add_argument("--all", action="store_true", help="build every FMU")
+    chosen.add_argument("--contacts", type=int, default=None, metavar="N",
+                        help=f"build the contact FMUs with N contacts per instance, <model>_N (1..{MAX_CONTACTS})")
     parser.add_argument("--fmi", type=fmi_versions, default=(2,), metavar="2|3|2,3",
                         help="FMI versions to build (default 2); FMI 3.0 goes into <dest>/fmi3/")
-    parser.add_argument("--contacts", type=int, default=None, metavar="N",
-                        help=f"build RollingContact2D_N and {CONTACT3D}_N: N contacts per instance (1..{MAX_CONTACTS})")
-    parser.add_argument("--only", choices=list(FMUS), help="build this FMU only")
+    parser.add_argument("--integer-codes", action="store_true",
+                        help="plain Integer variables instead of FMI enumerations (for hosts such as libcosim)")
+    parser.add_argument("--if-stale", action="store_true",
+                        help="build only FMUs that are missing or older than their sources")
+    parser.add_argument("--dest", default=str(MODELS), help="output folder (default: models/)")
+    parser.add_argument("--docs", action="store_true", help="write the variable tables of docs/fmu.md (no build)")
     args = parser.parse_args(argv)
     if args.docs:
         print(write_docs())
@@ -333,22 +411,10 @@ def main(argv: list[str] | None = None) -> None:
         parser.error("--integer-codes builds FMI 2.0 only (for libcosim): drop it or use --fmi 2")
     if args.contacts is not None and not 1 <= args.contacts <= MAX_CONTACTS:
         parser.error(f"--contacts {args.contacts}: give 1 to {MAX_CONTACTS}")
+    make = ensure if args.if_stale else build
     for fmi in args.fmi:
-        dest = fmi_dest(args.dest, fmi)
-        if args.contacts is not None:
-            for model in VARIANT_SLAVES:
-                print(build_variant(dest, args.contacts, args.integer_codes, fmi, model))
-        elif args.only:
-            print(build_model(args.only, dest, args.integer_codes, fmi))
-        elif args.all:
-            for path in build_all(dest, if_stale=args.if_stale, integer_codes=args.integer_codes, fmi=fmi).values():
-                print(path)
-        elif args.integer_codes:
-            print(build_model("RollingContact2D", dest, integer_codes=True))
-        elif not args.if_stale or is_stale("RollingContact2D", dest, fmi):
-            print(build_model("RollingContact2D", dest, fmi=fmi))
-        else:
-            print(dest / "RollingContact2D.fmu")
+        for model, contacts in selection(args):
+            print(make(model, fmi_dest(args.dest, fmi), fmi=fmi, contacts=contacts, integer_codes=args.integer_codes))
 
 
 if __name__ == "__main__":

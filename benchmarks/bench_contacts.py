@@ -51,7 +51,7 @@ from pathlib import Path
 
 import common  # before numpy: limits BLAS to one thread; puts the checkout on sys.path
 
-from build_fmu import build_variant
+from build_fmu import build
 
 COUNTS = (1, 2, 4, 8)
 HOSTS = ("lists", "buffers")
@@ -419,8 +419,7 @@ def main(argv: list[str] | None = None) -> None:
     from fmpy import extract
 
     with tempfile.TemporaryDirectory(prefix="bench_contacts_") as tmp:
-        unzipped = {(model, fmi, n): extract(str(build_variant(Path(tmp, f"{model}{fmi}_{n}"), n, fmi=fmi,
-                                                               model=model)),
+        unzipped = {(model, fmi, n): extract(str(build(model, Path(tmp, f"{model}{fmi}_{n}"), fmi=fmi, contacts=n)),
                                              unzipdir=str(Path(tmp, f"u{model}{fmi}_{n}")))
                     for model in ("RollingContact2D", "RollingContact3D") for fmi in (2, 3) for n in COUNTS}
         cases: dict[tuple, Instances] = {}

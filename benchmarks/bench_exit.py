@@ -20,7 +20,7 @@ A process counts as clean when it exits with 0 and printed its results line.  ``
 (the same workloads in turn, spread evenly among the others) on copies of the FMUs whose Linux binaries are
 replaced by the installed pythonfmu libraries, without the exit fix, for comparison.
 
-``--c-host N`` (needs gcc and a shared libpython) runs the C host of ``tests/fmu/test_fmu.py``, which returns from
+``--c-host N`` (needs gcc and a shared libpython) runs the C host of ``tests/fmu_host.py``, which returns from
 ``main`` (``exit()``, static destructors, ``Py_Finalize`` of the interpreter pythonfmu started), N times per
 variant: fixed and unfixed (both FMUs hold scipy's ``_uarray`` exception type, docs/fmu.md "Exit").  A
 ``sitecustomize`` on ``PYTHONPATH`` registers a Python ``atexit`` handler that writes a marker file: clean means exit
@@ -261,8 +261,8 @@ def c_host_runs(args, tmp: Path, variants: dict[str, dict[int, Path]]) -> list[d
     libpython = Path(sysconfig.get_config_var("LIBDIR") or "", sysconfig.get_config_var("LDLIBRARY") or "")
     if args.c_host <= 0 or shutil.which("gcc") is None or not libpython.is_file():
         return []
-    sys.path.insert(0, str(ROOT / "tests" / "fmu"))
-    from test_fmu import C_HOST  # one C host for the test and this study
+    sys.path.insert(0, str(ROOT / "tests"))
+    from fmu_host import C_HOST  # one C host for the test and this study
 
     (tmp / "host.c").write_text(C_HOST)
     subprocess.run(["gcc", "-std=c99", "-o", str(tmp / "host"), str(tmp / "host.c"), "-ldl"], check=True)

@@ -18,12 +18,13 @@ import statistics
 import sys
 import tempfile
 import textwrap
+from functools import partial
 from pathlib import Path
 
 import common  # before numpy: limits BLAS to one thread; puts the checkout on sys.path
 
 import rollcontact
-from build_fmu import build, build_model3
+from build_fmu import build
 
 EMPTY_SLAVE3 = textwrap.dedent('''
     """Empty pythonfmu3 slave with RollingContact2D's inputs and outputs: the floor of a pythonfmu3 step."""
@@ -83,7 +84,7 @@ def build_fmi3(tmp: Path) -> tuple[Path, Path]:
     script = tmp / "src3" / "rollcontact_bench_empty_slave3.py"
     script.parent.mkdir()
     script.write_text(EMPTY_SLAVE3)
-    return Path(FmuBuilder.build_FMU(script, dest=tmp / "empty3")), build_model3("RollingContact2D", tmp / "fmi3")
+    return Path(FmuBuilder.build_FMU(script, dest=tmp / "empty3")), build("RollingContact2D", tmp / "fmi3", fmi=3)
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -91,7 +92,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=int, default=30, help="interleaved rounds (default 30)")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="bench_fmi3_") as tmp:
-        empty2, contact2 = common.build_and_extract(Path(tmp), build)
+        empty2, contact2 = common.build_and_extract(Path(tmp), partial(build, "RollingContact2D"))
         empty3, contact3 = build_fmi3(Path(tmp))
         rows = [("empty FMU", {}, 200, 1.0), ("closed form", {"method": 1}, 200, 20.0)]
         if "polynomial" in rollcontact.METHODS:

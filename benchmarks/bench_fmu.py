@@ -16,6 +16,7 @@ import argparse
 import statistics
 import sys
 import tempfile
+from functools import partial
 from pathlib import Path
 
 import common  # before numpy: limits BLAS to one thread; puts the checkout on sys.path
@@ -29,7 +30,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=int, default=30, help="interleaved rounds (default 30)")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="bench_fmu_") as tmp:
-        empty_dir, contact_dir = common.build_and_extract(Path(tmp), build)
+        empty_dir, contact_dir = common.build_and_extract(Path(tmp), partial(build, "RollingContact2D"))
         cases = [common.Case("empty pythonfmu", empty_dir, {}, 200, 1.0),
                  common.Case("closed form", contact_dir, {"method": 1}, 200, 20.0)]
         if "polynomial" in rollcontact.METHODS:

@@ -171,7 +171,8 @@ def build_and_extract(tmp: Path, build_contact: Callable[[Path], Path]) -> tuple
     tmp
         Directory for the sources, the FMUs and the unzipped files.
     build_contact
-        ``build_contact(dest) -> path`` builds the contact FMU into ``dest`` (``build_fmu.build``).
+        ``build_contact(dest) -> path`` builds the contact FMU into ``dest`` (``partial(build_fmu.build,
+        "RollingContact2D")``).
 
     Returns
     -------

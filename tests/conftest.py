@@ -5,13 +5,13 @@ One BLAS thread: the discretised solver's small dense solves are 10-100x slower 
 """
 
 import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+from fmu_checks import run_build  # noqa: E402 - after the thread setting: fmpy imports numpy
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -20,11 +20,9 @@ ROOT = Path(__file__).resolve().parents[1]
 def fmu_path(tmp_path_factory) -> Path:
     """``python build_fmu.py --dest <tmp>``, once per test run (the FMU tests of every module share it)."""
     dest = tmp_path_factory.mktemp("fmu")
-    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)], capture_output=True,
-                          text=True, timeout=120)
-    assert done.returncode == 0, f"build_fmu.py failed:\n{done.stdout}\n{done.stderr}"
+    out = run_build(dest=dest, timeout=120)
     path = dest / "RollingContact2D.fmu"
-    assert path.is_file(), f"build_fmu.py did not write {path}: {done.stdout}"
+    assert path.is_file(), f"build_fmu.py did not write {path}: {out}"
     return path
 
 
@@ -34,36 +32,31 @@ def contact_variants(tmp_path_factory) -> dict[int, Path]:
     per test run into one folder: FMI version -> folder."""
     dest = tmp_path_factory.mktemp("contact_variants")
     for contacts in (1, 3):
-        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--contacts", str(contacts),
-                               "--dest", str(dest)], capture_output=True, text=True, timeout=600)
-        assert done.returncode == 0, f"build_fmu.py --contacts {contacts} failed:\n{done.stdout}\n{done.stderr}"
+        run_build("--fmi", "2,3", "--contacts", str(contacts), dest=dest)
     return {2: dest, 3: dest / "fmi3"}
 
 
 @pytest.fixture(scope="session")
 def fmu_folders(tmp_path_factory) -> dict[int, Path]:
-    """``python build_fmu.py --fmi 2,3 --all --dest <tmp>`` once per test run: version -> folder of the four FMUs
-    (RollingContact2D, WheelRig, Wheelset, RollingContact3D; FMI 3.0 below ``fmi3/``)."""
+    """``python build_fmu.py --all --dest <tmp>`` and ``--fmi 3 --all`` (each in a fresh process, as the docs give
+    them) once per test run: version -> folder of the four FMUs (RollingContact2D, WheelRig, Wheelset,
+    RollingContact3D; FMI 3.0 below ``fmi3/``)."""
     dest = tmp_path_factory.mktemp("fmi2_and_fmi3")
-    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--all", "--dest", str(dest)],
-                          capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, f"build_fmu.py --fmi 2,3 --all failed:\n{done.stdout}\n{done.stderr}"
+    out = run_build("--all", dest=dest) + run_build("--fmi", "3", "--all", dest=dest)
     folders = {2: dest, 3: dest / "fmi3"}
     for folder in folders.values():
         assert {p.name for p in folder.glob("*.fmu")} == {"RollingContact2D.fmu", "WheelRig.fmu", "Wheelset.fmu",
-                                                        "RollingContact3D.fmu"}, \
-            done.stdout
+                                                        "RollingContact3D.fmu"}, out
     return folders
 
 
 @pytest.fixture(scope="session")
 def eight_contacts(tmp_path_factory) -> dict[int, Path]:
-    """``build_fmu.py --fmi 2,3 --contacts 8`` (RollingContact2D_8 and RollingContact3D_8) once per test run:
-    FMI version -> folder."""
+    """``build_fmu.py --contacts 8`` and ``--fmi 3 --contacts 8`` (RollingContact2D_8 and RollingContact3D_8, each
+    command in a fresh process) once per test run: FMI version -> folder."""
     dest = tmp_path_factory.mktemp("eight_contacts")
-    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--fmi", "2,3", "--contacts", "8", "--dest",
-                           str(dest)], capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, f"build_fmu.py --contacts 8 failed:\n{done.stdout}\n{done.stderr}"
+    run_build("--contacts", "8", dest=dest)
+    run_build("--fmi", "3", "--contacts", "8", dest=dest)
     return {2: dest, 3: dest / "fmi3"}
 
 
@@ -74,9 +67,7 @@ def integer_codes(tmp_path_factory) -> Path:
     folder."""
     dest = tmp_path_factory.mktemp("integer_codes")
     for args in (["--integer-codes"], ["--contacts", "2", "--integer-codes"]):
-        done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), *args, "--dest", str(dest)],
-                              capture_output=True, text=True, timeout=600)
-        assert done.returncode == 0, f"build_fmu.py {' '.join(args)} failed:\n{done.stdout}\n{done.stderr}"
+        run_build(*args, dest=dest)
     return dest
 
 

@@ -1,5 +1,6 @@
-"""The validation every built FMU passes: fmpy's ``validate_fmu`` and fmu_manipulation_toolbox's ``fmutool -check``
-against the FMU's FMI version (shared by the FMI 2.0, FMI 3.0 and several-contact tests)."""
+"""The builds of the FMU tests and the validation every built FMU passes: ``build_fmu.py`` in a fresh process
+(:func:`run_build`), fmpy's ``validate_fmu`` and fmu_manipulation_toolbox's ``fmutool -check`` against the FMU's FMI
+version (shared by the FMI 2.0, FMI 3.0 and several-contact tests)."""
 
 from __future__ import annotations
 
@@ -9,6 +10,16 @@ import sys
 from pathlib import Path
 
 from fmpy.validation import validate_fmu
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def run_build(*args: str, dest: Path, timeout: float = 600) -> str:
+    """``python build_fmu.py ARGS --dest DEST`` in a fresh process, as the docs give it; its standard output."""
+    done = subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), *args, "--dest", str(dest)], capture_output=True,
+                          text=True, timeout=timeout)
+    assert done.returncode == 0, f"build_fmu.py {' '.join(args)} failed:\n{done.stdout}\n{done.stderr}"
+    return done.stdout
 
 
 def assert_fmu_is_valid(path: Path, fmi: int) -> None:

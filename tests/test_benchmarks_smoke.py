@@ -115,7 +115,7 @@ def test_every_study_writes_a_results_file_and_the_readme_lists_it():
     for name in studies:
         assert f"python benchmarks/{name}.py" in readme, f"benchmarks/README.md does not list {name}.py"
     cited = set()
-    for path in [*ROOT.glob("src/**/*.py"), *ROOT.glob("fmu_src/*.py"), *ROOT.glob("docs/*.md"), ROOT / "README.md",
+    for path in [*ROOT.glob("src/**/*.py"), *ROOT.glob("fmu_src/**/*.py"), *ROOT.glob("docs/*.md"), ROOT / "README.md",
                  *BENCHMARKS.glob("*.py")]:
         cited |= set(re.findall(r"results/([a-z_0-9]+\.(?:md|png))", path.read_text()))
     orphans = sorted(c for c in cited if c not in written)

@@ -5,7 +5,6 @@ refusals that name the value, the limit and the contact, and a restored state th
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -210,13 +209,10 @@ def test_the_documented_variable_table_is_the_slave_table():
 
 def test_the_declared_bounds_are_the_library_checks():
     """Each parameter's declared min/max is accepted by EllipticParameters and the next value beyond is refused."""
-    sys.path.insert(0, str(ROOT / "fmu_src"))
-    try:
-        from rollcontact_fmu_contact3d import declaration
-    finally:
-        sys.path.remove(str(ROOT / "fmu_src"))
+    import build_fmu
+
     default = EllipticParameters()
-    variables, _ = declaration()
+    variables, _ = build_fmu.slave_module(build_fmu.FMUS["RollingContact3D"]).declaration()
     for name, kind, causality, _v, _u, start, lower, upper, _d in variables:
         if causality.name != "parameter" or name == "friction_table":
             continue
@@ -239,9 +235,9 @@ def test_a_contact_count_out_of_range_is_refused_with_the_limits(tmp_path):
 
     for contacts in (0, build_fmu.MAX_CONTACTS + 1, True):
         with pytest.raises(ValueError, match=f"from 1 to {build_fmu.MAX_CONTACTS}"):
-            build_fmu.build_variant(tmp_path, contacts)
+            build_fmu.build("RollingContact3D", tmp_path, contacts=contacts)
     with pytest.raises(ValueError, match="FMI 2.0 build"):
-        build_fmu.build_variant(tmp_path, 2, integer_codes=True, fmi=3)
+        build_fmu.build("RollingContact3D", tmp_path, contacts=2, integer_codes=True, fmi=3)
     with pytest.raises(SystemExit):
         build_fmu.main(["--contacts", "0", "--dest", str(tmp_path)])
 

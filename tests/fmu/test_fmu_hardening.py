@@ -1,12 +1,12 @@
 """The RollingContact2D FMU against hosts that misbehave (issue: corrupt states, late parameters, devices as scene
 files, communication points inside a step, memory per instance, log messages without debug logging).
 
-What pythonfmu 0.7 lets a slave do shapes the expectations (``docs/fmu.md``, "Known limits of pythonfmu"): only
-``doStep`` has a status of its own (fmi2Discard); every other call returns fmi2OK unless the slave raises, which
-pythonfmu turns into fmi2Fatal and a broken instance.  So where FMI 2 wants fmi2Error the FMU *emulates* it: the
-call returns fmi2OK, the reason is logged with status Error (3), nothing changes, and every ``doStep`` is
-discarded with the reason until a valid state is set or the instance is reset.  Cases that could crash or hang
-the test process run in a subprocess.
+What pythonfmu 0.7 lets a slave do shapes the expectations (``docs/fmu-internals.md``, "Known limits of pythonfmu"):
+only ``doStep`` has a status of its own (fmi2Discard); every other call returns fmi2OK unless the slave raises,
+which pythonfmu turns into fmi2Fatal and a broken instance. So where FMI 2 wants fmi2Error the FMU *emulates* it:
+the call returns fmi2OK, the reason is logged with status Error (3), nothing changes, and every ``doStep`` is
+discarded with the reason until a valid state is set or the instance is reset. Cases that could crash or hang the
+test process run in a subprocess.
 """
 
 from __future__ import annotations
@@ -22,13 +22,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import test_fmu
 from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
-from test_fmu import DISCARD, H, Instance, discarded, model_outputs
+from fmu_host import DISCARD, H, Instance, discarded, model_outputs
 
 ERROR = 3
-instance = test_fmu.instance  # the fixture: initialised instances, freed after the test
 ROW = (1e5, 1e-3, 20.0)  # normal load [N], creep, speed [m/s]
 
 
@@ -169,7 +167,7 @@ ZERO_LENGTH = """
 import sys
 sys.path.insert(0, {tests!r})
 from fmpy import read_model_description
-from test_fmu import Instance, H
+from fmu_host import Instance, H
 fmu = Instance({unzipped!r}, read_model_description({unzipped!r}))
 good = fmu.fmu.getFMUstate()
 for data in (b"", b"", b"\\x00", b"{{"):  # twice: the second call after a Fatal crashed pythonfmu 0.7 hosts
@@ -186,9 +184,9 @@ print("errors", sum(1 for s, _, m in fmu.log if s == 3 and "setFMUstate refused"
 
 def test_zero_length_and_garbage_bytes_neither_crash_nor_fatal(unzipped):
     """fmpy's ``deSerializeFMUstate(b"")`` once ended in fmi2Fatal, after which pythonfmu 0.7 leaves dangling
-    pointers (docs/fmu.md): the next call on the instance was a use after free (SIGSEGV).  Now every such state is
-    an ordinary refused state, in a subprocess that must exit normally."""
-    script = ZERO_LENGTH.format(tests=str(Path(__file__).parent), unzipped=str(unzipped))
+    pointers (docs/fmu-internals.md): the next call on the instance was a use after free (SIGSEGV). Now every such
+    state is an ordinary refused state, in a subprocess that must exit normally."""
+    script = ZERO_LENGTH.format(tests=str(Path(__file__).parents[1]), unzipped=str(unzipped))
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, f"exit {done.returncode} (signal {-done.returncode} if < 0):\n{done.stderr[-3000:]}"
     assert "errors 4 force" in done.stdout, f"four refused states expected:\n{done.stdout}\n{done.stderr[-2000:]}"
@@ -245,7 +243,7 @@ import json, sys
 sys.path.insert(0, {tests!r})
 from fmpy import read_model_description
 from fmpy.fmi1 import FMICallException
-from test_fmu import Instance, H
+from fmu_host import Instance, H
 results = {{}}
 for path in {paths!r}:
     fmu = Instance({unzipped!r}, read_model_description({unzipped!r}), scene_file=path)
@@ -276,7 +274,7 @@ def test_devices_fifos_big_and_foreign_files_are_refused_unread_without_echoing_
     expected = {"/dev/zero": "is a character device", str(fifo): "is a FIFO", str(tmp_path): "is a directory",
                 str(big): "more than a scene's limit of 1048576 bytes", str(foreign): "is not a scene",
                 str(binary): "it is not UTF-8 text", str(text): "is not a scene: a TOML syntax error (at line 1"}
-    script = SCENE_PROBE.format(tests=str(Path(__file__).parent), unzipped=str(unzipped), paths=list(expected))
+    script = SCENE_PROBE.format(tests=str(Path(__file__).parents[1]), unzipped=str(unzipped), paths=list(expected))
     done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr[-3000:]
     results = json.loads(done.stdout.splitlines()[-1])
@@ -333,7 +331,8 @@ def cycle():
 for _ in range(30):
     cycle()
 gc.collect()
-module = sys.modules[md.coSimulation.modelIdentifier == "RollingContact2D" and "rollcontact_fmu_slave"]
+with open(unzipped + "/resources/slavemodule.txt") as named:  # the entry module pythonfmu re-executes
+    module = sys.modules[named.read().strip()]
 refs, paths, blocks = sys.getrefcount(module.__dict__), len(sys.path), sys.getallocatedblocks()
 for _ in range({cycles}):
     cycle()
@@ -343,7 +342,7 @@ print((sys.getallocatedblocks() - blocks) / {cycles}, sys.getrefcount(module.__d
 
 
 def test_instantiate_free_cycles_leave_little_behind(unzipped):
-    """Measured (benchmarks/results/fuzz.md, docs/fmu.md): 150 Python blocks per cycle before (the slave class
+    """Measured (benchmarks/results/fuzz.md, docs/fmu-internals.md): 150 Python blocks per cycle before (the slave class
     re-created by pythonfmu on each instantiation), about 15 now, pythonfmu's own findClass leaks."""
     cycles = 200
     script = MEMORY_PROBE.format(unzipped=str(unzipped), cycles=cycles)
@@ -355,13 +354,13 @@ def test_instantiate_free_cycles_leave_little_behind(unzipped):
     assert paths == 0, f"sys.path grew by {paths:.0f} entries"
 
 
-def test_the_entry_module_balances_its_references_without_ctypes(instance, monkeypatch):
+def test_the_entry_module_balances_its_references_without_ctypes(instance, unzipped, monkeypatch):
     """The fallback when ctypes cannot reach the C API: a class whose method holds the reference."""
     import ctypes
 
     monkeypatch.setattr(ctypes, "pythonapi", None)
     instance()  # the entry module is loaded, its fallback taken once
-    module = sys.modules["rollcontact_fmu_slave"]
+    module = sys.modules[(unzipped / "resources" / "slavemodule.txt").read_text().strip()]
     gc.collect()  # the frames of the caught AttributeErrors
     before = sys.getrefcount(module.__dict__)
     for _ in range(5):
@@ -419,8 +418,9 @@ def test_discard_and_error_reasons_reach_the_logger_with_status_categories(unzip
 @pytest.mark.parametrize("case", range(4), ids=["negative load", "NaN creep", "friction -0.1", "wavelength 0"])
 def test_discard_and_error_reasons_reach_stderr_once_without_debug_logging(unzipped, case, capfd):
     """pythonfmu 0.7 hands no message to the logger while loggingOn is fmi2False (``PyLogger::log`` in
-    ``Logger.hpp``: docs/fmu.md, Known limits of pythonfmu, 3); the refusal is then written to standard error, once
-    (an invalid parameter's Error at initialisation and the Discard of the step it refuses are one reason)."""
+    ``Logger.hpp``: docs/fmu-internals.md, Known limits of pythonfmu, 3); the refusal is then written to standard
+    error, once (an invalid parameter's Error at initialisation and the Discard of the step it refuses are one
+    reason)."""
     name, keywords, reason = bad_runs(unzipped)[case]
     log = simulate_logged(unzipped, False, keywords)
     assert log == [], f"{name}: pythonfmu 0.7 passes nothing to the logger without debug logging: {log}"

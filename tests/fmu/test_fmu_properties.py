@@ -27,9 +27,9 @@ from __future__ import annotations
 import pytest
 from extremes import PROFILE, check_outputs, model_inputs, model_parameters
 from fmpy.fmi1 import FMICallException
+from fmu_host import DISCARD, Instance
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
-from test_fmu import DISCARD, Instance
 
 OK = 0
 

@@ -19,7 +19,7 @@ import pytest
 from fmpy import instantiate_fmu, simulate_fmu
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave, defaultCallbacks, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
-from test_fmu import C_HOST, DISCARD, H, model_outputs, shared_libpython
+from fmu_host import C_HOST, DISCARD, H, model_outputs, shared_libpython
 
 ERROR = 3
 ROW = (1e5, 1e-3, 20.0)  # normal load [N], creep, speed [m/s]
@@ -200,12 +200,12 @@ def test_a_c_host_without_logging_sees_the_reason_on_its_standard_error(unzipped
 
 # the reading of pythonfmu's logger object, on a block laid out as the GNU C++ library lays it out -----------------
 def slave_base():
-    """``fmu_src/rollcontact_fmu_base.py`` under a name of its own (the FMUs of this process keep theirs)."""
+    """``fmu_src/rollcontact_fmu/workarounds.py`` under a name of its own (the FMUs of this process keep theirs)."""
     import importlib.util
     from pathlib import Path
 
-    path = Path(__file__).resolve().parents[2] / "fmu_src" / "rollcontact_fmu_base.py"
-    spec = importlib.util.spec_from_file_location("rollcontact_fmu_base_under_test", path)
+    path = Path(__file__).resolve().parents[2] / "fmu_src" / "rollcontact_fmu" / "workarounds.py"
+    spec = importlib.util.spec_from_file_location("rollcontact_fmu_workarounds_under_test", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module

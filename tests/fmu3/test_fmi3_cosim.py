@@ -72,4 +72,5 @@ def test_build_fmu_builds_fmi2_by_default_and_fmi3_on_request(capsys):
     with pytest.raises(SystemExit) as done:
         build_fmu.main(["--integer-codes", "--fmi", "2,3"])
     assert done.value.code == 2 and "--integer-codes builds FMI 2.0 only" in capsys.readouterr().err
-    assert build_fmu.FMUS3.keys() == build_fmu.FMUS.keys(), "an FMI 3.0 variant of every FMU"
+    assert all(fmu.variant(fmi=3) == fmu.variant(fmi=2) | ({"arrays": True} if fmu.arrays else {})
+               for fmu in build_fmu.FMUS.values()), "an FMI 3.0 variant of every FMU"

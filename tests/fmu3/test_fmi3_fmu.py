@@ -1,6 +1,6 @@
 """The FMI 3.0 FMUs against their FMI 2.0 twins: one contract, tested on both versions (the ``fmi`` fixture).
 
-Both versions are the same slave classes (``fmu_src/fmi3_table_slave.py``): the same variables, value references,
+Both versions are the same slave classes (``fmu_src/rollcontact_fmu/fmi3.py``): the same variables, value references,
 units, ranges and enumerations (declared each version's way), the same Discard with a logged reason for a bad input
 or parameter, the same refusals where FMI wants an error (logged with status Error, then every step discarded until
 a valid state is set), state get/set/serialise, independent instances, and the same outputs bit for bit.  What
@@ -339,14 +339,15 @@ try:
 except FMICallException as exc:
     print(exc.status, repr(log[-1]))
 sys.stdout.flush()
-os._exit(0)  # the instance's Python objects are released: no further call (docs/fmu.md, FMI 3.0)
+os._exit(0)  # the instance's Python objects are released: no further call (docs/fmu-internals.md, pythonfmu3)
 '''
 
 
 def test_an_exception_in_a_pythonfmu3_slave_is_fatal(tmp_path):
-    """What docs/fmu.md says of pythonfmu3 0.3.4: an exception escaping the slave becomes fmi3Fatal (the reason
-    logged), hence the slaves let none escape.  Built and run in a subprocess: the instance is unusable afterwards,
-    and this process may have imported an FMU's bundled copy of pythonfmu3, which has no binaries to build with."""
+    """What docs/fmu-internals.md says of pythonfmu3 0.3.4: an exception escaping the slave becomes fmi3Fatal (the
+    reason logged), hence the slaves let none escape. Built and run in a subprocess: the instance is unusable
+    afterwards, and this process may have imported an FMU's bundled copy of pythonfmu3, which has no binaries to
+    build with."""
     script = tmp_path / "raising_slave.py"
     script.write_text(RAISING_SLAVE)
     done = subprocess.run([sys.executable, "-c", FATAL_PROBE, str(script)], capture_output=True, text=True,
@@ -380,8 +381,8 @@ def test_each_bad_input_is_logged_through_simulate_fmu_without_debug_logging(fmu
 
 
 CONSTRUCTION_PROBE = '''
-import sys
-sys.path.insert(0, sys.argv[1])
+import importlib, json, sys
+sys.path[:0] = json.loads(sys.argv[1])
 from pythonfmu import Fmi2Slave
 from pythonfmu3 import Fmi3Slave
 
@@ -391,11 +392,9 @@ def refused(self, **kwargs):
 
 
 Fmi2Slave.__init__ = refused
-import fmi3_contact3d_slave, fmi3_rollcontact_slave, fmi3_wheel_rig_slave, fmi3_wheelset_slave
-from fmi3_table_slave import TableSlave3
 fmi2_methods = {name for klass in Fmi2Slave.__mro__ for name in vars(klass)}
-for cls in (fmi3_rollcontact_slave.RollingContact2D, fmi3_contact3d_slave.RollingContact3D,
-            fmi3_wheel_rig_slave.WheelRig, fmi3_wheelset_slave.Wheelset):
+for entry, model in json.loads(sys.argv[2]).items():
+    cls = getattr(importlib.import_module(entry), model)
     for name in sorted({name for klass in Fmi3Slave.__mro__ if klass is not object for name in vars(klass)}
                        & fmi2_methods):
         owner = next(klass for klass in cls.__mro__ if name in vars(klass))
@@ -412,11 +411,21 @@ print("checked")
 
 
 def test_fmi3_slaves_are_constructed_by_pythonfmu3_and_resolve_no_call_to_pythonfmu(tmp_path):
-    """Each FMI 3.0 slave is built by ``Fmi3SlaveBase.__init__`` and the shared table, never by pythonfmu's
-    ``Fmi2Slave.__init__`` (made to raise here), inherits neither ``Fmi2Slave`` nor the FMI 2.0 binding
-    ``TableSlave2``, and every method both bindings define resolves to the FMI 3.0 side or the shared slave, not to
-    pythonfmu.  In a subprocess, so that this process imports no slave module an FMU instance would share."""
-    done = subprocess.run([sys.executable, "-c", CONSTRUCTION_PROBE, str(ROOT / "fmu_src")], capture_output=True,
-                          text=True, timeout=120, cwd=tmp_path)
+    """Each FMI 3.0 slave (its entry module as ``build_fmu.py`` writes it) is built by ``Fmi3SlaveBase.__init__`` and
+    the shared table, never by pythonfmu's ``Fmi2Slave.__init__`` (made to raise here), inherits neither
+    ``Fmi2Slave`` nor the FMI 2.0 binding ``TableSlave2``, and every method both bindings define resolves to the FMI
+    3.0 side or the shared slave, not to pythonfmu.  In a subprocess, so that this process imports no slave module an
+    FMU instance would share."""
+    import build_fmu
+
+    entries = {}
+    for model, fmu in build_fmu.FMUS.items():
+        entry = build_fmu.tool("entry").write_entry(tmp_path, model, 3, fmu.folder.name, fmu.slave,
+                                                    fmu.variant(fmi=3))
+        entries[entry.stem] = model
+    path = [str(tmp_path), *(str(fmu.folder) for fmu in build_fmu.FMUS.values()), str(build_fmu.FMU_SOURCES),
+            str(build_fmu.SOURCES)]
+    done = subprocess.run([sys.executable, "-c", CONSTRUCTION_PROBE, json.dumps(path), json.dumps(entries)],
+                          capture_output=True, text=True, timeout=120, cwd=tmp_path)
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout == "checked\n", f"FMI 3.0 slaves depending on pythonfmu's Fmi2Slave:\n{done.stdout}"

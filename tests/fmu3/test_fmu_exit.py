@@ -1,4 +1,5 @@
-"""The exit fix of pythonfmu's Linux export library in the built FMUs (``pythonfmu_exit_fix.py``, docs/fmu.md "Exit").
+"""The exit fix of pythonfmu's Linux export library in the built FMUs (``fmu_src/tools/pythonfmu_exit_fix.py``,
+docs/fmu-internals.md "Exit").
 
 pythonfmu 0.7.0 and pythonfmu3 0.3.4 release their static ``std::shared_ptr<PyState>`` twice at process exit; the
 build redirects the static destructor's registration to ``finalizePythonInterpreter``, a 7-byte instruction.  The
@@ -20,8 +21,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-if str(ROOT / "fmu_src") not in sys.path:
-    sys.path.append(str(ROOT / "fmu_src"))  # the build's fix of the export library (build_fmu.EXIT_FIX)
+if str(ROOT / "fmu_src" / "tools") not in sys.path:
+    sys.path.append(str(ROOT / "fmu_src" / "tools"))  # the build's fix of the export library (build_fmu.tool)
 import pythonfmu_exit_fix as fix  # noqa: E402
 
 # version -> (package, folder in the FMU, file offset, instruction before, instruction after), from objdump -d:

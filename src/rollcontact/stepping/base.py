@@ -18,12 +18,13 @@ class ModelError(ValueError):
 
 
 def argument_problems(rows, label: str = "") -> list[str]:
-    """Every invalid value of ``rows`` ``(name, value, unit, lower, lower_open)``: not a real number, not finite, or
-    below ``lower`` (None: no bound); each message names the value and the limit, prefixed with ``label``."""
+    """Every invalid value of ``rows`` ``(name, value, unit, lower, lower_open)``: not a real number, not finite
+    (``normal_load = nan is not finite``), or below ``lower`` (None: no bound) with its unit (``normal_load = -1.0 N is
+    out of range: it must be >= 0.0``); each message prefixed with ``label``."""
     problems = []
     for name, value, unit, lower, lower_open in rows:
         try:
-            check_real(name, value, lower=lower, lower_open=lower_open, unit=unit)
+            check_real(name, check_real(name, value), lower=lower, lower_open=lower_open, unit=unit)
         except SceneError as exc:
             problems.append(f"{label}{exc}")
     return problems

@@ -1,7 +1,8 @@
 """What the stepping models of every geometry share in their parameters: the validated block
 :class:`ModelParameters` (material, friction law, rail condition, method, tolerance, step budget), the codes of the
-FMUs' integer variables that go with it (:data:`FRICTION_LAWS`, :data:`RAIL_CONDITION_CODES`, the :class:`Level`
-rows of each geometry's method levels) and the friction law they make (:func:`friction_law`).
+FMUs' integer variables that go with it (:data:`FRICTION_LAW_CODES`, :data:`RAIL_CONDITION_CODES` with the
+conditions' parameters :data:`RAIL_CONDITION_SETS`, the :class:`Level` rows of each geometry's method levels) and the
+friction law they make (:func:`friction_law`).
 
 Each geometry's parameters (:class:`rollcontact.stepping.line.parameters.ContactParameters`,
 :class:`rollcontact.stepping.elliptic.parameters.EllipticParameters`) extend :class:`ModelParameters` with their
@@ -96,6 +97,11 @@ TABLE_LAW = 4
 RAIL_CONDITION_CODES = {0: "custom", **{k: name for k, name in enumerate(RAIL_CONDITIONS, start=1)}}
 """``rail_condition`` codes: 0 custom (the ``friction_*`` parameters), else a named condition of
 :data:`rollcontact.core.friction.RAIL_CONDITIONS` whose law replaces them."""
+
+RAIL_CONDITION_SETS = {code: RAIL_CONDITIONS[name] for code, name in RAIL_CONDITION_CODES.items() if code}
+"""``rail_condition`` code (all but 0, custom) -> its named condition, a
+:class:`rollcontact.core.friction.RailCondition`: the parameters of its law (``mu_static``, ``kinetic_ratio``,
+``decay``) and their ``source`` (what :func:`friction_law` steps with, and what the FMUs' RailCondition items say)."""
 
 
 new_tuple = tuple.__new__
@@ -274,7 +280,7 @@ def friction_law(p: ModelParameters) -> FrictionLaw:
         The values make no valid law (the law's message).
     """
     if p.rail_condition:
-        return RAIL_CONDITIONS[RAIL_CONDITION_CODES[p.rail_condition]].law()
+        return RAIL_CONDITION_SETS[p.rail_condition].law()
     mu, ratio = p.friction_coefficient, p.friction_kinetic_ratio
     laws = {0: lambda: Coulomb(mu), 1: lambda: ExponentialFalling(mu, ratio, p.friction_decay),
             2: lambda: RationalFalling(mu, ratio * mu, p.friction_reference_velocity),

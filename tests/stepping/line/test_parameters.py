@@ -16,7 +16,7 @@ from rollcontact.stepping.line.parameters import (
     method_code,
     registered_methods,
 )
-from rollcontact.stepping.parameters import AUTO, RAIL_CONDITION_CODES, friction_law
+from rollcontact.stepping.parameters import AUTO, RAIL_CONDITION_CODES, RAIL_CONDITION_SETS, friction_law
 
 RECORDED = {1: "closed_form", 2: "polynomial", 3: "discretised", 4: "relaxation_lag", 5: "discretised_transient",
             6: "table"}
@@ -62,3 +62,12 @@ def test_a_rail_condition_replaces_the_friction_parameters_and_a_bad_code_is_nam
     with pytest.raises(ModelError, match="friction_coefficient = -1.0 .*; rail_condition = 3 is out of range: it must "
                                          "be one of 0 custom, 1 dry, 2 wet"):
         parameters(friction_coefficient=-1.0, rail_condition=3)
+
+
+def test_the_rail_condition_sets_are_the_named_conditions_of_the_codes():
+    """``RAIL_CONDITION_SETS`` (what the FMUs' RailCondition items describe) holds, for every code but custom, the
+    named condition whose law :func:`friction_law` steps with."""
+    assert set(RAIL_CONDITION_SETS) == set(RAIL_CONDITION_CODES) - {0}
+    for code, condition in RAIL_CONDITION_SETS.items():
+        assert condition.name == RAIL_CONDITION_CODES[code], f"code {code}: {condition.name}"
+        assert friction_law(ContactParameters(rail_condition=code)) == condition.law() == rail_condition(condition.name)

@@ -1,8 +1,8 @@
 """Stepping model of the elliptic (3D) contact for co-simulation: parameters -> (state, inputs, step) -> outputs.
 
-The library half of the ``RollingContact3D`` FMU (``fmu_src/rollcontact_fmu_contact3d.py`` maps its variables here
-and back, nothing else): one or several wheel/rail contacts of one material and friction law, each with its own gap
-curvatures, stepped together.
+The library half of the ``RollingContact3D`` FMU (``fmu_src/RollingContact3D/rollcontact_fmu_contact3d.py`` maps its
+variables here and back, nothing else): one or several wheel/rail contacts of one material and friction law, each with
+its own gap curvatures, stepped together.
 
 * :class:`~rollcontact.stepping.elliptic.parameters.EllipticParameters` holds the fixed parameters (FMU parameters
   of the same names; the curvatures one per contact) and checks them all at once;

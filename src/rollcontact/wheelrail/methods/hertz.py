@@ -30,9 +30,14 @@ from rollcontact.wheelrail.wheels import COUPLING, balance, track_force
 __all__ = ["METHOD", "inapplicable", "solve_hertz"]
 
 GAP_ERROR = 0.5
-"""Error [1] of the forces (over mu Fn) per unit of a patch's departure from Hertz's gap: the largest ``|h(s) - B
-s^2|`` over the Hertz ellipse's width, over the approach (:func:`departure`); ``benchmarks/wheelrail_manchester.py``
-calibrates it against the discretised level on the Manchester positions."""
+"""Error [1] of the forces (over mu Fn, Mz over mu Fn c) per unit of a patch's departure from Hertz's gap
+(:func:`departure`): ``benchmarks/wheelrail_manchester.py`` calibrates it against the discretised level on the
+Manchester positions (table A)."""
+
+LOBES_ERROR = 0.3
+"""Error [1] added where a contact point shares its patch with another (two lobes whose interpenetrations merge):
+Hertz's ellipse per lobe shares the load and the slip between them otherwise than the one patch does
+(``benchmarks/wheelrail_manchester.py``, table A: the centred position's two-lobed tread)."""
 
 HERTZ_COST = 2e-4
 """Modelled time [s] of the geometry and Hertz's normal problem of a wheelset (``benchmarks/wheelrail_manchester.py``),
@@ -72,6 +77,7 @@ def hertz_wheel(scene: WheelRailScene, contact, elliptic: str):
     if load == 0.0:
         return WheelResult(side, (), 0.0, 0.0, (0.0, 0.0, 0.0), f"{side} wheel: no load, no contact"), [], 0.0
     unit, _ = hertz_contacts(contact, scene.material)
+    patch_of = {i: patch for patch in contact.patches for i in patch.points}
     ratios = [0.0] * len(contact.points)
     start = scene.hertz[SIDES.index(side)].vertical_displacement
     for _ in range(2):
@@ -96,7 +102,8 @@ def hertz_wheel(scene: WheelRailScene, contact, elliptic: str):
                                  answer.spin_moment, xi, eta, phi, scene.friction_coefficient, math.pi * h.a * h.b,
                                  info={"elliptic_method": answer.method, **answer.info})
             patches.append((k, WheelPatch(point, result, track_force(point, result))))
-            estimates.append(answer.info.get("error_estimate", math.nan))
+            estimates.append(answer.info.get("error_estimate", math.nan)
+                             + shape_error(patch_of[k], ellipse_scene.hertz.b, approach))
         tangential = [(k, p.track_force[2] - p.result.normal_load * math.cos(p.point.contact_angle))
                       for k, p in patches]
         if sum(abs(v) for _, v in tangential) <= COUPLING * load:
@@ -109,25 +116,31 @@ def hertz_wheel(scene: WheelRailScene, contact, elliptic: str):
     problems = [f"{side} wheel, contact at rail y = {p.point.rail_lateral:.4g} m: {p.result.message}"
                 for p in patches if not p.result.success]
     force = tuple(sum(p.track_force[i] for p in patches) for i in range(3))
-    estimate = max(estimates, default=0.0) + GAP_ERROR * max((departure(p) for p in contact.patches), default=0.0)
+    estimate = max(estimates, default=0.0)
     message = f"{side} wheel carries {force[2]:.6g} N of {load:.6g} N on {len(patches)} contact(s)"
     return WheelResult(side, tuple(patches), load, d, force, message), problems, estimate
 
 
-def departure(patch) -> float:
-    """How far [1] a patch's gap departs from Hertz's: ``max |h(s) - B s^2| / max h`` over the samples within the
-    patch region, B the deepest point's Hertz curvature fitted at s = 0 (a quadratic gap gives 0, a two-lobed one
-    about 1)."""
+def shape_error(patch, half_width: float, approach: float) -> float:
+    """What a patch's shape adds to an ellipse's error: :data:`GAP_ERROR` times its :func:`departure` over the
+    ellipse's half-width, and :data:`LOBES_ERROR` where the patch has more than one contact point."""
+    return GAP_ERROR * departure(patch, half_width, approach) + (LOBES_ERROR if len(patch.points) > 1 else 0.0)
+
+
+def departure(patch, half_width: float, approach: float) -> float:
+    """How far [1] a patch's gap departs from Hertz's where the surfaces interpenetrate: ``max |h(s) - B s^2| /
+    delta`` over the samples with ``h(s) <= delta`` (a second lobe of the patch among them), B fitted to the gap
+    over ``|s| <= half_width`` (b of the ellipse at the patch's rigid contact point, s = 0) and delta the point's
+    approach; at most 1.  A quadratic gap gives 0."""
     gap = patch.gap
     s = np.asarray(gap.lateral)
     h = np.asarray(gap.lateral_gap)
-    inner = np.abs(s) <= 0.5 * (s[-1] - s[0])
-    if inner.sum() < 3:
+    inner = np.abs(s) <= half_width
+    touching = h <= approach
+    if inner.sum() < 4 or not approach > 0.0:
         return 0.0
     fit = np.polyfit(s[inner], h[inner], 2)
-    quadratic = np.polyval(fit, s[inner])
-    scale = float(h[inner].max())
-    return float(np.max(np.abs(h[inner] - quadratic)) / scale) if scale > 0.0 else 0.0
+    return min(1.0, float(np.max(np.abs(h[touching] - np.polyval(fit, s[touching])))) / approach)
 
 
 def inapplicable(scene: WheelRailScene) -> str | None:
@@ -137,8 +150,8 @@ def inapplicable(scene: WheelRailScene) -> str | None:
 
 
 class HertzAccuracy(AccuracyModel):
-    """The elliptic level's estimate of each ellipse plus :data:`GAP_ERROR` times the patches' departure from a
-    quadratic gap; the cost of the geometry, Hertz and one elliptic solve per contact point."""
+    """The elliptic level's estimate of each ellipse plus its patch's :func:`shape_error`; the cost of the
+    geometry, Hertz and one elliptic solve per contact point."""
 
     floor = HERTZ_COST
 
@@ -154,10 +167,13 @@ class HertzAccuracy(AccuracyModel):
         for contact, normal in zip(scene.contacts, scene.hertz, strict=True):
             if scene.load(contact.side) == 0.0:
                 continue
-            gap = GAP_ERROR * max((departure(p) for p in contact.patches), default=0.0)
-            for point, force in zip(contact.points, normal.normal_forces, strict=True):
+            patch_of = {i: patch for patch in contact.patches for i in patch.points}
+            for k, (point, force, approach, unit) in enumerate(zip(contact.points, normal.normal_forces,
+                                                                   normal.approaches, normal.ellipses, strict=True)):
                 if force > 0.0:
-                    worst = max(worst, gap + ellipse_estimate(scene, point, force))
+                    half_width = unit.b * force ** (1.0 / 3.0)
+                    worst = max(worst, ellipse_estimate(scene, point, force)
+                                + shape_error(patch_of[k], half_width, approach))
         return worst
 
 

@@ -23,7 +23,7 @@ every process.
 
 :func:`patch_library` applies it to a library only if its SHA-256 is that of a pinned release
 (:data:`LIBRARIES`), and checks every byte it relies on through the ELF tables; anything else stops the build
-with the reason.  The Windows DLLs are left as they are (docs/fmu.md, "Exit").
+with the reason.  The Windows DLLs are left as they are (docs/fmu-internals.md, "Exit").
 """
 
 from __future__ import annotations
@@ -159,8 +159,9 @@ def patch_library(data: bytes, name: str = "library") -> bytes:
             return patched
     pinned = ", ".join(f"{lib.release} {lib.sha256}" for lib in LIBRARIES)
     raise RuntimeError(f"{name} has SHA-256 {digest}, not that of a pinned pythonfmu release ({pinned}): the exit "
-                       f"fix (pythonfmu_exit_fix.py, docs/fmu.md 'Exit') is made for those bytes only; install the "
-                       f"pinned versions (pip install -e '.[fmu]') or check the fix against the new release")
+                       f"fix (pythonfmu_exit_fix.py, docs/fmu-internals.md 'Exit') is made for those bytes only; "
+                       f"install the pinned versions (pip install -e '.[fmu]') or check the fix against the new "
+                       f"release")
 
 
 def patch_fmu(fmu: Path | str) -> list[str]:

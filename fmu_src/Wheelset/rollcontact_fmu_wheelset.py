@@ -1,8 +1,5 @@
 """The Wheelset FMU's slave, host of the hunting scene with two contacts: :class:`WheelsetShared` (both FMI
-versions) and its FMI 2.0 class :class:`Wheelset`.
-
-The FMU's entry module ``wheelset_slave.py`` only imports :class:`Wheelset` from here (pythonfmu re-executes the
-entry module on every instantiation: ``rollcontact_fmu_slave.py``'s docstring).
+versions); :func:`slave_class` gives the FMU's class.
 
 A suspended wheelset with conical wheels on straight track (lateral displacement and yaw); no physics here: the
 parameters become a :class:`rollcontact_cosim.wheelset.WheelsetParameters` (equations, signs and integrator in
@@ -17,16 +14,14 @@ its order: append, never reorder).
 from __future__ import annotations
 
 import dataclasses
+from functools import cache
 
-from fmi2_table_slave import TableSlave2
-from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
+from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_base import TableSlave
+from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, HostSlave
 
 from rollcontact_cosim.wheelset import WheelsetModel, WheelsetParameters, WheelsetState
 
-INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
-CONTINUOUS, FIXED = Fmi2Variability.continuous, Fmi2Variability.fixed
 DEFAULT = WheelsetParameters()
 START = WheelsetModel(DEFAULT).outputs()
 CONTACTS = (1, 2)
@@ -107,26 +102,17 @@ FORCE_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in FORCES)
 JACOBIAN_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in JACOBIAN)
 
 
-class WheelsetShared(TableSlave):
+class WheelsetShared(HostSlave):
     """Suspended wheelset with conical wheels on straight track, host of a contact FMU with two contacts."""
 
-    author = "rollcontact"
     description = ("Wheelset on straight track (lateral displacement and yaw, conical wheels, primary suspension "
                    "to a frame at constant speed): outputs the creepages, loads and speeds of its two contacts, "
                    "takes their forces and Jacobians")
-    license = "MIT"
     version = "0.1.0"
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=2.0, step_size=1e-3)
 
     VARIABLES = VARIABLES
-    INITIAL_DEPENDENCIES = None  # the initial outputs are computed from the parameters
-
-    def new_model(self, values: dict):
-        """A WheelsetModel at the start time."""
-        return WheelsetModel(WheelsetParameters(**values), start_time=self.start_time), ()
-
-    def initial_outputs(self, model):
-        return model.outputs()
+    MODEL, PARAMETERS = WheelsetModel, WheelsetParameters
 
     def step_model(self, current_time, step_size):
         forces = [[getattr(self, FORCE_INPUTS[3 * k + i]) for i in range(3)] for k in range(2)]
@@ -138,9 +124,13 @@ class WheelsetShared(TableSlave):
     def parse_model_state(self, data):
         return WheelsetState.from_dict(data)  # a WheelsetError (ValueError) names the first bad field
 
-    def restored_outputs(self, saved):
-        return self.model.outputs()
+
+def declaration() -> tuple[tuple, dict]:
+    """The variable table and enumerations (none) of the Wheelset FMU."""
+    return VARIABLES, {}
 
 
-class Wheelset(WheelsetShared, TableSlave2):
-    """The Wheelset FMU's FMI 2.0 slave: :class:`WheelsetShared` on pythonfmu (``fmi2_table_slave``)."""
+@cache
+def slave_class() -> type:
+    """The shared slave class (no FMI binding) of the Wheelset FMU, named ``Wheelset``, one per process."""
+    return type("Wheelset", (WheelsetShared,), {"__doc__": WheelsetShared.__doc__, "__module__": __name__})

@@ -1,10 +1,11 @@
-"""The FMI 3.0 co-simulation binding of the project's slaves (pythonfmu3, bundled in each FMI 3.0 FMU's resources).
+"""The FMI 3.0 co-simulation binding of the project's slaves (pythonfmu3 0.3.4).
 
-:class:`TableSlave3` puts a slave of this project (a :class:`rollcontact_fmu_base.TableSlave` with its model glue,
-e.g. ``rollcontact_fmu_contact.RollingContact2DShared``, whose FMI 2.0 class adds ``fmi2_table_slave.TableSlave2``)
-on pythonfmu3: the same variable table (names, value references, units, ranges, enumerations, descriptions), the
-same ``do_step``, setters, checks and FMU state, none of it written twice.  An entry module names both and
-``Fmi3Slave`` (``fmi3_rollcontact_slave.py``)::
+:class:`TableSlave3` puts a shared slave class (a :class:`rollcontact_fmu.slave.TableSlave` with its model glue, e.g.
+a variant of ``rollcontact_fmu_contact2d.RollingContact2DShared``, whose FMI 2.0 class is
+``rollcontact_fmu.fmi2.fmi2_class``'s) on pythonfmu3: the same variable table (names, value references, units,
+ranges, enumerations, descriptions), the same ``do_step``, setters, checks and FMU state, none of it written twice.
+The FMI 3.0 entry module names both and ``Fmi3Slave`` (pythonfmu3's builder and binary find the class by a regular
+expression over the entry module's lines: the class statement names ``Fmi3Slave`` on one line)::
 
     class RollingContact2D(TableSlave3, RollingContact2DShared, Fmi3Slave):
 
@@ -16,32 +17,17 @@ written in FMI 3.0's words: :attr:`TableSlave3.WORDS`); the model description is
 causalities are pythonfmu's (FMI 2.0) classes, so each FMI 3.0 FMU also bundles pythonfmu's Python files (not its
 binary).  No FMI 3.0 slave inherits pythonfmu's ``Fmi2Slave`` or the FMI 2.0 binding (``tests/fmu3`` checks it):
 :meth:`TableSlave3.__init__` runs ``Fmi3SlaveBase.__init__`` (pythonfmu3's attributes), then the shared slave's
-:meth:`rollcontact_fmu_base.TableSlave.init_table` (the table, registered through pythonfmu3), then registers
+:meth:`~rollcontact_fmu.slave.TableSlave.init_table` (the table, registered through pythonfmu3), then registers
 ``time``; the calls the shared slave does not answer (``enter_initialization_mode``, ``terminate``, ...) are
 pythonfmu3's.
 
-What pythonfmu3 0.3.4's C++ layer (``PySlaveInstance.cpp``, ``cppfmu/fmi_functions.cpp``, ``cppfmu_common.hpp``,
-shipped in the wheel under ``pythonfmu-export/``) does with a slave, and how this binding copes (``docs/fmu.md``,
-"FMI 3.0"):
-
-* Any exception escaping a slave method becomes fmi3Fatal, after ``handle_py_exception`` released the instance's
-  Python objects without forgetting them (``cleanPyObject``), as in pythonfmu 0.7: later calls are a use after free.
-  So nothing may raise into pythonfmu3; the shared slave logic already catches everything, and every getter and
-  setter pythonfmu3 can call is answered here (a wrong type or an unknown value reference is refused, not raised).
-* ``do_step`` may return a result with a ``status`` (any fmi3Status); every other call returns fmi3OK.  The FMUs
-  return fmi3OK or fmi3Discard from ``fmi3DoStep``, as their FMI 2.0 twins do, and emulate fmi3Error as those
-  emulate fmi2Error (logged with status Error, then every step discarded until a valid state is set or a reset).
-* A message logged with ``debug=False`` reaches the host's logger whether or not debug logging is on (FMI 3.0's
-  rule); the notices of status OK are logged with ``debug=True`` (only with debug logging).  Messages are passed as
-  they are: no ``%`` escaping.
-* ``fmi3EnterInitializationMode``'s ``startTime`` never reaches Python (pythonfmu3 calls no ``setup_experiment``):
-  the first ``fmi3DoStep``'s communication point, which FMI 3.0 makes the start time, sets it (see
-  :meth:`TableSlave3.do_step`).
-* The entry module is imported once per process (no re-execution per instance as in pythonfmu 0.7); the
-  constructor still inserts the resources folder into ``sys.path`` per instance (removed by the shared slave).
-* pythonfmu3's variables have no min/max and write starts with 16 digits; its XML writer writes
-  ``canHandleVariableCommunicationStepSize`` from another option's value (``build_fmu.py`` passes it explicitly).
-  :func:`complete_model_description3` adds the bounds, exact starts and the ModelStructure's dependencies.
+What pythonfmu3 does differently from pythonfmu 0.7, and how this binding copes (docs/fmu-internals.md, "pythonfmu3"):
+a message logged with ``debug=False`` reaches the host's logger whether or not debug logging is on (the notices of
+status OK are logged with ``debug=True``), passed as it is (no ``%`` escaping); ``fmi3EnterInitializationMode``'s
+``startTime`` never reaches Python, so the first ``fmi3DoStep``'s communication point, which FMI 3.0 makes the start
+time, sets it (:meth:`TableSlave3.do_step`); the entry module is imported once per process; variables have no
+min/max and starts are written with 16 digits (``rollcontact_fmu.description.complete_model_description3`` adds the
+bounds, exact starts and the ModelStructure's dependencies).
 """
 
 from __future__ import annotations
@@ -58,7 +44,9 @@ from pythonfmu3.fmi3slave import Fmi3SlaveBase
 from pythonfmu3.unit import Unit
 from pythonfmu3.variable_types import EnumerationType
 from pythonfmu3.variables import Boolean, Enumeration, Float64, Int32, Int64, String, UInt64
-from rollcontact_fmu_base import UNITS, TableSlave
+
+from rollcontact_fmu.description import UNITS, complete_model_description3
+from rollcontact_fmu.slave import TableSlave
 
 TIME_DESCRIPTION = "Simulation time, the independent variable (FMI 3.0 requires one)"
 
@@ -83,53 +71,8 @@ def fmi3_variable(var, row, enumerations: dict):
     raise TypeError(f"{var.name}: no FMI 3.0 type for {type(var).__name__}")  # a table row of an unknown type
 
 
-def complete_model_description3(root: Element, variables, initial_dependencies: str | None = "",
-                                dimensions: dict | None = None) -> Element:
-    """Add min/max, exact starts, the arrays' dimensions and the dependencies of the ModelStructure to pythonfmu3's
-    ``root`` (returned).
-
-    Parameters
-    ----------
-    root : Element
-        ``Fmi3SlaveBase.to_xml()`` of the slave (units and type definitions registered through pythonfmu3).
-    variables : sequence of tuple
-        The slave's variable table (rows ``(name, type, causality, variability, unit, start, min, max,
-        description)``, value reference = row number).
-    initial_dependencies : str or None
-        ``dependencies`` of every output among the InitialUnknowns: ``""`` when the initial outputs are the start
-        values, None to omit the attribute (they depend on the parameters).
-    dimensions : dict, optional
-        Array variables -> their number of values: each gets ``<Dimension start="n"/>`` and its start value n
-        times (the slave's :attr:`~rollcontact_fmu_base.TableSlave.DIMENSIONS`).
-
-    Outputs are computed in ``do_step`` only, so as ``Output`` they depend on no variable (``dependencies=""``).
-    """
-    rows = {row[0]: row for row in variables}
-    dimensions = dimensions or {}
-    for element in root.find("ModelVariables"):
-        row = rows.get(element.get("name"))
-        if row is None:  # time
-            continue
-        kind, start, lower, upper = row[1], row[5], row[6], row[7]
-        exact = (lambda value: repr(float(value))) if kind is Real else str  # an exact round trip
-        for attribute, value in (("min", lower), ("max", upper)):
-            if value is not None:
-                element.set(attribute, exact(value))
-        size = dimensions.get(row[0])
-        if element.get("start") is not None and (kind is Real or size is not None):
-            element.set("start", " ".join([exact(start)] * (size or 1)))
-        if size is not None:
-            element.append(Element("Dimension", start=str(size)))
-    for entry in root.find("ModelStructure"):
-        if entry.tag == "Output":
-            entry.set("dependencies", "")
-        elif entry.tag == "InitialUnknown" and initial_dependencies is not None:
-            entry.set("dependencies", initial_dependencies)
-    return root
-
-
 class TableSlave3:
-    """The FMI 3.0 side of a :class:`rollcontact_fmu_base.TableSlave` (module docstring): put it first in the bases,
+    """The FMI 3.0 side of a :class:`rollcontact_fmu.slave.TableSlave` (module docstring): put it first in the bases,
     the shared slave class next and ``Fmi3Slave`` last."""
 
     WORDS = {"error": "fmi3Error", "ok": "fmi3OK", "fmi": "FMI 3", "binding": "pythonfmu3", "set_state": "setFMUState"}

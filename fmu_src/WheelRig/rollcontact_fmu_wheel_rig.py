@@ -1,8 +1,5 @@
-"""The WheelRig FMU's slave, host of the RollingContact2D FMU: :class:`WheelRigShared` (both FMI versions) and
-its FMI 2.0 class :class:`WheelRig`.
-
-The FMU's entry module ``wheel_rig_slave.py`` only imports :class:`WheelRig` from here (pythonfmu re-executes the
-entry module on every instantiation: ``rollcontact_fmu_slave.py``'s docstring).
+"""The WheelRig FMU's slave, host of the RollingContact2D FMU: :class:`WheelRigShared` (both FMI versions);
+:func:`slave_class` gives the FMU's class.
 
 A driven wheel on a rail with its share of the vehicle: wheel rotation ``J domega/dt = M(t) - r T``, vehicle
 ``m dv/dt = T - F_res(v)``, normal load ``N(t)``, creep ``xi = (omega r - v) / max(|v|, v_reg)`` (regularised
@@ -14,7 +11,7 @@ single table :data:`VARIABLES` (value references follow its order: append, never
 
 * Bad inputs (non-finite), invalid parameters and failed steps are logged (status Discard) and answered with
   ``do_step`` returning False (fmi2Discard); no exception reaches pythonfmu (it would become fmi2Fatal).  What
-  FMI 2 answers with fmi2Error is emulated (``rollcontact_fmu_base`` module docstring).
+  FMI 2 answers with fmi2Error is emulated (:mod:`rollcontact_fmu.slave`).
 * The FMU state holds every non-output variable plus the model's state as a JSON-compatible dict, checked
   completely (:func:`parse_wheel_rig_state`) before anything changes when a host sets it.
 * ``rollcontact_cosim`` is bundled in ``resources/``; a host process that imported it before loading the FMU uses
@@ -25,16 +22,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from functools import cache
 
-from fmi2_table_slave import TableSlave2
-from pythonfmu import Fmi2Causality, Fmi2Variability, Integer, Real
+from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
-from rollcontact_fmu_base import TableSlave
+from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, HostSlave
 
 from rollcontact_cosim.wheel_rig import WheelRigModel, WheelRigParameters, WheelRigState
 
-INPUT, OUTPUT, PARAMETER = Fmi2Causality.input, Fmi2Causality.output, Fmi2Causality.parameter
-CONTINUOUS, FIXED = Fmi2Variability.continuous, Fmi2Variability.fixed
 DEFAULT = WheelRigParameters()
 START = WheelRigModel(DEFAULT).outputs()  # outputs at the default parameters (start values of the outputs)
 
@@ -131,27 +126,17 @@ def parse_wheel_rig_state(data) -> WheelRigState:
     return WheelRigState.from_dict(data)
 
 
-class WheelRigShared(TableSlave):
+class WheelRigShared(HostSlave):
     """Driven wheel on a rail (or roller rig) with longitudinal vehicle dynamics, host of RollingContact2D."""
 
-    author = "rollcontact"
     description = ("Driven railway wheel with its share of the vehicle: wheel rotation under a motor torque "
                    "profile, longitudinal dynamics with running resistance, normal load; outputs the regularised "
                    "creep, speed and load for a contact model, takes its tangential force and creep stiffness")
-    license = "MIT"
     version = "0.1.0"
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
 
     VARIABLES = VARIABLES
-    INITIAL_DEPENDENCIES = None  # the initial outputs are computed from the parameters
-
-    def new_model(self, values: dict):
-        """A WheelRigModel at the start time."""
-        return WheelRigModel(WheelRigParameters(**values), start_time=self.start_time), ()
-
-    def initial_outputs(self, model):
-        """The model's initial outputs become the FMU's."""
-        return tuple(model.outputs())
+    MODEL, PARAMETERS = WheelRigModel, WheelRigParameters
 
     def step_model(self, current_time, step_size):
         return self.model.step(current_time, step_size, *(getattr(self, name) for name in INPUTS))
@@ -159,9 +144,13 @@ class WheelRigShared(TableSlave):
     def parse_model_state(self, data):
         return parse_wheel_rig_state(data)
 
-    def restored_outputs(self, saved):
-        return tuple(self.model.outputs())
+
+def declaration() -> tuple[tuple, dict]:
+    """The variable table and enumerations (none) of the WheelRig FMU."""
+    return VARIABLES, {}
 
 
-class WheelRig(WheelRigShared, TableSlave2):
-    """The WheelRig FMU's FMI 2.0 slave: :class:`WheelRigShared` on pythonfmu (``fmi2_table_slave``)."""
+@cache
+def slave_class() -> type:
+    """The shared slave class (no FMI binding) of the WheelRig FMU, named ``WheelRig``, one per process."""
+    return type("WheelRig", (WheelRigShared,), {"__doc__": WheelRigShared.__doc__, "__module__": __name__})
