@@ -29,12 +29,13 @@ from rollcontact.wheelrail.wheels import COUPLING, balance, track_force
 
 __all__ = ["METHOD", "inapplicable", "solve_hertz"]
 
-GAP_ERROR = 0.5
+GAP_ERROR = 0.18
 """Error [1] of the forces (over mu Fn, Mz over mu Fn c) per unit of a patch's departure from Hertz's gap
-(:func:`departure`): ``benchmarks/wheelrail_manchester.py`` calibrates it against the discretised level on the
-Manchester positions (table A)."""
+(:func:`departure`): 1.2 times the smallest that keeps Hertz's error within its estimate against the discretised
+level on the Manchester positions (``benchmarks/wheelrail_manchester.py``, table A: the largest, 0.2 mu Fn, at 0.5 mm,
+where the tread's second lobe touches within the one point's patch)."""
 
-LOBES_ERROR = 0.3
+LOBES_ERROR = 0.1
 """Error [1] added where a contact point shares its patch with another (two lobes whose interpenetrations merge):
 Hertz's ellipse per lobe shares the load and the slip between them otherwise than the one patch does
 (``benchmarks/wheelrail_manchester.py``, table A: the centred position's two-lobed tread)."""
