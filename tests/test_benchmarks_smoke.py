@@ -87,7 +87,7 @@ def test_every_module_imports_and_every_argparse_script_answers_help():
     assert report["threads"] == "1"
     assert Path(report["rollcontact"]).resolve().is_relative_to(ROOT / "src")
     assert report["help"] and all(value == [0, True] for value in report["help"].values()), report["help"]
-    assert {"pareto", "bench_steady", "bench_fmu"} <= set(report["help"])
+    assert {"pareto", "bench_steady", "bench_table"} <= set(report["help"])
     # median_time: the warm-up calls, then one call per sample; batched samples hold several calls each
     assert report["calls"] == 2 + 4
     assert report["batched"] > 1 + 3
