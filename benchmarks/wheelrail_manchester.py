@@ -171,4 +171,7 @@ def figure(cases, dry: bool) -> None:
 if __name__ == "__main__":
     import sys
 
-    common.run_and_publish(main, "wheelrail_manchester_dry.md" if "--dry" in sys.argv else "wheelrail_manchester.md")
+    if "--dry" in sys.argv:
+        common.run_and_publish(main, "wheelrail_manchester_dry.md")
+    else:
+        common.run_and_publish(main, "wheelrail_manchester.md")
