@@ -37,7 +37,7 @@ METHOD_LEVELS = (
 )
 """The 2D fidelity levels as the FMU numbers them: the ``method`` choices, the ``method_used`` codes, the FMU's
 ``Method`` and ``MethodUsed`` enumerations and their documented table all follow from it.  Append only (a new level
-takes the next code); ``tests/stepping/test_parameters.py`` checks that every built-in method has a code."""
+takes the next code); ``tests/stepping/line/test_parameters.py`` checks that every built-in method has a code."""
 
 LEVEL_CODES = {level.name: level.code for level in METHOD_LEVELS}
 """Level name -> code."""
