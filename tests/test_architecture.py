@@ -1,6 +1,6 @@
 """The package's shape: imports go one way (core <- geometries <- stepping <- FMUs), the geometries stand in one
 order (line <- elliptic <- wheel/rail), the co-simulation uses the public API only, and a fidelity level is added
-through the public extension point alone (``docs/contributing.md``, "Adding a method")."""
+through the public extension point alone (``docs/contributing.md``, "Adding a level")."""
 
 from __future__ import annotations
 
