@@ -1,7 +1,8 @@
 """The wheel/rail levels through their dispatcher: each wheel carries its load, the levels agree where they should
 (Hertz's ellipse on a quadratic gap, the strips against the discretised patches on the Manchester positions), zero
 creepage gives zero tangential force, the left and right wheels mirror each other, an unloaded wheel has no contact,
-and the dispatcher's contract (auto, a named method, an unknown one)."""
+a wheel that climbed its flange is refused by name, and the dispatcher's contract (auto, a named method, an unknown
+one)."""
 
 from __future__ import annotations
 
@@ -85,6 +86,14 @@ def test_an_unloaded_wheel_reports_no_contact_and_no_force(track, wheelset):
     assert result.success and left.patches == () and left.force == (0.0, 0.0, 0.0), left
     assert "no load" in left.message
     assert result.right.force[2] == pytest.approx(1e4, rel=0.01), "the other wheel still carries its load"
+
+
+@pytest.mark.parametrize("method", ["auto", "hertz", "strips", "discretised"])
+def test_a_wheelset_that_climbed_its_flange_is_refused_by_name(track, wheelset, method):
+    scene = WheelRailScene(track, wheelset, lateral_shift=0.05, vertical_load_left=1e4, vertical_load_right=1e4,
+                           forward_speed=2.0, material=MATERIAL, friction=0.3)
+    with pytest.raises(ValueError, match=r"right wheel at lateral_shift = 0.05 m.*climbed its flange"):
+        solve(scene, method)
 
 
 def test_a_circular_wheel_on_a_circular_rail_is_hertz_at_every_level():

@@ -188,6 +188,12 @@ def test_bad_input_messages(track, wheelset, s1002):
     short = Wheelset(cut, 0.46, 1.36, 0.07)
     with pytest.raises(GeometryError, match=r"lateral_shift = 0.008 m.*flange end.*wheel y_w = -0.03"):
         search_wheel(track, short, Pose(0.008), "right")
+    # a wheel whose flange's crest rides on the rail head has climbed its flange (derailed): said so
+    with pytest.raises(GeometryError, match=r"right wheel at lateral_shift = 0.05 m.*flange's crest.*climbed"):
+        search_wheel(track, wheelset, Pose(0.05, 0.0, -0.0204), "right")
+    climbing = search_wheel(track, wheelset, Pose(0.012, 0.0, -0.0131), "right").points[0]
+    assert climbing.contact_angle > 0.5 and climbing.wheel_lateral > wheelset.flange_tip + 5e-3, \
+        f"at 12 mm the flange is in contact short of its crest: {climbing}"
     # a wheel lifted off: no contact, said so, no NaN
     lifted = search_wheel(track, wheelset, Pose(0.0, 0.0, 0.0, -1e-3), "right")
     assert not lifted.in_contact and "lifted off" in lifted.message, lifted.message

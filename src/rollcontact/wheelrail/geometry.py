@@ -163,6 +163,11 @@ class Wheelset:
     flange_back_distance : float
         [m] from the taping line to the flange back along the axle (70 mm for the S1002 file of the Manchester
         benchmark).
+
+    Attributes
+    ----------
+    flange_tip : float
+        y_w [m] of the flange's crest on the wheel profile (its largest radius on the flange side, y_w < 0).
     """
 
     wheel: Profile
@@ -171,6 +176,7 @@ class Wheelset:
     flange_back_distance: float = 0.070
     samples: WheelSamples = field(init=False, repr=False)
     steepest: float = field(init=False, repr=False)
+    flange_tip: float = field(init=False, repr=False)
 
     def __post_init__(self):
         if not isinstance(self.wheel, Profile):
@@ -193,6 +199,9 @@ class Wheelset:
                                                          self.taping_line + smp.y[keep],
                                                          smp.curvature[keep]))
         object.__setattr__(self, "steepest", float(np.max(np.abs(self.samples.tan))))
+        flange = smp.y < 0.0
+        tip = float(smp.y[flange][np.argmax(smp.z[flange])]) if flange.any() else float(smp.y[0])
+        object.__setattr__(self, "flange_tip", tip)
 
     @property
     def taping_line(self) -> float:

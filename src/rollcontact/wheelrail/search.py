@@ -56,8 +56,8 @@ from rollcontact.wheelrail.geometry import (
 )
 from rollcontact.wheelrail.patch import PatchGap
 
-__all__ = ["DEFAULT_DEPTH", "MIN_RISE", "PATCH_STEP", "ContactPoint", "Creepages", "Patch", "WheelContact",
-           "creepages", "search_wheel"]
+__all__ = ["DEFAULT_DEPTH", "FLANGE_TIP_MARGIN", "MIN_RISE", "PATCH_STEP", "ContactPoint", "Creepages", "Patch",
+           "WheelContact", "creepages", "search_wheel"]
 
 DEFAULT_DEPTH = 2.0e-4
 """The largest elastic approach [m] the search prepares for: contact points up to this gap above the least one, and
@@ -68,6 +68,11 @@ a normal load of a few hundred kN on the tread and well over 100 kN on the flang
 MIN_RISE = 1.0e-6
 """[m]: two minima of the gap are distinct contact points only where the gap between them rises at least this much
 above the shallower one."""
+
+FLANGE_TIP_MARGIN = 1.0e-3
+"""[m]: a wheel whose deepest contact point lies within this of its flange's crest
+(:attr:`~rollcontact.wheelrail.geometry.Wheelset.flange_tip`), or beyond it towards the flange back, has climbed its
+flange: the search reports it (:class:`~rollcontact.wheelrail.geometry.GeometryError`) instead of a contact."""
 
 PATCH_STEP = 1.0e-4
 """Sampling step [m] of the patch gap along s."""
@@ -336,7 +341,8 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
     ------
     GeometryError
         The wheel and rail profiles do not overlap laterally at the pose, or the least gap lies at the end of either
-        profile's searched part (a flange climbing beyond the profile's end, a wheel off the rail's edge): the
+        profile's searched part (a flange climbing beyond the profile's end, a wheel off the rail's edge), or the
+        deepest point lies on the flange's crest (:data:`FLANGE_TIP_MARGIN`: the wheel has climbed its flange): the
         message names the lateral shift and the limit.
     """
     sign = side_sign(side)
@@ -407,6 +413,11 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
     rank = sorted(range(len(pts)), key=lambda i: (pts[i][0], pts[i][1]))
     new_index = {old: new for new, old in enumerate(rank)}
     points = tuple(make_point(pts[i], sign, side) for i in rank)
+    if points[0].wheel_lateral <= wheelset.flange_tip + FLANGE_TIP_MARGIN:
+        raise GeometryError(
+            f"{side} wheel at lateral_shift = {pose.lateral_shift!r} m, yaw = {pose.yaw!r} rad: its contact lies on "
+            f"the flange's crest (wheel y_w = {points[0].wheel_lateral!r} m, the crest at {wheelset.flange_tip!r} m): "
+            f"the wheel has climbed its flange (derailed)")
     patches = []
     for grp in groups:
         main = min(grp, key=lambda i: (pts[i][0], i))
