@@ -255,16 +255,23 @@ def test_all_contacts_unloaded_give_no_contact(method):
 
 
 def test_the_difference_jacobian_is_paid_within_the_step_budget():
-    """jacobian = difference: three more solves of the step's own setting; a budget that pays the step's solve but
-    not the three leaves the linear slopes, said once; a budget that pays them gives the differences."""
+    """jacobian = difference: the step's solve is chosen within a quarter of the budget and the three differences
+    take its setting, so that the four solves' modelled cost fits the budget; a budget whose quarter pays no setting
+    refuses the step by naming it."""
     from rollcontact import ELLIPTIC_METHODS
 
     row = [(1e5, 2e-3, 0.0, 0.0, 10.0)]
     one = ELLIPTIC_METHODS["fastsim"].accuracy.cost(EllipticScene(1e5, 1.087, 1.667, 2e-3), {})
-    tight = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=2.0 * one))
-    out = tight.step(0.0, H, row)[0]
     linear = EllipticModel(EllipticParameters(method=1)).step(0.0, H, row)[0]
-    assert out[8:17] == linear[8:17], "the linear slopes stand in"
-    assert any("no room for the difference Jacobian" in m for m in tight.take_messages()), "said once"
-    roomy = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=5.0 * one)).step(0.0, H, row)[0]
-    assert roomy.dFx_dxi < 0.9 * linear.dFx_dxi, f"FASTSIM's slope falls with saturation ({roomy.dFx_dxi:.4g})"
+    for budget in (2.0 * one, 5.0 * one):
+        model = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=budget))
+        out = model.step(0.0, H, row)[0]
+        assert out.dFx_dxi < 0.9 * linear.dFx_dxi, f"FASTSIM's slope falls with saturation ({out.dFx_dxi:.4g})"
+        assert 0.0 < model.last_modelled_cost <= budget, \
+            f"the four solves are modelled at {model.last_modelled_cost:.3g} s, over the budget {budget:.3g} s"
+        assert not any("no room for the difference Jacobian" in m for m in model.take_messages()), \
+            "the differences fit the three quarters of the budget left"
+    cheapest = ELLIPTIC_METHODS["fastsim"].accuracy.minimum_cost(EllipticScene(1e5, 1.087, 1.667, 2e-3))
+    starved = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=2.0 * cheapest))
+    with pytest.raises(ModelError, match="more than the budget"):
+        starved.step(0.0, H, row)

@@ -22,7 +22,8 @@ Jacobian: the outputs ``dFx_dxi`` ... ``dMz_dphi`` are d(Fx, Fy, Mz)/d(xi, eta, 
 exact for the linear level and at vanishing creepage, the stiffness an implicit host linearises with; they do not
 fall with saturation); with ``jacobian`` = 1 forward differences of the step's own method, three more solves per
 contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation value (``mu Fn`` over the linear
-slope), each within the step budget; the linear level's derivatives are its slopes in either mode (exact).
+slope): the step's solve is then chosen within a quarter of the step budget and the three differences take its
+setting, so that all four fit the budget; the linear level's derivatives are its slopes in either mode (exact).
 
 Contacts together: with ``method`` = linear (and no tolerance) the step evaluates the linear theory of every contact
 without a solver call (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse`
@@ -315,10 +316,14 @@ class EllipticModel(SteppingModel):
     def solved(self, k: int, scene: EllipticScene, method: str, setting: dict | None = None):
         """:func:`rollcontact.solve_elliptic` of the scene with the parameters' tolerance and budget, or with a fixed
         ``setting`` (the options of an earlier solve: no choice, no budget); ModelError (naming the contact) when it
-        fails."""
+        fails.  With ``jacobian`` = difference the solve is chosen within a quarter of the step budget, so that the
+        three difference solves at its setting fit in the rest (:meth:`differences`)."""
         try:
             if setting is None:
-                result = solve_elliptic(scene, method, tolerance=self.tolerance, budget=self.budget)
+                budget = self.budget
+                if budget is not None and self.parameters.jacobian == 1:
+                    budget = 0.25 * budget
+                result = solve_elliptic(scene, method, tolerance=self.tolerance, budget=budget)
             else:
                 result = solve_elliptic(scene, method, **setting)
         except ValueError as exc:
