@@ -1,7 +1,7 @@
 """The Manchester Contact Benchmark's case A-2.2 at every wheel/rail level, against the discretised level.
 
-Run: ``python benchmarks/wheelrail_manchester.py [--quick] [--dry]``.  Writes ``benchmarks/results/wheelrail_manchester.md``
-and ``wheelrail_manchester.png`` (``--dry``: the dry-rail scene at 30 m/s, ``wheelrail_manchester_dry.md``).
+Run: ``python benchmarks/wheelrail_manchester.py [--quick] [--dry]``.  Writes
+``benchmarks/results/wheelrail_manchester.md`` and ``wheelrail_manchester.png`` (``--dry``: the dry-rail scene at 30 m/s, ``wheelrail_manchester_dry.md``).
 
 The scene ``models/wheelrail/manchester_a22.toml`` (21 positions, S1002 on UIC60, 10 kN per wheel, mu 0.3) is solved
 by each level (``strips``, ``hertz``, and the reference ``discretised``).  Tables:
@@ -104,7 +104,8 @@ def main():
             times[name].append(seconds)
             ref = reference[fields["case"]]
             if not (result.success and ref.success):
-                print(f"| {name} | case {fields['case']} failed: {result.message if not result.success else ref.message} |")
+                why = result.message if not result.success else ref.message
+                print(f"| {name} | case {fields['case']} failed: {why} |")
                 continue
             for wheel, ref_wheel in zip(result.wheels, ref.wheels, strict=True):
                 for p, q in matched(wheel.patches, ref_wheel.patches):
@@ -136,7 +137,8 @@ def main():
                 fx, fy, mz = p.result.force_coefficients
                 print(f"| {fields['case']} | {fields['lateral_shift'] * 1e3:.1f} | {wheel.side} | "
                       f"{len(wheel.patches) if k == 0 else ''} | {p.point.contact_angle:.4f} | "
-                      f"{p.point.rolling_radius:.5f} | {p.result.normal_load:.0f} | {p.result.max_pressure / 1e6:.0f} | "
+                      f"{p.point.rolling_radius:.5f} | {p.result.normal_load:.0f} | "
+                      f"{p.result.max_pressure / 1e6:.0f} | "
                       f"{fx:.3f} | {fy:.3f} | {mz:.3f} |")
     if not args.quick:
         figure(cases, args.dry)
