@@ -1,7 +1,8 @@
 """The Manchester Contact Benchmark's case A-2.2 at every wheel/rail level, against the discretised level.
 
 Run: ``python benchmarks/wheelrail_manchester.py [--quick] [--dry]``.  Writes
-``benchmarks/results/wheelrail_manchester.md`` and ``wheelrail_manchester.png`` (``--dry``: the dry-rail scene at 30 m/s, ``wheelrail_manchester_dry.md``).
+``benchmarks/results/wheelrail_manchester.md`` and ``wheelrail_manchester.png`` (``--dry``: the dry-rail scene at
+30 m/s, ``wheelrail_manchester_dry.md``).
 
 The scene ``models/wheelrail/manchester_a22.toml`` (21 positions, S1002 on UIC60, 10 kN per wheel, mu 0.3) is solved
 by each level (``strips``, ``hertz``, and the reference ``discretised``).  Tables:

@@ -111,7 +111,8 @@ def test_an_elliptic_scene_is_solved_by_the_elliptic_dispatcher(tmp_path, capsys
 WHEELRAIL = ROOT / "models" / "wheelrail" / "manchester_a22.toml"
 COLUMNS = ("case, lateral_shift, yaw, wheel, patch, normal_force, contact_angle, rolling_radius, "
            "rail_lateral_position, longitudinal_creepage, lateral_creepage, spin_creepage, longitudinal_force, "
-           "lateral_force, spin_moment, max_pressure, length, width, method, wheel_force_x, wheel_force_y, wheel_force_z").split(", ")
+           "lateral_force, spin_moment, max_pressure, length, width, method, wheel_force_x, wheel_force_y, "
+           "wheel_force_z").split(", ")
 
 
 def test_the_manchester_scene_writes_a_row_per_case_wheel_and_patch(tmp_path):
