@@ -120,8 +120,8 @@ SLIP_ITERATIONS = 60
 is bracketed, so bisection alone reaches round-off in about 60)."""
 
 SLIP_TOLERANCE = 1e-6
-"""Tolerance of :func:`cell_slips` on the residual ``|F|``, relative to the cell's rigid slip S (Newton converges
-quadratically: its last step has taken the slip much closer)."""
+"""Tolerance of :func:`cell_slips` on the residual ``|F|``, relative to the scale ``S + |D| mu_max`` of its terms
+(Newton converges quadratically: its last step has taken the slip much closer)."""
 
 
 def cell_slips(rigid, growth, kernel, speed: float, static: float, largest: float, start=None):
@@ -147,7 +147,7 @@ def cell_slips(rigid, growth, kernel, speed: float, static: float, largest: floa
             sigma = sigma - (sigma + growth * mu - rigid) / (1.0 + growth * speed * slope)
         mu, slope = kernel(speed * sigma)
         residual = sigma + growth * mu - rigid
-    failed = ~(np.abs(residual) <= SLIP_TOLERANCE * rigid) | ~(sigma >= 0.0)
+    failed = ~(np.abs(residual) <= SLIP_TOLERANCE * (rigid + np.abs(growth) * largest)) | ~(sigma >= 0.0)
     if failed.any():
         sigma[failed] = bracketed(rigid[failed], growth[failed], kernel, speed, static, largest)
         mu[failed], slope[failed] = kernel(speed * sigma[failed])
@@ -171,7 +171,7 @@ def bracketed(rigid, growth, kernel, speed: float, static: float, largest: float
             newton = sigma - residual / derivative
         inside = (newton >= low) & (newton <= high) & (derivative > 0.0)
         sigma = np.where(inside, newton, 0.5 * (low + high))
-        if not (np.abs(residual) > SLIP_TOLERANCE * rigid).any():
+        if not (np.abs(residual) > SLIP_TOLERANCE * high).any():
             break
     return sigma
 
