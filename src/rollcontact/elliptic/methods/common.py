@@ -67,6 +67,19 @@ def poisson_excess(scene: EllipticScene) -> float:
     return max(0.0, scene.material.poisson_ratio - MEASURED_POISSON_RATIO)
 
 
+def falling_drop(scene: EllipticScene) -> float:
+    """``1 - mu(V w)/mu(0)`` [1] with ``w = |(|xi| + |phi| b, |eta| + |phi| a)|``, the largest rigid slip over the
+    ellipse: how far the law falls over the contact's slip velocities, what the falling-friction terms of the fast
+    levels' accuracy models scale with (0 for Coulomb friction)."""
+    if scene.friction.is_constant:
+        return 0.0
+    h = scene.hertz
+    xi, eta, phi = scene.creepages
+    slip = math.hypot(abs(xi) + abs(phi) * h.b, abs(eta) + abs(phi) * h.a)
+    static = scene.friction_coefficient
+    return max(0.0, 1.0 - float(scene.friction.coefficient(scene.rolling_speed * slip)) / static)
+
+
 def friction_kernel(law):
     """``v -> (mu(v), dmu/dv(v))`` of a friction law on arrays of slip velocity [m/s], in few numpy operations for the
     package's laws (:mod:`rollcontact.core.friction`), by the law's own ``coefficient`` and ``derivative`` for any

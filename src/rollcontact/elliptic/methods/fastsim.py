@@ -39,6 +39,7 @@ from rollcontact.core.checks import check_real
 from rollcontact.core.method import AccuracyModel, MethodSpec
 from rollcontact.elliptic.methods.common import (
     coefficients,
+    falling_drop,
     falling_slips,
     friction_kernel,
     linear_ratio,
@@ -249,6 +250,15 @@ FASTSIM_GRID_ERROR = 0.5
 """The grid's error [1] is modelled as this over min(nx, ny) (first order in the step;
 ``tests/elliptic/methods/test_fastsim.py`` checks it against a 320 x 320 grid)."""
 
+FASTSIM_FALLING_ERROR = 0.1
+"""Error [1] per unit of the law's fall over the contact (:func:`~.common.falling_drop`) that velocity-dependent
+friction adds to FASTSIM's estimate, calibrated so that the estimate bounds the error over the matrix of
+``benchmarks/calibrate_falling_spin.py`` (table A)."""
+
+FASTSIM_FALLING_COST_FACTOR = 1.5
+"""The extended FASTSIM's time over Coulomb FASTSIM's on the same grid [1]: a margin over the ratios of
+``benchmarks/calibrate_falling_spin.py``, table C."""
+
 FASTSIM_COST_PER_STEP = 9e-6
 """Modelled time [s] per step along the strips (one vector operation over the ny strips;
 ``benchmarks/calibrate_elliptic_levels.py``)."""
@@ -258,8 +268,10 @@ class FastsimAccuracy(AccuracyModel):
     """The simplified theory's error (``3 tau`` times :data:`FASTSIM_THEORY_ERROR` up to it, plus
     :data:`FASTSIM_POISSON_ERROR` per unit of Poisson's ratio above 0.28; tau of
     :func:`~rollcontact.elliptic.methods.common.linear_ratio`: exact at vanishing creepage but for the spin moment,
-    whose linear coefficient the three flexibilities do not fit) plus the grid's (:data:`FASTSIM_GRID_ERROR` / n);
-    cost per step along x."""
+    whose linear coefficient the three flexibilities do not fit) plus the grid's (:data:`FASTSIM_GRID_ERROR` / n),
+    plus with velocity-dependent friction :data:`FASTSIM_FALLING_ERROR` times the law's fall over the contact
+    (:func:`~.common.falling_drop`); cost per step along x (:data:`FASTSIM_FALLING_COST_FACTOR` times it with
+    velocity-dependent friction)."""
 
     floor = 10 * FASTSIM_COST_PER_STEP
 
@@ -267,14 +279,16 @@ class FastsimAccuracy(AccuracyModel):
         return ({"nx": 20, "ny": 20}, {"nx": 40, "ny": 40}, {"nx": 100, "ny": 100})
 
     def cost(self, scene, options):
-        return FASTSIM_COST_PER_STEP * options.get("nx", 40) * (1.0 + options.get("ny", 40) / 400.0)
+        factor = 1.0 if scene.friction.is_constant else FASTSIM_FALLING_COST_FACTOR
+        return factor * FASTSIM_COST_PER_STEP * options.get("nx", 40) * (1.0 + options.get("ny", 40) / 400.0)
 
     def error(self, scene, options):
         if scene.normal_load == 0.0:
             return 0.0
         tau = linear_ratio(scene, coefficients(scene))
         return ((FASTSIM_THEORY_ERROR + FASTSIM_POISSON_ERROR * poisson_excess(scene)) * min(1.0, 3.0 * tau)
-                + FASTSIM_GRID_ERROR / min(options.get("nx", 40), options.get("ny", 40)))
+                + FASTSIM_GRID_ERROR / min(options.get("nx", 40), options.get("ny", 40))
+                + FASTSIM_FALLING_ERROR * falling_drop(scene))
 
 
 METHOD = MethodSpec("fastsim", solve_fastsim, inapplicable, rank=20, accuracy=FastsimAccuracy())
