@@ -89,11 +89,7 @@ def test_grid_error_decreases_under_refinement():
     assert errors[1] < 0.5 / 40, f"within the accuracy model's grid term at 40 x 40: {errors[1]:.4f}"
 
 
-def test_velocity_dependent_friction_and_bad_options_are_refused():
-    from rollcontact import ExponentialFalling
-
-    with pytest.raises(ValueError, match="Coulomb"):
-        solve_elliptic(scene(longitudinal_creepage=1e-3).replace(friction=ExponentialFalling(0.4)), "fastsim")
+def test_bad_options_are_refused():
     with pytest.raises(ValueError, match="bound"):
         solve_elliptic(scene(longitudinal_creepage=1e-3), "fastsim", bound="square")
     with pytest.raises(ValueError, match="nx"):

@@ -168,7 +168,7 @@ def test_nearly_constant_falling_friction_gives_the_coulomb_strips():
     """The polynomial method per strip (its own path) against the closed form when mu barely falls."""
     s = scene(longitudinal_creepage=8e-4, lateral_creepage=3e-4, rolling_speed=10.0)
     coulomb = solve_elliptic(s, "strips")
-    falling = solve_elliptic(s.replace(friction=ExponentialFalling(MU, 0.999, 1e-3)), "strips")
+    falling = solve_elliptic(s.replace(friction=ExponentialFalling(MU, 0.999, 1e-3)), "strips", falling="polynomial")
     assert falling.success, falling.message
     for name in ("longitudinal_force", "lateral_force"):
         assert abs(getattr(falling, name) - getattr(coulomb, name)) < 2e-3 * MU * LOAD, name
@@ -185,10 +185,14 @@ def test_falling_friction_shows_the_falling_branch():
     assert forces[1] > forces[2] > forces[3] > 0, f"past the peak the force falls: {forces}"
 
 
-def test_spin_with_falling_friction_is_refused_with_the_reason():
+def test_spin_with_falling_friction_is_served_by_the_march_and_refused_by_the_polynomial_path():
     s = scene(spin_creepage=0.5).replace(friction=ExponentialFalling(MU))
+    result = solve_elliptic(s, "strips")
+    assert result.success and result.message == "strip theory, falling friction on the march's cells", result.message
     with pytest.raises(ValueError, match="no spin"):
-        solve_elliptic(s, "strips")
+        solve_elliptic(s, "strips", falling="polynomial")
+    with pytest.raises(ValueError, match="falling"):
+        solve_elliptic(s, "strips", falling="other")
     assert solve_elliptic(s.replace(friction=Coulomb(MU)), "strips").success, "Coulomb spin is served"
 
 
@@ -387,8 +391,8 @@ def test_a_mixed_batch_is_each_scene_alone_bit_for_bit(fields):
 def test_a_batch_names_the_scene_it_cannot_solve():
     from rollcontact.elliptic.methods.strips import solve_strips_many
 
-    scenes = mixed_batch()[:3] + [scene(spin_creepage=1.0).replace(friction=ExponentialFalling(0.3, 0.4, 0.6))]
-    with pytest.raises(ValueError, match="strips cannot solve scene 3: strips with velocity-dependent friction"):
+    scenes = mixed_batch()[:3] + [EllipticScene.from_semi_axes(LOAD, 6e-3, 2e-4, friction=MU)]
+    with pytest.raises(ValueError, match="strips cannot solve scene 3: a/b = 30 is outside"):
         solve_strips_many(scenes)
     with pytest.raises(ValueError, match="steps"):
         solve_strips_many(scenes[:3], steps=1)

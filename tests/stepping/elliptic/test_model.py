@@ -229,10 +229,12 @@ def test_an_arithmetic_breakdown_names_the_level_and_the_values():
         model.step(0.0, H, [(1e-9, 1e-3, 0.0, 0.0, 1.0)])
 
 
-def test_a_level_that_cannot_treat_a_step_says_why():
+def test_the_strips_step_spin_on_a_falling_rail_condition():
+    """The strips take spin with a velocity-dependent law (their march at each cell's own slip): Polach's dry rail."""
     model = EllipticModel(EllipticParameters(method=3, rail_condition=1))
-    with pytest.raises(ModelError, match="strips: strips with velocity-dependent friction take no spin"):
-        model.step(0.0, H, [(1e5, 1e-3, 0.0, 0.2, 30.0)])
+    out = model.step(0.0, H, [(1e5, 1e-3, 0.0, 0.2, 30.0)])[0]
+    assert out.method_used == 3, f"the strips answer ({out.method_used})"
+    assert 0.0 < out.longitudinal_force <= 0.55 * 1e5, f"Fx = {out.longitudinal_force} within mu(0) Fn"
 
 
 def test_the_cheapest_fallback_a_budget_forces_keeps_the_friction_limit():

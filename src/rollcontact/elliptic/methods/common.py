@@ -1,10 +1,14 @@
 """What the elliptic methods share: the scene's creepage coefficients, the applicability of the table's range of
-a/b, the no-load answer, and the normalised creepage and Poisson's ratio that the accuracy models use."""
+a/b, the no-load answer, the normalised creepage and Poisson's ratio that the accuracy models use, and the cells' slip
+of the falling-friction marches (:func:`cell_slips`, with the laws' kernels :func:`friction_kernel`)."""
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
+from rollcontact.core.friction import ExponentialFalling, LinearFalling, RationalFalling, TabulatedFriction
 from rollcontact.elliptic.creep_coefficients import CreepageCoefficients, aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.result import EllipticResult
 from rollcontact.elliptic.scene import EllipticScene
@@ -61,3 +65,186 @@ nu above it (``benchmarks/calibrate_elliptic_levels.py``, table B3)."""
 def poisson_excess(scene: EllipticScene) -> float:
     """``max(0, nu - MEASURED_POISSON_RATIO)`` [1]: how far the scene's Poisson's ratio lies above steel's."""
     return max(0.0, scene.material.poisson_ratio - MEASURED_POISSON_RATIO)
+
+
+def falling_drop(scene: EllipticScene) -> float:
+    """``1 - mu(V w)/mu(0)`` [1] with ``w = |(|xi| + |phi| b, |eta| + |phi| a)|``, the largest rigid slip over the
+    ellipse: how far the law falls over the contact's slip velocities, what the falling-friction terms of the fast
+    levels' accuracy models scale with (0 for Coulomb friction)."""
+    if scene.friction.is_constant:
+        return 0.0
+    h = scene.hertz
+    xi, eta, phi = scene.creepages
+    slip = math.hypot(abs(xi) + abs(phi) * h.b, abs(eta) + abs(phi) * h.a)
+    static = scene.friction_coefficient
+    return max(0.0, 1.0 - float(scene.friction.coefficient(scene.rolling_speed * slip)) / static)
+
+
+def friction_kernel(law):
+    """``v -> (mu(v), dmu/dv(v))`` of a friction law on arrays of slip velocity [m/s], in few numpy operations for the
+    package's laws (:mod:`rollcontact.core.friction`), by the law's own ``coefficient`` and ``derivative`` for any
+    other.  The falling-friction marches call it once per Newton iteration on all their cells."""
+    if isinstance(law, ExponentialFalling):
+        kinetic, falling, decay = law.mu_static * law.kinetic_ratio, law.mu_static * (1.0 - law.kinetic_ratio), \
+            law.decay
+
+        def exponential(v):
+            e = np.exp(-decay * v)
+            return kinetic + falling * e, (-decay * falling) * e
+
+        return exponential
+    if isinstance(law, RationalFalling):
+        kinetic, step, reference = law.mu_kinetic, law.mu_static - law.mu_kinetic, law.reference_velocity
+
+        def rational(v):
+            u = 1.0 / (1.0 + v / reference)
+            return kinetic + step * u, (-step / reference) * u * u
+
+        return rational
+    if isinstance(law, LinearFalling):
+        static, kinetic, slope = law.mu_static, law.mu_kinetic, law.slope
+
+        def linear(v):
+            falling = static - slope * v
+            return np.maximum(kinetic, falling), np.where(falling > kinetic, -slope, 0.0)
+
+        return linear
+    if isinstance(law, TabulatedFriction):
+        velocities, values = np.array(law.velocities), np.array(law.coefficients)
+        slopes = np.append(np.diff(values) / np.diff(velocities), 0.0) if velocities.size > 1 else np.zeros(1)
+
+        def tabulated(v):
+            index = np.searchsorted(velocities, v, side="right") - 1
+            return np.interp(v, velocities, values), np.where(index >= 0, slopes[np.maximum(index, 0)], 0.0)
+
+        return tabulated
+
+    def general(v):
+        return np.asarray(law.coefficient(v), dtype=float), np.asarray(law.derivative(v), dtype=float)
+
+    return general
+
+
+NEWTON_STEPS = 2
+"""Plain Newton steps of :func:`cell_slips` before its check (from the Coulomb slip, or a previous march's slips)."""
+
+SLIP_ITERATIONS = 60
+"""Cap of the safeguarded iterations of :func:`cell_slips` on the cells that plain Newton leaves unconverged (the root
+is bracketed, so bisection alone reaches round-off in about 60)."""
+
+SLIP_TOLERANCE = 1e-6
+"""Tolerance of :func:`cell_slips` on the residual ``|F|``, relative to the scale ``S + |D| mu_max`` of its terms
+(Newton converges quadratically: its last step has taken the slip much closer)."""
+
+
+def cell_slips(rigid, growth, kernel, speed: float, static: float, largest: float, start=None):
+    """Each cell's slip ``sigma >= 0`` [1] of the march's falling friction and the law's ``(mu, dmu/dv)`` there: the
+    root of
+
+        ``F(sigma) = sigma + D mu(V sigma) - S = 0``
+
+    (``rigid`` S: the rigid slip along the traction; ``growth`` D: the elastic slip per unit friction coefficient of
+    the pressure's growth along the strip, docs/physics.md, "Strips"), for cells with ``S > D mu(0)`` (a cell the
+    static coefficient cannot hold).  :data:`NEWTON_STEPS` plain Newton steps from ``start`` (by default the Coulomb
+    slip ``S - D mu(0)``); where the residual is then above :data:`SLIP_TOLERANCE` (or the slip negative), a
+    safeguarded Newton: ``F(0) = D mu(0) - S < 0`` and ``F(S + max(0, -D) mu_max) >= 0`` bracket a root and steps
+    that leave the bracket are replaced by bisection, so it converges for any law.  Where the law falls faster than
+    the cell resolves (``-D V dmu/dv > 1``: F is not monotone) the bracket still holds a root: for the package's laws
+    (convex in v) F is convex with ``F(0) < 0``, and the root is unique; for a tabulated law that is not convex, the
+    root Newton reaches from the Coulomb slip.  ``kernel``: :func:`friction_kernel`; ``speed`` V [m/s];
+    ``static``, ``largest``: mu(0) and sup mu [1]."""
+    sigma = np.maximum(rigid - growth * static if start is None else start, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        for _ in range(NEWTON_STEPS):
+            mu, slope = kernel(speed * sigma)
+            sigma = sigma - (sigma + growth * mu - rigid) / (1.0 + growth * speed * slope)
+        mu, slope = kernel(speed * sigma)
+        residual = sigma + growth * mu - rigid
+    failed = ~(np.abs(residual) <= SLIP_TOLERANCE * (rigid + np.abs(growth) * largest)) | ~(sigma >= 0.0)
+    if failed.any():
+        sigma[failed] = bracketed(rigid[failed], growth[failed], kernel, speed, static, largest)
+        mu[failed], slope[failed] = kernel(speed * sigma[failed])
+    return sigma, mu, slope
+
+
+def bracketed(rigid, growth, kernel, speed: float, static: float, largest: float):
+    """:func:`cell_slips`' safeguarded Newton: bisection where a Newton step leaves the bracket ``[0, S + max(0, -D)
+    mu_max]``."""
+    low = np.zeros_like(rigid)
+    high = rigid + np.maximum(0.0, -growth) * largest
+    sigma = np.clip(rigid - growth * static, low, high)
+    for _ in range(SLIP_ITERATIONS):
+        mu, slope = kernel(speed * sigma)
+        residual = sigma + growth * mu - rigid
+        below = residual < 0.0
+        low = np.where(below, sigma, low)
+        high = np.where(below, high, sigma)
+        derivative = 1.0 + growth * speed * slope
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = sigma - residual / derivative
+        inside = (newton >= low) & (newton <= high) & (derivative > 0.0)
+        sigma = np.where(inside, newton, 0.5 * (low + high))
+        if not (np.abs(residual) > SLIP_TOLERANCE * high).any():
+            break
+    return sigma
+
+
+TINY = 1e-300
+"""A floor of the trial tractions' size (an empty strip's)."""
+
+
+def march(first, increment, limit):
+    """FASTSIM's march on cells ``(steps, 2, S)``: from the traction-free leading edge (``first``: the trial traction of
+    the first cell ``(2, S)``), each cell's trial ``t`` is the previous cell's traction plus ``increment`` (the rigid
+    slip over the flexibility times the step), the traction is ``t min(1, limit / |t|)``.  Returns the trials and the
+    tractions ``(steps, 2, S)``."""
+    steps, count = limit.shape
+    trial = np.empty((steps, 2, count))
+    traction = np.empty((steps, 2, count))
+    trial[0] = first
+    size = np.empty(count)
+    ratio = np.empty(count)
+    with np.errstate(over="ignore"):  # an empty strip (t = 0) has limit / TINY = inf, whose min with 1 is 1
+        for i in range(steps):
+            np.hypot(trial[i, 0], trial[i, 1], out=size)
+            np.maximum(size, TINY, out=size)
+            np.divide(limit[i], size, out=ratio)
+            np.minimum(1.0, ratio, out=ratio)
+            np.multiply(trial[i], ratio, out=traction[i])
+            if i + 1 < steps:
+                np.add(traction[i], increment[i], out=trial[i + 1])
+    return trial, traction
+
+
+def falling_slips(trial, traction, first, increment, coefficient, pressure, flexibility, law, kernel, speed, start):
+    """Each cell's slip [1] and friction coefficient after a march (:func:`march`; ``coefficient``: the coefficients the
+    march took ``(steps, S)``, ``pressure`` p on the cells, ``flexibility``: each strip's flexibility over its step
+    along x and along y), docs/physics.md, "Strips": along the trial's direction e the cell's slip is
+    ``sigma = S - mu D`` with the rigid slip ``S = k (increment . e)`` and the pressure's growth ``D = k (p - r . e)``,
+    ``r`` the previous cell's traction per unit coefficient and ``k = |(k_x e_x, k_y e_y)|`` the cell's flexibility
+    over the step along e, ``mu`` the coefficient of the cell's own slip velocity ``V sigma`` (:func:`cell_slips`;
+    ``start``: the previous march's slips, or None).  A cell slips where ``S > D mu(0)``.  Returns
+    ``(sigma, mu, steepness)``, steepness the largest ``-D V dmu/dv`` over the slipping cells (above 1 the cell's
+    equation is not monotone)."""
+    size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
+    ex, ey = trial[:, 0] / size, trial[:, 1] / size
+    k = np.hypot(flexibility[0] * ex, flexibility[1] * ey)
+    rigid = np.empty_like(size)
+    rigid[0] = first[0] * ex[0] + first[1] * ey[0]
+    rigid[1:] = increment[:-1, 0] * ex[1:] + increment[:-1, 1] * ey[1:]
+    rigid *= k
+    along = np.zeros_like(size)  # r . e, r the previous cell's traction per unit coefficient
+    along[1:] = (traction[:-1, 0] * ex[1:] + traction[:-1, 1] * ey[1:]) / coefficient[:-1]
+    growth = k * (pressure - along)
+    static = law.static_coefficient
+    slipping = rigid > growth * static
+    sigma = np.zeros_like(rigid)
+    mu = np.full_like(rigid, static)
+    steepness = 0.0
+    if slipping.any():
+        guess = None if start is None else start[slipping]
+        sigma[slipping], values, slopes = cell_slips(rigid[slipping], growth[slipping], kernel, speed, static,
+                                                     law.maximum_coefficient, guess)
+        mu[slipping] = values
+        steepness = float(np.max(-growth[slipping] * speed * slopes))
+    return sigma, mu, steepness

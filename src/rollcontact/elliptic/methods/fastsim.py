@@ -17,7 +17,16 @@ Dynamics 61, 2023; :func:`blended_flexibilities`).  Material enters the ellipse 
 same load ``g = mu (2 Fn / (pi a b)) (1 - x^2/a^2 - y^2/b^2)`` (``bound="parabolic"``), sampled at the cell
 centres and scaled so that the cells carry ``mu Fn`` (then ``|F| <= mu Fn`` holds exactly).  Forces on the rail:
 ``Fx = int q_x``, ``Fy = int q_y``, ``Mz = int (x q_y - y q_x)`` (midpoint rule over the cells: the tractions live on
-the cell centres, the first half a cell behind the leading edge).  Coulomb friction only.
+the cell centres, the first half a cell behind the leading edge).
+
+Velocity-dependent friction (the extended FASTSIM): each cell's bound is ``mu(V sigma) p`` at its own slip sigma.
+Along the trial traction's direction e the march's slip of a cell is ``sigma = S - mu D``, the rigid slip
+``S = k (increment . e)`` less the pressure's growth ``D = k (p - r . e)`` per unit coefficient (``r`` the previous
+cell's traction per unit coefficient, ``k = |(L1 e_x, L2 e_y)| / dx``); each cell's ``sigma = S - D mu(V sigma)`` is
+solved by Newton, vectorised over the cells (:func:`~.common.falling_slips`).  The march's own response to a change of
+mu along the strip, ``-L p dmu/dt``, is left out: it is the local theory's, far stiffer than the half-space's, and
+makes the march's answer depend on the cell size (docs/physics.md, "FASTSIM").  The first march is Coulomb's at the
+static coefficient; with spin a second marches with the cells' coefficients, whose bound turns the traction.
 """
 
 from __future__ import annotations
@@ -28,7 +37,17 @@ import numpy as np
 
 from rollcontact.core.checks import check_real
 from rollcontact.core.method import AccuracyModel, MethodSpec
-from rollcontact.elliptic.methods.common import coefficients, linear_ratio, no_load, outside_table, poisson_excess
+from rollcontact.elliptic.methods.common import (
+    coefficients,
+    falling_drop,
+    falling_slips,
+    friction_kernel,
+    linear_ratio,
+    march,
+    no_load,
+    outside_table,
+    poisson_excess,
+)
 from rollcontact.elliptic.result import EllipticResult, TractionField
 
 BOUNDS = ("elliptic", "parabolic")
@@ -88,7 +107,7 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
     Parameters
     ----------
     scene : EllipticScene
-        The case; Coulomb friction.
+        The case; Coulomb or velocity-dependent friction.
     nx, ny : int
         Steps along each strip and number of strips (>= 2).
     bound : {"elliptic", "parabolic"}
@@ -102,7 +121,8 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
     Returns
     -------
     EllipticResult
-        ``info["flexibilities"]`` (L1, L2, L3) [m/Pa], ``info["stick_fraction"]`` (share of the nodes in stick).
+        ``info["flexibilities"]`` (L1, L2, L3) [m/Pa], ``info["stick_fraction"]`` (share of the nodes in stick);
+        with velocity-dependent friction ``info["steepness"]``, the largest ``-D V dmu/dv`` of the slipping cells.
     """
     why = inapplicable(scene)
     if why is not None:
@@ -115,6 +135,8 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
         raise ValueError(f"flexibility = {flexibility!r} is not one of {tuple(FLEXIBILITIES)}")
     if scene.normal_load == 0.0:
         return no_load(scene, "fastsim")
+    if not scene.friction.is_constant:
+        return falling_fastsim(scene, nx, ny, bound, flexibility, fields)
     h = scene.hertz
     mu = scene.friction_coefficient
     l1, l2, l3 = FLEXIBILITIES[flexibility](scene, coefficients(scene))
@@ -157,14 +179,58 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
 solve_fastsim.options = ("nx", "ny", "bound", "flexibility", "fields")
 
 
+FALLING_PASSES = 2
+"""Marches of the extended FASTSIM with spin (one without: the directions are uniform), as the strips'
+(:data:`rollcontact.elliptic.methods.strips.FALLING_PASSES`)."""
+
+
+def falling_fastsim(scene, nx: int, ny: int, bound: str, flexibility: str, fields: bool) -> EllipticResult:
+    """The extended FASTSIM (module docstring): the march's cells at the coefficient of their own slip."""
+    h = scene.hertz
+    law, speed = scene.friction, scene.rolling_speed
+    mu = scene.friction_coefficient
+    l1, l2, l3 = FLEXIBILITIES[flexibility](scene, coefficients(scene))
+    xi, eta, phi = scene.creepages
+    dy = 2.0 * h.b / ny
+    y = -h.b + dy * (np.arange(ny) + 0.5)
+    half = h.a * np.sqrt(1.0 - (y / h.b) ** 2)
+    dx = 2.0 * half / nx
+    peak = mu * (h.max_pressure if bound == "elliptic" else 2.0 * scene.normal_load / (math.pi * h.a * h.b))
+    x = half * (1.0 - (2.0 * np.arange(nx)[:, None] + 1.0) / nx)
+    room = np.clip(1.0 - (x / h.a) ** 2 - (y / h.b) ** 2, 0.0, None)
+    limit = peak * (np.sqrt(room) if bound == "elliptic" else room)
+    limit *= mu * scene.normal_load / float(np.sum(limit * dx) * dy)
+    pressure = limit / mu
+    increment = np.empty((nx, 2, ny))
+    increment[:, 0] = dx * (xi / l1 - phi * y / l3)
+    increment[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
+    first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])
+    kernel = friction_kernel(law)
+    coefficient = np.full(limit.shape, mu)
+    sigma = None
+    for _ in range(FALLING_PASSES if phi != 0.0 else 1):
+        trial, traction = march(first, increment, coefficient * pressure)
+        sigma, coefficient, steepness = falling_slips(trial, traction, first, increment, coefficient, pressure,
+                                                      (l1 / dx, l2 / dx), law, kernel, speed, sigma)
+    size = np.hypot(trial[:, 0], trial[:, 1])
+    stick = size <= limit
+    scale = np.minimum(1.0, coefficient * pressure / np.maximum(size, 1e-300))
+    qx, qy = trial[:, 0] * scale, trial[:, 1] * scale
+    area = dx * dy
+    forces = (float(np.sum(qx * area)), float(np.sum(qy * area)), float(np.sum((x * qy - y * qx) * area)))
+    field = None
+    if fields:
+        field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), pressure.T.copy(), qx.T.copy(),
+                              qy.T.copy(), stick.T.copy())
+    return EllipticResult.from_scene(scene, "fastsim", True, f"FASTSIM with falling friction ({bound} bound, "
+                                     f"{flexibility} flexibilities, {nx} x {ny})", forces, field,
+                                     {"flexibilities": (l1, l2, l3), "stick_fraction": float(stick.mean()),
+                                      "steepness": steepness})
+
+
 def inapplicable(scene) -> str | None:
-    """Why FASTSIM cannot treat the scene (a/b outside the coefficient table, velocity-dependent friction)."""
-    why = outside_table(scene)
-    if why is not None:
-        return why
-    if not scene.friction.is_constant:
-        return "FASTSIM here takes Coulomb friction only"
-    return None
+    """Why FASTSIM cannot treat the scene (a/b outside the coefficient table), or None."""
+    return outside_table(scene)
 
 
 FASTSIM_THEORY_ERROR = 0.1
@@ -184,6 +250,17 @@ FASTSIM_GRID_ERROR = 0.5
 """The grid's error [1] is modelled as this over min(nx, ny) (first order in the step;
 ``tests/elliptic/methods/test_fastsim.py`` checks it against a 320 x 320 grid)."""
 
+FASTSIM_FALLING_ERROR = 0.1
+"""Error [1] per unit of the law's fall over the contact (:func:`~.common.falling_drop`) that velocity-dependent
+friction adds to FASTSIM's estimate.  With it the estimate bounds the error over the matrix of
+``benchmarks/calibrate_falling_spin.py`` (table A: largest error 0.104 of mu(0) Fn at 20 x 20, Fy with spin at a/b 5,
+as with Coulomb friction; largest error over estimate 0.79 at 20 x 20, 0.86 at 40 x 40)."""
+
+FASTSIM_FALLING_COST_FACTOR = 1.5
+"""The extended FASTSIM's time over Coulomb FASTSIM's on the same grid [1]: a margin over the ratios of
+``benchmarks/calibrate_falling_spin.py``, table C (0.86 at 20 x 20, 0.95 at 40 x 40: its march is leaner than the
+Coulomb loop's)."""
+
 FASTSIM_COST_PER_STEP = 9e-6
 """Modelled time [s] per step along the strips (one vector operation over the ny strips;
 ``benchmarks/calibrate_elliptic_levels.py``)."""
@@ -193,8 +270,10 @@ class FastsimAccuracy(AccuracyModel):
     """The simplified theory's error (``3 tau`` times :data:`FASTSIM_THEORY_ERROR` up to it, plus
     :data:`FASTSIM_POISSON_ERROR` per unit of Poisson's ratio above 0.28; tau of
     :func:`~rollcontact.elliptic.methods.common.linear_ratio`: exact at vanishing creepage but for the spin moment,
-    whose linear coefficient the three flexibilities do not fit) plus the grid's (:data:`FASTSIM_GRID_ERROR` / n);
-    cost per step along x."""
+    whose linear coefficient the three flexibilities do not fit) plus the grid's (:data:`FASTSIM_GRID_ERROR` / n),
+    plus with velocity-dependent friction :data:`FASTSIM_FALLING_ERROR` times the law's fall over the contact
+    (:func:`~.common.falling_drop`); cost per step along x (:data:`FASTSIM_FALLING_COST_FACTOR` times it with
+    velocity-dependent friction)."""
 
     floor = 10 * FASTSIM_COST_PER_STEP
 
@@ -202,14 +281,16 @@ class FastsimAccuracy(AccuracyModel):
         return ({"nx": 20, "ny": 20}, {"nx": 40, "ny": 40}, {"nx": 100, "ny": 100})
 
     def cost(self, scene, options):
-        return FASTSIM_COST_PER_STEP * options.get("nx", 40) * (1.0 + options.get("ny", 40) / 400.0)
+        factor = 1.0 if scene.friction.is_constant else FASTSIM_FALLING_COST_FACTOR
+        return factor * FASTSIM_COST_PER_STEP * options.get("nx", 40) * (1.0 + options.get("ny", 40) / 400.0)
 
     def error(self, scene, options):
         if scene.normal_load == 0.0:
             return 0.0
         tau = linear_ratio(scene, coefficients(scene))
         return ((FASTSIM_THEORY_ERROR + FASTSIM_POISSON_ERROR * poisson_excess(scene)) * min(1.0, 3.0 * tau)
-                + FASTSIM_GRID_ERROR / min(options.get("nx", 40), options.get("ny", 40)))
+                + FASTSIM_GRID_ERROR / min(options.get("nx", 40), options.get("ny", 40))
+                + FASTSIM_FALLING_ERROR * falling_drop(scene))
 
 
 METHOD = MethodSpec("fastsim", solve_fastsim, inapplicable, rank=20, accuracy=FastsimAccuracy())

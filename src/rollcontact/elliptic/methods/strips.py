@@ -86,7 +86,17 @@ from rollcontact.core.checks import check_real
 from rollcontact.core.materials import Material
 from rollcontact.core.method import AccuracyModel, MethodSpec
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
-from rollcontact.elliptic.methods.common import coefficients, linear_ratio, no_load, outside_table, poisson_excess
+from rollcontact.elliptic.methods.common import (
+    coefficients,
+    falling_drop,
+    falling_slips,
+    friction_kernel,
+    linear_ratio,
+    march,
+    no_load,
+    outside_table,
+    poisson_excess,
+)
 from rollcontact.elliptic.methods.fastsim import blended
 from rollcontact.elliptic.result import EllipticResult, TractionField
 from rollcontact.line.dispatch import solve as solve_2d
@@ -180,14 +190,19 @@ def cross_coefficient(scene) -> float:
     return float(cross_coefficients(*(np.array([[v]]) for v in values))[0, 0])
 
 
-def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
-                 ) -> EllipticResult:
+FALLING = ("march", "polynomial")
+"""The falling-friction paths: the march's cells at their own slip's coefficient (spin and lateral creepage, the
+default), or one 2D polynomial solve per strip (no spin; slower, for comparison)."""
+
+
+def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False,
+                 falling: str = "march") -> EllipticResult:
     """Strip theory with FaStrip's slip directions (module docstring).
 
     Parameters
     ----------
     scene : EllipticScene
-        The case (Coulomb friction; velocity-dependent friction without spin).
+        The case (Coulomb or velocity-dependent friction).
     strips : int
         Strips across 2b (>= 2), at Gauss-Legendre nodes in theta.
     steps : int
@@ -195,12 +210,19 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
     fields : bool
         Return the tractions on the strips' cells (``result.fields``).  The forces do not depend on it: without spin
         they are the closed form's, which the cells' sums approach with the cells.
+    falling : {"march", "polynomial"}
+        Velocity-dependent friction by the march's cells at their own slip's coefficient (with or without spin), or
+        by one 2D polynomial solve per strip (without spin).
 
     Returns
     -------
     EllipticResult
-        ``info["stick_strips"]``: the share of strips with a stick zone; ``info["psi"]``: the scaled spin.
+        ``info["stick_strips"]``: the share of strips with a stick zone; ``info["psi"]``: the scaled spin; with
+        velocity-dependent friction ``info["steepness"]``, the largest ``-D V dmu/dv`` of the march's slipping cells
+        (above 1 a cell's slip equation is not monotone; :func:`falling_slips`).
     """
+    if falling not in FALLING:
+        raise ValueError(f"falling = {falling!r} is not one of {FALLING}")
     why = inapplicable(scene)
     if why is not None:
         raise ValueError(f"strips cannot solve this scene: {why}")
@@ -209,11 +231,16 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
     if scene.normal_load == 0.0:
         return no_load(scene, "strips")
     if not scene.friction.is_constant:
-        return falling_friction(scene, StripStack((scene,), strips))
+        if falling == "polynomial":
+            if scene.spin_creepage != 0.0:
+                raise ValueError("strips with falling='polynomial' take no spin (the 2D kernel has one traction "
+                                 "component); falling='march' does")
+            return polynomial_strips(scene, StripStack((scene,), strips))
+        return falling_strips(scene, strips, steps, fields)
     return stacked((scene,), strips, steps, fields)[0]
 
 
-solve_strips.options = ("strips", "steps", "fields")
+solve_strips.options = ("strips", "steps", "fields", "falling")
 
 
 def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
@@ -221,7 +248,8 @@ def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFA
     """:func:`solve_strips` of each scene (the same arguments), the loaded scenes with Coulomb friction at once: their
     strips are one :class:`StripStack`, whose stick zones, closed form, cross-influence fixed point and march are array
     operations over the scenes, each scene's numbers independent of the others (:func:`solve_strips` is this function
-    of one scene).  A scene without load has no contact; velocity-dependent friction takes one 2D solve per strip.
+    of one scene).  A scene without load has no contact; one with velocity-dependent friction is solved alone (its
+    march's cells at their own slip's coefficient).
 
     Raises
     ------
@@ -230,8 +258,7 @@ def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFA
     """
     low, high = aspect_ratio_range()
     for k, scene in enumerate(scenes):
-        if not low <= scene.hertz.aspect_ratio <= high or (scene.spin_creepage != 0.0
-                                                           and not scene.friction.is_constant):
+        if not low <= scene.hertz.aspect_ratio <= high:
             raise ValueError(f"strips cannot solve scene {k}: {inapplicable(scene)}")
     strips = int(check_real("strips", strips, lower=2))
     steps = int(check_real("steps", steps, lower=2))
@@ -567,9 +594,96 @@ GATHER = 96
 """Strips (all scenes') from which the march computes the stick zones' traction on the strips that stick alone."""
 
 
-def falling_friction(scene, stack: StripStack) -> EllipticResult:
-    """Velocity-dependent friction without spin: one 2D polynomial solve per strip (module docstring); ``stack``: the
-    scene's strips alone."""
+def falling_strips(scene, strips: int, steps: int, fields: bool) -> EllipticResult:
+    """Velocity-dependent friction, with or without spin (``falling="march"``, module docstring): the strips' stick
+    zones and closed form at the static coefficient, the march's cells at the coefficient of their own slip
+    (:func:`falling_march`)."""
+    stack = StripStack((scene,), strips, fields=True)  # the march's flexibilities, also without spin
+    phi_c, forces = np.zeros((1, 1)), None
+    sticking = stack.stick()
+    if stack.coupled.any():  # the lateral force's longitudinal creepage, as the Coulomb strips take it
+        forces = stack.closed_form(sticking)
+        for _ in range(CROSS_ITERATIONS):
+            phi_c = stack.couple(forces[1])
+            sticking = stack.stick()
+            forces = stack.closed_form(sticking)
+    closed = np.array(stack.closed_form(sticking) if forces is None else forces)[:, 0]
+    departure, field, steepness = falling_march(stack, steps, sticking, phi_c, scene.friction, scene.rolling_speed,
+                                                fields)
+    psi = float(stack.psi[0, 0])
+    info = {"stick_strips": float(sticking[3].mean()), "psi": psi, "cross_spin": float(phi_c[0, 0]),
+            "steepness": steepness}
+    return EllipticResult.from_scene(scene, "strips", True, "strip theory, falling friction on the march's cells",
+                                     tuple((closed + departure).tolist()), field, info)
+
+
+FALLING_PASSES = 2
+"""Marches of the falling-friction path with spin: the first at the static coefficient gives each cell's slip and
+coefficient, the second marches with those coefficients' bound (the directions of the traction follow the falling
+friction) and solves the slips again (without spin the directions are uniform and one march is kept).  A third
+changes the forces by less than 1e-3 mu Fn (``benchmarks/calibrate_falling_spin.py``, table "Passes")."""
+
+
+def falling_march(stack: StripStack, steps: int, sticking, phi_c, law, speed: float, fields: bool):
+    """The departure ``(dFx, dFy, dMz)`` of one scene's cells from its closed form (at the static coefficient), the
+    traction field (with ``fields``, else None) and the steepness (:func:`~.common.falling_slips`): the Coulomb strips'
+    march (:func:`marched`) with each cell's bound ``mu(V sigma) p`` at its own slip, found over
+    :data:`FALLING_PASSES` marches (:func:`~.common.march`); the stick zones' traction is the closed form's."""
+    a, b, p0, mu, _, xi, eta, phi, _, _, psi, m, _, l1, l2, l3, *_ = stack.rows[0]
+    phi_x = float(stack.march_ratio[0, 0]) * phi + float(phi_c[0, 0])
+    y, half, weights, factor = (v[0] for v in (stack.y, stack.half, stack.weights, stack.factor))
+    d, kappa, lam, partial = (v[0] for v in sticking)
+    dx = 2.0 * half / steps
+    x = half * cells(steps)
+    bound = mu * (p0 * np.sqrt(np.maximum(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0)))  # mu p (Hertz), mu static
+    scaling = stack.limit[0, 0] / float(np.sum(bound * (dx * weights)))  # the cells carry mu Fn
+    bound *= scaling
+    pressure = bound / mu
+    increment = np.empty((steps, 2, half.size))
+    increment[:, 0] = dx * (xi - phi_x * y) / l1 * factor
+    increment[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
+    first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])
+    flexibility = (l1 / (factor * dx), l2 / dx)
+    kernel = friction_kernel(law)
+    coefficient = np.full(bound.shape, mu)
+    sigma = None
+    for _ in range(FALLING_PASSES if phi != 0.0 else 1):  # without spin the directions do not change
+        trial, traction = march(first, increment, coefficient * pressure)
+        sigma, coefficient, steepness = falling_slips(trial, traction, first, increment, coefficient, pressure,
+                                                      flexibility, law, kernel, speed, sigma)
+    limit = coefficient * pressure
+    if phi != 0.0:
+        size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
+        qx, qy = limit * trial[:, 0] / size, limit * trial[:, 1] / size
+    else:  # without spin the slip direction is uniform along the strip
+        qx, qy = limit * kappa, limit * lam
+    ux, uy = bound * kappa, bound * lam  # the closed form's traction
+    in_stick = partial & (x > 2.0 * d - half)
+    if partial.any():
+        rest = half - d
+        full = np.sqrt(np.maximum(half * half - x * x, 0.0))
+        inner = np.sqrt(np.maximum(rest * rest - (x - d) ** 2, 0.0))
+        m_s = m * scaling
+        stick_x, stick_y = m_s * kappa * (full - inner), m_s * (lam * full - (lam - psi) * inner)
+        ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
+        share = None if stack.share is None else stack.share[0]
+        if share is not None and (share < 1.0).any():  # past |psi| = 1: within mu p, faded into the slip traction
+            within = np.minimum(1.0, bound / np.maximum(np.hypot(stick_x, stick_y), TINY))
+            stick_x = np.where(share < 1.0, share * within * stick_x + (1.0 - share) * qx, stick_x)
+            stick_y = np.where(share < 1.0, share * within * stick_y + (1.0 - share) * qy, stick_y)
+        qx, qy = np.where(in_stick, stick_x, qx), np.where(in_stick, stick_y, qy)
+    weight = weights * dx
+    dqx, dqy = qx - ux, qy - uy
+    departure = np.array([np.sum(dqx * weight), np.sum(dqy * weight), np.sum((x * dqy - y * dqx) * weight)])
+    field = None
+    if fields:
+        field = TractionField(*(np.broadcast_to(v, x.shape).T.copy() for v in (x, y, pressure, qx, qy, in_stick)))
+    return departure, field, steepness
+
+
+def polynomial_strips(scene, stack: StripStack) -> EllipticResult:
+    """Velocity-dependent friction without spin by one 2D polynomial solve per strip (``falling="polynomial"``, module
+    docstring); ``stack``: the scene's strips alone."""
     a, p0, e_x, psi = (float(v[0, 0]) for v in (stack.a, stack.p0, stack.modulus_x, stack.psi))
     X, Y, y, half, factor, scale, w = (v[0] for v in (stack.X, stack.Y, stack.y, stack.half, stack.factor,
                                                       stack.scale, stack.weights))
@@ -603,14 +717,8 @@ def falling_friction(scene, stack: StripStack) -> EllipticResult:
 
 
 def inapplicable(scene) -> str | None:
-    """Why the strips cannot treat the scene (a/b outside the coefficient table; spin with velocity-dependent
-    friction), or None."""
-    why = outside_table(scene)
-    if why is not None:
-        return why
-    if not scene.friction.is_constant and scene.spin_creepage != 0.0:
-        return "strips with velocity-dependent friction take no spin (the 2D kernel has one traction component)"
-    return None
+    """Why the strips cannot treat the scene (a/b outside the coefficient table), or None."""
+    return outside_table(scene)
 
 
 CROSS_ITERATIONS = 2
@@ -673,6 +781,18 @@ STRIPS_FALLING_COST_PER_STRIP = 5e-4
 """Modelled times [s]: the closed form, each cell of a march, each strip's 2D polynomial solve
 (``benchmarks/calibrate_elliptic_levels.py``)."""
 
+STRIPS_FALLING_COST_FACTOR = 3.0
+"""The falling-friction march's time over the Coulomb strips' with a march [1] (the march and each cell's slip, twice
+with spin): ``benchmarks/calibrate_falling_spin.py``, table C (3.0 times the Coulomb strips of the same scenes, most of
+which take the closed form alone)."""
+
+STRIPS_FALLING_ERROR = 0.1
+"""Error [1] per unit of the law's fall over the contact (:func:`~.common.falling_drop`) that velocity-dependent
+friction adds to the strips' estimate: the march's slips are the simplified theory's (the half-space's own slip
+differs).  With it the estimate bounds the error over the matrix of ``benchmarks/calibrate_falling_spin.py`` (table A:
+largest error 0.050 of mu(0) Fn, Fx of the linear law at 50 m/s and 2 saturations without spin; 0.042 with spin;
+largest error over estimate 0.73)."""
+
 
 class StripsAccuracy(AccuracyModel):
     """Error: :data:`STRIPS_ERROR` without spin, rising to :data:`STRIPS_SPIN_ERROR` with |psi|, both growing with
@@ -689,7 +809,10 @@ class StripsAccuracy(AccuracyModel):
 
     def cost(self, scene, options):
         if not scene.friction.is_constant:
-            return STRIPS_FALLING_COST_PER_STRIP * options.get("strips", DEFAULT_STRIPS)
+            if options.get("falling", "march") == "polynomial":
+                return STRIPS_FALLING_COST_PER_STRIP * options.get("strips", DEFAULT_STRIPS)
+            return STRIPS_FALLING_COST_FACTOR * (STRIPS_COST + STRIPS_COST_PER_CELL * options.get("steps",
+                                                                                                   DEFAULT_STEPS))
         if scene.spin_creepage == 0.0 and not options.get("fields"):
             return STRIPS_COST
         return STRIPS_COST + STRIPS_COST_PER_CELL * options.get("steps", DEFAULT_STEPS)
@@ -705,7 +828,7 @@ class StripsAccuracy(AccuracyModel):
         spin = min(1.0, psi / SPIN_ONSET)
         poisson = POISSON_ERROR * poisson_excess(scene)
         return 0.01 * tau + (STRIPS_ERROR + (STRIPS_SPIN_ERROR - STRIPS_ERROR) * spin + poisson) * min(
-            1.0, 5.0 * tau + spin)
+            1.0, 5.0 * tau + spin) + STRIPS_FALLING_ERROR * falling_drop(scene)
 
 
 METHOD = MethodSpec("strips", solve_strips, inapplicable, rank=10, accuracy=StripsAccuracy())

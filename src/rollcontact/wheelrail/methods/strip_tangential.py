@@ -30,8 +30,10 @@ import numpy as np
 from rollcontact.core.materials import Material
 from rollcontact.elliptic.creep_coefficients import CreepageCoefficients, aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.hertz import differences
+from rollcontact.elliptic.methods.common import falling_slips, friction_kernel, march
 from rollcontact.elliptic.methods.strips import (
     CROSS_ITERATIONS,
+    FALLING_PASSES,
     SPIN_FLEXIBILITY,
     STICK_FADE,
     STIFFENING_SCALE,
@@ -42,8 +44,6 @@ from rollcontact.elliptic.methods.strips import (
     march_flexibilities,
 )
 from rollcontact.elliptic.result import TractionField
-from rollcontact.line.dispatch import solve as solve_2d
-from rollcontact.line.scene import Scene
 from rollcontact.wheelrail.methods.strip_normal import StripContact
 
 DEFAULT_STEPS = 20
@@ -308,30 +308,75 @@ def marched(lobes: Lobes, steps: int, stick, fields: bool):
     return departure, field
 
 
-def falling_forces(lobes: Lobes, material: Material, friction, rolling_speed: float):
-    """Velocity-dependent friction without spin: each strip the 2D scene ``N' = (pi/2) q a^2``, ``R = E / (2 q)``,
-    ``E* = E`` with ``E = f E_x``, creep ``|(X, Y)| 2 mu q / E`` along ``(X, Y)``, by the project's polynomial
-    method (as the elliptic strips; the cross influence is not applied).  Returns ``((Fx, Fy, Mz), failures)``."""
-    nu = material.poisson_ratio
-    norm = np.hypot(lobes.X, lobes.Y)
-    direction_x = np.where(norm > 0.0, lobes.X / np.where(norm > 0.0, norm, 1.0), 0.0)
-    direction_y = np.where(norm > 0.0, lobes.Y / np.where(norm > 0.0, norm, 1.0), 0.0)
-    nodes, weights, _ = gauss(32)
-    force = np.empty(lobes.s.size)
-    lever = np.empty(lobes.s.size)
-    failures = []
-    for j in range(lobes.s.size):
-        modulus = lobes.modulus_x[j] * lobes.factor[j]
-        creep = float(norm[j] / (lobes.modulus_x[j] * lobes.scale[j]))
-        scene = Scene(0.5 * math.pi * lobes.q[j] * lobes.half[j] ** 2, creep=creep, radius=modulus / (2.0 * lobes.q[j]),
-                      material=Material(2.0 * modulus * (1.0 - nu * nu), nu), friction=friction,
-                      rolling_speed=rolling_speed)
-        result = solve_2d(scene, "polynomial")
-        if not result.success:
-            failures.append(f"strip s = {lobes.s[j]:.4g} m: {result.message}")
-        force[j] = result.tangential_force_per_length
-        x2d = result.contact_offset + result.contact_half_width * nodes
-        lever[j] = -result.contact_half_width * float(weights @ ((x2d - result.contact_offset) * result.traction(x2d)))
-    fx, fy = direction_x * force, direction_y * force
-    w = lobes.w
-    return np.array([float(w @ fx), float(w @ fy), float(w @ (direction_y * lever - lobes.s * fx))]), failures
+def falling_march_forces(lobes: Lobes, friction, speed: float, steps: int, fields: bool):
+    """``((Fx, Fy, Mz), field, steepness)`` of velocity-dependent friction, with or without spin: the elliptic strips'
+    falling-friction path (docs/physics.md, "Strips") on the patch's strips, the stick zones and the closed form (with
+    the cross influence's fixed point, without spin) at the static coefficient, the march's cells at the coefficient of
+    their own slip (:func:`falling_marched`); ``lobes`` built with the static coefficient."""
+    stick = stick_zones(lobes.X, lobes.Y, lobes.psi, lobes.half)
+    if lobes.phi == 0.0 and (lobes.cross != 0.0).any():
+        for _ in range(CROSS_ITERATIONS):
+            fy = lobes.lobe_forces(closed_form(lobes, stick)[1])
+            lobes.couple(lobes.cross * fy)
+            stick = stick_zones(lobes.X, lobes.Y, lobes.psi, lobes.half)
+    forces = np.array([float(lobes.w @ f) for f in closed_form(lobes, stick)])
+    departure, field, steepness = falling_marched(lobes, steps, stick, friction, speed, fields)
+    return forces + departure, field, steepness
+
+
+def falling_marched(lobes: Lobes, steps: int, stick, friction, speed: float, fields: bool):
+    """The falling-friction march on the patch's strips (:func:`marched`'s cells and increments, each cell's bound
+    ``mu(V sigma) p`` at its own slip over :data:`~rollcontact.elliptic.methods.strips.FALLING_PASSES` marches with
+    spin, one without: :func:`~rollcontact.elliptic.methods.common.falling_slips`).  Returns the departure from the
+    closed form ``(dFx, dFy, dMz)``, the field (with ``fields``) and the steepness."""
+    d, kappa, lam, partial, share = stick
+    half, s, w = lobes.half, lobes.s, lobes.w
+    dx = 2.0 * half / steps
+    x = half * cells(steps)
+    full = np.sqrt(np.maximum(half * half - x * x, 0.0))
+    bound = lobes.m * full
+    scaling = (0.5 * math.pi * lobes.m * half * half) / np.maximum(np.sum(bound, axis=0) * dx, TINY)
+    bound *= scaling
+    static = friction.static_coefficient
+    pressure = bound / static
+    phi_x = lobes.march_ratio * lobes.phi + lobes.phi_c
+    increment = np.empty((steps, 2, s.size))
+    increment[:, 0] = dx * (lobes.longitudinal - phi_x * lobes.offset) / lobes.l1 * lobes.factor
+    increment[:, 1] = dx * (lobes.eta / lobes.l2 + lobes.phi * (x - 0.5 * dx) / lobes.l3)
+    first = np.array([0.5 * increment[0, 0], 0.5 * dx * (lobes.eta / lobes.l2 + lobes.phi * (half - 0.25 * dx)
+                                                          / lobes.l3)])
+    flexibility = (lobes.l1 / (lobes.factor * dx), lobes.l2 / dx)
+    kernel = friction_kernel(friction)
+    coefficient = np.full(bound.shape, static)
+    sigma = None
+    for _ in range(FALLING_PASSES if lobes.phi != 0.0 else 1):
+        trial, traction = march(first, increment, coefficient * pressure)
+        sigma, coefficient, steepness = falling_slips(trial, traction, first, increment, coefficient, pressure,
+                                                      flexibility, friction, kernel, speed, sigma)
+    limit = coefficient * pressure
+    if lobes.phi != 0.0:
+        size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
+        qx, qy = limit * trial[:, 0] / size, limit * trial[:, 1] / size
+    else:  # without spin the slip direction is uniform along the strip
+        qx, qy = limit * kappa, limit * lam
+    ux, uy = bound * kappa, bound * lam
+    in_stick = partial & (x > 2.0 * d - half)
+    if partial.any():
+        rest = half - d
+        inner = np.sqrt(np.maximum(rest * rest - (x - d) ** 2, 0.0))
+        m = lobes.m * scaling
+        stick_x, stick_y = m * kappa * (full - inner), m * (lam * full - (lam - lobes.psi) * inner)
+        ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
+        if (share < 1.0).any():
+            within = np.minimum(1.0, bound / np.maximum(np.hypot(stick_x, stick_y), TINY))
+            stick_x = np.where(share < 1.0, share * within * stick_x + (1.0 - share) * qx, stick_x)
+            stick_y = np.where(share < 1.0, share * within * stick_y + (1.0 - share) * qy, stick_y)
+        qx, qy = np.where(in_stick, stick_x, qx), np.where(in_stick, stick_y, qy)
+    weight = w * dx
+    dqx, dqy = qx - ux, qy - uy
+    departure = np.array([float(np.sum(dqx * weight)), float(np.sum(dqy * weight)),
+                          float(np.sum((x * dqy - s * dqx) * weight))])
+    field = None
+    if fields:
+        field = TractionField(*(np.broadcast_to(v, x.shape).T.copy() for v in (x, s, pressure, qx, qy, in_stick)))
+    return departure, field, steepness

@@ -3,8 +3,8 @@ curvature and interpenetration corrected for the half-space (:mod:`~rollcontact.
 then each the 2D tangential problem of the elliptic strips on its semi-elliptic pressure
 (:mod:`~rollcontact.wheelrail.methods.strip_tangential`).  docs/physics-wheelrail-patches.md, "Strips on a patch".
 
-Coulomb friction, and velocity-dependent friction without spin (one 2D polynomial solve per strip); spin with a
-velocity-dependent law is left out (:func:`inapplicable` says so).
+Coulomb or velocity-dependent friction, with spin (the elliptic strips' falling-friction march on the patch's
+strips: :func:`~rollcontact.wheelrail.methods.strip_tangential.falling_march_forces`).
 """
 
 from __future__ import annotations
@@ -13,14 +13,20 @@ import math
 
 from rollcontact.core.checks import check_real
 from rollcontact.core.method import AccuracyModel
-from rollcontact.elliptic.methods.strips import POISSON_ERROR, SPIN_ONSET, STRIPS_ERROR, STRIPS_SPIN_ERROR
+from rollcontact.elliptic.methods.strips import (
+    POISSON_ERROR,
+    SPIN_ONSET,
+    STRIPS_ERROR,
+    STRIPS_FALLING_ERROR,
+    STRIPS_SPIN_ERROR,
+)
 from rollcontact.wheelrail.methods.strip_normal import DEFAULT_STRIPS, StripContact, refined, strip_normal
 from rollcontact.wheelrail.methods.strip_tangential import (
     DEFAULT_STEPS,
     Lobes,
     coefficients,
     coulomb_forces,
-    falling_forces,
+    falling_march_forces,
 )
 from rollcontact.wheelrail.result import PatchResult
 from rollcontact.wheelrail.scene import PatchScene
@@ -33,12 +39,8 @@ TANGENTIAL_STRIPS = 24
 
 
 def inapplicable(scene: PatchScene) -> str | None:
-    """Why the strips cannot treat the scene, or None: spin with a velocity-dependent friction law (the strips'
-    velocity-dependent path solves one 2D problem per strip, whose kernel has one traction component, so the slip
-    directions of spin are left for later)."""
-    if not scene.friction.is_constant and scene.spin_creepage != 0.0:
-        return ("the patch strips take no spin with a velocity-dependent friction law (not yet: the 2D kernel of "
-                "their falling-friction path has one traction component); use the discretised level")
+    """Why the strips cannot treat the scene, or None: they treat every patch scene (Coulomb or velocity-dependent
+    friction, with spin)."""
     return None
 
 
@@ -56,7 +58,7 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
     Parameters
     ----------
     scene : PatchScene
-        The patch's case; Coulomb friction, or a velocity-dependent law without spin.
+        The patch's case; Coulomb friction or a velocity-dependent law.
     strips : int
         Strips across the patch of the normal problem (>= 4).
     tangential_strips : int
@@ -65,7 +67,7 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
     steps : int
         Cells along each strip of the march (with spin) and of the fields (>= 2).
     fields : bool
-        Return the pressure and traction on the strips' cells (Coulomb friction).
+        Return the pressure and traction on the strips' cells.
 
     Returns
     -------
@@ -96,20 +98,17 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
                            eta, phi, mu, 0.0, info={"error_estimate": 0.0})
     tangential_strips = int(check_real("tangential_strips", tangential_strips, lower=4))
     lobes = Lobes(refined(contact, scene.gap, tangential_strips), scene.material, mu, scene.creepages)
-    field = None
-    failures: list[str] = []
     if scene.friction.is_constant:
         forces, field = coulomb_forces(lobes, steps, fields)
     else:
-        forces, failures = falling_forces(lobes, scene.material, scene.friction, scene.rolling_speed)
+        forces, field, _ = falling_march_forces(lobes, scene.friction, scene.rolling_speed, steps, fields)
     area = 2.0 * float(contact.widths @ contact.half_lengths)
     info = {"strips_in_contact": int(contact.contact.sum()), "lobes": len(lobes.runs),
             "equivalent_ratios": tuple(lobes.ratios), "outside_table": any(lobes.clamped),
             "normal_iterations": contact.iterations}
     accuracy = PatchStripsAccuracy()
     info.update(accuracy.estimates(scene, lobes, contact))
-    message = "strips" if not failures else "strips, polynomial method per strip: " + "; ".join(failures)
-    return PatchResult("strips", not failures, message, contact.normal_load, contact.approach, contact.max_pressure,
+    return PatchResult("strips", True, "strips", contact.normal_load, contact.approach, contact.max_pressure,
                        contact.length, contact.width, float(forces[0]), float(forces[1]), float(forces[2]), xi, eta,
                        phi, mu, area, field, info)
 
@@ -142,11 +141,28 @@ STRIPS_PATCH_COST_PER_CELL = 5e-6
 (``benchmarks/wheelrail_patches.py``, table "Time", as a multiple of the elliptic strips' time in the same run)."""
 
 
+FALLING_REACH = 0.02
+"""Half-size [m] of a patch that :meth:`PatchStripsAccuracy.error` takes before solving, for the largest rigid slip of
+spin (a flange's patch is up to about 20 mm long)."""
+
+
+def falling_drop(scene: PatchScene, half_length: float, half_width: float) -> float:
+    """``1 - mu(V w)/mu(0)`` [1], ``w = |(|xi| + |phi| half_width, |eta| + |phi| half_length)|`` the largest rigid slip
+    over the patch (the elliptic :func:`~rollcontact.elliptic.methods.common.falling_drop`); 0 for Coulomb friction."""
+    if scene.friction.is_constant:
+        return 0.0
+    xi, eta, phi = scene.creepages
+    slip = math.hypot(abs(xi) + abs(phi) * half_width, abs(eta) + abs(phi) * half_length)
+    static = scene.friction_coefficient
+    return max(0.0, 1.0 - float(scene.friction.coefficient(scene.rolling_speed * slip)) / static)
+
+
 class PatchStripsAccuracy(AccuracyModel):
     """The strips' error: the elliptic strips' estimate (:class:`rollcontact.elliptic.methods.strips.StripsAccuracy`'s
     form) on each lobe's equivalent ellipse, plus :data:`PATCH_ERROR` for a non-elliptic patch (scaled, like the
-    elliptic estimate, by the creepage in units of saturation), and the normal level's :data:`NORMAL_ERROR` and
-    :data:`PRESSURE_ERROR`.  Cost: the normal solution and the march."""
+    elliptic estimate, by the creepage in units of saturation), the falling friction's term of the elliptic strips
+    (:data:`~rollcontact.elliptic.methods.strips.STRIPS_FALLING_ERROR` times :func:`falling_drop`), and the normal
+    level's :data:`NORMAL_ERROR` and :data:`PRESSURE_ERROR`.  Cost: the normal solution and the march."""
 
     floor = STRIPS_PATCH_COST
 
@@ -159,10 +175,11 @@ class PatchStripsAccuracy(AccuracyModel):
         return STRIPS_PATCH_COST + STRIPS_PATCH_COST_PER_CELL * options.get("steps", DEFAULT_STEPS)
 
     def error(self, scene, options):
-        """Before solving: the largest the estimate can be, the elliptic strips' bound with spin plus the patch's."""
+        """Before solving: the largest the estimate can be, the elliptic strips' bound with spin plus the patch's (and
+        the falling friction's over a patch half-size of :data:`FALLING_REACH`)."""
         poisson = POISSON_ERROR * max(0.0, scene.material.poisson_ratio - 0.28)
         spin = STRIPS_SPIN_ERROR if scene.spin_creepage != 0.0 else STRIPS_ERROR
-        return spin + poisson + PATCH_ERROR
+        return spin + poisson + PATCH_ERROR + STRIPS_FALLING_ERROR * falling_drop(scene, FALLING_REACH, FALLING_REACH)
 
     def estimates(self, scene: PatchScene, lobes: Lobes, contact: StripContact) -> dict:
         """``error_estimate``, ``normal_error_estimate`` and ``pressure_error_estimate`` of a solved scene."""
@@ -187,7 +204,8 @@ class PatchStripsAccuracy(AccuracyModel):
             worst = max(worst, share * lobe)
         tau_patch = min(1.0, 5.0 * worst / max(STRIPS_ERROR, 1e-12))
         ratio_penalty = OUTSIDE_TABLE_ERROR if any(lobes.clamped) else 0.0
-        return {"error_estimate": worst + PATCH_ERROR * tau_patch + ratio_penalty,
+        falling = STRIPS_FALLING_ERROR * falling_drop(scene, 0.5 * contact.length, 0.5 * contact.width)
+        return {"error_estimate": worst + PATCH_ERROR * tau_patch + ratio_penalty + falling,
                 "normal_error_estimate": NORMAL_ERROR, "pressure_error_estimate": PRESSURE_ERROR}
 
 
