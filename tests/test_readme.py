@@ -15,7 +15,7 @@ SNIPPETS = re.findall(r"```python\n(.*?)```\n+```text\n(.*?)```", README, flags=
 
 
 def test_the_readme_has_its_snippets_and_its_two_commands():
-    assert len(SNIPPETS) == 2, f"two python snippets, each followed by its output: found {len(SNIPPETS)}"
+    assert len(SNIPPETS) == 3, f"three python snippets, each followed by its output: found {len(SNIPPETS)}"
     commands = re.findall(r"```bash\n(.*?)```", README, flags=re.S)
     assert any("-m rollcontact_cosim" in c for c in commands), "the main job's command"
     ci = (ROOT / ".ci" / "run").read_text()
@@ -33,7 +33,7 @@ def test_a_snippet_prints_what_the_readme_says(index, fmu_path, tmp_path):
 
 
 def test_the_readme_is_short_and_says_what_is():
-    assert len(README) < 6000, f"README.md is {len(README)} characters (aim: under 6,000)"
+    assert len(README) < 7000, f"README.md is {len(README)} characters (aim: under 7,000)"
     history = re.search(r"\b(sess[i]ons?|was|until|earlier runs?)\b", README, flags=re.I)
     assert history is None, f"the README speaks of history ({history and history.group(0)!r})"
     for link in re.findall(r"\]\(([^)#]+)\)", README):
