@@ -51,6 +51,15 @@ INPUT_ROWS = (
 )
 """Inputs of a contact: name, unit, min, description (the stepping model's order)."""
 
+GAP_ROWS = (
+    ("gap_curvature_longitudinal", "1/m", 0.0,
+     "Curvature A of the step's gap A x^2 + B y^2 (0: the parameter curvature_longitudinal)"),
+    ("gap_curvature_lateral", "1/m", 0.0,
+     "Curvature B of the step's gap A x^2 + B y^2 (0: the parameter curvature_lateral)"),
+)
+"""Inputs of a contact appended after every variable of the first release (value references: append only): the
+gap's curvatures of each step, the stepping model's last two inputs."""
+
 JACOBIAN_UNITS = {"xi": "N", "eta": "N", "phi": "N.m"}
 OUTPUT_ROWS = (
     ("longitudinal_force", "N", None, "Longitudinal force Fx of the wheel on the rail"),
@@ -149,6 +158,9 @@ def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = F
                  for k in range(1, contacts + 1)]
     for n, kind, u, lo, hi, text in appended_parameters(used):
         rows.append((n, kind, PARAMETER, FIXED, u, getattr(DEFAULT, n), lo, hi, text))
+    for k in range(1, contacts + 1):
+        rows += [(named(n, k, contacts), Real, INPUT, CONTINUOUS, u, 0.0, lo, None, f"{text}{of(k)}")
+                 for n, u, lo, text in GAP_ROWS]
     enumerated = {named("method_used", k, contacts): used["method_used"] for k in range(1, contacts + 1)}
     enumerated.update({n: used[n] for n in ("method", "friction_law", "rail_condition", "jacobian")})
     if integer_codes:
@@ -156,7 +168,8 @@ def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = F
     return tuple(rows), enumerated
 
 
-PER_CONTACT = frozenset(name for rows in (INPUT_ROWS, OUTPUT_ROWS, CONTACT_PARAMETERS) for name, *_ in rows)
+PER_CONTACT = frozenset(name for rows in (INPUT_ROWS, OUTPUT_ROWS, CONTACT_PARAMETERS, GAP_ROWS)
+                        for name, *_ in rows)
 """Variables of their own per contact (arrays in FMI 3.0); the other parameters are shared."""
 
 
@@ -170,7 +183,7 @@ SHARED_NAMES = tuple(row[0] for used in (enumerations(),)
                      for row in (*shared_parameters(used), *appended_parameters(used)))
 """The shared parameters' names (those of :class:`rollcontact.stepping.EllipticParameters` but the curvatures)."""
 
-assert len(INPUT_ROWS) == len(elliptic.INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
+assert len(INPUT_ROWS) + len(GAP_ROWS) == len(elliptic.INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
 
 
 class RollingContact3DShared(TableSlave):
@@ -193,7 +206,7 @@ class RollingContact3DShared(TableSlave):
 
     def step_model(self, current_time, step_size):
         return contacts_step(self.model.step, current_time, step_size, self.read_inputs(self), len(INPUT_ROWS),
-                             bool(self.DIMENSIONS))
+                             bool(self.DIMENSIONS), len(GAP_ROWS))
 
     def step_messages(self):
         return self.model.take_messages()

@@ -317,3 +317,30 @@ def test_fmi3_an_array_parameter_is_fixed_after_initialisation(contact_variants)
         assert caught.value.status == DISCARD, caught.value.status
     finally:
         slave.free()
+
+
+GAPS = ("gap_curvature_longitudinal", "gap_curvature_lateral")
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+@pytest.mark.parametrize("contacts", (1, CONTACTS))
+def test_curvature_inputs_changing_every_step_are_fresh_instances_of_those_parameters(make, fmi, contacts):
+    """The gap's curvatures set every step (0: the parameters') give the outputs of a new instance initialised with
+    them as parameters, bit for bit, contact by contact; a curvature the coefficient table does not cover is refused
+    naming the contact, and the instance steps on."""
+    rng = np.random.default_rng(17)
+    slave = make(fmi, contacts, **curvature_parameters(contacts))
+    for n, row in enumerate(signal(3)):
+        gaps = [(float(rng.choice([0.0, rng.uniform(0.6, 3.0)])), float(rng.uniform(0.6, 3.0)))
+                for _ in range(contacts)]
+        set_inputs(slave, GAPS, gaps)
+        got = step(slave, n * H, [row] * contacts, contacts)
+        fresh = make(fmi, contacts, **curvature_parameters(contacts, [
+            (gap[0] or CURVATURES[k][0], gap[1]) for k, gap in enumerate(gaps)]))
+        assert got == step(fresh, 0.0, [row] * contacts, contacts), f"step {n}: gaps {gaps}"
+    set_inputs(slave, GAPS, [(1.0, 1e4)] * contacts)
+    message = refused(slave, 3 * H, [signal(1)[0]] * contacts, contacts)
+    assert f"{'contact 1: ' if contacts > 1 else ''}gap curvatures A = 1.0, B = 10000.0 1/m give a/b" in message, \
+        message
+    set_inputs(slave, GAPS, [(0.0, 0.0)] * contacts)
+    assert step(slave, 3 * H, [signal(1)[0]] * contacts, contacts)[0] > 0.0, "the instance steps on"

@@ -268,3 +268,48 @@ def test_the_difference_jacobian_is_paid_within_the_step_budget():
     assert any("no room for the difference Jacobian" in m for m in tight.take_messages()), "said once"
     roomy = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=5.0 * one)).step(0.0, H, row)[0]
     assert roomy.dFx_dxi < 0.9 * linear.dFx_dxi, f"FASTSIM's slope falls with saturation ({roomy.dFx_dxi:.4g})"
+
+
+# the gap's curvatures as inputs (a host that computes the contact geometry from profiles)
+
+@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+def test_curvature_inputs_changing_every_step_are_fresh_models_of_those_parameters_bit_for_bit(method):
+    """Each step's gap curvatures (0: the parameter's) give the outputs of a new model made with them as parameters,
+    at every level, for two contacts whose geometry changes independently."""
+    slow = method and ELLIPTIC_LEVELS[method - 1].name == "discretised"  # its capped work: two steps
+    rng = np.random.default_rng(11)
+    parameters = {"method": method, "curvature_longitudinal": (1.087, 2.5), "curvature_lateral": (1.667, 1.2),
+                  **({"step_budget": 2.0} if slow else {})}
+    model = EllipticModel(EllipticParameters(**parameters))
+    for n in range(2 if slow else 6):
+        gaps = [(float(rng.choice([0.0, rng.uniform(0.5, 4.0)])), float(rng.choice([0.0, rng.uniform(0.5, 4.0)])))
+                for _ in range(2)]
+        rows = [(*ROW[:3], float(rng.normal(0.0, 0.3)), ROW[4], *gap) for gap in gaps]
+        outputs = model.step(n * H, H, rows)
+        fresh = EllipticModel(EllipticParameters(**{**parameters, **{
+            name: tuple(gap[i] or parameters[name][k] for k, gap in enumerate(gaps))
+            for i, name in enumerate(("curvature_longitudinal", "curvature_lateral"))}}))
+        assert outputs == fresh.step(n * H, H, [row[:5] for row in rows]), f"step {n}: gaps {gaps}"
+
+
+def test_rows_of_five_are_the_parameters_curvatures_whatever_the_last_step_had():
+    model = EllipticModel(EllipticParameters(method=1))
+    first = model.step(0.0, H, [ROW])
+    model.step(H, H, [(*ROW, 3.0, 0.5)])
+    assert model.step(2 * H, H, [ROW]) == first, "a row without curvatures takes the parameters'"
+    assert model.step(3 * H, H, [(*ROW, 0.0, 0.0)]) == first, "curvatures 0 are the parameters'"
+
+
+def test_invalid_curvature_inputs_are_refused_by_name_and_change_nothing():
+    model = EllipticModel(EllipticParameters(curvature_longitudinal=(1.0, 1.0), curvature_lateral=(1.0, 1.0)))
+    with pytest.raises(ModelError) as caught:
+        model.step(0.0, H, [(*ROW, 1.0, 1.0), (*ROW, -1.0, math.nan)])
+    message = str(caught.value)
+    for part in ("contact 2: gap_curvature_longitudinal = -1.0 1/m is out of range",
+                 "contact 2: gap_curvature_lateral = nan"):
+        assert part in message, message
+    with pytest.raises(ModelError, match=r"contact 1: gap curvatures A = 0\.001, B = 1000\.0 1/m give a/b = "
+                                         r"2890\.59, outside \[0\.1, 10\]"):
+        model.step(0.0, H, [(*ROW, 1e-3, 1e3), ROW])
+    assert model.state.steps == 0, "a refused step changes nothing"
+    assert model.step(0.0, H, [ROW, ROW])[0].method_used > 0, "the model stays usable"

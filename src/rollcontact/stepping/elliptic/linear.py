@@ -25,18 +25,26 @@ class LinearContacts:
     """
 
     def __init__(self, model):
-        estar = model.material.contact_modulus
-        nu = model.material.poisson_ratio
-        self.constants = []
-        for A, B in model.curvatures:
-            major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
-            m = eccentricity(minor_curvature / major_curvature)
-            major, _, _ = differences(m)
-            g = math.sqrt(1.0 - m)
-            c = creepage_coefficients(g if A > B else 1.0 / g, nu)
-            self.constants.append((major, 2.0 * math.pi * estar * major_curvature, g, major_curvature * estar,
-                                   g * major, A <= B, c.c11, c.c22, c.c23, c.c33))
+        self.contact_modulus = model.material.contact_modulus
+        self.poisson_ratio = nu = model.material.poisson_ratio
+        self.constants = [self.contact_constants(A, B) for A, B in model.curvatures]
         self.shear_modulus = model.material.youngs_modulus / (2.0 * (1.0 + nu))
+
+    def contact_constants(self, A: float, B: float) -> tuple:
+        """What a contact's steps take from its curvatures A, B [1/m] alone."""
+        estar = self.contact_modulus
+        major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
+        m = eccentricity(minor_curvature / major_curvature)
+        major, _, _ = differences(m)
+        g = math.sqrt(1.0 - m)
+        c = creepage_coefficients(g if A > B else 1.0 / g, self.poisson_ratio)
+        return (major, 2.0 * math.pi * estar * major_curvature, g, major_curvature * estar, g * major, A <= B,
+                c.c11, c.c22, c.c23, c.c33)
+
+    def use_curvatures(self, changed, curvatures) -> None:
+        """Take the curvatures ``(A, B)`` of the contacts ``changed`` (indices) from ``curvatures``."""
+        for k in changed:
+            self.constants[k] = self.contact_constants(*curvatures[k])
 
     def step(self, rows) -> tuple[EllipticOutputs, ...]:
         """The outputs of every contact for its checked inputs (rows of floats as :meth:`EllipticModel.step`'s).

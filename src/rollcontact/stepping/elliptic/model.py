@@ -54,6 +54,7 @@ from rollcontact.stepping.elliptic.linear import LinearContacts
 from rollcontact.stepping.elliptic.parameters import (
     INPUTS,
     LEVEL_CODES,
+    LOAD_INPUTS,
     METHOD_NAMES,
     NO_STICK,
     ZERO,
@@ -152,7 +153,10 @@ class EllipticModel(SteppingModel):
         except ValueError as exc:
             raise ModelError(str(exc)) from None
         self.method = "auto" if p.method == AUTO else METHOD_NAMES[p.method]
-        self.curvatures = tuple(zip(p.curvature_longitudinal, p.curvature_lateral, strict=True))
+        self.parameter_curvatures = tuple(zip(p.curvature_longitudinal, p.curvature_lateral, strict=True))
+        """Each contact's (A, B) [1/m] of the parameters: its gap where a step's inputs give none."""
+        self.curvatures = self.parameter_curvatures
+        """Each contact's (A, B) [1/m] of the last step (the parameters' before the first)."""
         self.shear_modulus = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
         problems = [why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None]
         if problems:
@@ -191,11 +195,12 @@ class EllipticModel(SteppingModel):
         """``"contact k: "`` (k from 1) with several contacts, else ``""``: the prefix of a contact's messages."""
         return f"contact {k + 1}: " if self.contacts > 1 else ""
 
-    def inapplicable(self, k: int) -> str | None:
-        """Why contact ``k`` (from 0) cannot be stepped at any load (its ellipse's a/b is that of every load), or
-        None: an a/b outside Kalker's coefficient table (every step's Jacobian outputs and the linear, FASTSIM and
-        strips levels need the coefficients), or a method that cannot treat the ellipse."""
-        A, B = self.curvatures[k]
+    def inapplicable(self, k: int, curvatures: tuple[float, float] | None = None) -> str | None:
+        """Why contact ``k`` (from 0) cannot be stepped at any load with its curvatures (default: the last step's;
+        its ellipse's a/b is that of every load), or None: an a/b outside Kalker's coefficient table (every step's
+        Jacobian outputs and the linear, FASTSIM and strips levels need the coefficients), or a method that cannot
+        treat the ellipse."""
+        A, B = self.curvatures[k] if curvatures is None else curvatures
         scene = EllipticScene(1.0, A, B, material=self.material, friction=self.friction)
         low, high = aspect_ratio_range()
         ratio = scene.hertz.aspect_ratio
@@ -226,7 +231,10 @@ class EllipticModel(SteppingModel):
             h [s] > 0.
         inputs : sequence
             Per contact ``(normal_load [N] >= 0, longitudinal_creep [1], lateral_creep [1], spin [1/m],
-            velocity [m/s] >= 0)``, all finite.
+            velocity [m/s] >= 0)``, optionally followed by the gap's curvatures of the step
+            ``(gap_curvature_longitudinal, gap_curvature_lateral)`` [1/m] >= 0 (0, or a row of five: the parameters'
+            curvature of that contact), all finite.  A step's outputs depend on its curvatures alone, not on those
+            of earlier steps.
 
         Returns
         -------
@@ -236,17 +244,22 @@ class EllipticModel(SteppingModel):
         Raises
         ------
         ModelError
-            Invalid inputs (every one named, with its contact), time going backwards, or a contact no allowed
-            method solves within the budget.  The state is then unchanged.
+            Invalid inputs (every one named, with its contact), time going backwards, curvatures whose ellipse no
+            level treats, or a contact no allowed method solves within the budget.  The state is then unchanged.
         """
         inf = math.inf
-        try:  # five real numbers per contact (a row of another length or type: the problems are listed below)
+        try:  # per contact five real numbers, or seven with the gap's curvatures (else the problems listed below)
             rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v in inputs]
+            gaps = None
         except (TypeError, ValueError):
-            rows = None
+            rows, gaps = self.gap_rows(inputs)
         valid = rows is not None and len(rows) == self.contacts and 0.0 < step_size < inf and -inf < current_time < inf
         for fn, xi, eta, phi, v in rows if valid else ():
             if not (0.0 <= fn < inf and -inf < xi < inf and -inf < eta < inf and -inf < phi < inf and 0.0 <= v < inf):
+                valid = False
+                break
+        for A, B in gaps if valid and gaps is not None else ():
+            if not (0.0 <= A < inf and 0.0 <= B < inf):
                 valid = False
                 break
         if not valid:
@@ -255,6 +268,11 @@ class EllipticModel(SteppingModel):
         if current_time < self.state.time:
             raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
                              f"{self.state.time!r} s; restore a saved state to step from an earlier time")
+        curvatures = self.parameter_curvatures if gaps is None else tuple(
+            (A if A != 0.0 else default[0], B if B != 0.0 else default[1])
+            for (A, B), default in zip(gaps, self.parameter_curvatures, strict=True))
+        if curvatures != self.curvatures:
+            self.use_curvatures(curvatures)
         self.last_modelled_cost = 0.0
         with np.errstate(all="ignore"):  # what overflows is refused below, by its output: no numpy warning escapes
             outputs = self.evaluate(rows)
@@ -264,6 +282,33 @@ class EllipticModel(SteppingModel):
         self.state.time = float(current_time)
         self.state.steps += 1
         return outputs
+
+    @staticmethod
+    def gap_rows(inputs) -> tuple[list | None, list | None]:
+        """``(rows, gaps)`` of input rows of seven real numbers or five (whose gap is ``(0, 0)``): the first five of
+        each and its gap's curvatures; ``(None, None)`` when a row is neither."""
+        rows, gaps = [], []
+        try:
+            for row in inputs:
+                if len(row) not in (LOAD_INPUTS, len(INPUTS)):
+                    return None, None
+                values = tuple(map(float, row))
+                rows.append(values[:LOAD_INPUTS])
+                gaps.append(values[LOAD_INPUTS:] or (0.0, 0.0))
+        except (TypeError, ValueError):
+            return None, None
+        return rows, gaps
+
+    def use_curvatures(self, curvatures: tuple[tuple[float, float], ...]) -> None:
+        """Step with the contacts' ``curvatures`` ((A, B) [1/m] each) from now on: the same as a model made with
+        them as parameters.  ModelError, naming each contact whose ellipse no level treats, changes nothing."""
+        changed = [k for k, (new, old) in enumerate(zip(curvatures, self.curvatures, strict=True)) if new != old]
+        problems = [why for k in changed if (why := self.inapplicable(k, curvatures[k])) is not None]
+        if problems:
+            raise ModelError("; ".join(p.replace("curvatures A", "gap curvatures A", 1) for p in problems))
+        self.curvatures = curvatures
+        if self.batch is not None:
+            self.batch.use_curvatures(changed, curvatures)
 
     def evaluate(self, rows) -> tuple[EllipticOutputs, ...]:
         """The outputs of every contact for its checked inputs: together where the level allows
@@ -302,8 +347,11 @@ class EllipticModel(SteppingModel):
         if len(inputs) != self.contacts:
             return [*problems, f"{len(inputs)} input rows for {self.contacts} contacts"]
         for k, row in enumerate(inputs):
+            if len(row) not in (LOAD_INPUTS, len(INPUTS)):
+                problems.append(f"{self.label(k)}{len(row)} inputs, not {LOAD_INPUTS} or {len(INPUTS)}")
+                continue
             problems += argument_problems(((name, value, unit, lower, False)
-                                           for (name, unit, lower), value in zip(INPUTS, row, strict=True)),
+                                           for (name, unit, lower), value in zip(INPUTS, row, strict=False)),
                                           self.label(k))
         return problems
 

@@ -143,5 +143,11 @@ class EllipticParameters(ModelParameters):
 
 
 INPUTS = (("normal_load", "N", 0.0), ("longitudinal_creep", "", None), ("lateral_creep", "", None),
-          ("spin", "1/m", None), ("velocity", "m/s", 0.0))
-"""The inputs of a contact (name, unit, lower bound) in :meth:`EllipticModel.step`'s order."""
+          ("spin", "1/m", None), ("velocity", "m/s", 0.0), ("gap_curvature_longitudinal", "1/m", 0.0),
+          ("gap_curvature_lateral", "1/m", 0.0))
+"""The inputs of a contact (name, unit, lower bound) in :meth:`EllipticModel.step`'s order; the last two, the gap's
+curvatures A and B of the step (0: the parameters ``curvature_longitudinal`` and ``curvature_lateral``), may be left
+out of a row."""
+
+LOAD_INPUTS = 5
+"""Inputs of a row without the gap's curvatures (:data:`INPUTS`)."""
