@@ -181,7 +181,7 @@ def test_the_contacts_strips_together_are_each_contact_alone_bit_for_bit(jacobia
     p = EllipticParameters(method=3, jacobian=jacobian, curvature_longitudinal=tuple(c[0] for c in curvatures),
                            curvature_lateral=tuple(c[1] for c in curvatures))
     together, alone = EllipticModel(p), EllipticModel(p)
-    alone.strips_together = False
+    alone.strips_together = alone.choose_together = False
     assert together.strips_together, "the strips of the contacts are solved together"
     for n in range(12):
         rows = [(float(rng.choice([0.0, rng.uniform(1e3, 2e5)])), *rng.normal(0, 2e-3, 2),
@@ -313,3 +313,57 @@ def test_invalid_curvature_inputs_are_refused_by_name_and_change_nothing():
         model.step(0.0, H, [(*ROW, 1e-3, 1e3), ROW])
     assert model.state.steps == 0, "a refused step changes nothing"
     assert model.step(0.0, H, [ROW, ROW])[0].method_used > 0, "the model stays usable"
+
+
+# contacts stepped together wherever the chosen level allows, bit for bit each contact alone
+
+def contact_by_contact(model: EllipticModel) -> EllipticModel:
+    """``model`` made to step each contact through solve_elliptic (its batches off)."""
+    model.batch = model.linear_together = None
+    model.strips_together = model.choose_together = False
+    return model
+
+
+BATCH_CURVATURES = ((1.087, 1.667), (2.5, 1.2), (0.9, 4.0), (3.0, 3.0))
+
+
+@pytest.mark.parametrize("tolerance", (0.0, 0.05, 0.012))
+@pytest.mark.parametrize("jacobian", (0, 1))
+@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+def test_every_unloaded_combination_together_is_contact_by_contact_bit_for_bit(method, jacobian, tolerance):
+    """Every subset of unloaded contacts, at every level, with and without a tolerance, both Jacobians: the outputs
+    and the messages of the step together are those of each contact through solve_elliptic."""
+    slow = method and ELLIPTIC_LEVELS[method - 1].name == "discretised"
+    if slow and (jacobian or tolerance):
+        pytest.skip("the discretised level has no batch: one case shows it steps each contact alone")
+    curvatures = BATCH_CURVATURES[:2] if slow else BATCH_CURVATURES
+    n = len(curvatures)
+    p = EllipticParameters(method=method, jacobian=jacobian, tolerance=tolerance,
+                           curvature_longitudinal=tuple(c[0] for c in curvatures),
+                           curvature_lateral=tuple(c[1] for c in curvatures), **({"step_budget": 2.0} if slow else {}))
+    together, alone = EllipticModel(p), contact_by_contact(EllipticModel(p))
+    rng = np.random.default_rng(method + 10 * jacobian)
+    for mask in range(2**n):
+        rows = [(0.0 if mask >> k & 1 else float(rng.uniform(2e4, 1.5e5)), *(rng.normal(0.0, 1.5e-3, 2)
+                 * rng.choice([0.02, 1.0, 3.0])), float(rng.choice([0.0, rng.normal(0.0, 0.4)])), 20.0)
+                for k in range(n)]
+        assert together.step(mask * H, H, rows) == alone.step(mask * H, H, rows), f"unloaded {mask:0{n}b}: {rows}"
+        assert together.take_messages() == alone.take_messages(), f"unloaded {mask:0{n}b}: the messages"
+
+
+def test_auto_steps_the_contacts_strips_together_while_they_are_its_choice():
+    """auto without a tolerance takes the strips for Coulomb friction and solves them together; a method of lower
+    rank registered beside them, or strips replaced in the registry, leaves each contact to solve_elliptic."""
+    from rollcontact.elliptic.dispatch import DISPATCHER
+    from rollcontact.elliptic.methods import linear
+
+    model = EllipticModel(EllipticParameters(curvature_longitudinal=(1.087, 2.5), curvature_lateral=(1.667, 1.2)))
+    assert model.strips_together and model.strips_chosen(), "auto's strips are solved together"
+    assert [o.method_used for o in model.step(0.0, H, [ROW, ROW])] == [3, 3], "auto reports the strips"
+    DISPATCHER.register("toy_linear", linear.solve_linear, linear.inapplicable, rank=5)
+    try:
+        assert not model.strips_chosen(), "a lower-ranked method is auto's choice: no strips together"
+        assert [o.method_used for o in model.step(0.0, H, [ROW, ROW])] == [0, 0], "the toy answers (no code)"
+    finally:
+        DISPATCHER.methods.pop("toy_linear")
+    assert model.strips_chosen(), "the registry restored"

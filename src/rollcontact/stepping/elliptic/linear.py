@@ -46,13 +46,14 @@ class LinearContacts:
         for k in changed:
             self.constants[k] = self.contact_constants(*curvatures[k])
 
-    def step(self, rows) -> tuple[EllipticOutputs, ...]:
-        """The outputs of every contact for its checked inputs (rows of floats as :meth:`EllipticModel.step`'s).
-        A contact without load is :data:`ZERO`."""
+    def step(self, rows, contacts=None) -> tuple[EllipticOutputs, ...]:
+        """The outputs of every contact for its checked inputs (rows of floats as :meth:`EllipticModel.step`'s), or of
+        the ``contacts`` (indices) whose rows ``rows`` are.  A contact without load is :data:`ZERO`."""
         shear = self.shear_modulus
         code = LEVEL_CODES["linear"]
         outputs = []
-        for (fn, xi, eta, phi, velocity), constants in zip(rows, self.constants, strict=True):
+        every = self.constants if contacts is None else [self.constants[k] for k in contacts]
+        for (fn, xi, eta, phi, velocity), constants in zip(rows, every, strict=True):
             if fn == 0.0:
                 outputs.append(ZERO)
                 continue

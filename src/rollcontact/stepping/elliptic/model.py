@@ -24,12 +24,15 @@ fall with saturation); with ``jacobian`` = 1 forward differences of the step's o
 contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation value (``mu Fn`` over the linear
 slope), each within the step budget; the linear level's derivatives are its slopes in either mode (exact).
 
-Contacts together: with ``method`` = linear (and no tolerance) the step evaluates the linear theory of every contact
-without a solver call (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse`
-and the linear level take for one contact; with ``method`` = strips (no tolerance, Coulomb friction, the cost with
-spin within the budget) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
-(:meth:`EllipticModel.strips_step`).  Each contact's outputs are bit for bit those of
-:func:`rollcontact.solve_elliptic`; the other levels solve the contacts one after another through it.
+Contacts together, wherever the level a step takes has a form for several contacts, each contact's outputs bit for bit
+those of :func:`rollcontact.solve_elliptic`: with ``method`` = linear (and no tolerance) the linear theory of every
+contact without a solver call (:class:`LinearContacts`), the same operations as
+:func:`rollcontact.elliptic.hertz_ellipse` and the linear level take for one contact; with ``method`` = strips or auto
+(no tolerance, Coulomb friction, the cost with spin within the budget; auto's choice is then the strips for every
+contact) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
+(:meth:`EllipticModel.strips_step`); with a tolerance each contact's setting as solve_elliptic chooses it, the
+contacts on the strips or the linear theory together (:meth:`EllipticModel.chosen_together`).  The other levels
+solve the contacts one after another through solve_elliptic.
 
 Frictional power: ``V (xi Fx + eta Fy + phi Mz)`` [W], the power the creepages put into the contact (the rigid slip
 velocities times the forces on the rail), which steady rolling dissipates by slip.
@@ -43,10 +46,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rollcontact.core.dispatch import Budget
 from rollcontact.core.materials import Material
+from rollcontact.core.method import UNRESOLVED
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
+from rollcontact.elliptic.dispatch import DISPATCHER as ELLIPTIC_DISPATCHER
 from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
 from rollcontact.elliptic.dispatch import solve as solve_elliptic
+from rollcontact.elliptic.methods import linear as linear_level
+from rollcontact.elliptic.methods import strips as strips_level
 from rollcontact.elliptic.methods.strips import solve_strips_many
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.stepping.base import ModelError, SteppingModel, argument_problems, time_problems
@@ -85,6 +93,19 @@ of the forces (1e-16 of mu Fn)."""
 
 
 
+
+
+STRIPS_METHOD = strips_level.METHOD
+BATCHED = {"strips": STRIPS_METHOD, "linear": linear_level.METHOD}
+"""The built-in levels whose contacts a step solves together (the registry may replace them: then it does not)."""
+
+
+def strips_resolve_every_scene() -> bool:
+    """Whether the strips' error estimate stays below :data:`~rollcontact.core.method.UNRESOLVED` on every scene (its
+    largest value: 1 % for the coefficients plus the spin's error and the excess of Poisson's ratio up to 0.5), so
+    that ``auto`` never falls back from them and a step may solve its contacts' strips together."""
+    s = strips_level
+    return 0.01 + s.STRIPS_SPIN_ERROR + s.POISSON_ERROR * 0.5 < UNRESOLVED
 
 
 @dataclass
@@ -164,10 +185,15 @@ class EllipticModel(SteppingModel):
         self.batch = LinearContacts(self) if self.method == "linear" and self.tolerance is None and \
             self.fits_budget("linear") else None
         """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
-        self.strips_together = self.method == "strips" and self.tolerance is None and self.friction.is_constant \
-            and p.contacts > 1 and self.fits_budget("strips", spin=True)
+        self.strips_together = self.method in ("strips", "auto") and self.tolerance is None and \
+            self.friction.is_constant and self.fits_budget("strips", spin=True) and strips_resolve_every_scene()
         """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`, bit
-        for bit each contact's solve; one contact goes through solve_elliptic, whose strips are the same code)."""
+        for bit each contact's solve): ``method`` = strips, or auto while the strips are what auto takes
+        (:meth:`strips_chosen`)."""
+        self.choose_together = self.tolerance is not None and self.method in ("auto", "strips", "linear")
+        """With a tolerance: each contact's setting chosen as solve_elliptic chooses it, the contacts whose choice is
+        the strips or the linear theory with their defaults solved together (:meth:`chosen_together`)."""
+        self.linear_together = LinearContacts(self) if self.choose_together and self.method != "strips" else None
         self.notices: tuple[str, ...] = ()
         """Messages worth showing once at initialisation (none: every parameter is used)."""
         self.last_modelled_cost = 0.0
@@ -307,25 +333,87 @@ class EllipticModel(SteppingModel):
         if problems:
             raise ModelError("; ".join(p.replace("curvatures A", "gap curvatures A", 1) for p in problems))
         self.curvatures = curvatures
-        if self.batch is not None:
-            self.batch.use_curvatures(changed, curvatures)
+        for batch in (self.batch, self.linear_together):
+            if batch is not None:
+                batch.use_curvatures(changed, curvatures)
 
     def evaluate(self, rows) -> tuple[EllipticOutputs, ...]:
         """The outputs of every contact for its checked inputs: together where the level allows
-        (:class:`~rollcontact.stepping.elliptic.linear.LinearContacts`, :meth:`strips_step`), else contact by
-        contact (:meth:`contact_step`), which also answers a batch that breaks down in floating point, naming the
-        contact."""
-        if self.batch is not None or self.strips_together:
-            try:
-                outputs = self.batch.step(rows) if self.batch is not None else self.strips_step(rows)
-                level = "linear" if self.batch is not None else "strips"
-                solves = 4 if self.parameters.jacobian == 1 and level == "strips" else 1
-                self.last_modelled_cost = max((solves * ELLIPTIC_METHODS[level].accuracy.cost(self.scene(k, *row), {})
+        (:class:`~rollcontact.stepping.elliptic.linear.LinearContacts`, :meth:`strips_step`, and with a tolerance
+        :meth:`chosen_together`), else contact by contact (:meth:`contact_step`), which also answers a batch that
+        breaks down in floating point, naming the contact."""
+        try:
+            if self.batch is not None:
+                outputs = self.batch.step(rows)
+                self.last_modelled_cost = max((ELLIPTIC_METHODS["linear"].accuracy.cost(self.scene(k, *row), {})
                                                for k, row in enumerate(rows) if row[0] != 0.0), default=0.0)
                 return outputs
-            except ArithmeticError:
-                pass
+            if self.strips_together and self.strips_chosen():
+                return self.strips_step(rows, range(len(rows)))
+            if self.choose_together:
+                return self.chosen_together(rows)
+        except ArithmeticError:
+            pass
         return tuple(self.contact_step(k, *row) for k, row in enumerate(rows))
+
+    def strips_chosen(self) -> bool:
+        """Whether every loaded contact's solve is the package's strips with their defaults: ``method`` = strips,
+        or auto while the strips are the lowest-ranked registered method (they treat every contact the model
+        steps without a tolerance: a/b within Kalker's table, Coulomb friction), both the built-in level."""
+        strips = STRIPS_METHOD
+        if ELLIPTIC_METHODS.get("strips") is not strips:
+            return False
+        return self.method == "strips" or ELLIPTIC_DISPATCHER.ranked()[0] is strips
+
+    def chosen_together(self, rows) -> tuple[EllipticOutputs, ...]:
+        """With a tolerance: each loaded contact's setting as :func:`rollcontact.solve_elliptic` chooses it with the
+        parameters' tolerance and budget (the cheapest that meets the tolerance within the budget); the contacts
+        whose choice is the built-in strips or linear theory with their defaults are solved together
+        (:meth:`strips_step`, :class:`~rollcontact.stepping.elliptic.linear.LinearContacts`), the others one by one
+        (:meth:`contact_step`), each bit for bit its own solve (neither level escalates or falls back: the strips'
+        and the linear theory's ladders hold one setting, and their estimates stay below
+        :data:`~rollcontact.core.method.UNRESOLVED`).  A tolerance the choice does not meet is said once per contact,
+        as the contact's own solve says it."""
+        names = None if self.method == "auto" else (self.method,)
+        chosen: dict[int, tuple] = {}
+        for k, row in enumerate(rows):
+            if row[0] == 0.0:
+                continue
+            scene = self.scene(k, *row)
+            try:
+                setting = ELLIPTIC_DISPATCHER.cheapest_setting(scene, self.tolerance, names,
+                                                               None if self.budget is None else Budget(self.budget))
+            except ValueError:  # the contact's own solve says why
+                continue
+            spec = ELLIPTIC_METHODS.get(setting.method)
+            if setting.options or spec is not BATCHED.get(setting.method) or (
+                    setting.method == "linear" and self.linear_together is None):
+                continue
+            chosen[k] = (setting, scene)
+        strips = [k for k, (setting, _) in chosen.items() if setting.method == "strips"]
+        linear = [k for k, (setting, _) in chosen.items() if setting.method == "linear"]
+        together = {}
+        if strips:
+            together.update(zip(strips, (self.strips_step(rows, strips, [chosen[k][1] for k in strips])[k]
+                                         for k in strips), strict=True))
+        if linear:
+            together.update(zip(linear, self.linear_together.step([rows[k] for k in linear], linear), strict=True))
+        outputs = []
+        cost = 0.0
+        for k, row in enumerate(rows):
+            if k not in together:
+                outputs.append(self.contact_step(k, *row))
+                continue
+            setting = chosen[k][0]
+            if not setting.error_estimate <= self.tolerance:
+                self.notice_once(f"tolerance {k}", f"{self.label(k)}the tolerance {self.tolerance!r} is not met within "
+                                 f"the step budget {self.budget!r} s: {setting.method}'s error estimate is "
+                                 f"{setting.error_estimate!r} (said once)")
+            solves = 4 if self.parameters.jacobian == 1 and setting.method == "strips" else 1
+            cost = max(cost, solves * setting.cost)
+            outputs.append(together[k])
+        self.last_modelled_cost = max(self.last_modelled_cost, cost)
+        return tuple(outputs)
 
     def non_finite(self, k: int, outputs: EllipticOutputs, row) -> str:
         """The message for contact ``k``'s outputs that are not all finite: which output, its value, the inputs."""
@@ -410,14 +498,18 @@ class EllipticModel(SteppingModel):
         return EllipticOutputs(*forces, result.a, result.b, result.max_pressure, float(stick), power, *jacobian,
                                method_code(result.method))
 
-    def strips_step(self, rows) -> tuple[EllipticOutputs, ...]:
-        """Every loaded contact's strips in one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with
-        ``jacobian`` = difference also the three shifted scenes of each), the outputs as :meth:`contact_step` makes
-        them from each contact's own solve."""
-        loaded = [k for k, row in enumerate(rows) if row[0] != 0.0]
+    def strips_step(self, rows, contacts, scenes=None) -> tuple[EllipticOutputs, ...]:
+        """The strips of the loaded ones among ``contacts`` (indices) in one
+        :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with ``jacobian`` = difference also the three
+        shifted scenes of each), the outputs as :meth:`contact_step` makes them from each contact's own solve; the
+        other contacts' outputs are :data:`ZERO`.  ``scenes``: those of the loaded contacts, when made already."""
+        loaded = [k for k in contacts if rows[k][0] != 0.0]
         if not loaded:
             return (ZERO,) * len(rows)
-        scenes = [self.scene(k, *rows[k]) for k in loaded]
+        if scenes is None:
+            scenes = [self.scene(k, *rows[k]) for k in loaded]
+        cost = STRIPS_METHOD.accuracy.cost
+        self.last_modelled_cost = (4 if self.parameters.jacobian == 1 else 1) * max(cost(scene, {}) for scene in scenes)
         slopes = [self.linear_slopes(scene) for scene in scenes]
         shifted = []
         if self.parameters.jacobian == 1:
