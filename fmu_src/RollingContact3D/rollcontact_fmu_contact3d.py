@@ -79,7 +79,10 @@ OUTPUT_ROWS = (
 """Outputs of a contact: name, unit, min, description (:class:`EllipticOutputs`' order)."""
 
 JACOBIAN_ITEMS = ((0, "linear", "the linear theory's slopes at the step's ellipse"),
-                  (1, "difference", "forward differences of the step's level, 3 more solves"))
+                  (1, "difference", "forward differences of the step's level, 3 more solves; a table's derivatives"))
+TABLE_ITEMS = ((0, "auto", "built when the run pays for it, within the step budget"),
+               (1, "off", "every step solves exactly"),
+               (2, "on", "built at initialisation"))
 AUTO_TEXT = "the lowest-ranked level that applies; with a tolerance the cheapest"
 """Description of ``method`` = auto."""
 
@@ -91,7 +94,8 @@ def enumerations() -> dict:
             "method": ("Method3D", method_items(elliptic.METHOD_LEVELS, AUTO_TEXT)),
             "friction_law": ("FrictionLaw", friction_law_items()),
             "rail_condition": ("RailCondition", rail_condition_items()),
-            "jacobian": ("JacobianMode", JACOBIAN_ITEMS)}
+            "jacobian": ("JacobianMode", JACOBIAN_ITEMS),
+            "table": ("TableMode", TABLE_ITEMS)}
 
 
 def shared_parameters(used: dict) -> tuple:
@@ -128,6 +132,12 @@ def appended_parameters(used: dict) -> tuple:
     return (("rail_condition", Integer, None, 0, largest(used["rail_condition"][1]), RAIL_CONDITION_TEXT),)
 
 
+def table_parameters(used: dict) -> tuple:
+    """Shared parameters declared after the gap's curvature inputs (value references: append only)."""
+    return (("table", Integer, None, 0, largest(used["table"][1]),
+             "Certified table of the strips, Coulomb friction (TableMode)"),)
+
+
 def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> tuple[tuple, dict]:
     """The variable table (rows ``(name, type, causality, variability, unit, start, min, max, description)``,
     value reference = row) and the enumerations (variable name -> (type, items)) of the FMU with ``contacts``
@@ -161,8 +171,10 @@ def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = F
     for k in range(1, contacts + 1):
         rows += [(named(n, k, contacts), Real, INPUT, CONTINUOUS, u, 0.0, lo, None, f"{text}{of(k)}")
                  for n, u, lo, text in GAP_ROWS]
+    for n, kind, u, lo, hi, text in table_parameters(used):
+        rows.append((n, kind, PARAMETER, FIXED, u, getattr(DEFAULT, n), lo, hi, text))
     enumerated = {named("method_used", k, contacts): used["method_used"] for k in range(1, contacts + 1)}
-    enumerated.update({n: used[n] for n in ("method", "friction_law", "rail_condition", "jacobian")})
+    enumerated.update({n: used[n] for n in ("method", "friction_law", "rail_condition", "jacobian", "table")})
     if integer_codes:
         return integer_coded(tuple(rows), enumerated), {}
     return tuple(rows), enumerated
@@ -180,7 +192,7 @@ def dimensions(contacts: int, arrays: bool) -> dict:
 
 
 SHARED_NAMES = tuple(row[0] for used in (enumerations(),)
-                     for row in (*shared_parameters(used), *appended_parameters(used)))
+                     for row in (*shared_parameters(used), *appended_parameters(used), *table_parameters(used)))
 """The shared parameters' names (those of :class:`rollcontact.stepping.EllipticParameters` but the curvatures)."""
 
 assert len(INPUT_ROWS) + len(GAP_ROWS) == len(elliptic.INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
@@ -201,7 +213,8 @@ class RollingContact3DShared(TableSlave):
         n = self.CONTACTS
         shared = {name: values[name] for name in SHARED_NAMES}
         curvatures = {name: contact_values(values, name, n, self.DIMENSIONS) for name, *_ in CONTACT_PARAMETERS}
-        model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time)
+        model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time,
+                              stop_time=self.stop_time)
         return model, model.notices
 
     def step_model(self, current_time, step_size):

@@ -344,3 +344,20 @@ def test_curvature_inputs_changing_every_step_are_fresh_instances_of_those_param
         message
     set_inputs(slave, GAPS, [(0.0, 0.0)] * contacts)
     assert step(slave, 3 * H, [signal(1)[0]] * contacts, contacts)[0] > 0.0, "the instance steps on"
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+def test_table_on_answers_from_the_certified_table_as_the_model_does(make, fmi, monkeypatch):
+    """``table`` = on: the FMU's steps are the stepping model's, answered from the table (``method_used`` table), its
+    derivatives with ``jacobian`` = difference.  The FMU runs in this process (fmpy loads its Python here): a small
+    table put into the process's tables under the default key stands in for the default table's build."""
+    from rollcontact.stepping.elliptic import table
+
+    small = table.EllipticTable(0.28, (3, 5, 3, 3)).build()
+    monkeypatch.setitem(table.TABLES, (0.28, table.NODES), small)
+    slave = make(fmi, table=2, jacobian=1)
+    model = EllipticModel(EllipticParameters(table=2, jacobian=1))
+    for n, row in enumerate(signal(6)):
+        got, expected = step(slave, n * H, [row]), model.step(n * H, H, [row])[0]
+        assert got == [float(v) for v in expected], f"step {n}: FMU {got} != model {expected}"
+        assert got[-1] == ELLIPTIC_LEVELS[-1].code and ELLIPTIC_LEVELS[-1].name == "table", "method_used: table"

@@ -19,6 +19,8 @@ from rollcontact.stepping.elliptic.parameters import METHOD_LEVELS as ELLIPTIC_L
 from rollcontact.stepping.elliptic.parameters import NO_STICK, EllipticParameters
 from rollcontact.stepping.elliptic.parameters import method_code as level_code
 
+METHODS = (0, *(level.code for level in ELLIPTIC_LEVELS if level.choice))
+"""Every ``method`` code: auto and the levels a user may choose."""
 H = 1e-3
 ROW = (1e5, 1e-3, -5e-4, 0.2, 30.0)  # Fn [N], xi, eta, phi [1/m], V [m/s]
 
@@ -48,7 +50,7 @@ def test_invalid_parameters_are_named_all_at_once():
         EllipticParameters(curvature_longitudinal=(1.0, 2.0), curvature_lateral=(1.0,))
 
 
-@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+@pytest.mark.parametrize("method", METHODS)
 def test_each_contact_is_solve_elliptic_bit_for_bit(method):
     curvatures = ((1.087, 1.667), (2.5, 1.2))
     budget = {"step_budget": 2.0} if ELLIPTIC_LEVELS[method - 1].name == "discretised" else {}  # its capped work
@@ -201,7 +203,7 @@ def test_the_linear_levels_jacobian_is_its_slopes_in_either_mode():
 
 # what no level represents, and the bounds of a step (each a finding of a fuzz of the 3D FMUs)
 
-@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+@pytest.mark.parametrize("method", METHODS)
 def test_outputs_beyond_floating_point_are_refused_by_name_without_a_numpy_warning(method):
     """E = 1e-300 Pa under 1e9 N: the ellipse overflows; every level refuses the step, naming the output."""
     model = EllipticModel(EllipticParameters(method=method, youngs_modulus=1e-300, step_budget=0.0))
@@ -215,7 +217,7 @@ def test_outputs_beyond_floating_point_are_refused_by_name_without_a_numpy_warni
 
 
 def test_a_contact_no_level_can_step_is_refused_at_initialisation_by_name():
-    for method in range(len(ELLIPTIC_LEVELS) + 1):
+    for method in METHODS:
         with pytest.raises(ModelError, match=r"contact 2: curvatures A = 0\.001, B = 1000\.0 1/m give a/b = "
                                              r"2890\.59, outside \[0\.1, 10\]") as refused:
             EllipticModel(EllipticParameters(method=method, curvature_longitudinal=(1.087, 1e-3),
@@ -272,7 +274,7 @@ def test_the_difference_jacobian_is_paid_within_the_step_budget():
 
 # the gap's curvatures as inputs (a host that computes the contact geometry from profiles)
 
-@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+@pytest.mark.parametrize("method", METHODS)
 def test_curvature_inputs_changing_every_step_are_fresh_models_of_those_parameters_bit_for_bit(method):
     """Each step's gap curvatures (0: the parameter's) give the outputs of a new model made with them as parameters,
     at every level, for two contacts whose geometry changes independently."""
@@ -329,7 +331,7 @@ BATCH_CURVATURES = ((1.087, 1.667), (2.5, 1.2), (0.9, 4.0), (3.0, 3.0))
 
 @pytest.mark.parametrize("tolerance", (0.0, 0.05, 0.012))
 @pytest.mark.parametrize("jacobian", (0, 1))
-@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+@pytest.mark.parametrize("method", METHODS)
 def test_every_unloaded_combination_together_is_contact_by_contact_bit_for_bit(method, jacobian, tolerance):
     """Every subset of unloaded contacts, at every level, with and without a tolerance, both Jacobians: the outputs
     and the messages of the step together are those of each contact through solve_elliptic."""

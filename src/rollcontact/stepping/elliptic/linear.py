@@ -31,15 +31,8 @@ class LinearContacts:
         self.shear_modulus = model.material.youngs_modulus / (2.0 * (1.0 + nu))
 
     def contact_constants(self, A: float, B: float) -> tuple:
-        """What a contact's steps take from its curvatures A, B [1/m] alone."""
-        estar = self.contact_modulus
-        major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
-        m = eccentricity(minor_curvature / major_curvature)
-        major, _, _ = differences(m)
-        g = math.sqrt(1.0 - m)
-        c = creepage_coefficients(g if A > B else 1.0 / g, self.poisson_ratio)
-        return (major, 2.0 * math.pi * estar * major_curvature, g, major_curvature * estar, g * major, A <= B,
-                c.c11, c.c22, c.c23, c.c33)
+        """What a contact's steps take from its curvatures A, B [1/m] alone (:func:`contact_constants`)."""
+        return contact_constants(A, B, self.contact_modulus, self.poisson_ratio)
 
     def use_curvatures(self, changed, curvatures) -> None:
         """Take the curvatures ``(A, B)`` of the contacts ``changed`` (indices) from ``curvatures``."""
@@ -75,3 +68,16 @@ class LinearContacts:
                                                        0.0, slope * c22, cross, 0.0, -cross, lever * length * c33,
                                                        code)))
         return tuple(outputs)
+
+
+def contact_constants(A: float, B: float, contact_modulus: float, poisson_ratio: float) -> tuple:
+    """What a contact's steps take from its curvatures A, B [1/m] alone, with E* [Pa] and nu: ``(K - E)/e^2`` of the
+    major axis, ``2 pi E* A_major``, ``g = beta/alpha``, ``A_major E*``, ``g (K - E)/e^2``, whether the major axis lies
+    along x, and Kalker's C11, C22, C23, C33 at a/b (:class:`LinearContacts`)."""
+    major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
+    m = eccentricity(minor_curvature / major_curvature)
+    major, _, _ = differences(m)
+    g = math.sqrt(1.0 - m)
+    c = creepage_coefficients(g if A > B else 1.0 / g, poisson_ratio)
+    return (major, 2.0 * math.pi * contact_modulus * major_curvature, g, major_curvature * contact_modulus,
+            g * major, A <= B, c.c11, c.c22, c.c23, c.c33)

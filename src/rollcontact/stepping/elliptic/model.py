@@ -34,6 +34,13 @@ contact) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over
 contacts on the strips or the linear theory together (:meth:`EllipticModel.chosen_together`).  The other levels
 solve the contacts one after another through solve_elliptic.
 
+Certified table: with Coulomb friction and ``method`` auto or strips, ``table`` = on builds at initialisation (auto:
+where the run pays for it) a table of the strips' normalised forces over a/b and three normalised creepages
+(:mod:`rollcontact.stepping.elliptic.table`); the steps then answer every loaded contact from it, ``method_used`` =
+table, where ``tolerance`` is 0 or at least its bound plus the strips' largest error
+(:mod:`rollcontact.stepping.elliptic.table_use`).  The ellipse is Hertz's (the operations of :class:`LinearContacts`);
+the Jacobian with ``jacobian`` = 0 the linear theory's slopes, with 1 the table's own derivatives.
+
 Frictional power: ``V (xi Fx + eta Fy + phi Mz)`` [W], the power the creepages put into the contact (the rigid slip
 velocities times the forces on the rail), which steady rolling dissipates by slip.
 """
@@ -58,18 +65,21 @@ from rollcontact.elliptic.methods import strips as strips_level
 from rollcontact.elliptic.methods.strips import solve_strips_many
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.stepping.base import ModelError, SteppingModel, argument_problems, time_problems
-from rollcontact.stepping.elliptic.linear import LinearContacts
+from rollcontact.stepping.elliptic.linear import LinearContacts, contact_constants
 from rollcontact.stepping.elliptic.parameters import (
     INPUTS,
     LEVEL_CODES,
     LOAD_INPUTS,
     METHOD_NAMES,
     NO_STICK,
+    TABLE_OFF,
     ZERO,
     EllipticOutputs,
     EllipticParameters,
     method_code,
 )
+from rollcontact.stepping.elliptic.table import NODES as TABLE_NODES
+from rollcontact.stepping.elliptic.table_use import TableUse
 from rollcontact.stepping.parameters import AUTO, friction_law
 
 __all__ = ["DIFFERENCE_STEP", "EllipticModel", "EllipticState"]
@@ -110,11 +120,17 @@ def strips_resolve_every_scene() -> bool:
 
 @dataclass
 class EllipticState:
-    """What an :class:`EllipticModel` remembers between steps: the last communication point [s] and the steps taken
-    (the steady contact has no other history)."""
+    """What an :class:`EllipticModel` remembers between steps: the last communication point [s], the steps taken (the
+    steady contact has no other history) and the certified table's progress: the batches of its build done and, with
+    ``table`` = auto and the run's end unknown, the exact steps' modelled work counted towards it [s]
+    (:mod:`rollcontact.stepping.elliptic.table_use`)."""
 
     time: float
     steps: int = 0
+    table_batches: int = 0
+    exact_work: float = 0.0
+
+    KEYS = {1: {"version", "time", "steps"}, 2: {"version", "time", "steps", "table_batches", "exact_work"}}
 
     @classmethod
     def initial(cls, start_time: float) -> EllipticState:
@@ -122,26 +138,33 @@ class EllipticState:
         return cls(float(start_time))
 
     def copy(self) -> EllipticState:
-        return EllipticState(self.time, self.steps)
+        return EllipticState(self.time, self.steps, self.table_batches, self.exact_work)
 
     def to_dict(self) -> dict:
         """A JSON-compatible dict (:meth:`parse` reads it back)."""
-        return {"version": 1, "time": self.time, "steps": self.steps}
+        return {"version": 2, "time": self.time, "steps": self.steps, "table_batches": self.table_batches,
+                "exact_work": self.exact_work}
 
     @classmethod
     def parse(cls, data) -> EllipticState:
-        """The state of :meth:`to_dict`'s dict, every field checked (ModelError naming the first problem)."""
-        if not isinstance(data, dict) or set(data) != {"version", "time", "steps"}:
-            keys = sorted(map(str, data)) if isinstance(data, dict) else type(data).__name__
-            raise ModelError(f"an elliptic model state has exactly the keys version, time, steps; got {keys}")
-        if data["version"] != 1 or type(data["version"]) is not int:
-            raise ModelError(f"elliptic model state version {data['version']!r} is not supported (this reads 1)")
+        """The state of :meth:`to_dict`'s dict (or of version 1, without the table's fields), every field checked
+        (ModelError naming the first problem)."""
+        version = data.get("version") if isinstance(data, dict) else None
+        if type(version) is not int or version not in cls.KEYS:
+            raise ModelError(f"elliptic model state version {version!r} is not supported (this reads 1 and 2)")
+        if set(data) != cls.KEYS[version]:
+            raise ModelError(f"an elliptic model state of version {version} has exactly the keys "
+                             f"{', '.join(sorted(cls.KEYS[version]))}; got {sorted(map(str, data))}")
         time, steps = data["time"], data["steps"]
+        batches, work = data.get("table_batches", 0), data.get("exact_work", 0.0)
         if type(time) not in (int, float) or not math.isfinite(time):
             raise ModelError(f"elliptic model state time = {time!r} must be a finite real number")
-        if type(steps) is not int or steps < 0:
-            raise ModelError(f"elliptic model state steps = {steps!r} must be a whole number >= 0")
-        return cls(float(time), steps)
+        for name, value in (("steps", steps), ("table_batches", batches)):
+            if type(value) is not int or value < 0:
+                raise ModelError(f"elliptic model state {name} = {value!r} must be a whole number >= 0")
+        if type(work) not in (int, float) or not 0.0 <= work < math.inf:
+            raise ModelError(f"elliptic model state exact_work = {work!r} must be a finite real number >= 0")
+        return cls(float(time), steps, batches, float(work))
 
 
 class EllipticModel(SteppingModel):
@@ -153,6 +176,12 @@ class EllipticModel(SteppingModel):
         The fixed parameters (default: one contact of the defaults).
     start_time : float
         The first communication point [s].
+    stop_time : float, optional
+        The run's end [s] when known (the FMU's ``stopTime``): ``table`` = auto builds the certified table only where
+        the steps left pay for it (:mod:`rollcontact.stepping.elliptic.table_use`).
+    table_nodes : tuple of int, optional
+        Node counts of the certified table (default :data:`rollcontact.stepping.elliptic.table.NODES`; tests take
+        small ones).
 
     Raises
     ------
@@ -163,7 +192,8 @@ class EllipticModel(SteppingModel):
 
     STATE = EllipticState
 
-    def __init__(self, parameters: EllipticParameters | None = None, *, start_time: float = 0.0):
+    def __init__(self, parameters: EllipticParameters | None = None, *, start_time: float = 0.0,
+                 stop_time: float | None = None, table_nodes: tuple[int, int, int, int] = TABLE_NODES):
         p = EllipticParameters() if parameters is None else parameters
         if not isinstance(p, EllipticParameters):
             raise TypeError(f"parameters must be EllipticParameters, got {type(p).__name__}")
@@ -194,13 +224,54 @@ class EllipticModel(SteppingModel):
         """With a tolerance: each contact's setting chosen as solve_elliptic chooses it, the contacts whose choice is
         the strips or the linear theory with their defaults solved together (:meth:`chosen_together`)."""
         self.linear_together = LinearContacts(self) if self.choose_together and self.method != "strips" else None
-        self.notices: tuple[str, ...] = ()
-        """Messages worth showing once at initialisation (none: every parameter is used)."""
         self.last_modelled_cost = 0.0
         """The modelled work [s] of the last step's costliest contact, its failures, fallbacks and difference
         Jacobian included: what ``step_budget`` bounds (``benchmarks/bench_worst_step.py`` sets it against the real
         time)."""
+        self.last_work = 0.0
+        """The modelled work [s] of the last step's contacts together (a table step: none)."""
+        self.table_use = None
+        """The certified table of the strips, where the steps solve the strips with their defaults: Coulomb
+        friction, ``method`` auto or strips, ``table`` not off (:class:`TableUse`)."""
+        if p.table != TABLE_OFF and self.friction.is_constant and self.method in ("auto", "strips"):
+            self.table_use = TableUse(p.poisson_ratio, p.table, self.tolerance, self.budget, stop_time, self.log,
+                                      table_nodes)
+            self.table_constants = [self.table_contact(A, B) for A, B in self.curvatures]
         self.reset(start_time)
+        self.notices: tuple[str, ...] = tuple(self.take_messages())
+        """Messages worth showing once at initialisation (the certified table built, with ``table`` = on)."""
+
+    def initial_state(self, start_time: float) -> EllipticState:
+        """The state at ``start_time`` [s] before any step: with ``table`` = on, the certified table built."""
+        state = EllipticState.initial(start_time)
+        if self.table_use is not None:
+            state.table_batches = self.table_use.initialise()
+        return state
+
+    def restore(self, state: EllipticState) -> None:
+        """Have the certified table as far as ``state`` says (building at once what it says is done); ModelError
+        for a state of more batches than the table has."""
+        if self.table_use is None:
+            if state.table_batches or state.exact_work:
+                raise ModelError("the model state holds a certified table's progress, but this model has no table "
+                                 "(table = off, a falling law, or another method)")
+            return
+        if state.table_batches > len(self.table_use.sizes):
+            raise ModelError(f"model state table_batches = {state.table_batches} exceeds the table's "
+                             f"{len(self.table_use.sizes)} batches")
+        self.table_use.restore(state.table_batches)
+
+    def table_contact(self, A: float, B: float) -> tuple[tuple, float]:
+        """What a contact's table steps take from its curvatures: the linear theory's constants
+        (:meth:`LinearContacts.contact_constants`) and ``ln(a/b)``."""
+        constants = contact_constants(A, B, self.material.contact_modulus, self.material.poisson_ratio)
+        g, along_x = constants[2], constants[5]
+        return constants, (-math.log(g) if along_x else math.log(g))
+
+    def table_answers(self) -> bool:
+        """Whether this step answers from the certified table (built, and its bound meets the tolerance)."""
+        use = self.table_use
+        return use is not None and self.state.table_batches == len(use.sizes) and use.meets()
 
     @property
     def contacts(self) -> int:
@@ -274,11 +345,17 @@ class EllipticModel(SteppingModel):
             level treats, or a contact no allowed method solves within the budget.  The state is then unchanged.
         """
         inf = math.inf
-        try:  # per contact five real numbers, or seven with the gap's curvatures (else the problems listed below)
-            rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v in inputs]
-            gaps = None
+        try:  # per contact seven real numbers with the gap's curvatures (an FMU's step), or five
+            rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v, _, _ in inputs]
+            gaps = [(float(row[5]), float(row[6])) for row in inputs]
+            if not any(A or B for A, B in gaps):
+                gaps = None
         except (TypeError, ValueError):
-            rows, gaps = self.gap_rows(inputs)
+            try:
+                rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v in inputs]
+                gaps = None
+            except (TypeError, ValueError):  # rows of either length, or of other values (listed below)
+                rows, gaps = self.gap_rows(inputs)
         valid = rows is not None and len(rows) == self.contacts and 0.0 < step_size < inf and -inf < current_time < inf
         for fn, xi, eta, phi, v in rows if valid else ():
             if not (0.0 <= fn < inf and -inf < xi < inf and -inf < eta < inf and -inf < phi < inf and 0.0 <= v < inf):
@@ -299,12 +376,24 @@ class EllipticModel(SteppingModel):
             for (A, B), default in zip(gaps, self.parameter_curvatures, strict=True))
         if curvatures != self.curvatures:
             self.use_curvatures(curvatures)
-        self.last_modelled_cost = 0.0
-        with np.errstate(all="ignore"):  # what overflows is refused below, by its output: no numpy warning escapes
-            outputs = self.evaluate(rows)
+        self.last_modelled_cost = self.last_work = 0.0
+        tabled = self.table_answers()
+        if tabled:  # Python floats and small matrix products; a contact beyond floating point steps exactly (below)
+            try:
+                outputs = self.table_use.step(self.table_constants, rows, self.shear_modulus,
+                                              self.friction.static_coefficient, self.parameters.jacobian == 1)
+                tabled = all(all(map(math.isfinite, contact)) for contact in outputs)
+            except (ArithmeticError, ValueError):  # a coordinate that is no number
+                tabled = False
+        if not tabled:
+            with np.errstate(all="ignore"):  # what overflows is refused below, by its output: no numpy warning
+                outputs = self.evaluate(rows)
         for k, (contact, row) in enumerate(zip(outputs, rows, strict=True)):
             if not all(map(math.isfinite, contact)):
                 raise ModelError(self.non_finite(k, contact, row))
+        if self.table_use is not None and not tabled:
+            self.table_use.after_exact_step(self.state, current_time, step_size, self.last_work,
+                                            self.last_modelled_cost)
         self.state.time = float(current_time)
         self.state.steps += 1
         return outputs
@@ -336,6 +425,9 @@ class EllipticModel(SteppingModel):
         for batch in (self.batch, self.linear_together):
             if batch is not None:
                 batch.use_curvatures(changed, curvatures)
+        if self.table_use is not None:
+            for k in changed:
+                self.table_constants[k] = self.table_contact(*curvatures[k])
 
     def evaluate(self, rows) -> tuple[EllipticOutputs, ...]:
         """The outputs of every contact for its checked inputs: together where the level allows
@@ -345,8 +437,9 @@ class EllipticModel(SteppingModel):
         try:
             if self.batch is not None:
                 outputs = self.batch.step(rows)
-                self.last_modelled_cost = max((ELLIPTIC_METHODS["linear"].accuracy.cost(self.scene(k, *row), {})
-                                               for k, row in enumerate(rows) if row[0] != 0.0), default=0.0)
+                costs = [ELLIPTIC_METHODS["linear"].accuracy.cost(self.scene(k, *row), {})
+                         for k, row in enumerate(rows) if row[0] != 0.0]
+                self.last_modelled_cost, self.last_work = max(costs, default=0.0), sum(costs)
                 return outputs
             if self.strips_together and self.strips_chosen():
                 return self.strips_step(rows, range(len(rows)))
@@ -411,6 +504,8 @@ class EllipticModel(SteppingModel):
                                  f"{setting.error_estimate!r} (said once)")
             solves = 4 if self.parameters.jacobian == 1 and setting.method == "strips" else 1
             cost = max(cost, solves * setting.cost)
+            if setting.method != "strips":  # strips_step counted the strips' work
+                self.last_work += setting.cost
             outputs.append(together[k])
         self.last_modelled_cost = max(self.last_modelled_cost, cost)
         return tuple(outputs)
@@ -491,6 +586,7 @@ class EllipticModel(SteppingModel):
             if jacobian is not None:
                 cost += 3.0 * result.info.get("predicted_cost", 0.0)
         self.last_modelled_cost = max(self.last_modelled_cost, cost)
+        self.last_work += cost
         if jacobian is None:
             jacobian = tuple(v for row in slopes for v in row)
         stick = result.info.get("stick_fraction", NO_STICK)
@@ -509,7 +605,9 @@ class EllipticModel(SteppingModel):
         if scenes is None:
             scenes = [self.scene(k, *rows[k]) for k in loaded]
         cost = STRIPS_METHOD.accuracy.cost
-        self.last_modelled_cost = (4 if self.parameters.jacobian == 1 else 1) * max(cost(scene, {}) for scene in scenes)
+        solves = 4 if self.parameters.jacobian == 1 else 1
+        costs = [solves * cost(scene, {}) for scene in scenes]
+        self.last_modelled_cost, self.last_work = max(costs), self.last_work + sum(costs)
         slopes = [self.linear_slopes(scene) for scene in scenes]
         shifted = []
         if self.parameters.jacobian == 1:
