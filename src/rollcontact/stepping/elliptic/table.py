@@ -54,8 +54,9 @@ derivatives inside each table.  On a cell of width h, ``s = (x - x_j) / h``, the
 
 (E. Catmull, R. Rom, "A class of local interpolating splines", 1974).  A step's forces contract 4^4 nodes (4^3 without
 spin) with the products of these weights; its Jacobian (``jacobian`` = difference) the same nodes with one weight
-replaced by its derivative, through the chain rule of the coordinates.  The weights are Python floats per contact, the
-contraction one numpy product over the step's contacts (each contact's numbers independent of the others').
+replaced by its derivative, through the chain rule of the coordinates.  The weights are Python floats, the contraction
+a few small matrix products, one axis after the other (:meth:`Grid.value`): a contact's answer is a function of its
+own arguments, the same whatever the other contacts of the step.
 
 Certificate
 -----------
@@ -379,7 +380,6 @@ class EllipticTable:
             "positive": Grid((self.rho, self.q, self.positive_sigma, self.alpha), spin[:, :, middle:]),
             "plain": Grid((self.rho, self.q, self.alpha), plain),
         }
-        self.node_values = {"spin": spin, "plain": plain}
         errors = yield from self.check()
         self.check_error = errors
         self.bound = BOUND_FACTOR * max(errors)

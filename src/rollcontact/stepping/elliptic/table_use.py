@@ -28,7 +28,7 @@ import math
 from collections.abc import Callable
 
 from rollcontact.elliptic.methods import strips as strips_level
-from rollcontact.stepping.elliptic.parameters import LEVEL_CODES, NO_STICK, EllipticOutputs
+from rollcontact.stepping.elliptic.parameters import LEVEL_CODES, NO_STICK, ZERO, EllipticOutputs
 from rollcontact.stepping.elliptic.table import (
     NODES,
     SOLVE_COST,
@@ -209,10 +209,9 @@ class TableUse:
         table = self.ready
         code = LEVEL_CODES["table"]
         outputs = []
-        zero = (0.0,) * 17 + (0,)
         for (fn, xi, eta, phi, velocity), (linear, rho) in zip(rows, constants, strict=True):
             if fn == 0.0:
-                outputs.append(new_tuple(EllipticOutputs, zero))
+                outputs.append(ZERO)
                 continue
             major, denominator, g, pressure_scale, g_major, along_x, c11, c22, c23, c33 = linear
             alpha = (3.0 * fn * major / denominator) ** (1.0 / 3.0)
@@ -230,8 +229,8 @@ class TableUse:
             if derivatives is None:
                 slope = area
                 cross = slope * length * c23
-                jacobian = (slope * c11, 0.0, 0.0, 0.0, slope * c22, cross, 0.0, -cross, cross * 0.0 + slope *
-                            length * length * c33)
+                jacobian = (slope * c11, 0.0, 0.0, 0.0, slope * c22, cross, 0.0, -cross,
+                            slope * length * length * c33)
             else:
                 d = derivatives
                 jacobian = (d[0] * kx, d[1] * ky, d[2] * ks, d[3] * kx, d[4] * ky, d[5] * ks,
