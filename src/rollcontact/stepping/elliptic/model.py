@@ -60,6 +60,7 @@ from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage
 from rollcontact.elliptic.dispatch import DISPATCHER as ELLIPTIC_DISPATCHER
 from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
 from rollcontact.elliptic.dispatch import solve as solve_elliptic
+from rollcontact.elliptic.hertz import HertzEllipse, differences, eccentricity
 from rollcontact.elliptic.methods import linear as linear_level
 from rollcontact.elliptic.methods import strips as strips_level
 from rollcontact.elliptic.methods.strips import solve_strips_many
@@ -230,6 +231,8 @@ class EllipticModel(SteppingModel):
         time)."""
         self.last_work = 0.0
         """The modelled work [s] of the last step's contacts together (a table step: none)."""
+        self.constants_cache: dict[int, tuple] = {}
+        """Per contact what its steps take from its curvatures alone (:meth:`contact_constants`)."""
         self.table_use = None
         """The certified table of the strips, where the steps solve the strips with their defaults: Coulomb
         friction, ``method`` auto or strips, ``table`` not off (:class:`TableUse`)."""
@@ -543,6 +546,47 @@ class EllipticModel(SteppingModel):
         A, B = self.curvatures[k]
         return EllipticScene(normal_load, A, B, xi, eta, phi, self.material, self.friction, velocity)
 
+    def contact_constants(self, k: int) -> tuple:
+        """What contact ``k``'s steps take from its curvatures alone: ``((A, B), constants, template, K)`` with the
+        constants of :func:`~rollcontact.stepping.elliptic.linear.contact_constants`, its scene of no load and no
+        creepage as a template and the elliptic integral K of its eccentricity; kept until the curvatures change."""
+        A, B = self.curvatures[k]
+        cached = self.constants_cache.get(k)
+        if cached is None or cached[0] != (A, B):
+            major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
+            cached = ((A, B), contact_constants(A, B, self.material.contact_modulus, self.material.poisson_ratio),
+                      EllipticScene(0.0, A, B, material=self.material, friction=self.friction),
+                      differences(eccentricity(minor_curvature / major_curvature))[2])
+            self.constants_cache[k] = cached
+        return cached
+
+    def quick_scene(self, k: int, normal_load: float, xi: float, eta: float, phi: float,
+                    velocity: float) -> EllipticScene:
+        """:meth:`scene` of checked inputs (finite floats, load > 0) without checking them again, its Hertz ellipse
+        from the contact's constants by :func:`~rollcontact.elliptic.hertz.hertz_ellipse`'s operations: the same
+        scene and ellipse bit for bit, without their checks and the eccentricity's root per step."""
+        _, constants, template, k_integral = self.contact_constants(k)
+        major, denominator, g, pressure_scale, g_major, along_x = constants[:6]
+        alpha = (3.0 * normal_load * major / denominator) ** (1.0 / 3.0)
+        beta = g * alpha
+        p0 = pressure_scale * alpha / g_major if alpha > 0.0 else 0.0
+        a, b = (alpha, beta) if along_x else (beta, alpha)
+        hertz = HertzEllipse(a, b, p0, p0 * beta * k_integral / self.material.contact_modulus,
+                             1.0 / g if along_x else g)
+        scene = object.__new__(EllipticScene)
+        scene.__dict__.update(template.__dict__, normal_load=normal_load, longitudinal_creepage=xi,
+                              lateral_creepage=eta, spin_creepage=phi, rolling_speed=velocity, hertz=hertz)
+        return scene
+
+    def contact_slopes(self, k: int, scene: EllipticScene) -> tuple[tuple[float, float, float], ...]:
+        """:meth:`linear_slopes` from contact ``k``'s constants (Kalker's coefficients of its a/b), bit for bit."""
+        c11, c22, c23, c33 = self.contact_constants(k)[1][6:]
+        length = scene.hertz.c
+        area = self.shear_modulus * length * length
+        return ((area * c11, 0.0, 0.0),
+                (0.0, area * c22, area * length * c23),
+                (0.0, -area * length * c23, area * length * length * c33))
+
     def solved(self, k: int, scene: EllipticScene, method: str, setting: dict | None = None):
         """:func:`rollcontact.solve_elliptic` of the scene with the parameters' tolerance and budget, or with a fixed
         ``setting`` (the options of an earlier solve: no choice, no budget); ModelError (naming the contact) when it
@@ -603,12 +647,12 @@ class EllipticModel(SteppingModel):
         if not loaded:
             return (ZERO,) * len(rows)
         if scenes is None:
-            scenes = [self.scene(k, *rows[k]) for k in loaded]
+            scenes = [self.quick_scene(k, *rows[k]) for k in loaded]
         cost = STRIPS_METHOD.accuracy.cost
         solves = 4 if self.parameters.jacobian == 1 else 1
         costs = [solves * cost(scene, {}) for scene in scenes]
         self.last_modelled_cost, self.last_work = max(costs), self.last_work + sum(costs)
-        slopes = [self.linear_slopes(scene) for scene in scenes]
+        slopes = [self.contact_slopes(k, scene) for k, scene in zip(loaded, scenes, strict=True)]
         shifted = []
         if self.parameters.jacobian == 1:
             for scene, slope in zip(scenes, slopes, strict=True):
