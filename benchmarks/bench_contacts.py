@@ -16,9 +16,11 @@ FMI 2.0 FMUs declare ``name[k]`` scalars, the FMI 3.0 FMUs (``build_fmu.py --fmi
 per per-contact variable, so an FMI 3.0 call carries a handful of value references whatever n.  Cases, each on a
 varying signal (load 80 kN +-10 %, creepages swinging through a third of saturation, speed 30 m/s):
 
-* ``RollingContact3D_n`` with the linear level (``method`` = linear: the contacts' linear theory without a solver
+* ``RollingContact3D_n`` (its inputs but the gap's curvatures, which keep their start: the parameters' geometry)
+  with the linear level (``method`` = linear: the contacts' linear theory without a solver
   call per contact, :class:`rollcontact.stepping.elliptic.linear.LinearContacts`), with the strips without spin and with
-  spin (one ``solve_strips_many`` over the contacts), n = 1, 2, 4, 8;
+  spin (one ``solve_strips_many`` over the contacts), and with the default ``method`` = auto (whose choice with
+  Coulomb friction, the strips, is solved over the contacts in the same way), n = 1, 2, 4, 8;
 * the 2D closed form: ``RollingContact2D_n`` (:class:`rollcontact.stepping.line.contacts.ContactModels`), and n
   single-contact instances stepped one after another (what a host pays without several contacts per instance);
 * the 2D certified table of falling friction (exponential law A 0.4, B 0.6 s/m, tolerance 1e-3, ``table`` = on:
@@ -231,7 +233,7 @@ class Instances:
                 fmu.enterInitializationMode(startTime=0.0)
             fmu.exitInitializationMode()
             self.fmus.append(fmu)
-        inputs = [v for v in md.modelVariables if v.causality == "input"]
+        inputs = [v for v in md.modelVariables if v.causality == "input" and not v.name.startswith("gap_")]
         reals = [v for v in md.modelVariables if v.causality == "output" and v.type in ("Real", "Float64")]
         integers = [v for v in md.modelVariables if v.causality == "output" and v.type not in ("Real", "Float64")]
         self.inputs, self.reals, self.integers = ([v.valueReference for v in group]
@@ -342,6 +344,8 @@ FAMILIES = {  # label -> (model, parameters, steps per batch, spin [1/m])
     "3D linear": ("RollingContact3D", {"method": 1}, 100, 0.0),
     "3D strips, no spin": ("RollingContact3D", {"method": 3}, 30, 0.0),
     "3D strips, spin": ("RollingContact3D", {"method": 3}, 10, 0.3),
+    "3D auto, no spin": ("RollingContact3D", {}, 30, 0.0),
+    "3D auto, spin": ("RollingContact3D", {}, 10, 0.3),
 }
 FLOORS = ("empty, pythonfmu's getters and setters", "empty, one list operation per call")
 

@@ -51,6 +51,15 @@ INPUT_ROWS = (
 )
 """Inputs of a contact: name, unit, min, description (the stepping model's order)."""
 
+GAP_ROWS = (
+    ("gap_curvature_longitudinal", "1/m", 0.0,
+     "Curvature A of the step's gap A x^2 + B y^2 (0: the parameter curvature_longitudinal)"),
+    ("gap_curvature_lateral", "1/m", 0.0,
+     "Curvature B of the step's gap A x^2 + B y^2 (0: the parameter curvature_lateral)"),
+)
+"""Inputs of a contact appended after every variable of the first release (value references: append only): the
+gap's curvatures of each step, the stepping model's last two inputs."""
+
 JACOBIAN_UNITS = {"xi": "N", "eta": "N", "phi": "N.m"}
 OUTPUT_ROWS = (
     ("longitudinal_force", "N", None, "Longitudinal force Fx of the wheel on the rail"),
@@ -70,7 +79,10 @@ OUTPUT_ROWS = (
 """Outputs of a contact: name, unit, min, description (:class:`EllipticOutputs`' order)."""
 
 JACOBIAN_ITEMS = ((0, "linear", "the linear theory's slopes at the step's ellipse"),
-                  (1, "difference", "forward differences of the step's level, 3 more solves"))
+                  (1, "difference", "forward differences of the step's level, 3 more solves; a table's derivatives"))
+TABLE_ITEMS = ((0, "auto", "built when the run pays for it, within the step budget"),
+               (1, "off", "every step solves exactly"),
+               (2, "on", "built at initialisation"))
 AUTO_TEXT = "the lowest-ranked level that applies; with a tolerance the cheapest"
 """Description of ``method`` = auto."""
 
@@ -82,7 +94,8 @@ def enumerations() -> dict:
             "method": ("Method3D", method_items(elliptic.METHOD_LEVELS, AUTO_TEXT)),
             "friction_law": ("FrictionLaw", friction_law_items()),
             "rail_condition": ("RailCondition", rail_condition_items()),
-            "jacobian": ("JacobianMode", JACOBIAN_ITEMS)}
+            "jacobian": ("JacobianMode", JACOBIAN_ITEMS),
+            "table": ("TableMode", TABLE_ITEMS)}
 
 
 def shared_parameters(used: dict) -> tuple:
@@ -119,6 +132,12 @@ def appended_parameters(used: dict) -> tuple:
     return (("rail_condition", Integer, None, 0, largest(used["rail_condition"][1]), RAIL_CONDITION_TEXT),)
 
 
+def table_parameters(used: dict) -> tuple:
+    """Shared parameters declared after the gap's curvature inputs (value references: append only)."""
+    return (("table", Integer, None, 0, largest(used["table"][1]),
+             "Certified table of the strips, Coulomb friction (TableMode)"),)
+
+
 def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = False) -> tuple[tuple, dict]:
     """The variable table (rows ``(name, type, causality, variability, unit, start, min, max, description)``,
     value reference = row) and the enumerations (variable name -> (type, items)) of the FMU with ``contacts``
@@ -149,14 +168,20 @@ def declaration(contacts: int = 1, integer_codes: bool = False, arrays: bool = F
                  for k in range(1, contacts + 1)]
     for n, kind, u, lo, hi, text in appended_parameters(used):
         rows.append((n, kind, PARAMETER, FIXED, u, getattr(DEFAULT, n), lo, hi, text))
+    for k in range(1, contacts + 1):
+        rows += [(named(n, k, contacts), Real, INPUT, CONTINUOUS, u, 0.0, lo, None, f"{text}{of(k)}")
+                 for n, u, lo, text in GAP_ROWS]
+    for n, kind, u, lo, hi, text in table_parameters(used):
+        rows.append((n, kind, PARAMETER, FIXED, u, getattr(DEFAULT, n), lo, hi, text))
     enumerated = {named("method_used", k, contacts): used["method_used"] for k in range(1, contacts + 1)}
-    enumerated.update({n: used[n] for n in ("method", "friction_law", "rail_condition", "jacobian")})
+    enumerated.update({n: used[n] for n in ("method", "friction_law", "rail_condition", "jacobian", "table")})
     if integer_codes:
         return integer_coded(tuple(rows), enumerated), {}
     return tuple(rows), enumerated
 
 
-PER_CONTACT = frozenset(name for rows in (INPUT_ROWS, OUTPUT_ROWS, CONTACT_PARAMETERS) for name, *_ in rows)
+PER_CONTACT = frozenset(name for rows in (INPUT_ROWS, OUTPUT_ROWS, CONTACT_PARAMETERS, GAP_ROWS)
+                        for name, *_ in rows)
 """Variables of their own per contact (arrays in FMI 3.0); the other parameters are shared."""
 
 
@@ -167,10 +192,10 @@ def dimensions(contacts: int, arrays: bool) -> dict:
 
 
 SHARED_NAMES = tuple(row[0] for used in (enumerations(),)
-                     for row in (*shared_parameters(used), *appended_parameters(used)))
+                     for row in (*shared_parameters(used), *appended_parameters(used), *table_parameters(used)))
 """The shared parameters' names (those of :class:`rollcontact.stepping.EllipticParameters` but the curvatures)."""
 
-assert len(INPUT_ROWS) == len(elliptic.INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
+assert len(INPUT_ROWS) + len(GAP_ROWS) == len(elliptic.INPUTS) and len(OUTPUT_ROWS) == len(EllipticOutputs._fields)
 
 
 class RollingContact3DShared(TableSlave):
@@ -188,12 +213,13 @@ class RollingContact3DShared(TableSlave):
         n = self.CONTACTS
         shared = {name: values[name] for name in SHARED_NAMES}
         curvatures = {name: contact_values(values, name, n, self.DIMENSIONS) for name, *_ in CONTACT_PARAMETERS}
-        model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time)
+        model = EllipticModel(EllipticParameters(**shared, **curvatures), start_time=self.start_time,
+                              stop_time=self.stop_time)
         return model, model.notices
 
     def step_model(self, current_time, step_size):
         return contacts_step(self.model.step, current_time, step_size, self.read_inputs(self), len(INPUT_ROWS),
-                             bool(self.DIMENSIONS))
+                             bool(self.DIMENSIONS), len(GAP_ROWS))
 
     def step_messages(self):
         return self.model.take_messages()

@@ -40,14 +40,22 @@ def contact_values(values: dict, name: str, contacts: int, dimensions: dict) -> 
     return (values[name],) if contacts == 1 else tuple(values[f"{name}[{k}]"] for k in range(1, contacts + 1))
 
 
-def contacts_step(step, current_time: float, step_size: float, values, width: int, arrays: bool) -> tuple:
+def contacts_step(step, current_time: float, step_size: float, values, width: int, arrays: bool,
+                  appended: int = 0) -> tuple:
     """The outputs of a several-contact slave in its table's order (a tuple: the slave's outputs as they are) from
     ``step(current_time, step_size, rows)`` (one output tuple per contact) and its input values: one array per input
     (``arrays``, FMI 3.0: rows are their columns, outputs go output by output) or ``width`` inputs per contact in turn
-    (FMI 2.0: contact by contact)."""
+    (FMI 2.0: contact by contact), followed by ``appended`` inputs per contact in turn (inputs declared after the
+    others: each contact's row ends with its own)."""
     if arrays:
         return tuple(chain.from_iterable(zip(*step(current_time, step_size, list(zip(*values, strict=True))),
                                              strict=True)))
+    if appended:
+        n = len(values) // (width + appended)
+        split = n * width
+        return tuple(chain.from_iterable(step(current_time, step_size, [
+            values[i * width:(i + 1) * width] + values[split + i * appended:split + (i + 1) * appended]
+            for i in range(n)])))
     return tuple(chain.from_iterable(step(current_time, step_size,
                                           [values[i:i + width] for i in range(0, len(values), width)])))
 

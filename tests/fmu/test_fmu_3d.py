@@ -177,7 +177,7 @@ def test_invalid_parameters_are_refused_all_at_once(make, fmi):
 def test_an_ellipse_outside_the_coefficient_table_is_refused_at_initialisation(make, fmi):
     slave = make(fmi, curvature_longitudinal=1.0, curvature_lateral=1e4, method=1)
     errors = " ".join(m for m in slave.log if m.startswith("Error: "))
-    assert "outside the creepage-coefficient table" in errors and "a/b = " in errors, errors
+    assert "the range of Kalker's creepage coefficients" in errors and "a/b = " in errors, errors
 
 
 @pytest.mark.parametrize("fmi", (2, 3))
@@ -317,3 +317,47 @@ def test_fmi3_an_array_parameter_is_fixed_after_initialisation(contact_variants)
         assert caught.value.status == DISCARD, caught.value.status
     finally:
         slave.free()
+
+
+GAPS = ("gap_curvature_longitudinal", "gap_curvature_lateral")
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+@pytest.mark.parametrize("contacts", (1, CONTACTS))
+def test_curvature_inputs_changing_every_step_are_fresh_instances_of_those_parameters(make, fmi, contacts):
+    """The gap's curvatures set every step (0: the parameters') give the outputs of a new instance initialised with
+    them as parameters, bit for bit, contact by contact; a curvature the coefficient table does not cover is refused
+    naming the contact, and the instance steps on."""
+    rng = np.random.default_rng(17)
+    slave = make(fmi, contacts, **curvature_parameters(contacts))
+    for n, row in enumerate(signal(3)):
+        gaps = [(float(rng.choice([0.0, rng.uniform(0.6, 3.0)])), float(rng.uniform(0.6, 3.0)))
+                for _ in range(contacts)]
+        set_inputs(slave, GAPS, gaps)
+        got = step(slave, n * H, [row] * contacts, contacts)
+        fresh = make(fmi, contacts, **curvature_parameters(contacts, [
+            (gap[0] or CURVATURES[k][0], gap[1]) for k, gap in enumerate(gaps)]))
+        assert got == step(fresh, 0.0, [row] * contacts, contacts), f"step {n}: gaps {gaps}"
+    set_inputs(slave, GAPS, [(1.0, 1e4)] * contacts)
+    message = refused(slave, 3 * H, [signal(1)[0]] * contacts, contacts)
+    assert f"{'contact 1: ' if contacts > 1 else ''}gap curvatures A = 1.0, B = 10000.0 1/m give a/b" in message, \
+        message
+    set_inputs(slave, GAPS, [(0.0, 0.0)] * contacts)
+    assert step(slave, 3 * H, [signal(1)[0]] * contacts, contacts)[0] > 0.0, "the instance steps on"
+
+
+@pytest.mark.parametrize("fmi", (2, 3))
+def test_table_on_answers_from_the_certified_table_as_the_model_does(make, fmi, monkeypatch):
+    """``table`` = on: the FMU's steps are the stepping model's, answered from the table (``method_used`` table), its
+    derivatives with ``jacobian`` = difference.  The FMU runs in this process (fmpy loads its Python here): a small
+    table put into the process's tables under the default key stands in for the default table's build."""
+    from rollcontact.stepping.elliptic import table
+
+    small = table.EllipticTable(0.28, (3, 5, 3, 3)).build()
+    monkeypatch.setitem(table.TABLES, (0.28, table.NODES), small)
+    slave = make(fmi, table=2, jacobian=1)
+    model = EllipticModel(EllipticParameters(table=2, jacobian=1))
+    for n, row in enumerate(signal(6)):
+        got, expected = step(slave, n * H, [row]), model.step(n * H, H, [row])[0]
+        assert got == [float(v) for v in expected], f"step {n}: FMU {got} != model {expected}"
+        assert got[-1] == ELLIPTIC_LEVELS[-1].code and ELLIPTIC_LEVELS[-1].name == "table", "method_used: table"

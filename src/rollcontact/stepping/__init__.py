@@ -6,7 +6,8 @@
   friction law, rail condition, method, tolerance, step budget), and the codes of the FMUs' integer variables;
 * :mod:`.line`: the line contact's model (:class:`ContactModel`, several contacts :class:`ContactModels`), its
   instationary half and its certified tables;
-* :mod:`.elliptic`: the elliptic contact's model (:class:`EllipticModel`, one or several contacts);
+* :mod:`.elliptic`: the elliptic contact's model (:class:`EllipticModel`, one or several contacts) and its
+  certified table of the strips;
 * :mod:`.threads`: one BLAS thread while a model steps.
 """
 

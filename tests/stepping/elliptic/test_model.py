@@ -19,6 +19,8 @@ from rollcontact.stepping.elliptic.parameters import METHOD_LEVELS as ELLIPTIC_L
 from rollcontact.stepping.elliptic.parameters import NO_STICK, EllipticParameters
 from rollcontact.stepping.elliptic.parameters import method_code as level_code
 
+METHODS = (0, *(level.code for level in ELLIPTIC_LEVELS if level.choice))
+"""Every ``method`` code: auto and the levels a user may choose."""
 H = 1e-3
 ROW = (1e5, 1e-3, -5e-4, 0.2, 30.0)  # Fn [N], xi, eta, phi [1/m], V [m/s]
 
@@ -48,7 +50,7 @@ def test_invalid_parameters_are_named_all_at_once():
         EllipticParameters(curvature_longitudinal=(1.0, 2.0), curvature_lateral=(1.0,))
 
 
-@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+@pytest.mark.parametrize("method", METHODS)
 def test_each_contact_is_solve_elliptic_bit_for_bit(method):
     curvatures = ((1.087, 1.667), (2.5, 1.2))
     budget = {"step_budget": 2.0} if ELLIPTIC_LEVELS[method - 1].name == "discretised" else {}  # its capped work
@@ -181,7 +183,7 @@ def test_the_contacts_strips_together_are_each_contact_alone_bit_for_bit(jacobia
     p = EllipticParameters(method=3, jacobian=jacobian, curvature_longitudinal=tuple(c[0] for c in curvatures),
                            curvature_lateral=tuple(c[1] for c in curvatures))
     together, alone = EllipticModel(p), EllipticModel(p)
-    alone.strips_together = False
+    alone.strips_together = alone.choose_together = False
     assert together.strips_together, "the strips of the contacts are solved together"
     for n in range(12):
         rows = [(float(rng.choice([0.0, rng.uniform(1e3, 2e5)])), *rng.normal(0, 2e-3, 2),
@@ -201,7 +203,7 @@ def test_the_linear_levels_jacobian_is_its_slopes_in_either_mode():
 
 # what no level represents, and the bounds of a step (each a finding of a fuzz of the 3D FMUs)
 
-@pytest.mark.parametrize("method", range(len(ELLIPTIC_LEVELS) + 1))
+@pytest.mark.parametrize("method", METHODS)
 def test_outputs_beyond_floating_point_are_refused_by_name_without_a_numpy_warning(method):
     """E = 1e-300 Pa under 1e9 N: the ellipse overflows; every level refuses the step, naming the output."""
     model = EllipticModel(EllipticParameters(method=method, youngs_modulus=1e-300, step_budget=0.0))
@@ -215,7 +217,7 @@ def test_outputs_beyond_floating_point_are_refused_by_name_without_a_numpy_warni
 
 
 def test_a_contact_no_level_can_step_is_refused_at_initialisation_by_name():
-    for method in range(len(ELLIPTIC_LEVELS) + 1):
+    for method in METHODS:
         with pytest.raises(ModelError, match=r"contact 2: curvatures A = 0\.001, B = 1000\.0 1/m give a/b = "
                                              r"2890\.59, outside \[0\.1, 10\]") as refused:
             EllipticModel(EllipticParameters(method=method, curvature_longitudinal=(1.087, 1e-3),
@@ -277,3 +279,102 @@ def test_the_difference_jacobian_is_paid_within_the_step_budget():
     starved = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=2.0 * cheapest))
     with pytest.raises(ModelError, match="more than the budget"):
         starved.step(0.0, H, row)
+
+
+# the gap's curvatures as inputs (a host that computes the contact geometry from profiles)
+
+@pytest.mark.parametrize("method", METHODS)
+def test_curvature_inputs_changing_every_step_are_fresh_models_of_those_parameters_bit_for_bit(method):
+    """Each step's gap curvatures (0: the parameter's) give the outputs of a new model made with them as parameters,
+    at every level, for two contacts whose geometry changes independently."""
+    slow = method and ELLIPTIC_LEVELS[method - 1].name == "discretised"  # its capped work: two steps
+    rng = np.random.default_rng(11)
+    parameters = {"method": method, "curvature_longitudinal": (1.087, 2.5), "curvature_lateral": (1.667, 1.2),
+                  **({"step_budget": 2.0} if slow else {})}
+    model = EllipticModel(EllipticParameters(**parameters))
+    for n in range(2 if slow else 6):
+        gaps = [(float(rng.choice([0.0, rng.uniform(0.5, 4.0)])), float(rng.choice([0.0, rng.uniform(0.5, 4.0)])))
+                for _ in range(2)]
+        rows = [(*ROW[:3], float(rng.normal(0.0, 0.3)), ROW[4], *gap) for gap in gaps]
+        outputs = model.step(n * H, H, rows)
+        fresh = EllipticModel(EllipticParameters(**{**parameters, **{
+            name: tuple(gap[i] or parameters[name][k] for k, gap in enumerate(gaps))
+            for i, name in enumerate(("curvature_longitudinal", "curvature_lateral"))}}))
+        assert outputs == fresh.step(n * H, H, [row[:5] for row in rows]), f"step {n}: gaps {gaps}"
+
+
+def test_rows_of_five_are_the_parameters_curvatures_whatever_the_last_step_had():
+    model = EllipticModel(EllipticParameters(method=1))
+    first = model.step(0.0, H, [ROW])
+    model.step(H, H, [(*ROW, 3.0, 0.5)])
+    assert model.step(2 * H, H, [ROW]) == first, "a row without curvatures takes the parameters'"
+    assert model.step(3 * H, H, [(*ROW, 0.0, 0.0)]) == first, "curvatures 0 are the parameters'"
+
+
+def test_invalid_curvature_inputs_are_refused_by_name_and_change_nothing():
+    model = EllipticModel(EllipticParameters(curvature_longitudinal=(1.0, 1.0), curvature_lateral=(1.0, 1.0)))
+    with pytest.raises(ModelError) as caught:
+        model.step(0.0, H, [(*ROW, 1.0, 1.0), (*ROW, -1.0, math.nan)])
+    message = str(caught.value)
+    for part in ("contact 2: gap_curvature_longitudinal = -1.0 1/m is out of range",
+                 "contact 2: gap_curvature_lateral = nan"):
+        assert part in message, message
+    with pytest.raises(ModelError, match=r"contact 1: gap curvatures A = 0\.001, B = 1000\.0 1/m give a/b = "
+                                         r"2890\.59, outside \[0\.1, 10\]"):
+        model.step(0.0, H, [(*ROW, 1e-3, 1e3), ROW])
+    assert model.state.steps == 0, "a refused step changes nothing"
+    assert model.step(0.0, H, [ROW, ROW])[0].method_used > 0, "the model stays usable"
+
+
+# contacts stepped together wherever the chosen level allows, bit for bit each contact alone
+
+def contact_by_contact(model: EllipticModel) -> EllipticModel:
+    """``model`` made to step each contact through solve_elliptic (its batches off)."""
+    model.batch = model.linear_together = None
+    model.strips_together = model.choose_together = False
+    return model
+
+
+BATCH_CURVATURES = ((1.087, 1.667), (2.5, 1.2), (0.9, 4.0), (3.0, 3.0))
+
+
+@pytest.mark.parametrize("tolerance", (0.0, 0.05, 0.012))
+@pytest.mark.parametrize("jacobian", (0, 1))
+@pytest.mark.parametrize("method", METHODS)
+def test_every_unloaded_combination_together_is_contact_by_contact_bit_for_bit(method, jacobian, tolerance):
+    """Every subset of unloaded contacts, at every level, with and without a tolerance, both Jacobians: the outputs
+    and the messages of the step together are those of each contact through solve_elliptic."""
+    slow = method and ELLIPTIC_LEVELS[method - 1].name == "discretised"
+    if slow and (jacobian or tolerance):
+        pytest.skip("the discretised level has no batch: one case shows it steps each contact alone")
+    curvatures = BATCH_CURVATURES[:2] if slow else BATCH_CURVATURES
+    n = len(curvatures)
+    p = EllipticParameters(method=method, jacobian=jacobian, tolerance=tolerance,
+                           curvature_longitudinal=tuple(c[0] for c in curvatures),
+                           curvature_lateral=tuple(c[1] for c in curvatures), **({"step_budget": 2.0} if slow else {}))
+    together, alone = EllipticModel(p), contact_by_contact(EllipticModel(p))
+    rng = np.random.default_rng(method + 10 * jacobian)
+    for mask in range(2**n):
+        rows = [(0.0 if mask >> k & 1 else float(rng.uniform(2e4, 1.5e5)), *(rng.normal(0.0, 1.5e-3, 2)
+                 * rng.choice([0.02, 1.0, 3.0])), float(rng.choice([0.0, rng.normal(0.0, 0.4)])), 20.0)
+                for k in range(n)]
+        assert together.step(mask * H, H, rows) == alone.step(mask * H, H, rows), f"unloaded {mask:0{n}b}: {rows}"
+        assert together.take_messages() == alone.take_messages(), f"unloaded {mask:0{n}b}: the messages"
+
+
+def test_auto_steps_the_contacts_strips_together_while_they_are_its_choice():
+    """auto without a tolerance takes the strips for Coulomb friction and solves them together; a method of lower
+    rank registered beside them, or strips replaced in the registry, leaves each contact to solve_elliptic."""
+    from rollcontact.elliptic.dispatch import DISPATCHER
+    from rollcontact.elliptic.methods import linear
+
+    model = EllipticModel(EllipticParameters(curvature_longitudinal=(1.087, 2.5), curvature_lateral=(1.667, 1.2)))
+    assert model.strips_together and model.strips_chosen(), "auto's strips are solved together"
+    assert [o.method_used for o in model.step(0.0, H, [ROW, ROW])] == [3, 3], "auto reports the strips"
+    DISPATCHER.register("toy_linear", linear.solve_linear, linear.inapplicable, rank=5)
+    try:
+        assert not model.strips_chosen(), "a lower-ranked method is auto's choice: no strips together"
+        assert [o.method_used for o in model.step(0.0, H, [ROW, ROW])] == [0, 0], "the toy answers (no code)"
+    finally:
+        DISPATCHER.methods.pop("toy_linear")
+    assert model.strips_chosen(), "the registry restored"

@@ -25,26 +25,28 @@ class LinearContacts:
     """
 
     def __init__(self, model):
-        estar = model.material.contact_modulus
-        nu = model.material.poisson_ratio
-        self.constants = []
-        for A, B in model.curvatures:
-            major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
-            m = eccentricity(minor_curvature / major_curvature)
-            major, _, _ = differences(m)
-            g = math.sqrt(1.0 - m)
-            c = creepage_coefficients(g if A > B else 1.0 / g, nu)
-            self.constants.append((major, 2.0 * math.pi * estar * major_curvature, g, major_curvature * estar,
-                                   g * major, A <= B, c.c11, c.c22, c.c23, c.c33))
+        self.contact_modulus = model.material.contact_modulus
+        self.poisson_ratio = nu = model.material.poisson_ratio
+        self.constants = [self.contact_constants(A, B) for A, B in model.curvatures]
         self.shear_modulus = model.material.youngs_modulus / (2.0 * (1.0 + nu))
 
-    def step(self, rows) -> tuple[EllipticOutputs, ...]:
-        """The outputs of every contact for its checked inputs (rows of floats as :meth:`EllipticModel.step`'s).
-        A contact without load is :data:`ZERO`."""
+    def contact_constants(self, A: float, B: float) -> tuple:
+        """What a contact's steps take from its curvatures A, B [1/m] alone (:func:`contact_constants`)."""
+        return contact_constants(A, B, self.contact_modulus, self.poisson_ratio)
+
+    def use_curvatures(self, changed, curvatures) -> None:
+        """Take the curvatures ``(A, B)`` of the contacts ``changed`` (indices) from ``curvatures``."""
+        for k in changed:
+            self.constants[k] = self.contact_constants(*curvatures[k])
+
+    def step(self, rows, contacts=None) -> tuple[EllipticOutputs, ...]:
+        """The outputs of every contact for its checked inputs (rows of floats as :meth:`EllipticModel.step`'s), or of
+        the ``contacts`` (indices) whose rows ``rows`` are.  A contact without load is :data:`ZERO`."""
         shear = self.shear_modulus
         code = LEVEL_CODES["linear"]
         outputs = []
-        for (fn, xi, eta, phi, velocity), constants in zip(rows, self.constants, strict=True):
+        every = self.constants if contacts is None else [self.constants[k] for k in contacts]
+        for (fn, xi, eta, phi, velocity), constants in zip(rows, every, strict=True):
             if fn == 0.0:
                 outputs.append(ZERO)
                 continue
@@ -66,3 +68,16 @@ class LinearContacts:
                                                        0.0, slope * c22, cross, 0.0, -cross, lever * length * c33,
                                                        code)))
         return tuple(outputs)
+
+
+def contact_constants(A: float, B: float, contact_modulus: float, poisson_ratio: float) -> tuple:
+    """What a contact's steps take from its curvatures A, B [1/m] alone, with E* [Pa] and nu: ``(K - E)/e^2`` of the
+    major axis, ``2 pi E* A_major``, ``g = beta/alpha``, ``A_major E*``, ``g (K - E)/e^2``, whether the major axis lies
+    along x, and Kalker's C11, C22, C23, C33 at a/b (:class:`LinearContacts`)."""
+    major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
+    m = eccentricity(minor_curvature / major_curvature)
+    major, _, _ = differences(m)
+    g = math.sqrt(1.0 - m)
+    c = creepage_coefficients(g if A > B else 1.0 / g, poisson_ratio)
+    return (major, 2.0 * math.pi * contact_modulus * major_curvature, g, major_curvature * contact_modulus,
+            g * major, A <= B, c.c11, c.c22, c.c23, c.c33)

@@ -25,12 +25,22 @@ contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation
 slope): the step's solve is then chosen within a quarter of the step budget and the three differences take its
 setting, so that all four fit the budget; the linear level's derivatives are its slopes in either mode (exact).
 
-Contacts together: with ``method`` = linear (and no tolerance) the step evaluates the linear theory of every contact
-without a solver call (:class:`LinearContacts`), the same operations as :func:`rollcontact.elliptic.hertz_ellipse`
-and the linear level take for one contact; with ``method`` = strips (no tolerance, Coulomb friction, the cost with
-spin within the budget) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
-(:meth:`EllipticModel.strips_step`).  Each contact's outputs are bit for bit those of
-:func:`rollcontact.solve_elliptic`; the other levels solve the contacts one after another through it.
+Contacts together, wherever the level a step takes has a form for several contacts, each contact's outputs bit for bit
+those of :func:`rollcontact.solve_elliptic`: with ``method`` = linear (and no tolerance) the linear theory of every
+contact without a solver call (:class:`LinearContacts`), the same operations as
+:func:`rollcontact.elliptic.hertz_ellipse` and the linear level take for one contact; with ``method`` = strips or auto
+(no tolerance, Coulomb friction, the cost with spin within the budget; auto's choice is then the strips for every
+contact) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
+(:meth:`EllipticModel.strips_step`); with a tolerance each contact's setting as solve_elliptic chooses it, the
+contacts on the strips or the linear theory together (:meth:`EllipticModel.chosen_together`).  The other levels
+solve the contacts one after another through solve_elliptic.
+
+Certified table: with Coulomb friction and ``method`` auto or strips, ``table`` = on builds at initialisation (auto:
+where the run pays for it) a table of the strips' normalised forces over a/b and three normalised creepages
+(:mod:`rollcontact.stepping.elliptic.table`); the steps then answer every loaded contact from it, ``method_used`` =
+table, where ``tolerance`` is 0 or at least its bound plus the strips' largest error
+(:mod:`rollcontact.stepping.elliptic.table_use`).  The ellipse is Hertz's (the operations of :class:`LinearContacts`);
+the Jacobian with ``jacobian`` = 0 the linear theory's slopes, with 1 the table's own derivatives.
 
 Frictional power: ``V (xi Fx + eta Fy + phi Mz)`` [W], the power the creepages put into the contact (the rigid slip
 velocities times the forces on the rail), which steady rolling dissipates by slip.
@@ -44,24 +54,34 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rollcontact.core.dispatch import Budget
 from rollcontact.core.materials import Material
+from rollcontact.core.method import UNRESOLVED
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
+from rollcontact.elliptic.dispatch import DISPATCHER as ELLIPTIC_DISPATCHER
 from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
 from rollcontact.elliptic.dispatch import solve as solve_elliptic
+from rollcontact.elliptic.hertz import HertzEllipse, differences, eccentricity
+from rollcontact.elliptic.methods import linear as linear_level
+from rollcontact.elliptic.methods import strips as strips_level
 from rollcontact.elliptic.methods.strips import solve_strips_many
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.stepping.base import ModelError, SteppingModel, argument_problems, time_problems
-from rollcontact.stepping.elliptic.linear import LinearContacts
+from rollcontact.stepping.elliptic.linear import LinearContacts, contact_constants
 from rollcontact.stepping.elliptic.parameters import (
     INPUTS,
     LEVEL_CODES,
+    LOAD_INPUTS,
     METHOD_NAMES,
     NO_STICK,
+    TABLE_OFF,
     ZERO,
     EllipticOutputs,
     EllipticParameters,
     method_code,
 )
+from rollcontact.stepping.elliptic.table import NODES as TABLE_NODES
+from rollcontact.stepping.elliptic.table_use import TableUse
 from rollcontact.stepping.parameters import AUTO, friction_law
 
 __all__ = ["DIFFERENCE_STEP", "EllipticModel", "EllipticState"]
@@ -87,13 +107,32 @@ of the forces (1e-16 of mu Fn)."""
 
 
 
+STRIPS_METHOD = strips_level.METHOD
+BATCHED = {"strips": STRIPS_METHOD, "linear": linear_level.METHOD}
+"""The built-in levels whose contacts a step solves together (the registry may replace them: then it does not)."""
+
+
+def strips_resolve_every_scene() -> bool:
+    """Whether the strips' error estimate stays below :data:`~rollcontact.core.method.UNRESOLVED` on every scene (its
+    largest value: 1 % for the coefficients plus the spin's error and the excess of Poisson's ratio up to 0.5), so
+    that ``auto`` never falls back from them and a step may solve its contacts' strips together."""
+    s = strips_level
+    return 0.01 + s.STRIPS_SPIN_ERROR + s.POISSON_ERROR * 0.5 < UNRESOLVED
+
+
 @dataclass
 class EllipticState:
-    """What an :class:`EllipticModel` remembers between steps: the last communication point [s] and the steps taken
-    (the steady contact has no other history)."""
+    """What an :class:`EllipticModel` remembers between steps: the last communication point [s], the steps taken (the
+    steady contact has no other history) and the certified table's progress: the batches of its build done and, with
+    ``table`` = auto and the run's end unknown, the exact steps' modelled work counted towards it [s]
+    (:mod:`rollcontact.stepping.elliptic.table_use`)."""
 
     time: float
     steps: int = 0
+    table_batches: int = 0
+    exact_work: float = 0.0
+
+    KEYS = {1: {"version", "time", "steps"}, 2: {"version", "time", "steps", "table_batches", "exact_work"}}
 
     @classmethod
     def initial(cls, start_time: float) -> EllipticState:
@@ -101,26 +140,33 @@ class EllipticState:
         return cls(float(start_time))
 
     def copy(self) -> EllipticState:
-        return EllipticState(self.time, self.steps)
+        return EllipticState(self.time, self.steps, self.table_batches, self.exact_work)
 
     def to_dict(self) -> dict:
         """A JSON-compatible dict (:meth:`parse` reads it back)."""
-        return {"version": 1, "time": self.time, "steps": self.steps}
+        return {"version": 2, "time": self.time, "steps": self.steps, "table_batches": self.table_batches,
+                "exact_work": self.exact_work}
 
     @classmethod
     def parse(cls, data) -> EllipticState:
-        """The state of :meth:`to_dict`'s dict, every field checked (ModelError naming the first problem)."""
-        if not isinstance(data, dict) or set(data) != {"version", "time", "steps"}:
-            keys = sorted(map(str, data)) if isinstance(data, dict) else type(data).__name__
-            raise ModelError(f"an elliptic model state has exactly the keys version, time, steps; got {keys}")
-        if data["version"] != 1 or type(data["version"]) is not int:
-            raise ModelError(f"elliptic model state version {data['version']!r} is not supported (this reads 1)")
+        """The state of :meth:`to_dict`'s dict (or of version 1, without the table's fields), every field checked
+        (ModelError naming the first problem)."""
+        version = data.get("version") if isinstance(data, dict) else None
+        if type(version) is not int or version not in cls.KEYS:
+            raise ModelError(f"elliptic model state version {version!r} is not supported (this reads 1 and 2)")
+        if set(data) != cls.KEYS[version]:
+            raise ModelError(f"an elliptic model state of version {version} has exactly the keys "
+                             f"{', '.join(sorted(cls.KEYS[version]))}; got {sorted(map(str, data))}")
         time, steps = data["time"], data["steps"]
+        batches, work = data.get("table_batches", 0), data.get("exact_work", 0.0)
         if type(time) not in (int, float) or not math.isfinite(time):
             raise ModelError(f"elliptic model state time = {time!r} must be a finite real number")
-        if type(steps) is not int or steps < 0:
-            raise ModelError(f"elliptic model state steps = {steps!r} must be a whole number >= 0")
-        return cls(float(time), steps)
+        for name, value in (("steps", steps), ("table_batches", batches)):
+            if type(value) is not int or value < 0:
+                raise ModelError(f"elliptic model state {name} = {value!r} must be a whole number >= 0")
+        if type(work) not in (int, float) or not 0.0 <= work < math.inf:
+            raise ModelError(f"elliptic model state exact_work = {work!r} must be a finite real number >= 0")
+        return cls(float(time), steps, batches, float(work))
 
 
 class EllipticModel(SteppingModel):
@@ -132,6 +178,12 @@ class EllipticModel(SteppingModel):
         The fixed parameters (default: one contact of the defaults).
     start_time : float
         The first communication point [s].
+    stop_time : float, optional
+        The run's end [s] when known (the FMU's ``stopTime``): ``table`` = auto builds the certified table only where
+        the steps left pay for it (:mod:`rollcontact.stepping.elliptic.table_use`).
+    table_nodes : tuple of int, optional
+        Node counts of the certified table (default :data:`rollcontact.stepping.elliptic.table.NODES`; tests take
+        small ones).
 
     Raises
     ------
@@ -142,7 +194,8 @@ class EllipticModel(SteppingModel):
 
     STATE = EllipticState
 
-    def __init__(self, parameters: EllipticParameters | None = None, *, start_time: float = 0.0):
+    def __init__(self, parameters: EllipticParameters | None = None, *, start_time: float = 0.0,
+                 stop_time: float | None = None, table_nodes: tuple[int, int, int, int] = TABLE_NODES):
         p = EllipticParameters() if parameters is None else parameters
         if not isinstance(p, EllipticParameters):
             raise TypeError(f"parameters must be EllipticParameters, got {type(p).__name__}")
@@ -153,7 +206,10 @@ class EllipticModel(SteppingModel):
         except ValueError as exc:
             raise ModelError(str(exc)) from None
         self.method = "auto" if p.method == AUTO else METHOD_NAMES[p.method]
-        self.curvatures = tuple(zip(p.curvature_longitudinal, p.curvature_lateral, strict=True))
+        self.parameter_curvatures = tuple(zip(p.curvature_longitudinal, p.curvature_lateral, strict=True))
+        """Each contact's (A, B) [1/m] of the parameters: its gap where a step's inputs give none."""
+        self.curvatures = self.parameter_curvatures
+        """Each contact's (A, B) [1/m] of the last step (the parameters' before the first)."""
         self.shear_modulus = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
         problems = [why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None]
         if problems:
@@ -161,17 +217,65 @@ class EllipticModel(SteppingModel):
         self.batch = LinearContacts(self) if self.method == "linear" and self.tolerance is None and \
             self.fits_budget("linear") else None
         """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
-        self.strips_together = self.method == "strips" and self.tolerance is None and self.friction.is_constant \
-            and p.contacts > 1 and self.fits_budget("strips", spin=True)
+        self.strips_together = self.method in ("strips", "auto") and self.tolerance is None and \
+            self.friction.is_constant and self.fits_budget("strips", spin=True) and strips_resolve_every_scene()
         """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`, bit
-        for bit each contact's solve; one contact goes through solve_elliptic, whose strips are the same code)."""
-        self.notices: tuple[str, ...] = ()
-        """Messages worth showing once at initialisation (none: every parameter is used)."""
+        for bit each contact's solve): ``method`` = strips, or auto while the strips are what auto takes
+        (:meth:`strips_chosen`)."""
+        self.choose_together = self.tolerance is not None and self.method in ("auto", "strips", "linear")
+        """With a tolerance: each contact's setting chosen as solve_elliptic chooses it, the contacts whose choice is
+        the strips or the linear theory with their defaults solved together (:meth:`chosen_together`)."""
+        self.linear_together = LinearContacts(self) if self.choose_together and self.method != "strips" else None
         self.last_modelled_cost = 0.0
         """The modelled work [s] of the last step's costliest contact, its failures, fallbacks and difference
         Jacobian included: what ``step_budget`` bounds (``benchmarks/bench_worst_step.py`` sets it against the real
         time)."""
+        self.last_work = 0.0
+        """The modelled work [s] of the last step's contacts together (a table step: none)."""
+        self.constants_cache: dict[int, tuple] = {}
+        """Per contact what its steps take from its curvatures alone (:meth:`contact_constants`)."""
+        self.table_use = None
+        """The certified table of the strips, where the steps solve the strips with their defaults: Coulomb
+        friction, ``method`` auto or strips, ``table`` not off (:class:`TableUse`)."""
+        if p.table != TABLE_OFF and self.friction.is_constant and self.method in ("auto", "strips"):
+            self.table_use = TableUse(p.poisson_ratio, p.table, self.tolerance, self.budget, stop_time, self.log,
+                                      table_nodes)
+            self.table_constants = [self.table_contact(A, B) for A, B in self.curvatures]
         self.reset(start_time)
+        self.notices: tuple[str, ...] = tuple(self.take_messages())
+        """Messages worth showing once at initialisation (the certified table built, with ``table`` = on)."""
+
+    def initial_state(self, start_time: float) -> EllipticState:
+        """The state at ``start_time`` [s] before any step: with ``table`` = on, the certified table built."""
+        state = EllipticState.initial(start_time)
+        if self.table_use is not None:
+            state.table_batches = self.table_use.initialise()
+        return state
+
+    def restore(self, state: EllipticState) -> None:
+        """Have the certified table as far as ``state`` says (building at once what it says is done); ModelError
+        for a state of more batches than the table has."""
+        if self.table_use is None:
+            if state.table_batches or state.exact_work:
+                raise ModelError("the model state holds a certified table's progress, but this model has no table "
+                                 "(table = off, a falling law, or another method)")
+            return
+        if state.table_batches > len(self.table_use.sizes):
+            raise ModelError(f"model state table_batches = {state.table_batches} exceeds the table's "
+                             f"{len(self.table_use.sizes)} batches")
+        self.table_use.restore(state.table_batches)
+
+    def table_contact(self, A: float, B: float) -> tuple[tuple, float]:
+        """What a contact's table steps take from its curvatures: the linear theory's constants
+        (:meth:`LinearContacts.contact_constants`) and ``ln(a/b)``."""
+        constants = contact_constants(A, B, self.material.contact_modulus, self.material.poisson_ratio)
+        g, along_x = constants[2], constants[5]
+        return constants, (-math.log(g) if along_x else math.log(g))
+
+    def table_answers(self) -> bool:
+        """Whether this step answers from the certified table (built, and its bound meets the tolerance)."""
+        use = self.table_use
+        return use is not None and self.state.table_batches == len(use.sizes) and use.meets()
 
     @property
     def contacts(self) -> int:
@@ -192,11 +296,12 @@ class EllipticModel(SteppingModel):
         """``"contact k: "`` (k from 1) with several contacts, else ``""``: the prefix of a contact's messages."""
         return f"contact {k + 1}: " if self.contacts > 1 else ""
 
-    def inapplicable(self, k: int) -> str | None:
-        """Why contact ``k`` (from 0) cannot be stepped at any load (its ellipse's a/b is that of every load), or
-        None: an a/b outside Kalker's coefficient table (every step's Jacobian outputs and the linear, FASTSIM and
-        strips levels need the coefficients), or a method that cannot treat the ellipse."""
-        A, B = self.curvatures[k]
+    def inapplicable(self, k: int, curvatures: tuple[float, float] | None = None) -> str | None:
+        """Why contact ``k`` (from 0) cannot be stepped at any load with its curvatures (default: the last step's;
+        its ellipse's a/b is that of every load), or None: an a/b outside Kalker's coefficient table (every step's
+        Jacobian outputs and the linear, FASTSIM and strips levels need the coefficients), or a method that cannot
+        treat the ellipse."""
+        A, B = self.curvatures[k] if curvatures is None else curvatures
         scene = EllipticScene(1.0, A, B, material=self.material, friction=self.friction)
         low, high = aspect_ratio_range()
         ratio = scene.hertz.aspect_ratio
@@ -227,7 +332,10 @@ class EllipticModel(SteppingModel):
             h [s] > 0.
         inputs : sequence
             Per contact ``(normal_load [N] >= 0, longitudinal_creep [1], lateral_creep [1], spin [1/m],
-            velocity [m/s] >= 0)``, all finite.
+            velocity [m/s] >= 0)``, optionally followed by the gap's curvatures of the step
+            ``(gap_curvature_longitudinal, gap_curvature_lateral)`` [1/m] >= 0 (0, or a row of five: the parameters'
+            curvature of that contact), all finite.  A step's outputs depend on its curvatures alone, not on those
+            of earlier steps.
 
         Returns
         -------
@@ -237,17 +345,28 @@ class EllipticModel(SteppingModel):
         Raises
         ------
         ModelError
-            Invalid inputs (every one named, with its contact), time going backwards, or a contact no allowed
-            method solves within the budget.  The state is then unchanged.
+            Invalid inputs (every one named, with its contact), time going backwards, curvatures whose ellipse no
+            level treats, or a contact no allowed method solves within the budget.  The state is then unchanged.
         """
         inf = math.inf
-        try:  # five real numbers per contact (a row of another length or type: the problems are listed below)
-            rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v in inputs]
+        try:  # per contact seven real numbers with the gap's curvatures (an FMU's step), or five
+            rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v, _, _ in inputs]
+            gaps = [(float(row[5]), float(row[6])) for row in inputs]
+            if not any(A or B for A, B in gaps):
+                gaps = None
         except (TypeError, ValueError):
-            rows = None
+            try:
+                rows = [(float(fn), float(xi), float(eta), float(phi), float(v)) for fn, xi, eta, phi, v in inputs]
+                gaps = None
+            except (TypeError, ValueError):  # rows of either length, or of other values (listed below)
+                rows, gaps = self.gap_rows(inputs)
         valid = rows is not None and len(rows) == self.contacts and 0.0 < step_size < inf and -inf < current_time < inf
         for fn, xi, eta, phi, v in rows if valid else ():
             if not (0.0 <= fn < inf and -inf < xi < inf and -inf < eta < inf and -inf < phi < inf and 0.0 <= v < inf):
+                valid = False
+                break
+        for A, B in gaps if valid and gaps is not None else ():
+            if not (0.0 <= A < inf and 0.0 <= B < inf):
                 valid = False
                 break
         if not valid:
@@ -256,32 +375,144 @@ class EllipticModel(SteppingModel):
         if current_time < self.state.time:
             raise ModelError(f"current_time = {current_time!r} s lies before the last communication point "
                              f"{self.state.time!r} s; restore a saved state to step from an earlier time")
-        self.last_modelled_cost = 0.0
-        with np.errstate(all="ignore"):  # what overflows is refused below, by its output: no numpy warning escapes
-            outputs = self.evaluate(rows)
+        curvatures = self.parameter_curvatures if gaps is None else tuple(
+            (A if A != 0.0 else default[0], B if B != 0.0 else default[1])
+            for (A, B), default in zip(gaps, self.parameter_curvatures, strict=True))
+        if curvatures != self.curvatures:
+            self.use_curvatures(curvatures)
+        self.last_modelled_cost = self.last_work = 0.0
+        tabled = self.table_answers()
+        if tabled:  # Python floats and small matrix products; a contact beyond floating point steps exactly (below)
+            try:
+                outputs = self.table_use.step(self.table_constants, rows, self.shear_modulus,
+                                              self.friction.static_coefficient, self.parameters.jacobian == 1)
+                tabled = all(all(map(math.isfinite, contact)) for contact in outputs)
+            except (ArithmeticError, ValueError):  # a coordinate that is no number
+                tabled = False
+        if not tabled:
+            with np.errstate(all="ignore"):  # what overflows is refused below, by its output: no numpy warning
+                outputs = self.evaluate(rows)
         for k, (contact, row) in enumerate(zip(outputs, rows, strict=True)):
             if not all(map(math.isfinite, contact)):
                 raise ModelError(self.non_finite(k, contact, row))
+        if self.table_use is not None and not tabled:
+            self.table_use.after_exact_step(self.state, current_time, step_size, self.last_work,
+                                            self.last_modelled_cost)
         self.state.time = float(current_time)
         self.state.steps += 1
         return outputs
 
+    @staticmethod
+    def gap_rows(inputs) -> tuple[list | None, list | None]:
+        """``(rows, gaps)`` of input rows of seven real numbers or five (whose gap is ``(0, 0)``): the first five of
+        each and its gap's curvatures; ``(None, None)`` when a row is neither."""
+        rows, gaps = [], []
+        try:
+            for row in inputs:
+                if len(row) not in (LOAD_INPUTS, len(INPUTS)):
+                    return None, None
+                values = tuple(map(float, row))
+                rows.append(values[:LOAD_INPUTS])
+                gaps.append(values[LOAD_INPUTS:] or (0.0, 0.0))
+        except (TypeError, ValueError):
+            return None, None
+        return rows, gaps
+
+    def use_curvatures(self, curvatures: tuple[tuple[float, float], ...]) -> None:
+        """Step with the contacts' ``curvatures`` ((A, B) [1/m] each) from now on: the same as a model made with
+        them as parameters.  ModelError, naming each contact whose ellipse no level treats, changes nothing."""
+        changed = [k for k, (new, old) in enumerate(zip(curvatures, self.curvatures, strict=True)) if new != old]
+        problems = [why for k in changed if (why := self.inapplicable(k, curvatures[k])) is not None]
+        if problems:
+            raise ModelError("; ".join(p.replace("curvatures A", "gap curvatures A", 1) for p in problems))
+        self.curvatures = curvatures
+        for batch in (self.batch, self.linear_together):
+            if batch is not None:
+                batch.use_curvatures(changed, curvatures)
+        if self.table_use is not None:
+            for k in changed:
+                self.table_constants[k] = self.table_contact(*curvatures[k])
+
     def evaluate(self, rows) -> tuple[EllipticOutputs, ...]:
         """The outputs of every contact for its checked inputs: together where the level allows
-        (:class:`~rollcontact.stepping.elliptic.linear.LinearContacts`, :meth:`strips_step`), else contact by
-        contact (:meth:`contact_step`), which also answers a batch that breaks down in floating point, naming the
-        contact."""
-        if self.batch is not None or self.strips_together:
-            try:
-                outputs = self.batch.step(rows) if self.batch is not None else self.strips_step(rows)
-                level = "linear" if self.batch is not None else "strips"
-                solves = 4 if self.parameters.jacobian == 1 and level == "strips" else 1
-                self.last_modelled_cost = max((solves * ELLIPTIC_METHODS[level].accuracy.cost(self.scene(k, *row), {})
-                                               for k, row in enumerate(rows) if row[0] != 0.0), default=0.0)
+        (:class:`~rollcontact.stepping.elliptic.linear.LinearContacts`, :meth:`strips_step`, and with a tolerance
+        :meth:`chosen_together`), else contact by contact (:meth:`contact_step`), which also answers a batch that
+        breaks down in floating point, naming the contact."""
+        try:
+            if self.batch is not None:
+                outputs = self.batch.step(rows)
+                costs = [ELLIPTIC_METHODS["linear"].accuracy.cost(self.scene(k, *row), {})
+                         for k, row in enumerate(rows) if row[0] != 0.0]
+                self.last_modelled_cost, self.last_work = max(costs, default=0.0), sum(costs)
                 return outputs
-            except ArithmeticError:
-                pass
+            if self.strips_together and self.strips_chosen():
+                return self.strips_step(rows, range(len(rows)))
+            if self.choose_together:
+                return self.chosen_together(rows)
+        except ArithmeticError:
+            pass
         return tuple(self.contact_step(k, *row) for k, row in enumerate(rows))
+
+    def strips_chosen(self) -> bool:
+        """Whether every loaded contact's solve is the package's strips with their defaults: ``method`` = strips,
+        or auto while the strips are the lowest-ranked registered method (they treat every contact the model
+        steps without a tolerance: a/b within Kalker's table, Coulomb friction), both the built-in level."""
+        strips = STRIPS_METHOD
+        if ELLIPTIC_METHODS.get("strips") is not strips:
+            return False
+        return self.method == "strips" or ELLIPTIC_DISPATCHER.ranked()[0] is strips
+
+    def chosen_together(self, rows) -> tuple[EllipticOutputs, ...]:
+        """With a tolerance: each loaded contact's setting as :func:`rollcontact.solve_elliptic` chooses it with the
+        parameters' tolerance and budget (the cheapest that meets the tolerance within the budget); the contacts
+        whose choice is the built-in strips or linear theory with their defaults are solved together
+        (:meth:`strips_step`, :class:`~rollcontact.stepping.elliptic.linear.LinearContacts`), the others one by one
+        (:meth:`contact_step`), each bit for bit its own solve (neither level escalates or falls back: the strips'
+        and the linear theory's ladders hold one setting, and their estimates stay below
+        :data:`~rollcontact.core.method.UNRESOLVED`).  A tolerance the choice does not meet is said once per contact,
+        as the contact's own solve says it."""
+        names = None if self.method == "auto" else (self.method,)
+        chosen: dict[int, tuple] = {}
+        for k, row in enumerate(rows):
+            if row[0] == 0.0:
+                continue
+            scene = self.scene(k, *row)
+            try:
+                setting = ELLIPTIC_DISPATCHER.cheapest_setting(scene, self.tolerance, names,
+                                                               None if self.budget is None else Budget(self.budget))
+            except ValueError:  # the contact's own solve says why
+                continue
+            spec = ELLIPTIC_METHODS.get(setting.method)
+            if setting.options or spec is not BATCHED.get(setting.method) or (
+                    setting.method == "linear" and self.linear_together is None):
+                continue
+            chosen[k] = (setting, scene)
+        strips = [k for k, (setting, _) in chosen.items() if setting.method == "strips"]
+        linear = [k for k, (setting, _) in chosen.items() if setting.method == "linear"]
+        together = {}
+        if strips:
+            together.update(zip(strips, (self.strips_step(rows, strips, [chosen[k][1] for k in strips])[k]
+                                         for k in strips), strict=True))
+        if linear:
+            together.update(zip(linear, self.linear_together.step([rows[k] for k in linear], linear), strict=True))
+        outputs = []
+        cost = 0.0
+        for k, row in enumerate(rows):
+            if k not in together:
+                outputs.append(self.contact_step(k, *row))
+                continue
+            setting = chosen[k][0]
+            if not setting.error_estimate <= self.tolerance:
+                self.notice_once(f"tolerance {k}", f"{self.label(k)}the tolerance {self.tolerance!r} is not met within "
+                                 f"the step budget {self.budget!r} s: {setting.method}'s error estimate is "
+                                 f"{setting.error_estimate!r} (said once)")
+            solves = 4 if self.parameters.jacobian == 1 and setting.method == "strips" else 1
+            cost = max(cost, solves * setting.cost)
+            if setting.method != "strips":  # strips_step counted the strips' work
+                self.last_work += setting.cost
+            outputs.append(together[k])
+        self.last_modelled_cost = max(self.last_modelled_cost, cost)
+        return tuple(outputs)
 
     def non_finite(self, k: int, outputs: EllipticOutputs, row) -> str:
         """The message for contact ``k``'s outputs that are not all finite: which output, its value, the inputs."""
@@ -303,8 +534,11 @@ class EllipticModel(SteppingModel):
         if len(inputs) != self.contacts:
             return [*problems, f"{len(inputs)} input rows for {self.contacts} contacts"]
         for k, row in enumerate(inputs):
+            if len(row) not in (LOAD_INPUTS, len(INPUTS)):
+                problems.append(f"{self.label(k)}{len(row)} inputs, not {LOAD_INPUTS} or {len(INPUTS)}")
+                continue
             problems += argument_problems(((name, value, unit, lower, False)
-                                           for (name, unit, lower), value in zip(INPUTS, row, strict=True)),
+                                           for (name, unit, lower), value in zip(INPUTS, row, strict=False)),
                                           self.label(k))
         return problems
 
@@ -312,6 +546,47 @@ class EllipticModel(SteppingModel):
         """The scene of contact ``k`` (from 0) for the inputs."""
         A, B = self.curvatures[k]
         return EllipticScene(normal_load, A, B, xi, eta, phi, self.material, self.friction, velocity)
+
+    def contact_constants(self, k: int) -> tuple:
+        """What contact ``k``'s steps take from its curvatures alone: ``((A, B), constants, template, K)`` with the
+        constants of :func:`~rollcontact.stepping.elliptic.linear.contact_constants`, its scene of no load and no
+        creepage as a template and the elliptic integral K of its eccentricity; kept until the curvatures change."""
+        A, B = self.curvatures[k]
+        cached = self.constants_cache.get(k)
+        if cached is None or cached[0] != (A, B):
+            major_curvature, minor_curvature = (A, B) if A <= B else (B, A)
+            cached = ((A, B), contact_constants(A, B, self.material.contact_modulus, self.material.poisson_ratio),
+                      EllipticScene(0.0, A, B, material=self.material, friction=self.friction),
+                      differences(eccentricity(minor_curvature / major_curvature))[2])
+            self.constants_cache[k] = cached
+        return cached
+
+    def quick_scene(self, k: int, normal_load: float, xi: float, eta: float, phi: float,
+                    velocity: float) -> EllipticScene:
+        """:meth:`scene` of checked inputs (finite floats, load > 0) without checking them again, its Hertz ellipse
+        from the contact's constants by :func:`~rollcontact.elliptic.hertz.hertz_ellipse`'s operations: the same
+        scene and ellipse bit for bit, without their checks and the eccentricity's root per step."""
+        _, constants, template, k_integral = self.contact_constants(k)
+        major, denominator, g, pressure_scale, g_major, along_x = constants[:6]
+        alpha = (3.0 * normal_load * major / denominator) ** (1.0 / 3.0)
+        beta = g * alpha
+        p0 = pressure_scale * alpha / g_major if alpha > 0.0 else 0.0
+        a, b = (alpha, beta) if along_x else (beta, alpha)
+        hertz = HertzEllipse(a, b, p0, p0 * beta * k_integral / self.material.contact_modulus,
+                             1.0 / g if along_x else g)
+        scene = object.__new__(EllipticScene)
+        scene.__dict__.update(template.__dict__, normal_load=normal_load, longitudinal_creepage=xi,
+                              lateral_creepage=eta, spin_creepage=phi, rolling_speed=velocity, hertz=hertz)
+        return scene
+
+    def contact_slopes(self, k: int, scene: EllipticScene) -> tuple[tuple[float, float, float], ...]:
+        """:meth:`linear_slopes` from contact ``k``'s constants (Kalker's coefficients of its a/b), bit for bit."""
+        c11, c22, c23, c33 = self.contact_constants(k)[1][6:]
+        length = scene.hertz.c
+        area = self.shear_modulus * length * length
+        return ((area * c11, 0.0, 0.0),
+                (0.0, area * c22, area * length * c23),
+                (0.0, -area * length * c23, area * length * length * c33))
 
     def solved(self, k: int, scene: EllipticScene, method: str, setting: dict | None = None):
         """:func:`rollcontact.solve_elliptic` of the scene with the parameters' tolerance and budget, or with a fixed
@@ -360,6 +635,7 @@ class EllipticModel(SteppingModel):
             if jacobian is not None:
                 cost += 3.0 * result.info.get("predicted_cost", 0.0)
         self.last_modelled_cost = max(self.last_modelled_cost, cost)
+        self.last_work += cost
         if jacobian is None:
             jacobian = tuple(v for row in slopes for v in row)
         stick = result.info.get("stick_fraction", NO_STICK)
@@ -367,15 +643,21 @@ class EllipticModel(SteppingModel):
         return EllipticOutputs(*forces, result.a, result.b, result.max_pressure, float(stick), power, *jacobian,
                                method_code(result.method))
 
-    def strips_step(self, rows) -> tuple[EllipticOutputs, ...]:
-        """Every loaded contact's strips in one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with
-        ``jacobian`` = difference also the three shifted scenes of each), the outputs as :meth:`contact_step` makes
-        them from each contact's own solve."""
-        loaded = [k for k, row in enumerate(rows) if row[0] != 0.0]
+    def strips_step(self, rows, contacts, scenes=None) -> tuple[EllipticOutputs, ...]:
+        """The strips of the loaded ones among ``contacts`` (indices) in one
+        :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with ``jacobian`` = difference also the three
+        shifted scenes of each), the outputs as :meth:`contact_step` makes them from each contact's own solve; the
+        other contacts' outputs are :data:`ZERO`.  ``scenes``: those of the loaded contacts, when made already."""
+        loaded = [k for k in contacts if rows[k][0] != 0.0]
         if not loaded:
             return (ZERO,) * len(rows)
-        scenes = [self.scene(k, *rows[k]) for k in loaded]
-        slopes = [self.linear_slopes(scene) for scene in scenes]
+        if scenes is None:
+            scenes = [self.quick_scene(k, *rows[k]) for k in loaded]
+        cost = STRIPS_METHOD.accuracy.cost
+        solves = 4 if self.parameters.jacobian == 1 else 1
+        costs = [solves * cost(scene, {}) for scene in scenes]
+        self.last_modelled_cost, self.last_work = max(costs), self.last_work + sum(costs)
+        slopes = [self.contact_slopes(k, scene) for k, scene in zip(loaded, scenes, strict=True)]
         shifted = []
         if self.parameters.jacobian == 1:
             for scene, slope in zip(scenes, slopes, strict=True):

@@ -23,6 +23,7 @@ METHOD_LEVELS = (
     Level(4, "discretised", "the discretised 3D steady-rolling solver", "the discretised 3D steady-rolling solver"),
     Level(5, "saturated", "linear theory saturated at mu Fn (Shen, Hedrick, Elkins)",
           "linear theory saturated at mu Fn (Shen, Hedrick, Elkins)"),
+    Level(6, "table", "", "the certified table of the strips"),
 )
 """The elliptic fidelity levels as the FMU numbers them: the ``method`` choices, the ``method_used`` codes, the FMU's
 ``Method3D`` and ``MethodUsed3D`` enumerations and their documented table all follow from it.  Append only (a new
@@ -36,8 +37,15 @@ METHOD_NAMES = {level.code: level.name for level in METHOD_LEVELS if level.choic
 """``method`` codes and the levels they stand for (0 is auto)."""
 
 JACOBIAN_MODES = {0: "linear", 1: "difference"}
-"""``jacobian``: the linear theory's slopes, or forward differences of the step's method
-(:mod:`rollcontact.stepping.elliptic.model`)."""
+"""``jacobian``: the linear theory's slopes, or forward differences of the step's method (a step answered from the
+certified table: the table's own derivatives) (:mod:`rollcontact.stepping.elliptic.model`)."""
+
+TABLE_MODES = {0: "auto", 1: "off", 2: "on"}
+"""``table``: the certified table of the strips (:mod:`rollcontact.stepping.elliptic.table_use`) built when the run pays
+for it (auto), never, or at initialisation (on)."""
+
+TABLE_OFF = 1
+"""``table`` = off."""
 
 NO_STICK = -1.0
 """``stick_fraction`` of a level that does not compute one (linear, strips)."""
@@ -92,6 +100,10 @@ class EllipticParameters(ModelParameters):
         A and B [1/m] > 0 of the gap ``A x^2 + B y^2``, one per contact (the same count).
     jacobian : int
         A code of :data:`JACOBIAN_MODES`.
+    table : int
+        A code of :data:`TABLE_MODES`: with Coulomb friction and ``method`` auto or strips, the steps answer from
+        the certified table of the strips once it is built, where ``tolerance`` is 0 or at least its bound plus the
+        strips' largest error (:mod:`rollcontact.stepping.elliptic.table_use`).
 
     Notes
     -----
@@ -103,11 +115,12 @@ class EllipticParameters(ModelParameters):
     curvature_longitudinal: tuple = (DEFAULT_CURVATURES[0],)
     curvature_lateral: tuple = (DEFAULT_CURVATURES[1],)
     jacobian: int = 0
+    table: int = 0
 
     LEVELS: ClassVar[tuple[Level, ...]] = METHOD_LEVELS
 
     def codes(self) -> dict[str, dict]:
-        return {**super().codes(), "jacobian": JACOBIAN_MODES}
+        return {**super().codes(), "jacobian": JACOBIAN_MODES, "table": TABLE_MODES}
 
     def problems(self) -> list[str]:
         """The shared checks, then the curvatures': a per-contact value is named ``curvature_longitudinal[k]``
@@ -143,5 +156,11 @@ class EllipticParameters(ModelParameters):
 
 
 INPUTS = (("normal_load", "N", 0.0), ("longitudinal_creep", "", None), ("lateral_creep", "", None),
-          ("spin", "1/m", None), ("velocity", "m/s", 0.0))
-"""The inputs of a contact (name, unit, lower bound) in :meth:`EllipticModel.step`'s order."""
+          ("spin", "1/m", None), ("velocity", "m/s", 0.0), ("gap_curvature_longitudinal", "1/m", 0.0),
+          ("gap_curvature_lateral", "1/m", 0.0))
+"""The inputs of a contact (name, unit, lower bound) in :meth:`EllipticModel.step`'s order; the last two, the gap's
+curvatures A and B of the step (0: the parameters ``curvature_longitudinal`` and ``curvature_lateral``), may be left
+out of a row."""
+
+LOAD_INPUTS = 5
+"""Inputs of a row without the gap's curvatures (:data:`INPUTS`)."""
