@@ -106,17 +106,25 @@ def integrated(rho: np.ndarray, derivative: bool = False):
 
 
 @lru_cache(maxsize=1)
-def _packed() -> np.ndarray:
-    """The tables by interval: row i holds ``Jc, Mc, step dJc/dt, step dMc/dt`` at nodes i and i + 1 (read-only)."""
+def _planes() -> np.ndarray:
+    """The tables' cubic Hermite interpolants as polynomials in the fraction u of each interval: the flat array of
+    the planes ``(power k, kernel, interval)``, k = 0..3, kernel Jc then Mc, so that the coefficient of ``u^k`` of
+    kernel ``c`` on interval ``i`` is at ``i + intervals (c + 2 k)`` (read-only).  ``f0 + u d0 + u^2 (3 r - 2 d0 -
+    d1) + u^3 (d0 + d1 - 2 r)``, ``r = f1 - f0``, ``d`` the nodes' ``step df/dt``."""
     _, _, table = tables()
-    packed = np.concatenate([table[:, :-1].T, table[:, 1:].T], axis=1)
-    packed.flags.writeable = False
-    return packed
+    f0, f1, d0, d1 = table[:2, :-1], table[:2, 1:], table[2:, :-1], table[2:, 1:]
+    rise = f1 - f0
+    planes = np.stack([f0, d0, 3.0 * rise - 2.0 * d0 - d1, d0 + d1 - 2.0 * rise]).ravel()
+    planes.flags.writeable = False
+    return planes
 
 
 class StripGeometry:
     """Field points and source strips of fixed positions (one placement): the logarithms of their distances and
     their signs, so that each evaluation of :meth:`matrices` for new half-lengths only shifts the logarithms.
+
+    :meth:`matrices` reads all eight planes of :func:`_planes` with one gather (the interval's index plus each plane's
+    offset) and evaluates both kernels at both edges of every strip together in Horner's form.
 
     Parameters
     ----------
@@ -133,44 +141,55 @@ class StripGeometry:
         self.sign = np.sign(distances)
         with np.errstate(divide="ignore"):
             self.log_distance = np.log(np.abs(distances))
-        t0, step, _ = tables()
+        t0, step, table = tables()
         self.offset = (self.log_distance - t0) * (1.0 / step)  # the table's index of a = 1 m
         self.inverse_step = 1.0 / step
+        self.last = table.shape[1] - 2  # the last interval (extrapolated beyond)
+        self.intervals = table.shape[1] - 1
+        self.plane_offsets = (self.intervals * np.arange(8)).reshape(4, 2, 1, 1, 1)
         self.scale = (1.0 / (math.pi * contact_modulus), -0.5 / (math.pi * contact_modulus))
+        # (kernel, end, n, m): the sign of each end's distance, the lower end added and the upper subtracted, and the
+        # kernel's scale (U's, C's)
+        self.weights = np.stack([np.stack([self.sign[0], -self.sign[1]]) * s for s in self.scale])
 
     def matrices(self, half_lengths: np.ndarray, derivative: bool = False):
         """``(U, C)`` (:func:`strip_matrices`) at the sources' ``half_lengths`` [m], with ``derivative`` also
         ``(dU, dC)``."""
-        packed = _packed()
         raw = self.offset - np.log(half_lengths) * self.inverse_step
-        f = np.maximum(raw, 0.0)
-        i = np.minimum(f.astype(np.intp), packed.shape[0] - 1)
-        u = (f - i)[..., None]
-        rows = packed[i]  # (2, n, m, 8)
-        lo, d0, hi, d1 = rows[..., 0:2], rows[..., 2:4], rows[..., 4:6], rows[..., 6:8]
-        rise = hi - lo
-        v = 1.0 - u
-        a0 = d0 - rise
-        a1 = d1 - rise
-        value = lo + u * (rise + v * (v * a0 - u * a1))  # (2 ends, n, m, 2 kernels)
+        index = raw.astype(np.intp)
+        low, high = float(raw.min()), float(raw.max())
+        if low < 0.0 or high >= self.last + 1:
+            index = np.clip(index, 0, self.last)
+        u = raw - index
+        q = np.take(_planes(), index + self.plane_offsets, mode="clip")  # (power, kernel, end, n, m), in range
+        value = q[3] * u
+        value += q[2]
+        value *= u
+        value += q[1]
+        value *= u
+        value += q[0]
         if derivative:
-            slope = (rise + a0 * v * (1.0 - 3.0 * u) + a1 * u * (3.0 * u - 2.0)) * self.inverse_step
-        below = raw < 0.0
-        if below.any():  # Jc = 2 rho ln(4/rho) = -Mc below the table, t-derivatives 2 rho (ln(4/rho) - 1)
+            slope = q[3] * (3.0 * u)
+            slope += 2.0 * q[2]
+            slope *= u
+            slope += q[1]
+            slope *= -self.inverse_step  # a d/da = -d/dt
+        if low < 0.0:  # Jc = 2 rho ln(4/rho) = -Mc below the table, t-derivatives 2 rho (ln(4/rho) - 1)
+            below = raw < 0.0
             r = np.where(below, np.exp(self.log_distance) / half_lengths, 1.0)
             with np.errstate(divide="ignore", invalid="ignore"):
-                near = np.where(r > 0.0, 2.0 * r * np.log(4.0 / r), 0.0)[..., None] * np.array([1.0, -1.0])
-                value = np.where(below[..., None], near, value)
+                near = np.where(r > 0.0, 2.0 * r * np.log(4.0 / r), 0.0)
+                value = np.where(below, np.stack([near, -near]), value)
                 if derivative:
-                    rate = np.where(r > 0.0, 2.0 * r * (np.log(4.0 / r) - 1.0), 0.0)[..., None] * np.array([1.0, -1.0])
-                    slope = np.where(below[..., None], rate, slope)
-        sign_lo, sign_hi = self.sign[0][..., None], self.sign[1][..., None]
-        influence = sign_lo * value[0] - sign_hi * value[1]
-        U, C = influence[..., 0] * self.scale[0], influence[..., 1] * self.scale[1]
+                    rate = np.where(r > 0.0, 2.0 * r * (np.log(4.0 / r) - 1.0), 0.0)
+                    slope = np.where(below, np.stack([-rate, rate]), slope)
+        value *= self.weights
+        U, C = value[:, 0] + value[:, 1]
         if not derivative:
             return U, C
-        change = sign_hi * slope[1] - sign_lo * slope[0]
-        return U, C, change[..., 0] * self.scale[0], change[..., 1] * self.scale[1]
+        slope *= self.weights
+        dU, dC = slope[:, 0] + slope[:, 1]
+        return U, C, dU, dC
 
 
 def strip_matrices(centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, half_lengths: np.ndarray,
