@@ -36,6 +36,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg.lapack import dgesv
 
 from rollcontact.elliptic.hertz import hertz_ellipse
 from rollcontact.wheelrail.methods.strip_kernels import StripGeometry
@@ -251,6 +252,15 @@ class _Failure(Exception):
     """A pass that cannot go on: the message says why."""
 
 
+def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``matrix^-1 rhs`` by LAPACK's ``gesv`` (numpy.linalg's checks and wrappers cost more than the solve at these
+    sizes); a singular matrix is a :class:`_Failure`."""
+    _, _, x, info = dgesv(matrix, rhs)
+    if info != 0:
+        raise _Failure("the strips' influence matrix is singular")
+    return x
+
+
 def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | None = None,
                  normal_load: float | None = None, strips: int = DEFAULT_STRIPS) -> StripContact:
     """The patch's normal contact by strips (module docstring), for a given approach or a given load.
@@ -349,7 +359,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
             delta, e, active = _complementarity(matrix, gaps, widths, approach, normal_load, active)
             sub = np.flatnonzero(active)
             q = np.zeros(index.size)
-            q[sub] = np.linalg.solve(curving[np.ix_(sub, sub)], curv[sub])
+            q[sub] = _solve(curving[sub[:, None], sub], curv[sub])
             positive = active & (q > 0.0)
             half = np.where(positive, np.sqrt(np.where(positive, e, 0.0) / np.where(positive, q, 1.0)), half)
         if approach is None and delta >= depth:  # the contact lies within h < delta: the range was too narrow
@@ -371,19 +381,23 @@ def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowe
     count = gaps.size
     for _ in range(2 * count):
         sub = np.flatnonzero(active)
-        block = matrix[np.ix_(sub, sub)]
+        block = matrix[sub[:, None], sub]
         if approach is not None:
             delta = approach
-            e_sub = np.linalg.solve(block, delta - gaps[sub])
+            e_sub = _solve(block, delta - gaps[sub])
         else:
-            both = np.linalg.solve(block, np.stack([np.ones(sub.size), gaps[sub]], axis=1))
-            delta = (normal_load / (0.5 * math.pi) + widths[sub] @ both[:, 1]) / (widths[sub] @ both[:, 0])
+            rhs = np.ones((sub.size, 2))
+            rhs[:, 1] = gaps[sub]
+            both = _solve(block, rhs)
+            w = widths[sub]
+            delta = (normal_load / (0.5 * math.pi) + float(w @ both[:, 1])) / float(w @ both[:, 0])
             e_sub = delta * both[:, 0] - both[:, 1]
         e = np.zeros(count)
         e[sub] = e_sub
-        negative = active & (e < 0.0)
+        negative = e_sub < 0.0
         if negative.any():
-            active = active & ~negative
+            active = active.copy()
+            active[sub[negative]] = False
             if not active.any():
                 raise _Failure("the first pass lost every strip")
             continue
@@ -481,7 +495,7 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
             barred |= before & ~active
         sub = np.flatnonzero(active)
         q = np.zeros(centres.size)
-        q[sub] = np.linalg.solve(C[np.ix_(sub, sub)], curv[sub])
+        q[sub] = _solve(C[sub[:, None], sub], curv[sub])
         if not (q[sub] > 0.0).all():
             raise _Failure("the strips' curvature condition gave a strip a negative pressure curvature")
         target = _spread(centres, np.where(active, np.sqrt(e / np.where(active, q, 1.0)), 0.0))
@@ -538,7 +552,7 @@ def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, del
         if norm > previous:
             return None
         previous = norm
-        step = np.linalg.solve(jacobian, -residual)
+        step = _solve(jacobian, -residual)
         de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
         emptied = ea + de <= 0.0
         if emptied.any() and depth < POLISH_DROPS:
