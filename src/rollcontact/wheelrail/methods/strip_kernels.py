@@ -119,6 +119,14 @@ def _planes() -> np.ndarray:
     return planes
 
 
+@lru_cache(maxsize=1)
+def _plane_offsets(intervals: int) -> np.ndarray:
+    """Offsets of the eight planes of :func:`_planes` in its flat array, shaped ``(power, kernel, 1, 1, 1)``."""
+    offsets = (intervals * np.arange(8)).reshape(4, 2, 1, 1, 1)
+    offsets.flags.writeable = False
+    return offsets
+
+
 class StripGeometry:
     """Field points and source strips of fixed positions (one placement): the logarithms of their distances and
     their signs, so that each evaluation of :meth:`matrices` for new half-lengths only shifts the logarithms.
@@ -137,7 +145,9 @@ class StripGeometry:
     """
 
     def __init__(self, centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, contact_modulus: float):
-        distances = np.stack([centres[:, None] - lower[None, :], centres[:, None] - upper[None, :]])
+        distances = np.empty((2, centres.size, lower.size))
+        np.subtract(centres[:, None], lower, out=distances[0])
+        np.subtract(centres[:, None], upper, out=distances[1])
         self.sign = np.sign(distances)
         with np.errstate(divide="ignore"):
             self.log_distance = np.log(np.abs(distances))
@@ -145,12 +155,12 @@ class StripGeometry:
         self.offset = (self.log_distance - t0) * (1.0 / step)  # the table's index of a = 1 m
         self.inverse_step = 1.0 / step
         self.last = table.shape[1] - 2  # the last interval (extrapolated beyond)
-        self.intervals = table.shape[1] - 1
-        self.plane_offsets = (self.intervals * np.arange(8)).reshape(4, 2, 1, 1, 1)
+        self.plane_offsets = _plane_offsets(table.shape[1] - 1)
         self.scale = (1.0 / (math.pi * contact_modulus), -0.5 / (math.pi * contact_modulus))
         # (kernel, end, n, m): the sign of each end's distance, the lower end added and the upper subtracted, and the
         # kernel's scale (U's, C's)
-        self.weights = np.stack([np.stack([self.sign[0], -self.sign[1]]) * s for s in self.scale])
+        self.weights = self.sign * np.array([[[[self.scale[0]]], [[-self.scale[0]]]],
+                                             [[[self.scale[1]]], [[-self.scale[1]]]]])
 
     def matrices(self, half_lengths: np.ndarray, derivative: bool = False):
         """``(U, C)`` (:func:`strip_matrices`) at the sources' ``half_lengths`` [m], with ``derivative`` also
