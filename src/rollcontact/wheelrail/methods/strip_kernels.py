@@ -162,6 +162,16 @@ class StripGeometry:
         self.weights = self.sign * np.array([[[[self.scale[0]]], [[-self.scale[0]]]],
                                              [[[self.scale[1]]], [[-self.scale[1]]]]])
 
+    def subset(self, kept: np.ndarray) -> StripGeometry:
+        """The geometry of the field points and sources ``kept`` (indices; square geometries, field point i the
+        centre of source i): the same numbers, so its matrices are the blocks of this one's."""
+        part = object.__new__(StripGeometry)
+        part.__dict__.update(self.__dict__)
+        for name in ("sign", "log_distance", "offset"):
+            setattr(part, name, getattr(self, name)[:, kept[:, None], kept])
+        part.weights = self.weights[:, :, kept[:, None], kept]
+        return part
+
     def matrices(self, half_lengths: np.ndarray, derivative: bool = False):
         """``(U, C)`` (:func:`strip_matrices`) at the sources' ``half_lengths`` [m], with ``derivative`` also
         ``(dU, dC)``."""

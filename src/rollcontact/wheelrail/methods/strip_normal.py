@@ -483,113 +483,147 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
     half-length).  Stops when no a changes by more than ``tolerance`` of the largest.  Returns
     ``(delta, e, q, active, iterations)``."""
     widths = upper - lower
-    half = _spread(centres, np.where(active, np.sqrt(np.where(active, e, 0.0) / np.where(active, q, 1.0)), 0.0))
-    history: list[tuple[np.ndarray, np.ndarray]] = []
-    barred = np.zeros(centres.size, dtype=bool)
+    count = centres.size
+    sub = np.flatnonzero(active)
+    half = np.zeros(count)
+    half[sub] = np.sqrt(e[sub] / q[sub])
+    half = _spread(half)
+    xs: list[np.ndarray] = []  # the last ANDERSON + 1 iterates ln a and their residuals
+    fs: list[np.ndarray] = []
+    barred = np.zeros(count, dtype=bool)
+    allowed = np.ones(count, dtype=bool)
     geometry = StripGeometry(centres, lower, upper, estar)
     for used in range(1, FIXED_POINT_ITERATIONS + 1):
         U, C = geometry.matrices(half)
         before = active
-        delta, e, active = _complementarity(U, gaps, widths, approach, normal_load, active, ~barred)
+        delta, e, active = _complementarity(U, gaps, widths, approach, normal_load, active, allowed)
+        sub = np.flatnonzero(active)
         if used > SETTLING:
             barred |= before & ~active
-        sub = np.flatnonzero(active)
-        q = np.zeros(centres.size)
-        q[sub] = _solve(C[sub[:, None], sub], curv[sub])
-        if not (q[sub] > 0.0).all():
+            allowed = ~barred
+        q_sub = _solve(C[sub[:, None], sub], curv[sub])
+        if not (q_sub > 0.0).all():
             raise _Failure("the strips' curvature condition gave a strip a negative pressure curvature")
-        target = _spread(centres, np.where(active, np.sqrt(e / np.where(active, q, 1.0)), 0.0))
-        change = float(np.max(np.abs(target - half)[sub])) / float(target[sub].max())
+        q = np.zeros(count)
+        q[sub] = q_sub
+        target = np.zeros(count)
+        target[sub] = np.sqrt(e[sub] / q_sub)
+        target = _spread(target)
+        change = float(np.abs(target[sub] - half[sub]).max()) / float(target[sub].max())
         if change <= tolerance:
             return delta, e, q, active, used
         x = np.log(half)
         fx = np.log(target) - x
-        history.append((x, fx))
-        history = history[-(ANDERSON + 1):]
-        if len(history) > 1:
-            dx = np.stack([history[k + 1][0] - history[k][0] for k in range(len(history) - 1)], axis=1)
-            df = np.stack([history[k + 1][1] - history[k][1] for k in range(len(history) - 1)], axis=1)
+        xs.append(x)
+        fs.append(fx)
+        if len(xs) > ANDERSON + 1:
+            del xs[0], fs[0]
+        if len(xs) > 1:
+            dx = np.diff(xs, axis=0).T
+            df = np.diff(fs, axis=0).T
             gamma = np.linalg.lstsq(df, fx, rcond=None)[0]
             step = np.clip(fx - (dx + df) @ gamma, -1.0, 1.0)  # at most a factor e per iteration
-            half = _spread(centres, np.where(active, np.exp(x + step), 0.0))
+            half = np.zeros(count)
+            half[sub] = np.exp(x[sub] + step[sub])
+            half = _spread(half)
         else:
             half = target
     raise _Failure(f"the strips' half-lengths did not settle in {FIXED_POINT_ITERATIONS} iterations")
 
 
-def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active, depth=0):
+def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active):
     """Newton's method on (I) and (II) (and the load) with the strips in contact fixed, from a fixed point near the
     solution: ``(delta, e, q, iterations, active)`` once no e or q changes by more than :data:`FIXED_POINT_TOLERANCE`
     of the largest; a step that would empty strips at the ends of runs in contact only drops them (at most
-    :data:`POLISH_DROPS` times); None where a step would empty another strip, lose the curvature's sign or the
-    residual grows (the fixed point then goes on).  ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables'
-    t-derivatives (:class:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry`)."""
+    :data:`POLISH_DROPS` times; Newton restarts on the strips kept, from the same iterate, whose matrices are the
+    blocks of those already evaluated); None where a step would empty another strip, lose the curvature's sign or the
+    residual grows (the fixed point then goes on), or after :data:`POLISH_ITERATIONS` on one set of strips.
+    ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables' t-derivatives
+    (:class:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry`)."""
     index = np.flatnonzero(active)
-    n = index.size
-    widths = (upper - lower)[index]
     ea, qa = e[index].copy(), q[index].copy()
-    e_scale, q_scale = float(ea.max()), float(qa.mean())
-    size = 2 * n + (approach is None)
-    previous = math.inf
     geometry = StripGeometry(centres[index], lower[index], upper[index], estar)
-    for used in range(1, POLISH_ITERATIONS + 1):
-        half = np.sqrt(ea / qa)
-        U, C, dU, dC = geometry.matrices(half, derivative=True)
-        residual = np.empty(size)
-        residual[:n] = (U @ ea - (delta - gaps[index])) / delta
-        residual[n:2 * n] = C @ qa / curv[index] - 1.0
-        jacobian = np.zeros((size, size))
-        # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
-        jacobian[:n, :n] = (U + 0.5 * dU) * (e_scale / delta)
-        jacobian[:n, n:2 * n] = dU * (-0.5 * q_scale / delta * ea / qa)
-        jacobian[n:2 * n, :n] = dC * (0.5 * e_scale * qa / ea) / curv[index][:, None]
-        jacobian[n:2 * n, n:2 * n] = (C - 0.5 * dC) * (q_scale / curv[index][:, None])
-        if approach is None:
-            jacobian[:n, 2 * n] = -1.0
-            jacobian[2 * n, :n] = 0.5 * math.pi * widths * e_scale / normal_load
-            residual[2 * n] = 0.5 * math.pi * float(widths @ ea) / normal_load - 1.0
-        norm = float(np.abs(residual).max())
-        if norm > previous:
-            return None
-        previous = norm
-        step = _solve(jacobian, -residual)
-        de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
-        emptied = ea + de <= 0.0
-        if emptied.any() and depth < POLISH_DROPS:
-            ends = np.zeros(n, dtype=bool)
-            ends[[0, -1]] = True
-            ends[1:-1] = (np.diff(index)[1:] > 1) | (np.diff(index)[:-1] > 1)
-            if np.all(ends[emptied]):  # the contact ends before these edge strips: they leave, Newton restarts
+    given_load = approach is None
+    evaluated = None  # the matrices at the current iterate, kept over a drop
+    total = 0
+    for drops in range(POLISH_DROPS + 1):
+        n = index.size
+        widths = (upper - lower)[index]
+        targets = gaps[index]
+        curvatures = curv[index]
+        e_scale, q_scale = float(ea.max()), float(qa.mean())
+        size = 2 * n + given_load
+        previous = math.inf
+        restart = False
+        for used in range(1, POLISH_ITERATIONS + 1):
+            if evaluated is None:
+                U, C, dU, dC = geometry.matrices(np.sqrt(ea / qa), derivative=True)
+            else:
+                U, C, dU, dC = evaluated
+                evaluated = None
+            residual = np.empty(size)
+            residual[:n] = (U @ ea - (delta - targets)) / delta
+            residual[n:2 * n] = C @ qa / curvatures - 1.0
+            jacobian = np.zeros((size, size))
+            # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
+            jacobian[:n, :n] = (U + 0.5 * dU) * (e_scale / delta)
+            jacobian[:n, n:2 * n] = dU * (-0.5 * q_scale / delta * ea / qa)
+            jacobian[n:2 * n, :n] = dC * (0.5 * e_scale * qa / ea) / curvatures[:, None]
+            jacobian[n:2 * n, n:2 * n] = (C - 0.5 * dC) * (q_scale / curvatures[:, None])
+            if given_load:
+                jacobian[:n, 2 * n] = -1.0
+                jacobian[2 * n, :n] = 0.5 * math.pi * widths * e_scale / normal_load
+                residual[2 * n] = 0.5 * math.pi * float(widths @ ea) / normal_load - 1.0
+            norm = float(np.abs(residual).max())
+            if norm > previous:
+                return None
+            previous = norm
+            step = _solve(jacobian, -residual)
+            de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
+            emptied = ea + de <= 0.0
+            if emptied.any():
+                if drops == POLISH_DROPS:
+                    return None
+                ends = np.zeros(n, dtype=bool)
+                ends[[0, -1]] = True
+                ends[1:-1] = (np.diff(index)[1:] > 1) | (np.diff(index)[:-1] > 1)
+                if not np.all(ends[emptied]):
+                    return None
+                # the contact ends before these edge strips: they leave, Newton restarts on the others
+                kept = np.flatnonzero(~emptied)
+                index, ea, qa = index[kept], ea[kept], qa[kept]
+                evaluated = tuple(m[kept[:, None], kept] for m in (U, C, dU, dC))
+                geometry = geometry.subset(kept)
+                total += used
+                restart = True
+                break
+            if np.any(qa + dq <= 0.0):
+                return None
+            ea, qa = ea + de, qa + dq
+            if given_load:
+                delta *= 1.0 + float(step[2 * n])
+            change = max(float(np.abs(de).max()) / float(ea.max()), float(np.abs(dq).max()) / float(qa.max()))
+            if change <= FIXED_POINT_TOLERANCE:
                 e, q = np.zeros(centres.size), np.zeros(centres.size)
                 e[index], q[index] = ea, qa
-                kept = active.copy()
-                kept[index[emptied]] = False
-                e[~kept] = 0.0
-                again = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, kept,
-                                depth + 1)
-                return None if again is None else (*again[:3], again[3] + used, again[4])
-        if emptied.any() or np.any(qa + dq <= 0.0):
+                kept = np.zeros(centres.size, dtype=bool)
+                kept[index] = True
+                return delta, e, q, total + used, kept
+        if not restart:
             return None
-        ea, qa = ea + de, qa + dq
-        if approach is None:
-            delta *= 1.0 + float(step[2 * n])
-        change = max(float(np.abs(de).max()) / float(ea.max()), float(np.abs(dq).max()) / float(qa.max()))
-        if change <= FIXED_POINT_TOLERANCE:
-            e, q = np.zeros(centres.size), np.zeros(centres.size)
-            e[index], q[index] = ea, qa
-            return delta, e, q, used, active
     return None
 
 
-def _spread(centres, half):
+def _spread(half):
     """The half-lengths of the strips in contact (``half > 0``), and for the others a third of those of the strips in
     contact interpolated by index (the nearest one's beyond the ends): the length a strip entering the contact starts
     with."""
-    inside = half > 0.0
-    if inside.all():
+    inside = np.flatnonzero(half > 0.0)
+    if inside.size == half.size:
         return half
-    index = np.flatnonzero(inside)
-    return np.where(inside, half, np.interp(np.arange(centres.size), index, half[index]) / 3.0)
+    spread = np.interp(np.arange(half.size), inside, half[inside]) / 3.0
+    spread[inside] = half[inside]
+    return spread
 
 
 def refined(contact: StripContact, gap: PatchGap, count: int) -> StripContact:
