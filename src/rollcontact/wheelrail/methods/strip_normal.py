@@ -351,7 +351,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         gaps, curv, centres, lower, upper = gaps[index], curv[index], centres[index], lower[index], upper[index]
         half = np.sqrt((depth - gaps) / (2.0 * curv))
         widths = upper - lower
-        active = np.ones(index.size, dtype=bool)
+        active = depth - gaps > 0.5 * (depth - gaps.min())  # the circle's share of the rigid interpenetration
         q = np.zeros(index.size)
         geometry = StripGeometry(centres, lower, upper, estar)
         for _ in range(FIRST_ROUNDS):
