@@ -18,9 +18,14 @@ Tangential. Per patch and creepage (:func:`creepage_set`, in units of the equiva
    sqrt(area/pi)), with each level's own estimate.  The accuracy models' constants cite this table.
 Convergence. The discretised level's forces, Fn at a given approach and peak pressure at element sizes halving
    down to the reference's, their changes and the observed order ``log2(change ratio)``.
-Time. Median time per patch of the strips (without and with spin), of the default discretised level (normal and
-   tangential), and of the elliptic strips on one ellipse as this machine's yardstick (its docs state its time on an
-   idle machine).
+Newton. The strips' normal problem with Newton's early stop off (``NEWTON_CONTRACTION`` infinite): the largest
+   ``c_{k+1} / c_k^2`` of its final steps (``c_k <= 1e-2``, the relative changes of e and q) on the quadratic gaps and
+   the realistic patches, at the load and at the approach; ``NEWTON_CONTRACTION`` cites it.
+Time. Median time per patch of the strips' normal problem alone and of the strips (without and with spin), of the
+   default discretised level (normal and tangential), of the elliptic strips and of the elliptic discretised level
+   (its default, the Richardson pair 60/30) on one ellipse as this machine's yardsticks (their docs state their
+   times on an idle machine), each level's time as a multiple of its yardstick's, and per-wheel estimates: a wheel
+   of one patch (the tread) and of two (the tread and the flange).
 
 The reference is the discretised level's Richardson pair ``2 F(h) - F(2h)`` at an element of at most a 25th of the
 patch's width (normal quantities: the finer grid's).  The profiles are read by a throwaway SIMPACK reader and
@@ -43,6 +48,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 import rollcontact as rc
+import rollcontact.wheelrail.methods.strip_normal as strip_normal_module
 from rollcontact.core.halfspace.rolling import ellipse_grid
 from rollcontact.elliptic.methods.discretised import solve_discretised_3d
 from rollcontact.elliptic.methods.strips import solve_strips as elliptic_strips
@@ -336,25 +342,82 @@ def convergence_section(patches, quick: bool) -> list[str]:
     return lines + [""]
 
 
+def newton_section(patches, quick: bool) -> list[str]:
+    lines = ["## Newton: the strips' normal problem", "",
+             "Newton's early stop off; the largest ``c_{k+1} / c_k^2`` over its final steps (``c_k <= 1e-2``) and its "
+             "iterations, then with the early stop (``NEWTON_CONTRACTION``) the iterations and the largest relative "
+             "change of Fn (at the approach), of the approach (at the load) and of the peak pressure.", "",
+             "| patch | largest c_{k+1}/c_k^2 | Newton iterations | with the early stop | largest change |",
+             "|---|---|---|---|---|"]
+    cases = []
+    for ratio in ((0.2, 1.0, 5.0) if quick else (0.2, 0.5, 1.0, 2.0, 5.0)):
+        a, b = 6e-3 * ratio**0.5, 6e-3 / ratio**0.5
+        ellipse = rc.EllipticScene.from_semi_axes(1e5, a, b, material=MATERIAL, friction=MU)
+        s = np.linspace(-3 * b, 3 * b, 4001)
+        gap = PatchGap(s, ellipse.lateral_curvature * s * s, np.full(s.size, ellipse.longitudinal_curvature))
+        cases.append((f"quadratic a/b {ratio:g}", gap, 1e5))
+    cases += [(patch["name"], patch["scene"].gap, patch["scene"].normal_load) for patch in patches]
+    worst = 0.0
+    for name, gap, load in cases:
+        stopped = [strip_normal(gap, MATERIAL.contact_modulus, normal_load=load)]
+        stopped.append(strip_normal(gap, MATERIAL.contact_modulus, approach=stopped[0].approach))
+        saved = strip_normal_module.NEWTON_CONTRACTION
+        strip_normal_module.NEWTON_CONTRACTION = math.inf
+        try:
+            full = [strip_normal(gap, MATERIAL.contact_modulus, normal_load=load),
+                    strip_normal(gap, MATERIAL.contact_modulus, approach=stopped[0].approach)]
+        finally:
+            strip_normal_module.NEWTON_CONTRACTION = saved
+        ratios = [b / a**2 for contact in full
+                  for a, b in zip(contact.newton_steps[:-1], contact.newton_steps[1:], strict=True) if 0.0 < a <= 1e-2]
+        largest = max(ratios, default=0.0)
+        worst = max(worst, largest)
+        change = max(abs(stopped[1].normal_load / full[1].normal_load - 1),
+                     abs(stopped[0].approach / full[0].approach - 1),
+                     *(abs(x.max_pressure / y.max_pressure - 1) for x, y in zip(stopped, full, strict=True)))
+        lines.append(f"| {name} | {largest:.2f} | {len(full[0].newton_steps)}, {len(full[1].newton_steps)} | "
+                     f"{len(stopped[0].newton_steps)}, {len(stopped[1].newton_steps)} | {change:.1e} |")
+    bound = strip_normal_module.NEWTON_CONTRACTION
+    lines += ["", f"Largest ratio {worst:.2f}; ``NEWTON_CONTRACTION`` = {bound:g}.", ""]
+    return lines
+
+
 def time_section(patches, quick: bool) -> list[str]:
     seconds = 0.05 if quick else 0.3
     ellipse = rc.EllipticScene.from_radii(1e5, wheel_rolling_radius=0.46, rail_profile_radius=0.3,
                                           longitudinal_creepage=1e-3, spin_creepage=0.5)
     yardstick = common.median_time(lambda: elliptic_strips(ellipse), min_seconds=seconds)
-    lines = ["## Time", "", f"The elliptic strips with spin on one ellipse, this run: {yardstick * 1e6:.0f} us.", "",
-             "| patch | strips, no spin [ms] | strips, spin [ms] | strips / elliptic strips | "
-             "discretised default, normal + tangential [s] | elements in contact |", "|---|---|---|---|---|---|"]
+    slow_yardstick = common.median_time(lambda: solve_discretised_3d(ellipse), min_repeats=3, min_seconds=seconds)
+    lines = ["## Time", "",
+             f"This run's yardsticks on one ellipse with spin: the elliptic strips {yardstick * 1e6:.0f} us, the "
+             f"elliptic discretised level (Richardson 60/30) {slow_yardstick:.3f} s. Medians of single calls; "
+             "\"x strips\" and \"x discretised\" are multiples of these yardsticks.", "",
+             "| patch | strips' normal [ms] | strips, no spin [ms] | strips, spin [ms] | x strips (spin) | "
+             "discretised default, normal + tangential [s] | x discretised | elements in contact |",
+             "|---|---|---|---|---|---|---|---|"]
+    times = {}
     for patch in patches:
         scene = patch["scene"]
         _, creepages = creepage_set(scene, False)[0]
         no_spin = scene.replace(longitudinal_creepage=creepages[0], lateral_creepage=creepages[0])
         spin = no_spin.replace(spin_creepage=0.5)
+        normal = common.median_time(lambda s=no_spin: normal_contact(s), min_seconds=seconds)
         fast = common.median_time(lambda s=no_spin: solve_strips(s), min_seconds=seconds)
         fast_spin = common.median_time(lambda s=spin: solve_strips(s), min_seconds=seconds)
         slow = common.median_time(lambda s=spin: solve_discretised(s), min_repeats=3, min_seconds=seconds)
+        times[patch["name"]] = (fast_spin, slow)
         elements = solve_discretised(spin).info["contact_elements"]
-        lines.append(f"| {patch['name']} | {fast * 1e3:.2f} | {fast_spin * 1e3:.2f} | {fast_spin / yardstick:.1f} | "
-                     f"{slow:.3f} | {elements} |")
+        lines.append(f"| {patch['name']} | {normal * 1e3:.2f} | {fast * 1e3:.2f} | {fast_spin * 1e3:.2f} | "
+                     f"{fast_spin / yardstick:.1f} | {slow:.3f} | {slow / slow_yardstick:.2f} | {elements} |")
+    tread, flange = PATCHES[0][0], PATCHES[-1][0]
+    if tread in times and flange in times:
+        one, two = times[tread], tuple(a + b for a, b in zip(times[tread], times[flange], strict=True))
+        lines += ["", "| wheel (patches, with spin) | strips [ms] | x strips | discretised default [s] | "
+                  "x discretised |", "|---|---|---|---|---|",
+                  f"| one patch (tread) | {one[0] * 1e3:.2f} | {one[0] / yardstick:.1f} | {one[1]:.3f} | "
+                  f"{one[1] / slow_yardstick:.2f} |",
+                  f"| two patches (tread, flange) | {two[0] * 1e3:.2f} | {two[0] / yardstick:.1f} | {two[1]:.3f} | "
+                  f"{two[1] / slow_yardstick:.2f} |"]
     return lines + [""]
 
 
@@ -414,6 +477,7 @@ def main():
     lines += normal_section(patches, args.quick)
     lines += tangential_section(patches, args.quick)
     lines += convergence_section(patches, args.quick)
+    lines += newton_section(patches, args.quick)
     lines += time_section(patches, args.quick)
     lines.append(f"Study time {time.perf_counter() - started:.0f} s.")
     common.publish(lines, "wheelrail_patches.md", args.quick)

@@ -74,6 +74,12 @@ FIXED_POINT_ITERATIONS = 60
 POLISH_ITERATIONS = 6
 """Cap of the Newton iterations that finish a placement's fixed point."""
 
+NEWTON_CONTRACTION = 100.0
+"""Bound K of Newton's quadratic convergence, ``c_{k+1} <= K c_k^2`` for the relative changes c of its steps near the
+solution: Newton stops once ``K c^2`` is within :data:`FIXED_POINT_TOLERANCE` (its next step would be), a step
+before the step itself is.  The largest ratio over the final steps of the patches of
+``benchmarks/wheelrail_patches.py``, table "Newton", is a margin below it."""
+
 ANDERSON = 3
 """Earlier iterates Anderson's mixing takes."""
 
@@ -119,6 +125,8 @@ class StripContact:
     message : str
     iterations : int
         Fixed-point and Newton iterations over the placements.
+    newton_steps : tuple of float
+        The relative changes of Newton's steps on the placement kept (:func:`_polish`), in order.
     """
 
     centres: np.ndarray
@@ -133,6 +141,7 @@ class StripContact:
     converged: bool
     message: str
     iterations: int
+    newton_steps: tuple = ()
 
     @property
     def contact(self) -> np.ndarray:
@@ -416,6 +425,7 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
     """Cosine-spaced strips over the extent, the fixed point on (I) and (II), placed again while the contact is cut at
     an end of them or leaves too much of them free (module docstring)."""
     iterations = 0
+    newton_steps: tuple = ()
     prior_centres, prior_e, prior_q = start
     message = "converged"
     converged = False
@@ -451,7 +461,7 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
                 polished = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q,
                                    active)
                 if polished is not None:
-                    delta, e, q, used, active = polished
+                    delta, e, q, used, active, newton_steps = polished
                     iterations += used
                     break
                 # Newton did not take: the fixed point goes closer (to the end where Newton never takes)
@@ -471,7 +481,7 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
     peak = np.where(active, q * half, 0.0)
     load = 0.5 * math.pi * float(widths @ np.where(active, e, 0.0))
     return StripContact(centres, lower, upper, half, peak, gaps, curv, float(delta), load, converged, message,
-                        iterations)
+                        iterations, newton_steps)
 
 
 def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active, tolerance):
@@ -533,8 +543,9 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
 
 def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active):
     """Newton's method on (I) and (II) (and the load) with the strips in contact fixed, from a fixed point near the
-    solution: ``(delta, e, q, iterations, active)`` once no e or q changes by more than :data:`FIXED_POINT_TOLERANCE`
-    of the largest; a step that would empty strips at the ends of runs in contact only drops them (at most
+    solution: ``(delta, e, q, iterations, active, steps)`` (steps: the relative changes of its steps) once no e or q
+    changes by more than :data:`FIXED_POINT_TOLERANCE` of the largest, or its next step would not
+    (:data:`NEWTON_CONTRACTION`); a step that would empty strips at the ends of runs in contact only drops them (at most
     :data:`POLISH_DROPS` times; Newton restarts on the strips kept, from the same iterate, whose matrices are the
     blocks of those already evaluated); None where a step would empty another strip, lose the curvature's sign or the
     residual grows (the fixed point then goes on), or after :data:`POLISH_ITERATIONS` on one set of strips.
@@ -546,6 +557,7 @@ def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, del
     given_load = approach is None
     evaluated = None  # the matrices at the current iterate, kept over a drop
     total = 0
+    steps: list[float] = []
     for drops in range(POLISH_DROPS + 1):
         n = index.size
         widths = (upper - lower)[index]
@@ -603,12 +615,13 @@ def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, del
             if given_load:
                 delta *= 1.0 + float(step[2 * n])
             change = max(float(np.abs(de).max()) / float(ea.max()), float(np.abs(dq).max()) / float(qa.max()))
-            if change <= FIXED_POINT_TOLERANCE:
+            steps.append(change)
+            if change <= FIXED_POINT_TOLERANCE or NEWTON_CONTRACTION * change * change <= FIXED_POINT_TOLERANCE:
                 e, q = np.zeros(centres.size), np.zeros(centres.size)
                 e[index], q[index] = ea, qa
                 kept = np.zeros(centres.size, dtype=bool)
                 kept[index] = True
-                return delta, e, q, total + used, kept
+                return delta, e, q, total + used, kept, tuple(steps)
         if not restart:
             return None
     return None
@@ -651,4 +664,5 @@ def refined(contact: StripContact, gap: PatchGap, count: int) -> StripContact:
     load *= contact.normal_load / (0.5 * math.pi * float((upper - lower) @ load))
     half = np.sqrt(load / q)
     return StripContact(centres, lower, upper, half, q * half, np.interp(centres, s, h), curv, contact.approach,
-                        contact.normal_load, contact.converged, contact.message, contact.iterations)
+                        contact.normal_load, contact.converged, contact.message, contact.iterations,
+                        contact.newton_steps)
