@@ -129,7 +129,7 @@ class Lobes:
         names = ("modulus_x", "modulus_y", "modulus_phi", "factor", "centroid", "ratio", "march_ratio", "cross",
                  "l1", "l2", "l3", "limit")
         table = np.empty((len(names), count))
-        self.ratios, self.clamped, self.psi_e = [], [], []
+        self.ratios, self.clamped, self.psi_e, self.coefficients = [], [], [], []
         low, high = aspect_ratio_range()
         x0, x1, y0, y1, scale, power, spin_half, _ = SPIN_FLEXIBILITY
         for a, b in zip(starts[:-1], starts[1:], strict=True):
@@ -145,6 +145,7 @@ class Lobes:
             area = 2.0 * width_length
             a_e, b_e = math.sqrt(area * ratio / math.pi), math.sqrt(area / (math.pi * ratio))
             c = coefficients(ratio, nu)
+            self.coefficients.append(c)
             load = float(w @ loads[part])
             p0_e = 1.5 * load / (math.pi * a_e * b_e)
             gamma = ratio / (ratio + STIFFENING_SCALE)

@@ -18,7 +18,6 @@ from rollcontact.wheelrail.methods.strip_normal import DEFAULT_STRIPS, StripCont
 from rollcontact.wheelrail.methods.strip_tangential import (
     DEFAULT_STEPS,
     Lobes,
-    coefficients,
     coulomb_forces,
     falling_forces,
 )
@@ -169,12 +168,11 @@ class PatchStripsAccuracy(AccuracyModel):
         g, nu = scene.shear_modulus, scene.material.poisson_ratio
         xi, eta, phi = scene.creepages
         worst = 0.0
-        for run, ratio, psi_e in zip(lobes.runs, lobes.ratios, lobes.psi_e, strict=True):
+        for run, c, psi_e in zip(lobes.runs, lobes.coefficients, lobes.psi_e, strict=True):
             w, half = lobes.w[run], lobes.half[run]
             area = 2.0 * float(w @ half)
             lobe_load = float(w @ (0.5 * math.pi * lobes.q[run] * half * half))
             c2 = area / math.pi
-            c = coefficients(ratio, nu)
             xi_lobe = xi - phi * float(lobes.centroid[run][0])
             linear = math.hypot(g * c2 * c.c11 * xi_lobe, g * c2 * c.c22 * eta) + g * c2**1.5 * c.c23 * abs(phi)
             tau = min(1.0, linear / (mu * lobe_load)) if lobe_load > 0.0 else 0.0
