@@ -22,10 +22,10 @@ Newton. The strips' normal problem with Newton's early stop off (``NEWTON_CONTRA
    ``c_{k+1} / c_k^2`` of its final steps (``c_k <= 1e-2``, the relative changes of e and q) on the quadratic gaps and
    the realistic patches, at the load and at the approach; ``NEWTON_CONTRACTION`` cites it.
 Time. Median time per patch of the strips' normal problem alone and of the strips (without and with spin), of the
-   default discretised level (normal and tangential), of the elliptic strips and of the elliptic discretised level
-   (its default, the Richardson pair 60/30) on one ellipse as this machine's yardsticks (their docs state their
-   times on an idle machine), each level's time as a multiple of its yardstick's, and per-wheel estimates: a wheel
-   of one patch (the tread) and of two (the tread and the flange).
+   default discretised level (normal and tangential), each timed in turn with its yardstick on one ellipse (the
+   elliptic strips; the elliptic discretised level's default, the Richardson pair 60/30; their docs state their times
+   on an idle machine), each level's time as a multiple of its yardstick's, and per-wheel sums: a wheel of one patch
+   (the tread) and of two (the tread and the flange).
 
 The reference is the discretised level's Richardson pair ``2 F(h) - F(2h)`` at an element of at most a 25th of the
 patch's width (normal quantities: the finer grid's).  The profiles are read by a throwaway SIMPACK reader and
@@ -382,42 +382,60 @@ def newton_section(patches, quick: bool) -> list[str]:
     return lines
 
 
+def alternating_medians(functions, min_seconds: float, min_rounds: int) -> list[float]:
+    """Median wall time of one call of each function, timed in turn (one call of each per round, after one warm-up
+    call each) for at least ``min_rounds`` rounds and ``min_seconds``: a changing load of the machine falls on all
+    of them alike, so that their ratios hold where the absolute times do not."""
+    for function in functions:
+        function()
+    samples = [[] for _ in functions]
+    started = time.perf_counter()
+    while len(samples[0]) < min_rounds or time.perf_counter() - started < min_seconds:
+        for function, times in zip(functions, samples, strict=True):
+            t0 = time.perf_counter()
+            function()
+            times.append(time.perf_counter() - t0)
+    return [float(np.median(times)) for times in samples]
+
+
 def time_section(patches, quick: bool) -> list[str]:
-    seconds = 0.05 if quick else 0.3
+    seconds = 0.05 if quick else 1.0
     ellipse = rc.EllipticScene.from_radii(1e5, wheel_rolling_radius=0.46, rail_profile_radius=0.3,
                                           longitudinal_creepage=1e-3, spin_creepage=0.5)
-    yardstick = common.median_time(lambda: elliptic_strips(ellipse), min_seconds=seconds)
-    slow_yardstick = common.median_time(lambda: solve_discretised_3d(ellipse), min_repeats=3, min_seconds=seconds)
     lines = ["## Time", "",
-             f"This run's yardsticks on one ellipse with spin: the elliptic strips {yardstick * 1e6:.0f} us, the "
-             f"elliptic discretised level (Richardson 60/30) {slow_yardstick:.3f} s. Medians of single calls; "
-             "\"x strips\" and \"x discretised\" are multiples of these yardsticks.", "",
-             "| patch | strips' normal [ms] | strips, no spin [ms] | strips, spin [ms] | x strips (spin) | "
-             "discretised default, normal + tangential [s] | x discretised | elements in contact |",
-             "|---|---|---|---|---|---|---|---|"]
+             "Medians of single calls, each level timed in turn with its yardstick on one ellipse with spin (the "
+             "elliptic strips for the strips, the elliptic discretised level's default Richardson pair 60/30 for the "
+             "discretised level) in the same rounds: \"x strips\" and \"x discretised\" are the ratios to them, "
+             "which hold under a changing load where the absolute times do not.", "",
+             "| patch | elliptic strips [us] | strips' normal [ms] | strips, no spin [ms] | strips, spin [ms] | "
+             "x strips (normal, no spin, spin) | elliptic discretised [s] | discretised default, normal + tangential "
+             "[s] | x discretised | elements in contact |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     times = {}
     for patch in patches:
         scene = patch["scene"]
         _, creepages = creepage_set(scene, False)[0]
         no_spin = scene.replace(longitudinal_creepage=creepages[0], lateral_creepage=creepages[0])
         spin = no_spin.replace(spin_creepage=0.5)
-        normal = common.median_time(lambda s=no_spin: normal_contact(s), min_seconds=seconds)
-        fast = common.median_time(lambda s=no_spin: solve_strips(s), min_seconds=seconds)
-        fast_spin = common.median_time(lambda s=spin: solve_strips(s), min_seconds=seconds)
-        slow = common.median_time(lambda s=spin: solve_discretised(s), min_repeats=3, min_seconds=seconds)
-        times[patch["name"]] = (fast_spin, slow)
+        yardstick, normal, fast, fast_spin = alternating_medians(
+            [lambda: elliptic_strips(ellipse), lambda s=no_spin: normal_contact(s), lambda s=no_spin: solve_strips(s),
+             lambda s=spin: solve_strips(s)], seconds, 20)
+        slow_yardstick, slow = alternating_medians(
+            [lambda: solve_discretised_3d(ellipse), lambda s=spin: solve_discretised(s)], seconds, 2 if quick else 5)
+        times[patch["name"]] = (fast_spin / yardstick, slow / slow_yardstick, fast_spin, slow)
         elements = solve_discretised(spin).info["contact_elements"]
-        lines.append(f"| {patch['name']} | {normal * 1e3:.2f} | {fast * 1e3:.2f} | {fast_spin * 1e3:.2f} | "
-                     f"{fast_spin / yardstick:.1f} | {slow:.3f} | {slow / slow_yardstick:.2f} | {elements} |")
+        lines.append(f"| {patch['name']} | {yardstick * 1e6:.0f} | {normal * 1e3:.2f} | {fast * 1e3:.2f} | "
+                     f"{fast_spin * 1e3:.2f} | {normal / yardstick:.1f}, {fast / yardstick:.1f}, "
+                     f"{fast_spin / yardstick:.1f} | {slow_yardstick:.3f} | {slow:.3f} | {slow / slow_yardstick:.2f} | "
+                     f"{elements} |")
     tread, flange = PATCHES[0][0], PATCHES[-1][0]
     if tread in times and flange in times:
         one, two = times[tread], tuple(a + b for a, b in zip(times[tread], times[flange], strict=True))
-        lines += ["", "| wheel (patches, with spin) | strips [ms] | x strips | discretised default [s] | "
-                  "x discretised |", "|---|---|---|---|---|",
-                  f"| one patch (tread) | {one[0] * 1e3:.2f} | {one[0] / yardstick:.1f} | {one[1]:.3f} | "
-                  f"{one[1] / slow_yardstick:.2f} |",
-                  f"| two patches (tread, flange) | {two[0] * 1e3:.2f} | {two[0] / yardstick:.1f} | {two[1]:.3f} | "
-                  f"{two[1] / slow_yardstick:.2f} |"]
+        lines += ["", "Per wheel (with spin), the sum of its patches' ratios and times:", "",
+                  "| wheel | x strips | strips [ms] | x discretised | discretised default [s] |",
+                  "|---|---|---|---|---|",
+                  f"| one patch (tread) | {one[0]:.1f} | {one[2] * 1e3:.2f} | {one[1]:.2f} | {one[3]:.3f} |",
+                  f"| two patches (tread, flange) | {two[0]:.1f} | {two[2] * 1e3:.2f} | {two[1]:.2f} | {two[3]:.3f} |"]
     return lines + [""]
 
 

@@ -447,7 +447,8 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
             * curv  # q / A interpolated: the strips' stiffening
         active = e > 0.0
         e = np.where(active, e, 0.0)
-        delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load,
+        geometry = StripGeometry(centres, lower, upper, estar)
+        delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_load,
                                                  delta, e, q, active, PLACEMENT_TOLERANCE)
         iterations += used
         widths = upper - lower
@@ -458,14 +459,14 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
         slack = EXTENT_MARGIN * width
         if -slack <= low - lo <= EXTENT_TOLERANCE * width and -slack <= hi - high <= EXTENT_TOLERANCE * width:
             for closer in (*POLISH_RETRIES, None):
-                polished = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q,
+                polished = _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q,
                                    active)
                 if polished is not None:
                     delta, e, q, used, active, newton_steps = polished
                     iterations += used
                     break
                 # Newton did not take: the fixed point goes closer (to the end where Newton never takes)
-                delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach,
+                delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, geometry, approach,
                                                          normal_load, delta, e, q, active,
                                                          FIXED_POINT_TOLERANCE if closer is None else closer)
                 iterations += used
@@ -484,7 +485,7 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
                         iterations, newton_steps)
 
 
-def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active, tolerance):
+def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q, active, tolerance):
     """Fixed-point iteration on the half-lengths: with them fixed, (I) is a linear complementarity problem in e
     (:func:`_complementarity`, the load's equation with it) and (II) a linear system in q on the strips in contact;
     then ``a = sqrt(e/q)``, accelerated by Anderson's mixing of the last :data:`ANDERSON` iterates in ``ln a`` (the
@@ -502,7 +503,6 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
     fs: list[np.ndarray] = []
     barred = np.zeros(count, dtype=bool)
     allowed = np.ones(count, dtype=bool)
-    geometry = StripGeometry(centres, lower, upper, estar)
     for used in range(1, FIXED_POINT_ITERATIONS + 1):
         U, C = geometry.matrices(half)
         before = active
@@ -541,7 +541,7 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
     raise _Failure(f"the strips' half-lengths did not settle in {FIXED_POINT_ITERATIONS} iterations")
 
 
-def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active):
+def _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q, active):
     """Newton's method on (I) and (II) (and the load) with the strips in contact fixed, from a fixed point near the
     solution: ``(delta, e, q, iterations, active, steps)`` (steps: the relative changes of its steps) once no e or q
     changes by more than :data:`FIXED_POINT_TOLERANCE` of the largest, or its next step would not
@@ -553,7 +553,7 @@ def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, del
     (:class:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry`)."""
     index = np.flatnonzero(active)
     ea, qa = e[index].copy(), q[index].copy()
-    geometry = StripGeometry(centres[index], lower[index], upper[index], estar)
+    geometry = geometry.subset(index)
     given_load = approach is None
     evaluated = None  # the matrices at the current iterate, kept over a drop
     total = 0
