@@ -388,6 +388,9 @@ def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowe
     """The linear complementarity of (I) with fixed half-lengths by active sets, from ``active``, only the strips
     ``allowed`` entering: returns the approach (given, or from the load), e and the strips in contact."""
     count = gaps.size
+    if approach is None:
+        sides = np.ones((count, 2))  # the load's two right-hand sides: delta's coefficient and the gaps
+        sides[:, 1] = gaps
     for _ in range(2 * count):
         sub = np.flatnonzero(active)
         block = matrix[sub[:, None], sub]
@@ -395,11 +398,9 @@ def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowe
             delta = approach
             e_sub = _solve(block, delta - gaps[sub])
         else:
-            rhs = np.ones((sub.size, 2))
-            rhs[:, 1] = gaps[sub]
-            both = _solve(block, rhs)
-            w = widths[sub]
-            delta = (normal_load / (0.5 * math.pi) + float(w @ both[:, 1])) / float(w @ both[:, 0])
+            both = _solve(block, sides[sub])
+            unit, offset = widths[sub] @ both
+            delta = (normal_load / (0.5 * math.pi) + offset) / unit
             e_sub = delta * both[:, 0] - both[:, 1]
         e = np.zeros(count)
         e[sub] = e_sub
