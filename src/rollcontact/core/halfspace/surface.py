@@ -28,6 +28,7 @@ centres shifted one element upwind are exact, so the operator is itself a convol
 
 from __future__ import annotations
 
+import copy
 import functools
 import math
 from dataclasses import dataclass
@@ -213,7 +214,18 @@ class SurfaceOperator:
         return self.tangential(qx, qy, prefix="r")
 
 
-@functools.lru_cache(maxsize=16)
 def operator_for(grid: SurfaceGrid, nu: float) -> SurfaceOperator:
-    """Cached :class:`SurfaceOperator`: a creep curve on one grid transforms the coefficients once."""
-    return SurfaceOperator(grid, nu)
+    """Cached :class:`SurfaceOperator`: a creep curve on one grid transforms the coefficients once.  The coefficients
+    depend on the grid's element counts and sizes and on nu, not on its origin: grids that differ only in where they
+    lie share them (the operator returned carries the grid asked for), as the moving patches of a wheel do."""
+    shared = _operator_for_shape(grid.nx, grid.ny, grid.dx, grid.dy, nu)
+    if shared.grid == grid:
+        return shared
+    placed = copy.copy(shared)
+    placed.grid = grid
+    return placed
+
+
+@functools.lru_cache(maxsize=16)
+def _operator_for_shape(nx: int, ny: int, dx: float, dy: float, nu: float) -> SurfaceOperator:
+    return SurfaceOperator(SurfaceGrid(nx, ny, dx, dy, 0.0, 0.0), nu)
