@@ -176,11 +176,16 @@ class StripGeometry:
         """``(U, C)`` (:func:`strip_matrices`) at the sources' ``half_lengths`` [m], with ``derivative`` also
         ``(dU, dC)``."""
         raw = self.offset - np.log(half_lengths) * self.inverse_step
-        index = raw.astype(np.intp)
+        whole = np.floor(raw)
+        index = whole.astype(np.intp)
         low, high = float(raw.min()), float(raw.max())
         if low < 0.0 or high >= self.last + 1:
             index = np.clip(index, 0, self.last)
-        u = raw - index
+            whole = index.astype(float)
+        # the fraction, once per kernel: in-place products with an operand broadcast over an axis are slow in numpy
+        u = np.empty((2, *raw.shape))
+        np.subtract(raw, whole, out=u[0])
+        u[1] = u[0]
         q = np.take(_planes(), index + self.plane_offsets, mode="clip")  # (power, kernel, end, n, m), in range
         value = q[3] * u
         value += q[2]
