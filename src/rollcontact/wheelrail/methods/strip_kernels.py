@@ -178,9 +178,9 @@ class StripGeometry:
         raw = self.offset - np.log(half_lengths) * self.inverse_step
         whole = np.floor(raw)
         index = whole.astype(np.intp)
-        low, high = float(raw.min()), float(raw.max())
-        if low < 0.0 or high >= self.last + 1:
-            index = np.clip(index, 0, self.last)
+        below = np.count_nonzero(raw < 0.0)  # (counts: cheaper than numpy's reductions at these sizes)
+        if below or np.count_nonzero(raw >= self.last + 1):
+            index = np.minimum(np.maximum(index, 0), self.last)
             whole = index.astype(float)
         # the fraction, once per kernel: in-place products with an operand broadcast over an axis are slow in numpy
         u = np.empty((2, *raw.shape))
@@ -199,7 +199,7 @@ class StripGeometry:
             slope *= u
             slope += q[1]
             slope *= -self.inverse_step  # a d/da = -d/dt
-        if low < 0.0:  # Jc = 2 rho ln(4/rho) = -Mc below the table, t-derivatives 2 rho (ln(4/rho) - 1)
+        if below:  # Jc = 2 rho ln(4/rho) = -Mc below the table, t-derivatives 2 rho (ln(4/rho) - 1)
             below = raw < 0.0
             r = np.where(below, np.exp(self.log_distance) / half_lengths, 1.0)
             with np.errstate(divide="ignore", invalid="ignore"):

@@ -206,7 +206,7 @@ def contact_edges(centres, lower, upper, loads, reach: float = 0.0) -> tuple[flo
     of the two centres or ``reach`` [m], the larger.  Where the outermost strip carries more than its inner
     neighbour the contact is cut there: the edge is ``reach`` beyond it (with ``reach`` > 0), else the strip's own
     edge, as for a strip without an inner neighbour in contact."""
-    active = np.flatnonzero(loads > 0.0)
+    active = (loads > 0.0).nonzero()[0]
     if active.size == 0:
         return 0.0, 0.0
     first, last = active[0], active[-1]
@@ -231,7 +231,7 @@ def rigid_range(s, h, depth) -> tuple[float, float] | None:
     """``[lo, hi]`` [m], the hull of ``h(s) < depth`` with its ends interpolated between samples; None if empty or
     if it reaches an end of the samples (the contact may extend beyond the gap's sampling)."""
     inside = h < depth
-    if not inside.any() or inside[0] or inside[-1]:
+    if not np.count_nonzero(inside) or inside[0] or inside[-1]:
         return None
     first = int(np.argmax(inside))
     last = h.size - 1 - int(np.argmax(inside[::-1]))
@@ -303,7 +303,7 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
         approach = float(approach)
         if not (math.isfinite(approach) and approach >= 0.0):
             raise ValueError(f"approach = {approach!r} m must be finite and >= 0")
-        if approach == 0.0 or not (h < approach).any():
+        if approach == 0.0 or not np.count_nonzero(h < approach):
             return _empty(approach, "no interpenetration: no contact")
     else:
         normal_load = float(normal_load)
@@ -346,7 +346,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
     for _ in range(LOAD_GUESSES):
         bounds = rigid_range(s, h, depth)
         if bounds is None:
-            if approach is None and (h < depth).any():
+            if approach is None and np.count_nonzero(h < depth):
                 depth *= 0.7  # a guess too deep for the sampling: shallower first
                 continue
             raise _Failure(f"the rigid interpenetration {depth:.4g} m reaches an end of the patch gap's sampling "
@@ -354,7 +354,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         centres, lower, upper = uniform_strips(*bounds, FIRST_STRIPS)
         gaps = np.interp(centres, s, h)
         curv = np.interp(centres, s, curvature)
-        index = np.flatnonzero(gaps < depth)
+        index = (gaps < depth).nonzero()[0]
         if index.size == 0:
             raise _Failure("the rigid interpenetration falls between the strips")
         gaps, curv, centres, lower, upper = gaps[index], curv[index], centres[index], lower[index], upper[index]
@@ -366,7 +366,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         for _ in range(FIRST_ROUNDS):
             matrix, curving = geometry.matrices(half)
             delta, e, active = _complementarity(matrix, gaps, widths, approach, normal_load, active)
-            sub = np.flatnonzero(active)
+            sub = active.nonzero()[0]
             q = np.zeros(index.size)
             q[sub] = _solve(curving[sub[:, None], sub], curv[sub])
             positive = active & (q > 0.0)
@@ -376,7 +376,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
             continue
         e = np.where(active, e, 0.0)
         q = np.where(active & (q > 0.0), q, 0.0)
-        if not (q > 0.0).any():
+        if not np.count_nonzero(q > 0.0):
             raise _Failure("the first pass found no strip of positive curvature ratio")
         low, high = contact_edges(centres, lower, upper, e)
         margin = FIRST_MARGIN * float(widths[0])  # the edges are known to a fraction of a strip of this pass
@@ -392,7 +392,7 @@ def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowe
         sides = np.ones((count, 2))  # the load's two right-hand sides: delta's coefficient and the gaps
         sides[:, 1] = gaps
     for _ in range(2 * count):
-        sub = np.flatnonzero(active)
+        sub = active.nonzero()[0]
         block = matrix[sub[:, None], sub]
         if approach is not None:
             delta = approach
@@ -405,17 +405,17 @@ def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowe
         e = np.zeros(count)
         e[sub] = e_sub
         negative = e_sub < 0.0
-        if negative.any():
+        if np.count_nonzero(negative):
             active = active.copy()
             active[sub[negative]] = False
-            if not active.any():
+            if not np.count_nonzero(active):
                 raise _Failure("the first pass lost every strip")
             continue
         shortfall = (delta - gaps) - matrix @ e
         penetrating = ~active & (shortfall > 1e-12 * delta)
         if allowed is not None:
             penetrating &= allowed
-        if penetrating.any():
+        if np.count_nonzero(penetrating):
             active = active | penetrating
             continue
         return delta, e, active
@@ -441,7 +441,7 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
         gaps = np.interp(centres, s, h)
         curv = np.interp(centres, s, curvature)
         e = np.maximum(np.interp(centres, prior_centres, prior_e, left=0.0, right=0.0), 0.0)
-        if not (e > 0.0).any():
+        if not np.count_nonzero(e > 0.0):
             e[np.argmin(gaps)] = max(prior_e.max(), 1.0)
         known = prior_q > 0.0
         q = np.interp(centres, prior_centres[known], prior_q[known] / np.interp(prior_centres[known], s, curvature)) \
@@ -496,7 +496,7 @@ def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_l
     ``(delta, e, q, active, iterations)``."""
     widths = upper - lower
     count = centres.size
-    sub = np.flatnonzero(active)
+    sub = active.nonzero()[0]
     half = np.zeros(count)
     half[sub] = np.sqrt(e[sub] / q[sub])
     half = _spread(half)
@@ -508,12 +508,12 @@ def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_l
         U, C = geometry.matrices(half)
         before = active
         delta, e, active = _complementarity(U, gaps, widths, approach, normal_load, active, allowed)
-        sub = np.flatnonzero(active)
+        sub = active.nonzero()[0]
         if used > SETTLING:
             barred |= before & ~active
             allowed = ~barred
         q_sub = _solve(C[sub[:, None], sub], curv[sub])
-        if not (q_sub > 0.0).all():
+        if np.count_nonzero(q_sub > 0.0) < q_sub.size:
             raise _Failure("the strips' curvature condition gave a strip a negative pressure curvature")
         q = np.zeros(count)
         q[sub] = q_sub
@@ -533,7 +533,7 @@ def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_l
             dx = np.diff(xs, axis=0).T
             df = np.diff(fs, axis=0).T
             gamma = np.linalg.lstsq(df, fx, rcond=None)[0]
-            step = np.clip(fx - (dx + df) @ gamma, -1.0, 1.0)  # at most a factor e per iteration
+            step = np.minimum(np.maximum(fx - (dx + df) @ gamma, -1.0), 1.0)  # at most a factor e per iteration
             half = np.zeros(count)
             half[sub] = np.exp(x[sub] + step[sub])
             half = _spread(half)
@@ -552,7 +552,7 @@ def _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, 
     residual grows (the fixed point then goes on), or after :data:`POLISH_ITERATIONS` on one set of strips.
     ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables' t-derivatives
     (:class:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry`)."""
-    index = np.flatnonzero(active)
+    index = active.nonzero()[0]
     ea, qa = e[index].copy(), q[index].copy()
     geometry = geometry.subset(index)
     given_load = approach is None
@@ -601,23 +601,24 @@ def _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, 
             step = _solve(jacobian, -residual)
             de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
             emptied = ea + de <= 0.0
-            if emptied.any():
+            if np.count_nonzero(emptied):
                 if drops == POLISH_DROPS:
                     return None
                 ends = np.zeros(n, dtype=bool)
                 ends[[0, -1]] = True
-                ends[1:-1] = (np.diff(index)[1:] > 1) | (np.diff(index)[:-1] > 1)
-                if not np.all(ends[emptied]):
+                steps_apart = index[1:] - index[:-1]
+                ends[1:-1] = (steps_apart[1:] > 1) | (steps_apart[:-1] > 1)
+                if np.count_nonzero(ends[emptied]) < np.count_nonzero(emptied):
                     return None
                 # the contact ends before these edge strips: they leave, Newton restarts on the others
-                kept = np.flatnonzero(~emptied)
+                kept = (~emptied).nonzero()[0]
                 index, ea, qa = index[kept], ea[kept], qa[kept]
                 evaluated = tuple(m[kept[:, None], kept] for m in (U, C, dU, dC))
                 geometry = geometry.subset(kept)
                 total += used
                 restart = True
                 break
-            if np.any(qa + dq <= 0.0):
+            if np.count_nonzero(qa + dq <= 0.0):
                 return None
             ea, qa = ea + de, qa + dq
             if given_load:
@@ -639,7 +640,7 @@ def _spread(half):
     """The half-lengths of the strips in contact (``half > 0``), and for the others a third of those of the strips in
     contact interpolated by index (the nearest one's beyond the ends): the length a strip entering the contact starts
     with."""
-    inside = np.flatnonzero(half > 0.0)
+    inside = (half > 0.0).nonzero()[0]
     if inside.size == half.size:
         return half
     spread = np.interp(np.arange(half.size), inside, half[inside]) / 3.0

@@ -116,14 +116,14 @@ class Lobes:
         xi, eta, phi = creepages
         g, nu = material.youngs_modulus / (2.0 * (1.0 + material.poisson_ratio)), material.poisson_ratio
         estar = material.contact_modulus
-        self.index = np.flatnonzero(contact.contact)
+        self.index = contact.contact.nonzero()[0]
         self.s = contact.centres[self.index]
         self.w = contact.widths[self.index]
         self.half = contact.half_lengths[self.index]
         self.q = contact.peak_pressures[self.index] / self.half
         self.m = mu * self.q
         loads = 0.5 * math.pi * contact.peak_pressures[self.index] * self.half
-        starts = [0, *(np.flatnonzero(np.diff(self.index) > 1) + 1).tolist(), self.index.size]
+        starts = [0, *((self.index[1:] - self.index[:-1] > 1).nonzero()[0] + 1).tolist(), self.index.size]
         self.runs = [np.arange(a, b) for a, b in zip(starts[:-1], starts[1:], strict=True)]
         count = self.index.size
         names = ("modulus_x", "modulus_y", "modulus_phi", "factor", "centroid", "ratio", "march_ratio", "cross",
@@ -197,14 +197,15 @@ def stick_zones(X, Y, psi, half):
     ``psi Y < 0``), the stick edge's traction direction ``(X/d, psi + Y/d)``, whether the strip sticks and, past
     ``|psi| = 1``, the share of its stick traction kept (``(F - v)/(F - 1)``, F = :data:`STICK_FADE`); full slip
     along ``(X, Y)``."""
-    if not psi.any():  # without spin d = |(X, Y)| and the direction is (X, Y)'s, in the stick zone and in full slip
+    if not np.count_nonzero(psi):
+        # without spin d = |(X, Y)| and the direction is (X, Y)'s, in the stick zone and in full slip
         root = np.sqrt(Y * Y + X * X)
         partial = root < half
         slipping = root > 0.0
         with np.errstate(divide="ignore", invalid="ignore"):  # where there is no slip, replaced by 0
             kappa = np.where(slipping, X / root, 0.0)
             lam = np.where(slipping, Y / root, 0.0)
-        if not partial.all():  # full slip along (X, Y) / |(X, Y)| with |(X, Y)| as hypot
+        if np.count_nonzero(partial) < partial.size:  # full slip along (X, Y) / |(X, Y)| with |(X, Y)| as hypot
             norm = np.hypot(X, Y)
             with np.errstate(invalid="ignore"):
                 kappa = np.where(partial, kappa, np.where(slipping, X / norm, 0.0))
@@ -225,14 +226,14 @@ def stick_zones(X, Y, psi, half):
     kappa = np.where(edge, X / safe, 0.0)
     lam = np.where(edge, psi + Y / safe, 0.0)
     share = np.ones_like(X)
-    if (np.abs(psi) >= 1.0).any() and partial.any():
+    if np.count_nonzero(np.abs(psi) >= 1.0) and np.count_nonzero(partial):
         along = 1.0 - lam * psi
         rest = np.sqrt(np.where(partial, (half - d) / half, 0.0))
         with np.errstate(divide="ignore", invalid="ignore"):
             excess = np.where(room > 0.0, 0.0, np.where(along > 0.0, rest * (2.0 * along - room) / (2.0 * along),
                                                         np.inf))
         partial &= excess < STICK_FADE
-        share = np.clip((STICK_FADE - excess) / (STICK_FADE - 1.0), 0.0, 1.0)
+        share = np.minimum(np.maximum((STICK_FADE - excess) / (STICK_FADE - 1.0), 0.0), 1.0)
     norm = np.hypot(X, Y)
     slipping = norm > 0.0
     safe_norm = np.where(slipping, norm, 1.0)
@@ -259,7 +260,7 @@ def coulomb_forces(lobes: Lobes, steps: int, fields: bool):
     point (without spin), plus the march's departure with spin; the field on the cells with ``fields``."""
     stick = stick_zones(lobes.X, lobes.Y, lobes.psi, lobes.half)
     spin = lobes.phi != 0.0
-    if not spin and (lobes.cross != 0.0).any():
+    if not spin and np.count_nonzero(lobes.cross):
         for _ in range(CROSS_ITERATIONS):
             fy = lobes.lobe_forces(closed_form(lobes, stick)[1])
             lobes.couple(lobes.cross * fy)
@@ -310,13 +311,13 @@ def marched(lobes: Lobes, steps: int, stick, fields: bool):
         qx, qy = bound * kappa, bound * lam
     ux, uy = bound * kappa, bound * lam
     in_stick = partial & (x > 2.0 * d - half)
-    if partial.any():
+    if np.count_nonzero(partial):
         rest = half - d
         inner = np.sqrt(np.maximum(rest * rest - (x - d) ** 2, 0.0))
         m = lobes.m * scaling
         stick_x, stick_y = m * kappa * (full - inner), m * (lam * full - (lam - lobes.psi) * inner)
         ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
-        if (share < 1.0).any():
+        if np.count_nonzero(share < 1.0):
             within = np.minimum(1.0, bound / np.maximum(np.hypot(stick_x, stick_y), TINY))
             stick_x = np.where(share < 1.0, share * within * stick_x + (1.0 - share) * qx, stick_x)
             stick_y = np.where(share < 1.0, share * within * stick_y + (1.0 - share) * qy, stick_y)

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from rollcontact.core.checks import check_real
 from rollcontact.core.method import AccuracyModel
 from rollcontact.elliptic.methods.strips import POISSON_ERROR, SPIN_ONSET, STRIPS_ERROR, STRIPS_SPIN_ERROR
@@ -89,7 +91,7 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
         return PatchResult("strips", False, f"normal problem: {contact.message}", contact.normal_load,
                            contact.approach, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan, xi, eta, phi,
                            mu, math.nan, info={"normal_iterations": contact.iterations})
-    if not contact.contact.any():
+    if not np.count_nonzero(contact.contact):
         return PatchResult("strips", True, contact.message, 0.0, contact.approach, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, xi,
                            eta, phi, mu, 0.0, info={"error_estimate": 0.0})
     tangential_strips = int(check_real("tangential_strips", tangential_strips, lower=4))
