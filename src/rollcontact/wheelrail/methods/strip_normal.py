@@ -577,22 +577,15 @@ def _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, 
             residual = np.empty(size)
             residual[:n] = (U @ ea - (delta - targets)) / delta
             residual[n:2 * n] = C @ qa / curvatures - 1.0
-            jacobian = np.empty((size, size))
-            # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q); each block written in place
-            block = np.multiply(dU, 0.5, out=jacobian[:n, :n])
-            block += U
-            block *= e_scale / delta
-            np.multiply(dU, -0.5 * q_scale / delta * ea / qa, out=jacobian[:n, n:2 * n])
-            block = np.multiply(dC, 0.5 * e_scale * qa / ea, out=jacobian[n:2 * n, :n])
-            block /= curvatures[:, None]
-            block = np.multiply(dC, -0.5, out=jacobian[n:2 * n, n:2 * n])
-            block += C
-            block *= q_scale / curvatures[:, None]
+            jacobian = np.zeros((size, size))
+            # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
+            jacobian[:n, :n] = (U + 0.5 * dU) * (e_scale / delta)
+            jacobian[:n, n:2 * n] = dU * (-0.5 * q_scale / delta * ea / qa)
+            jacobian[n:2 * n, :n] = dC * (0.5 * e_scale * qa / ea) / curvatures[:, None]
+            jacobian[n:2 * n, n:2 * n] = (C - 0.5 * dC) * (q_scale / curvatures[:, None])
             if given_load:
                 jacobian[:n, 2 * n] = -1.0
-                jacobian[n:, 2 * n] = 0.0
                 jacobian[2 * n, :n] = 0.5 * math.pi * widths * e_scale / normal_load
-                jacobian[2 * n, n:] = 0.0
                 residual[2 * n] = 0.5 * math.pi * float(widths @ ea) / normal_load - 1.0
             norm = float(np.abs(residual).max())
             if norm > previous:
