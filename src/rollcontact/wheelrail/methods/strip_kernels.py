@@ -119,20 +119,12 @@ def _planes() -> np.ndarray:
     return planes
 
 
-@lru_cache(maxsize=1)
-def _plane_offsets(intervals: int) -> np.ndarray:
-    """Offsets of the eight planes of :func:`_planes` in its flat array, shaped ``(power, kernel, 1, 1, 1)``."""
-    offsets = (intervals * np.arange(8)).reshape(4, 2, 1, 1, 1)
-    offsets.flags.writeable = False
-    return offsets
-
-
 class StripGeometry:
     """Field points and source strips of fixed positions (one placement): the logarithms of their distances and
     their signs, so that each evaluation of :meth:`matrices` for new half-lengths only shifts the logarithms.
 
-    :meth:`matrices` reads all eight planes of :func:`_planes` with one gather (the interval's index plus each plane's
-    offset) and evaluates both kernels at both edges of every strip together in Horner's form.
+    :meth:`matrices` reads all eight planes of :func:`_planes` with one gather along the intervals and evaluates both
+    kernels at both edges of every strip together in Horner's form.
 
     Parameters
     ----------
@@ -155,7 +147,7 @@ class StripGeometry:
         self.offset = (self.log_distance - t0) * (1.0 / step)  # the table's index of a = 1 m
         self.inverse_step = 1.0 / step
         self.last = table.shape[1] - 2  # the last interval (extrapolated beyond)
-        self.plane_offsets = _plane_offsets(table.shape[1] - 1)
+        self.planes = _planes().reshape(8, table.shape[1] - 1)  # row kernel + 2 power
         self.scale = (1.0 / (math.pi * contact_modulus), -0.5 / (math.pi * contact_modulus))
         # (kernel, end, n, m): the sign of each end's distance, the lower end added and the upper subtracted, and the
         # kernel's scale (U's, C's)
@@ -186,7 +178,8 @@ class StripGeometry:
         u = np.empty((2, *raw.shape))
         np.subtract(raw, whole, out=u[0])
         u[1] = u[0]
-        q = np.take(_planes(), index + self.plane_offsets, mode="clip")  # (power, kernel, end, n, m), in range
+        # (power, kernel, end, n, m): the eight planes' rows at the intervals' indices (in range), in one gather
+        q = np.take(self.planes, index, axis=1, mode="clip").reshape(4, 2, *index.shape)
         value = q[3] * u
         value += q[2]
         value *= u
