@@ -160,8 +160,8 @@ class StripGeometry:
         part = object.__new__(StripGeometry)
         part.__dict__.update(self.__dict__)
         for name in ("sign", "log_distance", "offset"):
-            setattr(part, name, getattr(self, name)[:, kept[:, None], kept])
-        part.weights = self.weights[:, :, kept[:, None], kept]
+            setattr(part, name, getattr(self, name).take(kept, -2).take(kept, -1))
+        part.weights = self.weights.take(kept, -2).take(kept, -1)
         return part
 
     def matrices(self, half_lengths: np.ndarray, derivative: bool = False):

@@ -368,7 +368,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
             delta, e, active = _complementarity(matrix, gaps, widths, approach, normal_load, active)
             sub = active.nonzero()[0]
             q = np.zeros(index.size)
-            q[sub] = _solve(curving[sub[:, None], sub], curv[sub])
+            q[sub] = _solve(curving.take(sub, 0).take(sub, 1), curv[sub])
             positive = active & (q > 0.0)
             half = np.where(positive, np.sqrt(np.where(positive, e, 0.0) / np.where(positive, q, 1.0)), half)
         if approach is None and delta >= depth:  # the contact lies within h < delta: the range was too narrow
@@ -393,7 +393,7 @@ def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowe
         sides[:, 1] = gaps
     for _ in range(2 * count):
         sub = active.nonzero()[0]
-        block = matrix[sub[:, None], sub]
+        block = matrix.take(sub, 0).take(sub, 1)  # (cheaper than indexing with two arrays)
         if approach is not None:
             delta = approach
             e_sub = _solve(block, delta - gaps[sub])
@@ -512,7 +512,7 @@ def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_l
         if used > SETTLING:
             barred |= before & ~active
             allowed = ~barred
-        q_sub = _solve(C[sub[:, None], sub], curv[sub])
+        q_sub = _solve(C.take(sub, 0).take(sub, 1), curv[sub])
         if np.count_nonzero(q_sub > 0.0) < q_sub.size:
             raise _Failure("the strips' curvature condition gave a strip a negative pressure curvature")
         q = np.zeros(count)
@@ -606,7 +606,7 @@ def _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, 
                 # the contact ends before these edge strips: they leave, Newton restarts on the others
                 kept = (~emptied).nonzero()[0]
                 index, ea, qa = index[kept], ea[kept], qa[kept]
-                evaluated = tuple(m[kept[:, None], kept] for m in (U, C, dU, dC))
+                evaluated = tuple(m.take(kept, 0).take(kept, 1) for m in (U, C, dU, dC))
                 geometry = geometry.subset(kept)
                 total += used
                 restart = True
