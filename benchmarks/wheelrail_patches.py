@@ -21,8 +21,8 @@ Convergence. The discretised level's forces, Fn at a given approach and peak pre
 Newton. The strips' normal problem with Newton's early stop off (``NEWTON_CONTRACTION`` infinite): the largest
    ``c_{k+1} / c_k^2`` of its final steps (``c_k <= 1e-2``, the relative changes of e and q) on the quadratic gaps and
    the realistic patches, at the load and at the approach; ``NEWTON_CONTRACTION`` cites it.
-Time. Median time per patch of the strips' normal problem alone and of the strips (without and with spin), of the
-   default discretised level (normal and tangential), each timed in turn with its yardstick on one ellipse (the
+Time. Median CPU time per patch of the strips' normal problem alone and of the strips (without and with spin), of
+   the default discretised level (normal and tangential), each timed in turn with its yardstick on one ellipse (the
    elliptic strips; the elliptic discretised level's default, the Richardson pair 60/30; their docs state their times
    on an idle machine), each level's time as a multiple of its yardstick's, and per-wheel sums: a wheel of one patch
    (the tread) and of two (the tread and the flange).
@@ -383,18 +383,19 @@ def newton_section(patches, quick: bool) -> list[str]:
 
 
 def alternating_medians(functions, min_seconds: float, min_rounds: int) -> list[float]:
-    """Median wall time of one call of each function, timed in turn (one call of each per round, after one warm-up
-    call each) for at least ``min_rounds`` rounds and ``min_seconds``: a changing load of the machine falls on all
-    of them alike, so that their ratios hold where the absolute times do not."""
+    """Median CPU time of the calling thread (``time.thread_time``) of one call of each function, timed in turn (one
+    call of each per round, after one warm-up call each) for at least ``min_rounds`` rounds and ``min_seconds``.  On a
+    shared machine the wall time of a call longer than a time slice counts the other jobs' slices too, more the
+    longer the call, and a changing load falls on all the functions alike only when they are timed in turn."""
     for function in functions:
         function()
     samples = [[] for _ in functions]
     started = time.perf_counter()
     while len(samples[0]) < min_rounds or time.perf_counter() - started < min_seconds:
         for function, times in zip(functions, samples, strict=True):
-            t0 = time.perf_counter()
+            t0 = time.thread_time()
             function()
-            times.append(time.perf_counter() - t0)
+            times.append(time.thread_time() - t0)
     return [float(np.median(times)) for times in samples]
 
 
@@ -403,10 +404,10 @@ def time_section(patches, quick: bool) -> list[str]:
     ellipse = rc.EllipticScene.from_radii(1e5, wheel_rolling_radius=0.46, rail_profile_radius=0.3,
                                           longitudinal_creepage=1e-3, spin_creepage=0.5)
     lines = ["## Time", "",
-             "Medians of single calls, each level timed in turn with its yardstick on one ellipse with spin (the "
-             "elliptic strips for the strips, the elliptic discretised level's default Richardson pair 60/30 for the "
-             "discretised level) in the same rounds: \"x strips\" and \"x discretised\" are the ratios to them, "
-             "which hold under a changing load where the absolute times do not.", "",
+             "Medians of the CPU time of single calls, each level timed in turn with its yardstick on one ellipse with "
+             "spin (the elliptic strips for the strips, the elliptic discretised level's default Richardson pair "
+             "60/30 for the discretised level) in the same rounds: \"x strips\" and \"x discretised\" are the "
+             "ratios to them, which hold under a changing load where the absolute times do not.", "",
              "| patch | elliptic strips [us] | strips' normal [ms] | strips, no spin [ms] | strips, spin [ms] | "
              "x strips (normal, no spin, spin) | elliptic discretised [s] | discretised default, normal + tangential "
              "[s] | x discretised | elements in contact |",
