@@ -136,10 +136,13 @@ OUTSIDE_TABLE_ERROR = 0.05
 power law): the flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", whose largest error (Mz of
 combined creepage at two saturations) this keeps within its estimate."""
 
-STRIPS_PATCH_COST = 3e-3
-STRIPS_PATCH_COST_PER_CELL = 5e-6
+STRIPS_PATCH_COST = 1.1e-3
+STRIPS_PATCH_COST_PER_CELL = 4e-6
 """Modelled times [s] on an idle machine: the normal solution and the closed form, each cell of the march
-(``benchmarks/wheelrail_patches.py``, table "Time", as a multiple of the elliptic strips' time in the same run)."""
+(``benchmarks/wheelrail_patches.py``, table "Time": the strips' CPU time without spin, at most 6.0 times the elliptic
+strips' in the same rounds, and the march's share, spin against no spin, up to 0.4 times, each times the elliptic
+strips' modelled time with spin, :data:`rollcontact.elliptic.methods.strips.STRIPS_COST` and 20 cells of
+``STRIPS_COST_PER_CELL``, 1.7e-4 s; with a margin)."""
 
 
 class PatchStripsAccuracy(AccuracyModel):
