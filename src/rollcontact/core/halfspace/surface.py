@@ -256,4 +256,5 @@ def operator_for(grid: SurfaceGrid, nu: float) -> SurfaceOperator:
 
 @functools.lru_cache(maxsize=16)
 def _operator_for_shape(nx: int, ny: int, dx: float, dy: float, nu: float) -> SurfaceOperator:
+    """The operator of the grid of this shape at the origin (cached: :func:`operator_for` places it)."""
     return SurfaceOperator(SurfaceGrid(nx, ny, dx, dy, 0.0, 0.0), nu)
