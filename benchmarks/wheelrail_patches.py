@@ -18,9 +18,14 @@ Tangential. Per patch and creepage (:func:`creepage_set`, in units of the equiva
    sqrt(area/pi)), with each level's own estimate.  The accuracy models' constants cite this table.
 Convergence. The discretised level's forces, Fn at a given approach and peak pressure at element sizes halving
    down to the reference's, their changes and the observed order ``log2(change ratio)``.
-Time. Median time per patch of the strips (without and with spin), of the default discretised level (normal and
-   tangential), and of the elliptic strips on one ellipse as this machine's yardstick (its docs state its time on an
-   idle machine).
+Newton. The strips' normal problem with Newton's early stop off (``NEWTON_CONTRACTION`` infinite): the largest
+   ``c_{k+1} / c_k^2`` of its final steps (``c_k <= 1e-2``, the relative changes of e and q) on the quadratic gaps and
+   the realistic patches, at the load and at the approach; ``NEWTON_CONTRACTION`` cites it.
+Time. Median CPU time per patch of the strips' normal problem alone and of the strips (without and with spin), of
+   the default discretised level (normal and tangential), each timed in turn with its yardstick on one ellipse (the
+   elliptic strips; the elliptic discretised level's default, the Richardson pair 60/30; their docs state their times
+   on an idle machine), each level's time as a multiple of its yardstick's, and per-wheel sums: a wheel of one patch
+   (the tread) and of two (the tread and the flange).
 
 The reference is the discretised level's Richardson pair ``2 F(h) - F(2h)`` at an element of at most a 25th of the
 patch's width (normal quantities: the finer grid's).  The profiles are read by a throwaway SIMPACK reader and
@@ -43,6 +48,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 import rollcontact as rc
+import rollcontact.wheelrail.methods.strip_normal as strip_normal_module
 from rollcontact.core.halfspace.rolling import ellipse_grid
 from rollcontact.elliptic.methods.discretised import solve_discretised_3d
 from rollcontact.elliptic.methods.strips import solve_strips as elliptic_strips
@@ -336,25 +342,101 @@ def convergence_section(patches, quick: bool) -> list[str]:
     return lines + [""]
 
 
+def newton_section(patches, quick: bool) -> list[str]:
+    lines = ["## Newton: the strips' normal problem", "",
+             "Newton's early stop off; the largest ``c_{k+1} / c_k^2`` over its final steps (``c_k <= 1e-2``) and its "
+             "iterations, then with the early stop (``NEWTON_CONTRACTION``) the iterations and the largest relative "
+             "change of Fn (at the approach), of the approach (at the load) and of the peak pressure.", "",
+             "| patch | largest c_{k+1}/c_k^2 | Newton iterations | with the early stop | largest change |",
+             "|---|---|---|---|---|"]
+    cases = []
+    for ratio in ((0.2, 1.0, 5.0) if quick else (0.2, 0.5, 1.0, 2.0, 5.0)):
+        a, b = 6e-3 * ratio**0.5, 6e-3 / ratio**0.5
+        ellipse = rc.EllipticScene.from_semi_axes(1e5, a, b, material=MATERIAL, friction=MU)
+        s = np.linspace(-3 * b, 3 * b, 4001)
+        gap = PatchGap(s, ellipse.lateral_curvature * s * s, np.full(s.size, ellipse.longitudinal_curvature))
+        cases.append((f"quadratic a/b {ratio:g}", gap, 1e5))
+    cases += [(patch["name"], patch["scene"].gap, patch["scene"].normal_load) for patch in patches]
+    worst = 0.0
+    for name, gap, load in cases:
+        stopped = [strip_normal(gap, MATERIAL.contact_modulus, normal_load=load)]
+        stopped.append(strip_normal(gap, MATERIAL.contact_modulus, approach=stopped[0].approach))
+        saved = strip_normal_module.NEWTON_CONTRACTION
+        strip_normal_module.NEWTON_CONTRACTION = math.inf
+        try:
+            full = [strip_normal(gap, MATERIAL.contact_modulus, normal_load=load),
+                    strip_normal(gap, MATERIAL.contact_modulus, approach=stopped[0].approach)]
+        finally:
+            strip_normal_module.NEWTON_CONTRACTION = saved
+        ratios = [b / a**2 for contact in full
+                  for a, b in zip(contact.newton_steps[:-1], contact.newton_steps[1:], strict=True) if 0.0 < a <= 1e-2]
+        largest = max(ratios, default=0.0)
+        worst = max(worst, largest)
+        change = max(abs(stopped[1].normal_load / full[1].normal_load - 1),
+                     abs(stopped[0].approach / full[0].approach - 1),
+                     *(abs(x.max_pressure / y.max_pressure - 1) for x, y in zip(stopped, full, strict=True)))
+        lines.append(f"| {name} | {largest:.2f} | {len(full[0].newton_steps)}, {len(full[1].newton_steps)} | "
+                     f"{len(stopped[0].newton_steps)}, {len(stopped[1].newton_steps)} | {change:.1e} |")
+    bound = strip_normal_module.NEWTON_CONTRACTION
+    lines += ["", f"Largest ratio {worst:.2f}; ``NEWTON_CONTRACTION`` = {bound:g}.", ""]
+    return lines
+
+
+def alternating_medians(functions, min_seconds: float, min_rounds: int) -> list[float]:
+    """Median CPU time of the calling thread (``time.thread_time``) of one call of each function, timed in turn (one
+    call of each per round, after one warm-up call each) for at least ``min_rounds`` rounds and ``min_seconds``.  On a
+    shared machine the wall time of a call longer than a time slice counts the other jobs' slices too, more the
+    longer the call, and a changing load falls on all the functions alike only when they are timed in turn."""
+    for function in functions:
+        function()
+    samples = [[] for _ in functions]
+    started = time.perf_counter()
+    while len(samples[0]) < min_rounds or time.perf_counter() - started < min_seconds:
+        for function, times in zip(functions, samples, strict=True):
+            t0 = time.thread_time()
+            function()
+            times.append(time.thread_time() - t0)
+    return [float(np.median(times)) for times in samples]
+
+
 def time_section(patches, quick: bool) -> list[str]:
-    seconds = 0.05 if quick else 0.3
+    seconds = 0.05 if quick else 1.0
     ellipse = rc.EllipticScene.from_radii(1e5, wheel_rolling_radius=0.46, rail_profile_radius=0.3,
                                           longitudinal_creepage=1e-3, spin_creepage=0.5)
-    yardstick = common.median_time(lambda: elliptic_strips(ellipse), min_seconds=seconds)
-    lines = ["## Time", "", f"The elliptic strips with spin on one ellipse, this run: {yardstick * 1e6:.0f} us.", "",
-             "| patch | strips, no spin [ms] | strips, spin [ms] | strips / elliptic strips | "
-             "discretised default, normal + tangential [s] | elements in contact |", "|---|---|---|---|---|---|"]
+    lines = ["## Time", "",
+             "Medians of the CPU time of single calls, each level timed in turn with its yardstick on one ellipse with "
+             "spin (the elliptic strips for the strips, the elliptic discretised level's default Richardson pair "
+             "60/30 for the discretised level) in the same rounds: \"x strips\" and \"x discretised\" are the "
+             "ratios to them, which hold under a changing load where the absolute times do not.", "",
+             "| patch | elliptic strips [us] | strips' normal [ms] | strips, no spin [ms] | strips, spin [ms] | "
+             "x strips (normal, no spin, spin) | elliptic discretised [s] | discretised default, normal + tangential "
+             "[s] | x discretised | elements in contact |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    times = {}
     for patch in patches:
         scene = patch["scene"]
         _, creepages = creepage_set(scene, False)[0]
         no_spin = scene.replace(longitudinal_creepage=creepages[0], lateral_creepage=creepages[0])
         spin = no_spin.replace(spin_creepage=0.5)
-        fast = common.median_time(lambda s=no_spin: solve_strips(s), min_seconds=seconds)
-        fast_spin = common.median_time(lambda s=spin: solve_strips(s), min_seconds=seconds)
-        slow = common.median_time(lambda s=spin: solve_discretised(s), min_repeats=3, min_seconds=seconds)
+        yardstick, normal, fast, fast_spin = alternating_medians(
+            [lambda: elliptic_strips(ellipse), lambda s=no_spin: normal_contact(s), lambda s=no_spin: solve_strips(s),
+             lambda s=spin: solve_strips(s)], seconds, 20)
+        slow_yardstick, slow = alternating_medians(
+            [lambda: solve_discretised_3d(ellipse), lambda s=spin: solve_discretised(s)], seconds, 2 if quick else 5)
+        times[patch["name"]] = (fast_spin / yardstick, slow / slow_yardstick, fast_spin, slow)
         elements = solve_discretised(spin).info["contact_elements"]
-        lines.append(f"| {patch['name']} | {fast * 1e3:.2f} | {fast_spin * 1e3:.2f} | {fast_spin / yardstick:.1f} | "
-                     f"{slow:.3f} | {elements} |")
+        lines.append(f"| {patch['name']} | {yardstick * 1e6:.0f} | {normal * 1e3:.2f} | {fast * 1e3:.2f} | "
+                     f"{fast_spin * 1e3:.2f} | {normal / yardstick:.1f}, {fast / yardstick:.1f}, "
+                     f"{fast_spin / yardstick:.1f} | {slow_yardstick:.3f} | {slow:.3f} | {slow / slow_yardstick:.2f} | "
+                     f"{elements} |")
+    tread, flange = PATCHES[0][0], PATCHES[-1][0]
+    if tread in times and flange in times:
+        one, two = times[tread], tuple(a + b for a, b in zip(times[tread], times[flange], strict=True))
+        lines += ["", "Per wheel (with spin), the sum of its patches' ratios and times:", "",
+                  "| wheel | x strips | strips [ms] | x discretised | discretised default [s] |",
+                  "|---|---|---|---|---|",
+                  f"| one patch (tread) | {one[0]:.1f} | {one[2] * 1e3:.2f} | {one[1]:.2f} | {one[3]:.3f} |",
+                  f"| two patches (tread, flange) | {two[0]:.1f} | {two[2] * 1e3:.2f} | {two[1]:.2f} | {two[3]:.3f} |"]
     return lines + [""]
 
 
@@ -414,6 +496,7 @@ def main():
     lines += normal_section(patches, args.quick)
     lines += tangential_section(patches, args.quick)
     lines += convergence_section(patches, args.quick)
+    lines += newton_section(patches, args.quick)
     lines += time_section(patches, args.quick)
     lines.append(f"Study time {time.perf_counter() - started:.0f} s.")
     common.publish(lines, "wheelrail_patches.md", args.quick)

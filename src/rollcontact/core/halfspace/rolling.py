@@ -400,7 +400,9 @@ def _newton(problem: _Problem, qx, qy, tolerance: float, max_iterations: int, ca
                         f"iterations: residual {norm:.2e} of max mu p (tolerance {tolerance:.1e})", norm)
         jac = problem.jacobian(st)
         rhs = -problem.pack(st["fx"], st["fy"])
-        forcing = min(0.1, max(0.1 * tolerance, norm))  # inexact Newton: the linear solve only as tight as needed
+        # inexact Newton: the linear solve only as tight as needed, and in the last steps no tighter than the
+        # tolerance asks (the step's linear error is about forcing times the residual)
+        forcing = min(0.1, max(0.1 * tolerance, norm, 0.5 * tolerance / norm))
         restart = int(min(GMRES_RESTART, left))
         step, _ = gmres(jac, rhs, rtol=forcing, atol=0.0, restart=restart,
                         maxiter=int(max(1, min(GMRES_CYCLES, left // restart))),

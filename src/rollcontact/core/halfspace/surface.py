@@ -28,6 +28,7 @@ centres shifted one element upwind are exact, so the operator is itself a convol
 
 from __future__ import annotations
 
+import copy
 import functools
 import math
 from dataclasses import dataclass
@@ -146,6 +147,30 @@ def influence_coefficients(offset_x, offset_y, dx: float, dy: float, nu: float, 
     }
 
 
+def lattice_coefficients(low_x: int, count_x: int, low_y: int, count_y: int, dx: float, dy: float, nu: float,
+                         shear_modulus: float = 1.0) -> dict[str, np.ndarray]:
+    """:func:`influence_coefficients` at the offsets ``(i dx, j dy)`` of a block of elements, ``i = low_x .. low_x +
+    count_x - 1`` and ``j = low_y .. low_y + count_y - 1`` (arrays ``(count_x, count_y)``): the corner
+    antiderivatives (:func:`rectangle_integrals`) evaluated once on the lattice of the elements' corners, each
+    element's integral the signed sum of its four corners' values, instead of four evaluations per element."""
+    s = (low_x - 0.5 + np.arange(count_x + 1)) * dx
+    t = (low_y - 0.5 + np.arange(count_y + 1)) * dy
+    s, t = np.meshgrid(s, t, indexing="ij")
+    r = np.hypot(s, t)
+    t_ls = _t_log_s_plus_r(s, t, r)
+    s_lt = _t_log_s_plus_r(t, s, r)
+    ints = {}
+    for key, corner in (("r", s_lt + t_ls), ("ss", t_ls), ("tt", s_lt), ("st", -r)):
+        ints[key] = ((corner[1:, 1:] - corner[:-1, 1:]) - corner[1:, :-1]) + corner[:-1, :-1]
+    scale = 1.0 / (math.pi * shear_modulus)
+    return {
+        "zz": scale * (1.0 - nu) * ints["r"],
+        "xx": scale * ((1.0 - nu) * ints["r"] + nu * ints["ss"]),
+        "yy": scale * ((1.0 - nu) * ints["r"] + nu * ints["tt"]),
+        "xy": scale * nu * ints["st"],
+    }
+
+
 class SurfaceOperator:
     """FFT convolutions with the influence coefficients of one grid and one nu, for G = 1 Pa.
 
@@ -169,13 +194,17 @@ class SurfaceOperator:
         # offsets m = i - j of field minus source in units of the element; the padded index m mod L (L >= 2n) holds m
         # for -n < m <= n (the rolling operator needs m = n, the displacements only |m| < n)
         mx = np.arange(self.shape[0])
-        mx = np.where(mx <= nx, mx, mx - self.shape[0]).astype(float)
+        mx = np.where(mx <= nx, mx, mx - self.shape[0])
         my = np.arange(self.shape[1])
-        my = np.where(my <= ny, my, my - self.shape[1]).astype(float)
-        ox, oy = np.meshgrid(mx * grid.dx, my * grid.dy, indexing="ij")
-        here = influence_coefficients(ox, oy, grid.dx, grid.dy, nu)
-        # the rolling operator's upwind coefficients: the field point one element further in +x (index m + 1)
-        upwind = influence_coefficients(ox + grid.dx, oy, grid.dx, grid.dy, nu)
+        my = np.where(my <= ny, my, my - self.shape[1])
+        # every offset and the rolling operator's upwind ones (the field point one element further in +x, m + 1) from
+        # one table over the offsets they span
+        low_x, low_y = int(mx.min()), int(my.min())
+        table = lattice_coefficients(low_x, int(mx.max()) + 2 - low_x, low_y, int(my.max()) + 1 - low_y, grid.dx,
+                                     grid.dy, nu)
+        rows, columns = (mx - low_x)[:, None], (my - low_y)[None, :]
+        here = {key: value[rows, columns] for key, value in table.items()}
+        upwind = {key: value[rows + 1, columns] for key, value in table.items()}
         self.spectra = {key: sfft.rfft2(here[key]) for key in ("zz", "xx", "yy", "xy")}
         for key in ("xx", "yy", "xy"):
             self.spectra["r" + key] = sfft.rfft2((here[key] - upwind[key]) / grid.dx)
@@ -213,7 +242,19 @@ class SurfaceOperator:
         return self.tangential(qx, qy, prefix="r")
 
 
-@functools.lru_cache(maxsize=16)
 def operator_for(grid: SurfaceGrid, nu: float) -> SurfaceOperator:
-    """Cached :class:`SurfaceOperator`: a creep curve on one grid transforms the coefficients once."""
-    return SurfaceOperator(grid, nu)
+    """Cached :class:`SurfaceOperator`: a creep curve on one grid transforms the coefficients once.  The coefficients
+    depend on the grid's element counts and sizes and on nu, not on its origin: grids that differ only in where they
+    lie share them (the operator returned carries the grid asked for), as the moving patches of a wheel do."""
+    shared = _operator_for_shape(grid.nx, grid.ny, grid.dx, grid.dy, nu)
+    if shared.grid == grid:
+        return shared
+    placed = copy.copy(shared)
+    placed.grid = grid
+    return placed
+
+
+@functools.lru_cache(maxsize=16)
+def _operator_for_shape(nx: int, ny: int, dx: float, dy: float, nu: float) -> SurfaceOperator:
+    """The operator of the grid of this shape at the origin (cached: :func:`operator_for` places it)."""
+    return SurfaceOperator(SurfaceGrid(nx, ny, dx, dy, 0.0, 0.0), nu)

@@ -10,7 +10,8 @@ normal problem is Polonsky & Keer's constrained conjugate gradients on ``g(x, s)
 :func:`rollcontact.core.halfspace.rolling.solve_steady` (Kalker's exact steady rolling, any friction law) on the grid
 trimmed to the elements in contact (exact: the tractions vanish outside), on the rigid slip
 ``w = (xi - phi s, eta + phi x)`` about the rigid contact point; Mz is taken about it.  The influence coefficients
-are cached per grid and nu (:func:`rollcontact.core.halfspace.surface.operator_for`).
+are cached per grid shape and nu (:func:`rollcontact.core.halfspace.surface.operator_for`: grids that differ only in
+their origin, as a patch's do from call to call, share them).
 
 Forces converge at first order in the element size (docs/physics.md, "Discretised 3D steady rolling");
 ``extrapolate=True`` returns the Richardson pair ``2 F(h) - F(2 h)``.

@@ -106,17 +106,25 @@ def integrated(rho: np.ndarray, derivative: bool = False):
 
 
 @lru_cache(maxsize=1)
-def _packed() -> np.ndarray:
-    """The tables by interval: row i holds ``Jc, Mc, step dJc/dt, step dMc/dt`` at nodes i and i + 1 (read-only)."""
+def _planes() -> np.ndarray:
+    """The tables' cubic Hermite interpolants as polynomials in the fraction u of each interval: the flat array of
+    the planes ``(power k, kernel, interval)``, k = 0..3, kernel Jc then Mc, so that the coefficient of ``u^k`` of
+    kernel ``c`` on interval ``i`` is at ``i + intervals (c + 2 k)`` (read-only).  ``f0 + u d0 + u^2 (3 r - 2 d0 -
+    d1) + u^3 (d0 + d1 - 2 r)``, ``r = f1 - f0``, ``d`` the nodes' ``step df/dt``."""
     _, _, table = tables()
-    packed = np.concatenate([table[:, :-1].T, table[:, 1:].T], axis=1)
-    packed.flags.writeable = False
-    return packed
+    f0, f1, d0, d1 = table[:2, :-1], table[:2, 1:], table[2:, :-1], table[2:, 1:]
+    rise = f1 - f0
+    planes = np.stack([f0, d0, 3.0 * rise - 2.0 * d0 - d1, d0 + d1 - 2.0 * rise]).ravel()
+    planes.flags.writeable = False
+    return planes
 
 
 class StripGeometry:
     """Field points and source strips of fixed positions (one placement): the logarithms of their distances and
     their signs, so that each evaluation of :meth:`matrices` for new half-lengths only shifts the logarithms.
+
+    :meth:`matrices` reads all eight planes of :func:`_planes` with one gather along the intervals and evaluates both
+    kernels at both edges of every strip together in Horner's form.
 
     Parameters
     ----------
@@ -129,48 +137,77 @@ class StripGeometry:
     """
 
     def __init__(self, centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, contact_modulus: float):
-        distances = np.stack([centres[:, None] - lower[None, :], centres[:, None] - upper[None, :]])
+        distances = np.empty((2, centres.size, lower.size))
+        np.subtract(centres[:, None], lower, out=distances[0])
+        np.subtract(centres[:, None], upper, out=distances[1])
         self.sign = np.sign(distances)
         with np.errstate(divide="ignore"):
             self.log_distance = np.log(np.abs(distances))
-        t0, step, _ = tables()
+        t0, step, table = tables()
         self.offset = (self.log_distance - t0) * (1.0 / step)  # the table's index of a = 1 m
         self.inverse_step = 1.0 / step
+        self.last = table.shape[1] - 2  # the last interval (extrapolated beyond)
+        self.planes = _planes().reshape(8, table.shape[1] - 1)  # row kernel + 2 power
         self.scale = (1.0 / (math.pi * contact_modulus), -0.5 / (math.pi * contact_modulus))
+        # (kernel, end, n, m): the sign of each end's distance, the lower end added and the upper subtracted, and the
+        # kernel's scale (U's, C's)
+        self.weights = self.sign * np.array([[[[self.scale[0]]], [[-self.scale[0]]]],
+                                             [[[self.scale[1]]], [[-self.scale[1]]]]])
+
+    def subset(self, kept: np.ndarray) -> StripGeometry:
+        """The geometry of the field points and sources ``kept`` (indices; square geometries, field point i the
+        centre of source i): the same numbers, so its matrices are the blocks of this one's."""
+        part = object.__new__(StripGeometry)
+        part.__dict__.update(self.__dict__)
+        for name in ("sign", "log_distance", "offset"):
+            setattr(part, name, getattr(self, name).take(kept, -2).take(kept, -1))
+        part.weights = self.weights.take(kept, -2).take(kept, -1)
+        return part
 
     def matrices(self, half_lengths: np.ndarray, derivative: bool = False):
         """``(U, C)`` (:func:`strip_matrices`) at the sources' ``half_lengths`` [m], with ``derivative`` also
         ``(dU, dC)``."""
-        packed = _packed()
         raw = self.offset - np.log(half_lengths) * self.inverse_step
-        f = np.maximum(raw, 0.0)
-        i = np.minimum(f.astype(np.intp), packed.shape[0] - 1)
-        u = (f - i)[..., None]
-        rows = packed[i]  # (2, n, m, 8)
-        lo, d0, hi, d1 = rows[..., 0:2], rows[..., 2:4], rows[..., 4:6], rows[..., 6:8]
-        rise = hi - lo
-        v = 1.0 - u
-        a0 = d0 - rise
-        a1 = d1 - rise
-        value = lo + u * (rise + v * (v * a0 - u * a1))  # (2 ends, n, m, 2 kernels)
+        whole = np.floor(raw)
+        index = whole.astype(np.intp)
+        below = np.count_nonzero(raw < 0.0)  # (counts: cheaper than numpy's reductions at these sizes)
+        if below or np.count_nonzero(raw >= self.last + 1):
+            index = np.minimum(np.maximum(index, 0), self.last)
+            whole = index.astype(float)
+        # the fraction, once per kernel: in-place products with an operand broadcast over an axis are slow in numpy
+        u = np.empty((2, *raw.shape))
+        np.subtract(raw, whole, out=u[0])
+        u[1] = u[0]
+        # (power, kernel, end, n, m): the eight planes' rows at the intervals' indices (in range), in one gather
+        q = np.take(self.planes, index, axis=1, mode="clip").reshape(4, 2, *index.shape)
+        value = q[3] * u
+        value += q[2]
+        value *= u
+        value += q[1]
+        value *= u
+        value += q[0]
         if derivative:
-            slope = (rise + a0 * v * (1.0 - 3.0 * u) + a1 * u * (3.0 * u - 2.0)) * self.inverse_step
-        below = raw < 0.0
-        if below.any():  # Jc = 2 rho ln(4/rho) = -Mc below the table, t-derivatives 2 rho (ln(4/rho) - 1)
+            slope = q[3] * (3.0 * u)
+            slope += 2.0 * q[2]
+            slope *= u
+            slope += q[1]
+            slope *= -self.inverse_step  # a d/da = -d/dt
+        if below:  # Jc = 2 rho ln(4/rho) = -Mc below the table, t-derivatives 2 rho (ln(4/rho) - 1)
+            below = raw < 0.0
             r = np.where(below, np.exp(self.log_distance) / half_lengths, 1.0)
             with np.errstate(divide="ignore", invalid="ignore"):
-                near = np.where(r > 0.0, 2.0 * r * np.log(4.0 / r), 0.0)[..., None] * np.array([1.0, -1.0])
-                value = np.where(below[..., None], near, value)
+                near = np.where(r > 0.0, 2.0 * r * np.log(4.0 / r), 0.0)
+                value = np.where(below, np.stack([near, -near]), value)
                 if derivative:
-                    rate = np.where(r > 0.0, 2.0 * r * (np.log(4.0 / r) - 1.0), 0.0)[..., None] * np.array([1.0, -1.0])
-                    slope = np.where(below[..., None], rate, slope)
-        sign_lo, sign_hi = self.sign[0][..., None], self.sign[1][..., None]
-        influence = sign_lo * value[0] - sign_hi * value[1]
-        U, C = influence[..., 0] * self.scale[0], influence[..., 1] * self.scale[1]
+                    rate = np.where(r > 0.0, 2.0 * r * (np.log(4.0 / r) - 1.0), 0.0)
+                    slope = np.where(below, np.stack([-rate, rate]), slope)
+        value *= self.weights
+        U, C = value[:, 0] + value[:, 1]
         if not derivative:
             return U, C
-        change = sign_hi * slope[1] - sign_lo * slope[0]
-        return U, C, change[..., 0] * self.scale[0], change[..., 1] * self.scale[1]
+        slope *= self.weights
+        dU, dC = slope[:, 0] + slope[:, 1]
+        return U, C, dU, dC
 
 
 def strip_matrices(centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, half_lengths: np.ndarray,

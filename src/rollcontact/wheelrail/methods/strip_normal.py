@@ -36,6 +36,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg.lapack import dgesv
 
 from rollcontact.elliptic.hertz import hertz_ellipse
 from rollcontact.wheelrail.methods.strip_kernels import StripGeometry
@@ -72,6 +73,12 @@ FIXED_POINT_ITERATIONS = 60
 
 POLISH_ITERATIONS = 6
 """Cap of the Newton iterations that finish a placement's fixed point."""
+
+NEWTON_CONTRACTION = 100.0
+"""Bound K of Newton's quadratic convergence, ``c_{k+1} <= K c_k^2`` for the relative changes c of its steps near the
+solution: Newton stops once ``K c^2`` is within :data:`FIXED_POINT_TOLERANCE` (its next step would be), a step
+before the step itself is.  The largest ratio over the final steps of the patches of
+``benchmarks/wheelrail_patches.py``, table "Newton", is a margin below it."""
 
 ANDERSON = 3
 """Earlier iterates Anderson's mixing takes."""
@@ -118,6 +125,8 @@ class StripContact:
     message : str
     iterations : int
         Fixed-point and Newton iterations over the placements.
+    newton_steps : tuple of float
+        The relative changes of Newton's steps on the placement kept (:func:`_polish`), in order.
     """
 
     centres: np.ndarray
@@ -132,6 +141,7 @@ class StripContact:
     converged: bool
     message: str
     iterations: int
+    newton_steps: tuple = ()
 
     @property
     def contact(self) -> np.ndarray:
@@ -196,7 +206,7 @@ def contact_edges(centres, lower, upper, loads, reach: float = 0.0) -> tuple[flo
     of the two centres or ``reach`` [m], the larger.  Where the outermost strip carries more than its inner
     neighbour the contact is cut there: the edge is ``reach`` beyond it (with ``reach`` > 0), else the strip's own
     edge, as for a strip without an inner neighbour in contact."""
-    active = np.flatnonzero(loads > 0.0)
+    active = (loads > 0.0).nonzero()[0]
     if active.size == 0:
         return 0.0, 0.0
     first, last = active[0], active[-1]
@@ -221,7 +231,7 @@ def rigid_range(s, h, depth) -> tuple[float, float] | None:
     """``[lo, hi]`` [m], the hull of ``h(s) < depth`` with its ends interpolated between samples; None if empty or
     if it reaches an end of the samples (the contact may extend beyond the gap's sampling)."""
     inside = h < depth
-    if not inside.any() or inside[0] or inside[-1]:
+    if not np.count_nonzero(inside) or inside[0] or inside[-1]:
         return None
     first = int(np.argmax(inside))
     last = h.size - 1 - int(np.argmax(inside[::-1]))
@@ -249,6 +259,15 @@ def uniform_strips(lo: float, hi: float, count: int) -> tuple[np.ndarray, np.nda
 
 class _Failure(Exception):
     """A pass that cannot go on: the message says why."""
+
+
+def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """``matrix^-1 rhs`` by LAPACK's ``gesv`` (numpy.linalg's checks and wrappers cost more than the solve at these
+    sizes); a singular matrix is a :class:`_Failure`."""
+    _, _, x, info = dgesv(matrix, rhs)
+    if info != 0:
+        raise _Failure("the strips' influence matrix is singular")
+    return x
 
 
 def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | None = None,
@@ -284,7 +303,7 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
         approach = float(approach)
         if not (math.isfinite(approach) and approach >= 0.0):
             raise ValueError(f"approach = {approach!r} m must be finite and >= 0")
-        if approach == 0.0 or not (h < approach).any():
+        if approach == 0.0 or not np.count_nonzero(h < approach):
             return _empty(approach, "no interpenetration: no contact")
     else:
         normal_load = float(normal_load)
@@ -327,7 +346,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
     for _ in range(LOAD_GUESSES):
         bounds = rigid_range(s, h, depth)
         if bounds is None:
-            if approach is None and (h < depth).any():
+            if approach is None and np.count_nonzero(h < depth):
                 depth *= 0.7  # a guess too deep for the sampling: shallower first
                 continue
             raise _Failure(f"the rigid interpenetration {depth:.4g} m reaches an end of the patch gap's sampling "
@@ -335,21 +354,21 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         centres, lower, upper = uniform_strips(*bounds, FIRST_STRIPS)
         gaps = np.interp(centres, s, h)
         curv = np.interp(centres, s, curvature)
-        index = np.flatnonzero(gaps < depth)
+        index = (gaps < depth).nonzero()[0]
         if index.size == 0:
             raise _Failure("the rigid interpenetration falls between the strips")
         gaps, curv, centres, lower, upper = gaps[index], curv[index], centres[index], lower[index], upper[index]
         half = np.sqrt((depth - gaps) / (2.0 * curv))
         widths = upper - lower
-        active = np.ones(index.size, dtype=bool)
+        active = depth - gaps > 0.5 * (depth - gaps.min())  # the circle's share of the rigid interpenetration
         q = np.zeros(index.size)
         geometry = StripGeometry(centres, lower, upper, estar)
         for _ in range(FIRST_ROUNDS):
             matrix, curving = geometry.matrices(half)
             delta, e, active = _complementarity(matrix, gaps, widths, approach, normal_load, active)
-            sub = np.flatnonzero(active)
+            sub = active.nonzero()[0]
             q = np.zeros(index.size)
-            q[sub] = np.linalg.solve(curving[np.ix_(sub, sub)], curv[sub])
+            q[sub] = _solve(curving.take(sub, 0).take(sub, 1), curv[sub])
             positive = active & (q > 0.0)
             half = np.where(positive, np.sqrt(np.where(positive, e, 0.0) / np.where(positive, q, 1.0)), half)
         if approach is None and delta >= depth:  # the contact lies within h < delta: the range was too narrow
@@ -357,7 +376,7 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
             continue
         e = np.where(active, e, 0.0)
         q = np.where(active & (q > 0.0), q, 0.0)
-        if not (q > 0.0).any():
+        if not np.count_nonzero(q > 0.0):
             raise _Failure("the first pass found no strip of positive curvature ratio")
         low, high = contact_edges(centres, lower, upper, e)
         margin = FIRST_MARGIN * float(widths[0])  # the edges are known to a fraction of a strip of this pass
@@ -369,29 +388,34 @@ def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowe
     """The linear complementarity of (I) with fixed half-lengths by active sets, from ``active``, only the strips
     ``allowed`` entering: returns the approach (given, or from the load), e and the strips in contact."""
     count = gaps.size
+    if approach is None:
+        sides = np.ones((count, 2))  # the load's two right-hand sides: delta's coefficient and the gaps
+        sides[:, 1] = gaps
     for _ in range(2 * count):
-        sub = np.flatnonzero(active)
-        block = matrix[np.ix_(sub, sub)]
+        sub = active.nonzero()[0]
+        block = matrix.take(sub, 0).take(sub, 1)  # (cheaper than indexing with two arrays)
         if approach is not None:
             delta = approach
-            e_sub = np.linalg.solve(block, delta - gaps[sub])
+            e_sub = _solve(block, delta - gaps[sub])
         else:
-            both = np.linalg.solve(block, np.stack([np.ones(sub.size), gaps[sub]], axis=1))
-            delta = (normal_load / (0.5 * math.pi) + widths[sub] @ both[:, 1]) / (widths[sub] @ both[:, 0])
+            both = _solve(block, sides[sub])
+            unit, offset = widths[sub] @ both
+            delta = (normal_load / (0.5 * math.pi) + offset) / unit
             e_sub = delta * both[:, 0] - both[:, 1]
         e = np.zeros(count)
         e[sub] = e_sub
-        negative = active & (e < 0.0)
-        if negative.any():
-            active = active & ~negative
-            if not active.any():
+        negative = e_sub < 0.0
+        if np.count_nonzero(negative):
+            active = active.copy()
+            active[sub[negative]] = False
+            if not np.count_nonzero(active):
                 raise _Failure("the first pass lost every strip")
             continue
         shortfall = (delta - gaps) - matrix @ e
         penetrating = ~active & (shortfall > 1e-12 * delta)
         if allowed is not None:
             penetrating &= allowed
-        if penetrating.any():
+        if np.count_nonzero(penetrating):
             active = active | penetrating
             continue
         return delta, e, active
@@ -402,6 +426,7 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
     """Cosine-spaced strips over the extent, the fixed point on (I) and (II), placed again while the contact is cut at
     an end of them or leaves too much of them free (module docstring)."""
     iterations = 0
+    newton_steps: tuple = ()
     prior_centres, prior_e, prior_q = start
     message = "converged"
     converged = False
@@ -416,14 +441,15 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
         gaps = np.interp(centres, s, h)
         curv = np.interp(centres, s, curvature)
         e = np.maximum(np.interp(centres, prior_centres, prior_e, left=0.0, right=0.0), 0.0)
-        if not (e > 0.0).any():
+        if not np.count_nonzero(e > 0.0):
             e[np.argmin(gaps)] = max(prior_e.max(), 1.0)
         known = prior_q > 0.0
         q = np.interp(centres, prior_centres[known], prior_q[known] / np.interp(prior_centres[known], s, curvature)) \
             * curv  # q / A interpolated: the strips' stiffening
         active = e > 0.0
         e = np.where(active, e, 0.0)
-        delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load,
+        geometry = StripGeometry(centres, lower, upper, estar)
+        delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_load,
                                                  delta, e, q, active, PLACEMENT_TOLERANCE)
         iterations += used
         widths = upper - lower
@@ -434,14 +460,14 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
         slack = EXTENT_MARGIN * width
         if -slack <= low - lo <= EXTENT_TOLERANCE * width and -slack <= hi - high <= EXTENT_TOLERANCE * width:
             for closer in (*POLISH_RETRIES, None):
-                polished = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q,
+                polished = _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q,
                                    active)
                 if polished is not None:
-                    delta, e, q, used, active = polished
+                    delta, e, q, used, active, newton_steps = polished
                     iterations += used
                     break
                 # Newton did not take: the fixed point goes closer (to the end where Newton never takes)
-                delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, estar, approach,
+                delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, geometry, approach,
                                                          normal_load, delta, e, q, active,
                                                          FIXED_POINT_TOLERANCE if closer is None else closer)
                 iterations += used
@@ -457,10 +483,10 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, st
     peak = np.where(active, q * half, 0.0)
     load = 0.5 * math.pi * float(widths @ np.where(active, e, 0.0))
     return StripContact(centres, lower, upper, half, peak, gaps, curv, float(delta), load, converged, message,
-                        iterations)
+                        iterations, newton_steps)
 
 
-def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active, tolerance):
+def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q, active, tolerance):
     """Fixed-point iteration on the half-lengths: with them fixed, (I) is a linear complementarity problem in e
     (:func:`_complementarity`, the load's equation with it) and (II) a linear system in q on the strips in contact;
     then ``a = sqrt(e/q)``, accelerated by Anderson's mixing of the last :data:`ANDERSON` iterates in ``ln a`` (the
@@ -469,113 +495,150 @@ def _fixed_point(centres, lower, upper, gaps, curv, estar, approach, normal_load
     half-length).  Stops when no a changes by more than ``tolerance`` of the largest.  Returns
     ``(delta, e, q, active, iterations)``."""
     widths = upper - lower
-    half = _spread(centres, np.where(active, np.sqrt(np.where(active, e, 0.0) / np.where(active, q, 1.0)), 0.0))
-    history: list[tuple[np.ndarray, np.ndarray]] = []
-    barred = np.zeros(centres.size, dtype=bool)
-    geometry = StripGeometry(centres, lower, upper, estar)
+    count = centres.size
+    sub = active.nonzero()[0]
+    half = np.zeros(count)
+    half[sub] = np.sqrt(e[sub] / q[sub])
+    half = _spread(half)
+    xs: list[np.ndarray] = []  # the last ANDERSON + 1 iterates ln a and their residuals
+    fs: list[np.ndarray] = []
+    barred = np.zeros(count, dtype=bool)
+    allowed = np.ones(count, dtype=bool)
     for used in range(1, FIXED_POINT_ITERATIONS + 1):
         U, C = geometry.matrices(half)
         before = active
-        delta, e, active = _complementarity(U, gaps, widths, approach, normal_load, active, ~barred)
+        delta, e, active = _complementarity(U, gaps, widths, approach, normal_load, active, allowed)
+        sub = active.nonzero()[0]
         if used > SETTLING:
             barred |= before & ~active
-        sub = np.flatnonzero(active)
-        q = np.zeros(centres.size)
-        q[sub] = np.linalg.solve(C[np.ix_(sub, sub)], curv[sub])
-        if not (q[sub] > 0.0).all():
+            allowed = ~barred
+        q_sub = _solve(C.take(sub, 0).take(sub, 1), curv[sub])
+        if np.count_nonzero(q_sub > 0.0) < q_sub.size:
             raise _Failure("the strips' curvature condition gave a strip a negative pressure curvature")
-        target = _spread(centres, np.where(active, np.sqrt(e / np.where(active, q, 1.0)), 0.0))
-        change = float(np.max(np.abs(target - half)[sub])) / float(target[sub].max())
+        q = np.zeros(count)
+        q[sub] = q_sub
+        target = np.zeros(count)
+        target[sub] = np.sqrt(e[sub] / q_sub)
+        target = _spread(target)
+        change = float(np.abs(target[sub] - half[sub]).max()) / float(target[sub].max())
         if change <= tolerance:
             return delta, e, q, active, used
         x = np.log(half)
         fx = np.log(target) - x
-        history.append((x, fx))
-        history = history[-(ANDERSON + 1):]
-        if len(history) > 1:
-            dx = np.stack([history[k + 1][0] - history[k][0] for k in range(len(history) - 1)], axis=1)
-            df = np.stack([history[k + 1][1] - history[k][1] for k in range(len(history) - 1)], axis=1)
+        xs.append(x)
+        fs.append(fx)
+        if len(xs) > ANDERSON + 1:
+            del xs[0], fs[0]
+        if len(xs) > 1:
+            dx = np.diff(xs, axis=0).T
+            df = np.diff(fs, axis=0).T
             gamma = np.linalg.lstsq(df, fx, rcond=None)[0]
-            step = np.clip(fx - (dx + df) @ gamma, -1.0, 1.0)  # at most a factor e per iteration
-            half = _spread(centres, np.where(active, np.exp(x + step), 0.0))
+            step = np.minimum(np.maximum(fx - (dx + df) @ gamma, -1.0), 1.0)  # at most a factor e per iteration
+            half = np.zeros(count)
+            half[sub] = np.exp(x[sub] + step[sub])
+            half = _spread(half)
         else:
             half = target
     raise _Failure(f"the strips' half-lengths did not settle in {FIXED_POINT_ITERATIONS} iterations")
 
 
-def _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, active, depth=0):
+def _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q, active):
     """Newton's method on (I) and (II) (and the load) with the strips in contact fixed, from a fixed point near the
-    solution: ``(delta, e, q, iterations, active)`` once no e or q changes by more than :data:`FIXED_POINT_TOLERANCE`
-    of the largest; a step that would empty strips at the ends of runs in contact only drops them (at most
-    :data:`POLISH_DROPS` times); None where a step would empty another strip, lose the curvature's sign or the
-    residual grows (the fixed point then goes on).  ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables'
-    t-derivatives (:class:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry`)."""
-    index = np.flatnonzero(active)
-    n = index.size
-    widths = (upper - lower)[index]
+    solution: ``(delta, e, q, iterations, active, steps)`` (steps: the relative changes of its steps) once no e or q
+    changes by more than :data:`FIXED_POINT_TOLERANCE` of the largest, or its next step would not
+    (:data:`NEWTON_CONTRACTION`); a step that would empty strips at the ends of runs in contact only drops them (at most
+    :data:`POLISH_DROPS` times; Newton restarts on the strips kept, from the same iterate, whose matrices are the
+    blocks of those already evaluated); None where a step would empty another strip, lose the curvature's sign or the
+    residual grows (the fixed point then goes on), or after :data:`POLISH_ITERATIONS` on one set of strips.
+    ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables' t-derivatives
+    (:class:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry`)."""
+    index = active.nonzero()[0]
     ea, qa = e[index].copy(), q[index].copy()
-    e_scale, q_scale = float(ea.max()), float(qa.mean())
-    size = 2 * n + (approach is None)
-    previous = math.inf
-    geometry = StripGeometry(centres[index], lower[index], upper[index], estar)
-    for used in range(1, POLISH_ITERATIONS + 1):
-        half = np.sqrt(ea / qa)
-        U, C, dU, dC = geometry.matrices(half, derivative=True)
-        residual = np.empty(size)
-        residual[:n] = (U @ ea - (delta - gaps[index])) / delta
-        residual[n:2 * n] = C @ qa / curv[index] - 1.0
-        jacobian = np.zeros((size, size))
-        # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
-        jacobian[:n, :n] = (U + 0.5 * dU) * (e_scale / delta)
-        jacobian[:n, n:2 * n] = dU * (-0.5 * q_scale / delta * ea / qa)
-        jacobian[n:2 * n, :n] = dC * (0.5 * e_scale * qa / ea) / curv[index][:, None]
-        jacobian[n:2 * n, n:2 * n] = (C - 0.5 * dC) * (q_scale / curv[index][:, None])
-        if approach is None:
-            jacobian[:n, 2 * n] = -1.0
-            jacobian[2 * n, :n] = 0.5 * math.pi * widths * e_scale / normal_load
-            residual[2 * n] = 0.5 * math.pi * float(widths @ ea) / normal_load - 1.0
-        norm = float(np.abs(residual).max())
-        if norm > previous:
-            return None
-        previous = norm
-        step = np.linalg.solve(jacobian, -residual)
-        de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
-        emptied = ea + de <= 0.0
-        if emptied.any() and depth < POLISH_DROPS:
-            ends = np.zeros(n, dtype=bool)
-            ends[[0, -1]] = True
-            ends[1:-1] = (np.diff(index)[1:] > 1) | (np.diff(index)[:-1] > 1)
-            if np.all(ends[emptied]):  # the contact ends before these edge strips: they leave, Newton restarts
+    geometry = geometry.subset(index)
+    given_load = approach is None
+    evaluated = None  # the matrices at the current iterate, kept over a drop
+    total = 0
+    steps: list[float] = []
+    for drops in range(POLISH_DROPS + 1):
+        n = index.size
+        widths = (upper - lower)[index]
+        targets = gaps[index]
+        curvatures = curv[index]
+        e_scale, q_scale = float(ea.max()), float(qa.mean())
+        size = 2 * n + given_load
+        previous = math.inf
+        restart = False
+        for used in range(1, POLISH_ITERATIONS + 1):
+            if evaluated is None:
+                U, C, dU, dC = geometry.matrices(np.sqrt(ea / qa), derivative=True)
+            else:
+                U, C, dU, dC = evaluated
+                evaluated = None
+            residual = np.empty(size)
+            residual[:n] = (U @ ea - (delta - targets)) / delta
+            residual[n:2 * n] = C @ qa / curvatures - 1.0
+            jacobian = np.zeros((size, size))
+            # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
+            jacobian[:n, :n] = (U + 0.5 * dU) * (e_scale / delta)
+            jacobian[:n, n:2 * n] = dU * (-0.5 * q_scale / delta * ea / qa)
+            jacobian[n:2 * n, :n] = dC * (0.5 * e_scale * qa / ea) / curvatures[:, None]
+            jacobian[n:2 * n, n:2 * n] = (C - 0.5 * dC) * (q_scale / curvatures[:, None])
+            if given_load:
+                jacobian[:n, 2 * n] = -1.0
+                jacobian[2 * n, :n] = 0.5 * math.pi * widths * e_scale / normal_load
+                residual[2 * n] = 0.5 * math.pi * float(widths @ ea) / normal_load - 1.0
+            norm = float(np.abs(residual).max())
+            if norm > previous:
+                return None
+            previous = norm
+            step = _solve(jacobian, -residual)
+            de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
+            emptied = ea + de <= 0.0
+            if np.count_nonzero(emptied):
+                if drops == POLISH_DROPS:
+                    return None
+                ends = np.zeros(n, dtype=bool)
+                ends[[0, -1]] = True
+                steps_apart = index[1:] - index[:-1]
+                ends[1:-1] = (steps_apart[1:] > 1) | (steps_apart[:-1] > 1)
+                if np.count_nonzero(ends[emptied]) < np.count_nonzero(emptied):
+                    return None
+                # the contact ends before these edge strips: they leave, Newton restarts on the others
+                kept = (~emptied).nonzero()[0]
+                index, ea, qa = index[kept], ea[kept], qa[kept]
+                evaluated = tuple(m.take(kept, 0).take(kept, 1) for m in (U, C, dU, dC))
+                geometry = geometry.subset(kept)
+                total += used
+                restart = True
+                break
+            if np.count_nonzero(qa + dq <= 0.0):
+                return None
+            ea, qa = ea + de, qa + dq
+            if given_load:
+                delta *= 1.0 + float(step[2 * n])
+            change = max(float(np.abs(de).max()) / float(ea.max()), float(np.abs(dq).max()) / float(qa.max()))
+            steps.append(change)
+            if change <= FIXED_POINT_TOLERANCE or NEWTON_CONTRACTION * change * change <= FIXED_POINT_TOLERANCE:
                 e, q = np.zeros(centres.size), np.zeros(centres.size)
                 e[index], q[index] = ea, qa
-                kept = active.copy()
-                kept[index[emptied]] = False
-                e[~kept] = 0.0
-                again = _polish(centres, lower, upper, gaps, curv, estar, approach, normal_load, delta, e, q, kept,
-                                depth + 1)
-                return None if again is None else (*again[:3], again[3] + used, again[4])
-        if emptied.any() or np.any(qa + dq <= 0.0):
+                kept = np.zeros(centres.size, dtype=bool)
+                kept[index] = True
+                return delta, e, q, total + used, kept, tuple(steps)
+        if not restart:
             return None
-        ea, qa = ea + de, qa + dq
-        if approach is None:
-            delta *= 1.0 + float(step[2 * n])
-        change = max(float(np.abs(de).max()) / float(ea.max()), float(np.abs(dq).max()) / float(qa.max()))
-        if change <= FIXED_POINT_TOLERANCE:
-            e, q = np.zeros(centres.size), np.zeros(centres.size)
-            e[index], q[index] = ea, qa
-            return delta, e, q, used, active
     return None
 
 
-def _spread(centres, half):
+def _spread(half):
     """The half-lengths of the strips in contact (``half > 0``), and for the others a third of those of the strips in
     contact interpolated by index (the nearest one's beyond the ends): the length a strip entering the contact starts
     with."""
-    inside = half > 0.0
-    if inside.all():
+    inside = (half > 0.0).nonzero()[0]
+    if inside.size == half.size:
         return half
-    index = np.flatnonzero(inside)
-    return np.where(inside, half, np.interp(np.arange(centres.size), index, half[index]) / 3.0)
+    spread = np.interp(np.arange(half.size), inside, half[inside]) / 3.0
+    spread[inside] = half[inside]
+    return spread
 
 
 def refined(contact: StripContact, gap: PatchGap, count: int) -> StripContact:
@@ -603,4 +666,5 @@ def refined(contact: StripContact, gap: PatchGap, count: int) -> StripContact:
     load *= contact.normal_load / (0.5 * math.pi * float((upper - lower) @ load))
     half = np.sqrt(load / q)
     return StripContact(centres, lower, upper, half, q * half, np.interp(centres, s, h), curv, contact.approach,
-                        contact.normal_load, contact.converged, contact.message, contact.iterations)
+                        contact.normal_load, contact.converged, contact.message, contact.iterations,
+                        contact.newton_steps)

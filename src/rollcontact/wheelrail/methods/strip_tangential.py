@@ -116,53 +116,59 @@ class Lobes:
         xi, eta, phi = creepages
         g, nu = material.youngs_modulus / (2.0 * (1.0 + material.poisson_ratio)), material.poisson_ratio
         estar = material.contact_modulus
-        self.index = np.flatnonzero(contact.contact)
+        self.index = contact.contact.nonzero()[0]
         self.s = contact.centres[self.index]
         self.w = contact.widths[self.index]
         self.half = contact.half_lengths[self.index]
         self.q = contact.peak_pressures[self.index] / self.half
         self.m = mu * self.q
         loads = 0.5 * math.pi * contact.peak_pressures[self.index] * self.half
-        breaks = np.flatnonzero(np.diff(self.index) > 1) + 1
-        self.runs = np.split(np.arange(self.index.size), breaks)
+        starts = [0, *((self.index[1:] - self.index[:-1] > 1).nonzero()[0] + 1).tolist(), self.index.size]
+        self.runs = [np.arange(a, b) for a, b in zip(starts[:-1], starts[1:], strict=True)]
         count = self.index.size
         names = ("modulus_x", "modulus_y", "modulus_phi", "factor", "centroid", "ratio", "march_ratio", "cross",
                  "l1", "l2", "l3", "limit")
-        for name in names:
-            setattr(self, name, np.empty(count))
-        self.ratios, self.clamped, self.psi_e = [], [], []
+        table = np.empty((len(names), count))
+        self.ratios, self.clamped, self.psi_e, self.coefficients = [], [], [], []
         low, high = aspect_ratio_range()
-        for run in self.runs:
-            w, half, s = self.w[run], self.half[run], self.s[run]
-            curvature = contact.longitudinal_curvature[self.index[run]]
-            stiff = float(np.sum(w * loads[run] * self.q[run] / (estar * curvature)) / np.sum(w * loads[run]))
+        x0, x1, y0, y1, scale, power, spin_half, _ = SPIN_FLEXIBILITY
+        for a, b in zip(starts[:-1], starts[1:], strict=True):
+            part = slice(a, b)
+            w, half, s = self.w[part], self.half[part], self.s[part]
+            curvature = contact.longitudinal_curvature[self.index[part]]
+            weighted = w * loads[part]
+            stiff = float(np.sum(weighted * self.q[part] / (estar * curvature)) / np.sum(weighted))
             ratio = equivalent_ratio(stiff)
             self.clamped.append(not low <= ratio <= high)
             self.ratios.append(ratio)
-            area = 2.0 * float(w @ half)
+            width_length = float(w @ half)
+            area = 2.0 * width_length
             a_e, b_e = math.sqrt(area * ratio / math.pi), math.sqrt(area / (math.pi * ratio))
             c = coefficients(ratio, nu)
-            load = float(w @ loads[run])
+            self.coefficients.append(c)
+            load = float(w @ loads[part])
             p0_e = 1.5 * load / (math.pi * a_e * b_e)
             gamma = ratio / (ratio + STIFFENING_SCALE)
             shape = (half / half.max()) ** (-gamma)
-            factor = shape * float(w @ half) / float(w @ (half * shape))
-            centroid = float(w @ (half * s)) / float(w @ half)
+            factor = shape * width_length / float(w @ (half * shape))
+            centroid = float(w @ (half * s)) / width_length
             modulus_x = 4.0 * g * c.c11 / math.pi**2
             r = moment_ratio(ratio, c.c33, c.c11)
             psi_e = phi * (3.0 * g * c.c23 * math.sqrt(b_e / a_e) / math.pi) * a_e / (2.0 * mu * p0_e)
             self.psi_e.append(psi_e)
-            x0, x1, y0, y1, scale, power, spin_half, _ = SPIN_FLEXIBILITY
             log_ratio = math.log(ratio)
             xi_lobe = xi - phi * centroid
             flex = march_flexibilities(a_e, b_e, g, mu, load, c.c11, c.c22, c.c23, xi_lobe, eta, phi, psi_e,
                                        x0 + x1 * log_ratio, y0 + y1 * log_ratio, scale * (1.0 + ratio) ** power)
             cross = 0.0 if phi != 0.0 else float(cross_coefficients(
                 *(np.array([[v]]) for v in (a_e, b_e, a_e * a_e, b_e * b_e, nu, g)))[0, 0])
-            values = (modulus_x, 4.0 * g * c.c22 / math.pi**2, 3.0 * g * c.c23 * math.sqrt(b_e / a_e) / math.pi,
-                      factor, centroid, r, 1.0 + (r - 1.0) / (1.0 + abs(psi_e) / spin_half), cross, *flex, mu * load)
-            for name, value in zip(names, values, strict=True):
-                getattr(self, name)[run] = value
+            table[:, part] = np.array([modulus_x, 4.0 * g * c.c22 / math.pi**2,
+                                       3.0 * g * c.c23 * math.sqrt(b_e / a_e) / math.pi, 0.0, centroid, r,
+                                       1.0 + (r - 1.0) / (1.0 + abs(psi_e) / spin_half), cross, *flex,
+                                       mu * load])[:, None]
+            table[3, part] = factor
+        for name, row in zip(names, table, strict=True):
+            setattr(self, name, row)
         self.xi, self.eta, self.phi = xi, eta, phi
         self.scale = self.factor / (2.0 * self.m)
         self.psi = phi * self.modulus_phi / (2.0 * self.m)
@@ -191,6 +197,20 @@ def stick_zones(X, Y, psi, half):
     ``psi Y < 0``), the stick edge's traction direction ``(X/d, psi + Y/d)``, whether the strip sticks and, past
     ``|psi| = 1``, the share of its stick traction kept (``(F - v)/(F - 1)``, F = :data:`STICK_FADE`); full slip
     along ``(X, Y)``."""
+    if not np.count_nonzero(psi):
+        # without spin d = |(X, Y)| and the direction is (X, Y)'s, in the stick zone and in full slip
+        root = np.sqrt(Y * Y + X * X)
+        partial = root < half
+        slipping = root > 0.0
+        with np.errstate(divide="ignore", invalid="ignore"):  # where there is no slip, replaced by 0
+            kappa = np.where(slipping, X / root, 0.0)
+            lam = np.where(slipping, Y / root, 0.0)
+        if np.count_nonzero(partial) < partial.size:  # full slip along (X, Y) / |(X, Y)| with |(X, Y)| as hypot
+            norm = np.hypot(X, Y)
+            with np.errstate(invalid="ignore"):
+                kappa = np.where(partial, kappa, np.where(slipping, X / norm, 0.0))
+                lam = np.where(partial, lam, np.where(slipping, Y / norm, 0.0))
+        return np.where(partial, root, half), kappa, lam, partial, np.ones_like(X)
     turned = psi * Y
     room = 1.0 - psi * psi
     square = Y * Y + room * X * X
@@ -206,14 +226,14 @@ def stick_zones(X, Y, psi, half):
     kappa = np.where(edge, X / safe, 0.0)
     lam = np.where(edge, psi + Y / safe, 0.0)
     share = np.ones_like(X)
-    if (np.abs(psi) >= 1.0).any() and partial.any():
+    if np.count_nonzero(np.abs(psi) >= 1.0) and np.count_nonzero(partial):
         along = 1.0 - lam * psi
         rest = np.sqrt(np.where(partial, (half - d) / half, 0.0))
         with np.errstate(divide="ignore", invalid="ignore"):
             excess = np.where(room > 0.0, 0.0, np.where(along > 0.0, rest * (2.0 * along - room) / (2.0 * along),
                                                         np.inf))
         partial &= excess < STICK_FADE
-        share = np.clip((STICK_FADE - excess) / (STICK_FADE - 1.0), 0.0, 1.0)
+        share = np.minimum(np.maximum((STICK_FADE - excess) / (STICK_FADE - 1.0), 0.0), 1.0)
     norm = np.hypot(X, Y)
     slipping = norm > 0.0
     safe_norm = np.where(slipping, norm, 1.0)
@@ -240,7 +260,7 @@ def coulomb_forces(lobes: Lobes, steps: int, fields: bool):
     point (without spin), plus the march's departure with spin; the field on the cells with ``fields``."""
     stick = stick_zones(lobes.X, lobes.Y, lobes.psi, lobes.half)
     spin = lobes.phi != 0.0
-    if not spin and (lobes.cross != 0.0).any():
+    if not spin and np.count_nonzero(lobes.cross):
         for _ in range(CROSS_ITERATIONS):
             fy = lobes.lobe_forces(closed_form(lobes, stick)[1])
             lobes.couple(lobes.cross * fy)
@@ -275,24 +295,29 @@ def marched(lobes: Lobes, steps: int, stick, fields: bool):
     trial = np.empty((steps, 2, s.size))
     trial[0, 0] = 0.5 * increment[0, 0]
     trial[0, 1] = 0.5 * dx * (lobes.eta / lobes.l2 + lobes.phi * (half - 0.25 * dx) / lobes.l3)
-    for i in range(steps - 1):
-        size = np.maximum(np.hypot(trial[i, 0], trial[i, 1]), TINY)
-        with np.errstate(over="ignore"):
-            ratio = np.minimum(1.0, bound[i] / size)
-        trial[i + 1] = trial[i] * ratio + increment[i]
+    size = np.empty(s.size)
+    ratio = np.empty(s.size)
+    with np.errstate(over="ignore"):
+        for i in range(steps - 1):
+            np.hypot(trial[i, 0], trial[i, 1], out=size)
+            np.maximum(size, TINY, out=size)
+            np.divide(bound[i], size, out=ratio)
+            np.minimum(ratio, 1.0, out=ratio)
+            np.multiply(trial[i], ratio, out=trial[i + 1])
+            trial[i + 1] += increment[i]
     size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
     qx, qy = bound * trial[:, 0] / size, bound * trial[:, 1] / size
     if lobes.phi == 0.0:  # without spin the slip direction is uniform along the strip
         qx, qy = bound * kappa, bound * lam
     ux, uy = bound * kappa, bound * lam
     in_stick = partial & (x > 2.0 * d - half)
-    if partial.any():
+    if np.count_nonzero(partial):
         rest = half - d
         inner = np.sqrt(np.maximum(rest * rest - (x - d) ** 2, 0.0))
         m = lobes.m * scaling
         stick_x, stick_y = m * kappa * (full - inner), m * (lam * full - (lam - lobes.psi) * inner)
         ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
-        if (share < 1.0).any():
+        if np.count_nonzero(share < 1.0):
             within = np.minimum(1.0, bound / np.maximum(np.hypot(stick_x, stick_y), TINY))
             stick_x = np.where(share < 1.0, share * within * stick_x + (1.0 - share) * qx, stick_x)
             stick_y = np.where(share < 1.0, share * within * stick_y + (1.0 - share) * qy, stick_y)

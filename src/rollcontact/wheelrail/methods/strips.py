@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from rollcontact.core.checks import check_real
 from rollcontact.core.method import AccuracyModel
 from rollcontact.elliptic.methods.strips import (
@@ -24,7 +26,6 @@ from rollcontact.wheelrail.methods.strip_normal import DEFAULT_STRIPS, StripCont
 from rollcontact.wheelrail.methods.strip_tangential import (
     DEFAULT_STEPS,
     Lobes,
-    coefficients,
     coulomb_forces,
     falling_march_forces,
 )
@@ -93,7 +94,7 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
         return PatchResult("strips", False, f"normal problem: {contact.message}", contact.normal_load,
                            contact.approach, math.nan, math.nan, math.nan, math.nan, math.nan, math.nan, xi, eta, phi,
                            mu, math.nan, info={"normal_iterations": contact.iterations})
-    if not contact.contact.any():
+    if not np.count_nonzero(contact.contact):
         return PatchResult("strips", True, contact.message, 0.0, contact.approach, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, xi,
                            eta, phi, mu, 0.0, info={"error_estimate": 0.0})
     tangential_strips = int(check_real("tangential_strips", tangential_strips, lower=4))
@@ -135,10 +136,13 @@ OUTSIDE_TABLE_ERROR = 0.05
 power law): the flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", whose largest error (Mz of
 combined creepage at two saturations) this keeps within its estimate."""
 
-STRIPS_PATCH_COST = 3e-3
-STRIPS_PATCH_COST_PER_CELL = 5e-6
+STRIPS_PATCH_COST = 1.1e-3
+STRIPS_PATCH_COST_PER_CELL = 4e-6
 """Modelled times [s] on an idle machine: the normal solution and the closed form, each cell of the march
-(``benchmarks/wheelrail_patches.py``, table "Time", as a multiple of the elliptic strips' time in the same run)."""
+(``benchmarks/wheelrail_patches.py``, table "Time": the strips' CPU time without spin, at most 6.0 times the elliptic
+strips' in the same rounds, and the march's share, spin against no spin, up to 0.4 times, each times the elliptic
+strips' modelled time with spin, :data:`rollcontact.elliptic.methods.strips.STRIPS_COST` and 20 cells of
+``STRIPS_COST_PER_CELL``, 1.7e-4 s; with a margin)."""
 
 
 FALLING_REACH = 0.02
@@ -187,12 +191,11 @@ class PatchStripsAccuracy(AccuracyModel):
         g, nu = scene.shear_modulus, scene.material.poisson_ratio
         xi, eta, phi = scene.creepages
         worst = 0.0
-        for run, ratio, psi_e in zip(lobes.runs, lobes.ratios, lobes.psi_e, strict=True):
+        for run, c, psi_e in zip(lobes.runs, lobes.coefficients, lobes.psi_e, strict=True):
             w, half = lobes.w[run], lobes.half[run]
             area = 2.0 * float(w @ half)
             lobe_load = float(w @ (0.5 * math.pi * lobes.q[run] * half * half))
             c2 = area / math.pi
-            c = coefficients(ratio, nu)
             xi_lobe = xi - phi * float(lobes.centroid[run][0])
             linear = math.hypot(g * c2 * c.c11 * xi_lobe, g * c2 * c.c22 * eta) + g * c2**1.5 * c.c23 * abs(phi)
             tau = min(1.0, linear / (mu * lobe_load)) if lobe_load > 0.0 else 0.0
