@@ -122,11 +122,14 @@ def test_no_load_is_no_contact():
 
 
 def test_a_budget_below_the_cheapest_setting_refuses_the_step_naming_the_contact():
-    model = EllipticModel(EllipticParameters(method=2, step_budget=1e-9, curvature_longitudinal=(1.0, 1.0),
+    """The strips fit 1.5e-4 s without spin, not with it (a budget no step fits is refused at initialisation)."""
+    model = EllipticModel(EllipticParameters(method=3, step_budget=1.5e-4, curvature_longitudinal=(1.0, 1.0),
                                              curvature_lateral=(1.0, 1.0)))
     with pytest.raises(ModelError, match="contact 1: .*budget"):
         model.step(0.0, H, [ROW, ROW])
     assert model.state.steps == 0, "a refused step changes nothing"
+    model.step(0.0, H, [(*ROW[:3], 0.0, ROW[4])] * 2)
+    assert model.state.steps == 1, "without spin the step fits"
 
 
 def test_bad_inputs_are_named_with_their_contact_and_change_nothing():
@@ -268,3 +271,53 @@ def test_the_difference_jacobian_is_paid_within_the_step_budget():
     assert any("no room for the difference Jacobian" in m for m in tight.take_messages()), "said once"
     roomy = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=5.0 * one)).step(0.0, H, row)[0]
     assert roomy.dFx_dxi < 0.9 * linear.dFx_dxi, f"FASTSIM's slope falls with saturation ({roomy.dFx_dxi:.4g})"
+
+
+def test_the_difference_jacobian_at_a_load_whose_slopes_underflow_takes_the_linear_slopes():
+    """Fn = 1e-300 N: the linear spin slope G c^4 C33 underflows to 0, so the increment mu Fn c / slope is not a
+    number; the linear slopes stand in (said once, naming the load) instead of a division by zero."""
+    row = [(1e-300, 1e-3, 0.0, 0.1, 10.0)]
+    model = EllipticModel(EllipticParameters(method=2, jacobian=1))
+    out = model.step(0.0, H, row)[0]
+    linear = EllipticModel(EllipticParameters(method=2)).step(0.0, H, row)[0]
+    assert out[8:17] == linear[8:17], f"the linear slopes stand in: {out[8:17]} != {linear[8:17]}"
+    messages = model.take_messages()
+    assert any("difference Jacobian" in m and "normal_load = 1e-300 N" in m for m in messages), messages
+    model.step(H, H, row)
+    assert not model.take_messages(), "said once"
+
+
+def test_the_difference_jacobian_of_strips_with_falling_friction_keeps_the_columns_they_treat():
+    """Strips with falling friction take no spin: the spin column is the linear theory's (said once), the xi and eta
+    columns are the strips' forward differences (the falling branch: dFx/dxi well below the linear slope)."""
+    p = {"method": 3, "rail_condition": 1}
+    row = [(1e5, 0.02, 0.0, 0.0, 30.0)]
+    model = EllipticModel(EllipticParameters(**p, jacobian=1))
+    out = jacobian(model.step(0.0, H, row)[0])
+    slopes = jacobian(EllipticModel(EllipticParameters(**p)).step(0.0, H, row)[0])
+    assert np.array_equal(out[:, 2], slopes[:, 2]), f"spin column: {out[:, 2]} != the linear {slopes[:, 2]}"
+    assert out[0, 0] < 0.0 < slopes[0, 0], f"dFx/dxi {out[0, 0]:.4g} falls past the peak (linear {slopes[0, 0]:.4g})"
+    messages = model.take_messages()
+    assert any("spin column" in m and "take no spin" in m for m in messages), messages
+
+
+def test_a_level_that_fails_names_the_contacts_inputs():
+    """An error inside a level (here a NaN the strips make at a load whose strip quantities underflow) is refused
+    with the contact's inputs, so the host sees which step it was."""
+    model = EllipticModel(EllipticParameters(method=3, rail_condition=1,
+                                             curvature_longitudinal=(1.087, 1.087), curvature_lateral=(1.667, 1.667)))
+    with pytest.raises(ModelError) as refused:
+        model.step(0.0, H, [(1e5, 1e-3, 0.0, 0.0, 10.0), (1e-300, 1e-3, 0.0, 0.0, 10.0)])
+    message = str(refused.value)
+    assert message.startswith("contact 2: ") and "normal_load = 1e-300 N" in message, message
+
+
+@pytest.mark.parametrize(("method", "budget"), [(4, 0.05), (0, 1e-9), (1, 1e-9)])
+def test_a_level_whose_cheapest_setting_exceeds_the_budget_is_refused_at_initialisation(method, budget):
+    """Every loaded step would be refused: the parameters are, at initialisation, naming the cost and the budget."""
+    with pytest.raises(ModelError, match=rf"cheapest setting is modelled at .* s at any load, more than step_budget = "
+                                         rf"{budget!r} s") as refused:
+        EllipticModel(EllipticParameters(method=method, step_budget=budget))
+    assert "every loaded step" in str(refused.value), str(refused.value)
+    for fitting in (0.0, 1.0):  # no budget, a budget the level fits
+        EllipticModel(EllipticParameters(method=method, step_budget=fitting))
