@@ -321,3 +321,12 @@ def test_a_level_whose_cheapest_setting_exceeds_the_budget_is_refused_at_initial
     assert "every loaded step" in str(refused.value), str(refused.value)
     for fitting in (0.0, 1.0):  # no budget, a budget the level fits
         EllipticModel(EllipticParameters(method=method, step_budget=fitting))
+
+
+def test_a_level_refused_for_its_friction_law_is_named_once_without_the_ellipses():
+    """FASTSIM takes Coulomb friction only: the law, not a contact's ellipse, is the cause, said once."""
+    with pytest.raises(ModelError) as refused:
+        EllipticModel(EllipticParameters(method=2, rail_condition=1, curvature_longitudinal=(1.087, 2.5, 0.9),
+                                         curvature_lateral=(1.667, 1.2, 4.0)))
+    message = str(refused.value)
+    assert message == "method = fastsim: FASTSIM here takes Coulomb friction only", message

@@ -161,7 +161,7 @@ class EllipticModel(SteppingModel):
         self.method = "auto" if p.method == AUTO else METHOD_NAMES[p.method]
         self.curvatures = tuple(zip(p.curvature_longitudinal, p.curvature_lateral, strict=True))
         self.shear_modulus = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
-        problems = [why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None]
+        problems = list(dict.fromkeys(why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None))
         over = self.over_budget()
         if over is not None:
             problems.append(over)
@@ -219,7 +219,8 @@ class EllipticModel(SteppingModel):
     def inapplicable(self, k: int) -> str | None:
         """Why contact ``k`` (from 0) cannot be stepped at any load (its ellipse's a/b is that of every load), or
         None: an a/b outside Kalker's coefficient table (every step's Jacobian outputs and the linear, FASTSIM and
-        strips levels need the coefficients), or a method that cannot treat the ellipse."""
+        strips levels need the coefficients), or a method that cannot treat the ellipse (a cause that is no contact's,
+        such as the friction law, is named without the contact: the same message for every contact)."""
         A, B = self.curvatures[k]
         scene = EllipticScene(1.0, A, B, material=self.material, friction=self.friction)
         low, high = aspect_ratio_range()
@@ -237,7 +238,11 @@ class EllipticModel(SteppingModel):
         if spec is None:
             return f"method {self.method!r} is not registered in rollcontact.ELLIPTIC_METHODS"
         why = spec.inapplicable(scene)
-        return None if why is None else f"{where}: {why}"
+        if why is None:
+            return None
+        if spec.inapplicable(EllipticScene(1.0, 1.0, 1.0, material=self.material, friction=self.friction)) == why:
+            return f"method = {self.method}: {why}"  # the friction law's or the material's doing, not the ellipse's
+        return f"{where}: {why}"
 
     # stepping ---------------------------------------------------------------------------------------------------
     def step(self, current_time: float, step_size: float, inputs) -> tuple[EllipticOutputs, ...]:
