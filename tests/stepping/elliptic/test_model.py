@@ -330,3 +330,16 @@ def test_a_level_refused_for_its_friction_law_is_named_once_without_the_ellipses
                                          curvature_lateral=(1.667, 1.2, 4.0)))
     message = str(refused.value)
     assert message == "method = fastsim: FASTSIM here takes Coulomb friction only", message
+
+
+@pytest.mark.parametrize("method", [3, 0])
+def test_an_overflow_is_named_by_its_words_not_an_errno_tuple(method):
+    """math's OverflowError carries (errno, text): the refusal gives the text, with the inputs (and, where the level
+    raised it, the modulus; auto reports it as the level's failure)."""
+    model = EllipticModel(EllipticParameters(method=method, rail_condition=1, youngs_modulus=1e-300))
+    with pytest.raises(ModelError) as refused:
+        model.step(0.0, H, [(5e4, 1e-3, 5e-4, 0.0, 10.0)])
+    message = str(refused.value)
+    assert "(34, " not in message and "Numerical result out of range" in message, message
+    assert "normal_load = 50000.0 N" in message, message
+    assert method == 0 or "youngs_modulus = 1e-300 Pa" in message, message

@@ -50,6 +50,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rollcontact.core.checks import error_text
 from rollcontact.core.materials import Material
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
@@ -354,7 +355,7 @@ class EllipticModel(SteppingModel):
             raise ModelError(f"{self.label(k)}{exc} (at {scene_text(scene)})") from None
         except ArithmeticError as exc:
             raise ModelError(f"{self.label(k)}{method} cannot represent this contact in floating point "
-                             f"({type(exc).__name__}: {exc}) at {scene_text(scene)} with "
+                             f"({error_text(exc)}) at {scene_text(scene)} with "
                              f"youngs_modulus = {self.parameters.youngs_modulus!r} Pa") from None
         if not result.success:
             raise ModelError(f"{self.label(k)}{result.method} failed at {scene_text(scene)}: {result.message}")
