@@ -1341,11 +1341,11 @@ def rail_friction() -> dict[int, float]:
     return {code: float(condition.mu_static) for code, condition in RAIL_CONDITION_SETS.items()}
 
 
-def target_name(path: Path) -> tuple[str, str]:
-    """``(model/version, unzipped folder)`` of an FMU file (unzipped into a temporary folder kept for the run)."""
+def target_name(path: Path, folder: Path) -> tuple[str, str]:
+    """``(model/version, unzipped folder)`` of an FMU file, unzipped into a new folder in ``folder``."""
     from fmpy import extract, read_model_description
 
-    unzipped = extract(str(path), unzipdir=tempfile.mkdtemp(prefix=f"fuzz_{path.stem}_"))
+    unzipped = extract(str(path), unzipdir=tempfile.mkdtemp(prefix=f"{path.stem}_", dir=folder))
     description = read_model_description(unzipped)
     return f"{description.modelName}/{description.fmiVersion[0]}", unzipped
 
@@ -1442,12 +1442,13 @@ def run_target(args, name: str, unzipped: str, episodes: range, rail_mu: dict) -
     return results
 
 
-def campaign(args, fmus: list[Path]) -> dict:
-    """Every target's episodes (``--episodes`` or :data:`CAMPAIGN` / :data:`QUICK` per model)."""
+def campaign(args, fmus: list[Path], folder: Path) -> dict:
+    """Every target's episodes (``--episodes`` or :data:`CAMPAIGN` / :data:`QUICK` per model), the FMUs unzipped in
+    ``folder``."""
     rail_mu = rail_friction()
     runs = {}
     for path in fmus:
-        name, unzipped = target_name(path)
+        name, unzipped = target_name(path, folder)
         if name not in TARGETS:
             raise SystemExit(f"{path}: {name} is not a target of this fuzz ({', '.join(TARGETS)})")
         if args.target is not None and name != args.target:
@@ -1689,7 +1690,7 @@ def run(args) -> tuple[str, dict]:
     """The campaign of ``args`` (building the FMUs unless given): its report and a summary."""
     with tempfile.TemporaryDirectory(prefix="fuzz_fmu_") as tmp:
         fmus = args.fmu if args.fmu else build(Path(tmp))
-        runs = campaign(args, fmus)
+        runs = campaign(args, fmus, Path(tmp))
     text = report(args, runs)
     summary = {
         "episodes": sum(len(r["episodes"]) for r in runs.values()),
