@@ -1,6 +1,6 @@
 """The FMU host of the FMU tests: a RollingContact2D instance through fmpy's ``FMU2Slave`` with its log captured,
 the library's outputs to compare with, the Discard expected of a refused step, and a small C host (also run by
-``benchmarks/bench_exit.py``).
+``tests/tools/exit_study.py``).
 
 Imported by name (``tests/`` is on pytest's ``pythonpath``); the tests themselves are imported by path.
 """

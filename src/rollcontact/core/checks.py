@@ -32,3 +32,12 @@ def check_real(name: str, value, *, lower=None, upper=None, lower_open=False, up
 
 def positive(name, value, *, allow_zero=False):
     return check_real(name, value, lower=0.0, lower_open=not allow_zero)
+
+
+def error_text(exc: BaseException) -> str:
+    """``"TypeName: message"`` of an exception, in words: an OSError-style ``(errno, text)`` pair (math's
+    OverflowError carries ``(34, 'Numerical result out of range')``) gives its text."""
+    args = exc.args
+    if len(args) == 2 and type(args[0]) is int and isinstance(args[1], str):
+        return f"{type(exc).__name__}: {args[1]}"
+    return f"{type(exc).__name__}: {exc}"

@@ -47,7 +47,7 @@ import math
 from collections.abc import Callable
 from dataclasses import replace
 
-from rollcontact.core.checks import check_real
+from rollcontact.core.checks import check_real, error_text
 from rollcontact.core.method import AccuracyModel, MethodSpec, Setting, check_tolerance, nan_last, unresolved
 
 __all__ = ["Budget", "Dispatcher", "OverBudget", "annotate", "used_options"]
@@ -440,7 +440,7 @@ def attempt(fallback: bool, run, fail):
     try:
         return run()
     except ArithmeticError as exc:
-        return fail(f"raised {type(exc).__name__}: {exc}")
+        return fail(f"raised {error_text(exc)}")
 
 
 def call_with_known_options(spec: MethodSpec, scene, options: dict, estimate: str = "full"):

@@ -124,11 +124,14 @@ def test_no_load_is_no_contact():
 
 
 def test_a_budget_below_the_cheapest_setting_refuses_the_step_naming_the_contact():
-    model = EllipticModel(EllipticParameters(method=2, step_budget=1e-9, curvature_longitudinal=(1.0, 1.0),
+    """The strips fit 1.5e-4 s without spin, not with it (a budget no step fits is refused at initialisation)."""
+    model = EllipticModel(EllipticParameters(method=3, step_budget=1.5e-4, curvature_longitudinal=(1.0, 1.0),
                                              curvature_lateral=(1.0, 1.0)))
     with pytest.raises(ModelError, match="contact 1: .*budget"):
         model.step(0.0, H, [ROW, ROW])
     assert model.state.steps == 0, "a refused step changes nothing"
+    model.step(0.0, H, [(*ROW[:3], 0.0, ROW[4])] * 2)
+    assert model.state.steps == 1, "without spin the step fits"
 
 
 def test_bad_inputs_are_named_with_their_contact_and_change_nothing():
@@ -378,3 +381,52 @@ def test_auto_steps_the_contacts_strips_together_while_they_are_its_choice():
     finally:
         DISPATCHER.methods.pop("toy_linear")
     assert model.strips_chosen(), "the registry restored"
+
+
+def test_the_difference_jacobian_at_a_load_whose_slopes_underflow_takes_the_linear_slopes():
+    """Fn = 1e-300 N: the linear spin slope G c^4 C33 underflows to 0, so the increment mu Fn c / slope is not a
+    number; the linear slopes stand in (said once, naming the load) instead of a division by zero."""
+    row = [(1e-300, 1e-3, 0.0, 0.1, 10.0)]
+    model = EllipticModel(EllipticParameters(method=2, jacobian=1))
+    out = model.step(0.0, H, row)[0]
+    linear = EllipticModel(EllipticParameters(method=2)).step(0.0, H, row)[0]
+    assert out[8:17] == linear[8:17], f"the linear slopes stand in: {out[8:17]} != {linear[8:17]}"
+    messages = model.take_messages()
+    assert any("difference Jacobian" in m and "normal_load = 1e-300 N" in m for m in messages), messages
+    model.step(H, H, row)
+    assert not model.take_messages(), "said once"
+
+
+def test_a_level_that_fails_names_the_contacts_inputs():
+    """An error inside a level (here an overflow the strips meet at a vanishing modulus) is refused with the
+    contact's number and inputs, so the host sees which contact of which step it was (contact 1 unloaded)."""
+    model = EllipticModel(EllipticParameters(method=3, rail_condition=1, youngs_modulus=1e-300,
+                                             curvature_longitudinal=(1.087, 1.087), curvature_lateral=(1.667, 1.667)))
+    with pytest.raises(ModelError) as refused:
+        model.step(0.0, H, [(0.0, 1e-3, 0.0, 0.0, 10.0), (5e4, 1e-3, 0.0, 0.0, 10.0)])
+    message = str(refused.value)
+    assert message.startswith("contact 2: ") and "normal_load = 50000.0 N" in message, message
+
+
+@pytest.mark.parametrize(("method", "budget"), [(4, 0.05), (0, 1e-9), (1, 1e-9)])
+def test_a_level_whose_cheapest_setting_exceeds_the_budget_is_refused_at_initialisation(method, budget):
+    """Every loaded step would be refused: the parameters are, at initialisation, naming the cost and the budget."""
+    with pytest.raises(ModelError, match=rf"cheapest setting is modelled at .* s at any load, more than step_budget = "
+                                         rf"{budget!r} s") as refused:
+        EllipticModel(EllipticParameters(method=method, step_budget=budget))
+    assert "every loaded step" in str(refused.value), str(refused.value)
+    for fitting in (0.0, 1.0):  # no budget, a budget the level fits
+        EllipticModel(EllipticParameters(method=method, step_budget=fitting))
+
+
+@pytest.mark.parametrize("method", [3, 0])
+def test_an_overflow_is_named_by_its_words_not_an_errno_tuple(method):
+    """math's OverflowError carries (errno, text): the refusal gives the text, with the inputs (and, where the level
+    raised it, the modulus; auto reports it as the level's failure)."""
+    model = EllipticModel(EllipticParameters(method=method, rail_condition=1, youngs_modulus=1e-300))
+    with pytest.raises(ModelError) as refused:
+        model.step(0.0, H, [(5e4, 1e-3, 5e-4, 0.0, 10.0)])
+    message = str(refused.value)
+    assert "(34, " not in message and "Numerical result out of range" in message, message
+    assert "normal_load = 50000.0 N" in message, message
+    assert method == 0 or "youngs_modulus = 1e-300 Pa" in message, message

@@ -23,7 +23,13 @@ exact for the linear level and at vanishing creepage, the stiffness an implicit 
 fall with saturation); with ``jacobian`` = 1 forward differences of the step's own method, three more solves per
 contact with increments of :data:`DIFFERENCE_STEP` of each creepage's saturation value (``mu Fn`` over the linear
 slope): the step's solve is then chosen within a quarter of the step budget and the three differences take its
-setting, so that all four fit the budget; the linear level's derivatives are its slopes in either mode (exact).
+setting, so that all four fit the budget; the linear level's derivatives are its slopes in either mode (exact).  The
+linear slopes stand in, said once, where the budget does not pay the three solves or a load is so small that the
+increments are no numbers, and for the column of a creepage whose increment the level cannot take.
+
+A level is refused at initialisation when its cheapest setting is modelled above ``step_budget`` at any load
+(:meth:`EllipticModel.over_budget`), since every loaded step would be.  A level's failure, and any error inside it,
+is refused with the contact's inputs.
 
 Contacts together, wherever the level a step takes has a form for several contacts, each contact's outputs bit for bit
 those of :func:`rollcontact.solve_elliptic`: with ``method`` = linear (and no tolerance) the linear theory of every
@@ -54,6 +60,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rollcontact.core.checks import error_text
 from rollcontact.core.dispatch import Budget
 from rollcontact.core.materials import Material
 from rollcontact.core.method import UNRESOLVED
@@ -211,7 +218,10 @@ class EllipticModel(SteppingModel):
         self.curvatures = self.parameter_curvatures
         """Each contact's (A, B) [1/m] of the last step (the parameters' before the first)."""
         self.shear_modulus = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
-        problems = [why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None]
+        problems = list(dict.fromkeys(why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None))
+        over = self.over_budget()
+        if over is not None:
+            problems.append(over)
         if problems:
             raise ModelError("; ".join(problems))
         self.batch = LinearContacts(self) if self.method == "linear" and self.tolerance is None and \
@@ -292,6 +302,21 @@ class EllipticModel(SteppingModel):
         solves = 4 if self.parameters.jacobian == 1 else 1
         return self.budget is None or spec.accuracy is None or solves * spec.accuracy.cost(scene, {}) <= self.budget
 
+    def over_budget(self) -> str | None:
+        """Why no loaded step can fit the step budget, or None: the cheapest setting of every level ``method`` may
+        take (``auto``: any registered level) is modelled above it at any load (the accuracy model's ``floor``, a lower
+        bound of its cost over every scene and setting), so every loaded step would be refused."""
+        if self.budget is None:
+            return None
+        specs = list(ELLIPTIC_METHODS.values()) if self.method == "auto" else \
+            [spec for spec in (ELLIPTIC_METHODS.get(self.method),) if spec is not None]
+        floors = [spec.accuracy.floor if spec.accuracy is not None else 0.0 for spec in specs]
+        if not floors or min(floors) <= self.budget:
+            return None
+        return (f"method = {self.method}: its cheapest setting is modelled at {min(floors):.4g} s at any load, more "
+                f"than step_budget = {self.budget!r} s, so every loaded step would be refused (raise step_budget, or "
+                "set 0 for no budget)")
+
     def label(self, k: int) -> str:
         """``"contact k: "`` (k from 1) with several contacts, else ``""``: the prefix of a contact's messages."""
         return f"contact {k + 1}: " if self.contacts > 1 else ""
@@ -300,7 +325,8 @@ class EllipticModel(SteppingModel):
         """Why contact ``k`` (from 0) cannot be stepped at any load with its curvatures (default: the last step's;
         its ellipse's a/b is that of every load), or None: an a/b outside Kalker's coefficient table (every step's
         Jacobian outputs and the linear, FASTSIM and strips levels need the coefficients), or a method that cannot
-        treat the ellipse."""
+        treat the ellipse (a cause that is no contact's, such as the friction law, is named without the contact: the
+        same message for every contact)."""
         A, B = self.curvatures[k] if curvatures is None else curvatures
         scene = EllipticScene(1.0, A, B, material=self.material, friction=self.friction)
         low, high = aspect_ratio_range()
@@ -318,7 +344,11 @@ class EllipticModel(SteppingModel):
         if spec is None:
             return f"method {self.method!r} is not registered in rollcontact.ELLIPTIC_METHODS"
         why = spec.inapplicable(scene)
-        return None if why is None else f"{where}: {why}"
+        if why is None:
+            return None
+        if spec.inapplicable(EllipticScene(1.0, 1.0, 1.0, material=self.material, friction=self.friction)) == why:
+            return f"method = {self.method}: {why}"  # the friction law's or the material's doing, not the ellipse's
+        return f"{where}: {why}"
 
     # stepping ---------------------------------------------------------------------------------------------------
     def step(self, current_time: float, step_size: float, inputs) -> tuple[EllipticOutputs, ...]:
@@ -523,8 +553,7 @@ class EllipticModel(SteppingModel):
     def beyond_floats(self, k: int, what: str, row) -> str:
         """The message for contact ``k`` whose ``what`` (a quantity and its value) is not finite at the inputs
         ``row``."""
-        return (f"{self.label(k)}{what} is not finite at normal_load = {row[0]!r} N, creepages "
-                f"{row[1]!r}, {row[2]!r}, spin {row[3]!r} 1/m, velocity {row[4]!r} m/s: these inputs with "
+        return (f"{self.label(k)}{what} is not finite at {inputs_text(row)}: these inputs with "
                 f"youngs_modulus = {self.parameters.youngs_modulus!r} Pa are beyond what the level represents in "
                 f"floating point (outputs up to {sys.float_info.max:.4g} in SI units)")
 
@@ -602,13 +631,13 @@ class EllipticModel(SteppingModel):
             else:
                 result = solve_elliptic(scene, method, **setting)
         except ValueError as exc:
-            raise ModelError(f"{self.label(k)}{exc}") from None
+            raise ModelError(f"{self.label(k)}{exc} (at {scene_text(scene)})") from None
         except ArithmeticError as exc:
             raise ModelError(f"{self.label(k)}{method} cannot represent this contact in floating point "
-                             f"({type(exc).__name__}: {exc}) at normal_load = {scene.normal_load!r} N with "
+                             f"({error_text(exc)}) at {scene_text(scene)} with "
                              f"youngs_modulus = {self.parameters.youngs_modulus!r} Pa") from None
         if not result.success:
-            raise ModelError(f"{self.label(k)}{result.method} failed: {result.message}")
+            raise ModelError(f"{self.label(k)}{result.method} failed at {scene_text(scene)}: {result.message}")
         if setting is None and result.info.get("tolerance_met") is False:
             self.notice_once(f"tolerance {k}", f"{self.label(k)}the tolerance {self.tolerance!r} is not met within "
                              f"the step budget {self.budget!r} s: {result.method}'s error estimate is "
@@ -631,9 +660,8 @@ class EllipticModel(SteppingModel):
         jacobian = None
         cost = result.info.get("modelled_cost", result.info.get("predicted_cost", 0.0))
         if self.parameters.jacobian == 1 and method_code(result.method) != LEVEL_CODES["linear"]:
-            jacobian = self.differences(k, scene, result, forces, slopes)
-            if jacobian is not None:
-                cost += 3.0 * result.info.get("predicted_cost", 0.0)
+            jacobian, solves = self.differences(k, scene, result, forces, slopes)
+            cost += solves * result.info.get("predicted_cost", 0.0)
         self.last_modelled_cost = max(self.last_modelled_cost, cost)
         self.last_work += cost
         if jacobian is None:
@@ -661,8 +689,10 @@ class EllipticModel(SteppingModel):
         shifted = []
         if self.parameters.jacobian == 1:
             for scene, slope in zip(scenes, slopes, strict=True):
-                shifted += [scene.replace(**{name: scene.creepages[j] + delta})
-                            for j, name, delta in self.increments(scene, slope)]
+                increments = self.increments(scene, slope)
+                if not usable(scene, increments):  # contact by contact, which says why once
+                    raise FloatingPointError("the difference Jacobian's increments are not usable")
+                shifted += [scene.replace(**{name: scene.creepages[j] + delta}) for j, name, delta in increments]
         results = solve_strips_many(scenes + shifted)
         outputs = [ZERO] * len(rows)
         for i, (k, scene) in enumerate(zip(loaded, scenes, strict=True)):
@@ -683,9 +713,12 @@ class EllipticModel(SteppingModel):
         return tuple(outputs)
 
     def increments(self, scene: EllipticScene, slopes):
-        """``(index, creepage name, increment)`` of the forward differences (:meth:`differences`)."""
+        """``(index, creepage name, increment)`` of the forward differences (:meth:`differences`); an increment is NaN
+        where its slope is 0 (a load so small that the slope underflows) and may be infinite or shift its creepage
+        beyond the floats (:func:`usable`)."""
         limit = scene.friction_coefficient * scene.normal_load
-        return [(j, name, DIFFERENCE_STEP * (limit * (scene.hertz.c if j == 2 else 1.0) / slopes[j][j]))
+        return [(j, name, DIFFERENCE_STEP * (limit * (scene.hertz.c if j == 2 else 1.0) / slopes[j][j])
+                 if slopes[j][j] != 0.0 else math.nan)
                 for j, name in enumerate(("longitudinal_creepage", "lateral_creepage", "spin_creepage"))]
 
     def linear_slopes(self, scene: EllipticScene) -> tuple[tuple[float, float, float], ...]:
@@ -699,25 +732,71 @@ class EllipticModel(SteppingModel):
                 (0.0, area * c.c22, area * length * c.c23),
                 (0.0, -area * length * c.c23, area * length * length * c.c33))
 
-    def differences(self, k: int, scene: EllipticScene, result, forces, slopes) -> tuple[float, ...] | None:
+    def differences(self, k: int, scene: EllipticScene, result, forces,
+                    slopes) -> tuple[tuple[float, ...] | None, int]:
         """Forward differences of the step's solve in each creepage, row-major (Fx, Fy, Mz) x (xi, eta, phi), each
         with the solve's own setting (``result.method`` and ``info["setting"]``); the increment
-        :data:`DIFFERENCE_STEP` times ``mu Fn / slope`` (``mu Fn c`` for phi).  Within the step budget: the three
-        solves' modelled cost must fit what the step's solve left of it (its failures and fallbacks included), else
-        None (the linear slopes stand in, said once)."""
+        :data:`DIFFERENCE_STEP` times ``mu Fn / slope`` (``mu Fn c`` for phi); and the number of solves run.
+
+        The linear slopes stand in, said once: for the whole Jacobian where the increments are not positive finite
+        numbers (a load so small that a slope underflows to 0) or where the budget does not pay the solves (their
+        modelled cost must fit what the step's solve left of it, its failures and fallbacks included); for the
+        column of a creepage the level cannot treat once it is shifted.
+        ``(None, 0)``: the linear slopes for every column.
+        """
+        increments = self.increments(scene, slopes)
+        if not usable(scene, increments):
+            self.notice_once(f"jacobian {k}", f"{self.label(k)}the difference Jacobian's increments (mu Fn over the "
+                             f"linear slopes) are {[delta for _, _, delta in increments]!r} at "
+                             f"{scene_text(scene)}, not positive finite numbers: the linear theory's slopes stand in "
+                             "(said once)")
+            return None, 0
+        spec = ELLIPTIC_METHODS[result.method]
+        treated = []
+        for j, name, delta in increments:
+            moved = scene.replace(**{name: scene.creepages[j] + delta})
+            why = spec.inapplicable(moved)
+            if why is None:
+                treated.append((j, delta, moved))
+            else:
+                self.notice_once(f"jacobian {k} {name}", f"{self.label(k)}{result.method} cannot take the {name} "
+                                 f"increment of the difference Jacobian ({why}): its {COLUMNS[j]} column is the linear "
+                                 "theory's slopes (said once)")
         setting = result.info.get("setting", {})
         if self.budget is not None:
             spent = result.info.get("modelled_cost", 0.0)
             each = result.info.get("predicted_cost", math.nan)
-            if not spent + 3.0 * each <= self.budget:
+            if not spent + len(treated) * each <= self.budget:
                 self.notice_once(f"jacobian {k}", f"{self.label(k)}the step budget {self.budget!r} s leaves no room "
-                                 f"for the difference Jacobian of {result.method} (three solves modelled at {each:.3g} "
-                                 f"s each after {spent:.3g} s): the linear theory's slopes stand in (said once)")
-                return None
-        creepages = scene.creepages
-        columns = []
-        for j, name, delta in self.increments(scene, slopes):
-            shifted = self.solved(k, scene.replace(**{name: creepages[j] + delta}), result.method, setting)
-            values = (shifted.longitudinal_force, shifted.lateral_force, shifted.spin_moment)
-            columns.append([(values[i] - forces[i]) / delta for i in range(3)])
-        return tuple(columns[j][i] for i in range(3) for j in range(3))
+                                 f"for the difference Jacobian of {result.method} ({len(treated)} solves modelled at "
+                                 f"{each:.3g} s each after {spent:.3g} s): the linear theory's slopes stand in (said "
+                                 "once)")
+                return None, 0
+        columns = [[slopes[i][j] for i in range(3)] for j in range(3)]
+        for j, delta, moved in treated:
+            solved = self.solved(k, moved, result.method, setting)
+            values = (solved.longitudinal_force, solved.lateral_force, solved.spin_moment)
+            columns[j] = [(values[i] - forces[i]) / delta for i in range(3)]
+        return tuple(columns[j][i] for i in range(3) for j in range(3)), len(treated)
+
+
+def usable(scene: EllipticScene, increments) -> bool:
+    """Whether every increment of :meth:`EllipticModel.increments` is a positive finite number that leaves its
+    creepage finite."""
+    return all(0.0 < delta < math.inf and math.isfinite(scene.creepages[j] + delta) for j, _, delta in increments)
+
+
+COLUMNS = ("xi", "eta", "spin")
+"""The creepages of the Jacobian's columns, as messages name them."""
+
+
+def inputs_text(row) -> str:
+    """A contact's inputs ``(normal_load, longitudinal_creep, lateral_creep, spin, velocity)`` as messages name them
+    (the FMU's input names)."""
+    return (f"normal_load = {row[0]!r} N, longitudinal_creep = {row[1]!r}, lateral_creep = {row[2]!r}, spin = "
+            f"{row[3]!r} 1/m, velocity = {row[4]!r} m/s")
+
+
+def scene_text(scene: EllipticScene) -> str:
+    """:func:`inputs_text` of a scene."""
+    return inputs_text((scene.normal_load, *scene.creepages, scene.rolling_speed))
