@@ -47,6 +47,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from rollcontact.core.materials import Material
 from rollcontact.stepping.base import ModelError, SteppingModel, argument_problems, time_problems
 from rollcontact.stepping.parameters import AUTO, friction_law
@@ -64,7 +66,7 @@ from rollcontact.stepping.wheelrail.parameters import (
     method_code,
 )
 from rollcontact.wheelrail import dispatch
-from rollcontact.wheelrail.conicity import ContactFunctions, ContactTable, equivalent_conicity
+from rollcontact.wheelrail.conicity import ContactFunctions, ContactTable, equivalent_conicity, harmonic_conicity
 from rollcontact.wheelrail.geometry import Pose, Track, Wheelset
 from rollcontact.wheelrail.loads import WheelsetLoads, wheelset_loads
 from rollcontact.wheelrail.normal import rigid_position
@@ -249,6 +251,22 @@ class WheelsetContactModel(SteppingModel):
             return equivalent_conicity(self.track, self.wheelset, amplitude, method, functions=functions)
         except ValueError as exc:
             raise ModelError(str(exc)) from None
+
+    def gravitational_stiffness(self, amplitude: float, load: float) -> float:
+        """The lateral stiffness [N/m] of the contact angles' change at the amplitude [m] under the vertical load Q
+        [N] per wheel: the harmonic linearisation (the describing function, as :meth:`equivalent_conicity`'s) of
+        ``F(y) = -(Q - f23 / r0) (tan(delta_R(y)) - tan(delta_L(y)))``, the lateral components of the normal forces
+        ``Q tan(delta)`` less the spin creep forces ``f23 sin(delta) / r0`` the contact angles bring (Wickens' wheelset
+        on profiles; f23 of the centred contacts, :meth:`creep_coefficients`): what a linear analysis adds to the
+        suspension's lateral stiffness (ModelError without a table)."""
+        functions = self.contact_functions()
+        f23 = self.creep_coefficients(0.0, load)[0][2]
+        difference = np.tan(functions["right_contact_angle"]) - np.tan(functions["left_contact_angle"])
+        try:
+            slope = 2.0 * harmonic_conicity(functions.shift, difference, float(amplitude))
+        except ValueError as exc:
+            raise ModelError(str(exc)) from None
+        return (load - f23 / self.wheelset.nominal_radius) * slope
 
     def creep_coefficients(self, lateral_shift: float, load: float) -> tuple[tuple[float, float, float, float], ...]:
         """Kalker's linear creep coefficients ``(f11, f22, f23, f33)`` [N, N, N m, N m^2] of the left and right
