@@ -1,6 +1,7 @@
 """The wheelset's contact through its geometry table (:mod:`rollcontact.wheelrail.tabulated`) against the library's
 ``hertz`` level on a fresh contact search (oracle: the same physics from the search, at the table's nodes where the
-geometry is the search's own), and its identities: load balance, mirror symmetry, dissipation, a lifted wheel."""
+geometry is the search's own), and its identities: load balance, mirror symmetry, dissipation, zero creepage without
+tangential force (the library's kinematics as the oracle), a lifted wheel."""
 
 from __future__ import annotations
 
@@ -11,9 +12,11 @@ import pytest
 
 from rollcontact import Coulomb, Material
 from rollcontact.wheelrail import dispatch
+from rollcontact.wheelrail.geometry import Pose, Velocities
 from rollcontact.wheelrail.loads import WheelsetLoads, wheelset_loads
 from rollcontact.wheelrail.normal import rigid_position
 from rollcontact.wheelrail.scene import WheelRailScene
+from rollcontact.wheelrail.search import ContactPoint, creepages
 from rollcontact.wheelrail.tabulated import COLUMN, TabulatedWheelset
 
 V = 30.0
@@ -138,3 +141,36 @@ def test_a_lifted_wheel_carries_nothing(tabulated):
     assert math.isfinite(vertical), vertical
     nothing = tabulated.loads(row, 0.0, 0.05, 0.0, V, -V / R0, 0.0, 0.0)[0]
     assert all(v == 0 for v in nothing), f"no load, yet loads {nothing}"
+
+
+def test_zero_creepage_is_zero_tangential_force(contact_table, wheelset):
+    """With the right wheel alone loaded and the pitch rate, yaw rate and lateral velocity that zero its creepages
+    (the library's kinematics, rollcontact.wheelrail.search.creepages, at the wheel's lowest point R_z R_x (0, Y, r)),
+    it carries its load by the normal force alone: no tangential force, no frictional power, vertical force Q, lateral
+    force Q tan(delta)."""
+    linear = TabulatedWheelset(contact_table, wheelset, Material(), Coulomb(0.3), "linear")
+    y, yaw = 0.0023, 0.001
+    row, _ = linear.row(y)
+    roll, height = row[0], row[1]
+    delta, radius = row[COLUMN["right_contact_angle"]], row[COLUMN["right_rolling_radius"]]
+    axle = wheelset.taping_line + row[COLUMN["right_wheel_lateral"]]
+    v = axle * math.cos(roll) - radius * math.sin(roll)
+    lever = (-v * math.sin(yaw), v * math.cos(yaw), axle * math.sin(roll) + radius * math.cos(roll))
+    point = ContactPoint(0.0, 0.0, delta, radius, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                         (lever[0], y + lever[1], height - R0 + lever[2]), "right")
+    pose = Pose(y, yaw, roll, height)
+
+    def creeps(x):
+        return np.array(creepages(wheelset, pose, Velocities(V, x[2], x[1], x[0]), point))
+
+    x0 = np.array([-V / R0, 0.0, 0.0])
+    base = creeps(x0)
+    columns = [creeps(x0 + d) - base for d in np.diag([1.0, 1.0, 1.0])]
+    x = x0 - np.linalg.solve(np.column_stack(columns), base)
+    assert np.max(np.abs(creeps(x))) < 1e-14, f"creepages {creeps(x)}"
+    loads = linear.loads(row, yaw, x[2], x[1], V, x[0], 0.0, Q)[0]
+    assert abs(loads.longitudinal_force_right) <= 1e-9 * Q, f"Fx {loads.longitudinal_force_right!r}"
+    assert loads.lateral_force_right == pytest.approx(-Q * math.tan(delta), rel=1e-9), \
+        f"the lateral force is not the normal force's: {loads.lateral_force_right!r}"
+    assert loads.vertical_force_right == pytest.approx(-Q, rel=1e-12), f"Fz {loads.vertical_force_right!r}"
+    assert abs(loads.frictional_power_right) <= 1e-9 * Q * V, f"power {loads.frictional_power_right!r} W"

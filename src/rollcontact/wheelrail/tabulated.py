@@ -119,14 +119,14 @@ class TabulatedWheelset:
         shift = self.table.functions[0].shift
         return float(shift[0]), float(shift[-1])
 
-    def row(self, lateral_shift: float) -> tuple[list[float], list[float]]:
+    def row(self, lateral_shift: float, shift: float | None = None) -> tuple[list[float], list[float] | None]:
         """The node values interpolated at the lateral shift [m] (:data:`QUANTITIES`, then :data:`NODE_CONSTANTS`
-        of the left and right wheels) and their derivative in it within the segment [1/m]; GeometryError outside
-        the table."""
+        of the left and right wheels), and with ``shift`` [m] also at ``lateral_shift + shift`` continued within the
+        segment (the same two nodes: never across a jump; else None); GeometryError outside the table."""
         k, t, width = self.table.locate(lateral_shift)
-        v0, v1 = self.values[k], self.values[k + 1]
-        step = v1 - v0
-        return (v0 + t * step).tolist(), (step / width).tolist()
+        v0 = self.values[k]
+        step = self.values[k + 1] - v0
+        return (v0 + t * step).tolist(), None if shift is None else (v0 + (t + shift / width) * step).tolist()
 
     def creep_coefficients(self, row, side: str, load: float) -> tuple[float, float, float, float]:
         """Kalker's linear creep coefficients ``(G c^2 C11, G c^2 C22, G c^3 C23, G c^4 C33)`` [N, N, N m, N m^2] of

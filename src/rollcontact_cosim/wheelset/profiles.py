@@ -65,8 +65,9 @@ SETTLED = 2e-5
 """[m]: a run whose largest |y| over the last :data:`WINDOW` seconds is below this has no limit cycle (amplitude 0)."""
 
 DECAYING = 0.97
-"""A run whose largest |y| over the last :data:`WINDOW` is below this share of the largest over the window before
-is still decaying (more than about 1.5 % per second): no limit cycle (amplitude 0)."""
+"""A run whose largest |y| over each of the last two :data:`WINDOW` s falls below this share of the one before is
+still decaying (more than about 1.5 % per second, twice running; an irregular limit cycle on the flange does not keep
+falling): no limit cycle (amplitude 0)."""
 
 FLANGE_ANGLE = 0.5
 """[rad]: a run whose largest contact angle over the last :data:`WINDOW` exceeds this rides on the flange."""
@@ -127,10 +128,13 @@ def analyse(speed: float, start: float, times: np.ndarray, lateral: np.ndarray, 
     """The :class:`ProfileRun` of the time history y(t) [m] (host axes) and the largest contact angle [rad] per
     sample (None: not recorded)."""
     window = times >= times[-1] - WINDOW
-    before = (times >= times[-1] - 2.0 * WINDOW) & ~window
-    peak = float(np.max(np.abs(lateral[window])))
-    earlier = float(np.max(np.abs(lateral[before]))) if before.any() else peak
-    amplitude = peak if peak >= SETTLED and peak >= DECAYING * earlier else 0.0
+    peaks = []
+    for k in (1, 2, 3):  # the largest |y| over the last window, the one before and the one before that
+        span = (times >= times[-1] - k * WINDOW) & (times < times[-1] - (k - 1) * WINDOW if k > 1 else True)
+        peaks.append(float(np.max(np.abs(lateral[span]))) if span.any() else peaks[-1])
+    peak = peaks[0]
+    decaying = peaks[0] < DECAYING * peaks[1] and peaks[1] < DECAYING * peaks[2]
+    amplitude = peak if peak >= SETTLED and not decaying else 0.0
     crossings = upward_crossings(times[window], lateral[window])
     frequency = (crossings.size - 1) / (crossings[-1] - crossings[0]) if crossings.size >= 2 and amplitude else 0.0
     early = times <= GROWTH_WINDOW

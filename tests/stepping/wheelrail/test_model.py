@@ -205,3 +205,13 @@ def test_the_geometry_helpers(tabulated):
     assert 0.55 < tabulated.equivalent_conicity(5e-4) < 0.7, tabulated.equivalent_conicity(5e-4)
     left, right = tabulated.creep_coefficients(0.0, Q)
     assert left == pytest.approx(right, rel=1e-12) and min(left[:3]) > 0.0, (left, right)
+
+
+def test_the_outputs_are_a_function_of_the_inputs_alone(tabulated):
+    """The same inputs give the same outputs bit for bit whatever came before and whenever they come."""
+    tabulated.reset(0.0)
+    values = inputs(0.0027, 0.0008, -0.03, 0.05)
+    first = tabulated.step(0.0, H, values)
+    for n, other in enumerate(signal(5), start=1):
+        tabulated.step(n * H, H, other)
+    assert tabulated.step(7.3, 0.01, values) == first, "the outputs depend on the history"

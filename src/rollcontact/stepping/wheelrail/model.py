@@ -351,18 +351,17 @@ class WheelsetContactModel(SteppingModel):
         """The outputs for checked inputs (module docstring)."""
         y, yaw, vy, rate, speed, pitch, left, right = values
         loaded = left > 0.0 or right > 0.0
+        differences_on = loaded and self.parameters.jacobian == 0
         if self.tabulated is not None:
             try:
-                row, slope = self.tabulated.row(y)
+                row, shifted = self.tabulated.row(y, INCREMENTS["lateral_shift"] if differences_on else None)
             except ValueError as exc:
                 raise ModelError(str(exc)) from None
             loads, roll, vertical = self.tabulated.loads(row, yaw, vy, rate, speed, pitch, left, right) if loaded \
                 else (ZERO_LOADS, row[0], row[1])
             derivatives = (0.0,) * 8
-            if loaded and self.parameters.jacobian == 0:
-                h = INCREMENTS["lateral_shift"]
-                shifted = [r + h * s for r, s in zip(row, slope, strict=True)]
-                steps = (h, INCREMENTS["yaw"], INCREMENTS["lateral_velocity"] * speed,
+            if differences_on:
+                steps = (INCREMENTS["lateral_shift"], INCREMENTS["yaw"], INCREMENTS["lateral_velocity"] * speed,
                          INCREMENTS["yaw_rate"] * speed / self.wheelset.taping_line)
                 evaluate = self.tabulated.loads
                 others = (evaluate(shifted, yaw, vy, rate, speed, pitch, left, right, False),
