@@ -82,10 +82,11 @@ lateral velocity [m/s] and 1e-6 V / Y_t of the yaw rate [rad/s] (V the forward s
 coordinate): each changes the creepages by about 1e-6, small against their saturation values (mu Fn over the creep
 coefficients, some 1e-3) and large against the forces' rounding."""
 
-TABULATED_COST = 2.0e-4
-"""Modelled time [s] of a step through the geometry table (the evaluation and its four differences): at least the
-median measured by ``benchmarks/bench_wheelset_contact.py`` (table "step cost") on the machines of
-``benchmarks/results/wheelset_contact.md``; what ``step_budget`` compares it with."""
+TABULATED_COST = 3.0e-4
+"""Modelled time [s] of a step through the geometry table (the evaluation and its four differences): above the
+medians of the FMU's whole steps through the table, fmpy's calls included, that ``benchmarks/bench_wheelset_contact.py``
+measures (``benchmarks/results/wheelset_contact.md``, "hertz, saturated, table on"); what ``step_budget`` compares it
+with."""
 
 TABLE_CACHE = 4
 """Geometry tables kept per process (a sweep's worker runs one wheelset many times): keyed by the profiles' bytes and
