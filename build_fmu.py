@@ -16,9 +16,9 @@ is).  ``--if-stale`` builds only the FMUs that are missing or older than one of 
 Python API: :func:`build`, :func:`is_stale` and :func:`ensure` (build when missing or stale) of one FMU into one
 folder; :data:`FMUS`, the manifests by model name; :func:`fmi_dest`, the folder of an FMI version under ``--dest``.
 
-An FMU bundles its slave module, the support package ``fmu_src/rollcontact_fmu/`` and the manifest's packages in
-``resources/``, with an entry module written from one template (``fmu_src/tools/entry.py``); its Linux binary gets
-the exit fix of ``fmu_src/tools/pythonfmu_exit_fix.py``.  How a build imports, and what a manifest holds:
+An FMU bundles its slave module, the support package ``fmu_src/rollcontact_fmu/``, the manifest's packages and data
+folders in ``resources/``, with an entry module written from one template (``fmu_src/tools/entry.py``); its Linux
+binary gets the exit fix of ``fmu_src/tools/pythonfmu_exit_fix.py``.  How a build imports, and what a manifest holds:
 docs/fmu-internals.md.
 """
 
@@ -55,7 +55,7 @@ FMI3_FOLDER = "fmi3"
 """Subfolder of ``--dest`` that ``--fmi 3`` builds into."""
 MAX_CONTACTS = 64
 """Most contacts of one FMU (``--contacts``)."""
-MANIFEST_KEYS = frozenset({"model", "slave", "packages", "docs", "variants"})
+MANIFEST_KEYS = frozenset({"model", "slave", "packages", "resources", "docs", "variants"})
 VARIANT_KEYS = frozenset({"contacts", "enumerations", "arrays"})
 """The keys of a manifest and of its ``[variants]`` table."""
 
@@ -74,6 +74,8 @@ class Manifest(NamedTuple):
         binding) and ``declaration(**variant)`` (its variable table and enumerations).
     packages : tuple of Path
         The packages bundled in ``resources/`` besides the slave module and the support package.
+    resources : tuple of Path
+        Data folders copied into ``resources/`` under their own names (the WheelsetContact FMU's profiles).
     contacts : bool
         Whether it is built with n contacts (``--contacts``; the variant argument ``contacts``).
     enumerations : bool
@@ -89,6 +91,7 @@ class Manifest(NamedTuple):
     folder: Path
     slave: str
     packages: tuple[Path, ...]
+    resources: tuple[Path, ...]
     contacts: bool
     enumerations: bool
     arrays: bool
@@ -112,12 +115,16 @@ class Manifest(NamedTuple):
         packages = tuple(data.get("packages", ()))
         problems += [f"package {package!r} is no package folder of the repository" for package in packages
                      if not (ROOT / package / "__init__.py").is_file()]
+        resources = tuple(data.get("resources", ()))
+        problems += [f"resources {folder!r} is no folder of the repository" for folder in resources
+                     if not (ROOT / folder).is_dir()]
         flags = {key: variants.get(key, False) for key in VARIANT_KEYS} | {"docs": data.get("docs", False)}
         problems += [f"{key} = {value!r} is not true or false" for key, value in flags.items()
                      if not isinstance(value, bool)]
         if problems:
             raise ValueError(f"{path}: " + "; ".join(problems))
-        return cls(folder.name, folder, data["slave"], tuple(ROOT / package for package in packages), **flags)
+        return cls(folder.name, folder, data["slave"], tuple(ROOT / package for package in packages),
+                   tuple(ROOT / folder for folder in resources), **flags)
 
     def name(self, contacts: int = 1) -> str:
         """The model name of the variant with ``contacts`` contacts."""
@@ -237,7 +244,7 @@ def build(model: str, dest: Path | str = MODELS, *, fmi: int = 2, contacts: int 
         entry = entries.write_entry(Path(tmp), name, fmi, fmu.folder.name, fmu.slave, arguments)
         slave_module(fmu, fmi)
         before, saved = set(sys.modules), sys.path[:]
-        files = [fmu.folder / f"{fmu.slave}.py", SUPPORT, *fmu.packages]
+        files = [fmu.folder / f"{fmu.slave}.py", SUPPORT, *fmu.packages, *fmu.resources]
         try:
             built = Path(pack2(entry, files, dest) if fmi == 2 else pack3(entry, files, dest))
         finally:
@@ -279,10 +286,12 @@ def pack3(entry: Path, files: list[Path], dest: Path | str) -> Path:
 
 def sources(model: str) -> list[Path]:
     """The files the FMU ``model`` is built from: its folder's manifest and modules, the support package, the
-    bundled packages' modules, the build's tools and this script."""
+    bundled packages' modules, the data folders' files, the build's tools and this script."""
     fmu = manifest(model)
     return [fmu.folder / "manifest.toml", *sorted(fmu.folder.glob("*.py")), *sorted(SUPPORT.rglob("*.py")),
-            *(f for package in fmu.packages for f in sorted(package.rglob("*.py"))), *sorted(TOOLS.glob("*.py")),
+            *(f for package in fmu.packages for f in sorted(package.rglob("*.py"))),
+            *(f for folder in fmu.resources for f in sorted(folder.rglob("*")) if f.is_file()),
+            *sorted(TOOLS.glob("*.py")),
             Path(__file__).resolve()]
 
 

@@ -39,14 +39,14 @@ def contact_variants(tmp_path_factory) -> dict[int, Path]:
 @pytest.fixture(scope="session")
 def fmu_folders(tmp_path_factory) -> dict[int, Path]:
     """``python build_fmu.py --all --dest <tmp>`` and ``--fmi 3 --all`` (each in a fresh process, as the docs give
-    them) once per test run: version -> folder of the four FMUs (RollingContact2D, WheelRig, Wheelset,
-    RollingContact3D; FMI 3.0 below ``fmi3/``)."""
+    them) once per test run: version -> folder of the five FMUs (RollingContact2D, WheelRig, Wheelset,
+    RollingContact3D, WheelsetContact; FMI 3.0 below ``fmi3/``)."""
     dest = tmp_path_factory.mktemp("fmi2_and_fmi3")
     out = run_build("--all", dest=dest) + run_build("--fmi", "3", "--all", dest=dest)
     folders = {2: dest, 3: dest / "fmi3"}
     for folder in folders.values():
         assert {p.name for p in folder.glob("*.fmu")} == {"RollingContact2D.fmu", "WheelRig.fmu", "Wheelset.fmu",
-                                                        "RollingContact3D.fmu"}, out
+                                                        "RollingContact3D.fmu", "WheelsetContact.fmu"}, out
     return folders
 
 

@@ -35,12 +35,12 @@ LAYERS = ("rollcontact.core.checks",
           "rollcontact.elliptic.dispatch rollcontact.elliptic",
           "rollcontact.wheelrail.patch rollcontact.wheelrail.profiles rollcontact.wheelrail.geometry "
           "rollcontact.wheelrail.search rollcontact.wheelrail.normal rollcontact.wheelrail.conicity "
-          "rollcontact.wheelrail.scene rollcontact.wheelrail.result",
+          "rollcontact.wheelrail.scene rollcontact.wheelrail.result rollcontact.wheelrail.loads",
           "rollcontact.wheelrail.wheels",
           "rollcontact.wheelrail.methods",
-          "rollcontact.wheelrail.dispatch rollcontact.wheelrail",
+          "rollcontact.wheelrail.dispatch rollcontact.wheelrail.tabulated rollcontact.wheelrail",
           "rollcontact.stepping.base rollcontact.stepping.parameters rollcontact.stepping.threads",
-          "rollcontact.stepping.line rollcontact.stepping.elliptic",
+          "rollcontact.stepping.line rollcontact.stepping.elliptic rollcontact.stepping.wheelrail",
           "rollcontact.stepping",
           "rollcontact rollcontact.__main__")
 """Layers from the shared core up to the package's entry points: a module imports only from its own layer or those

@@ -1,11 +1,13 @@
 """The Wheelset FMU's slave, host of the hunting scene with two contacts: :class:`WheelsetShared` (both FMI
 versions); :func:`slave_class` gives the FMU's class.
 
-A suspended wheelset with conical wheels on straight track (lateral displacement and yaw); no physics here: the
-parameters become a :class:`rollcontact_cosim.wheelset.WheelsetParameters` (equations, signs and integrator in
-that module's docstring), each ``do_step`` is one :meth:`rollcontact_cosim.wheelset.WheelsetModel.step` with the
-forces and Jacobians of the two contacts, and the outputs are :meth:`~rollcontact_cosim.wheelset.WheelsetModel.outputs`
-by position.  Contact 1 is the left wheel, 2 the right one; the per-contact variables follow the FMI 2.0 array
+A suspended wheelset on straight track (lateral displacement and yaw); no physics here: the parameters become a
+:class:`rollcontact_cosim.wheelset.WheelsetParameters` (equations, signs and integrator in that module's docstring),
+each ``do_step`` is one :meth:`rollcontact_cosim.wheelset.WheelsetModel.step` with the forces and Jacobians of the two
+contacts of conical wheels (``contact_model`` = 0), or one :meth:`~rollcontact_cosim.wheelset.WheelsetModel.
+step_profiles` with the loads of a WheelsetContact and their derivatives (``contact_model`` = 1), and the outputs are
+:meth:`~rollcontact_cosim.wheelset.WheelsetModel.outputs` by position (the WheelsetContact's inputs, in track axes,
+among them).  Contact 1 is the left wheel, 2 the right one; the per-contact variables follow the FMI 2.0 array
 convention ``name[1]``, ``name[2]``.  Forces are those the wheel exerts on the rail, in the wheel's axes (the
 contact FMUs' sign).  The variables are declared in the single table :data:`VARIABLES` (value references follow
 its order: append, never reorder).
@@ -21,6 +23,7 @@ from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu.slave import CONTINUOUS, FIXED, INPUT, OUTPUT, PARAMETER, HostSlave
 
 from rollcontact_cosim.wheelset import WheelsetModel, WheelsetParameters, WheelsetState
+from rollcontact_cosim.wheelset.model import LOAD_INPUTS, TRACK_OUTPUTS
 
 DEFAULT = WheelsetParameters()
 START = WheelsetModel(DEFAULT).outputs()
@@ -58,9 +61,23 @@ OUTPUT_ROWS += [
     ("lateral_velocity", Real, OUTPUT, CONTINUOUS, "m/s", None, None, None, "Lateral velocity y'"),
     ("yaw_rate", Real, OUTPUT, CONTINUOUS, "rad/s", None, None, None, "Yaw rate psi'"),
 ]
+TRACK_ROWS = {
+    "lateral_shift": ("m", None, "Lateral shift in track axes, -y (to the right > 0), a WheelsetContact's input"),
+    "yaw": ("rad", None, "Yaw in track axes, -psi (front to the right > 0), a WheelsetContact's input"),
+    "track_lateral_velocity": ("m/s", None, "Lateral velocity in track axes, -y', a WheelsetContact's input"),
+    "track_yaw_rate": ("rad/s", None, "Yaw rate in track axes, -psi', a WheelsetContact's yaw_rate"),
+    "forward_speed": ("m/s", 0.0, "Speed V of the wheelset along the track, a WheelsetContact's input"),
+    "pitch_rate": ("rad/s", None, "Pitch rate -V/r0 of rolling at the rolling radius, a WheelsetContact's input"),
+    "vertical_load_left": ("N", 0.0, "Vertical load N of the left wheel, a WheelsetContact's input"),
+    "vertical_load_right": ("N", 0.0, "Vertical load N of the right wheel, a WheelsetContact's input"),
+}
 # start values to 16 significant digits, as pythonfmu writes FMI 2.0 starts (FMI 3.0's keep 17): both
 # modelDescriptions then declare the same numbers (the outputs' initial values are approx, computed at initialisation)
-OUTPUT_ROWS = [(*row[:5], float(f"{start:.16g}"), *row[6:]) for row, start in zip(OUTPUT_ROWS, START, strict=True)]
+OUTPUT_ROWS = [(*row[:5], float(f"{start:.16g}"), *row[6:])
+               for row, start in zip(OUTPUT_ROWS, START[:len(OUTPUT_ROWS)], strict=True)]
+TRACK_OUTPUT_ROWS = [(name, Real, OUTPUT, CONTINUOUS, TRACK_ROWS[name][0], float(f"{start:.16g}"),
+                      TRACK_ROWS[name][1], None, TRACK_ROWS[name][2])
+                     for name, start in zip(TRACK_OUTPUTS, START[len(OUTPUT_ROWS):], strict=True)]
 
 INPUT_ROWS = [(f"{name}[{k}]", Real, INPUT, CONTINUOUS, unit, 0.0, None, None, f"{text}, contact {k} ({SIDES[k]})")
               for k in CONTACTS for name, unit, text in FORCES]
@@ -88,16 +105,27 @@ PARAMETER_TEXT = {
 }
 PARAMETER_ROWS = [(f.name, Real, PARAMETER, FIXED, *PARAMETER_TEXT[f.name][:1], getattr(DEFAULT, f.name),
                    PARAMETER_TEXT[f.name][1], None, PARAMETER_TEXT[f.name][2])
-                  for f in dataclasses.fields(WheelsetParameters) if f.name not in ("substeps", "force_lag")]
+                  for f in dataclasses.fields(WheelsetParameters)
+                  if f.name not in ("substeps", "force_lag", "contact_model")]
 PARAMETER_ROWS += [("substeps", Integer, PARAMETER, FIXED, None, DEFAULT.substeps, 1, None,
                     "Integration steps per macro step, >= 1"),
                    ("force_lag", Integer, PARAMETER, FIXED, None, DEFAULT.force_lag, 0, 1,
                     "Communication points by which the force inputs lag the creepage outputs: 0 Gauss-Seidel with "
                     "the contact stepped first, 1 Jacobi (libcosim)")]
 
+LOAD_UNITS = {"force_y": "N", "moment_yaw": "N.m", "dforce_y_dlateral_shift": "N/m", "dforce_y_dyaw": "N/rad",
+              "dforce_y_dlateral_velocity": "N.s/m", "dforce_y_dyaw_rate": "N.s/rad", "dmoment_yaw_dlateral_shift":
+              "N.m/m", "dmoment_yaw_dyaw": "N.m/rad", "dmoment_yaw_dlateral_velocity": "N.s",
+              "dmoment_yaw_dyaw_rate": "N.m.s/rad"}
+LOAD_ROWS = [(name, Real, INPUT, CONTINUOUS, LOAD_UNITS[name], 0.0, None, None,
+              f"{name} of a WheelsetContact (track axes; contact_model = profiles)") for name in LOAD_INPUTS]
+APPENDED_ROWS = [*TRACK_OUTPUT_ROWS, *LOAD_ROWS,
+                 ("contact_model", Integer, PARAMETER, FIXED, None, DEFAULT.contact_model, 0, 1,
+                  "The contact: 0 cones, the forces of two contacts; 1 profiles, the loads of a WheelsetContact")]
+
 # name, type, causality, variability, unit, start, min, max, description.  Append only: the value reference of a
 # variable is its row number (from 0).
-VARIABLES = tuple(INPUT_ROWS + OUTPUT_ROWS + PARAMETER_ROWS)
+VARIABLES = tuple(INPUT_ROWS + OUTPUT_ROWS + PARAMETER_ROWS + APPENDED_ROWS)
 FORCE_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in FORCES)
 JACOBIAN_INPUTS = tuple(f"{name}[{k}]" for k in CONTACTS for name, _, _ in JACOBIAN)
 
@@ -115,6 +143,9 @@ class WheelsetShared(HostSlave):
     MODEL, PARAMETERS = WheelsetModel, WheelsetParameters
 
     def step_model(self, current_time, step_size):
+        if self.model.parameters.contact_model == 1:
+            self.model.step_profiles(current_time, step_size, [getattr(self, name) for name in LOAD_INPUTS])
+            return self.model.outputs()
         forces = [[getattr(self, FORCE_INPUTS[3 * k + i]) for i in range(3)] for k in range(2)]
         jacobians = [[[getattr(self, JACOBIAN_INPUTS[9 * k + 3 * i + j]) for j in range(3)] for i in range(3)]
                      for k in range(2)]

@@ -24,6 +24,8 @@ UNITS = {  # SI base-unit exponents of every unit the project's FMUs use
     "N.m": {"kg": 1, "m": 2, "s": -2}, "N.s/m": {"kg": 1, "s": -1}, "N.s2/m2": {"kg": 1, "m": -1},
     "1/m": {"m": -1}, "N/m": {"kg": 1, "s": -2}, "N.m2": {"kg": 1, "m": 3, "s": -2},
     "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1}, "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
+    "N/rad": {"kg": 1, "m": 1, "s": -2, "rad": -1}, "N.s/rad": {"kg": 1, "m": 1, "s": -1, "rad": -1},
+    "N.m/m": {"kg": 1, "m": 1, "s": -2}, "N.s": {"kg": 1, "m": 1, "s": -1},
 }
 
 

@@ -5,7 +5,9 @@ and the recorded time histories, whose title names the friction law and its valu
 ``--csv PATH`` the recorded time histories as CSV with their units in the header (:func:`write_csv`).
 ``--fmi 3`` runs the FMI 3.0 FMUs (``models/fmi3/``, fmpy master) instead of the FMI 2.0 ones.
 
-``--scene NAME`` is the same as the positional scene.  The scene ``wheelset_hunting`` runs in process
+``--scene NAME`` is the same as the positional scene.  The scene ``wheelset_hunting_profiles`` runs its study
+(:mod:`rollcontact_cosim.wheelset.profiles`: the speed sweep from a small and a large start co-simulated through
+``--master`` on dask, the bifurcation diagram to ``--plot``).  The scene ``wheelset_hunting`` runs in process
 (:func:`rollcontact_cosim.wheelset.study.run_hunting_study`: the wheelset with Kalker's linear creep forces, a
 speed sweep on a local dask cluster against the linear stability analysis, Klingel's wavelength), prints its
 tables and writes its figure; with ``--fmu-dir`` or ``--master libcosim`` its speed sweep is co-simulated through
@@ -219,7 +221,31 @@ def wheelset_hunting(args) -> int:
     return 0
 
 
-IN_PROCESS = {"wheelset_hunting": wheelset_hunting}
+def wheelset_hunting_profiles(args) -> int:
+    """The ``wheelset_hunting_profiles`` scene's study: the speed sweep from both starts co-simulated through
+    ``--master`` (fmpy by default) on two dask workers, the FMUs of ``--fmu-dir`` (default models/; built there when
+    missing or stale); its tables on stdout, the bifurcation diagram to ``--plot``."""
+    from rollcontact_cosim.wheelset.profiles import (
+        Linearisation,
+        hunting_diagram,
+        klingel_check,
+        plot_profiles,
+        report,
+        scene_models,
+    )
+
+    if args.fmi is not None or args.algorithm or args.step_size or args.csv:
+        raise ValueError("the wheelset_hunting_profiles study runs the scene's system at every speed: --fmi, "
+                         "--algorithm, --step-size and --csv do not apply")
+    study = hunting_diagram(fmu_dir=args.fmu_dir, master=args.master)
+    linear = Linearisation(*scene_models())
+    path = plot_profiles(study, linear, args.plot or "cosim_wheelset_hunting_profiles.png")
+    print(report(study, linear, klingel_check()))
+    print(f"\n{len(study.runs)} runs through {study.master} in {study.wall_time:.0f} s\nplot: {path}")
+    return 0
+
+
+IN_PROCESS = {"wheelset_hunting": wheelset_hunting, "wheelset_hunting_profiles": wheelset_hunting_profiles}
 """Scenes run in process (no FMU), by name: a function of the parsed arguments returning the exit code."""
 
 
@@ -259,13 +285,16 @@ variable against time [s]; its title names the friction law and its values.
 The scene wheelset_hunting runs in process: a hunting wheelset's speed sweep against its linear
 stability analysis, and Klingel's wavelength; with --fmu-dir DIR (or --master libcosim) the sweep is
 co-simulated through the master with the Wheelset and RollingContact3D_2 FMUs of DIR (default models/;
-built there when missing or stale).
+built there when missing or stale). The scene wheelset_hunting_profiles runs its study: the wheelset on
+S1002/UIC60 profiles (the Wheelset and WheelsetContact FMUs) at 20 speeds from 0.5 mm and 8 mm, 10 s
+each, on two dask workers through --master; the bifurcation diagram goes to --plot.
 
 examples:
   python -m rollcontact_cosim
   python -m rollcontact_cosim --scene wheelset_hunting
   python -m rollcontact_cosim --scene wheelset_hunting --fmu-dir models
   python -m rollcontact_cosim --scene wheelset_hunting --master libcosim
+  python -m rollcontact_cosim --scene wheelset_hunting_profiles [--master libcosim]
   python -m rollcontact_cosim {DEFAULT_SCENE} --step-size 2e-3 --plot ramp.png --csv ramp.csv
 """
 

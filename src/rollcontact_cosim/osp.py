@@ -183,7 +183,7 @@ def simulate(execution: CosimExecution, scene: CosimScene, start_values: dict[st
              steps: int) -> CosimResult:
     """Set the start values, record, take N + 1 steps and assemble the result rows (see the module docstring)."""
     index, variables = set_start_values(execution, start_values)
-    observer = CosimObserver.create_time_series()
+    observer = CosimObserver.create_time_series(buffer_size=steps + 2)  # every sample: the default keeps 10000
     execution.add_observer(observer)
     recorded = []  # (column, instance, variable description)
     for output in scene.outputs:

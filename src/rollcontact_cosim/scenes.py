@@ -27,7 +27,14 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from rollcontact.stepping import ContactParameters, EllipticOutputs, EllipticParameters, StepOutputs
+from rollcontact.stepping import (
+    ContactParameters,
+    EllipticOutputs,
+    EllipticParameters,
+    StepOutputs,
+    WheelsetContactOutputs,
+    WheelsetContactParameters,
+)
 from rollcontact_cosim.wheel_rig import INPUT_NAMES, WheelRigOutputs, WheelRigParameters
 from rollcontact_cosim.wheelset import model as wheelset
 
@@ -135,6 +142,10 @@ def wheelset_parameters(contacts: int) -> dict[str, Any]:
     return {**defaults(wheelset.WheelsetParameters), "contact_angle": wheelset.WheelsetParameters().contact_angle}
 
 
+WHEELSET_CONTACT_INPUTS = ("lateral_shift", "yaw", "lateral_velocity", "yaw_rate", "forward_speed", "pitch_rate",
+                           "vertical_load_left", "vertical_load_right")
+"""The WheelsetContact FMU's inputs (track axes)."""
+
 MODELS = MappingProxyType({
     "WheelRig": Model(lambda n: INPUT_NAMES, lambda n: WheelRigOutputs._fields,
                       lambda n: defaults(WheelRigParameters), lambda values, n: WheelRigParameters(**values)),
@@ -144,6 +155,9 @@ MODELS = MappingProxyType({
                       lambda values, n: wheelset.WheelsetParameters(**values)),
     "RollingContact3D": Model(lambda n: indexed(ELLIPTIC_INPUTS, n), lambda n: indexed(EllipticOutputs._fields, n),
                               elliptic_parameters, elliptic_check, variants=True),
+    "WheelsetContact": Model(lambda n: WHEELSET_CONTACT_INPUTS, lambda n: WheelsetContactOutputs._fields,
+                             lambda n: defaults(WheelsetContactParameters),
+                             lambda values, n: WheelsetContactParameters(**values)),
 })
 """The models a scene's instances may be, by the model name of their FMU (without a variant's ``_N``)."""
 
@@ -195,9 +209,11 @@ class System:
     host, contact : Instance
         The host (its outputs feed the contact) and the contact (its forces feed the host).
     to_contact : tuple of str
-        Host outputs that are contact inputs of the same names, per contact (``name[k]`` with several).
+        Host outputs that are contact inputs of the same names, per contact (``name[k]`` with several); an entry
+        ``"output -> input"`` connects an output to an input of another name (:func:`pairs`).
     to_host : tuple of str
-        Contact outputs that are host inputs of the same names, per contact: the forces and their derivatives.
+        Contact outputs that are host inputs of the same names, per contact: the forces and their derivatives
+        (``"output -> input"`` as in ``to_contact``).
     fmi_version : int
         2 (FMI 2.0) or 3 (FMI 3.0) for every FMU.
     integer_codes : bool
@@ -221,8 +237,8 @@ class System:
         """``(source output, target input)`` of every connection, ``"Instance.variable"`` (per contact for several)."""
         contacts = self.contact.contacts
         host, contact = self.host.name, self.contact.name
-        return (*((f"{host}.{name}", f"{contact}.{name}") for name in indexed(self.to_contact, contacts)),
-                *((f"{contact}.{name}", f"{host}.{name}") for name in indexed(self.to_host, contacts)))
+        return (*((f"{host}.{source}", f"{contact}.{target}") for source, target in pairs(self.to_contact, contacts)),
+                *((f"{contact}.{source}", f"{host}.{target}") for source, target in pairs(self.to_host, contacts)))
 
     def variant(self, fmi_version: int | None = None, integer_codes: bool | None = None) -> System:
         """This system with its FMUs in another FMI version or build (None: as it is); ValueError for a variant
@@ -245,6 +261,18 @@ class System:
     def fmus(self, fmu_dir: Path | str) -> dict[str, Path]:
         """Instance name -> FMU file in :meth:`folder`."""
         return {instance.name: self.folder(fmu_dir) / f"{instance.fmu_name}.fmu" for instance in self.instances}
+
+
+def pairs(entries, contacts: int) -> tuple[tuple[str, str], ...]:
+    """``(output, input)`` of every entry of ``to_contact`` or ``to_host``, per contact (:func:`indexed`): ``"name"``
+    connects the variables of that name, ``"output -> input"`` an output to an input of another name (the Wheelset
+    host's track-axis velocities to a WheelsetContact's ``lateral_velocity`` and ``yaw_rate``, the host's own
+    ``lateral_velocity`` being in its axes)."""
+    out = []
+    for entry in entries:
+        source, _, target = (part.strip() for part in entry.partition("->"))
+        out += zip(indexed((source,), contacts), indexed((target or source,), contacts), strict=True)
+    return tuple(out)
 
 
 def check_fmi_version(fmi_version) -> int:
@@ -505,8 +533,8 @@ def parse_system(data: dict, host: dict, contact: dict) -> System:
     system = System(instances["host"], instances["contact"], names(data, "to_contact", "system"),
                     names(data, "to_host", "system"))
     for key, source, target in (("to_contact", system.host, system.contact), ("to_host", system.contact, system.host)):
-        for name in indexed(getattr(system, key), contacts):
-            for instance, kind in ((source, "outputs"), (target, "inputs")):
+        for names_ in pairs(getattr(system, key), contacts):
+            for name, instance, kind in zip(names_, (source, target), ("outputs", "inputs"), strict=True):
                 if name not in instance.names(kind):
                     raise CosimSceneError(f"[system] {key}: {instance.name} has no {kind[:-1]} {name!r} ({kind}: "
                                           f"{', '.join(instance.names(kind))})")

@@ -1,7 +1,8 @@
 """Kalker's creepage coefficients: the interpolation of the solver's table reproduces Kalker's published table
 (Kalker 1990, Table E.3, all 19 rows, a/b = g and 1/g for g = 0.1 .. 1, typed here independently of the data
 module) within 1 % (1.5 % on the end rows, :data:`EXTREME_ROWS`), tends to the
-strip-theory limits, and refuses what the table does not cover."""
+strip-theory limits, refuses what the table does not cover, and continues beyond it as a power law (the extended
+coefficients)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,11 @@ import math
 
 import pytest
 
-from rollcontact.elliptic.creep_coefficients import creepage_coefficients
+from rollcontact.elliptic.creep_coefficients import (
+    aspect_ratio_range,
+    creepage_coefficients,
+    extended_creepage_coefficients,
+)
 
 KALKER_E3 = {  # a/b: {nu: (C11, C22, C23)}, nu = 0, 0.25, 0.5
     0.1: {0.0: (2.51, 2.51, 0.334), 0.25: (3.31, 2.52, 0.473), 0.5: (4.85, 2.53, 0.731)},
@@ -82,3 +87,22 @@ def test_nu_zero_makes_c11_equal_c22():
 def test_outside_the_table_is_refused_with_the_limits(g, nu, match):
     with pytest.raises(ValueError, match=match):
         creepage_coefficients(g, nu)
+
+
+@pytest.mark.parametrize("nu", (0.25, 0.28))
+def test_extended_coefficients_continue_the_table_as_a_power_law(nu):
+    """Within the table the extended coefficients are the table's; beyond it each log C is the straight line through
+    the table's two end rows (a power law in a/b), continuous at the table's ends."""
+    low, high = aspect_ratio_range()
+    for g in (0.5, 1.0, 7.0):
+        assert extended_creepage_coefficients(g, nu) == creepage_coefficients(g, nu), f"a/b = {g}: not the table's"
+    for end, inner, far in ((high, high / 1.5, 24.0), (low, low * 1.5, 0.04)):
+        at_end, at_inner, beyond = (extended_creepage_coefficients(g, nu) for g in (end, inner, far))
+        for name, e, i, b in zip(("c11", "c22", "c23", "c33"), at_end, at_inner, beyond, strict=True):
+            slope = math.log(e / i) / math.log(end / inner)
+            expected = math.log(e) + slope * math.log(far / end)
+            assert math.log(b) == pytest.approx(expected, rel=1e-12, abs=1e-12), f"{name} at a/b = {far}"
+        assert extended_creepage_coefficients(end * (1 + 1e-9), nu) == pytest.approx(at_end, rel=1e-7), \
+            "not continuous at the table's end"
+    with pytest.raises(ValueError, match="aspect ratio a/b = 0.0 is out of range"):
+        extended_creepage_coefficients(0.0, nu)

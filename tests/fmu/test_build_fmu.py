@@ -49,7 +49,7 @@ def only(tmp_path_factory) -> Path:
 @pytest.fixture
 def commands(fmu_path, fmu_folders, eight_contacts, integer_codes, only) -> dict[str, list[Path]]:
     """Build command -> the FMUs it wrote (the session's builds and :func:`only`, each command in a fresh process)."""
-    every = ("RollingContact2D", "RollingContact3D", "WheelRig", "Wheelset")
+    every = ("RollingContact2D", "RollingContact3D", "WheelRig", "Wheelset", "WheelsetContact")
     return {"": [fmu_path],
             "--all": [fmu_folders[2] / f"{m}.fmu" for m in every],
             "--fmi 3 --all": [fmu_folders[3] / f"{m}.fmu" for m in every],

@@ -1,7 +1,7 @@
 """Every FMU the project builds has the recorded modelDescription: variables, types, units, structure, capabilities.
 
 ``tests/fmu/data/model_descriptions.json`` holds, for each FMU of the session's builds (RollingContact2D,
-RollingContact3D, their 3- and 8-contact variants, WheelRig and Wheelset in FMI 2.0 and FMI 3.0; the
+RollingContact3D, their 3- and 8-contact variants, WheelRig, Wheelset and WheelsetContact in FMI 2.0 and FMI 3.0; the
 ``--integer-codes`` builds of RollingContact2D, RollingContact2D_2 and RollingContact3D_2 in FMI 2.0), what its
 ``modelDescription.xml`` declares, written by ``python tests/fmu/test_model_descriptions.py --record``:
 
@@ -35,7 +35,8 @@ VOLATILE = {"guid", "instantiationToken", "generationDateAndTime"}
 
 FMUS = {  # key -> (session fixture, FMI version, FMU file)
     **{f"FMI {fmi}.0 {model}": ("fmu_folders", fmi, model)
-       for fmi in (2, 3) for model in ("RollingContact2D", "RollingContact3D", "WheelRig", "Wheelset")},
+       for fmi in (2, 3) for model in ("RollingContact2D", "RollingContact3D", "WheelRig", "Wheelset",
+                                       "WheelsetContact")},
     **{f"FMI {fmi}.0 {model}_{n}": (fixture, fmi, f"{model}_{n}")
        for fmi in (2, 3) for fixture, n in (("contact_variants", 3), ("eight_contacts", 8))
        for model in ("RollingContact2D", "RollingContact3D")},

@@ -29,7 +29,7 @@ DISCARD, ERROR, FATAL = 2, 3, 4
 H = 1e-3
 ROW = (1e5, 1e-3, 20.0)  # normal load [N], creep, speed [m/s]
 INPUTS = ("normal_load", "creep", "velocity")
-MODELS = ("RollingContact2D", "WheelRig", "Wheelset", "RollingContact3D")
+MODELS = ("RollingContact2D", "WheelRig", "Wheelset", "RollingContact3D", "WheelsetContact")
 
 
 def step(slave, t: float, h: float, *inputs, names=INPUTS) -> list[float]:

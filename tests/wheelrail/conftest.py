@@ -28,3 +28,13 @@ def track(uic60):
 @pytest.fixture(scope="session")
 def wheelset(s1002):
     return Wheelset(s1002, nominal_radius=0.46, flange_back_spacing=1.360, flange_back_distance=0.070)
+
+
+@pytest.fixture(scope="session")
+def contact_table(track, wheelset):
+    """The Manchester pair's contact table over +-8 mm (one yaw node), as the wheelset contact's stepping model builds
+    it (its TABLE_STEP)."""
+    from rollcontact.stepping.wheelrail.parameters import TABLE_STEP
+    from rollcontact.wheelrail.conicity import ContactTable
+
+    return ContactTable.build(track, wheelset, (-0.008, 0.008), TABLE_STEP, yaws=(0.0,))

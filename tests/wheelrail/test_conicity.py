@@ -126,3 +126,19 @@ def test_yawed_table_between_yaw_nodes(track, wheelset):
     assert errors["right_rolling_radius"] < 2.5e-5, f"radius error {errors['right_rolling_radius']!r} m"
     assert errors["right_contact_angle"] < 4e-3, f"contact angle error {errors['right_contact_angle']!r} rad"
     assert errors["roll"] < 2e-5, f"roll error {errors['roll']!r} rad"
+
+
+def test_locate_gives_the_lookups_row_weight_and_segment_slope(contact_table):
+    """locate(y) names the two nodes and the weight of the lookup at y, within the segment between jumps, and the
+    distance of the nodes (the lookup's derivative in y there)."""
+    rows = contact_table.rows
+    for y in (-0.0071, -0.0031, 0.0, 0.00021, 0.0023, 0.0049, 0.0079):
+        k, t, width = contact_table.locate(y)
+        np.testing.assert_allclose((1 - t) * rows[k] + t * rows[k + 1], contact_table(y), rtol=1e-13, atol=1e-15,
+                                   err_msg=f"locate({y}) is not the lookup's row and weight")
+        shift = contact_table.functions[0].shift
+        assert width == shift[k + 1] - shift[k] > 0.0, f"width {width!r} at y = {y}"
+        assert not any(shift[k] < j < shift[k + 1] for j in contact_table.functions[0].jumps), \
+            f"y = {y}: the nodes {k}, {k + 1} span a jump"
+    with pytest.raises(ValueError, match="lateral_shift = 0.009 m is outside the table's"):
+        contact_table.locate(0.009)

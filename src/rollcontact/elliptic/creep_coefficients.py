@@ -22,7 +22,7 @@ from scipy.interpolate import CubicSpline
 import rollcontact.elliptic.creep_table as creep_table
 from rollcontact.core.checks import check_real
 
-__all__ = ["CreepageCoefficients", "aspect_ratio_range", "creepage_coefficients"]
+__all__ = ["CreepageCoefficients", "aspect_ratio_range", "creepage_coefficients", "extended_creepage_coefficients"]
 
 
 class CreepageCoefficients(NamedTuple):
@@ -81,3 +81,25 @@ def interpolated(g: float, nu: float) -> CreepageCoefficients:
     """The coefficients at checked a/b and nu (cached: a vehicle model asks for the same contacts every step)."""
     log_g = math.log(g)
     return CreepageCoefficients(*(math.exp(float(s(log_g))) for s in splines(nu)))
+
+
+def extended_creepage_coefficients(aspect_ratio: float, poisson_ratio: float) -> CreepageCoefficients:
+    """Kalker's C11, C22, C23, C33 [1] at any a/b > 0: the table's (:func:`creepage_coefficients`) within its range,
+    beyond it each ``log C`` continued linearly in ``log(a/b)`` from the table's two end rows (a power law,
+    ``C = C_end (C_end / C_inner)^(log(g / g_end) / log(g_end / g_inner))`` with ``g_inner = g_end / 1.5`` above the
+    table, ``1.5 g_end`` below it): the rule of the wheel/rail strips for a flange patch longer than the table's
+    a/b = 10 (docs/physics.md, "Strips on a patch: the tangential problem").
+
+    Raises
+    ------
+    ValueError
+        a/b not finite and > 0, or nu outside [0, 0.5]; the message names the value and the limit.
+    """
+    low, high = aspect_ratio_range()
+    g = check_real("aspect ratio a/b", aspect_ratio, lower=0.0, lower_open=True)
+    if low <= g <= high:
+        return creepage_coefficients(g, poisson_ratio)
+    first, second = (high, high / 1.5) if g > high else (low, low * 1.5)
+    end, inner = creepage_coefficients(first, poisson_ratio), creepage_coefficients(second, poisson_ratio)
+    power = math.log(g / first) / math.log(first / second)
+    return CreepageCoefficients(*(e * (e / i) ** power for e, i in zip(end, inner, strict=True)))

@@ -8,6 +8,8 @@
   instationary half and its certified tables;
 * :mod:`.elliptic`: the elliptic contact's model (:class:`EllipticModel`, one or several contacts) and its
   certified table of the strips;
+* :mod:`.wheelrail`: a wheelset's contact on real profiles (:class:`WheelsetContactModel`), through the wheel/rail
+  dispatcher or a geometry table;
 * :mod:`.threads`: one BLAS thread while a model steps.
 """
 
@@ -19,7 +21,10 @@ from rollcontact.stepping.line.model import ContactModel
 from rollcontact.stepping.line.parameters import ContactParameters, StepOutputs
 from rollcontact.stepping.line.state import ModelState
 from rollcontact.stepping.parameters import ModelParameters
+from rollcontact.stepping.wheelrail.model import WheelsetContactModel, WheelsetContactState
+from rollcontact.stepping.wheelrail.parameters import WheelsetContactOutputs, WheelsetContactParameters
 
 __all__ = ["ContactModel", "ContactModels", "ContactParameters", "EllipticModel", "EllipticOutputs",
            "EllipticParameters", "EllipticState", "ModelError", "ModelParameters", "ModelState", "StepOutputs",
-           "SteppingModel"]
+           "SteppingModel", "WheelsetContactModel", "WheelsetContactOutputs", "WheelsetContactParameters",
+           "WheelsetContactState"]

@@ -442,6 +442,25 @@ class ContactTable:
                 coef += (w * (1.0 - t), w * t)
         return np.dot(coef, self._rows[index])
 
+    @property
+    def rows(self) -> np.ndarray:
+        """The node values (one row per node, :data:`QUANTITIES` in its columns; the yaw nodes one after another)."""
+        return self._rows
+
+    def locate(self, lateral_shift: float) -> tuple[int, float, float]:
+        """Where a lateral shift [m] lies in a table of one yaw node: ``(row, t, width)`` such that the lookup
+        (:meth:`__call__` at that yaw) is ``(1 - t) rows[row] + t rows[row + 1]`` and, within the segment between
+        jumps, its derivative in the shift is ``(rows[row + 1] - rows[row]) / width`` (``width`` [m] the distance of
+        the two nodes).  GeometryError outside the table's range or for a table of several yaw nodes."""
+        if len(self._yaws) != 1:
+            raise GeometryError(f"locate needs a table of one yaw node; this one has {len(self._yaws)}")
+        y = float(lateral_shift)
+        s0 = self._shifts[0]
+        if not (s0[0] <= y <= s0[-1]):
+            raise GeometryError(f"lateral_shift = {y!r} m is outside the table's [{s0[0]!r}, {s0[-1]!r}] m")
+        row, t = self._node(0, y, self._jumps[0])
+        return row, t, s0[row + 1] - s0[row]
+
     def lookup(self, lateral_shift: float, yaw: float = 0.0) -> dict:
         """:meth:`__call__` as a dict by quantity name."""
         return dict(zip(QUANTITIES, self(lateral_shift, yaw).tolist(), strict=True))

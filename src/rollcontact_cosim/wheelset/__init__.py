@@ -5,7 +5,9 @@
   run of a Gauss-Seidel or Jacobi master;
 * :mod:`.stability`: the linearised wheelset, its eigenvalues, critical speed and Klingel's wavelength;
 * :mod:`.study`: the in-process hunting study (a speed sweep on dask against the eigenvalues, Klingel's wavelength);
-* :mod:`.cosim`: the scene co-simulated with the ``Wheelset`` and ``RollingContact3D_2`` FMUs through either master.
+* :mod:`.cosim`: the scene co-simulated with the ``Wheelset`` and ``RollingContact3D_2`` FMUs through either master;
+* :mod:`.profiles`: the wheelset on real profiles (the ``Wheelset`` host with a ``WheelsetContact``), its nonlinear
+  hunting study and the equivalent linearisation.
 
 This module imports the host model only: the ``Wheelset`` FMU imports it in hosts without fmpy, dask or matplotlib.
 """
@@ -23,8 +25,9 @@ from rollcontact_cosim.wheelset.model import (
     creepages,
     linear_law,
     simulate,
+    simulate_profiles,
 )
 
 __all__ = ["ContactForces", "CreepForceLaw", "KalkerLinearLaw", "SaturatedKalkerLaw", "WheelsetError",
            "WheelsetModel", "WheelsetParameters", "WheelsetState", "creepage_jacobian", "creepages", "linear_law",
-           "simulate"]
+           "simulate", "simulate_profiles"]

@@ -61,6 +61,17 @@ It is second order, A-stable, and maps the imaginary axis onto the unit circle: 
 undamped at any step, so the step does not move the stability boundary (explicit methods and backward Euler add
 or remove damping of order h), and the stiff creep modes (eigenvalues ~ -2 f22 / (m V)) decay at any step.
 With ``K = 0`` the forces are held over the step (explicit coupling).
+
+Profiles
+--------
+With ``contact_model = 1`` the wheels are real profiles and the loads come from a WheelsetContact (the library's
+:class:`rollcontact.stepping.WheelsetContactModel`), whose inputs the host outputs in track axes (y to the right, z
+down, yaw front to the right: ``q = -s``, :data:`TRACK_OUTPUTS`) and whose lateral force F_y and yaw moment M_z on
+the wheelset (track axes) it takes with their derivatives ``J = d(F_y, M_z)/dq`` (:data:`LOAD_INPUTS`):
+:meth:`WheelsetModel.step_profiles` integrates ``m y'' = -F_y - k_y y - c_y y'``, ``I psi'' = -M_z - k_psi psi -
+c_psi psi'`` with the loads linearised about the state they were evaluated at, ``-F_y + J_F (s - s_ref)`` (the
+signs of q and of the loads cancel), by the same linearly implicit trapezoidal rule.  The normal forces' lateral
+components (gravitational stiffness), the spin creep forces of the contact angles and the flange are in the loads.
 """
 
 from __future__ import annotations
@@ -73,9 +84,9 @@ import numpy as np
 
 from rollcontact import Material, creepage_coefficients, hertz_ellipse
 
-__all__ = ["INPUT_NAMES", "OUTPUT_NAMES", "ContactForces", "CreepForceLaw", "KalkerLinearLaw",
-           "SaturatedKalkerLaw", "WheelsetError", "WheelsetModel", "WheelsetParameters", "WheelsetState",
-           "creepage_jacobian", "creepages", "linear_law", "simulate"]
+__all__ = ["INPUT_NAMES", "LOAD_INPUTS", "OUTPUT_NAMES", "TRACK_OUTPUTS", "ContactForces", "CreepForceLaw",
+           "KalkerLinearLaw", "SaturatedKalkerLaw", "WheelsetError", "WheelsetModel", "WheelsetParameters",
+           "WheelsetState", "creepage_jacobian", "creepages", "linear_law", "simulate", "simulate_profiles"]
 
 CONTACTS = (1, 2)
 """The contacts' numbers in the host's variable names: ``name[1]`` the left wheel, ``name[2]`` the right one."""
@@ -89,11 +100,22 @@ FORCES = ("longitudinal_force", "lateral_force", "spin_moment")
 JACOBIAN = tuple(f"d{force}_d{symbol}" for force in ("Fx", "Fy", "Mz") for symbol in ("xi", "eta", "phi"))
 """Per contact, the inputs ``dFx_dxi`` ... ``dMz_dphi``: ``d(Fx, Fy, Mz)/d(xi, eta, phi)`` row-major, the contact
 FMU's Jacobian outputs of those names (0: the forces held over the step)."""
-OUTPUT_NAMES = (*(f"{name}[{k}]" for k in CONTACTS for name in CONTACT_OUTPUTS), *STATES)
+TRACK_OUTPUTS = ("lateral_shift", "yaw", "track_lateral_velocity", "track_yaw_rate", "forward_speed", "pitch_rate",
+                 "vertical_load_left", "vertical_load_right")
+"""The outputs a WheelsetContact takes (track axes: y to the right, z down, yaw front to the right): y_t = -y
+[m], psi_t = -psi [rad], their rates, V [m/s], the pitch rate -V / r0 [rad/s] of rolling at r0, the loads N [N];
+the rates connect to the contact's ``lateral_velocity`` and ``yaw_rate`` (``[system] to_contact`` renames them)."""
+OUTPUT_NAMES = (*(f"{name}[{k}]" for k in CONTACTS for name in CONTACT_OUTPUTS), *STATES, *TRACK_OUTPUTS)
 """The host FMU's outputs, in :meth:`WheelsetModel.outputs`' order."""
-INPUT_NAMES = tuple(f"{name}[{k}]" for k in CONTACTS for name in FORCES + JACOBIAN)
-"""The host FMU's inputs: per contact the forces, then the Jacobian.  Both contacts use the same axes (x rolling
-direction, y to the left, z up): the right contact is not mirrored."""
+LOAD_INPUTS = ("force_y", "moment_yaw", *(f"d{load}_d{by}" for load in ("force_y", "moment_yaw")
+                                            for by in ("lateral_shift", "yaw", "lateral_velocity", "yaw_rate")))
+"""The inputs of ``contact_model`` = profiles: a WheelsetContact's lateral force [N] and yaw moment [N m] on the
+wheelset (track axes) and their derivatives in its lateral shift, yaw, lateral velocity and yaw rate."""
+CONTACT_MODELS = {0: "cones", 1: "profiles"}
+"""``contact_model``: conical wheels with two contacts' forces, or profiles with a WheelsetContact's loads."""
+INPUT_NAMES = (*(f"{name}[{k}]" for k in CONTACTS for name in FORCES + JACOBIAN), *LOAD_INPUTS)
+"""The host FMU's inputs: per contact the forces, then the Jacobian (both contacts in the same axes, x rolling
+direction, y to the left, z up: the right contact is not mirrored); then a WheelsetContact's loads."""
 
 
 class WheelsetError(ValueError):
@@ -229,6 +251,10 @@ class WheelsetParameters:
         Integration steps per macro step >= 1.
     force_lag : int
         0 or 1: communication points by which the force inputs lag the creepage outputs (module docstring).
+    contact_model : int
+        0: conical wheels, the forces of two contacts (:meth:`WheelsetModel.step`); 1: profiles, the loads of a
+        WheelsetContact (:meth:`WheelsetModel.step_profiles`), where ``conicity``, ``contact_angle`` and
+        ``contact_half_distance`` only shape the cone outputs nobody reads.
     """
 
     mass: float = 1250.0
@@ -249,6 +275,7 @@ class WheelsetParameters:
     initial_yaw_rate: float = 0.0
     substeps: int = 1
     force_lag: int = 0
+    contact_model: int = 0
 
     def __post_init__(self):
         if self.contact_angle is None:
@@ -274,6 +301,9 @@ class WheelsetParameters:
         if isinstance(self.force_lag, bool) or self.force_lag not in (0, 1):
             raise WheelsetError(f"force_lag = {self.force_lag!r} is out of range: it must be 0 (Gauss-Seidel) or 1 "
                                 "(Jacobi)")
+        if isinstance(self.contact_model, bool) or self.contact_model not in CONTACT_MODELS:
+            raise WheelsetError(f"contact_model = {self.contact_model!r} is out of range: it must be 0 (cones, two "
+                                "contacts) or 1 (profiles, the WheelsetContact's loads)")
 
     @property
     def initial_state(self) -> np.ndarray:
@@ -436,11 +466,13 @@ class WheelsetModel:
 
     def outputs(self) -> tuple[float, ...]:
         """The host FMU's outputs: per contact (left, right) N [N], xi, eta [1], phi [1/m], V [m/s], then
-        y [m], psi [rad], y' [m/s], psi' [rad/s]."""
+        y [m], psi [rad], y' [m/s], psi' [rad/s], then the WheelsetContact's inputs (:data:`TRACK_OUTPUTS`)."""
         p = self.parameters
         c = self.creepages()
         per_contact = [value for k in range(2) for value in (p.normal_load, *map(float, c[k]), p.speed)]
-        return (*per_contact, *map(float, self.state.vector))
+        y, psi, vy, rate = map(float, self.state.vector)
+        track = (-y, -psi, -vy, -rate, p.speed, -p.speed / p.rolling_radius, p.normal_load, p.normal_load)
+        return (*per_contact, y, psi, vy, rate, *track)
 
     def rhs(self, state, forces) -> np.ndarray:
         """``ds/dt`` with the contact forces ``forces`` (2x3: rows left, right; Fx, Fy, Mz on the rail)."""
@@ -527,6 +559,71 @@ class WheelsetModel:
                                    tuple(map(float, before.vector)))
         return state
 
+    def step_profiles(self, current_time: float, step_size: float, loads) -> np.ndarray:
+        """Advance from ``current_time`` by ``step_size`` with a WheelsetContact's loads at the step's start; the
+        state (``contact_model`` = profiles).
+
+        ``loads`` are :data:`LOAD_INPUTS`: the lateral force F_y [N] and yaw moment M_z [N m] of the rails on the
+        wheelset in track axes (y to the right, z down) at the state s_ref the contact evaluated them at (of t_n,
+        or with ``force_lag = 1`` of t_(n-1)), and their derivatives ``J`` in the track state ``q = -s`` (lateral
+        shift, yaw, their rates).  In the host's axes the loads are ``-F_y``, ``-M_z``, linearised as
+        ``-F_y + J_F (s - s_ref)``, ``-M_z + J_M (s - s_ref)`` (the signs of q and of the loads cancel), and the
+        linearly implicit trapezoidal rule integrates ``m y'' = -F_y(s) - k_y y - c_y y'``, ``I psi'' = -M_z(s) -
+        k_psi psi - c_psi psi'`` as :meth:`step` does the cones' (module docstring).
+
+        Raises
+        ------
+        WheelsetError
+            A non-finite argument or result, a time that is not the model's, or ``contact_model`` = cones; the
+            state is then unchanged.
+        """
+        p = self.parameters
+        if p.contact_model != 1:
+            raise WheelsetError("step_profiles takes a WheelsetContact's loads: set contact_model = 1 (profiles)")
+        loads = np.asarray(loads, dtype=float)
+        if loads.shape != (len(LOAD_INPUTS),) or not np.all(np.isfinite(loads)):
+            raise WheelsetError(f"loads must be {len(LOAD_INPUTS)} finite numbers ({', '.join(LOAD_INPUTS)}), got "
+                                f"{loads.tolist()!r}")
+        self.check_time(current_time, step_size)
+        before = self.state
+        lagged = p.force_lag == 1 and before.previous is not None
+        reference = np.array(before.previous) if lagged else before.vector
+        force, moment, slopes = -loads[0], -loads[1], loads[2:].reshape(2, 4)
+        jac = np.zeros((4, 4))
+        jac[0, 2] = jac[1, 3] = 1.0
+        jac[2] = slopes[0] / p.mass
+        jac[3] = slopes[1] / p.yaw_inertia
+        jac[2, 0] -= p.lateral_stiffness / p.mass
+        jac[2, 2] -= p.lateral_damping / p.mass
+        jac[3, 1] -= p.yaw_stiffness / p.yaw_inertia
+        jac[3, 3] -= p.yaw_damping / p.yaw_inertia
+        h = step_size / p.substeps
+        matrix = np.eye(4) - 0.5 * h * jac
+        state = before.vector
+        for _ in range(p.substeps):
+            offset = state - reference
+            y, psi, vy, rate = state
+            rhs = np.array([vy, rate,
+                            (force + slopes[0] @ offset - p.lateral_stiffness * y - p.lateral_damping * vy) / p.mass,
+                            (moment + slopes[1] @ offset - p.yaw_stiffness * psi - p.yaw_damping * rate)
+                            / p.yaw_inertia])
+            state = state + np.linalg.solve(matrix, h * rhs)
+        if not np.all(np.isfinite(state)):
+            raise WheelsetError(f"the step from t = {current_time!r} s with H = {step_size!r} s gave the non-finite "
+                                f"state {state.tolist()!r}")
+        self.state = WheelsetState(current_time + step_size, *map(float, state), before.steps + 1,
+                                   tuple(map(float, before.vector)))
+        return state
+
+    def check_time(self, current_time: float, step_size: float) -> None:
+        """WheelsetError unless ``step_size`` is finite and > 0 and ``current_time`` the model's time."""
+        if not (math.isfinite(step_size) and step_size > 0.0):
+            raise WheelsetError(f"step_size = {step_size!r} s is out of range: it must be finite and > 0")
+        now = self.state.time
+        if not abs(current_time - now) <= 1e-9 * max(1.0, abs(now)):
+            raise WheelsetError(f"current_time = {current_time!r} s is not the model time {now!r} s")
+
+
 
 def simulate(parameters: WheelsetParameters, law: CreepForceLaw, stop_time: float, step_size: float,
              *, implicit: bool = True, jacobi: bool = False) -> tuple[np.ndarray, np.ndarray]:
@@ -561,4 +658,35 @@ def simulate(parameters: WheelsetParameters, law: CreepForceLaw, stop_time: floa
             if implicit:
                 jacobians[k] = law.jacobian(p.normal_load, *creep[k], p.speed)
         states[i + 1] = model.step(i * step_size, step_size, forces, jacobians)
+    return np.arange(n + 1) * step_size, states
+
+
+def simulate_profiles(parameters: WheelsetParameters, contact, stop_time: float, step_size: float, *,
+                      jacobi: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """In-process run of the wheelset on profiles: times [s] and states (rows ``y, psi, y', psi'``) at every step.
+
+    ``contact`` is the WheelsetContact's model (a :class:`rollcontact.stepping.WheelsetContactModel`), stepped at
+    each communication point with the host's :data:`TRACK_OUTPUTS` before the host steps with its loads
+    (:meth:`WheelsetModel.step_profiles`): the sequence a Gauss-Seidel master runs with the two FMUs.  With ``jacobi``
+    the host takes the loads of the previous communication point (zero at the first, the contact FMU's start values)
+    and ``parameters.force_lag`` must be 1.
+    """
+    if parameters.contact_model != 1:
+        raise WheelsetError("simulate_profiles runs the wheelset on profiles: set contact_model = 1")
+    model = WheelsetModel(parameters)
+    n = int(round(stop_time / step_size))
+    if n < 1 or abs(n * step_size - stop_time) > 1e-9 * stop_time:
+        raise WheelsetError(f"stop_time = {stop_time!r} s is not a positive multiple of step_size = {step_size!r} s")
+    states = np.empty((n + 1, 4))
+    states[0] = model.state.vector
+    names = ("force_y", "moment_yaw", *LOAD_INPUTS[2:])
+    held = np.zeros(len(LOAD_INPUTS))
+    track = len(OUTPUT_NAMES) - len(TRACK_OUTPUTS)
+    for i in range(n):
+        t = i * step_size
+        outputs = contact.step(t, step_size, model.outputs()[track:])
+        loads = np.array([getattr(outputs, name) for name in names])
+        if jacobi:
+            loads, held = held, loads
+        states[i + 1] = model.step_profiles(t, step_size, loads)
     return np.arange(n + 1) * step_size, states

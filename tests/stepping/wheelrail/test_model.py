@@ -1,0 +1,217 @@
+"""The wheelset contact's stepping model (rollcontact.stepping.wheelrail): parameters checked all at once, the
+library's answer bit for bit without the geometry table and within the table's interpolation with it, the derivatives
+as forward differences of the same evaluation, mirror symmetry, a lifted wheel, refusals that name the value and the
+limit, and a restored state that repeats the steps."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from rollcontact import Coulomb, Material
+from rollcontact.stepping import ModelError, WheelsetContactModel, WheelsetContactParameters, WheelsetContactState
+from rollcontact.stepping.wheelrail.model import INCREMENTS
+from rollcontact.stepping.wheelrail.parameters import METHOD_LEVELS, method_code
+from rollcontact.wheelrail import dispatch
+from rollcontact.wheelrail.loads import WheelsetLoads, wheelset_loads
+from rollcontact.wheelrail.normal import rigid_position
+from rollcontact.wheelrail.scene import WheelRailScene
+
+H = 1e-3
+V = 30.0
+R0 = 0.46
+Q = 8e4
+RANGE = 0.008  # the tests' table (one build per process: the model's cache)
+LOADS = len(WheelsetLoads._fields)
+
+
+def inputs(y=0.002, yaw=0.001, vy=0.02, rate=-0.03, speed=V, pitch=-V / R0, left=Q, right=Q):
+    return (y, yaw, vy, rate, speed, pitch, left, right)
+
+
+def signal(n: int):
+    """Varying inputs over tread and flange root (lateral shift up to 5.8 mm)."""
+    return [inputs(0.0058 * math.sin(0.7 * k + 0.2), 0.002 * math.cos(0.5 * k), 0.05 * math.sin(k), 0.04 * math.cos(k),
+                   V + k, -(V + k) / R0 * (1 + 1e-4 * k), Q * (1 + 0.1 * math.sin(k)), Q) for k in range(n)]
+
+
+@pytest.fixture(scope="module")
+def tabulated():
+    return WheelsetContactModel(WheelsetContactParameters(table_range=RANGE))
+
+
+def test_every_builtin_wheelrail_level_has_a_code():
+    for spec in dispatch.BUILTIN:
+        assert method_code(spec.name) > 0, f"{spec.name} has no FMU code in METHOD_LEVELS"
+    assert [level.code for level in METHOD_LEVELS] == [1, 2, 3], "codes 1, 2, 3, append only"
+
+
+def test_invalid_parameters_are_named_all_at_once():
+    with pytest.raises(ModelError) as caught:
+        WheelsetContactParameters(gauge=0.1, nominal_radius=-1.0, method=9, elliptic_method=8, geometry_table=2,
+                                  table_range=0.0, wheel_profile=3)
+    for part in ("gauge = 0.1 is out of range: it must be >= 0.5", "nominal_radius = -1.0 is out of range",
+                 "method = 9 is out of range", "elliptic_method = 8 is out of range",
+                 "geometry_table = 2 is out of range", "table_range = 0.0 is out of range: it must be > 0.0",
+                 "wheel_profile must be a string"):
+        assert part in str(caught.value), f"{part!r} not in {caught.value}"
+
+
+def test_a_missing_profile_is_refused_with_its_path(tmp_path):
+    with pytest.raises(ModelError, match="wheel_profile = '.*nowhere.prw'.* is not a profile file"):
+        WheelsetContactModel(WheelsetContactParameters(wheel_profile=str(tmp_path / "nowhere.prw")))
+
+
+def library(model, values, roll=None) -> WheelsetLoads:
+    """The loads of rollcontact.wheelrail.dispatch.solve on the scene at the rigid wheelset's roll (or ``roll``)."""
+    y, yaw, vy, rate, speed, pitch, left, right = values
+    roll = rigid_position(model.track, model.wheelset, y, yaw)[0].roll if roll is None else roll
+    scene = WheelRailScene(model.track, model.wheelset, y, yaw, roll, left, right, speed, vy, rate, pitch,
+                           Material(), Coulomb(0.3))
+    result = dispatch.solve(scene, model.method, budget=model.budget, **model.options)
+    assert result.success, result.message
+    return wheelset_loads(scene, result)
+
+
+def test_without_the_table_the_model_is_the_library_bit_for_bit():
+    model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0, jacobian=1))
+    for n, values in enumerate(signal(3)):
+        got = model.step(n * H, H, values)
+        assert tuple(got[:LOADS]) == tuple(library(model, values)), f"step {n}: the loads are not the library's"
+        assert got.roll == rigid_position(model.track, model.wheelset, values[0], values[1])[0].roll, "roll"
+        assert got.method_used == method_code("hertz"), got.method_used
+
+
+def test_the_derivatives_are_forward_differences_of_the_step():
+    """Each derivative output is (force at the input + its increment - force) / increment, of the model's own
+    evaluation (without the table: the library's solve at the shifted pose)."""
+    model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0))
+    values = inputs(0.0031, 0.0015, 0.04, 0.05)
+    got = model.step(0.0, H, values)
+    steps = (INCREMENTS["lateral_shift"], INCREMENTS["yaw"], INCREMENTS["lateral_velocity"] * V,
+             INCREMENTS["yaw_rate"] * V / model.wheelset.taping_line)
+    base = library(model, values)
+    for j, (name, h) in enumerate(zip(("lateral_shift", "yaw", "lateral_velocity", "yaw_rate"), steps, strict=True)):
+        moved = list(values)
+        moved[j] += h
+        other = library(model, moved)
+        assert getattr(got, f"dforce_y_d{name}") == (other.force_y - base.force_y) / h, f"dforce_y_d{name}"
+        assert getattr(got, f"dmoment_yaw_d{name}") == (other.moment_yaw - base.moment_yaw) / h, \
+            f"dmoment_yaw_d{name}"
+    assert got.dforce_y_dlateral_velocity < 0.0 < got.dforce_y_dyaw, \
+        f"creep damping and yaw stiffness of the lateral force: {got.dforce_y_dlateral_velocity}, {got.dforce_y_dyaw}"
+
+
+def test_with_the_table_within_its_interpolation(tabulated):
+    """Through the table, where each wheel touches at one point: every force within 1 % of the wheel load of the
+    library's on a fresh search (the table's interpolation, tests/wheelrail/test_tabulated.py, and the yaw's lead of
+    the contact point, which a one-yaw table leaves out), the roll within 2e-6 rad.  (Where the search finds two
+    points under load, the table's one carries the load of both: test_two_point_contact_is_the_tables_one_point.)"""
+    untabulated = WheelsetContactModel(WheelsetContactParameters(geometry_table=0, jacobian=1))
+    rows = [inputs(y, 0.0015 * math.sin(7 * y / 0.001), 0.04, -0.02) for y in (-0.0039, -0.0011, 0.0006, 0.0024,
+                                                                                0.0033, 0.0057)]
+    for n, values in enumerate(rows):
+        got, expected = tabulated.step(n * H, H, values), untabulated.step(n * H, H, values)
+        for name in ("force_x", "force_y", "force_z", "moment_yaw", "lateral_force_left", "lateral_force_right"):
+            a, b = getattr(got, name), getattr(expected, name)
+            assert abs(a - b) <= 1e-2 * Q, f"step {n}: {name} {a!r} with the table, {b!r} without"
+        assert abs(got.roll - expected.roll) <= 2e-6, f"step {n}: roll {got.roll!r}, {expected.roll!r}"
+
+
+def test_two_point_contact_is_the_tables_one_point(tabulated):
+    """Where the search loads two points of a wheel (the tread and the flange root of S1002 at 4.6 mm), the table's
+    single point carries the wheel: the lateral force then differs by a few per cent of the load."""
+    untabulated = WheelsetContactModel(WheelsetContactParameters(geometry_table=0, jacobian=1))
+    values = inputs(0.0046, 0.0, 0.0, 0.0)
+    got, expected = tabulated.step(tabulated.state.time, H, values), untabulated.step(0.0, H, values)
+    assert got.patches_right == 1 and expected.patches_right == 2, (got.patches_right, expected.patches_right)
+    assert abs(got.force_y - expected.force_y) <= 0.05 * Q, f"force_y {got.force_y!r}, {expected.force_y!r}"
+
+
+def test_another_level_through_the_table_is_the_library_at_the_tables_roll(tabulated):
+    """With the table, a level other than hertz with a closed-form elliptic level takes the table's pose and the
+    library's solve there (hertz with FASTSIM here)."""
+    model = WheelsetContactModel(WheelsetContactParameters(table_range=RANGE, elliptic_method=2, jacobian=1))
+    values = inputs(-0.0042, 0.0, 0.01, 0.0)
+    got = model.step(0.0, H, values)
+    assert tuple(got[:LOADS]) == tuple(library(model, values, model.pose(-0.0042, 0.0).roll)), "not the library's"
+
+
+def test_mirror_symmetry_without_the_table():
+    model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0, jacobian=1))
+    plus = model.step(0.0, H, inputs(0.0037, 0.001, 0.03, -0.02, left=7e4, right=9e4))
+    minus = model.step(H, H, inputs(-0.0037, -0.001, -0.03, 0.02, left=9e4, right=7e4))
+    for name in ("force_x", "force_z", "moment_pitch"):
+        assert getattr(plus, name) == pytest.approx(getattr(minus, name), rel=1e-9, abs=1e-6), name
+    for name in ("force_y", "moment_roll", "moment_yaw", "roll"):
+        assert getattr(plus, name) == pytest.approx(-getattr(minus, name), rel=1e-9, abs=1e-6), name
+    assert plus.lateral_force_left == pytest.approx(-minus.lateral_force_right, rel=1e-9), "per wheel"
+
+
+def test_a_lifted_wheel_carries_nothing_and_is_said_once(tabulated):
+    tabulated.take_messages()
+    got = tabulated.step(tabulated.state.time, H, inputs(0.003, left=0.0))
+    assert got.normal_force_left == 0.0 and got.patches_left == 0 and got.normal_force_right > 0.0, got
+    assert got.force_z == pytest.approx(-Q, rel=2e-2), got.force_z
+    tabulated.step(tabulated.state.time, H, inputs(0.003, left=0.0))
+    messages = tabulated.take_messages()
+    assert len(messages) == 1 and "left wheel carries vertical_load_left = 0 N: lifted" in messages[0], messages
+    nothing = tabulated.step(tabulated.state.time, H, inputs(0.003, speed=0.0, left=0.0, right=0.0))
+    assert all(v == 0 for v in nothing[:LOADS]) and nothing.method_used == 0, nothing
+
+
+@pytest.mark.parametrize(("values", "parts"), [
+    (inputs(left=-1.0), ("vertical_load_left = -1.0 N is out of range: it must be >= 0.0",)),
+    (inputs(y=math.nan, speed=-2.0), ("lateral_shift = nan is not finite",
+                                      "forward_speed = -2.0 m/s is out of range: it must be >= 0.0")),
+    (inputs(speed=0.0), ("forward_speed = 0.0 m/s with vertical loads", "need forward_speed > 0")),
+    (inputs(y=0.0095), ("lateral_shift = 0.0095 m is outside the table's [-0.008, 0.008] m",)),
+])
+def test_bad_inputs_are_refused_with_the_value_and_the_limit(tabulated, values, parts):
+    before = tabulated.get_state()
+    with pytest.raises(ModelError) as caught:
+        tabulated.step(tabulated.state.time, H, values)
+    for part in parts:
+        assert part in str(caught.value), f"{part!r} not in {caught.value}"
+    assert tabulated.get_state() == before, "a refused step changed the state"
+
+
+def test_a_flange_beyond_the_profiles_is_refused_without_the_table():
+    model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0))
+    with pytest.raises(ModelError, match="lateral_shift = 0.06 m"):
+        model.step(0.0, H, inputs(0.06))
+
+
+def test_a_restored_state_repeats_the_steps_bit_for_bit(tabulated):
+    tabulated.reset(0.0)
+    rows = signal(8)
+    for n in range(3):
+        tabulated.step(n * H, H, rows[n])
+    state = tabulated.get_state()
+    first = [tabulated.step(n * H, H, rows[n]) for n in range(3, 8)]
+    tabulated.set_state(WheelsetContactState.parse(state.to_dict()))
+    assert [tabulated.step(n * H, H, rows[n]) for n in range(3, 8)] == first, "the steps do not repeat"
+    with pytest.raises(ModelError, match="current_time = 0.001 s lies before the last communication point"):
+        tabulated.step(H, H, rows[1])
+    for bad in ({"version": 1, "time": math.nan, "steps": 0}, {"version": 2, "time": 0.0, "steps": 0}, [1]):
+        with pytest.raises(ModelError):
+            WheelsetContactState.parse(bad)
+
+
+def test_the_geometry_helpers(tabulated):
+    """The equivalent conicity from the table's functions is the library's; Kalker's coefficients of the centred
+    contacts are positive and equal on both wheels."""
+    assert 0.55 < tabulated.equivalent_conicity(5e-4) < 0.7, tabulated.equivalent_conicity(5e-4)
+    left, right = tabulated.creep_coefficients(0.0, Q)
+    assert left == pytest.approx(right, rel=1e-12) and min(left[:3]) > 0.0, (left, right)
+
+
+def test_the_outputs_are_a_function_of_the_inputs_alone(tabulated):
+    """The same inputs give the same outputs bit for bit whatever came before and whenever they come."""
+    tabulated.reset(0.0)
+    values = inputs(0.0027, 0.0008, -0.03, 0.05)
+    first = tabulated.step(0.0, H, values)
+    for n, other in enumerate(signal(5), start=1):
+        tabulated.step(n * H, H, other)
+    assert tabulated.step(7.3, 0.01, values) == first, "the outputs depend on the history"
