@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rollcontact.core.checks import positive
+from rollcontact.core.checks import SceneError, positive
 
 
 class FrictionLaw:
@@ -296,3 +296,13 @@ def friction_from_dict(data: dict) -> FrictionLaw:
         return LAWS[law](**data)
     except TypeError as exc:
         raise ValueError(f"friction law {law!r}: {exc}") from None
+
+
+def friction_law(value) -> FrictionLaw:
+    """The friction law a scene's ``friction`` stands for: a :class:`FrictionLaw` as it is, a number mu as
+    ``Coulomb(mu)``; anything else :class:`~rollcontact.core.checks.SceneError` naming the value."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return Coulomb(value)
+    if not isinstance(value, FrictionLaw):
+        raise SceneError(f"friction must be a FrictionLaw or a number, got {value!r}")
+    return value

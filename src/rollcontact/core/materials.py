@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from rollcontact.core.checks import check_real
+from rollcontact.core.checks import SceneError, check_real
 
 
 @dataclass(frozen=True)
@@ -38,3 +38,15 @@ class Material:
     def contact_modulus(self) -> float:
         """Plane-strain contact modulus E* = E / (2 (1 - nu^2)) [Pa] of the pair."""
         return self.youngs_modulus / (2.0 * (1.0 - self.poisson_ratio**2))
+
+    @property
+    def shear_modulus(self) -> float:
+        """Shear modulus G = E / (2 (1 + nu)) [Pa]."""
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+
+def check_material(value) -> Material:
+    """``value`` if it is a :class:`Material`, else :class:`~rollcontact.core.checks.SceneError` naming its type."""
+    if not isinstance(value, Material):
+        raise SceneError(f"material must be a Material, got {type(value).__name__}")
+    return value

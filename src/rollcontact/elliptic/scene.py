@@ -14,8 +14,8 @@ from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 from rollcontact.core.checks import SceneError, check_real
-from rollcontact.core.friction import Coulomb, FrictionLaw, friction_from_dict
-from rollcontact.core.materials import Material
+from rollcontact.core.friction import Coulomb, FrictionLaw, friction_from_dict, friction_law
+from rollcontact.core.materials import Material, check_material
 from rollcontact.elliptic.hertz import HertzEllipse, curvatures_from_radii, curvatures_from_semi_axes, hertz_ellipse
 
 __all__ = ["EllipticScene", "scene_from_dict"]
@@ -78,12 +78,8 @@ class EllipticScene:
         set_(self, "lateral_creepage", check_real("lateral_creepage", self.lateral_creepage))
         set_(self, "spin_creepage", check_real("spin_creepage", self.spin_creepage, unit="1/m"))
         set_(self, "rolling_speed", check_real("rolling_speed", self.rolling_speed, lower=0.0, unit="m/s"))
-        if not isinstance(self.material, Material):
-            raise SceneError(f"material must be a Material, got {type(self.material).__name__}")
-        if isinstance(self.friction, (int, float)) and not isinstance(self.friction, bool):
-            set_(self, "friction", Coulomb(self.friction))
-        if not isinstance(self.friction, FrictionLaw):
-            raise SceneError(f"friction must be a FrictionLaw or a number, got {self.friction!r}")
+        check_material(self.material)
+        set_(self, "friction", friction_law(self.friction))
 
     @classmethod
     def from_radii(cls, normal_load: float, wheel_rolling_radius: float, wheel_profile_radius: float = math.inf,
@@ -112,8 +108,8 @@ class EllipticScene:
 
     @property
     def shear_modulus(self) -> float:
-        """G = E / (2 (1 + nu)) [Pa]."""
-        return self.material.youngs_modulus / (2.0 * (1.0 + self.material.poisson_ratio))
+        """G = E / (2 (1 + nu)) [Pa] of the material."""
+        return self.material.shear_modulus
 
     @property
     def friction_coefficient(self) -> float:

@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 from rollcontact.core.checks import SceneError, check_real
-from rollcontact.core.friction import LAWS, Coulomb, FrictionLaw, friction_from_dict
-from rollcontact.core.materials import Material
+from rollcontact.core.friction import LAWS, Coulomb, FrictionLaw, friction_from_dict, friction_law
+from rollcontact.core.materials import Material, check_material
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -161,14 +161,10 @@ class Scene:
         set_(self, "radius", check_real("radius", self.radius, lower=0.0, lower_open=True))
         set_(self, "axis_position", check_real("axis_position", self.axis_position))
         set_(self, "rolling_speed", check_real("rolling_speed", self.rolling_speed, lower=0.0))
-        if not isinstance(self.material, Material):
-            raise SceneError(f"material must be a Material, got {type(self.material).__name__}")
+        check_material(self.material)
         if not isinstance(self.surface, Surface):
             raise SceneError(f"surface must be a Surface, got {type(self.surface).__name__}")
-        if isinstance(self.friction, (int, float)) and not isinstance(self.friction, bool):
-            set_(self, "friction", Coulomb(self.friction))
-        if not isinstance(self.friction, FrictionLaw):
-            raise SceneError(f"friction must be a FrictionLaw or a number, got {self.friction!r}")
+        set_(self, "friction", friction_law(self.friction))
 
     @property
     def friction_coefficient(self) -> float:

@@ -15,8 +15,8 @@ from functools import cached_property
 from pathlib import Path
 
 from rollcontact.core.checks import SceneError, check_real
-from rollcontact.core.friction import Coulomb, FrictionLaw, friction_from_dict
-from rollcontact.core.materials import Material
+from rollcontact.core.friction import Coulomb, FrictionLaw, friction_from_dict, friction_law
+from rollcontact.core.materials import Material, check_material
 from rollcontact.wheelrail.geometry import Pose, Track, Velocities, Wheelset
 from rollcontact.wheelrail.normal import WheelLoad, loaded_position, solve_normal
 from rollcontact.wheelrail.patch import PatchGap
@@ -78,17 +78,13 @@ class PatchScene:
             set_(self, name, check_real(name, getattr(self, name)))
         set_(self, "spin_creepage", check_real("spin_creepage", self.spin_creepage, unit="1/m"))
         set_(self, "rolling_speed", check_real("rolling_speed", self.rolling_speed, lower=0.0, unit="m/s"))
-        if not isinstance(self.material, Material):
-            raise SceneError(f"material must be a Material, got {type(self.material).__name__}")
-        if isinstance(self.friction, (int, float)) and not isinstance(self.friction, bool):
-            set_(self, "friction", Coulomb(self.friction))
-        if not isinstance(self.friction, FrictionLaw):
-            raise SceneError(f"friction must be a FrictionLaw or a number, got {self.friction!r}")
+        check_material(self.material)
+        set_(self, "friction", friction_law(self.friction))
 
     @property
     def shear_modulus(self) -> float:
-        """G = E / (2 (1 + nu)) [Pa]."""
-        return self.material.youngs_modulus / (2.0 * (1.0 + self.material.poisson_ratio))
+        """G = E / (2 (1 + nu)) [Pa] of the material."""
+        return self.material.shear_modulus
 
     @property
     def friction_coefficient(self) -> float:
@@ -186,12 +182,8 @@ class WheelRailScene:
                                                 unit="m/s"))
         for name, unit in (("lateral_velocity", "m/s"), ("yaw_rate", "rad/s")):
             set_(self, name, check_real(name, getattr(self, name), unit=unit))
-        if not isinstance(self.material, Material):
-            raise SceneError(f"material must be a Material, got {type(self.material).__name__}")
-        if isinstance(self.friction, (int, float)) and not isinstance(self.friction, bool):
-            set_(self, "friction", Coulomb(self.friction))
-        if not isinstance(self.friction, FrictionLaw):
-            raise SceneError(f"friction must be a FrictionLaw or a number, got {self.friction!r}")
+        check_material(self.material)
+        set_(self, "friction", friction_law(self.friction))
         Pose(self.lateral_shift, self.yaw, 0.0 if self.roll is None else self.roll)  # checks the pose's values
         Velocities(self.forward_speed, self.lateral_velocity, self.yaw_rate, self.pitch_rate)
 

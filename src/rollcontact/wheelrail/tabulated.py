@@ -110,8 +110,7 @@ class TabulatedWheelset:
         rows = self.table.rows
         extra = [[v for side, _ in SIDES for v in node_constants(row, side, self.material)] for row in rows.tolist()]
         object.__setattr__(self, "values", np.ascontiguousarray(np.hstack([rows, np.array(extra)])))
-        nu = self.material.poisson_ratio
-        object.__setattr__(self, "shear_modulus", self.material.youngs_modulus / (2.0 * (1.0 + nu)))
+        object.__setattr__(self, "shear_modulus", self.material.shear_modulus)
 
     @property
     def lateral_range(self) -> tuple[float, float]:

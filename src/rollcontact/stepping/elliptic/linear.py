@@ -26,9 +26,9 @@ class LinearContacts:
 
     def __init__(self, model):
         self.contact_modulus = model.material.contact_modulus
-        self.poisson_ratio = nu = model.material.poisson_ratio
+        self.poisson_ratio = model.material.poisson_ratio
         self.constants = [self.contact_constants(A, B) for A, B in model.curvatures]
-        self.shear_modulus = model.material.youngs_modulus / (2.0 * (1.0 + nu))
+        self.shear_modulus = model.material.shear_modulus
 
     def contact_constants(self, A: float, B: float) -> tuple:
         """What a contact's steps take from its curvatures A, B [1/m] alone (:func:`contact_constants`)."""

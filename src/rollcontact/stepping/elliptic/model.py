@@ -217,7 +217,7 @@ class EllipticModel(SteppingModel):
         """Each contact's (A, B) [1/m] of the parameters: its gap where a step's inputs give none."""
         self.curvatures = self.parameter_curvatures
         """Each contact's (A, B) [1/m] of the last step (the parameters' before the first)."""
-        self.shear_modulus = p.youngs_modulus / (2.0 * (1.0 + p.poisson_ratio))
+        self.shear_modulus = self.material.shear_modulus
         problems = list(dict.fromkeys(why for k in range(p.contacts) if (why := self.inapplicable(k)) is not None))
         over = self.over_budget()
         if over is not None:

@@ -266,7 +266,7 @@ class EllipticTable:
         self.positive_sigma = Axis(0.0, 1.0, n_sigma)
         self.alpha = Axis(0.0, 0.5 * math.pi, n_alpha)
         self.material = Material(REFERENCE["youngs_modulus"], self.poisson_ratio)
-        self.shear_modulus = self.material.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+        self.shear_modulus = self.material.shear_modulus
         self.bound = math.nan
         self.check_error: tuple[float, ...] = ()
         self.solves = 0
