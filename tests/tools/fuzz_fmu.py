@@ -1561,9 +1561,8 @@ def report(args, runs: dict) -> str:
         "",
         f"The stated worst case of a step: `step_budget` per contact (RollingContact2D: per step) in modelled "
         f"seconds, counted as seconds, plus {STEP_OVERHEAD} s for the call; none where docs/fmu.md states none (no "
-        "budget; the 2D `table` = on; the 2D polynomial method with velocity-dependent friction on a corrugation; the "
-        "3D strips, and auto, with a falling law).  Wall-clock times on the machine below, so they move with its "
-        "load.",
+        "budget; the 2D `table` = on; the 2D polynomial method with velocity-dependent friction on a corrugation).  "
+        "Wall-clock times on the machine below, so they move with its load.",
         "",
         "| FMU | steps | slowest [s] | over the worst case | most over (time / worst case) | slowest without a "
         "stated worst case [s] |",
