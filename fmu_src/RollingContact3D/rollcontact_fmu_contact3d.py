@@ -207,6 +207,7 @@ class RollingContact3DShared(TableSlave):
                    "contacts")
     version = ROLLCONTACT_VERSION
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-3)
+    TIME_REFERENCE = 39  # released with 39 rows; the gap curvature inputs and `table` came after FMI 3.0's time
 
     def new_model(self, values: dict):
         """An EllipticModel of the parameter values (the per-contact curvatures gathered)."""

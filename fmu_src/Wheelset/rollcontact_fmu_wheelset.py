@@ -138,6 +138,7 @@ class WheelsetShared(HostSlave):
                    "takes their forces and Jacobians")
     version = "0.1.0"
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=2.0, step_size=1e-3)
+    TIME_REFERENCE = 56  # released with 56 rows; the profile contact's rows came after FMI 3.0's time
 
     VARIABLES = VARIABLES
     MODEL, PARAMETERS = WheelsetModel, WheelsetParameters

@@ -81,14 +81,34 @@ class TableSlave3:
     def __init__(self, **kwargs):
         Fmi3SlaveBase.__init__(self, **kwargs)  # pythonfmu3's attributes (vars, units, type_definitions, ...)
         self.init_table(**kwargs)  # the shared slave's table, registered through register_variable below
-        self.register_variable(Float64("time", causality=Fmi3Causality.independent, unit="s",
-                                       variability=Fmi3Variability.continuous, description=TIME_DESCRIPTION,
-                                       getter=self.current_time, setter=self.refuse_time))
+        if len(self.vars) == self.time_reference():  # no row after time
+            self.register_time()
+
+    def time_reference(self) -> int:
+        """The value reference of ``time``: :attr:`~rollcontact_fmu.slave.TableSlave.TIME_REFERENCE`, or after the
+        last row."""
+        return len(self.VARIABLES) if self.TIME_REFERENCE is None else self.TIME_REFERENCE
+
+    def reference(self, row: int) -> int:
+        """The value reference of table row ``row``: the row, plus one from ``time``'s on."""
+        return row if row < self.time_reference() else row + 1
+
+    def register_time(self) -> None:
+        """Register the independent variable ``time`` (FMI 3.0 requires one; setting it is refused)."""
+        Fmi3SlaveBase.register_variable(self, Float64("time", causality=Fmi3Causality.independent, unit="s",
+                                                      variability=Fmi3Variability.continuous,
+                                                      description=TIME_DESCRIPTION, getter=self.current_time,
+                                                      setter=self.refuse_time))
 
     def register_variable(self, var, nested: bool = True, var_type=None, has_event_indicator: bool = False):
-        """Register ``var``, a pythonfmu3 variable or a pythonfmu variable of the table (converted)."""
+        """Register ``var``, a pythonfmu3 variable or a pythonfmu variable of the table (converted; ``time`` first
+        where its value reference comes, :meth:`time_reference`)."""
         if not isinstance(var, Float64 | Int32 | Int64 | UInt64 | Enumeration | String | Boolean):
-            var = fmi3_variable(var, self.VARIABLES[len(self.vars)], self.ENUMERATIONS)  # row = value reference
+            time = self.time_reference()
+            if len(self.vars) == time:
+                self.register_time()
+            row = len(self.vars) - (len(self.vars) > time)  # value reference -> row
+            var = fmi3_variable(var, self.VARIABLES[row], self.ENUMERATIONS)
         Fmi3SlaveBase.register_variable(self, var, nested, var_type, has_event_indicator)
 
     def current_time(self) -> float:

@@ -92,6 +92,15 @@ class TableSlave(FmuState):
     """Array variables (FMI 3.0's ``<Dimension>``) -> their number of values: such a variable holds a list, its
     value reference gets and sets that many values (the others one each)."""
     INITIAL_DEPENDENCIES: str | None = ""
+    TIME_REFERENCE: int | None = None
+    """FMI 3.0's value reference of ``time`` where rows were appended to the table after it was released: the rows
+    from this one on come after ``time``, each at its row plus one, so every released value reference stays (None:
+    ``time`` after the last row).  FMI 2.0 has no ``time``: there every row is its value reference."""
+
+    def reference(self, row: int) -> int:
+        """The value reference of table row ``row``: the row itself in FMI 2.0 (FMI 3.0:
+        :meth:`rollcontact_fmu.fmi3.TableSlave3.reference`)."""
+        return row
 
     def init_table(self, **kwargs) -> None:
         """Set up what the slave adds to its binding's constructor: the table's variables (registered through
@@ -107,13 +116,14 @@ class TableSlave(FmuState):
         self.output_index: dict[int, tuple[int, ...]] = {}  # value reference -> its positions in the outputs
         self.output_plans: dict[tuple, Callable] = {}  # (type, value references) read before -> gather
         self.input_plans: dict[tuple, tuple] = {}  # (type, value references) of inputs set before -> (names, spans)
-        self.input_names = {vr: row[0] for vr, row in enumerate(self.VARIABLES) if row[2] is Fmi2Causality.input}
+        self.input_names = {self.reference(row): variable[0] for row, variable in enumerate(self.VARIABLES)
+                            if variable[2] is Fmi2Causality.input}
         outputs = []
-        for vr, (name, kind, causality, variability, _unit, start, _lo, _hi, description) in enumerate(self.VARIABLES):
+        for row, (name, kind, causality, variability, _unit, start, _lo, _hi, description) in enumerate(self.VARIABLES):
             size = self.DIMENSIONS.get(name)
             if causality is Fmi2Causality.output:
                 positions = tuple(range(len(outputs), len(outputs) + (size or 1)))
-                self.output_index[vr] = positions
+                self.output_index[self.reference(row)] = positions
                 getter = self.output_reader(positions[0] if size is None else positions)
                 outputs += [start] * len(positions)
                 self.output_names += [name] if size is None else [f"{name}[{k}]" for k in range(1, size + 1)]
