@@ -24,7 +24,7 @@ def fmu_dir(tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def run(fmu_dir):
-    """``run(scene, **options)``: run_cosimulation with the session's FMUs, each distinct run once."""
+    """``run(scene, **options)``: run_cosimulation with the test run's FMUs, each distinct run once."""
     done = {}
 
     def cached(scene, **options):

@@ -1,4 +1,4 @@
-"""The fixture of the RollingContact2D FMU's tests: initialised instances of the session's build (``fmu_path``,
+"""The fixture of the RollingContact2D FMU's tests: initialised instances of the test run's build (``fmu_path``,
 ``tests/conftest.py``) through :class:`fmu_host.Instance`."""
 
 from __future__ import annotations

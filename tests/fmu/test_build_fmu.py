@@ -2,7 +2,7 @@
 builds only what is missing or older than its sources, for every selection; the manifests, the entry modules and the
 enumerations derived from the solver's tables.
 
-The builds are the session's (``tests/conftest.py``: ``--all`` and ``--fmi 3 --all``, ``--contacts 8`` and ``--fmi 3
+The builds are the test run's (``tests/conftest.py``: ``--all`` and ``--fmi 3 --all``, ``--contacts 8`` and ``--fmi 3
 --contacts 8``, ``--integer-codes``, each its own process) and two more here (``--fmi 3 --only RollingContact3D``,
 ``--only Wheelset``); each command's FMUs are loaded and stepped in one fresh process, from folders that stay
 extracted while it runs.
@@ -48,7 +48,7 @@ def only(tmp_path_factory) -> Path:
 
 @pytest.fixture
 def commands(fmu_path, fmu_folders, eight_contacts, integer_codes, only) -> dict[str, list[Path]]:
-    """Build command -> the FMUs it wrote (the session's builds and :func:`only`, each command in a fresh process)."""
+    """Build command -> the FMUs it wrote (the test run's builds and :func:`only`, each command in a fresh process)."""
     every = ("RollingContact2D", "RollingContact3D", "WheelRig", "Wheelset", "WheelsetContact")
     return {"": [fmu_path],
             "--all": [fmu_folders[2] / f"{m}.fmu" for m in every],
@@ -114,7 +114,7 @@ def test_each_fmu_bundles_its_slave_the_support_package_and_its_packages_but_no_
 def test_if_stale_builds_nothing_that_is_up_to_date_for_every_selection(fmu_folders, eight_contacts, integer_codes,
                                                                         only):
     """``--if-stale`` with ``--all``, ``--contacts 8``, ``--only``, ``--integer-codes`` and ``--fmi 3``, each in a fresh
-    process, on the session's fresh builds: every FMU is reported where it is, none is written again."""
+    process, on the test run's fresh builds: every FMU is reported where it is, none is written again."""
     runs = [(["--all", "--fmi", "2,3"], fmu_folders[2]), (["--contacts", "8", "--fmi", "2,3"], eight_contacts[2]),
             (["--only", "RollingContact3D", "--fmi", "3"], only), (["--only", "Wheelset"], only),
             (["--integer-codes"], integer_codes), (["--contacts", "2", "--integer-codes"], integer_codes)]

@@ -531,7 +531,7 @@ def test_a_c_host_gets_the_same_numbers_as_fmpy(unzipped, description, instance,
 
 
 def test_the_integer_codes_build_serves_hosts_without_enumerations(integer_codes):
-    """``build_fmu.py --integer-codes`` (the session's build, ``tests/conftest.py``): the same FMU with plain Integer
+    """``build_fmu.py --integer-codes`` (the test run's build, ``tests/conftest.py``): the same FMU with plain Integer
     variables whose descriptions give the codes (libcosim lists no enumeration variables); fmpy validates it."""
     from fmpy import read_model_description
 

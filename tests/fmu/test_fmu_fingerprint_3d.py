@@ -247,7 +247,7 @@ def record() -> dict:
 
 @pytest.fixture(scope="module")
 def fmus(contact_variants, eight_contacts, tmp_path_factory) -> dict:
-    """``(fmi, contacts)`` -> (unzipped folder, model description) of the session's builds."""
+    """``(fmi, contacts)`` -> (unzipped folder, model description) of the test run's builds."""
     from fmpy import extract, read_model_description
 
     paths = {(2, 1): contact_variants[2] / "RollingContact3D.fmu", (3, 1): contact_variants[3] / "RollingContact3D.fmu",

@@ -1,6 +1,6 @@
 """Every FMU the project builds has the recorded modelDescription: variables, types, units, structure, capabilities.
 
-``tests/fmu/data/model_descriptions.json`` holds, for each FMU of the session's builds (RollingContact2D,
+``tests/fmu/data/model_descriptions.json`` holds, for each FMU of the test run's builds (RollingContact2D,
 RollingContact3D, their 3- and 8-contact variants, WheelRig, Wheelset and WheelsetContact in FMI 2.0 and FMI 3.0; the
 ``--integer-codes`` builds of RollingContact2D, RollingContact2D_2 and RollingContact3D_2 in FMI 2.0), what its
 ``modelDescription.xml`` declares, written by ``python tests/fmu/test_model_descriptions.py --record``:
@@ -16,7 +16,7 @@ RollingContact3D, their 3- and 8-contact variants, WheelRig, Wheelset and Wheels
 * ``descriptions``: the description texts (the model's, each variable's, each item's), compared by a separate assert,
   so that a change of wording is told apart from a change of the variables.
 
-The FMUs are the session fixtures' builds (``tests/conftest.py``), shared with the other FMU tests.
+The FMUs are the test run's fixtures' builds (``tests/conftest.py``), shared with the other FMU tests.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ DATA = Path(__file__).resolve().parent / "data" / "model_descriptions.json"
 VOLATILE = {"guid", "instantiationToken", "generationDateAndTime"}
 """Root attributes that change with every build."""
 
-FMUS = {  # key -> (session fixture, FMI version, FMU file)
+FMUS = {  # key -> (fixture of the test run, FMI version, FMU file)
     **{f"FMI {fmi}.0 {model}": ("fmu_folders", fmi, model)
        for fmi in (2, 3) for model in ("RollingContact2D", "RollingContact3D", "WheelRig", "Wheelset",
                                        "WheelsetContact")},
@@ -43,7 +43,7 @@ FMUS = {  # key -> (session fixture, FMI version, FMU file)
     **{f"FMI 2.0 integer codes {model}": ("integer_codes", 2, model)
        for model in ("RollingContact2D", "RollingContact2D_2", "RollingContact3D_2")},
 }
-BUILDS = {  # session fixture -> build_fmu.py arguments (tests/conftest.py), for --record
+BUILDS = {  # fixture of the test run -> build_fmu.py arguments (tests/conftest.py), for --record
     "fmu_folders": (["--fmi", "2,3", "--all"],),
     "contact_variants": (["--fmi", "2,3", "--contacts", "3"],),
     "eight_contacts": (["--fmi", "2,3", "--contacts", "8"],),
@@ -179,7 +179,7 @@ def recorded_json(data: dict) -> str:
 
 
 def main() -> dict:
-    """Build every FMU of :data:`FMUS` as the session fixtures do, into a temporary folder; key -> snapshot."""
+    """Build every FMU of :data:`FMUS` as the test run's fixtures do, into a temporary folder; key -> snapshot."""
     import subprocess
     import tempfile
 

@@ -111,7 +111,7 @@ def test_the_cosimulated_reference_results_are_the_sweeps(fmu_dir, tmp_path):
 @pytest.fixture(scope="module")
 def integer_codes_dir(fmu_dir, integer_codes, tmp_path_factory) -> Path:
     """The Wheelset FMU and the integer-codes build of RollingContact3D_2 (libcosim lists no enumerations; the
-    session's ``--contacts 2 --integer-codes`` build, ``tests/conftest.py``), in the ``integer_codes/`` folder where
+    test run's ``--contacts 2 --integer-codes`` build, ``tests/conftest.py``), in the ``integer_codes/`` folder where
     the libcosim master looks for them (below the folder it is given)."""
     dest = tmp_path_factory.mktemp("wheelset_osp") / "integer_codes"
     dest.mkdir()
