@@ -97,6 +97,19 @@ def test_rigid_contacts_are_the_searches_at_rigid_positions_roll(track, wheelset
         assert pose.vertical == 0.5 * (left.vertical_gap + right.vertical_gap)
 
 
+def test_the_least_gaps_slope_in_roll_is_its_central_difference(track, wheelset):
+    """GapScan.roll_slope (the envelope theorem at the deepest point, what the roll's Newton steps take) against
+    central differences of the least gap, on the tread (to 1e-6) and at the flange (to 2e-4: there the slope is a
+    difference of terms near 1, each as close to the sampled profiles' as their Hermite interpolation), with yaw."""
+    for shift, yaw, roll, rel in ((0.0, 0.0, 0.0, 1e-6), (0.003, 0.002, -2e-4, 1e-6), (0.0058, -0.01, -5e-4, 1e-6),
+                                  (0.0068, 0.004, -5.7e-3, 2e-4)):
+        for side in ("left", "right"):
+            slope = scan_gap(track, wheelset, Pose(shift, yaw, roll), side).roll_slope
+            h = 1e-7
+            gaps = [scan_gap(track, wheelset, Pose(shift, yaw, roll + d), side).least_gap for d in (h, -h)]
+            assert slope == pytest.approx((gaps[0] - gaps[1]) / (2 * h), rel=rel), (shift, yaw, roll, side)
+
+
 @pytest.mark.parametrize("case", [1, 4, 8, 11, 13, 14, 17, 21])
 def test_loaded_roll_matches_the_benchmark(track, wheelset, case):
     row = manchester_rows()[case - 1]

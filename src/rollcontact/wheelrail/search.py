@@ -392,15 +392,39 @@ class GapScan:
         return point_at(self.track, self.wheelset, self.frame, yc[m], gc[m], self.wy, self.w_first)
 
     @cached_property
-    def least_gap(self) -> float:
-        """The least vertical gap [m], the deepest contact point's (:attr:`WheelContact.vertical_gap` of
-        :func:`contact_from_scan`, bit for bit), with the search's refusals: GeometryError where the least gap lies
-        at an end of the searched profiles or the deepest point on the flange's crest."""
+    def deepest(self) -> tuple:
+        """The quantities of the deepest contact point (:func:`point_at`; :func:`contact_from_scan`'s first), with
+        the search's refusals: GeometryError where the least gap lies at an end of the searched profiles or the
+        deepest point on the flange's crest."""
         _, yc, gc = self.minima
         least = min(gc)
-        deepest = min((m for m in range(len(gc)) if gc[m] == least), key=lambda m: yc[m])
-        check_flange(self.wheelset, self.pose, self.side, self.point(deepest)[5])
-        return least
+        point = self.point(min((m for m in range(len(gc)) if gc[m] == least), key=lambda m: yc[m]))
+        check_flange(self.wheelset, self.pose, self.side, point[5])
+        return point
+
+    @property
+    def least_gap(self) -> float:
+        """The least vertical gap [m], the deepest contact point's (:attr:`WheelContact.vertical_gap` of
+        :func:`contact_from_scan`, bit for bit), with the search's refusals (:attr:`deepest`)."""
+        return self.deepest[0]
+
+    @property
+    def roll_slope(self) -> float:
+        """d(least vertical gap)/d(roll) [m/rad] at the pose (the track's roll: positive lowers the right wheel).
+
+        The least gap is a minimum over the rail's Y, so its derivative is the gap's at the deepest point's fixed Y
+        (the envelope theorem): minus the vertical speed there of the wheel's locus, which a roll rate about the
+        wheelset's axis ``e = (cos(psi), sin(psi), 0)`` moves with the material points' velocity ``e x (P - C)``
+        (its sliding along the yawed circles is along the locus itself):
+        ``dg/droll = -(cos(psi) (Y + m Z) - sin(psi) x)``, ``(x, Y, Z)`` the point from the axle's centre and
+        ``m = tan(-delta)`` the locus' slope there, in the wheel's right-side frame (whose roll is minus the track's
+        on the left wheel)."""
+        g0, y0, z0, delta = self.deepest[:4]
+        frame = self.frame
+        lateral = y0 - frame.lateral_shift
+        vertical = (z0 - g0) - (frame.vertical - self.wheelset.nominal_radius)
+        along = math.cos(frame.yaw) * (lateral + math.tan(-delta) * vertical) - math.sin(frame.yaw) * self.deepest[11]
+        return -along if self.side == "right" else along
 
 
 def check_flange(wheelset: Wheelset, pose: Pose, side: str, wheel_lateral: float) -> None:

@@ -83,7 +83,7 @@ def test_without_the_table_the_model_is_the_library_bit_for_bit():
         assert got.method_used == method_code("hertz"), got.method_used
 
 
-SEARCHES = {0: (126, 24), 1: (42, 8)}
+SEARCHES = {0: (78, 24), 1: (26, 8)}
 """The gap scans and contact-point constructions of the four steps of signal(4) without the table, with the
 derivatives (jacobian 0) and without (1): per step and wheel one construction per pose solved (the step's; with the
 derivatives also the shifted lateral shift's and yaw's), and the scans of the roll's iteration at each pose."""
