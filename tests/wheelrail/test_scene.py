@@ -72,5 +72,6 @@ def test_a_wheelset_scene_takes_its_contacts_and_shares_its_geometry(track, whee
     assert moving.contacts is given.contacts and moving.hertz is given.hertz, "the geometry is shared"
     fresh = WheelRailScene(track, wheelset, 0.0043, 0.0012, pose.roll, 7e4, 8e4, 30.0, 0.05, 0.02)
     assert loads(moving) == loads(fresh), "the shared geometry solves as a new scene's"
+    assert all(p.memo for c in given.contacts for p in c.patches), "Hertz's departure kept with the shared patches"
     with pytest.raises(SceneError, match="changes only"):
         given.with_velocities(roll=0.0)

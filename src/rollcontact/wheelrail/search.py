@@ -149,11 +149,16 @@ class Patch:
         tangent plane is taken at).
     contact_angle : float
         delta [rad] of the tangent plane (the deepest point's), positive towards the flange.
+    memo : dict
+        What a level computes of the patch alone, keyed by its exact arguments (the patch is immutable, so a
+        value found here is the one computing it again gives: e.g. Hertz's departure, shared by the solves of one
+        geometry).
     """
 
     points: tuple
     contact_angle: float
     source: PatchRegion = field(repr=False)
+    memo: dict = field(default_factory=dict, repr=False, compare=False)
 
     @cached_property
     def gap(self) -> PatchGap:
