@@ -1,6 +1,6 @@
 """Microseconds per WheelsetContact FMU step through fmpy, per level, with and without the geometry table, FMI 2.0 and
-3.0, against empty FMUs of the same variables, in one run; the table's initialisation; the contact searches a step
-makes without the table.
+3.0, against empty FMUs of the same variables, in one run; the table's initialisation; the search's passes (scans of
+the gap, contact points) a step makes without the table.
 
 One step is what a master does per communication point: set the 8 inputs, ``doStep``, get the 30 real and 3 integer
 outputs (fmpy's ``FMU2Slave``, or ``FMU3Slave`` behind the same calls, ``rollcontact_cosim.master.Slave``).  The inputs
