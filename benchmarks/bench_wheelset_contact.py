@@ -1,6 +1,6 @@
 """Microseconds per WheelsetContact FMU step through fmpy, per level, with and without the geometry table, FMI 2.0 and
-3.0, against empty FMUs of the same variables, in one run; the table's initialisation; the contact searches a step
-makes without the table.
+3.0, against empty FMUs of the same variables, in one run; the table's initialisation; the search's passes (scans of
+the gap, contact points) a step makes without the table.
 
 One step is what a master does per communication point: set the 8 inputs, ``doStep``, get the 30 real and 3 integer
 outputs (fmpy's ``FMU2Slave``, or ``FMU3Slave`` behind the same calls, ``rollcontact_cosim.master.Slave``).  The inputs
@@ -30,7 +30,7 @@ import common  # before numpy: limits BLAS to one thread; puts the checkout on s
 
 import rollcontact.stepping.wheelrail.model as stepping_model
 import rollcontact.wheelrail.normal as normal
-import rollcontact.wheelrail.scene as scene_module
+import rollcontact.wheelrail.search as search
 from build_fmu import build
 from rollcontact.stepping import WheelsetContactModel, WheelsetContactParameters
 
@@ -156,24 +156,33 @@ def empty_fmus(tmp: Path) -> dict[int, Path]:
     return out
 
 
-def searches_per_step(parameters: dict) -> float:
-    """Contact searches of one wheel (``search_wheel`` calls over two) per step of the model without the table,
-    on the signal."""
-    calls = {"n": 0}
-    original = normal.search_wheel, scene_module.search_wheel
+SEARCH_STEPS = 20
+"""Steps of the signal (every 50th) the searches are counted over."""
 
-    def counted(*args, **kwargs):
-        calls["n"] += 1
-        return original[0](*args, **kwargs)
 
-    normal.search_wheel = scene_module.search_wheel = counted
+def searches_per_step(parameters: dict) -> tuple[float, float]:
+    """The search's two passes of one wheel per step of the model without the table, on the signal: the scans of the
+    gap over the profiles (``scan_gap``: the rigid wheelset's roll iterates on them) and the contact points and
+    patches made of them (``contact_from_scan``), wherever they are called (over two wheels)."""
+    calls = {"scan_gap": 0, "contact_from_scan": 0}
+    originals = [(module, name, getattr(module, name)) for module in (search, normal) for name in calls]
+
+    def counted(name, function):
+        def wrapper(*args, **kwargs):
+            calls[name] += 1
+            return function(*args, **kwargs)
+        return wrapper
+
+    for module, name, function in originals:
+        setattr(module, name, counted(name, function))
     try:
         model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0, **parameters))
-        for n in range(3):
-            model.step(n * 1e-3, 1e-3, signal(100 * n))
+        for n in range(SEARCH_STEPS):
+            model.step(n * 1e-3, 1e-3, signal(50 * n))
     finally:
-        normal.search_wheel, scene_module.search_wheel = original
-    return calls["n"] / 3 / 2
+        for module, name, function in originals:
+            setattr(module, name, function)
+    return calls["scan_gap"] / SEARCH_STEPS / 2, calls["contact_from_scan"] / SEARCH_STEPS / 2
 
 
 def table_initialisation(repeats: int) -> list[float]:
@@ -236,10 +245,13 @@ def main() -> None:
               "+-12 mm built, the tabulated contact's constants computed): "
               + ", ".join(f"{t:.2f} s" for t in initialisation)
               + f" (median {statistics.median(initialisation):.2f} s)",
-              "", "Contact searches of a wheel per step without the table (the rigid wheelset's roll by the secant of "
-              "`rigid_position`, then the scene's own search; with the derivatives also at the shifted lateral shift "
-              "and yaw):", ""]
-    lines += [f"- {label}: {count:.1f}" for label, count in searches.items()]
+              "", f"The search's passes per wheel and step without the table ({SEARCH_STEPS} steps of the signal): "
+              "scans of the gap over the profiles (`scan_gap`, the rigid wheelset's roll iterates on them; at each "
+              "pose solved, the step's and with the derivatives the shifted lateral shift's and yaw's) and the "
+              "contact points and patches made of them (`contact_from_scan`, once per pose: the scene is given "
+              "them, the velocities' differences share the step's):", ""]
+    lines += [f"- {label}: {scans:.1f} scans, {contacts:.1f} contact points" for label, (scans, contacts)
+              in searches.items()]
     print("\n".join(lines))
 
 

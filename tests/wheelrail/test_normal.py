@@ -17,9 +17,15 @@ from wheelrail_cases import circular_head, manchester_rows
 from rollcontact.core.materials import Material
 from rollcontact.elliptic.hertz import hertz_ellipse
 from rollcontact.wheelrail.geometry import Pose, Track, Wheelset
-from rollcontact.wheelrail.normal import loaded_position, rigid_position, solve_normal, wheel_forces_at_pose
+from rollcontact.wheelrail.normal import (
+    loaded_position,
+    rigid_contacts,
+    rigid_position,
+    solve_normal,
+    wheel_forces_at_pose,
+)
 from rollcontact.wheelrail.profiles import Profile
-from rollcontact.wheelrail.search import search_wheel
+from rollcontact.wheelrail.search import scan_gap, search_wheel
 
 
 @pytest.fixture(scope="module")
@@ -73,6 +79,35 @@ def test_rigid_position_touches_both_rails(track, wheelset):
         assert abs(left.vertical_gap) < 1e-10 and abs(right.vertical_gap) < 1e-10, (
             f"shift {shift}, yaw {yaw}: vertical gaps {left.vertical_gap!r}, {right.vertical_gap!r} m")
         assert (shift == 0.0) == (pose.roll == 0.0), f"roll {pose.roll!r} rad at shift {shift}"
+
+
+def test_rigid_contacts_are_the_searches_at_rigid_positions_roll(track, wheelset):
+    """The roll and height of rigid_position, bit for bit, and each wheel's contact at that roll and vertical = 0 as
+    a search finds it; a scan's least gap is the search's vertical gap."""
+    for shift, yaw in ((0.0, 0.0), (0.0012, 0.002), (0.0046, 0.0), (-0.0061, -0.003)):
+        pose, left, right = rigid_contacts(track, wheelset, shift, yaw)
+        assert pose == rigid_position(track, wheelset, shift, yaw)[0], f"shift {shift}, yaw {yaw}"
+        at = Pose(shift, yaw, pose.roll, 0.0)
+        for contact in (left, right):
+            searched = search_wheel(track, wheelset, at, contact.side)
+            assert contact.pose == at and contact.points == searched.points, f"{contact.side} at {shift}, {yaw}"
+            assert [(p.points, p.contact_angle, p.source.region) for p in contact.patches] == \
+                [(p.points, p.contact_angle, p.source.region) for p in searched.patches], "patches"
+            assert scan_gap(track, wheelset, at, contact.side).least_gap == contact.vertical_gap
+        assert pose.vertical == 0.5 * (left.vertical_gap + right.vertical_gap)
+
+
+def test_the_least_gaps_slope_in_roll_is_its_central_difference(track, wheelset):
+    """GapScan.roll_slope (the envelope theorem at the deepest point, what the roll's Newton steps take) against
+    central differences of the least gap, on the tread (to 1e-6) and at the flange (to 2e-4: there the slope is a
+    difference of terms near 1, each as close to the sampled profiles' as their Hermite interpolation), with yaw."""
+    for shift, yaw, roll, rel in ((0.0, 0.0, 0.0, 1e-6), (0.003, 0.002, -2e-4, 1e-6), (0.0058, -0.01, -5e-4, 1e-6),
+                                  (0.0068, 0.004, -5.7e-3, 2e-4)):
+        for side in ("left", "right"):
+            slope = scan_gap(track, wheelset, Pose(shift, yaw, roll), side).roll_slope
+            h = 1e-7
+            gaps = [scan_gap(track, wheelset, Pose(shift, yaw, roll + d), side).least_gap for d in (h, -h)]
+            assert slope == pytest.approx((gaps[0] - gaps[1]) / (2 * h), rel=rel), (shift, yaw, roll, side)
 
 
 @pytest.mark.parametrize("case", [1, 4, 8, 11, 13, 14, 17, 21])

@@ -43,3 +43,35 @@ def test_force_coefficients():
     fx, fy, mz = result.force_coefficients
     assert (fx, fy) == (0.2, -0.1)
     assert math.isclose(mz, 2.0 / (3e3 * math.sqrt(12e-6))), "Mz over mu Fn sqrt(area / pi)"
+
+
+def test_a_wheelset_scene_takes_its_contacts_and_shares_its_geometry(track, wheelset):
+    """Given the rigid wheelset's contacts at its roll, a scene solves as if it had searched (bit for bit); contacts of
+    another pose are refused; a copy with other velocities shares the contacts and Hertz's normal contact and solves
+    as a new scene of those velocities does."""
+    from rollcontact.wheelrail import dispatch
+    from rollcontact.wheelrail.loads import wheelset_loads
+    from rollcontact.wheelrail.normal import rigid_contacts
+    from rollcontact.wheelrail.scene import WheelRailScene
+
+    pose, left, right = rigid_contacts(track, wheelset, 0.0043, 0.0012)
+    scene = WheelRailScene(track, wheelset, 0.0043, 0.0012, pose.roll, 7e4, 8e4, 30.0, 0.02, -0.01)
+    given = scene.with_contacts((left, right))
+    assert given.contacts == (left, right) and "contacts" not in scene.__dict__, "the original scene is unchanged"
+
+    def loads(s):
+        return wheelset_loads(s, dispatch.solve(s, "hertz", elliptic="saturated"))
+
+    assert loads(given) == loads(scene), "the given contacts solve as the searched ones"
+    other = WheelRailScene(track, wheelset, 0.0043, 0.0012, pose.roll + 1e-6, 7e4, 8e4, 30.0, 0.02, -0.01)
+    with pytest.raises(SceneError, match="not at the scene's pose"):
+        other.with_contacts((left, right))
+    with pytest.raises(SceneError, match="the \\(left, right\\) wheels"):
+        scene.with_contacts((right, left))
+    moving = given.with_velocities(lateral_velocity=0.05, yaw_rate=0.02)
+    assert moving.contacts is given.contacts and moving.hertz is given.hertz, "the geometry is shared"
+    fresh = WheelRailScene(track, wheelset, 0.0043, 0.0012, pose.roll, 7e4, 8e4, 30.0, 0.05, 0.02)
+    assert loads(moving) == loads(fresh), "the shared geometry solves as a new scene's"
+    assert all(p.memo for c in given.contacts for p in c.patches), "Hertz's departure kept with the shared patches"
+    with pytest.raises(SceneError, match="changes only"):
+        given.with_velocities(roll=0.0)

@@ -31,10 +31,10 @@ from rollcontact.core.checks import check_real
 from rollcontact.core.materials import Material
 from rollcontact.elliptic.hertz import HertzEllipse, hertz_ellipse
 from rollcontact.wheelrail.geometry import GeometryError, Pose, Track, Wheelset
-from rollcontact.wheelrail.search import DEFAULT_DEPTH, Patch, WheelContact, search_wheel
+from rollcontact.wheelrail.search import DEFAULT_DEPTH, Patch, WheelContact, contact_from_scan, scan_gap, search_wheel
 
 __all__ = ["MIN_LATERAL_CURVATURE", "NormalLaw", "WheelLoad", "hertz_contacts", "loaded_position",
-           "rigid_position", "solve_normal", "wheel_forces_at_pose"]
+           "rigid_contacts", "rigid_position", "solve_normal", "wheel_forces_at_pose"]
 
 NormalLaw = Callable[[Patch, float], float]
 """``normal_law(patch, approach) -> normal force [N]``: the force along the patch's normal at the normal approach
@@ -48,6 +48,9 @@ STEEL = Material()
 
 ROLL_TOLERANCE = 1.0e-11
 """[m]: the rigid wheelset's roll is iterated until the two wheels' vertical displacements agree to this."""
+
+MAX_ROLL_STEPS = 40
+"""Steps of the rigid wheelset's roll (:func:`rigid_contacts`) before it is refused."""
 
 
 @dataclass(frozen=True)
@@ -197,24 +200,17 @@ def wheel_forces_at_pose(contact: WheelContact, material: Material = STEEL,
 
 
 # ------------------------------------------------------------------------------------------- rigid wheelset
-def _level(track, wheelset, lateral_shift, yaw, descent, depth):
-    """Find the roll at which the two wheels need the same descent: ``descent(contact) -> (d, extra)`` per wheel."""
-    arm = 2.0 * wheelset.taping_line
-
-    def both(roll):
-        pose = Pose(lateral_shift, yaw, roll, 0.0)
-        left = descent(search_wheel(track, wheelset, pose, "left", depth))
-        right = descent(search_wheel(track, wheelset, pose, "right", depth))
-        return left[0] - right[0], left, right
-
-    roll0, (f0, l0, r0) = 0.0, both(0.0)
+def _root(both, arm, lateral_shift, yaw):
+    """The roll at which the two wheels need the same descent (:func:`loaded_position`): ``both(roll) ->
+    (difference, what)``; returns ``(roll, what)`` at it (secant from ``-f / arm``, then Brent where it brackets)."""
+    roll0, (f0, p0) = 0.0, both(0.0)
     if abs(f0) <= ROLL_TOLERANCE:
-        return roll0, l0, r0
+        return roll0, p0
     roll1 = roll0 - f0 / arm
-    f1, l1, r1 = both(roll1)
+    f1, p1 = both(roll1)
     for _ in range(12):  # secant: the difference is nearly linear in the roll (slope 2 Y_t)
         if abs(f1) <= ROLL_TOLERANCE:
-            return roll1, l1, r1
+            return roll1, p1
         if f1 * f0 < 0.0:
             break
         slope = (f1 - f0) / (roll1 - roll0) if roll1 != roll0 else arm
@@ -222,14 +218,94 @@ def _level(track, wheelset, lateral_shift, yaw, descent, depth):
             slope = arm
         roll0, f0 = roll1, f1
         roll1 = roll1 - f1 / slope
-        f1, l1, r1 = both(roll1)
+        f1, p1 = both(roll1)
     if f1 * f0 > 0.0:
         raise GeometryError(f"no roll levels the wheelset at lateral_shift = {lateral_shift!r} m, yaw = {yaw!r} rad "
                             f"(the wheels' descents still differ by {f1!r} m at roll {roll1!r} rad)")
     lo, hi = sorted((roll0, roll1))
     roll = brentq(lambda x: both(x)[0], lo, hi, xtol=1e-15, rtol=1e-14, maxiter=100)
-    _, left, right = both(roll)
+    return roll, both(roll)[1]
+
+
+def _level(track, wheelset, lateral_shift, yaw, descent, depth):
+    """Find the roll at which the two wheels need the same descent: ``descent(contact) -> (d, extra)`` per wheel."""
+
+    def both(roll):
+        pose = Pose(lateral_shift, yaw, roll, 0.0)
+        left = descent(search_wheel(track, wheelset, pose, "left", depth))
+        right = descent(search_wheel(track, wheelset, pose, "right", depth))
+        return left[0] - right[0], (left, right)
+
+    roll, (left, right) = _root(both, 2.0 * wheelset.taping_line, lateral_shift, yaw)
     return roll, left, right
+
+
+def _newton_root(both, arm, lateral_shift, yaw):
+    """The roll at which ``both(roll) -> (difference, its slope, what)`` vanishes to :data:`ROLL_TOLERANCE`:
+    Newton's steps from roll 0 on the slope given (``arm`` where it is below a tenth of it), inside the bracket of
+    the rolls passed on either side of the root once there is one (false position where a step leaves it, halving
+    where that stalls); ``(roll, what)`` at it."""
+    roll, (f, slope, what) = 0.0, both(0.0)
+    below = above = None  # (roll, difference) of the nearest rolls where the difference is < 0, > 0
+    stalled = 0
+    for _ in range(MAX_ROLL_STEPS):
+        if abs(f) <= ROLL_TOLERANCE:
+            return roll, what
+        if f < 0.0 and (below is None or roll > below[0]):
+            below = (roll, f)
+        elif f > 0.0 and (above is None or roll < above[0]):
+            above = (roll, f)
+        step = roll - f / (slope if slope > 0.1 * arm else arm)
+        if below is not None and above is not None:
+            (lo, f_lo), (hi, f_hi) = sorted((below, above))
+            if not lo < step < hi:
+                stalled += 1
+                step = lo - f_lo * (hi - lo) / (f_hi - f_lo) if stalled % 3 else 0.5 * (lo + hi)
+                if not lo < step < hi:
+                    step = 0.5 * (lo + hi)
+        roll = step
+        f, slope, what = both(roll)
+    raise GeometryError(f"no roll levels the wheelset at lateral_shift = {lateral_shift!r} m, yaw = {yaw!r} rad "
+                        f"(the wheels' descents still differ by {f!r} m at roll {roll!r} rad after "
+                        f"{MAX_ROLL_STEPS} steps)")
+
+
+def rigid_contacts(track: Track, wheelset: Wheelset, lateral_shift: float, yaw: float = 0.0,
+                   depth: float = DEFAULT_DEPTH) -> tuple[Pose, WheelContact, WheelContact]:
+    """The roll and height of a rigid wheelset touching both rails without load, and its wheels' contact at the roll
+    and ``vertical`` = 0, the pose a :class:`~rollcontact.wheelrail.scene.WheelRailScene` of that roll searches at.
+
+    Each wheel must descend by its least vertical gap g(roll) to touch; the roll is the root of
+    ``g_left(roll) - g_right(roll)``, by Newton's method from roll 0 on the gaps' own slopes
+    (:attr:`~rollcontact.wheelrail.search.GapScan.roll_slope`; safeguarded by the bracket of the rolls passed): each
+    step scans the gap over the profiles (:func:`~rollcontact.wheelrail.search.scan_gap`, the search's first pass,
+    with its refusals), and only the root's scans are made into contact points and patches
+    (:func:`~rollcontact.wheelrail.search.contact_from_scan`).  The height ``dz`` is the wheels' mean least gap
+    there.
+
+    Returns
+    -------
+    (Pose, WheelContact, WheelContact)
+        The pose (roll, and ``vertical`` = dz) and the left and right wheels' contact at ``vertical`` = 0 (their
+        vertical gaps are dz to :data:`ROLL_TOLERANCE`).
+
+    Raises
+    ------
+    GeometryError
+        A search refuses a pose on the way (:func:`~rollcontact.wheelrail.search.search_wheel`), or no roll levels
+        the wheelset (the message names the lateral shift and yaw).
+    """
+
+    def both(roll):
+        pose = Pose(lateral_shift, yaw, roll, 0.0)
+        left = scan_gap(track, wheelset, pose, "left")
+        left_gap = left.least_gap
+        right = scan_gap(track, wheelset, pose, "right")
+        return left_gap - right.least_gap, left.roll_slope - right.roll_slope, (left, right)
+
+    roll, scans = _newton_root(both, 2.0 * wheelset.taping_line, lateral_shift, yaw)
+    left, right = (contact_from_scan(scan, depth) for scan in scans)
+    return Pose(lateral_shift, yaw, roll, 0.5 * (left.vertical_gap + right.vertical_gap)), left, right
 
 
 def rigid_position(track: Track, wheelset: Wheelset, lateral_shift: float, yaw: float = 0.0,
@@ -237,7 +313,7 @@ def rigid_position(track: Track, wheelset: Wheelset, lateral_shift: float, yaw: 
     """The roll and height of a rigid wheelset touching both rails without load (the kinematic position).
 
     Each wheel must descend by its least vertical gap g(roll) to touch; the roll is the root of
-    ``g_left(roll) - g_right(roll)`` (secant from ``-f / (2 Y_t)``, then Brent where it brackets), and the height
+    ``g_left(roll) - g_right(roll)`` (Newton's method on the gaps' slopes, :func:`rigid_contacts`), and the height
     ``dz = g_left = g_right``.
 
     Returns
@@ -245,8 +321,7 @@ def rigid_position(track: Track, wheelset: Wheelset, lateral_shift: float, yaw: 
     (Pose, WheelContact, WheelContact)
         The pose (with roll and vertical) and the left and right wheels' contact at it (vertical gaps ~0).
     """
-    roll, left, right = _level(track, wheelset, lateral_shift, yaw, lambda c: (c.vertical_gap, c), depth)
-    pose = Pose(lateral_shift, yaw, roll, 0.5 * (left[0] + right[0]))
+    pose = rigid_contacts(track, wheelset, lateral_shift, yaw, depth)[0]
     return (pose, search_wheel(track, wheelset, pose, "left", depth),
             search_wheel(track, wheelset, pose, "right", depth))
 

@@ -23,7 +23,8 @@ from rollcontact.wheelrail.patch import PatchGap
 from rollcontact.wheelrail.profiles import read_profile
 from rollcontact.wheelrail.search import WheelContact, search_wheel
 
-__all__ = ["POSITION_COLUMNS", "SIDES", "PatchScene", "WheelRailScene", "cases_from_dict", "read_positions"]
+__all__ = ["POSITION_COLUMNS", "SIDES", "VELOCITY_FIELDS", "PatchScene", "WheelRailScene", "cases_from_dict",
+           "read_positions"]
 
 
 @dataclass(frozen=True)
@@ -230,6 +231,41 @@ class WheelRailScene:
         """A copy with some fields changed (validated again)."""
         return replace(self, **changes)
 
+    def with_contacts(self, contacts) -> WheelRailScene:
+        """A copy whose wheels' contact geometry is given rather than searched: ``(left, right)``, what
+        :func:`~rollcontact.wheelrail.search.search_wheel` finds at :attr:`pose` on this track and wheelset with the
+        default depth (the rigid wheelset's, :func:`~rollcontact.wheelrail.normal.rigid_contacts`); SceneError where
+        they are not the left and right wheels' at :attr:`pose`."""
+        contacts = tuple(contacts)
+        if len(contacts) != 2 or not all(isinstance(c, WheelContact) for c in contacts) or \
+                tuple(c.side for c in contacts) != SIDES:
+            raise SceneError(f"contacts must be the (left, right) wheels' WheelContact, got {contacts!r}")
+        for c in contacts:
+            if c.pose != self.pose:
+                raise SceneError(f"the {c.side} wheel's contact was found at {c.pose!r}, not at the scene's pose "
+                                 f"{self.pose!r}")
+            if c.scan is not None and (c.scan.track is not self.track or c.scan.wheelset is not self.wheelset):
+                raise SceneError(f"the {c.side} wheel's contact was found on another track or wheelset")
+        scene = replace(self)
+        scene.__dict__["contacts"] = contacts  # the cached_property's value, as searching would give it
+        return scene
+
+    def with_velocities(self, **velocities) -> WheelRailScene:
+        """A copy with other velocities (``forward_speed``, ``lateral_velocity``, ``yaw_rate``, ``pitch_rate``,
+        validated again) that shares this scene's geometry: its pose, contacts and Hertz's normal contact, which do
+        not depend on them (where this scene has computed them)."""
+        unknown = set(velocities) - set(VELOCITY_FIELDS)
+        if unknown:
+            raise SceneError(f"with_velocities changes only {list(VELOCITY_FIELDS)}, not {sorted(unknown)}")
+        scene = replace(self, **velocities)
+        for name in ("pose", "contacts", "hertz"):
+            if name in self.__dict__:
+                scene.__dict__[name] = self.__dict__[name]
+        return scene
+
+
+VELOCITY_FIELDS = ("forward_speed", "lateral_velocity", "yaw_rate", "pitch_rate")
+"""The fields of a :class:`WheelRailScene` its geometry does not depend on (:meth:`WheelRailScene.with_velocities`)."""
 
 SIDES = ("left", "right")
 """The wheels in the order of :attr:`WheelRailScene.contacts` and of the result's ``wheels``."""

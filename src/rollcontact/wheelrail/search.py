@@ -19,6 +19,9 @@ The search computes the locus at the wheel's samples, interpolates it (cubic Her
 samples and forms the vertical gap ``g(y) = Z_rail(y) - Z_wheel(y)``.  Its local minima are where the surfaces have
 a common normal; each is refined to the root of the Hermite cubic's derivative between two samples.  The minimum
 is the point that touches first when the wheel is lowered vertically; its normal separation is ``g cos(delta)``.
+That is the search's first pass, the gap over the profiles (:func:`scan_gap`, :class:`GapScan`: all a rigid wheelset's
+roll needs of a wheel, its least gap); the second makes the minima into contact points and patches
+(:func:`contact_from_scan`).  :func:`search_wheel` is both.
 
 Several contact points (separation criterion): every local minimum whose gap exceeds the wheel's least gap by at
 most ``depth`` (the largest elastic approach considered, :data:`DEFAULT_DEPTH`) is a contact point, unless the gap
@@ -56,8 +59,8 @@ from rollcontact.wheelrail.geometry import (
 )
 from rollcontact.wheelrail.patch import PatchGap
 
-__all__ = ["DEFAULT_DEPTH", "FLANGE_TIP_MARGIN", "MIN_RISE", "PATCH_STEP", "ContactPoint", "Creepages", "Patch",
-           "WheelContact", "creepages", "search_wheel"]
+__all__ = ["DEFAULT_DEPTH", "FLANGE_TIP_MARGIN", "MIN_RISE", "PATCH_STEP", "ContactPoint", "Creepages", "GapScan",
+           "Patch", "WheelContact", "contact_from_scan", "creepages", "scan_gap", "search_wheel"]
 
 DEFAULT_DEPTH = 2.0e-4
 """The largest elastic approach [m] the search prepares for: contact points up to this gap above the least one, and
@@ -146,11 +149,16 @@ class Patch:
         tangent plane is taken at).
     contact_angle : float
         delta [rad] of the tangent plane (the deepest point's), positive towards the flange.
+    memo : dict
+        What a level computes of the patch alone, keyed by its exact arguments (the patch is immutable, so a
+        value found here is the one computing it again gives: e.g. Hertz's departure, shared by the solves of one
+        geometry).
     """
 
     points: tuple
     contact_angle: float
     source: PatchRegion = field(repr=False)
+    memo: dict = field(default_factory=dict, repr=False, compare=False)
 
     @cached_property
     def gap(self) -> PatchGap:
@@ -176,12 +184,15 @@ class WheelContact:
         Patches, the deepest first.
     pose : Pose
         The pose searched at (track axes, not mirrored).
+    scan : GapScan or None
+        The gap over the profiles the points were found from.
     """
 
     side: str
     points: tuple
     patches: tuple
     pose: Pose
+    scan: GapScan | None = field(default=None, repr=False, compare=False)
 
     @property
     def gap(self) -> float:
@@ -318,32 +329,127 @@ def hermite_minima(ry, g, dg, cand):
     return out_y, out_g
 
 
-def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "right",
-                 depth: float = DEFAULT_DEPTH) -> WheelContact:
-    """The contact points and patches of one wheel on its rail (module docstring).
+@dataclass(frozen=True, eq=False)
+class GapScan:
+    """The vertical gap of one wheel over its rail at a pose, the search's first pass (module docstring): the wheel's
+    contact locus at every STRIDE-th wheel sample (right-side frame) and the gap ``g = Z_rail - Z_wheel`` with its
+    slope at every STRIDE-th rail sample, over the whole overlap of the profiles.  :func:`contact_from_scan` is the
+    second pass, the contact points and patches; :attr:`least_gap` what a rigid wheelset's roll needs of a wheel.
 
-    Parameters
+    Attributes
     ----------
     track, wheelset : Track, Wheelset
     pose : Pose
-        The wheelset's pose in track axes.
-    side : {"right", "left"}
-    depth : float
-        The largest elastic approach [m] prepared for (:data:`DEFAULT_DEPTH`).
+        The pose scanned at (track axes).
+    side : str
+    frame : Pose
+        The pose in the right-side frame (mirrored for the left wheel).
+    w_first : int
+        The wheel sample of ``wy[0]``.
+    wy, wz, wslope : ndarray
+        The locus' Y, Z [m] and dZ/dY at the wheel samples ``w_first, w_first + STRIDE, ...`` (increasing Y).
+    ry, g, dg : ndarray
+        The rail samples' Y [m], the vertical gap [m] and its slope there.
+    rail_range : tuple of int
+        The rail samples ``[k0, k1)`` the wheel's locus covers.
+    """
 
-    Returns
-    -------
-    WheelContact
-        Contact points (the deepest first; at least one, the least gap, also when the wheel is lifted off) and
-        patches.
+    track: Track = field(repr=False)
+    wheelset: Wheelset = field(repr=False)
+    pose: Pose
+    side: str
+    frame: Pose
+    w_first: int
+    wy: np.ndarray = field(repr=False)
+    wz: np.ndarray = field(repr=False)
+    wslope: np.ndarray = field(repr=False)
+    ry: np.ndarray = field(repr=False)
+    g: np.ndarray = field(repr=False)
+    dg: np.ndarray = field(repr=False)
+    rail_range: tuple
+
+    @cached_property
+    def minima(self) -> tuple[np.ndarray, list, list]:
+        """(k, y [m], g [m]) of the gap's local minima: the samples k where its slope turns from - to + and the
+        minimum of the Hermite cubic on ``[ry[k], ry[k+1]]``; GeometryError where the least gap lies at an end of
+        the searched profiles (or there is no minimum): the contact would run off them."""
+        g = self.g
+        k_least = int(g.argmin())
+        cand = np.flatnonzero((self.dg[:-1] <= 0.0) & (self.dg[1:] > 0.0))
+        if k_least in (0, g.size - 1) or cand.size == 0:
+            pose, side, rail = self.pose, self.side, self.track.samples
+            k0, k1 = self.rail_range
+            at_start = k_least == 0
+            base = self.frame.lateral_shift + self.wheelset.taping_line
+            edge_w = float((self.wy[0] if at_start else self.wy[-1]) - base)
+            raise GeometryError(
+                f"{side} wheel at lateral_shift = {pose.lateral_shift!r} m, yaw = {pose.yaw!r} rad: the least gap lies "
+                f"at the {'flange' if at_start else 'field-side'} end of the searched profiles (wheel y_w = "
+                f"{edge_w!r} m, rail y = {float(rail.profile_y[k0 if at_start else k1 - 1])!r} m on its profile): "
+                f"the contact would run off the profiles (flange climb, or the wheel off the rail head; the search "
+                f"covers surfaces up to {MAX_SURFACE_ANGLE} rad steep)")
+        yc, gc = hermite_minima(self.ry, g, self.dg, cand)
+        return cand, yc, gc
+
+    def point(self, m: int) -> tuple:
+        """The quantities of minimum m's contact point (:func:`point_at`)."""
+        _, yc, gc = self.minima
+        return point_at(self.track, self.wheelset, self.frame, yc[m], gc[m], self.wy, self.w_first)
+
+    @cached_property
+    def deepest(self) -> tuple:
+        """The quantities of the deepest contact point (:func:`point_at`; :func:`contact_from_scan`'s first), with
+        the search's refusals: GeometryError where the least gap lies at an end of the searched profiles or the
+        deepest point on the flange's crest."""
+        _, yc, gc = self.minima
+        least = min(gc)
+        point = self.point(min((m for m in range(len(gc)) if gc[m] == least), key=lambda m: yc[m]))
+        check_flange(self.wheelset, self.pose, self.side, point[5])
+        return point
+
+    @property
+    def least_gap(self) -> float:
+        """The least vertical gap [m], the deepest contact point's (:attr:`WheelContact.vertical_gap` of
+        :func:`contact_from_scan`, bit for bit), with the search's refusals (:attr:`deepest`)."""
+        return self.deepest[0]
+
+    @property
+    def roll_slope(self) -> float:
+        """d(least vertical gap)/d(roll) [m/rad] at the pose (the track's roll: positive lowers the right wheel).
+
+        The least gap is a minimum over the rail's Y, so its derivative is the gap's at the deepest point's fixed Y
+        (the envelope theorem): minus the vertical speed there of the wheel's locus, which a roll rate about the
+        wheelset's axis ``e = (cos(psi), sin(psi), 0)`` moves with the material points' velocity ``e x (P - C)``
+        (its sliding along the yawed circles is along the locus itself):
+        ``dg/droll = -(cos(psi) (Y + m Z) - sin(psi) x)``, ``(x, Y, Z)`` the point from the axle's centre and
+        ``m = tan(-delta)`` the locus' slope there, in the wheel's right-side frame (whose roll is minus the track's
+        on the left wheel)."""
+        g0, y0, z0, delta = self.deepest[:4]
+        frame = self.frame
+        lateral = y0 - frame.lateral_shift
+        vertical = (z0 - g0) - (frame.vertical - self.wheelset.nominal_radius)
+        along = math.cos(frame.yaw) * (lateral + math.tan(-delta) * vertical) - math.sin(frame.yaw) * self.deepest[11]
+        return -along if self.side == "right" else along
+
+
+def check_flange(wheelset: Wheelset, pose: Pose, side: str, wheel_lateral: float) -> None:
+    """GeometryError where the deepest contact point (at y_w = ``wheel_lateral`` on the wheel) lies on the flange's
+    crest (:data:`FLANGE_TIP_MARGIN`)."""
+    if wheel_lateral <= wheelset.flange_tip + FLANGE_TIP_MARGIN:
+        raise GeometryError(
+            f"{side} wheel at lateral_shift = {pose.lateral_shift!r} m, yaw = {pose.yaw!r} rad: its contact lies on "
+            f"the flange's crest (wheel y_w = {wheel_lateral!r} m, the crest at {wheelset.flange_tip!r} m): "
+            f"the wheel has climbed its flange (derailed)")
+
+
+def scan_gap(track: Track, wheelset: Wheelset, pose: Pose, side: str = "right") -> GapScan:
+    """The vertical gap of the wheel on ``side`` over its rail at ``pose`` (:class:`GapScan`, the search's first
+    pass).
 
     Raises
     ------
     GeometryError
-        The wheel and rail profiles do not overlap laterally at the pose, or the least gap lies at the end of either
-        profile's searched part (a flange climbing beyond the profile's end, a wheel off the rail's edge), or the
-        deepest point lies on the flange's crest (:data:`FLANGE_TIP_MARGIN`: the wheel has climbed its flange): the
-        message names the lateral shift and the limit.
+        The wheel and rail profiles do not overlap laterally at the pose.
     """
     sign = side_sign(side)
     frame = pose if sign > 0 else pose.mirrored()
@@ -376,19 +482,47 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
     rsl = slice(k0 // STRIDE, -(-k1 // STRIDE))
     ry = rail.coarse[0][rsl]
     g, dg = hermite_gap(ry, rail.coarse[1][rsl], rail.coarse[2][rsl], wy, wz, wslope)
+    return GapScan(track, wheelset, pose, side, frame, w_first, wy, wz, wslope, ry, g, dg, (k0, k1))
+
+
+def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "right",
+                 depth: float = DEFAULT_DEPTH) -> WheelContact:
+    """The contact points and patches of one wheel on its rail (module docstring).
+
+    Parameters
+    ----------
+    track, wheelset : Track, Wheelset
+    pose : Pose
+        The wheelset's pose in track axes.
+    side : {"right", "left"}
+    depth : float
+        The largest elastic approach [m] prepared for (:data:`DEFAULT_DEPTH`).
+
+    Returns
+    -------
+    WheelContact
+        Contact points (the deepest first; at least one, the least gap, also when the wheel is lifted off) and
+        patches; its ``scan`` the gap over the profiles they were found from (:class:`GapScan`).
+
+    Raises
+    ------
+    GeometryError
+        The wheel and rail profiles do not overlap laterally at the pose, or the least gap lies at the end of either
+        profile's searched part (a flange climbing beyond the profile's end, a wheel off the rail's edge), or the
+        deepest point lies on the flange's crest (:data:`FLANGE_TIP_MARGIN`: the wheel has climbed its flange): the
+        message names the lateral shift and the limit.
+    """
+    return contact_from_scan(scan_gap(track, wheelset, pose, side), depth)
+
+
+def contact_from_scan(scan: GapScan, depth: float = DEFAULT_DEPTH) -> WheelContact:
+    """The contact points and patches of a wheel from its :class:`GapScan` (:func:`search_wheel`'s second pass,
+    module docstring), with the search's refusals."""
+    track, wheelset, pose, side, frame = scan.track, scan.wheelset, scan.pose, scan.side, scan.frame
+    sign = side_sign(side)
+    wy, w_first, ry, g = scan.wy, scan.w_first, scan.ry, scan.g
     n = g.size
-    k_least = int(g.argmin())
-    cand = np.flatnonzero((dg[:-1] <= 0.0) & (dg[1:] > 0.0))
-    if k_least in (0, n - 1) or cand.size == 0:
-        at_start = k_least == 0
-        edge_w = float((wy[0] if at_start else wy[-1]) - base)
-        raise GeometryError(
-            f"{side} wheel at lateral_shift = {pose.lateral_shift!r} m, yaw = {pose.yaw!r} rad: the least gap lies at "
-            f"the {'flange' if at_start else 'field-side'} end of the searched profiles (wheel y_w = {edge_w!r} m, "
-            f"rail y = {float(rail.profile_y[k0 if at_start else k1 - 1])!r} m on its profile): the contact would "
-            f"run off the profiles (flange climb, or the wheel off the rail head; the search covers surfaces up to "
-            f"{MAX_SURFACE_ANGLE} rad steep)")
-    yc, gc = hermite_minima(ry, g, dg, cand)
+    cand, yc, gc = scan.minima
     cand = cand.tolist()
     # separation criterion (module docstring)
     order = sorted(range(len(gc)), key=lambda m: gc[m])
@@ -413,11 +547,7 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
     rank = sorted(range(len(pts)), key=lambda i: (pts[i][0], pts[i][1]))
     new_index = {old: new for new, old in enumerate(rank)}
     points = tuple(make_point(pts[i], sign, side) for i in rank)
-    if points[0].wheel_lateral <= wheelset.flange_tip + FLANGE_TIP_MARGIN:
-        raise GeometryError(
-            f"{side} wheel at lateral_shift = {pose.lateral_shift!r} m, yaw = {pose.yaw!r} rad: its contact lies on "
-            f"the flange's crest (wheel y_w = {points[0].wheel_lateral!r} m, the crest at {wheelset.flange_tip!r} m): "
-            f"the wheel has climbed its flange (derailed)")
+    check_flange(wheelset, pose, side, points[0].wheel_lateral)
     patches = []
     for grp in groups:
         main = min(grp, key=lambda i: (pts[i][0], i))
@@ -432,7 +562,7 @@ def search_wheel(track: Track, wheelset: Wheelset, pose: Pose, side: str = "righ
         patches.append(Patch(members, pts[main][3], PatchRegion(track, wheelset, frame, sign,
                                                                  (float(ry[k_lo]), float(ry[k_hi])), pts[main])))
     patches.sort(key=lambda p: p.points[0])
-    return WheelContact(side, points, tuple(patches), pose)
+    return WheelContact(side, points, tuple(patches), pose, scan)
 
 
 def point_at(track, wheelset, frame, y0, g0, wy, w_first):

@@ -83,6 +83,42 @@ def test_without_the_table_the_model_is_the_library_bit_for_bit():
         assert got.method_used == method_code("hertz"), got.method_used
 
 
+SEARCHES = {0: (78, 24), 1: (26, 8)}
+"""The gap scans and contact-point constructions of the four steps of signal(4) without the table, with the
+derivatives (jacobian 0) and without (1): per step and wheel one construction per pose solved (the step's; with the
+derivatives also the shifted lateral shift's and yaw's), and the scans of the roll's iteration at each pose."""
+
+
+@pytest.mark.parametrize("jacobian", [0, 1])
+def test_the_searches_of_a_step_without_the_table(monkeypatch, jacobian):
+    """The search's two passes counted wherever they are called: the scene searches nothing (it is given the rigid
+    wheelset's contacts), the velocities' differences nothing (they share the step's geometry), and the counts are
+    SEARCHES' (a change of the roll's iteration changes them: say so there)."""
+    from rollcontact.wheelrail import normal, search
+    from rollcontact.wheelrail import scene as scene_module
+
+    counts = {"scans": 0, "contacts": 0, "scene searches": 0}
+
+    def counted(function, key):
+        def wrapper(*args, **kwargs):
+            counts[key] += 1
+            return function(*args, **kwargs)
+        return wrapper
+
+    for module in (search, normal):
+        monkeypatch.setattr(module, "scan_gap", counted(module.scan_gap, "scans"))
+        monkeypatch.setattr(module, "contact_from_scan", counted(module.contact_from_scan, "contacts"))
+    monkeypatch.setattr(scene_module, "search_wheel", counted(scene_module.search_wheel, "scene searches"))
+    model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0, jacobian=jacobian))
+    rows = signal(4)
+    for n, values in enumerate(rows):
+        model.step(n * H, H, values)
+    poses = 3 if jacobian == 0 else 1
+    assert counts["contacts"] == 2 * poses * len(rows), counts
+    assert counts["scene searches"] == 0, counts
+    assert (counts["scans"], counts["contacts"]) == SEARCHES[jacobian], counts
+
+
 def test_the_derivatives_are_forward_differences_of_the_step():
     """Each derivative output is (force at the input + its increment - force) / increment, of the model's own
     evaluation (without the table: the library's solve at the shifted pose)."""

@@ -12,12 +12,15 @@ communication point, and which answers with the loads of the rails on the wheels
   sampled at ``t_n``:
 
   1. the pose: the rigid wheelset's roll and height at the lateral shift and yaw, where both wheels touch their
-     rails (:func:`rollcontact.wheelrail.normal.rigid_position`), or, with ``geometry_table`` on, their lookup at
-     the lateral shift in the table built at initialisation (:class:`rollcontact.wheelrail.conicity.ContactTable`,
-     one yaw node: the yaw's effect on the geometry, the lead of a yawed flange's contact point, is left out);
+     rails, and each wheel's contact there (:func:`rollcontact.wheelrail.normal.rigid_contacts`: the roll's
+     iteration scans the gap over the profiles, the root's scans are made into contact points), or, with
+     ``geometry_table`` on, their lookup at the lateral shift in the table built at initialisation
+     (:class:`rollcontact.wheelrail.conicity.ContactTable`, one yaw node: the yaw's effect on the geometry, the lead
+     of a yawed flange's contact point, is left out);
   2. the contact: each wheel pressed down from the pose until it carries its vertical load, by the parameters'
      level, tolerance and step budget through :func:`rollcontact.wheelrail.dispatch.solve` (the scene
-     :class:`rollcontact.wheelrail.scene.WheelRailScene` at the pose's roll).  With the table, the ``hertz`` level
+     :class:`rollcontact.wheelrail.scene.WheelRailScene` at the pose's roll, given the contact of step 1 rather
+     than searching again).  With the table, the ``hertz`` level
      with a closed-form elliptic level (:data:`~rollcontact.stepping.wheelrail.parameters.TABULATED_LAWS`) and no
      tolerance is answered by the table's contact points in float arithmetic
      (:class:`rollcontact.wheelrail.tabulated.TabulatedWheelset`): one Hertzian contact per wheel, what depends on
@@ -27,7 +30,8 @@ communication point, and which answers with the loads of the rails on the wheels
      (:mod:`rollcontact.wheelrail.loads`), and the derivatives of ``force_y`` and ``moment_yaw`` in the lateral
      shift, yaw, lateral velocity and yaw rate by forward differences of the same evaluation
      (:data:`INCREMENTS`; with the table, the lateral shift's within the table's segment, so that the derivative
-     never spans a jump of the contact point);
+     never spans a jump of the contact point; the velocities' differences share the step's geometry, its contact
+     and Hertz's normal contact, :meth:`rollcontact.wheelrail.scene.WheelRailScene.with_velocities`);
 
 * :class:`WheelsetContactState` is what the model remembers: the last communication point and the number of steps.
   The outputs are a function of the parameters and the inputs alone (budgets are modelled costs, no clock is read),
@@ -69,7 +73,7 @@ from rollcontact.wheelrail import dispatch
 from rollcontact.wheelrail.conicity import ContactFunctions, ContactTable, equivalent_conicity, harmonic_conicity
 from rollcontact.wheelrail.geometry import Pose, Track, Wheelset
 from rollcontact.wheelrail.loads import WheelsetLoads, wheelset_loads
-from rollcontact.wheelrail.normal import rigid_position
+from rollcontact.wheelrail.normal import rigid_contacts
 from rollcontact.wheelrail.profiles import read_profile
 from rollcontact.wheelrail.scene import WheelRailScene
 from rollcontact.wheelrail.tabulated import TabulatedWheelset
@@ -226,7 +230,7 @@ class WheelsetContactModel(SteppingModel):
     # geometry -----------------------------------------------------------------------------------------------------
     def pose(self, lateral_shift: float, yaw: float) -> Pose:
         """The rigid wheelset's pose at the lateral shift [m] and yaw [rad]: from the table (its yaw node), else
-        :func:`rollcontact.wheelrail.normal.rigid_position`; ModelError where the geometry refuses it."""
+        :func:`rollcontact.wheelrail.normal.rigid_contacts`; ModelError where the geometry refuses it."""
         try:
             if self.table is not None:
                 k, t, _ = self.table.locate(lateral_shift)
@@ -234,7 +238,7 @@ class WheelsetContactModel(SteppingModel):
                 roll = float(rows[k, 0] + t * (rows[k + 1, 0] - rows[k, 0]))
                 vertical = float(rows[k, 1] + t * (rows[k + 1, 1] - rows[k, 1]))
                 return Pose(lateral_shift, yaw, roll, vertical)
-            return rigid_position(self.track, self.wheelset, lateral_shift, yaw)[0]
+            return rigid_contacts(self.track, self.wheelset, lateral_shift, yaw)[0]
         except ValueError as exc:
             raise ModelError(str(exc)) from None
 
@@ -373,36 +377,65 @@ class WheelsetContactModel(SteppingModel):
             self.last_modelled_cost = TABULATED_COST
             code = method_code("hertz") if loaded else 0
             return WheelsetContactOutputs(*loads, roll, vertical, *derivatives, code)
-        pose = self.pose(y, yaw)
-        loads, vertical, code = self.solved(pose, values)
+        pose, contacts = self.placed(y, yaw)
+        scene = self.scene(pose, values, contacts) if loaded else None
+        loads, vertical, code = self.solved(scene, pose)
         derivatives = (0.0,) * 8
-        if loaded and self.parameters.jacobian == 0:
+        if differences_on:
             steps = (INCREMENTS["lateral_shift"], INCREMENTS["yaw"], INCREMENTS["lateral_velocity"] * speed,
                      INCREMENTS["yaw_rate"] * speed / self.wheelset.taping_line)
             others = []
             for j, h in enumerate(steps):
                 shifted = list(values)
                 shifted[j] += h
-                if j == 0 and self.table is not None:  # the pose within the table's segment (module docstring)
+                if j >= 2:  # the velocities: the same geometry, searched and pressed down once
+                    try:
+                        other = scene.with_velocities(lateral_velocity=shifted[2], yaw_rate=shifted[3])
+                    except ValueError as exc:
+                        raise ModelError(str(exc)) from None
+                elif j == 0 and self.table is not None:  # the pose within the table's segment (module docstring)
                     k, t, width = self.table.locate(y)
                     rows = self.table.rows
                     moved = Pose(y + h, yaw, *((rows[k, i] + (t + h / width) * (rows[k + 1, i] - rows[k, i])) for i
                                                in (0, 1)))
+                    other = self.scene(moved, shifted, None)
                 else:
-                    moved = self.pose(shifted[0], shifted[1]) if j < 2 else pose
-                others.append(self.solved(moved, shifted)[0])
+                    moved, moved_contacts = self.placed(shifted[0], shifted[1])
+                    other = self.scene(moved, shifted, moved_contacts)
+                others.append(self.solved(other, pose)[0])
             derivatives = differences(loads, others, steps)
         return WheelsetContactOutputs(*loads, pose.roll, vertical, *derivatives, code)
 
-    def solved(self, pose: Pose, values) -> tuple[WheelsetLoads, float, int]:
-        """The loads, the vertical position [m] and the level's code of the scene at ``pose`` (its roll) for the
-        inputs, through :func:`rollcontact.wheelrail.dispatch.solve`; ModelError when it fails."""
+    def placed(self, lateral_shift: float, yaw: float) -> tuple[Pose, tuple | None]:
+        """The rigid wheelset's pose at the lateral shift [m] and yaw [rad] (:meth:`pose`) and, without the table, its
+        wheels' contact there (what the scene would search again, :func:`rollcontact.wheelrail.normal.
+        rigid_contacts`); ModelError where the geometry refuses it."""
+        if self.table is not None:
+            return self.pose(lateral_shift, yaw), None
+        try:
+            pose, left, right = rigid_contacts(self.track, self.wheelset, lateral_shift, yaw)
+        except ValueError as exc:
+            raise ModelError(str(exc)) from None
+        return pose, (left, right)
+
+    def scene(self, pose: Pose, values, contacts: tuple | None) -> WheelRailScene:
+        """The wheel/rail scene at ``pose`` (its roll) for the inputs, with the wheels' contact ``contacts`` found
+        there (None: the scene searches); ModelError on a value it refuses."""
         y, yaw, vy, rate, speed, pitch, left, right = values
-        if not (left > 0.0 or right > 0.0):
-            return ZERO_LOADS, pose.vertical, 0
         try:
             scene = WheelRailScene(self.track, self.wheelset, pose.lateral_shift, pose.yaw, pose.roll, left, right,
                                    speed, vy, rate, pitch, self.material, self.friction)
+            return scene if contacts is None else scene.with_contacts(contacts)
+        except ValueError as exc:
+            raise ModelError(str(exc)) from None
+
+    def solved(self, scene: WheelRailScene | None, pose: Pose) -> tuple[WheelsetLoads, float, int]:
+        """The loads, the vertical position [m] and the level's code of ``scene`` through
+        :func:`rollcontact.wheelrail.dispatch.solve` (None, no load: zero loads at ``pose``'s vertical position);
+        ModelError when it fails."""
+        if scene is None:
+            return ZERO_LOADS, pose.vertical, 0
+        try:
             result = dispatch.solve(scene, self.method, tolerance=self.tolerance, budget=self.budget,
                                     **self.options)
         except ValueError as exc:

@@ -132,7 +132,15 @@ def departure(patch, half_width: float, approach: float) -> float:
     """How far [1] a patch's gap departs from Hertz's where the surfaces interpenetrate: ``max |h(s) - B s^2| /
     delta`` over the samples with ``h(s) <= delta`` (a second lobe of the patch among them), B fitted to the gap
     over ``|s| <= half_width`` (b of the ellipse at the patch's rigid contact point, s = 0) and delta the point's
-    approach; at most 1.  A quadratic gap gives 0."""
+    approach; at most 1.  A quadratic gap gives 0.  Kept in the patch's memo by its exact arguments (the solves
+    of one geometry at other velocities ask again)."""
+    key = ("hertz departure", half_width, approach)
+    if key not in patch.memo:
+        patch.memo[key] = _departure(patch, half_width, approach)
+    return patch.memo[key]
+
+
+def _departure(patch, half_width: float, approach: float) -> float:
     gap = patch.gap
     s = np.asarray(gap.lateral)
     h = np.asarray(gap.lateral_gap)
