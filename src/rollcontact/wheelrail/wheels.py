@@ -11,12 +11,15 @@ For each wheel, at the scene's pose (:attr:`WheelRailScene.contacts`):
    (sign +1 right, -1 left; s the contact frame's lateral axis, ``s = (0, cos(delta), -sign sin(delta))``,
    ``n = (0, sign sin(delta), cos(delta))`` into the rail, :func:`~rollcontact.wheelrail.search.creepages`).  The
    balance ``sum N_i (cos(delta_i) + r_i) = Q`` with ``r_i = T_i / N_i`` of the previous pass (0 in the first) is
-   solved from Hertz's displacement by the power-law update ``d <- g + (d - g) (Q / Q(d))^(2/3)`` (exact for one
-   Hertzian patch, g the first touch), which the levels' laws follow closely.
+   solved from Hertz's displacement by the power-law update ``d <- g + (d - g) (Q / Q(d))^(1/m)`` (g the first touch),
+   m = 3/2 (Hertz's) at first and then the local power of the last two displacements, so that it is exact for a law
+   ``Q ~ (d - g)^m``, which the levels' laws follow closely.  Each call of the level's law on a patch starts from
+   what its previous call on it left (:class:`PatchLevel`).
 2. Tangential: each loaded patch's creepages at its rigid contact point from the wheelset's motion
    (:func:`~rollcontact.wheelrail.search.creepages`), the patch level's solve at its approach.
-3. A second pass repeats 1 and 2 with the ratios r_i of the first where the tangential forces carry more than
-   :data:`COUPLING` of the load (flange contact), so that the wheel carries Q with its tangential forces.
+3. Passes repeat 1 and 2 with the ratios r_i of the previous pass until the wheel's vertical force, tangential
+   forces included, is within :data:`LOAD_TOLERANCE` of Q (at most :data:`PASSES`): one pass where the tangential
+   forces carry no share of the load, two or three in flange contact.
 
 Forces are those the wheel exerts on the rail: per patch ``F = Fx e_x + Fs s + N n`` in track axes.
 """
@@ -40,11 +43,21 @@ BALANCE_TOLERANCE = 1e-6
 """Relative residual [1] of the vertical balance ``|Q(d) - Q| / Q`` at which the normal problem stops (the strips'
 normal problem settles to about this: ``rollcontact.wheelrail.methods.strip_normal.FIXED_POINT_TOLERANCE``)."""
 
+POWERS = (1.0, 3.0)
+"""Bounds of the local power m of the law ``Q ~ (d - g)^m`` that the vertical balance's updates take."""
+
 BALANCE_ITERATIONS = 40
 """Cap of the power-law updates of the vertical balance."""
 
 COUPLING = 1e-3
-"""Share [1] of the load the tangential forces' z components must reach for the second pass (module docstring)."""
+"""Share [1] of the load the tangential forces' z components must reach for the Hertz level's second pass
+(:mod:`rollcontact.wheelrail.methods.hertz`) and the tabulated wheelset's (:mod:`rollcontact.wheelrail.tabulated`)."""
+
+LOAD_TOLERANCE = 1e-5
+"""Relative difference [1] of a wheel's vertical force from its load at which the passes stop (module docstring)."""
+
+PASSES = 5
+"""Cap of the passes of normal and tangential contact of a wheel (module docstring)."""
 
 
 class PatchLevel(NamedTuple):
@@ -55,10 +68,12 @@ class PatchLevel(NamedTuple):
     name : str
         The level's name.
     normal : callable
-        ``normal(gap, approach, material) -> N`` [N]: the patch's normal force at the normal approach [m].
+        ``normal(gap, approach, material, start) -> (N, state)``: the patch's normal force [N] at the normal approach
+        [m], and what the level keeps of its solution (or None): the ``start`` of the next call on the same patch
+        (None at the first) and of its solve.
     solve : callable
-        ``solve(scene, **options) -> PatchResult`` of a :class:`~rollcontact.wheelrail.scene.PatchScene` at its
-        approach.
+        ``solve(scene, start=state, **options) -> PatchResult`` of a :class:`~rollcontact.wheelrail.scene.PatchScene`
+        at its approach, ``state`` that of the normal law's last call on the patch.
     accuracy : AccuracyModel or None
         The patch solver's accuracy model.
     """
@@ -80,11 +95,11 @@ def track_force(point, result: PatchResult) -> tuple[float, float, float]:
 def balance(items, load: float, start: float, law) -> tuple[float, list[float], list[float], str | None]:
     """The displacement d, the patches' approaches and normal forces at which ``sum N_i (cos_i + r_i) = load``
     (module docstring); ``items`` are ``(g_i, cos_i, r_i, key)``, ``law(key, approach) -> N``; the message is None
-    or why the balance failed.  The power-law update ``d <- g + (d - g) (Q / Q(d))^(2/3)`` is kept within the
-    bracket of the displacements seen on either side of the load (bisection where it would leave it); where the law
-    steps over the load (the strips' normal force steps where a strip leaves the contact) the bracket closes on the
-    step and the last side evaluated stands (the wheel's force then differs from its load by the step, which the
-    result shows)."""
+    or why the balance failed.  The power-law update (module docstring, the local power within :data:`POWERS`) is
+    kept within the bracket of the displacements seen on either side of the load (bisection where it would leave
+    it); where the law steps over the load (the strips' normal force steps by a few 1e-4 of it where two lobes of a
+    patch merge or a lobe appears) the bracket closes on the step and the last side evaluated stands (the wheel's
+    force then differs from its load by the step, which the result shows)."""
     first = min(g for g, _, _, _ in items)
 
     def carried(d):
@@ -94,6 +109,7 @@ def balance(items, load: float, start: float, law) -> tuple[float, list[float], 
 
     low, high = first, math.inf
     d = max(start, first + 1e-12)
+    power, previous = 1.5, None
     for _ in range(BALANCE_ITERATIONS):
         q, approaches, forces = carried(d)
         if not (math.isfinite(q) and q >= 0.0):
@@ -106,7 +122,11 @@ def balance(items, load: float, start: float, law) -> tuple[float, list[float], 
             high = min(high, d)
         if math.isfinite(high) and high - low <= BALANCE_TOLERANCE * (high - first):  # the law steps over the load
             return d, approaches, forces, None
-        proposal = first + (d - first) * (load / q) ** (2.0 / 3.0) if q > 0.0 else first + 2.0 * (d - first)
+        if previous is not None and q > 0.0 and previous[1] > 0.0 and d != previous[0]:
+            power = min(max(math.log(q / previous[1]) / math.log((d - first) / (previous[0] - first)), POWERS[0]),
+                        POWERS[1])
+        previous = d, q
+        proposal = first + (d - first) * (load / q) ** (1.0 / power) if q > 0.0 else first + 2.0 * (d - first)
         if not low < proposal < high:
             proposal = 0.5 * (low + high) if math.isfinite(high) else low + 2.0 * (low - first)
         d = proposal
@@ -139,11 +159,16 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
     material = scene.material
     problems: list[str] = []
     start = hertz.vertical_displacement
-    for _ in range(2):
+    states = [None] * len(references)
+
+    def law(k, approach):
+        force, states[k] = level.normal(contact.patches[k].gap, approach, material, states[k])
+        return force
+
+    for _ in range(PASSES):
         items = [(point.vertical_gap, math.cos(point.contact_angle), r, k)
                  for k, (point, r) in enumerate(zip(references, ratios, strict=True))]
-        d, approaches, forces, why = balance(
-            items, load, start, lambda k, approach: level.normal(contact.patches[k].gap, approach, material))
+        d, approaches, forces, why = balance(items, load, start, law)
         if why is not None:
             return (WheelResult(side, (), load, d, (math.nan,) * 3, f"{side} wheel: {why}"),
                     [f"{side} wheel: {why}"], math.nan)
@@ -156,12 +181,12 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
                                      lateral_creepage=eta, spin_creepage=phi, material=material,
                                      friction=scene.friction, rolling_speed=scene.forward_speed,
                                      name=f"{side} patch {k + 1}")
-            result = level.solve(patch_scene, **options)
+            result = level.solve(patch_scene, start=states[k], **options)
             patches.append((k, WheelPatch(point, result, track_force(point, result))))
+        if abs(sum(p.track_force[2] for _, p in patches) - load) <= LOAD_TOLERANCE * load:
+            break
         tangential = [(k, p.track_force[2] - p.result.normal_load * math.cos(p.point.contact_angle))
                       for k, p in patches]
-        if sum(abs(t) for _, t in tangential) <= COUPLING * load:
-            break
         ratios = [0.0] * len(references)
         for (k, t), (_, p) in zip(tangential, patches, strict=True):
             ratios[k] = t / p.result.normal_load if p.result.normal_load > 0.0 else 0.0

@@ -1,7 +1,9 @@
 """The strips' normal problem against Hertz on quadratic gaps (a, b, p0 and Fn at a given approach converge with the
 strips; tolerances measured at the default 24 strips and stated per quantity), its identities (load balance, the
-given-load and given-approach entry points inverse to each other, mirror symmetry) and general gaps: two separate
-interpenetration intervals, a curvature along x that varies across the patch, a gap sampled too narrowly."""
+given-load and given-approach entry points inverse to each other, mirror symmetry, a start from a nearby solution
+giving the same solution) and general gaps: two separate interpenetration intervals, a curvature along x that varies
+across the patch, a gap sampled too narrowly, and the normal force of the Manchester wheel's flange patch continuous
+and increasing in the approach."""
 
 from __future__ import annotations
 
@@ -14,6 +16,7 @@ from wheelrail_gaps import mirrored, quadratic, two_wells, varying_curvature
 from rollcontact import Material
 from rollcontact.wheelrail.methods.strip_normal import strip_normal
 from rollcontact.wheelrail.patch import PatchGap
+from rollcontact.wheelrail.scene import WheelRailScene
 
 ESTAR = Material().contact_modulus
 
@@ -122,3 +125,35 @@ def test_arguments_are_checked():
         strip_normal(gap, ESTAR, approach=1e-5, strips=2)
     with pytest.raises(ValueError, match="increase"):
         strip_normal(PatchGap(np.array([0.0, 0.0, 1.0]), np.zeros(3), np.ones(3)), ESTAR, approach=1e-5)
+
+
+JUMP = 1e-5
+"""Largest departure of an increment of Fn from the mean of its neighbours', relative to Fn, over a scan of the
+approach: Newton's tolerance on the solution is 1e-6 of its largest change, the smooth law's own third differences
+at this step are below 1e-9, and a strip entering or leaving the contact stepped Fn by about 1e-2."""
+
+
+def test_the_normal_force_is_continuous_and_increasing_in_the_approach(track, wheelset):
+    """The flange patch of the Manchester wheelset shifted by 9 mm (a/b about 20), over approaches where strips of a
+    fixed placement would enter the contact."""
+    gap = WheelRailScene(track, wheelset, lateral_shift=9e-3, vertical_load_left=1e4,
+                         vertical_load_right=1e4).contacts[1].patches[0].gap
+    approaches = np.linspace(34e-6, 46e-6, 241)
+    loads = np.array([strip_normal(gap, ESTAR, approach=d).normal_load for d in approaches])
+    steps = np.diff(loads)
+    jumps = np.abs(steps[1:-1] - 0.5 * (steps[:-2] + steps[2:])) / loads[2:-1]
+    k = int(np.argmax(jumps))
+    assert jumps[k] < JUMP, f"Fn steps by {jumps[k]:.2e} of itself at an approach of {approaches[k + 2] * 1e6:.3f} um"
+    assert np.all(steps > 0.0), f"Fn falls as the approach grows at {approaches[1:][steps <= 0.0]} m"
+
+
+@pytest.mark.parametrize("make", [lambda: quadratic(2.0)[0], two_wells])
+def test_a_start_nearby_gives_the_same_solution(make):
+    gap = make()
+    start = strip_normal(gap, ESTAR, normal_load=3e4)
+    fresh = strip_normal(gap, ESTAR, normal_load=4e4)
+    resumed = strip_normal(gap, ESTAR, normal_load=4e4, start=start)
+    assert resumed.converged, resumed.message
+    assert math.isclose(resumed.approach, fresh.approach, rel_tol=1e-6), \
+        f"approach {resumed.approach!r} m from the start, {fresh.approach!r} m afresh"
+    assert len(resumed.newton_steps) <= len(fresh.newton_steps), "the start saves none of Newton's steps"

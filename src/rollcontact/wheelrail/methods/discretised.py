@@ -33,7 +33,7 @@ from rollcontact.core.halfspace.rolling import (
 from rollcontact.core.halfspace.surface import MAX_ELEMENTS_3D, SurfaceGrid, operator_for
 from rollcontact.core.method import AccuracyModel
 from rollcontact.elliptic.result import TractionField
-from rollcontact.wheelrail.methods.strip_normal import check_gap, rigid_range, strip_normal
+from rollcontact.wheelrail.methods.strip_normal import StripContact, check_gap, rigid_range, strip_normal
 from rollcontact.wheelrail.result import PatchResult
 from rollcontact.wheelrail.scene import PatchScene
 from rollcontact.wheelrail.wheels import PatchLevel, wheel_method
@@ -120,10 +120,11 @@ def _touches(contact: np.ndarray) -> bool:
     return bool(contact[0].any() or contact[-1].any() or contact[:, 0].any() or contact[:, -1].any())
 
 
-def guide_for(scene: PatchScene):
-    """The strips' normal solution of the scene, which sizes the grid."""
+def guide_for(scene: PatchScene, start: StripContact | None = None) -> StripContact:
+    """The strips' normal solution of the scene, which sizes the grid (from ``start``, a solution of the same gap
+    nearby, if given)."""
     return strip_normal(scene.gap, scene.material.contact_modulus, approach=scene.approach,
-                        normal_load=scene.normal_load)
+                        normal_load=scene.normal_load, start=start)
 
 
 def automatic_element(guide) -> float:
@@ -235,7 +236,8 @@ def solve_on_grid(scene: PatchScene, element: float, grid: SurfaceGrid | None, i
 
 def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: SurfaceGrid | None = None,
                       extrapolate: bool = False, fields: bool = False, iteration_tolerance: float = 1e-8,
-                      max_iterations: int = NEWTON_ITERATIONS, normal_tolerance: float = 1e-10) -> PatchResult:
+                      max_iterations: int = NEWTON_ITERATIONS, normal_tolerance: float = 1e-10,
+                      start: StripContact | None = None) -> PatchResult:
     """Normal and tangential contact of a patch on the discretised half-space (module docstring).
 
     Parameters
@@ -259,6 +261,9 @@ def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: 
         Newton's cap; a solve that does not converge returns ``success`` False with the reason.
     normal_tolerance : float
         The conjugate gradients' tolerance on the change of the pressure.
+    start : StripContact, optional
+        The strips' normal solution of the same gap nearby, for the strips' solution that sizes the grid to start
+        from (:func:`guide_for`).
 
     Returns
     -------
@@ -269,7 +274,7 @@ def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: 
     """
     if extrapolate and grid is not None:
         raise ValueError("extrapolate takes the grids from element, not from grid")
-    guide = guide_for(scene) if grid is None else None
+    guide = guide_for(scene, start) if grid is None else None
     element = automatic_element(guide) if element is None and guide is not None else \
         DEFAULT_ELEMENT if element is None else float(element)
     if not (math.isfinite(element) and element > 0.0):
@@ -360,15 +365,16 @@ class DiscretisedPatchAccuracy(AccuracyModel):
                 "pressure_error_estimate": PRESSURE_PER_ELEMENT / across}
 
 
-def discretised_normal_force(gap, approach: float, material) -> float:
-    """The discretised normal force [N] of a patch at the normal approach [m] (the wheel level's normal law)."""
-    grid, pressure, _, message, _ = normal_problem(PatchScene(gap, approach=approach, material=material),
-                                                   automatic_element(guide_for(PatchScene(gap, approach=approach,
-                                                                                          material=material))),
-                                                   None, 1e-10)
+def discretised_normal_force(gap, approach: float, material, start: StripContact | None = None):
+    """``(N, guide)``: the discretised normal force [N] of a patch at the normal approach [m] and the strips' solution
+    that sized its grid (from ``start``, the guide of a previous call on the same gap) (the wheel level's normal
+    law)."""
+    scene = PatchScene(gap, approach=approach, material=material)
+    guide = guide_for(scene, start)
+    grid, pressure, _, message, _ = normal_problem(scene, automatic_element(guide), None, 1e-10, guide)
     if message is not None:
         raise ArithmeticError(f"the discretised normal problem at approach {approach!r} m failed: {message}")
-    return float(pressure.sum() * grid.area)
+    return float(pressure.sum() * grid.area), guide
 
 
 LEVEL = PatchLevel("discretised", discretised_normal_force, solve_discretised, DiscretisedPatchAccuracy())

@@ -143,6 +143,7 @@ class StripGeometry:
         self.sign = np.sign(distances)
         with np.errstate(divide="ignore"):
             self.log_distance = np.log(np.abs(distances))
+            self.inverse_distance = 1.0 / distances
         t0, step, table = tables()
         self.offset = (self.log_distance - t0) * (1.0 / step)  # the table's index of a = 1 m
         self.inverse_step = 1.0 / step
@@ -159,14 +160,17 @@ class StripGeometry:
         centre of source i): the same numbers, so its matrices are the blocks of this one's."""
         part = object.__new__(StripGeometry)
         part.__dict__.update(self.__dict__)
-        for name in ("sign", "log_distance", "offset"):
+        for name in ("sign", "log_distance", "inverse_distance", "offset"):
             setattr(part, name, getattr(self, name).take(kept, -2).take(kept, -1))
         part.weights = self.weights.take(kept, -2).take(kept, -1)
         return part
 
-    def matrices(self, half_lengths: np.ndarray, derivative: bool = False):
+    def matrices(self, half_lengths: np.ndarray, derivative: bool = False, distances: bool = False):
         """``(U, C)`` (:func:`strip_matrices`) at the sources' ``half_lengths`` [m], with ``derivative`` also
-        ``(dU, dC)``."""
+        ``(dU, dC)``, and with ``distances`` (implies ``derivative``) also ``(gU, gC)``, each ``(2, n, m)``: the
+        derivatives [1/(Pa m)] of U and C with respect to the distance ``s_i - t`` from the field point to the lower
+        (``[0]``) and the upper (``[1]``) edge of each source, ``-(a d/da)/(s_i - t)`` of that edge's term."""
+        derivative = derivative or distances
         raw = self.offset - np.log(half_lengths) * self.inverse_step
         whole = np.floor(raw)
         index = whole.astype(np.intp)
@@ -207,7 +211,10 @@ class StripGeometry:
             return U, C
         slope *= self.weights
         dU, dC = slope[:, 0] + slope[:, 1]
-        return U, C, dU, dC
+        if not distances:
+            return U, C, dU, dC
+        slope *= -self.inverse_distance
+        return U, C, dU, dC, slope[0], slope[1]
 
 
 def strip_matrices(centres: np.ndarray, lower: np.ndarray, upper: np.ndarray, half_lengths: np.ndarray,

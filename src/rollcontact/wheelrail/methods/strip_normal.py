@@ -18,22 +18,33 @@ stiffer, by Hertz's ``p0 / (a E* A)`` (4/pi on a circle) on a quadratic gap.  On
 pressure satisfies (I) and (II) exactly on every line ``x = 0``, so the strips converge to Hertz with their width.
 ``Fn = (pi/2) sum_j (upper_j - lower_j) e_j``.
 
+The strips of each lobe of the contact (a run of strips in contact) are spaced as ``cos(theta)`` over exactly its
+lateral extent ``[M - R, M + R]`` (narrow towards its edges, where ``a`` falls like a square root), all in contact,
+and the extent is an unknown of the problem with them: at a smooth edge the load per width vanishes linearly, so each
+edge is where e extrapolated linearly from the lobe's two outermost strips vanishes, ``e_1 = kappa e_2`` with
+``kappa = (1 - cos(pi/2n)) / (1 - cos(3 pi/2n))`` for n strips (and likewise at the upper edge).  No strip enters or
+leaves the contact as the approach changes, and the strips move with the edges: the solution and Fn are smooth
+functions of the approach wherever the lobes do not change (a strip that enters the contact at a fixed place takes
+a finite half-length at once, through (II), and Fn a step).  h and A are interpolated between the gap's samples by
+monotone cubics (:class:`_SampledGap`) so that they are smooth as the strips move.
+
 Solution: a first pass on uniform strips over the rigid interpenetration ``h < delta`` (each ``a_j`` first the
 half-length of the rigid interpenetration of ``(delta - h)/2``, a circle's ratio, then from (I) and (II) with the
-half-lengths fixed) finds the strips in contact and hence the patch's lateral extent.  Strips spaced as
-``cos(theta)`` over that extent (narrow towards its edges, where ``a`` falls like a square root) take the fixed point
-on the half-lengths: with them fixed, (I) is a linear complementarity problem in e (active sets) and (II) a linear
-system in q; ``a = sqrt(e/q)``, accelerated by Anderson's mixing, to :data:`PLACEMENT_TOLERANCE`.  The strips are
-placed again over the converged contact (each edge extrapolated linearly to ``e = 0``, as the load per width vanishes
-at a smooth edge) where it is cut at an end of them or leaves more than :data:`EXTENT_TOLERANCE` of them free; on the
-placement kept Newton's method on (I) and (II) together finishes (:func:`_polish`).  For a given load the approach
-follows from ``Fn`` with (I), which is linear in it.
+half-lengths fixed) finds the runs of strips in contact, the first lobes.  Cosine-spaced strips over each take the
+fixed point on the half-lengths: with them fixed, (I) is a linear complementarity problem in e (active sets) and
+(II) a linear system in q; ``a = sqrt(e/q)``, accelerated by Anderson's mixing, to :data:`PLACEMENT_TOLERANCE`.  The
+lobes are laid again over its runs of strips in contact (their edges extrapolated to ``e = 0``) and Newton's method on
+(I), (II) and the edge conditions for e, q and every lobe's M and R finishes (:func:`_polish`).  Where the surfaces then
+interpenetrate outside the lobes at a sample of the gap, a lobe joins there and the passes go on
+(:func:`_penetrating`).  From a nearby solution (``start``) Newton's method alone finishes (:func:`_resumed`).  For a
+given load the approach follows from ``Fn`` with (I), which is linear in it.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.linalg.lapack import dgesv
@@ -43,7 +54,7 @@ from rollcontact.wheelrail.methods.strip_kernels import StripGeometry
 from rollcontact.wheelrail.patch import PatchGap
 
 DEFAULT_STRIPS = 24
-"""Strips across the patch's lateral extent."""
+"""Strips across each lobe."""
 
 FIRST_STRIPS = 24
 """Uniform strips of the first pass over the rigid interpenetration."""
@@ -52,18 +63,17 @@ FIRST_ROUNDS = 2
 """Rounds of the first pass: the linear problems (I) and (II), then the half-lengths."""
 
 FIRST_MARGIN = 0.5
-"""Share of a first-pass strip by which the first placement widens the first pass's extent at each end."""
+"""Share of a first-pass strip by which the first lobes widen the first pass's runs at each end."""
 
 FIXED_POINT_TOLERANCE = 1e-6
-"""The fixed point stops when no half-length changes by more than this share of the largest."""
+"""Newton's method stops when no e, q or edge changes by more than this share of the largest (:func:`_polish`), the
+fixed point when no half-length does."""
 
 PLACEMENT_TOLERANCE = 0.1
-"""The fixed point of a placement stops at this (relative change of the half-lengths) to judge the placement; on the
-placement kept Newton's method finishes (:func:`_polish`), or the fixed point goes on to :data:`POLISH_RETRIES` and
-Newton tries again, and failing that the fixed point to :data:`FIXED_POINT_TOLERANCE`."""
-
-POLISH_DROPS = 2
-"""Times Newton's method may drop edge strips that a step would empty."""
+"""The fixed point on the first lobes stops at this (relative change of the half-lengths) to lay the lobes again for
+Newton's method; where Newton does not take, the fixed point on the lobes laid again goes on to
+:data:`POLISH_RETRIES` and Newton tries again, and failing that the fixed point to :data:`FIXED_POINT_TOLERANCE` (on
+strips then not placed on the edges)."""
 
 POLISH_RETRIES = (1e-2, 1e-3)
 """Closer starts for Newton's method where it did not take."""
@@ -71,8 +81,22 @@ POLISH_RETRIES = (1e-2, 1e-3)
 FIXED_POINT_ITERATIONS = 60
 """Cap of the fixed-point iterations of one placement."""
 
-POLISH_ITERATIONS = 6
-"""Cap of the Newton iterations that finish a placement's fixed point."""
+POLISH_ITERATIONS = 8
+"""Cap of Newton's iterations."""
+
+GROWTH = 4.0
+"""Newton's method gives up where the largest residual grows by more than this factor in a step."""
+
+BOUNDARY = 0.8
+"""A Newton step that would empty a strip or flip a curvature is cut to this share of the way to zero."""
+
+LEAST_FRACTION = 0.1
+"""Newton's method gives up where a step is cut to less than this share."""
+
+PENETRATION = 1e-4
+"""Interpenetration [1] of the deformed surfaces outside the lobes, relative to the approach, at a sample of the gap
+that makes a lobe of it (:func:`_penetrating`); the solutions of the Manchester patches leave at least 2e-5 of the
+approach free outside their lobes."""
 
 NEWTON_CONTRACTION = 100.0
 """Bound K of Newton's quadratic convergence, ``c_{k+1} <= K c_k^2`` for the relative changes c of its steps near the
@@ -86,18 +110,9 @@ ANDERSON = 3
 SETTLING = 3
 """Iterations of a fixed point after which a strip that leaves the contact stays out."""
 
-PLACEMENTS = 5
-"""Cap of the placements of the strips over the lateral extent."""
-
-EXTENT_TOLERANCE = 0.05
-"""The strips are placed again where the converged contact is cut at an end of them or leaves more than this share
-of their extent free at an end (with cosine spacing the narrowest one or two strips)."""
-
-EXTENT_MARGIN = 0.01
-"""A placement over the converged contact leaves this share of its width free at each end."""
-
 REACH = 0.1
-"""An edge of the contact moves outward by at most this share of the width from one placement to the next."""
+"""Where the contact is cut at an end of a lobe's strips, the lobe laid again reaches out by at most this share of
+its width."""
 
 LOAD_GUESSES = 12
 """Cap of the enlargements of the rigid interpenetration of the first pass for a given load."""
@@ -126,7 +141,10 @@ class StripContact:
     iterations : int
         Fixed-point and Newton iterations over the placements.
     newton_steps : tuple of float
-        The relative changes of Newton's steps on the placement kept (:func:`_polish`), in order.
+        The relative changes of Newton's steps (:func:`_polish`), in order.
+    lobes : tuple of (float, float)
+        The lateral edges [m] of each lobe, over which its strips are placed (consecutive in the arrays, a strip out
+        of contact between lobes); empty where there are none.
     """
 
     centres: np.ndarray
@@ -142,6 +160,7 @@ class StripContact:
     message: str
     iterations: int
     newton_steps: tuple = ()
+    lobes: tuple = ()
 
     @property
     def contact(self) -> np.ndarray:
@@ -271,7 +290,8 @@ def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 
 def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | None = None,
-                 normal_load: float | None = None, strips: int = DEFAULT_STRIPS) -> StripContact:
+                 normal_load: float | None = None, strips: int = DEFAULT_STRIPS,
+                 start: StripContact | None = None) -> StripContact:
     """The patch's normal contact by strips (module docstring), for a given approach or a given load.
 
     Parameters
@@ -285,7 +305,11 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
     normal_load : float, optional
         Fn [N] >= 0; exactly one of ``approach`` and ``normal_load``.
     strips : int
-        Strips over the lateral extent (>= 4).
+        Strips over each lobe (>= 4).
+    start : StripContact, optional
+        A solution of the same gap with as many strips (at another approach or load) for Newton's method to start
+        from, its lobes and loads scaled as Hertz's (:func:`_resumed`); where it does not take, the passes start
+        afresh.
 
     Returns
     -------
@@ -312,8 +336,12 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
         if normal_load == 0.0:
             return _empty(0.0, "no load: no contact")
     try:
-        delta, extent, start = _first_pass(s, h, curvature, estar, approach, normal_load)
-        return _placements(s, h, curvature, estar, approach, normal_load, delta, extent, start, int(strips))
+        resumed = None if start is None else _resumed(start, s, h, curvature, estar, approach, normal_load,
+                                                      int(strips))
+        if resumed is not None:
+            return resumed
+        delta, lobes, first = _first_pass(s, h, curvature, estar, approach, normal_load)
+        return _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, first, int(strips))
     except _Failure as failure:
         return _empty(math.nan if approach is None else approach, str(failure), normal_load, converged=False)
 
@@ -341,7 +369,9 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
     """Uniform strips over the rigid interpenetration: each ``a_j`` first the half-length of the rigid
     interpenetration of ``(delta - h)/2``, then :data:`FIRST_ROUNDS` times the load per width from the linear
     complementarity of (I), q from (II) on the strips in contact and ``a = sqrt(e/q)``.  Returns the approach, the
-    lateral extent of the strips in contact and a start ``(centres, e, q)`` to interpolate."""
+    first lobes ``(middle, radius)`` over its runs of strips in contact (:func:`_lobes`, each widened by
+    :data:`FIRST_MARGIN` of a strip) and a start ``(centres, lower, upper, e, q, A, 1)`` to carry over
+    (:func:`_carried`)."""
     depth = approach if approach is not None else _first_guess(s, h, curvature, estar, normal_load)
     for _ in range(LOAD_GUESSES):
         bounds = rigid_range(s, h, depth)
@@ -351,13 +381,14 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
                 continue
             raise _Failure(f"the rigid interpenetration {depth:.4g} m reaches an end of the patch gap's sampling "
                            f"(s = {s[0]:.4g} .. {s[-1]:.4g} m): the contact may extend beyond it")
-        centres, lower, upper = uniform_strips(*bounds, FIRST_STRIPS)
-        gaps = np.interp(centres, s, h)
-        curv = np.interp(centres, s, curvature)
+        centres_all, lower_all, upper_all = uniform_strips(*bounds, FIRST_STRIPS)
+        gaps = np.interp(centres_all, s, h)
+        curv = np.interp(centres_all, s, curvature)
         index = (gaps < depth).nonzero()[0]
         if index.size == 0:
             raise _Failure("the rigid interpenetration falls between the strips")
-        gaps, curv, centres, lower, upper = gaps[index], curv[index], centres[index], lower[index], upper[index]
+        gaps, curv = gaps[index], curv[index]
+        centres, lower, upper = centres_all[index], lower_all[index], upper_all[index]
         half = np.sqrt((depth - gaps) / (2.0 * curv))
         widths = upper - lower
         active = depth - gaps > 0.5 * (depth - gaps.min())  # the circle's share of the rigid interpenetration
@@ -378,9 +409,13 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         q = np.where(active & (q > 0.0), q, 0.0)
         if not np.count_nonzero(q > 0.0):
             raise _Failure("the first pass found no strip of positive curvature ratio")
-        low, high = contact_edges(centres, lower, upper, e)
         margin = FIRST_MARGIN * float(widths[0])  # the edges are known to a fraction of a strip of this pass
-        return delta, (low - margin, high + margin), (centres, e, q)
+        full = np.zeros((3, FIRST_STRIPS))
+        full[0, index], full[1, index], full[2, index] = e, q, curv
+        edges = [contact_edges(centres_all[run], lower_all[run], upper_all[run], full[0, run])
+                 for run in _runs(full[0] > 0.0)]
+        lobes = _lobes([(low - margin, high + margin) for low, high in edges])
+        return delta, lobes, (centres_all, lower_all, upper_all, full[0], full[1], full[2], 1)
     raise _Failure(f"no rigid interpenetration held the contact after {LOAD_GUESSES} enlargements")
 
 
@@ -420,70 +455,6 @@ def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowe
             continue
         return delta, e, active
     raise _Failure("the first pass's active set did not settle")
-
-
-def _placements(s, h, curvature, estar, approach, normal_load, delta, extent, start, count) -> StripContact:
-    """Cosine-spaced strips over the extent, the fixed point on (I) and (II), placed again while the contact is cut at
-    an end of them or leaves too much of them free (module docstring)."""
-    iterations = 0
-    newton_steps: tuple = ()
-    prior_centres, prior_e, prior_q = start
-    message = "converged"
-    converged = False
-    for _ in range(PLACEMENTS):
-        lo, hi = extent
-        if not hi > lo:
-            raise _Failure("the contact's lateral extent collapsed")
-        if rigid_range(s, h, delta) is None:
-            raise _Failure(f"the rigid interpenetration {delta:.4g} m reaches an end of the patch gap's sampling "
-                           f"(s = {s[0]:.4g} .. {s[-1]:.4g} m): the contact may extend beyond it")
-        centres, lower, upper = cosine_strips(lo, hi, count)
-        gaps = np.interp(centres, s, h)
-        curv = np.interp(centres, s, curvature)
-        e = np.maximum(np.interp(centres, prior_centres, prior_e, left=0.0, right=0.0), 0.0)
-        if not np.count_nonzero(e > 0.0):
-            e[np.argmin(gaps)] = max(prior_e.max(), 1.0)
-        known = prior_q > 0.0
-        q = np.interp(centres, prior_centres[known], prior_q[known] / np.interp(prior_centres[known], s, curvature)) \
-            * curv  # q / A interpolated: the strips' stiffening
-        active = e > 0.0
-        e = np.where(active, e, 0.0)
-        geometry = StripGeometry(centres, lower, upper, estar)
-        delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_load,
-                                                 delta, e, q, active, PLACEMENT_TOLERANCE)
-        iterations += used
-        widths = upper - lower
-        width = hi - lo
-        low, high = contact_edges(centres, lower, upper, np.where(active, e, 0.0), REACH * width)
-        prior_centres, prior_e, prior_q = centres, np.where(active, e, 0.0), np.where(active, q, 0.0)
-        spare = EXTENT_MARGIN * (high - low)
-        slack = EXTENT_MARGIN * width
-        if -slack <= low - lo <= EXTENT_TOLERANCE * width and -slack <= hi - high <= EXTENT_TOLERANCE * width:
-            for closer in (*POLISH_RETRIES, None):
-                polished = _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q,
-                                   active)
-                if polished is not None:
-                    delta, e, q, used, active, newton_steps = polished
-                    iterations += used
-                    break
-                # Newton did not take: the fixed point goes closer (to the end where Newton never takes)
-                delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, geometry, approach,
-                                                         normal_load, delta, e, q, active,
-                                                         FIXED_POINT_TOLERANCE if closer is None else closer)
-                iterations += used
-                if closer is None:
-                    break
-            converged = True
-            break
-        extent = (low - spare if low >= lo else low, high + spare if high <= hi else high)
-    else:
-        message = (f"the strips' lateral extent [{extent[0]:.4g}, {extent[1]:.4g}] m still moves after "
-                   f"{PLACEMENTS} placements")
-    half = np.where(active, np.sqrt(np.where(active, e, 0.0) / np.where(active, q, 1.0)), 0.0)
-    peak = np.where(active, q * half, 0.0)
-    load = 0.5 * math.pi * float(widths @ np.where(active, e, 0.0))
-    return StripContact(centres, lower, upper, half, peak, gaps, curv, float(delta), load, converged, message,
-                        iterations, newton_steps)
 
 
 def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q, active, tolerance):
@@ -542,91 +513,372 @@ def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_l
     raise _Failure(f"the strips' half-lengths did not settle in {FIXED_POINT_ITERATIONS} iterations")
 
 
-def _polish(centres, lower, upper, gaps, curv, geometry, approach, normal_load, delta, e, q, active):
-    """Newton's method on (I) and (II) (and the load) with the strips in contact fixed, from a fixed point near the
-    solution: ``(delta, e, q, iterations, active, steps)`` (steps: the relative changes of its steps) once no e or q
-    changes by more than :data:`FIXED_POINT_TOLERANCE` of the largest, or its next step would not
-    (:data:`NEWTON_CONTRACTION`); a step that would empty strips at the ends of runs in contact only drops them (at most
-    :data:`POLISH_DROPS` times; Newton restarts on the strips kept, from the same iterate, whose matrices are the
-    blocks of those already evaluated); None where a step would empty another strip, lose the curvature's sign or the
-    residual grows (the fixed point then goes on), or after :data:`POLISH_ITERATIONS` on one set of strips.
-    ``a = sqrt(e/q)`` enters U and C; ``a dU/da`` from the tables' t-derivatives
-    (:class:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry`)."""
-    index = active.nonzero()[0]
-    ea, qa = e[index].copy(), q[index].copy()
-    geometry = geometry.subset(index)
+def _runs(active: np.ndarray, blocks: int = 1) -> list[np.ndarray]:
+    """The runs of consecutive strips in contact (index arrays), none across the boundaries of ``blocks`` equal
+    blocks of strips (the lobes' placements)."""
+    count = active.size // blocks
+    out = []
+    for b in range(blocks):
+        index = np.flatnonzero(active[b * count:(b + 1) * count]) + b * count
+        if index.size:
+            out += np.split(index, np.flatnonzero(np.diff(index) > 1) + 1)
+    return out
+
+
+def _lobes(edges: list[tuple[float, float]]) -> tuple[np.ndarray, np.ndarray]:
+    """``(middle, radius)`` [m] of the lobes over the lateral ranges ``edges`` (in increasing order), those that
+    overlap merged."""
+    merged: list[list[float]] = []
+    for low, high in edges:
+        if merged and low <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], high)
+        else:
+            merged.append([low, high])
+    ranges = np.array(merged)
+    return 0.5 * (ranges[:, 0] + ranges[:, 1]), 0.5 * (ranges[:, 1] - ranges[:, 0])
+
+
+@lru_cache(maxsize=8)
+def _unit_strips(count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`cosine_strips` over [-1, 1] (read-only)."""
+    out = cosine_strips(-1.0, 1.0, count)
+    for array in out:
+        array.flags.writeable = False
+    return out
+
+
+@lru_cache(maxsize=8)
+def _unit_geometry(count: int, contact_modulus: float) -> StripGeometry:
+    """The :class:`StripGeometry` of :func:`_unit_strips`."""
+    return StripGeometry(*_unit_strips(count), contact_modulus)
+
+
+def _placed(middle, radius, unit) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(centres, lower, upper)`` of the lobes' cosine-spaced strips, lobe after lobe."""
+    return tuple((middle[:, None] + radius[:, None] * u).ravel() for u in unit)
+
+
+class _SampledGap:
+    """h and A between the gap's samples by monotone cubic interpolation (Fritsch & Carlson's slopes, as
+    ``scipy.interpolate.PchipInterpolator``): smooth (C1) across the samples and within each interval between its
+    samples' values (A stays > 0, h >= 0)."""
+
+    def __init__(self, s, h, curvature):
+        self.s = s
+        values = np.stack([h, curvature])
+        step = np.diff(s)
+        rise = np.diff(values, axis=1)
+        secant = rise / step
+        left, right = secant[:, :-1], secant[:, 1:]
+        w1, w2 = 2.0 * step[1:] + step[:-1], step[1:] + 2.0 * step[:-1]
+        product = left * right
+        slopes = np.zeros_like(values)
+        np.divide((w1 + w2) * product, w1 * right + w2 * left, out=slopes[:, 1:-1], where=product > 0.0)
+        for end, first, second in ((0, 0, 1), (-1, -1, -2)):
+            h0, h1 = float(step[first]), float(step[second])
+            for row in range(2):
+                near, far = float(secant[row, first]), float(secant[row, second])
+                d = ((2.0 * h0 + h1) * near - h0 * far) / (h0 + h1)
+                if d * near <= 0.0:
+                    d = 0.0
+                elif near * far < 0.0 and abs(d) > 3.0 * abs(near):
+                    d = 3.0 * near
+                slopes[row, end] = d
+        # per interval, both quantities: v0 + t (d0 + t (c2 + t c3)) in its fraction t, and 1 / its length
+        d0, d1 = slopes[:, :-1] * step, slopes[:, 1:] * step
+        self.coefficients = np.concatenate([values[:, :-1], d0, 3.0 * rise - 2.0 * d0 - d1, d0 + d1 - 2.0 * rise,
+                                            (1.0 / step)[None, :]]).T.copy()
+
+    def at(self, points):
+        """``(h, dh/ds, A, dA/ds)`` at ``points`` (within the samples)."""
+        k = np.searchsorted(self.s, points, side="right") - 1
+        np.clip(k, 0, self.s.size - 2, out=k)
+        v0, a0, d0, b0, c2, e2, c3, f3, inverse = self.coefficients.take(k, axis=0).T
+        t = (points - self.s[k]) * inverse
+        h = v0 + t * (d0 + t * (c2 + t * c3))
+        h_slope = (d0 + t * (2.0 * c2 + 3.0 * t * c3)) * inverse
+        curvature = a0 + t * (b0 + t * (e2 + t * f3))
+        a_slope = (b0 + t * (2.0 * e2 + 3.0 * t * f3)) * inverse
+        return h, h_slope, curvature, a_slope
+
+
+def _run_edges(centres, lower, upper, e, blocks) -> list[tuple[np.ndarray, float, float]]:
+    """``(run, low, high)`` of each run of strips in contact of a placement of ``blocks`` lobes: its edges
+    extrapolated to zero load per width (:func:`contact_edges`, reaching out by up to :data:`REACH` of its lobe's
+    width where the contact is cut at the end of the strips)."""
+    count = centres.size // blocks
+    out = []
+    for run in _runs(e > 0.0, blocks):
+        start = run[0] // count * count
+        reach = REACH * float(upper[start + count - 1] - lower[start])
+        out.append((run, *contact_edges(centres[run], lower[run], upper[run], e[run], reach)))
+    return out
+
+
+def _relaid(centres, lower, upper, e, blocks):
+    """The lobes ``(middle, radius)`` over the runs of strips in contact of a placement of ``blocks`` lobes
+    (:func:`_run_edges`), runs that then overlap merged."""
+    edges = [(low, high) for _, low, high in _run_edges(centres, lower, upper, e, blocks)]
+    if not edges:
+        raise _Failure("the fixed point lost every strip")
+    return _lobes(edges)
+
+
+def _carried(centres, curv, prior) -> tuple[np.ndarray, np.ndarray]:
+    """e and q on new strips from a prior solution ``(centres, lower, upper, e, q, A, blocks)``: e interpolated
+    linearly between the prior runs' strips in contact and each run's edges (:func:`_run_edges`, where it vanishes),
+    0 beyond; q / A likewise between the prior strips in contact (the strips' stiffening), constant beyond."""
+    p_centres, p_lower, p_upper, p_e, p_q, p_curv, blocks = prior
+    nodes, values = [], []
+    for run, low, high in _run_edges(p_centres, p_lower, p_upper, p_e, blocks):
+        if nodes and low <= nodes[-1]:  # runs that meet: no vanishing edges between them
+            nodes.pop(), values.pop()
+        else:
+            nodes.append(low), values.append(0.0)
+        nodes += [*p_centres[run], high]
+        values += [*p_e[run], 0.0]
+    e = np.interp(centres, nodes, values, left=0.0, right=0.0)
+    known = (p_e > 0.0) & (p_q > 0.0)
+    q = np.interp(centres, p_centres[known], p_q[known] / p_curv[known]) * curv
+    return e, q
+
+
+def _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, e, q):
+    """Newton's method on (I), (II), the edge conditions (and the load) for e, q and the lobes' middles and
+    half-widths together, from a start near the solution (module docstring): ``(middle, radius, delta, e, q,
+    iterations, steps)`` (steps: the relative changes of its steps) once no e, q or edge changes by more than
+    :data:`FIXED_POINT_TOLERANCE` of the largest (the edges of their lobe's half-width), or its next step would not
+    (:data:`NEWTON_CONTRACTION`), on a step taken whole.  A step that would empty a strip or flip a curvature is cut
+    short (:data:`BOUNDARY`), as is one that moves an edge by half its lobe's width; None where a step is cut to less
+    than :data:`LEAST_FRACTION`, where lobes would overlap or leave the gap's sampling, where the residual grows by
+    more than :data:`GROWTH` in a step, or after :data:`POLISH_ITERATIONS`.  Within a lobe U and C depend on its
+    half-width R as on ``R/a``: ``R dU/dR = -a dU/da``, and not on its middle M; between lobes the derivatives with
+    respect to the positions of field points and edges
+    (:meth:`~rollcontact.wheelrail.methods.strip_kernels.StripGeometry.matrices`) give the lobes' interactions, and
+    the gap's slopes the rest."""
+    unit_centres, unit_lower, unit_upper = unit
+    count = unit_centres.size
+    lobes = middle.size
+    n = lobes * count
+    kappa = (unit_centres[0] + 1.0) / (unit_centres[1] + 1.0)  # e_1 / e_2 of a load per width linear at the edge
     given_load = approach is None
-    evaluated = None  # the matrices at the current iterate, kept over a drop
-    total = 0
+    blocks = [slice(k * count, (k + 1) * count) for k in range(lobes)]
+    cu, lu, uu = (np.tile(u, lobes) for u in unit)
+    first = np.arange(lobes) * count
+    last = first + count - 1
+    rows = 2 * n + np.arange(lobes)
+    size = 2 * n + 2 * lobes + given_load
+    middles, radii = slice(2 * n, 2 * n + lobes), slice(2 * n + lobes, 2 * n + 2 * lobes)
+    e_scale, q_scale = float(e.max()), float(q.mean())
+    previous = math.inf
     steps: list[float] = []
-    for drops in range(POLISH_DROPS + 1):
-        n = index.size
-        widths = (upper - lower)[index]
-        targets = gaps[index]
-        curvatures = curv[index]
-        e_scale, q_scale = float(ea.max()), float(qa.mean())
-        size = 2 * n + given_load
-        previous = math.inf
-        restart = False
-        for used in range(1, POLISH_ITERATIONS + 1):
-            if evaluated is None:
-                U, C, dU, dC = geometry.matrices(np.sqrt(ea / qa), derivative=True)
-            else:
-                U, C, dU, dC = evaluated
-                evaluated = None
-            residual = np.empty(size)
-            residual[:n] = (U @ ea - (delta - targets)) / delta
-            residual[n:2 * n] = C @ qa / curvatures - 1.0
-            jacobian = np.zeros((size, size))
-            # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
-            jacobian[:n, :n] = (U + 0.5 * dU) * (e_scale / delta)
-            jacobian[:n, n:2 * n] = dU * (-0.5 * q_scale / delta * ea / qa)
-            jacobian[n:2 * n, :n] = dC * (0.5 * e_scale * qa / ea) / curvatures[:, None]
-            jacobian[n:2 * n, n:2 * n] = (C - 0.5 * dC) * (q_scale / curvatures[:, None])
-            if given_load:
-                jacobian[:n, 2 * n] = -1.0
-                jacobian[2 * n, :n] = 0.5 * math.pi * widths * e_scale / normal_load
-                residual[2 * n] = 0.5 * math.pi * float(widths @ ea) / normal_load - 1.0
-            norm = float(np.abs(residual).max())
-            if norm > previous:
-                return None
-            previous = norm
-            step = _solve(jacobian, -residual)
-            de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
-            emptied = ea + de <= 0.0
-            if np.count_nonzero(emptied):
-                if drops == POLISH_DROPS:
-                    return None
-                ends = np.zeros(n, dtype=bool)
-                ends[[0, -1]] = True
-                steps_apart = index[1:] - index[:-1]
-                ends[1:-1] = (steps_apart[1:] > 1) | (steps_apart[:-1] > 1)
-                if np.count_nonzero(ends[emptied]) < np.count_nonzero(emptied):
-                    return None
-                # the contact ends before these edge strips: they leave, Newton restarts on the others
-                kept = (~emptied).nonzero()[0]
-                index, ea, qa = index[kept], ea[kept], qa[kept]
-                evaluated = tuple(m.take(kept, 0).take(kept, 1) for m in (U, C, dU, dC))
-                geometry = geometry.subset(kept)
-                total += used
-                restart = True
-                break
-            if np.count_nonzero(qa + dq <= 0.0):
-                return None
-            ea, qa = ea + de, qa + dq
-            if given_load:
-                delta *= 1.0 + float(step[2 * n])
-            change = max(float(np.abs(de).max()) / float(ea.max()), float(np.abs(dq).max()) / float(qa.max()))
-            steps.append(change)
-            if change <= FIXED_POINT_TOLERANCE or NEWTON_CONTRACTION * change * change <= FIXED_POINT_TOLERANCE:
-                e, q = np.zeros(centres.size), np.zeros(centres.size)
-                e[index], q[index] = ea, qa
-                kept = np.zeros(centres.size, dtype=bool)
-                kept[index] = True
-                return delta, e, q, total + used, kept, tuple(steps)
-        if not restart:
+    for used in range(1, POLISH_ITERATIONS + 1):
+        centres, lower, upper = _placed(middle, radius, unit)
+        if np.count_nonzero(lower[first[1:]] <= upper[last[:-1]]) or lower[0] <= sampled.s[0] \
+                or upper[-1] >= sampled.s[-1]:
             return None
+        gaps, h_slope, curv, a_slope = sampled.at(centres)
+        half = np.sqrt(e / q)
+        if lobes == 1:  # U and C depend on the distances over a: those of the unit lobe over a / R
+            U, C, dU, dC = _unit_geometry(count, estar).matrices(half / radius[0], derivative=True)
+        else:
+            U, C, dU, dC, gU, gC = StripGeometry(centres, lower, upper, estar).matrices(half, distances=True)
+        Ue, Cq = U @ e, C @ q
+        widths = upper - lower
+        inverse_curv = 1.0 / curv
+        residual = np.empty(size)
+        residual[:n] = (Ue - (delta - gaps)) / delta
+        residual[n:2 * n] = Cq * inverse_curv - 1.0
+        residual[rows] = (e[first] - kappa * e[first + 1]) / e_scale
+        residual[rows + lobes] = (e[last] - kappa * e[last - 1]) / e_scale
+        if given_load:
+            residual[-1] = 0.5 * math.pi * float(widths @ e) / normal_load - 1.0
+        norm = float(np.abs(residual).max())
+        if norm > GROWTH * previous:
+            return None
+        previous = norm
+        jacobian = np.zeros((size, size))
+        # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
+        block = jacobian[:n, :n]
+        np.multiply(dU, 0.5, out=block)
+        block += U
+        block *= e_scale / delta
+        np.multiply(dU, (-0.5 * q_scale / delta) * (e / q), out=jacobian[:n, n:2 * n])
+        block = jacobian[n:2 * n, :n]
+        np.multiply(dC, (0.5 * e_scale) * (q / e), out=block)
+        block *= inverse_curv[:, None]
+        block = jacobian[n:2 * n, n:2 * n]
+        np.multiply(dC, -0.5, out=block)
+        block += C
+        block *= (q_scale * inverse_curv)[:, None]
+        # the lobes' middles and half-widths: a field point s_i = M + R c_i, an edge t = M + R tau
+        if lobes == 1:  # translation moves the gap alone; R dU/dR = -a dU/da
+            r = float(radius[0])
+            jacobian[:n, 2 * n] = h_slope * (r / delta)
+            jacobian[:n, 2 * n + 1] = (r * cu * h_slope - dU @ e) / delta
+            along_c = Cq * a_slope * inverse_curv * inverse_curv
+            jacobian[n:2 * n, 2 * n] = -r * along_c
+            jacobian[n:2 * n, 2 * n + 1] = -(dC @ q) * inverse_curv - r * cu * along_c
+        else:  # (lu, uu: the edges' tau) each row changes with its field point and with the edges of each lobe
+            moving_u = (gU[0] @ e + gU[1] @ e) + h_slope  # d/ds_i of (I)'s row, times delta
+            moving_c = (gC[0] @ q + gC[1] @ q - Cq * a_slope * inverse_curv) * inverse_curv  # d/ds_i of (II)'s
+            lu_e, uu_e, lu_q, uu_q = lu * e, uu * e, lu * q, uu * q
+            for k, part in enumerate(blocks):
+                for column, field, source_u, source_c in (
+                        (2 * n + k, 1.0, gU[0][:, part] @ e[part] + gU[1][:, part] @ e[part],
+                         gC[0][:, part] @ q[part] + gC[1][:, part] @ q[part]),
+                        (2 * n + lobes + k, cu[part], gU[0][:, part] @ lu_e[part] + gU[1][:, part] @ uu_e[part],
+                         gC[0][:, part] @ lu_q[part] + gC[1][:, part] @ uu_q[part])):
+                    source_u *= -radius[k] / delta
+                    source_u[part] += field * moving_u[part] * (radius[k] / delta)
+                    source_c *= -radius[k] * inverse_curv
+                    source_c[part] += field * moving_c[part] * radius[k]
+                    jacobian[:n, column] = source_u
+                    jacobian[n:2 * n, column] = source_c
+        jacobian[rows, first] = 1.0
+        jacobian[rows, first + 1] = -kappa
+        jacobian[rows + lobes, last] = 1.0
+        jacobian[rows + lobes, last - 1] = -kappa
+        if given_load:
+            jacobian[:n, -1] = -1.0
+            jacobian[-1, :n] = 0.5 * math.pi * widths * e_scale / normal_load
+            jacobian[-1, radii] = [0.5 * math.pi * float(widths[part] @ e[part]) / normal_load for part in blocks]
+        step = _solve(jacobian, -residual)
+        de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
+        moved, widened = step[middles] * radius, step[radii] * radius
+        # a step that would empty a strip, flip a curvature or move an edge by half its lobe is cut short
+        fraction = min(1.0, BOUNDARY * float(np.min(e / np.maximum(-de, 1e-300 * e))),
+                       BOUNDARY * float(np.min(q / np.maximum(-dq, 1e-300 * q))),
+                       0.5 * float(np.min(radius / (np.abs(moved) + np.abs(widened)))))
+        if fraction < 1.0:
+            if fraction < LEAST_FRACTION:
+                return None
+            step *= fraction
+            de, dq, moved, widened = de * fraction, dq * fraction, moved * fraction, widened * fraction
+        e, q, middle, radius = e + de, q + dq, middle + moved, radius + widened
+        if given_load:
+            delta *= 1.0 + float(step[-1])
+        change = max(float(np.abs(de).max()) / float(e.max()), float(np.abs(dq).max()) / float(q.max()),
+                     float(np.max((np.abs(moved) + np.abs(widened)) / radius)))
+        steps.append(change)
+        if fraction == 1.0 and (change <= FIXED_POINT_TOLERANCE
+                                or NEWTON_CONTRACTION * change * change <= FIXED_POINT_TOLERANCE):
+            return middle, radius, delta, e, q, used, tuple(steps)
     return None
+
+
+def _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, message) -> StripContact:
+    """The solution on the lobes' strips, a strip out of contact spanning each gap between lobes."""
+    centres, lower, upper = _placed(middle, radius, unit)
+    count = unit[0].size
+    if middle.size > 1:
+        at = np.arange(1, middle.size) * count
+        between_lower, between_upper = upper[at - 1], lower[at]
+        centres = np.insert(centres, at, 0.5 * (between_lower + between_upper))
+        lower, upper = np.insert(lower, at, between_lower), np.insert(upper, at, between_upper)
+        e, q = np.insert(e, at, 0.0), np.insert(q, at, 0.0)
+    gaps, _, curv, _ = sampled.at(centres)
+    active = e > 0.0
+    half = np.where(active, np.sqrt(np.where(active, e, 0.0) / np.where(active, q, 1.0)), 0.0)
+    peak = np.where(active, q * half, 0.0)
+    load = 0.5 * math.pi * float((upper - lower) @ e)
+    lobes = tuple(zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True))
+    return StripContact(centres, lower, upper, half, peak, gaps, curv, float(delta), load, True, message, iterations,
+                        steps, lobes)
+
+
+def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> StripContact | None:
+    """Newton's method from the solution ``start`` (:func:`strip_normal`): its lobes' half-widths scaled by
+    ``sqrt(r)``, e by r and the approach by r, ``r = delta / delta_start`` (for a given load ``(Fn / Fn_start)^(2/3)``),
+    as Hertz's contact scales; None where ``start`` has no lobes of ``count`` strips all in contact, where Newton's
+    method does not take or where the surfaces interpenetrate outside the lobes (:func:`_penetrating`)."""
+    lobes = len(start.lobes)
+    if not (start.converged and lobes and start.centres.size == lobes * (count + 1) - 1 and start.approach > 0.0
+            and start.normal_load > 0.0):
+        return None
+    kept = np.ones(start.centres.size, dtype=bool)
+    kept[count::count + 1] = False  # the strips between lobes
+    half, peak = start.half_lengths[kept], start.peak_pressures[kept]
+    if np.count_nonzero(half <= 0.0):
+        return None
+    ratio = approach / start.approach if approach is not None else (normal_load / start.normal_load) ** (2.0 / 3.0)
+    low, high = np.array(start.lobes).T
+    unit = _unit_strips(count)
+    sampled = _SampledGap(s, h, curvature)
+    polished = _polish(0.5 * (low + high), 0.5 * (high - low) * math.sqrt(ratio), unit, sampled, estar, approach,
+                       normal_load, start.approach * ratio, peak * half * ratio, peak / half)
+    if polished is None:
+        return None
+    middle, radius, delta, e, q, used, steps = polished
+    if _penetrating(middle, radius, unit, s, h, e, q, delta, estar):
+        return None
+    return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged")
+
+
+def _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, start, count) -> StripContact:
+    """Cosine-spaced strips over each lobe, the fixed point on (I) and (II), the lobes laid again over its runs of
+    strips in contact, and Newton's method on the lobes' edges too (module docstring)."""
+    unit = _unit_strips(count)
+    sampled = _SampledGap(s, h, curvature)
+    prior = start
+    iterations = 0
+    middle, radius = lobes
+    for tolerance in (PLACEMENT_TOLERANCE, *POLISH_RETRIES, FIXED_POINT_TOLERANCE):
+        centres, lower, upper = _placed(middle, radius, unit)
+        if rigid_range(s, h, delta) is None or lower[0] <= s[0] or upper[-1] >= s[-1]:
+            raise _Failure(f"the contact at the approach {delta:.4g} m reaches an end of the patch gap's sampling "
+                           f"(s = {s[0]:.4g} .. {s[-1]:.4g} m): it may extend beyond it")
+        gaps, _, curv, _ = sampled.at(centres)
+        e, q = _carried(centres, curv, prior)
+        if not np.count_nonzero(e > 0.0):
+            e[np.argmin(gaps)] = max(float(prior[3].max()), 1.0)
+        geometry = StripGeometry(centres, lower, upper, estar)
+        delta, e, q, active, used = _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_load,
+                                                 delta, e, q, e > 0.0, tolerance)
+        iterations += used
+        e, q = np.where(active, e, 0.0), np.where(active, q, 0.0)
+        if tolerance == FIXED_POINT_TOLERANCE:  # Newton's method never took: the fixed point's own solution
+            return _contact(middle, radius, unit, sampled, e, q, delta, iterations, (),
+                            "converged by the fixed point alone (Newton's method on the lobes' edges did not take)")
+        prior = centres, lower, upper, e, q, curv, middle.size
+        middle, radius = _relaid(centres, lower, upper, e, middle.size)
+        centres, lower, upper = _placed(middle, radius, unit)
+        if lower[0] <= s[0] or upper[-1] >= s[-1]:
+            continue
+        _, _, curv, _ = sampled.at(centres)
+        e_start, q_start = _carried(centres, curv, prior)
+        if np.count_nonzero(e_start <= 0.0):
+            continue
+        polished = _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, e_start, q_start)
+        if polished is None:
+            continue
+        middle, radius, delta, e, q, used, steps = polished
+        iterations += used
+        missed = _penetrating(middle, radius, unit, s, h, e, q, delta, estar)
+        if not missed:
+            return _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, "converged")
+        # the surfaces interpenetrate outside the lobes: a lobe the passes missed joins them
+        centres, lower, upper = _placed(middle, radius, unit)
+        prior = centres, lower, upper, e, q, sampled.at(centres)[2], middle.size
+        lobes = zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True)
+        middle, radius = _lobes(sorted([*lobes, *missed]))
+    raise AssertionError("unreachable")
+
+
+def _penetrating(middle, radius, unit, s, h, e, q, delta, estar) -> list[tuple[float, float]]:
+    """The lateral ranges [m] of the gap's samples outside the lobes where the deformed surfaces interpenetrate,
+    ``h + u_z - delta < -`` :data:`PENETRATION` ``delta``, each widened to the samples beside it."""
+    outside = h < delta
+    for low, high in zip(middle - radius, middle + radius, strict=True):
+        outside &= (s < low) | (s > high)
+    candidates = np.flatnonzero(outside)
+    if not candidates.size:
+        return []
+    _, lower, upper = _placed(middle, radius, unit)
+    U = StripGeometry(s[candidates], lower, upper, estar).matrices(np.sqrt(e / q))[0]
+    inside = candidates[h[candidates] + U @ e - delta < -PENETRATION * delta]
+    return [(float(s[max(run[0] - 1, 0)]), float(s[min(run[-1] + 1, s.size - 1)]))
+            for run in np.split(inside, np.flatnonzero(np.diff(inside) > 1) + 1) if run.size]
 
 
 def _spread(half):

@@ -45,15 +45,16 @@ def inapplicable(scene: PatchScene) -> str | None:
     return None
 
 
-def normal_contact(scene: PatchScene, strips: int = DEFAULT_STRIPS) -> StripContact:
-    """The strips' normal solution of the scene, at its approach or its load
+def normal_contact(scene: PatchScene, strips: int = DEFAULT_STRIPS, start: StripContact | None = None
+                   ) -> StripContact:
+    """The strips' normal solution of the scene, at its approach or its load, from ``start`` if given
     (:func:`~rollcontact.wheelrail.methods.strip_normal.strip_normal`)."""
     return strip_normal(scene.gap, scene.material.contact_modulus, approach=scene.approach,
-                        normal_load=scene.normal_load, strips=strips)
+                        normal_load=scene.normal_load, strips=strips, start=start)
 
 
 def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_strips: int = TANGENTIAL_STRIPS,
-                 steps: int = DEFAULT_STEPS, fields: bool = False) -> PatchResult:
+                 steps: int = DEFAULT_STEPS, fields: bool = False, start: StripContact | None = None) -> PatchResult:
     """Normal and tangential contact of a patch by strips (module docstring).
 
     Parameters
@@ -69,6 +70,8 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
         Cells along each strip of the march (with spin) and of the fields (>= 2).
     fields : bool
         Return the pressure and traction on the strips' cells.
+    start : StripContact, optional
+        A normal solution of the same gap nearby (or at the scene's approach) for the normal problem to start from.
 
     Returns
     -------
@@ -87,7 +90,7 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
     if why is not None:
         raise ValueError(f"strips cannot solve this scene: {why}")
     steps = int(check_real("steps", steps, lower=2))
-    contact = normal_contact(scene, strips)
+    contact = normal_contact(scene, strips, start)
     mu = scene.friction_coefficient
     xi, eta, phi = scene.creepages
     if not contact.converged:
@@ -119,7 +122,7 @@ solve_strips.options = ("strips", "tangential_strips", "steps", "fields")
 
 NORMAL_ERROR = 0.01
 """Relative error [1] of Fn at a given approach (of the approach at a given load) of the default 24 strips against the
-reference: a margin over the largest in ``benchmarks/wheelrail_patches.py``, table "Normal" (the flange patch)."""
+reference: a margin over the largest in ``benchmarks/wheelrail_patches.py``, table "Normal" (the flange root)."""
 
 PRESSURE_ERROR = 0.03
 """Relative error [1] of the peak pressure of the default 24 strips against the reference: a margin over the largest
@@ -136,10 +139,10 @@ OUTSIDE_TABLE_ERROR = 0.05
 power law): the flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", whose largest error (Mz of
 combined creepage at two saturations) this keeps within its estimate."""
 
-STRIPS_PATCH_COST = 1.1e-3
+STRIPS_PATCH_COST = 1.4e-3
 STRIPS_PATCH_COST_PER_CELL = 4e-6
 """Modelled times [s] on an idle machine: the normal solution and the closed form, each cell of the march
-(``benchmarks/wheelrail_patches.py``, table "Time": the strips' CPU time without spin, at most 6.0 times the elliptic
+(``benchmarks/wheelrail_patches.py``, table "Time": the strips' CPU time without spin, at most 7.5 times the elliptic
 strips' in the same rounds, and the march's share, spin against no spin, up to 0.4 times, each times the elliptic
 strips' modelled time with spin, :data:`rollcontact.elliptic.methods.strips.STRIPS_COST` and 20 cells of
 ``STRIPS_COST_PER_CELL``, 1.7e-4 s; with a margin)."""
@@ -212,9 +215,11 @@ class PatchStripsAccuracy(AccuracyModel):
                 "normal_error_estimate": NORMAL_ERROR, "pressure_error_estimate": PRESSURE_ERROR}
 
 
-def strips_normal_force(gap, approach: float, material) -> float:
-    """The strips' normal force [N] of a patch at the normal approach [m] (the wheel level's normal law)."""
-    return strip_normal(gap, material.contact_modulus, approach=approach).normal_load
+def strips_normal_force(gap, approach: float, material, start: StripContact | None = None):
+    """``(N, contact)``: the strips' normal force [N] of a patch at the normal approach [m] and their solution, from
+    ``start`` (the solution of a previous call on the same gap) (the wheel level's normal law)."""
+    contact = strip_normal(gap, material.contact_modulus, approach=approach, start=start)
+    return contact.normal_load, contact
 
 
 LEVEL = PatchLevel("strips", strips_normal_force, solve_strips, PatchStripsAccuracy())
