@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import ClassVar, NamedTuple
+from typing import ClassVar, NamedTuple, get_type_hints
 
 from rollcontact.stepping.elliptic.parameters import METHOD_LEVELS as ELLIPTIC_LEVELS
 from rollcontact.stepping.parameters import AUTO, Level, ModelParameters, level_code
@@ -65,51 +65,17 @@ def method_code(name: str) -> int:
     return level_code(METHOD_LEVELS, name)
 
 
-class WheelsetContactOutputs(NamedTuple):
-    """Outputs of one step (SI units, track axes: x forward, y to the right, z down): the loads of the rails on the
-    wheelset (:class:`rollcontact.wheelrail.loads.WheelsetLoads`), its roll [rad] and vertical position [m]
-    (``Pose.vertical``, downward), the derivatives of ``force_y`` [N] and ``moment_yaw`` [N m] in the lateral shift
-    [m], yaw [rad], lateral velocity [m/s] and yaw rate [rad/s], and the level's code."""
-
-    force_x: float
-    force_y: float
-    force_z: float
-    moment_roll: float
-    moment_pitch: float
-    moment_yaw: float
-    normal_force_left: float
-    longitudinal_force_left: float
-    lateral_force_left: float
-    vertical_force_left: float
-    contact_angle_left: float
-    rolling_radius_left: float
-    patches_left: int
-    frictional_power_left: float
-    normal_force_right: float
-    longitudinal_force_right: float
-    lateral_force_right: float
-    vertical_force_right: float
-    contact_angle_right: float
-    rolling_radius_right: float
-    patches_right: int
-    frictional_power_right: float
-    roll: float
-    vertical_position: float
-    dforce_y_dlateral_shift: float
-    dforce_y_dyaw: float
-    dforce_y_dlateral_velocity: float
-    dforce_y_dyaw_rate: float
-    dmoment_yaw_dlateral_shift: float
-    dmoment_yaw_dyaw: float
-    dmoment_yaw_dlateral_velocity: float
-    dmoment_yaw_dyaw_rate: float
-    method_used: int
-
-
-assert WheelsetContactOutputs._fields[:len(WheelsetLoads._fields)] == WheelsetLoads._fields
-
 DERIVED = ("lateral_shift", "yaw", "lateral_velocity", "yaw_rate")
 """The inputs the derivative outputs differentiate by."""
+
+WheelsetContactOutputs = NamedTuple("WheelsetContactOutputs", [
+    *get_type_hints(WheelsetLoads).items(), ("roll", float), ("vertical_position", float),
+    *((f"d{load}_d{by}", float) for load in ("force_y", "moment_yaw") for by in DERIVED), ("method_used", int)])
+WheelsetContactOutputs.__doc__ = """Outputs of one step (SI units, track axes: x forward, y to the right, z down): the
+loads of the rails on the wheelset (the fields of :class:`rollcontact.wheelrail.loads.WheelsetLoads`), its ``roll``
+[rad] and ``vertical_position`` [m] (``Pose.vertical``, downward), the derivatives ``dforce_y_d...`` [N per unit] and
+``dmoment_yaw_d...`` [N m per unit] in each of :data:`DERIVED` (lateral shift [m], yaw [rad], lateral velocity [m/s],
+yaw rate [rad/s]), and the level's code ``method_used``."""
 
 INPUTS = (("lateral_shift", "m", None), ("yaw", "rad", None), ("lateral_velocity", "m/s", None),
           ("yaw_rate", "rad/s", None), ("forward_speed", "m/s", 0.0), ("pitch_rate", "rad/s", None),
