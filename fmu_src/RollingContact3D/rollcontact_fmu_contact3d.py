@@ -18,10 +18,9 @@ references of the single-contact table: append only.
 
 from __future__ import annotations
 
-import math
 from functools import cache
 
-from pythonfmu import Integer, Real, String
+from pythonfmu import Integer, Real
 from pythonfmu.default_experiment import DefaultExperiment
 from rollcontact_fmu.contacts import contact_text, contact_values, contacts_step, named, variant_class, variant_name
 from rollcontact_fmu.enumerations import (
@@ -33,6 +32,7 @@ from rollcontact_fmu.enumerations import (
     method_used_items,
     rail_condition_items,
 )
+from rollcontact_fmu.parameters import material_friction_rows
 from rollcontact_fmu.slave import CONTINUOUS, DISCRETE, FIXED, INPUT, OUTPUT, PARAMETER, POSITIVE, TableSlave
 
 import rollcontact.stepping.elliptic.parameters as elliptic
@@ -102,17 +102,7 @@ def shared_parameters(used: dict) -> tuple:
     """The parameters of every contact (name, type, unit, min, max, description) before the per-contact curvatures,
     the bounds of the enumerations ``used`` (:func:`enumerations`)."""
     return (
-        ("youngs_modulus", Real, "Pa", POSITIVE, None, "Young's modulus E of wheel and rail, > 0"),
-        ("poisson_ratio", Real, "1", 0.0, math.nextafter(0.5, 0.0),
-         "Poisson's ratio nu of wheel and rail, 0 <= nu < 0.5"),
-        ("friction_coefficient", Real, "1", POSITIVE, None, "Friction coefficient mu at zero slip velocity, > 0"),
-        ("friction_law", Integer, None, 0, largest(used["friction_law"][1]), "Friction law (FrictionLaw)"),
-        ("friction_kinetic_ratio", Real, "1", POSITIVE, 1.0, "A of the falling laws: mu(infinity)/mu, 0 < A <= 1"),
-        ("friction_decay", Real, "s/m", 0.0, None, "B of the exponential law, per slip velocity v, >= 0"),
-        ("friction_reference_velocity", Real, "m/s", POSITIVE, None, "v_ref of the rational law, > 0"),
-        ("friction_slope", Real, "s/m", 0.0, None, "c of the linear law max(A mu, mu - c v), >= 0"),
-        ("friction_table", String, None, None, None,
-         "Points 'v mu; v mu; ...' of the tabulated law, v [m/s] increasing"),
+        *material_friction_rows(used),
         ("method", Integer, None, 0, largest(used["method"][1]), "Elliptic level of every step (Method3D)"),
         ("tolerance", Real, "1", 0.0, None, "Requested error of Fx, Fy over mu Fn and Mz over mu Fn c (0: defaults)"),
         ("step_budget", Real, "s", 0.0, None,

@@ -12,7 +12,6 @@ table's order: append, never reorder.
 
 from __future__ import annotations
 
-import math
 from functools import cache
 from pathlib import Path
 
@@ -27,6 +26,7 @@ from rollcontact_fmu.enumerations import (
     method_used_items,
     rail_condition_items,
 )
+from rollcontact_fmu.parameters import material_friction_rows
 from rollcontact_fmu.slave import CONTINUOUS, DISCRETE, FIXED, INPUT, OUTPUT, PARAMETER, POSITIVE, TableSlave
 
 import rollcontact.stepping.elliptic.parameters as elliptic
@@ -124,17 +124,7 @@ def parameters(used: dict) -> tuple:
         ("flange_back_spacing", Real, "m", 0.3, 3.0, "Distance between the wheels' flange backs"),
         ("flange_back_distance", Real, "m", 0.0, 0.2, "Distance from a wheel's taping line to its flange back"),
         ("nominal_radius", Real, "m", 0.05, 5.0, "Rolling radius r0 at the taping line"),
-        ("youngs_modulus", Real, "Pa", POSITIVE, None, "Young's modulus E of wheel and rail, > 0"),
-        ("poisson_ratio", Real, "1", 0.0, math.nextafter(0.5, 0.0),
-         "Poisson's ratio nu of wheel and rail, 0 <= nu < 0.5"),
-        ("friction_coefficient", Real, "1", POSITIVE, None, "Friction coefficient mu at zero slip velocity, > 0"),
-        ("friction_law", Integer, None, 0, largest(used["friction_law"][1]), "Friction law (FrictionLaw)"),
-        ("friction_kinetic_ratio", Real, "1", POSITIVE, 1.0, "A of the falling laws: mu(infinity)/mu, 0 < A <= 1"),
-        ("friction_decay", Real, "s/m", 0.0, None, "B of the exponential law, per slip velocity v, >= 0"),
-        ("friction_reference_velocity", Real, "m/s", POSITIVE, None, "v_ref of the rational law, > 0"),
-        ("friction_slope", Real, "s/m", 0.0, None, "c of the linear law max(A mu, mu - c v), >= 0"),
-        ("friction_table", String, None, None, None,
-         "Points 'v mu; v mu; ...' of the tabulated law, v [m/s] increasing"),
+        *material_friction_rows(used),
         ("rail_condition", Integer, None, 0, largest(used["rail_condition"][1]), RAIL_CONDITION_TEXT),
         ("method", Integer, None, 0, largest(used["method"][1]), "Wheel/rail level of every step (MethodWheelRail)"),
         ("elliptic_method", Integer, None, 0, largest(used["elliptic_method"][1]),
