@@ -12,9 +12,10 @@ is the median of its warm repeats (the machine may be shared: the median leaves 
 The modelled cost of a step is ``EllipticModel.last_modelled_cost``, the work the step budget bounds.  Per level, law
 and mode the table gives the largest cold step, the largest step, the largest modelled cost, the real time over the
 modelled cost of the step whose modelled cost is largest (where the budget binds) and the largest such ratio of any
-step (at the cheap levels a step's fixed work, the checks and outputs of ``EllipticModel.step``, outweighs its
-modelled cost).  Steps the model refuses (outside what a level treats, or a level refused at initialisation because
-its cheapest setting exceeds the budget) are counted, not timed.
+step: the check that the modelled cost bounds the real time, the step's fixed work included (the checks and outputs
+of ``EllipticModel.step``; ``rollcontact.elliptic.methods.common.COST_MARGIN`` and ``SOLVE_OVERHEAD`` are set so
+that it stays below 1 on an idle machine).  Steps the model refuses (outside what a level treats, or a level refused
+at initialisation because its cheapest setting exceeds the budget) are counted, not timed.
 
 The discretised level's cheapest setting is modelled above the default budget, so a second table times it at budgets
 it fits, and a third without a budget (``step_budget`` 0), where a step may take far longer.

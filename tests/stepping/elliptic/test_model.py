@@ -13,6 +13,7 @@ import pytest
 from rollcontact import EllipticScene, Material, solve_elliptic
 from rollcontact.core.friction import Coulomb
 from rollcontact.elliptic.dispatch import BUILTIN
+from rollcontact.elliptic.methods.strips import METHOD as STRIPS
 from rollcontact.stepping import ModelError
 from rollcontact.stepping.elliptic.model import EllipticModel, EllipticState
 from rollcontact.stepping.elliptic.parameters import METHOD_LEVELS as ELLIPTIC_LEVELS
@@ -124,9 +125,13 @@ def test_no_load_is_no_contact():
 
 
 def test_a_budget_below_the_cheapest_setting_refuses_the_step_naming_the_contact():
-    """The strips fit 1.5e-4 s without spin, not with it (a budget no step fits is refused at initialisation)."""
-    model = EllipticModel(EllipticParameters(method=3, step_budget=1.5e-4, curvature_longitudinal=(1.0, 1.0),
-                                             curvature_lateral=(1.0, 1.0)))
+    """A budget between the strips' modelled cost without spin and with it: the steps with spin are refused, those
+    without fit (a budget no step fits is refused at initialisation)."""
+    strips = STRIPS.accuracy
+    plain, spinning = (strips.cost(EllipticScene(1e5, 1.0, 1.0, spin_creepage=phi), {}) for phi in (0.0, 0.2))
+    assert plain < spinning, "the march with spin is modelled dearer than the closed form"
+    model = EllipticModel(EllipticParameters(method=3, step_budget=0.5 * (plain + spinning),
+                                             curvature_longitudinal=(1.0, 1.0), curvature_lateral=(1.0, 1.0)))
     with pytest.raises(ModelError, match="contact 1: .*budget"):
         model.step(0.0, H, [ROW, ROW])
     assert model.state.steps == 0, "a refused step changes nothing"
@@ -243,9 +248,14 @@ def test_the_strips_step_spin_on_a_falling_rail_condition():
 
 
 def test_the_cheapest_fallback_a_budget_forces_keeps_the_friction_limit():
-    """auto, tolerance 1e-3 and a budget of 1e-4 s: only the linear levels fit; the saturated one answers."""
+    """auto, tolerance 1e-3 and a budget of twice the linear levels' cost: only they fit; the saturated one
+    answers."""
+    from rollcontact import ELLIPTIC_METHODS
+
+    budget = 2.0 * ELLIPTIC_METHODS["saturated"].accuracy.floor
+    assert budget < STRIPS.accuracy.floor, "the budget leaves out the strips"
     law = {"friction_law": 1, "friction_coefficient": 0.6557}
-    model = EllipticModel(EllipticParameters(method=0, tolerance=1e-3, step_budget=1e-4, **law))
+    model = EllipticModel(EllipticParameters(method=0, tolerance=1e-3, step_budget=budget, **law))
     out = model.step(0.0, H, [(1e5, -0.0046, 0.0, 0.0, 10.0)])[0]
     assert out.method_used == 5, f"the saturated linear theory ({out.method_used})"
     assert abs(out.longitudinal_force) <= 0.6557 * 1e5, f"|Fx| = {abs(out.longitudinal_force)} > mu Fn"
@@ -269,8 +279,9 @@ def test_the_difference_jacobian_is_paid_within_the_step_budget():
 
     row = [(1e5, 2e-3, 0.0, 0.0, 10.0)]
     one = ELLIPTIC_METHODS["fastsim"].accuracy.cost(EllipticScene(1e5, 1.087, 1.667, 2e-3), {})
+    cheapest = ELLIPTIC_METHODS["fastsim"].accuracy.minimum_cost(EllipticScene(1e5, 1.087, 1.667, 2e-3))
     linear = EllipticModel(EllipticParameters(method=1)).step(0.0, H, row)[0]
-    for budget in (2.0 * one, 5.0 * one):
+    for budget in (4.5 * cheapest, 5.0 * one):
         model = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=budget))
         out = model.step(0.0, H, row)[0]
         assert out.dFx_dxi < 0.9 * linear.dFx_dxi, f"FASTSIM's slope falls with saturation ({out.dFx_dxi:.4g})"
@@ -278,7 +289,6 @@ def test_the_difference_jacobian_is_paid_within_the_step_budget():
             f"the four solves are modelled at {model.last_modelled_cost:.3g} s, over the budget {budget:.3g} s"
         assert not any("no room for the difference Jacobian" in m for m in model.take_messages()), \
             "the differences fit the three quarters of the budget left"
-    cheapest = ELLIPTIC_METHODS["fastsim"].accuracy.minimum_cost(EllipticScene(1e5, 1.087, 1.667, 2e-3))
     starved = EllipticModel(EllipticParameters(method=2, jacobian=1, step_budget=2.0 * cheapest))
     with pytest.raises(ModelError, match="more than the budget"):
         starved.step(0.0, H, row)

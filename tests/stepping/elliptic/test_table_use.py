@@ -12,6 +12,7 @@ import pytest
 from rollcontact import EllipticScene, Material
 from rollcontact.core.friction import Coulomb
 from rollcontact.elliptic.creep_coefficients import creepage_coefficients
+from rollcontact.elliptic.methods.strips import METHOD as STRIPS
 from rollcontact.stepping import ModelError
 from rollcontact.stepping.elliptic import table as table_module
 from rollcontact.stepping.elliptic.model import EllipticModel, EllipticState
@@ -22,6 +23,8 @@ TINY = (3, 5, 3, 3)
 """Node counts of the tables of these tests: a few hundred strips solves (a coarse table, its bound large)."""
 H = 1e-3
 ROW = (1e5, 1e-3, -5e-4, 0.2, 30.0)
+STRIPS_STEP = STRIPS.accuracy.cost(EllipticScene(1.0, 1.087, 1.667, spin_creepage=1.0), {})
+"""The strips' modelled cost of a step of ROW (with spin) [s]: what a budget leaves the build beyond it."""
 CURVATURES = {"curvature_longitudinal": (1.087, 2.5, 0.9), "curvature_lateral": (1.667, 1.2, 4.0)}
 
 
@@ -133,25 +136,25 @@ def test_auto_without_the_runs_end_builds_once_the_exact_steps_have_cost_as_much
 
 def test_a_budget_spreads_the_build_over_the_steps_and_none_too_small_builds_nothing():
     sizes = model().table_use.sizes
-    spread = model(stop_time=1e6, step_budget=table_module.SOLVE_COST * max(sizes) * 2 + 2e-4)
+    spread = model(stop_time=1e6, step_budget=table_module.SOLVE_COST * max(sizes) * 2 + STRIPS_STEP)
     steps = 0
     while spread.step(steps * H, H, [ROW])[0].method_used != LEVEL_CODES["table"]:
         steps += 1
     assert steps > len(sizes) // 3, f"a few batches per step: ready after {steps} steps of {len(sizes)} batches"
-    starved = model(stop_time=1e6, step_budget=2e-4)
+    starved = model(stop_time=1e6, step_budget=STRIPS_STEP)
     assert all(starved.step(n * H, H, [ROW])[0].method_used != LEVEL_CODES["table"] for n in range(5))
     assert sum("leaves no room" in m for m in starved.take_messages()) == 1, "said once"
 
 
 def test_a_restored_state_repeats_the_steps_through_the_build_and_after():
-    m = model(stop_time=1e6, step_budget=table_module.SOLVE_COST * 40 + 2e-4)
+    m = model(stop_time=1e6, step_budget=table_module.SOLVE_COST * 40 + STRIPS_STEP)
     rng = np.random.default_rng(4)
     signal = [[(1e5 * (1 + 0.1 * math.sin(n)), *rng.normal(0.0, 2e-3, 2), 0.3, 20.0)] for n in range(40)]
     m.step(0.0, H, signal[0])
     saved = EllipticState.parse(m.get_state().to_dict())
     first = [m.step(n * H, H, signal[n]) for n in range(1, 40)]
     assert {o[0].method_used for o in first} == {LEVEL_CODES["strips"], LEVEL_CODES["table"]}, "through the build"
-    fresh = model(stop_time=1e6, step_budget=table_module.SOLVE_COST * 40 + 2e-4)
+    fresh = model(stop_time=1e6, step_budget=table_module.SOLVE_COST * 40 + STRIPS_STEP)
     fresh.set_state(saved)
     assert [fresh.step(n * H, H, signal[n]) for n in range(1, 40)] == first, "a new model from the state"
     with pytest.raises(ModelError, match="exceeds the table's"):

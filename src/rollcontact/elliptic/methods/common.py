@@ -57,6 +57,28 @@ def linear_ratio(scene: EllipticScene, c: CreepageCoefficients) -> float:
     return (math.hypot(fx, fy) + spin) / scale if scale > 0.0 else 0.0
 
 
+COST_MARGIN = 5.0
+"""Factor [1] from the cheap levels' calibrated times (linear, saturated, FASTSIM, strips: :data:`~.linear.LINEAR_COST`,
+:data:`~.fastsim.FASTSIM_COST_PER_STEP`, :data:`~.strips.STRIPS_COST` and the others they name) to their modelled
+costs (:func:`modelled_cost`), so that the modelled cost bounds a solve's real time, its worst cases included (a steep
+falling law's slips, a cold cache, the stepping model's fixed work per contact, the difference Jacobian's solves):
+with :data:`SOLVE_OVERHEAD` it keeps the real time of every step of ``benchmarks/bench_worst_step.py`` (every level,
+friction law and Jacobian mode, a/b 0.1 to 10, loads 1 N to 1 MN) below its modelled cost on an idle machine of the
+benchmarks' class (the last column of its results).  One factor for the four levels keeps their ranking, which
+``auto``'s choice with a tolerance follows; a loaded machine takes longer than the model."""
+
+SOLVE_OVERHEAD = 2e-4
+"""Modelled time [s] of what every solve of the cheap levels does besides its level's own work: the scene's checks,
+Hertz's ellipse and the coefficients, the dispatcher's choice, the result, and a stepping model's inputs and outputs
+of the contact (``benchmarks/bench_worst_step.py``, the linear and saturated levels)."""
+
+
+def modelled_cost(seconds: float) -> float:
+    """``SOLVE_OVERHEAD + COST_MARGIN seconds`` [s]: the modelled cost of a cheap level's solve whose calibrated time
+    is ``seconds`` (:data:`COST_MARGIN`)."""
+    return SOLVE_OVERHEAD + COST_MARGIN * seconds
+
+
 MEASURED_POISSON_RATIO = 0.28
 """Poisson's ratio [1] of steel, at which the accuracy models' main constants are measured; their errors grow with
 nu above it (``benchmarks/calibrate_elliptic_levels.py``, table B3)."""

@@ -44,6 +44,7 @@ from rollcontact.elliptic.methods.common import (
     friction_kernel,
     linear_ratio,
     march,
+    modelled_cost,
     no_load,
     outside_table,
     poisson_excess,
@@ -262,8 +263,8 @@ FASTSIM_FALLING_COST_FACTOR = 1.5
 Coulomb loop's)."""
 
 FASTSIM_COST_PER_STEP = 9e-6
-"""Modelled time [s] per step along the strips (one vector operation over the ny strips;
-``benchmarks/calibrate_elliptic_levels.py``)."""
+"""Calibrated time [s] per step along the strips (one vector operation over the ny strips;
+``benchmarks/calibrate_elliptic_levels.py``); the modelled cost is :func:`~.common.modelled_cost` of the grid's."""
 
 
 class FastsimAccuracy(AccuracyModel):
@@ -275,14 +276,15 @@ class FastsimAccuracy(AccuracyModel):
     (:func:`~.common.falling_drop`); cost per step along x (:data:`FASTSIM_FALLING_COST_FACTOR` times it with
     velocity-dependent friction)."""
 
-    floor = 10 * FASTSIM_COST_PER_STEP
+    floor = modelled_cost(10 * FASTSIM_COST_PER_STEP)
 
     def ladder(self, scene):
         return ({"nx": 20, "ny": 20}, {"nx": 40, "ny": 40}, {"nx": 100, "ny": 100})
 
     def cost(self, scene, options):
         factor = 1.0 if scene.friction.is_constant else FASTSIM_FALLING_COST_FACTOR
-        return factor * FASTSIM_COST_PER_STEP * options.get("nx", 40) * (1.0 + options.get("ny", 40) / 400.0)
+        return modelled_cost(factor * FASTSIM_COST_PER_STEP * options.get("nx", 40)
+                             * (1.0 + options.get("ny", 40) / 400.0))
 
     def error(self, scene, options):
         if scene.normal_load == 0.0:

@@ -9,7 +9,14 @@ accuracy model says.
 from __future__ import annotations
 
 from rollcontact.core.method import AccuracyModel, MethodSpec, Setting
-from rollcontact.elliptic.methods.common import coefficients, linear_forces, linear_ratio, no_load, outside_table
+from rollcontact.elliptic.methods.common import (
+    coefficients,
+    linear_forces,
+    linear_ratio,
+    modelled_cost,
+    no_load,
+    outside_table,
+)
 from rollcontact.elliptic.result import EllipticResult
 
 TABLE_ERROR = 0.01
@@ -28,7 +35,8 @@ moment bounds its error over a/b 0.2..5 against the discretised 3D solver (``ben
 reference forces in ``benchmarks/results/bench_elliptic.json``: the largest error/estimate is 0.69)."""
 
 LINEAR_COST = 6e-6
-"""Modelled time of one solve [s] (``benchmarks/calibrate_elliptic_levels.py``, results/elliptic_levels.md)."""
+"""Calibrated time of one solve [s] (``benchmarks/calibrate_elliptic_levels.py``, results/elliptic_levels.md); the
+modelled cost of the linear and saturated levels is :func:`~.common.modelled_cost` of it."""
 
 
 def solve_linear(scene, **options) -> EllipticResult:
@@ -69,13 +77,13 @@ class LinearAccuracy(AccuracyModel):
     ``tau_M = G c^2 (C33 c |phi| + C23 |eta|) / (mu Fn)`` (of mu Fn c) saturates at :data:`MOMENT_SATURATION`
     instead of 1: ``M(tau_M) = m (1 - (1 - tau_M/(3 m))^3)``.  The larger of the two."""
 
-    floor = LINEAR_COST
+    floor = modelled_cost(LINEAR_COST)
 
     def ladder(self, scene):
         return ({},)
 
     def cost(self, scene, options):
-        return LINEAR_COST
+        return modelled_cost(LINEAR_COST)
 
     def error(self, scene, options):
         if scene.normal_load == 0.0:
@@ -84,7 +92,7 @@ class LinearAccuracy(AccuracyModel):
         return max(excess(linear_ratio(scene, c), 1.0), excess(moment_ratio(scene, c), MOMENT_SATURATION))
 
     def setting_for(self, name, scene, tolerance):
-        return Setting(name, {}, self.error(scene, {}), LINEAR_COST)
+        return Setting(name, {}, self.error(scene, {}), modelled_cost(LINEAR_COST))
 
 
 def excess(tau: float, limit: float) -> float:

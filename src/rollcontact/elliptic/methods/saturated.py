@@ -21,7 +21,14 @@ import math
 from scipy.special import ellipe
 
 from rollcontact.core.method import AccuracyModel, MethodSpec, Setting
-from rollcontact.elliptic.methods.common import coefficients, linear_forces, linear_ratio, no_load, outside_table
+from rollcontact.elliptic.methods.common import (
+    coefficients,
+    linear_forces,
+    linear_ratio,
+    modelled_cost,
+    no_load,
+    outside_table,
+)
 from rollcontact.elliptic.methods.linear import LINEAR_COST, TABLE_ERROR
 from rollcontact.elliptic.result import EllipticResult
 
@@ -98,13 +105,13 @@ class SaturatedAccuracy(AccuracyModel):
     linear_ratio`), and ``s = min(G c^3 C33 |phi| / (mu Fn), 1)``, the spin's linear moment over mu Fn c: exact as
     the creepages vanish, the creepages' error growing into saturation, the spin's from its onset."""
 
-    floor = LINEAR_COST
+    floor = modelled_cost(LINEAR_COST)
 
     def ladder(self, scene):
         return ({},)
 
     def cost(self, scene, options):
-        return LINEAR_COST
+        return modelled_cost(LINEAR_COST)
 
     def error(self, scene, options):
         if scene.normal_load == 0.0:
@@ -117,7 +124,7 @@ class SaturatedAccuracy(AccuracyModel):
         return TABLE_ERROR * t + SATURATED_MARGIN[0] * t * t + SATURATED_MARGIN[1] * s
 
     def setting_for(self, name, scene, tolerance):
-        return Setting(name, {}, self.error(scene, {}), LINEAR_COST)
+        return Setting(name, {}, self.error(scene, {}), modelled_cost(LINEAR_COST))
 
 
 METHOD = MethodSpec("saturated", solve_saturated, inapplicable, rank=25, accuracy=SaturatedAccuracy())

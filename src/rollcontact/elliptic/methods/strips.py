@@ -93,6 +93,7 @@ from rollcontact.elliptic.methods.common import (
     friction_kernel,
     linear_ratio,
     march,
+    modelled_cost,
     no_load,
     outside_table,
     poisson_excess,
@@ -778,8 +779,8 @@ dropping the stick zones at ``v = 1`` jumps there by several hundredths of mu Fn
 STRIPS_COST = 1.2e-4
 STRIPS_COST_PER_CELL = 2.5e-6
 STRIPS_FALLING_COST_PER_STRIP = 5e-4
-"""Modelled times [s]: the closed form, each cell of a march, each strip's 2D polynomial solve
-(``benchmarks/calibrate_elliptic_levels.py``)."""
+"""Calibrated times [s]: the closed form, each cell of a march, each strip's 2D polynomial solve
+(``benchmarks/calibrate_elliptic_levels.py``); the modelled cost is :func:`~.common.modelled_cost` of their sum."""
 
 STRIPS_FALLING_COST_FACTOR = 3.0
 """The falling-friction march's time over the Coulomb strips' with a march [1] (the march and each cell's slip, twice
@@ -802,12 +803,17 @@ class StripsAccuracy(AccuracyModel):
     for a lateral traction that is not yet saturated, about 0.07 tau at most), plus 1 % of tau for the coefficients.
     Cost: closed form, march or 2D solves."""
 
-    floor = STRIPS_COST
+    floor = modelled_cost(STRIPS_COST)
 
     def ladder(self, scene):
         return ({},)
 
     def cost(self, scene, options):
+        return modelled_cost(self.calibrated(scene, options))
+
+    @staticmethod
+    def calibrated(scene, options) -> float:
+        """The solve's calibrated time [s] (before :func:`~.common.modelled_cost`)."""
         if not scene.friction.is_constant:
             if options.get("falling", "march") == "polynomial":
                 return STRIPS_FALLING_COST_PER_STRIP * options.get("strips", DEFAULT_STRIPS)
