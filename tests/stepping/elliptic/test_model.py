@@ -440,3 +440,32 @@ def test_an_overflow_is_named_by_its_words_not_an_errno_tuple(method):
     assert "(34, " not in message and "Numerical result out of range" in message, message
     assert "normal_load = 50000.0 N" in message, message
     assert method == 0 or "youngs_modulus = 1e-300 Pa" in message, message
+
+
+@pytest.mark.parametrize(("jacobian", "budget"), [(0, 0.01), (1, 0.01), (1, 0.02)])
+def test_contacts_chosen_together_are_one_batch_within_the_budget(jacobian, budget, monkeypatch):
+    """auto with a tolerance, 8 contacts, a falling law with spin: the contacts whose choice is the strips are solved
+    in one batch, and no contact's modelled work, the difference Jacobian's solves included, exceeds step_budget
+    (0.01 s pays the strips' solve once, not four times: the difference Jacobian's choice is then another level)."""
+    import rollcontact.stepping.elliptic.model as model_module
+
+    batches = []
+    original = model_module.solve_strips_many
+
+    def counted(scenes, **options):
+        batches.append(len(scenes))
+        return original(scenes, **options)
+
+    monkeypatch.setattr(model_module, "solve_strips_many", counted)
+    n = 8
+    model = EllipticModel(EllipticParameters(method=0, jacobian=jacobian, tolerance=0.1, step_budget=budget,
+                                             friction_law=2, curvature_longitudinal=(1.087,) * n,
+                                             curvature_lateral=(1.667,) * n))
+    outputs = model.step(0.0, H, [(5e4, 1e-3, 5e-4, 0.3, 10.0)] * n)
+    strips = sum(o.method_used == level_code("strips") for o in outputs)
+    assert 0.0 < model.last_modelled_cost <= budget, \
+        f"a contact's work is modelled at {model.last_modelled_cost:.3g} s, over step_budget {budget} s"
+    assert model.last_work <= n * budget, f"the step's work {model.last_work:.3g} s exceeds {n} budgets"
+    assert batches == ([strips * (4 if jacobian else 1)] if strips else []), \
+        f"one batch of the {strips} strips contacts' scenes, got {batches}"
+    assert strips == (0 if budget == 0.01 and jacobian else n), [o.method_used for o in outputs]

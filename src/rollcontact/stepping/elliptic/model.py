@@ -494,10 +494,10 @@ class EllipticModel(SteppingModel):
 
     def chosen_together(self, rows) -> tuple[EllipticOutputs, ...]:
         """With a tolerance: each loaded contact's setting as :func:`rollcontact.solve_elliptic` chooses it with the
-        parameters' tolerance and budget (the cheapest that meets the tolerance within the budget); the contacts
-        whose choice is the built-in strips or linear theory with their defaults are solved together
-        (:meth:`strips_step`, :class:`~rollcontact.stepping.elliptic.linear.LinearContacts`), the others one by one
-        (:meth:`contact_step`), each bit for bit its own solve (neither level escalates or falls back: the strips'
+        parameters' tolerance and budget (the cheapest that meets the tolerance within :meth:`solve_budget`); the
+        contacts whose choice is the built-in strips or linear theory with their defaults are solved together, the
+        strips in one batch (:meth:`strips_step`, :class:`~rollcontact.stepping.elliptic.linear.LinearContacts`), the
+        others one by one (:meth:`contact_step`), each bit for bit its own solve (neither level escalates or falls back: the strips'
         and the linear theory's ladders hold one setting, and their estimates stay below
         :data:`~rollcontact.core.method.UNRESOLVED`).  A tolerance the choice does not meet is said once per contact,
         as the contact's own solve says it."""
@@ -507,9 +507,10 @@ class EllipticModel(SteppingModel):
             if row[0] == 0.0:
                 continue
             scene = self.scene(k, *row)
+            budget = self.solve_budget()
             try:
                 setting = ELLIPTIC_DISPATCHER.cheapest_setting(scene, self.tolerance, names,
-                                                               None if self.budget is None else Budget(self.budget))
+                                                               None if budget is None else Budget(budget))
             except ValueError:  # the contact's own solve says why
                 continue
             spec = ELLIPTIC_METHODS.get(setting.method)
@@ -521,8 +522,8 @@ class EllipticModel(SteppingModel):
         linear = [k for k, (setting, _) in chosen.items() if setting.method == "linear"]
         together = {}
         if strips:
-            together.update(zip(strips, (self.strips_step(rows, strips, [chosen[k][1] for k in strips])[k]
-                                         for k in strips), strict=True))
+            batch = self.strips_step(rows, strips, [chosen[k][1] for k in strips])
+            together.update((k, batch[k]) for k in strips)
         if linear:
             together.update(zip(linear, self.linear_together.step([rows[k] for k in linear], linear), strict=True))
         outputs = []
@@ -617,6 +618,13 @@ class EllipticModel(SteppingModel):
                 (0.0, area * c22, area * length * c23),
                 (0.0, -area * length * c23, area * length * length * c33))
 
+    def solve_budget(self) -> float | None:
+        """The budget [s] within which a contact's solve is chosen: ``step_budget``, a quarter of it with ``jacobian``
+        = difference (the three difference solves at the solve's setting take the rest), None without a budget."""
+        if self.budget is not None and self.parameters.jacobian == 1:
+            return 0.25 * self.budget
+        return self.budget
+
     def solved(self, k: int, scene: EllipticScene, method: str, setting: dict | None = None):
         """:func:`rollcontact.solve_elliptic` of the scene with the parameters' tolerance and budget, or with a fixed
         ``setting`` (the options of an earlier solve: no choice, no budget); ModelError (naming the contact) when it
@@ -624,10 +632,7 @@ class EllipticModel(SteppingModel):
         three difference solves at its setting fit in the rest (:meth:`differences`)."""
         try:
             if setting is None:
-                budget = self.budget
-                if budget is not None and self.parameters.jacobian == 1:
-                    budget = 0.25 * budget
-                result = solve_elliptic(scene, method, tolerance=self.tolerance, budget=budget)
+                result = solve_elliptic(scene, method, tolerance=self.tolerance, budget=self.solve_budget())
             else:
                 result = solve_elliptic(scene, method, **setting)
         except ValueError as exc:
