@@ -1,12 +1,15 @@
 """The wheels around their patch level: a wheel at the strips level carries its vertical load, tangential forces
-included, to the passes' tolerance where its patch is in flange-root contact."""
+included, to the passes' tolerance where its patch is in flange-root contact; a wheel of one patch solved for its
+force at once gives the vertical balance's answer."""
 
 from __future__ import annotations
 
 import pytest
 
 from rollcontact.wheelrail.dispatch import solve
+from rollcontact.wheelrail.methods import strips
 from rollcontact.wheelrail.scene import WheelRailScene
+from rollcontact.wheelrail.wheels import solve_wheels
 
 LOAD_TOLERANCE = 1e-4
 """Relative difference of a wheel's vertical force from its load: the passes stop at 1e-5 of it
@@ -23,3 +26,33 @@ def test_a_wheel_in_flange_root_contact_carries_its_load(track, wheelset, yaw_ra
         error = wheel.force[2] / wheel.vertical_load - 1.0
         assert abs(error) < LOAD_TOLERANCE, \
             f"yaw rate {yaw_rate} rad/s, {wheel.side} wheel: Fz = {wheel.force[2]:.6g} N for {wheel.vertical_load} N"
+
+
+BALANCE_AGREEMENT = 1e-5
+"""Relative difference of the patches' normal forces and force coefficients (over mu N) between a wheel solved for
+its force at once and by the vertical balance, which stops at 1e-6 of the load (``BALANCE_TOLERANCE``)."""
+
+
+@pytest.mark.parametrize("shift", [0.0, 3e-3, 6.5e-3, 9e-3])
+def test_a_wheel_of_one_patch_solved_for_its_force_is_the_balance_answer(track, wheelset, shift):
+    scene = WheelRailScene(track, wheelset, lateral_shift=shift, yaw=2e-4 * shift / 1e-3, vertical_load_left=1e4,
+                           vertical_load_right=1.2e4, forward_speed=2.0, yaw_rate=0.01, friction=0.3)
+    calls = []
+
+    def normal(*arguments):
+        calls.append(arguments[1])
+        return strips.LEVEL.normal(*arguments)
+
+    at_once = solve_wheels(scene, strips.LEVEL._replace(normal=normal))
+    assert not calls, f"the balance iterated on the normal law at approaches {calls}"
+    balanced = solve_wheels(scene, strips.LEVEL._replace(loaded=None))
+    assert at_once.success and balanced.success, (at_once.message, balanced.message)
+    for wheel, reference in zip(at_once.wheels, balanced.wheels, strict=True):
+        assert len(wheel.patches) == len(reference.patches) == 1, f"{wheel.side}: one patch at {shift} m"
+        p, q = wheel.patches[0].result, reference.patches[0].result
+        scale = q.friction_coefficient * q.normal_load
+        for name, a, b in (("N", p.normal_load / q.normal_load, 1.0), ("Fx", p.longitudinal_force / scale,
+                                                                        q.longitudinal_force / scale),
+                           ("Fy", p.lateral_force / scale, q.lateral_force / scale)):
+            assert abs(a - b) < BALANCE_AGREEMENT, f"shift {shift} m, {wheel.side} wheel: {name} {a!r} against {b!r}"
+        assert abs(wheel.force[2] / wheel.vertical_load - 1.0) < LOAD_TOLERANCE, f"{wheel.side}: Fz {wheel.force[2]}"

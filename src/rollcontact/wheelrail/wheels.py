@@ -14,7 +14,8 @@ For each wheel, at the scene's pose (:attr:`WheelRailScene.contacts`):
    solved from Hertz's displacement by the power-law update ``d <- g + (d - g) (Q / Q(d))^(1/m)`` (g the first touch),
    m = 3/2 (Hertz's) at first and then the local power of the last two displacements, so that it is exact for a law
    ``Q ~ (d - g)^m``, which the levels' laws follow closely.  Each call of the level's law on a patch starts from
-   what its previous call on it left (:class:`PatchLevel`).
+   what its previous call on it left (:class:`PatchLevel`).  A wheel of one patch needs no iteration where the level
+   solves for a given force (:attr:`PatchLevel.loaded`): ``N = Q / (cos(delta) + r)``, and d from its approach.
 2. Tangential: each loaded patch's creepages at its rigid contact point from the wheelset's motion
    (:func:`~rollcontact.wheelrail.search.creepages`), the patch level's solve at its approach.
 3. Passes repeat 1 and 2 with the ratios r_i of the previous pass until the wheel's vertical force, tangential
@@ -76,12 +77,18 @@ class PatchLevel(NamedTuple):
         at its approach, ``state`` that of the normal law's last call on the patch.
     accuracy : AccuracyModel or None
         The patch solver's accuracy model.
+    loaded : callable or None
+        ``loaded(gap, force, material, start) -> (approach, state)``: the normal approach [m] at which the patch
+        carries the normal force [N] (None where the level's solution does not converge), and ``state`` as of
+        ``normal``.  A wheel of one patch takes it in place of the vertical balance's iterations on ``normal``; None:
+        the level has no such solve.
     """
 
     name: str
     normal: Callable
     solve: Callable
     accuracy: AccuracyModel | None
+    loaded: Callable | None = None
 
 
 def track_force(point, result: PatchResult) -> tuple[float, float, float]:
@@ -134,6 +141,25 @@ def balance(items, load: float, start: float, law) -> tuple[float, list[float], 
                                    f"{q!r} N for {load!r} N")
 
 
+def loaded(items, load: float, level: PatchLevel, contact, material, states):
+    """The displacement d, the approach and the normal force of a wheel of one patch, ``items`` as of
+    :func:`balance`, from the level's solve for a given force (:attr:`PatchLevel.loaded`): the balance
+    ``N (cos + r) = load`` gives ``N`` at once, and ``d = g + approach / cos`` (g the first touch); ``states`` takes the solve's state.
+    ``(None, None, None)`` where the level has no such solve, the wheel has several patches, ``cos + r <= 0`` or the
+    solve does not converge (the balance then finds d)."""
+    if level.loaded is None or len(items) != 1:
+        return None, None, None
+    touch, cosine, ratio, key = items[0]
+    if not cosine + ratio > 0.0:
+        return None, None, None
+    force = load / (cosine + ratio)
+    approach, state = level.loaded(contact.patches[key].gap, force, material, states[key])
+    if approach is None:
+        return None, None, None
+    states[key] = state
+    return touch + approach / cosine, [approach], [force]
+
+
 def solve_wheels(scene: WheelRailScene, level: PatchLevel, **options) -> WheelRailResult:
     """Both wheels of the scene with the patch level ``level`` (module docstring); ``options`` go to its solve."""
     wheels, failures, estimates = [], [], []
@@ -168,7 +194,10 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
     for _ in range(PASSES):
         items = [(point.vertical_gap, math.cos(point.contact_angle), r, k)
                  for k, (point, r) in enumerate(zip(references, ratios, strict=True))]
-        d, approaches, forces, why = balance(items, load, start, law)
+        d, approaches, forces = loaded(items, load, level, contact, material, states)
+        why = None
+        if d is None:
+            d, approaches, forces, why = balance(items, load, start, law)
         if why is not None:
             return (WheelResult(side, (), load, d, (math.nan,) * 3, f"{side} wheel: {why}"),
                     [f"{side} wheel: {why}"], math.nan)

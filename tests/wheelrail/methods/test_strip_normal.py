@@ -1,7 +1,7 @@
 """The strips' normal problem against Hertz on quadratic gaps (a, b, p0 and Fn at a given approach converge with the
 strips; tolerances measured at the default 24 strips and stated per quantity), its identities (load balance, the
 given-load and given-approach entry points inverse to each other, mirror symmetry, a start from a nearby solution
-giving the same solution) and general gaps: two separate interpenetration intervals, a curvature along x that varies
+giving the same solution, one at the same approach returned as it is) and general gaps: two separate interpenetration intervals, a curvature along x that varies
 across the patch, a gap sampled too narrowly, and the normal force of the Manchester wheel's flange patch continuous
 and increasing in the approach."""
 
@@ -157,3 +157,5 @@ def test_a_start_nearby_gives_the_same_solution(make):
     assert math.isclose(resumed.approach, fresh.approach, rel_tol=1e-6), \
         f"approach {resumed.approach!r} m from the start, {fresh.approach!r} m afresh"
     assert len(resumed.newton_steps) <= len(fresh.newton_steps), "the start saves none of Newton's steps"
+    same = strip_normal(gap, ESTAR, approach=resumed.approach, start=resumed)
+    assert same is resumed, "a start at the same approach is the solution, returned as it is"

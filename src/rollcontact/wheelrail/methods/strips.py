@@ -222,7 +222,15 @@ def strips_normal_force(gap, approach: float, material, start: StripContact | No
     return contact.normal_load, contact
 
 
-LEVEL = PatchLevel("strips", strips_normal_force, solve_strips, PatchStripsAccuracy())
+def strips_loaded_approach(gap, force: float, material, start: StripContact | None = None):
+    """``(approach, contact)``: the strips' normal approach [m] of a patch carrying the normal force [N] (None where
+    they do not converge) and their solution, from ``start`` (the solution of a previous call on the same gap) (the
+    wheel level's solve for a given force)."""
+    contact = strip_normal(gap, material.contact_modulus, normal_load=force, start=start)
+    return (contact.approach if contact.converged else None), contact
+
+
+LEVEL = PatchLevel("strips", strips_normal_force, solve_strips, PatchStripsAccuracy(), strips_loaded_approach)
 """The strips as a patch level of the wheels (:mod:`rollcontact.wheelrail.wheels`)."""
 
 METHOD = wheel_method(LEVEL, rank=10)
