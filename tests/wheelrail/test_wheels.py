@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from rollcontact.wheelrail.dispatch import solve
-from rollcontact.wheelrail.methods import strips
+from rollcontact.wheelrail.methods import discretised, strips
 from rollcontact.wheelrail.scene import WheelRailScene
 from rollcontact.wheelrail.wheels import solve_wheels
 
@@ -30,22 +30,24 @@ def test_a_wheel_in_flange_root_contact_carries_its_load(track, wheelset, yaw_ra
 
 BALANCE_AGREEMENT = 1e-5
 """Relative difference of the patches' normal forces and force coefficients (over mu N) between a wheel solved for
-its force at once and by the vertical balance, which stops at 1e-6 of the load (``BALANCE_TOLERANCE``)."""
+its force at once and by the vertical balance, which stops at 1e-6 of the load (``BALANCE_TOLERANCE``), at the strips
+and the discretised level."""
 
 
-@pytest.mark.parametrize("shift", [0.0, 3e-3, 6.5e-3, 9e-3])
-def test_a_wheel_of_one_patch_solved_for_its_force_is_the_balance_answer(track, wheelset, shift):
+@pytest.mark.parametrize(("level", "shift"), [(strips.LEVEL, s) for s in (0.0, 3e-3, 6.5e-3, 9e-3)]
+                         + [(discretised.LEVEL, s) for s in (0.0, 6.5e-3)], ids=lambda v: getattr(v, "name", v))
+def test_a_wheel_of_one_patch_solved_for_its_force_is_the_balance_answer(track, wheelset, level, shift):
     scene = WheelRailScene(track, wheelset, lateral_shift=shift, yaw=2e-4 * shift / 1e-3, vertical_load_left=1e4,
                            vertical_load_right=1.2e4, forward_speed=2.0, yaw_rate=0.01, friction=0.3)
     calls = []
 
     def normal(*arguments):
         calls.append(arguments[1])
-        return strips.LEVEL.normal(*arguments)
+        return level.normal(*arguments)
 
-    at_once = solve_wheels(scene, strips.LEVEL._replace(normal=normal))
+    at_once = solve_wheels(scene, level._replace(normal=normal))
     assert not calls, f"the balance iterated on the normal law at approaches {calls}"
-    balanced = solve_wheels(scene, strips.LEVEL._replace(loaded=None))
+    balanced = solve_wheels(scene, level._replace(loaded=None))
     assert at_once.success and balanced.success, (at_once.message, balanced.message)
     for wheel, reference in zip(at_once.wheels, balanced.wheels, strict=True):
         assert len(wheel.patches) == len(reference.patches) == 1, f"{wheel.side}: one patch at {shift} m"

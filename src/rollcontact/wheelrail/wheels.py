@@ -17,7 +17,8 @@ For each wheel, at the scene's pose (:attr:`WheelRailScene.contacts`):
    what its previous call on it left (:class:`PatchLevel`).  A wheel of one patch needs no iteration where the level
    solves for a given force (:attr:`PatchLevel.loaded`): ``N = Q / (cos(delta) + r)``, and d from its approach.
 2. Tangential: each loaded patch's creepages at its rigid contact point from the wheelset's motion
-   (:func:`~rollcontact.wheelrail.search.creepages`), the patch level's solve at its approach.
+   (:func:`~rollcontact.wheelrail.search.creepages`), the patch level's solve at its approach (at its normal force
+   where it was solved for it).
 3. Passes repeat 1 and 2 with the ratios r_i of the previous pass until the wheel's vertical force, tangential
    forces included, is within :data:`LOAD_TOLERANCE` of Q (at most :data:`PASSES`): one pass where the tangential
    forces carry no share of the load, two or three in flange contact.
@@ -144,9 +145,9 @@ def balance(items, load: float, start: float, law) -> tuple[float, list[float], 
 def loaded(items, load: float, level: PatchLevel, contact, material, states):
     """The displacement d, the approach and the normal force of a wheel of one patch, ``items`` as of
     :func:`balance`, from the level's solve for a given force (:attr:`PatchLevel.loaded`): the balance
-    ``N (cos + r) = load`` gives ``N`` at once, and ``d = g + approach / cos`` (g the first touch); ``states`` takes the solve's state.
-    ``(None, None, None)`` where the level has no such solve, the wheel has several patches, ``cos + r <= 0`` or the
-    solve does not converge (the balance then finds d)."""
+    ``N (cos + r) = load`` gives ``N`` at once, and ``d = g + approach / cos`` (g the first touch); ``states`` takes
+    the solve's state.  ``(None, None, None)`` where the level has no such solve, the wheel has several patches,
+    ``cos + r <= 0`` or the solve does not converge (the balance then finds d)."""
     if level.loaded is None or len(items) != 1:
         return None, None, None
     touch, cosine, ratio, key = items[0]
@@ -195,8 +196,8 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
         items = [(point.vertical_gap, math.cos(point.contact_angle), r, k)
                  for k, (point, r) in enumerate(zip(references, ratios, strict=True))]
         d, approaches, forces = loaded(items, load, level, contact, material, states)
-        why = None
-        if d is None:
+        at_force, why = d is not None, None
+        if not at_force:
             d, approaches, forces, why = balance(items, load, start, law)
         if why is not None:
             return (WheelResult(side, (), load, d, (math.nan,) * 3, f"{side} wheel: {why}"),
@@ -206,7 +207,8 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
             if not force > 0.0:
                 continue
             xi, eta, phi = creepages(scene.wheelset, scene.pose, scene.velocities, point)
-            patch_scene = PatchScene(contact.patches[k].gap, approach=approach, longitudinal_creepage=xi,
+            given = {"normal_load": force} if at_force else {"approach": approach}
+            patch_scene = PatchScene(contact.patches[k].gap, **given, longitudinal_creepage=xi,
                                      lateral_creepage=eta, spin_creepage=phi, material=material,
                                      friction=scene.friction, rolling_speed=scene.forward_speed,
                                      name=f"{side} patch {k + 1}")

@@ -1,9 +1,9 @@
 """The strips' normal problem against Hertz on quadratic gaps (a, b, p0 and Fn at a given approach converge with the
 strips; tolerances measured at the default 24 strips and stated per quantity), its identities (load balance, the
 given-load and given-approach entry points inverse to each other, mirror symmetry, a start from a nearby solution
-giving the same solution, one at the same approach returned as it is) and general gaps: two separate interpenetration intervals, a curvature along x that varies
-across the patch, a gap sampled too narrowly, and the normal force of the Manchester wheel's flange patch continuous
-and increasing in the approach."""
+giving the same solution, one at the same approach returned as it is) and general gaps: two separate
+interpenetration intervals, a curvature along x that varies across the patch, a gap sampled too narrowly, and the
+normal force of the Manchester wheel's flange patch continuous and increasing in the approach."""
 
 from __future__ import annotations
 

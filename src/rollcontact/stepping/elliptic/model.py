@@ -497,8 +497,8 @@ class EllipticModel(SteppingModel):
         parameters' tolerance and budget (the cheapest that meets the tolerance within :meth:`solve_budget`); the
         contacts whose choice is the built-in strips or linear theory with their defaults are solved together, the
         strips in one batch (:meth:`strips_step`, :class:`~rollcontact.stepping.elliptic.linear.LinearContacts`), the
-        others one by one (:meth:`contact_step`), each bit for bit its own solve (neither level escalates or falls back: the strips'
-        and the linear theory's ladders hold one setting, and their estimates stay below
+        others one by one (:meth:`contact_step`), each bit for bit its own solve (neither level escalates or falls
+        back: the strips' and the linear theory's ladders hold one setting, and their estimates stay below
         :data:`~rollcontact.core.method.UNRESOLVED`).  A tolerance the choice does not meet is said once per contact,
         as the contact's own solve says it."""
         names = None if self.method == "auto" else (self.method,)

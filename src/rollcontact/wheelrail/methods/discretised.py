@@ -377,7 +377,19 @@ def discretised_normal_force(gap, approach: float, material, start: StripContact
     return float(pressure.sum() * grid.area), guide
 
 
-LEVEL = PatchLevel("discretised", discretised_normal_force, solve_discretised, DiscretisedPatchAccuracy())
+def discretised_loaded_approach(gap, force: float, material, start: StripContact | None = None):
+    """``(approach, guide)``: the discretised normal approach [m] of a patch carrying the normal force [N] (Polonsky
+    & Keer's iteration with the load's constraint; None where it fails) and the strips' solution at that force that
+    sized its grid (from ``start``, the guide of a previous call on the same gap) (the wheel level's solve for a given
+    force: the patch's solve at the same force takes the same guide, hence the same grid)."""
+    scene = PatchScene(gap, normal_load=force, material=material)
+    guide = guide_for(scene, start)
+    _, _, approach, message, _ = normal_problem(scene, automatic_element(guide), None, 1e-10, guide)
+    return (approach if message is None else None), guide
+
+
+LEVEL = PatchLevel("discretised", discretised_normal_force, solve_discretised, DiscretisedPatchAccuracy(),
+                   discretised_loaded_approach)
 """The discretised patch as a patch level of the wheels (:mod:`rollcontact.wheelrail.wheels`)."""
 
 METHOD = wheel_method(LEVEL, rank=100, fallback=True)

@@ -308,8 +308,8 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
         Strips over each lobe (>= 4).
     start : StripContact, optional
         A solution of the same gap with as many strips for Newton's method to start from, its lobes and loads
-        scaled as Hertz's (:func:`_resumed`); where it does not take, the passes start afresh.  At the same approach
-        (or load) it is returned as it is.
+        scaled as Hertz's (:func:`_resumed`); where it does not take, the passes start afresh.  At its own approach
+        (or load), to the tolerance it is solved to, it is returned as it is.
 
     Returns
     -------
@@ -790,7 +790,8 @@ def _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, mess
 def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> StripContact | None:
     """Newton's method from the solution ``start`` (:func:`strip_normal`): its lobes' half-widths scaled by
     ``sqrt(r)``, e by r and the approach by r, ``r = delta / delta_start`` (for a given load ``(Fn / Fn_start)^(2/3)``),
-    as Hertz's contact scales (``start`` itself at r = 1); None where ``start`` has no lobes of ``count`` strips all in contact, where Newton's
+    as Hertz's contact scales (``start`` itself where r is 1 to :data:`FIXED_POINT_TOLERANCE`, the tolerance it is
+    solved to); None where ``start`` has no lobes of ``count`` strips all in contact, where Newton's
     method does not take or where the surfaces interpenetrate outside the lobes (:func:`_penetrating`)."""
     lobes = len(start.lobes)
     if not (start.converged and lobes and start.centres.size == lobes * (count + 1) - 1 and start.approach > 0.0
@@ -802,7 +803,7 @@ def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> Str
     if np.count_nonzero(half <= 0.0):
         return None
     ratio = approach / start.approach if approach is not None else (normal_load / start.normal_load) ** (2.0 / 3.0)
-    if ratio == 1.0:  # the same approach or load: start is the solution
+    if abs(ratio - 1.0) <= FIXED_POINT_TOLERANCE:  # start is solved to this: it is the solution
         return start
     low, high = np.array(start.lobes).T
     unit = _unit_strips(count)
