@@ -15,7 +15,12 @@ from wheelrail_gaps import MU, quadratic, two_wells, varying_curvature
 from rollcontact import ExponentialFalling
 from rollcontact.core.halfspace.rolling import ellipse_grid
 from rollcontact.elliptic.methods.discretised import solve_discretised_3d
-from rollcontact.wheelrail.methods.discretised import normal_at_approach, patch_grid, solve_discretised
+from rollcontact.wheelrail.methods.discretised import (
+    discretised_loaded_approach,
+    normal_at_approach,
+    patch_grid,
+    solve_discretised,
+)
 from rollcontact.wheelrail.methods.strips import solve_strips
 from rollcontact.wheelrail.scene import PatchScene
 
@@ -136,3 +141,29 @@ def test_strips_within_the_fast_goal(make, creepages):
     assert abs(fast.spin_moment - reference.spin_moment) / (scale * reference.c) < 0.05, "Mz"
     assert math.isclose(fast.approach, reference.approach, rel_tol=0.03), "the approach at the load"
     assert math.isclose(fast.max_pressure, reference.max_pressure, rel_tol=0.15), "the peak pressure"
+
+
+def test_a_carried_normal_solution_is_taken_at_its_force_and_only_its_guide_at_another(monkeypatch):
+    """The normal problem a wheel's given-force solve found (CarriedNormal) is taken by the solve at that force, not
+    solved again, with the same bits; at another force only its guide is taken, and the answer is that force's."""
+    import rollcontact.wheelrail.methods.discretised as module
+
+    gap, _ = quadratic(0.5, c=4e-3)
+    scene = patch_scene(gap, 1e-3, -5e-4, 0.2)
+    approach, carried = discretised_loaded_approach(gap, scene.normal_load, scene.material)
+    assert approach is not None and carried.force == scene.normal_load
+    again = solve_discretised(scene)
+    calls = []
+    solved = module.normal_problem
+    monkeypatch.setattr(module, "normal_problem", lambda *a, **k: calls.append(a) or solved(*a, **k))
+    reused = solve_discretised(scene, start=carried)
+    assert not calls, "the carried normal problem was solved again"
+    assert reused.success, reused.message
+    assert reused.info["normal_iterations"] == again.info["normal_iterations"]
+    for name in ("normal_load", "approach", "max_pressure", "longitudinal_force", "lateral_force", "spin_moment"):
+        assert getattr(reused, name) == getattr(again, name), f"{name}: {getattr(reused, name)!r} reused, " \
+                                                              f"{getattr(again, name)!r} solved again"
+    other = scene.replace(normal_load=1.2 * scene.normal_load)
+    moved = solve_discretised(other, start=carried)
+    assert math.isclose(moved.normal_load, other.normal_load, rel_tol=1e-9), \
+        f"another force is solved for: {moved.normal_load!r} N for {other.normal_load!r} N"

@@ -20,6 +20,7 @@ Forces converge at first order in the element size (docs/physics.md, "Discretise
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -38,7 +39,7 @@ from rollcontact.wheelrail.result import PatchResult
 from rollcontact.wheelrail.scene import PatchScene
 from rollcontact.wheelrail.wheels import PatchLevel, wheel_method
 
-__all__ = ["DiscretisedPatchAccuracy", "normal_at_approach", "solve_discretised"]
+__all__ = ["CarriedNormal", "DiscretisedPatchAccuracy", "normal_at_approach", "solve_discretised"]
 
 DEFAULT_ELEMENT = 0.2e-3
 """Element size [m] (square elements)."""
@@ -205,11 +206,11 @@ def trimmed(grid: SurfaceGrid, contact: np.ndarray) -> tuple[SurfaceGrid, tuple[
 
 
 def solve_on_grid(scene: PatchScene, element: float, grid: SurfaceGrid | None, iteration_tolerance: float,
-                  max_iterations: int, normal_tolerance: float, guide=None):
-    """One level: the normal problem, then the steady tangential problem on the trimmed grid.  Returns a dict of
-    what the result needs."""
-    current, pressure, approach, message, normal_iterations = normal_problem(scene, element, grid, normal_tolerance,
-                                                                             guide)
+                  max_iterations: int, normal_tolerance: float, guide=None, normal=None):
+    """One level: the normal problem (``normal``: :func:`normal_problem`'s answer, already at hand), then the steady
+    tangential problem on the trimmed grid.  Returns a dict of what the result needs."""
+    current, pressure, approach, message, normal_iterations = normal if normal is not None else \
+        normal_problem(scene, element, grid, normal_tolerance, guide)
     if current is None:
         return {"failure": message}
     contact = pressure > 0.0
@@ -234,10 +235,33 @@ def solve_on_grid(scene: PatchScene, element: float, grid: SurfaceGrid | None, i
             "elements": (current.nx, current.ny), "contact_elements": int(in_contact.sum())}
 
 
+class CarriedNormal(NamedTuple):
+    """The normal problem of a patch solved for a given force (:func:`discretised_loaded_approach`), which the
+    patch's solve at that force takes instead of solving it again.
+
+    Attributes
+    ----------
+    guide : StripContact
+        The strips' solution at the force, which sized the grid.
+    force : float
+        The normal force [N].
+    normal : tuple
+        :func:`normal_problem`'s answer at the default element: ``(grid, pressure, approach, message, iterations)``.
+    """
+
+    guide: StripContact
+    force: float
+    normal: tuple
+
+
+NORMAL_TOLERANCE = 1e-10
+"""The conjugate gradients' default tolerance on the change of the pressure."""
+
+
 def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: SurfaceGrid | None = None,
                       extrapolate: bool = False, fields: bool = False, iteration_tolerance: float = 1e-8,
-                      max_iterations: int = NEWTON_ITERATIONS, normal_tolerance: float = 1e-10,
-                      start: StripContact | None = None) -> PatchResult:
+                      max_iterations: int = NEWTON_ITERATIONS, normal_tolerance: float = NORMAL_TOLERANCE,
+                      start: StripContact | CarriedNormal | None = None) -> PatchResult:
     """Normal and tangential contact of a patch on the discretised half-space (module docstring).
 
     Parameters
@@ -261,9 +285,11 @@ def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: 
         Newton's cap; a solve that does not converge returns ``success`` False with the reason.
     normal_tolerance : float
         The conjugate gradients' tolerance on the change of the pressure.
-    start : StripContact, optional
+    start : StripContact or CarriedNormal, optional
         The strips' normal solution of the same gap nearby, for the strips' solution that sizes the grid to start
-        from (:func:`guide_for`).
+        from (:func:`guide_for`); or the normal problem of the scene's own gap and normal load, solved already at
+        the default element and tolerance (:class:`CarriedNormal`), which the solve takes (with ``element``,
+        ``grid`` or ``normal_tolerance`` given, or another load, only its guide).
 
     Returns
     -------
@@ -274,6 +300,12 @@ def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: 
     """
     if extrapolate and grid is not None:
         raise ValueError("extrapolate takes the grids from element, not from grid")
+    carried = None
+    if isinstance(start, CarriedNormal):
+        if element is None and grid is None and normal_tolerance == NORMAL_TOLERANCE and \
+                scene.normal_load == start.force:
+            carried = start.normal
+        start = start.guide
     guide = guide_for(scene, start) if grid is None else None
     element = automatic_element(guide) if element is None and guide is not None else \
         DEFAULT_ELEMENT if element is None else float(element)
@@ -281,7 +313,7 @@ def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: 
         raise ValueError(f"element = {element!r} m must be finite and > 0")
     xi, eta, phi = scene.creepages
     mu = scene.friction_coefficient
-    fine = solve_on_grid(scene, element, grid, iteration_tolerance, max_iterations, normal_tolerance, guide)
+    fine = solve_on_grid(scene, element, grid, iteration_tolerance, max_iterations, normal_tolerance, guide, carried)
     if fine["failure"] is not None:
         return PatchResult("discretised", False, fine["failure"], math.nan, math.nan, math.nan, math.nan, math.nan,
                            math.nan, math.nan, math.nan, xi, eta, phi, mu, math.nan)
@@ -365,27 +397,27 @@ class DiscretisedPatchAccuracy(AccuracyModel):
                 "pressure_error_estimate": PRESSURE_PER_ELEMENT / across}
 
 
-def discretised_normal_force(gap, approach: float, material, start: StripContact | None = None):
+def discretised_normal_force(gap, approach: float, material, start: StripContact | CarriedNormal | None = None):
     """``(N, guide)``: the discretised normal force [N] of a patch at the normal approach [m] and the strips' solution
-    that sized its grid (from ``start``, the guide of a previous call on the same gap) (the wheel level's normal
-    law)."""
+    that sized its grid (from ``start``, the guide of a previous call on the same gap, or that of a
+    :class:`CarriedNormal`) (the wheel level's normal law)."""
     scene = PatchScene(gap, approach=approach, material=material)
-    guide = guide_for(scene, start)
-    grid, pressure, _, message, _ = normal_problem(scene, automatic_element(guide), None, 1e-10, guide)
+    guide = guide_for(scene, start.guide if isinstance(start, CarriedNormal) else start)
+    grid, pressure, _, message, _ = normal_problem(scene, automatic_element(guide), None, NORMAL_TOLERANCE, guide)
     if message is not None:
         raise ArithmeticError(f"the discretised normal problem at approach {approach!r} m failed: {message}")
     return float(pressure.sum() * grid.area), guide
 
 
-def discretised_loaded_approach(gap, force: float, material, start: StripContact | None = None):
-    """``(approach, guide)``: the discretised normal approach [m] of a patch carrying the normal force [N] (Polonsky
-    & Keer's iteration with the load's constraint; None where it fails) and the strips' solution at that force that
-    sized its grid (from ``start``, the guide of a previous call on the same gap) (the wheel level's solve for a given
-    force: the patch's solve at the same force takes the same guide, hence the same grid)."""
+def discretised_loaded_approach(gap, force: float, material, start: StripContact | CarriedNormal | None = None):
+    """``(approach, carried)``: the discretised normal approach [m] of a patch carrying the normal force [N]
+    (Polonsky & Keer's iteration with the load's constraint; None where it fails) and the :class:`CarriedNormal` of
+    it, which the patch's solve at that force takes (the guide from ``start``, a previous call's on the same gap)
+    (the wheel level's solve for a given force)."""
     scene = PatchScene(gap, normal_load=force, material=material)
-    guide = guide_for(scene, start)
-    _, _, approach, message, _ = normal_problem(scene, automatic_element(guide), None, 1e-10, guide)
-    return (approach if message is None else None), guide
+    guide = guide_for(scene, start.guide if isinstance(start, CarriedNormal) else start)
+    normal = normal_problem(scene, automatic_element(guide), None, NORMAL_TOLERANCE, guide)
+    return (normal[2] if normal[3] is None else None), CarriedNormal(guide, force, normal)
 
 
 LEVEL = PatchLevel("discretised", discretised_normal_force, solve_discretised, DiscretisedPatchAccuracy(),
