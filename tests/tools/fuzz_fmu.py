@@ -1,6 +1,7 @@
-"""Fuzz of the contact FMUs through fmpy, seeded and repeatable: RollingContact2D, RollingContact3D, RollingContact3D_8.
+"""Fuzz of the contact FMUs through fmpy, seeded and repeatable: RollingContact2D, RollingContact3D, RollingContact3D_8,
+WheelsetContact.
 
-The targets: RollingContact2D (FMI 2.0), RollingContact3D and RollingContact3D_8 (FMI 2.0 and 3.0).
+The targets: RollingContact2D (FMI 2.0), RollingContact3D, RollingContact3D_8 and WheelsetContact (FMI 2.0 and 3.0).
 
 Usage::
 
@@ -9,9 +10,10 @@ Usage::
     python tests/tools/fuzz_fmu.py --target RollingContact3D_8/3 --episode 17   # replay one episode
 
 Without ``--fmu`` the FMUs are built by ``build_fmu.py --dest <tmp>`` (``--fmi 2,3 --only RollingContact3D``,
-``--fmi 2,3 --contacts 8`` and the default RollingContact2D); each ``--fmu`` file is one target, named after its
-model and FMI version (``RollingContact3D_8/3``).  ``benchmarks/fuzz_campaign.py`` runs the long campaign and writes
-``benchmarks/results/fuzz.md``.  The exit status is 1 when there is a finding.
+``--fmi 2,3 --contacts 8``, ``--fmi 2,3 --only WheelsetContact`` and the default RollingContact2D); each ``--fmu``
+file is one target, named after its model and FMI version (``RollingContact3D_8/3``).
+``benchmarks/fuzz_campaign.py`` runs the long campaign and writes ``benchmarks/results/fuzz.md``.  The exit status is
+1 when there is a finding.
 
 An episode is a function of the seed, its target and its index alone (``numpy.random.default_rng([seed, target,
 episode])``; no clock decides anything): instantiate, set random parameters (mostly valid; extreme: 0, tiny, huge,
@@ -26,14 +28,21 @@ episode's first step bit for bit).  After the episodes, instantiate/free cycles 
 
 3D parameters range over every ``method`` level (auto, linear, FASTSIM, strips, discretised, saturated), both
 ``jacobian`` modes, the five friction laws and the rail conditions, tolerances and step budgets (0: none).
+WheelsetContact's over its levels (auto, hertz with every elliptic level, strips, discretised), the geometry table on
+and off, both ``jacobian`` modes, the friction laws, the track and wheelset at the ends of their ranges and profile
+files that are none (missing, a folder, /dev/zero, a rail for a wheel, an empty file); its inputs over the tread and
+the flange, beyond the table and the profiles, lifted wheels, yaw, speeds and loads from zero to 1e12.
 
 Findings (each a row of the report):
 
 * ``fatal``: a call answered with Error or Fatal (an exception reached pythonfmu), the worker dying or hanging;
 * ``non-finite``: a step answered OK with a non-finite output;
 * ``friction``: an OK step whose tangential force exceeds mu Fn (1 + 1e-9), mu the law's largest value (the linear
-  level, which has no friction limit, apart);
-* ``unloaded``: an OK step whose unloaded contact has an output other than 0;
+  level, which has no friction limit, apart); WheelsetContact: a wheel's force beyond ``sqrt(1 + mu^2) N``;
+* ``unloaded``: an OK step whose unloaded contact has an output other than 0 (WheelsetContact: a lifted wheel's
+  forces, or a loaded wheel without a patch);
+* ``load``, ``sum`` (WheelsetContact): a loaded wheel whose vertical force misses its load by more than 1 %; a
+  wheelset force that is not the wheels' sum;
 * ``level``: an OK step of a named level answered by another;
 * ``message``: a refusal (a message of status Discard or Error) that names no value or cause: Python's own error text
   without a variable and its value, a bare errno, "no registered method can solve" without the methods' reasons, an
@@ -87,10 +96,12 @@ TARGETS = (
     "RollingContact3D/3",
     "RollingContact3D_8/2",
     "RollingContact3D_8/3",
+    "WheelsetContact/2",
+    "WheelsetContact/3",
 )
 """The targets of a campaign, model/FMI version, in the order the episodes' seeds number them."""
-CAMPAIGN = {"RollingContact2D": 100, "RollingContact3D": 130, "RollingContact3D_8": 130}
-QUICK = {"RollingContact2D": 16, "RollingContact3D": 5, "RollingContact3D_8": 4}
+CAMPAIGN = {"RollingContact2D": 100, "RollingContact3D": 130, "RollingContact3D_8": 130, "WheelsetContact": 100}
+QUICK = {"RollingContact2D": 16, "RollingContact3D": 5, "RollingContact3D_8": 4, "WheelsetContact": 3}
 """Episodes per target of a campaign and of ``--quick``."""
 FRICTION_TOLERANCE = 1e-9
 """Relative excess of |F| over mu Fn that counts as a finding (rounding of the sums over a level's elements)."""
@@ -730,6 +741,290 @@ class Profile3D:
         return min(steps, 6) if parameters.get("step_budget") == 0.0 else steps
 
 
+WHEEL_OUTPUTS = (
+    "normal_force",
+    "longitudinal_force",
+    "lateral_force",
+    "vertical_force",
+    "contact_angle",
+    "rolling_radius",
+    "patches",
+    "frictional_power",
+)
+"""WheelsetContact's outputs of each wheel, ``<name>_left`` and ``<name>_right``."""
+
+
+class ProfileWheelset:
+    """What the fuzz draws and checks for WheelsetContact: the wheelset's pose, velocities and wheel loads on the
+    profiles carried in its resources (or others, or files that are no profiles), every level, the geometry table on
+    and off."""
+
+    inputs = (
+        "lateral_shift",
+        "yaw",
+        "lateral_velocity",
+        "yaw_rate",
+        "forward_speed",
+        "pitch_rate",
+        "vertical_load_left",
+        "vertical_load_right",
+    )
+    outputs = (
+        "force_x",
+        "force_y",
+        "force_z",
+        "moment_roll",
+        "moment_pitch",
+        "moment_yaw",
+        *(f"{name}_{side}" for side in ("left", "right") for name in WHEEL_OUTPUTS),
+        "roll",
+        "vertical_position",
+        "dforce_y_dlateral_shift",
+        "dforce_y_dyaw",
+        "dforce_y_dlateral_velocity",
+        "dforce_y_dyaw_rate",
+        "dmoment_yaw_dlateral_shift",
+        "dmoment_yaw_dyaw",
+        "dmoment_yaw_dlateral_velocity",
+        "dmoment_yaw_dyaw_rate",
+        "method_used",
+    )
+    RADIUS = 0.46
+    """The default nominal radius [m]: pure rolling's pitch rate is ``-V / RADIUS``."""
+    ordinary = (1e-3, 0.0, 0.0, 0.0, 10.0, -10.0 / RADIUS, 5e4, 5e4)
+    late = {
+        "youngs_modulus": 1e11,
+        "friction_coefficient": 0.5,
+        "method": 2,
+        "gauge": 1.44,
+        "geometry_table": 0,
+        "step_budget": 0.02,
+        "wheel_profile": "MBench_S1002_v3.prw",
+    }
+    stateless = True  # steady contact: the same inputs give the same outputs after anything
+    DISCRETISED = 3
+    """``method`` code of the discretised level (seconds a step: drawn rarely, in short episodes)."""
+    LOAD_TOLERANCE = 1e-2
+    """Relative difference of a loaded wheel's vertical force from its load beyond which a step is a finding: the
+    levels meet the load to 1e-5 (the strips' normal force steps by a few 1e-4 where lobes merge), the table's
+    interpolation to its stated error."""
+
+    def __init__(self, rail_mu: dict[int, float], quick: bool = False):
+        self.rail_mu = rail_mu
+        self.quick = quick
+
+    def draw_parameters(self, rng, contacts: int) -> tuple[dict, str | None]:
+        """Parameters (those that differ from the defaults) and the name of an invalid one, if any."""
+        p: dict = {}
+        if rng.random() < 0.6:
+            p["method"] = int(pick(rng, [0, 1, 1, 2, 2] + ([] if self.quick else [self.DISCRETISED])))
+        if rng.random() < 0.3:
+            p["elliptic_method"] = int(rng.integers(0, 6))
+        if rng.random() < 0.3:
+            p["geometry_table"] = 0
+        if rng.random() < 0.3 and p.get("method") != self.DISCRETISED:
+            p["jacobian"] = 1
+        law = rng.random()
+        if law < 0.25:
+            p["rail_condition"] = int(rng.integers(1, 3))
+        elif law < 0.45:
+            p["friction_law"] = int(rng.integers(1, 5))
+            p["friction_kinetic_ratio"] = float(rng.uniform(0.05, 1.0))
+            p["friction_decay"] = log_uniform(rng, 1e-3, 50.0)
+            p["friction_reference_velocity"] = log_uniform(rng, 1e-2, 100.0)
+            p["friction_slope"] = log_uniform(rng, 1e-3, 10.0)
+            if p["friction_law"] == 4:
+                p["friction_table"] = pick(rng, ["0 0.4; 1 0.3; 5 0.15; 30 0.1", "0 0.3", "0 0.6; 0.01 0.59; 1e6 0.05"])
+        if rng.random() < 0.2:
+            p["tolerance"] = float(pick(rng, [0.3, 0.1, 0.03, 0.01]))
+        if rng.random() < 0.3:
+            p["step_budget"] = float(pick(rng, [1e-9, 1e-4, 1e-3, 0.01, 0.05, 0.2]))
+        if p.get("method") == self.DISCRETISED:
+            p["step_budget"] = float(pick(rng, [0.5, 2.0]))
+        if rng.random() < 0.35:  # the track, the wheelset or the material at the edge of its range
+            name = pick(
+                rng,
+                [
+                    "gauge",
+                    "gauge_height",
+                    "rail_inclination",
+                    "flange_back_spacing",
+                    "flange_back_distance",
+                    "nominal_radius",
+                    "table_range",
+                    "rail_profile",
+                    "youngs_modulus",
+                    "poisson_ratio",
+                    "friction_coefficient",
+                ],
+            )
+            p[name] = {
+                "gauge": lambda: float(pick(rng, [0.5, 1.0, rng.uniform(1.425, 1.445), 2.0, 3.0])),
+                "gauge_height": lambda: float(pick(rng, [0.0, 0.01, 0.05])),
+                "rail_inclination": lambda: float(pick(rng, [-0.2, -0.025, 0.025, 0.2])),
+                "flange_back_spacing": lambda: float(pick(rng, [0.3, rng.uniform(1.355, 1.365), 1.5, 3.0])),
+                "flange_back_distance": lambda: float(pick(rng, [0.0, 0.065, 0.075, 0.2])),
+                "nominal_radius": lambda: float(pick(rng, [0.05, rng.uniform(0.3, 0.6), 5.0])),
+                "table_range": lambda: float(pick(rng, [1e-6, 1e-3, 0.02, 0.05])),
+                "rail_profile": lambda: str(pick(rng, ["MBench_UIC60_v3.ban", "MBench_UIC60_v3.prr"])),
+                "youngs_modulus": lambda: float(pick(rng, [1e-300, 1e-3, log_uniform(rng, 1e3, 1e15), 1e300])),
+                "poisson_ratio": lambda: float(pick(rng, [0.0, 0.25, 0.4999999])),
+                "friction_coefficient": lambda: float(pick(rng, [1e-300, 1e-6, log_uniform(rng, 1e-3, 5.0), 1e6])),
+            }[name]()
+        invalid = None
+        if rng.random() < 0.15:
+            invalid, value = pick(
+                rng,
+                [
+                    ("wheel_profile", "/nonexistent.prw"),
+                    ("wheel_profile", "/"),
+                    ("wheel_profile", "/dev/zero"),
+                    ("wheel_profile", "MBench_UIC60_v3.prr"),
+                    ("rail_profile", "/dev/null"),
+                    ("rail_profile", "/etc/hostname"),
+                    ("gauge", 0.4),
+                    ("gauge", math.nan),
+                    ("nominal_radius", 0.0),
+                    ("flange_back_spacing", math.inf),
+                    ("table_range", 0.0),
+                    ("youngs_modulus", -1.0),
+                    ("poisson_ratio", 0.5),
+                    ("friction_coefficient", 0.0),
+                    ("friction_law", 7),
+                    ("method", 9),
+                    ("elliptic_method", 7),
+                    ("geometry_table", 3),
+                    ("jacobian", 2),
+                    ("rail_condition", 3),
+                    ("tolerance", -1.0),
+                    ("step_budget", math.nan),
+                    ("friction_table", "1 0.3; 0 0.2"),
+                ],
+            )
+            if invalid == "friction_table":
+                p.pop("rail_condition", None)
+                p["friction_law"] = 4
+            p[invalid] = value
+        return p, invalid
+
+    def draw_inputs(self, rng, contacts: int) -> tuple[float, list, str, str | None]:
+        """``(h, [row], kind, invalid)``: kind "valid", "extreme" or "invalid", invalid the variable made invalid."""
+        kind = str(pick(rng, ["valid"] * 12 + ["extreme"] * 5 + ["invalid"] * 3))
+        h = log_uniform(rng, 1e-5, 1e-2)
+        speed = log_uniform(rng, 0.5, 60.0)
+        row = [
+            float(rng.normal(0.0, 3e-3)),
+            float(rng.normal(0.0, 1e-3)),
+            float(rng.normal(0.0, 0.05)),
+            float(rng.normal(0.0, 0.05)),
+            speed,
+            -speed / self.RADIUS * (1.0 + float(rng.normal(0.0, 2e-3))),
+            log_uniform(rng, 1e3, 2e5),
+            log_uniform(rng, 1e3, 2e5),
+        ]
+        lifted = rng.random()
+        if lifted < 0.05:
+            row[6] = row[7] = 0.0
+        elif lifted < 0.15:
+            row[int(rng.integers(6, 8))] = 0.0
+        bad = None
+        if kind == "extreme":
+            which = int(rng.integers(0, 8))
+            sign = float(pick(rng, [-1.0, 1.0]))
+            if which == 0:
+                row[0] = sign * float(pick(rng, [1e-300, 0.009, 0.012, 0.02, 0.1, 1e3]))
+            elif which == 1:
+                row[1] = sign * float(pick(rng, [1e-300, 0.02, 0.2, 1.5, 1e3]))
+            elif which in (2, 3):
+                row[which] = sign * float(pick(rng, [1e-300, 10.0, 1e6]))
+            elif which == 4:
+                row[4] = float(pick(rng, [0.0, 1e-300, 1e3, 1e9]))
+                row[5] = -row[4] / self.RADIUS if rng.random() < 0.5 else row[5]
+            elif which == 5:
+                row[5] = float(pick(rng, [0.0, 1e-300, 1e6, -1e9]))
+            elif which == 6:
+                row[int(rng.integers(6, 8))] = float(pick(rng, [5e-324, 1e-300, 1e-3, 1e7, 1e9, 1e12]))
+            else:
+                h = float(pick(rng, [1e-12, 1e-9, 1.0, 1e6]))
+        elif kind == "invalid":
+            which, value = pick(
+                rng,
+                [
+                    (0, math.nan),
+                    (0, math.inf),
+                    (1, -math.inf),
+                    (2, math.nan),
+                    (3, math.inf),
+                    (4, -0.5),
+                    (4, math.nan),
+                    (5, math.nan),
+                    (6, -1.0),
+                    (7, math.nan),
+                    (7, math.inf),
+                    (8, 0.0),
+                    (8, -1e-3),
+                    (8, math.nan),
+                ],
+            )
+            if which == 8:
+                h, bad = value, "step_size"
+            else:
+                row[which], bad = value, self.inputs[which]
+        return h, [tuple(row)], kind, bad
+
+    def friction_limit(self, host: Host) -> float:
+        """mu of the law in force at zero slip, the largest value of every law (as :class:`Profile3D`'s)."""
+        return Profile3D.friction_limit(self, host)
+
+    def check(self, episode, rows, outputs) -> None:
+        """Per wheel: none of its forces without load, else at least a patch, the vertical force its load (to
+        :data:`LOAD_TOLERANCE`) and ``|F| <= sqrt(1 + mu^2) N`` (each patch's force within its friction cone); the
+        wheelset's forces the wheels' sums; the level asked for answers."""
+        row, out = rows[0], dict(zip(self.outputs, outputs[0], strict=True))
+        p = episode.parameters
+        method = p.get("method", 1) if episode.crafted == "" else None
+        if method and out["method_used"] not in (0, method):
+            episode.find("level", f"method = {method} answered by method_used = {out['method_used']}")
+        mu = None
+        elliptic = p.get("elliptic_method", 5)
+        # the linear theory (no friction limit) may answer: its forces may leave the cone and miss the load
+        unlimited = episode.crafted != "" or elliptic == 1 or elliptic == 0 and "tolerance" in p
+        for side, load in (("left", row[6]), ("right", row[7])):
+            wheel = {name: out[f"{name}_{side}"] for name in WHEEL_OUTPUTS}
+            forces = (wheel["longitudinal_force"], wheel["lateral_force"], wheel["vertical_force"])
+            if load == 0.0:
+                if any(v != 0 for v in (*forces, wheel["normal_force"], wheel["patches"], wheel["frictional_power"])):
+                    episode.find("unloaded", f"the {side} wheel without load: {wheel}")
+                continue
+            if wheel["patches"] < 1 or not wheel["normal_force"] > 0.0:
+                episode.find("unloaded", f"the {side} wheel loaded with {load!r} N has no contact: {wheel}")
+                continue
+            if unlimited:
+                continue
+            if abs(abs(wheel["vertical_force"]) / load - 1.0) > self.LOAD_TOLERANCE:
+                episode.find("load", f"the {side} wheel carries {wheel['vertical_force']!r} N for {load!r} N")
+            mu = self.friction_limit(episode.host) if mu is None else mu
+            size = math.sqrt(sum(f * f for f in forces))
+            if size > math.sqrt(1.0 + mu * mu) * wheel["normal_force"] * (1.0 + FRICTION_TOLERANCE):
+                episode.find("friction", f"the {side} wheel: |F| = {size!r} > sqrt(1 + mu^2) N, N = "
+                             f"{wheel['normal_force']!r}, mu = {mu!r}")
+        for total, name in (("force_x", "longitudinal_force"), ("force_y", "lateral_force"),
+                            ("force_z", "vertical_force")):
+            parts = out[f"{name}_left"] + out[f"{name}_right"]
+            scale = abs(out[f"{name}_left"]) + abs(out[f"{name}_right"])
+            if abs(out[total] - parts) > 1e-9 * scale:
+                episode.find("sum", f"{total} = {out[total]!r}, the wheels' sum {parts!r}")
+
+    def step_bound(self, parameters: dict, contacts: int) -> float | None:
+        """None: ``step_budget`` bounds each solve of a step, the contact search lies outside it (docs/fmu.md,
+        WheelsetContact, Cost), and no worst case of a step is stated."""
+        return None
+
+    def episode_length(self, parameters: dict, steps: int) -> int:
+        """Fewer operations with the discretised level (seconds a step)."""
+        return min(steps, 6) if parameters.get("method") == self.DISCRETISED else steps
+
+
 def corrupt(rng, data: bytes) -> tuple[bytes, str]:
     """Corrupted serialised state bytes and how they were corrupted."""
     how = str(pick(rng, ["truncate", "flip", "garbage", "empty", "nonutf8"]))
@@ -1269,7 +1564,9 @@ def cycles(host: Host, count: int) -> dict:
 
 def profile_of(model: str, rail_mu: dict[int, float], quick: bool):
     """The profile of a target's model (``quick``: without the draws that may take seconds a step)."""
-    return Profile2D(quick) if model.startswith("RollingContact2D") else Profile3D(rail_mu, quick)
+    if model.startswith("RollingContact2D"):
+        return Profile2D(quick)
+    return ProfileWheelset(rail_mu, quick) if model == "WheelsetContact" else Profile3D(rail_mu, quick)
 
 
 def worker(args) -> None:
@@ -1312,7 +1609,8 @@ def worker(args) -> None:
 # ------------------------------------------------------------------------------------------------------- the runner
 def build(folder: Path) -> list[Path]:
     """The campaign's FMUs, built by build_fmu.py into ``folder``."""
-    for extra in ([], ["--fmi", "2,3", "--only", "RollingContact3D"], ["--fmi", "2,3", "--contacts", "8"]):
+    for extra in ([], ["--fmi", "2,3", "--only", "RollingContact3D"], ["--fmi", "2,3", "--contacts", "8"],
+                  ["--fmi", "2,3", "--only", "WheelsetContact"]):
         done = subprocess.run(
             [sys.executable, str(ROOT / "build_fmu.py"), *extra, "--dest", str(folder)],
             capture_output=True,
@@ -1327,6 +1625,8 @@ def build(folder: Path) -> list[Path]:
         folder / "fmi3" / "RollingContact3D.fmu",
         folder / "RollingContact3D_8.fmu",
         folder / "fmi3" / "RollingContact3D_8.fmu",
+        folder / "WheelsetContact.fmu",
+        folder / "fmi3" / "WheelsetContact.fmu",
     ]
 
 

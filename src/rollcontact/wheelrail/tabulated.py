@@ -188,13 +188,13 @@ class TabulatedWheelset:
                 fs = area * (c22 * eta + c * c23 * phi)
                 cross = -area * c * c23 * eta
                 spin = area * c * c * c33 * phi if phi != 0.0 else 0.0
-                if saturated:
+                if saturated:  # a load so small that a bound underflows to 0: deep in saturation (u, w infinite)
                     bound = mu * normal
-                    u = hypot(fx, fs) / bound
+                    u = ratio_of(hypot(fx, fs), bound)
                     factor = 1.0 / u if u >= 3.0 else 1.0 - u / 3.0 + u * u / 27.0
                     fx *= factor
                     fs *= factor
-                    w = abs(spin) / (bound * 0.09375 * perimeter1 * scale)
+                    w = ratio_of(abs(spin), bound * 0.09375 * perimeter1 * scale)
                     mz = factor * factor * cross + (1.0 / w if w >= 3.0 else 1.0 - w / 3.0 + w * w / 27.0) * spin
                 else:
                     mz = cross + spin
@@ -202,6 +202,11 @@ class TabulatedWheelset:
                 if ratio != 0.0 or abs(vertical_tangential) <= COUPLING * load:
                     break
                 ratio = vertical_tangential / normal
+                if not cd + ratio > 0.0:  # the tangential force would carry the load: no normal force does
+                    raise ValueError(
+                        f"the {'left' if sign < 0 else 'right'} wheel's lateral force of the {self.law} theory, "
+                        f"{fs!r} N at the contact angle {delta!r} rad, would carry more than its vertical load "
+                        f"{load!r} N (the linear theory has no friction limit: the saturated one has)")
             f0, f1, f2 = -fx, -(fs * cd + normal * ny), -(vertical_tangential + normal * cd)
             fy_sum += f1
             mz_sum += dx * f1 - dy * f0 - mz * cd
@@ -217,6 +222,11 @@ class TabulatedWheelset:
             return fy_sum, mz_sum
         vertical = row[1] + (approach_sum / loaded if loaded else 0.0)
         return new_tuple(WheelsetLoads, (fx_sum, fy_sum, fz_sum, mx_sum, my_sum, mz_sum, *wheels)), roll, vertical
+
+
+def ratio_of(size: float, bound: float) -> float:
+    """``size / bound`` of two numbers >= 0, infinite where only the bound underflows to 0 and 0 where both do."""
+    return size / bound if bound > 0.0 else (math.inf if size > 0.0 else 0.0)
 
 
 WHEELS = tuple((sign, COLUMN[f"{side}_contact_angle"], COLUMN[f"{side}_rolling_radius"],

@@ -120,8 +120,14 @@ def balance(items, load: float, start: float, law) -> tuple[float, list[float], 
     power, previous = 1.5, None
     for _ in range(BALANCE_ITERATIONS):
         q, approaches, forces = carried(d)
-        if not (math.isfinite(q) and q >= 0.0):
-            return d, approaches, forces, f"the normal forces carry {q!r} N at a displacement of {d - first!r} m"
+        if not math.isfinite(q):
+            return d, approaches, forces, (f"the normal forces with the tangential forces' vertical share are {q!r} N "
+                                           f"at a displacement of {d - first!r} m: the patches' forces at these "
+                                           "creepages lie beyond floating point")
+        if q < 0.0:
+            return d, approaches, forces, (f"the normal forces with the tangential forces' vertical share carry "
+                                           f"{q!r} N at a displacement of {d - first!r} m (a tangential force "
+                                           "beyond the friction limit, the linear theory's, can outweigh them)")
         if abs(q - load) <= BALANCE_TOLERANCE * load:
             return d, approaches, forces, None
         if q < load:

@@ -213,6 +213,57 @@ def test_bad_inputs_are_refused_with_the_value_and_the_limit(tabulated, values, 
     assert tabulated.get_state() == before, "a refused step changed the state"
 
 
+@pytest.mark.parametrize("table", [1, 0])
+def test_linear_forces_that_would_carry_the_load_are_refused_by_name(table):
+    """The linear theory has no friction limit: at large lateral creepage its tangential force's vertical component
+    would carry more than the wheel's load, where no normal force balances it; the step is refused naming the wheel,
+    the force and the load (with the table; the search's vertical balance says so without it), and the instance steps
+    on."""
+    model = WheelsetContactModel(WheelsetContactParameters(method=1, elliptic_method=1, geometry_table=table,
+                                                           table_range=RANGE))
+    extreme = inputs(y=7.8e-4, yaw=1.4e-4, vy=0.065, rate=-0.116, speed=0.617, pitch=-1.342, left=3.6e3, right=4.4e4)
+    with pytest.raises(ModelError) as caught:
+        model.step(0.0, H, extreme)
+    message = str(caught.value)
+    assert "right wheel" in message and ("linear theory has no friction limit" in message if table else
+                                         "tangential forces' vertical share" in message), message
+    assert all(map(math.isfinite, model.step(0.0, H, inputs())[:LOADS])), "the instance steps on"
+
+
+@pytest.mark.parametrize(("method", "table"), [(0, 1), (1, 0), (2, 1), (2, 0), (3, 0)])
+def test_every_level_outputs_python_numbers(method, table):
+    """The outputs are Python floats and ints at every level, the discretised one's numpy sums included: the FMU's
+    state stores them and checks their types when a host restores it."""
+    model = WheelsetContactModel(WheelsetContactParameters(method=method, geometry_table=table, table_range=RANGE,
+                                                           step_budget=0.0 if method == 3 else 0.05))
+    outputs = model.step(0.0, H, inputs())
+    odd = [(name, type(value).__name__) for name, value in zip(type(outputs)._fields, outputs, strict=True)
+           if type(value) not in (float, int)]
+    assert not odd, f"method {method}, table {table}: outputs of other types {odd}"
+
+
+def test_a_load_so_small_that_the_saturation_bounds_underflow_is_deep_saturation(tabulated):
+    """Through the table the saturated linear theory's bounds mu N underflow to 0 at a load of 1e-300 N or less:
+    the forces are then those of deep saturation, finite, never a division by zero."""
+    for load in (1e-300, 5e-324):
+        outputs = tabulated.step(tabulated.state.time, H, inputs(left=0.0, right=load))
+        assert all(map(math.isfinite, outputs)), f"load {load!r} N: {outputs}"
+        assert abs(outputs.vertical_force_right) <= 1.01 * load, f"load {load!r} N: {outputs.vertical_force_right!r}"
+
+
+def test_creepages_beyond_floating_point_are_refused_without_a_numpy_warning():
+    """forward_speed 1e-300 m/s with a lateral velocity: creepages near 1e298 that overflow the strips' march; the step
+    is refused naming the cause, and no numpy warning escapes."""
+    import warnings
+
+    model = WheelsetContactModel(WheelsetContactParameters(method=2, geometry_table=0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ModelError, match="beyond floating point"):
+            model.step(0.0, H, inputs(vy=0.0277, rate=0.0139, speed=1e-300, pitch=-2.17e-300, left=1.3e3,
+                                      right=1.18e5))
+
+
 def test_a_flange_beyond_the_profiles_is_refused_without_the_table():
     model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0))
     with pytest.raises(ModelError, match="lateral_shift = 0.06 m"):

@@ -330,7 +330,8 @@ class WheelsetContactModel(SteppingModel):
                 self.notice_once(f"lifted {side}", f"the {side} wheel carries vertical_load_{side} = 0 N: lifted "
                                  "off its rail, its forces are 0 (said once)")
         self.last_modelled_cost = 0.0
-        outputs = self.evaluate(values)
+        with np.errstate(all="ignore"):  # what overflows is refused below, by its output: no numpy warning
+            outputs = self.evaluate(values)
         if not all(map(math.isfinite, outputs)):
             name, value = next((n, v) for n, v in zip(WheelsetContactOutputs._fields, outputs, strict=True)
                                if not math.isfinite(v))
@@ -360,20 +361,20 @@ class WheelsetContactModel(SteppingModel):
         if self.tabulated is not None:
             try:
                 row, shifted = self.tabulated.row(y, INCREMENTS["lateral_shift"] if differences_on else None)
+                loads, roll, vertical = self.tabulated.loads(row, yaw, vy, rate, speed, pitch, left, right) \
+                    if loaded else (ZERO_LOADS, row[0], row[1])
+                derivatives = (0.0,) * 8
+                if differences_on:
+                    steps = (INCREMENTS["lateral_shift"], INCREMENTS["yaw"], INCREMENTS["lateral_velocity"] * speed,
+                             INCREMENTS["yaw_rate"] * speed / self.wheelset.taping_line)
+                    evaluate = self.tabulated.loads
+                    others = (evaluate(shifted, yaw, vy, rate, speed, pitch, left, right, False),
+                              evaluate(row, yaw + steps[1], vy, rate, speed, pitch, left, right, False),
+                              evaluate(row, yaw, vy + steps[2], rate, speed, pitch, left, right, False),
+                              evaluate(row, yaw, vy, rate + steps[3], speed, pitch, left, right, False))
+                    derivatives = differences(loads, [(0.0, fy, 0.0, 0.0, 0.0, mz) for fy, mz in others], steps)
             except ValueError as exc:
-                raise ModelError(str(exc)) from None
-            loads, roll, vertical = self.tabulated.loads(row, yaw, vy, rate, speed, pitch, left, right) if loaded \
-                else (ZERO_LOADS, row[0], row[1])
-            derivatives = (0.0,) * 8
-            if differences_on:
-                steps = (INCREMENTS["lateral_shift"], INCREMENTS["yaw"], INCREMENTS["lateral_velocity"] * speed,
-                         INCREMENTS["yaw_rate"] * speed / self.wheelset.taping_line)
-                evaluate = self.tabulated.loads
-                others = (evaluate(shifted, yaw, vy, rate, speed, pitch, left, right, False),
-                          evaluate(row, yaw + steps[1], vy, rate, speed, pitch, left, right, False),
-                          evaluate(row, yaw, vy + steps[2], rate, speed, pitch, left, right, False),
-                          evaluate(row, yaw, vy, rate + steps[3], speed, pitch, left, right, False))
-                derivatives = differences(loads, [(0.0, fy, 0.0, 0.0, 0.0, mz) for fy, mz in others], steps)
+                raise ModelError(f"{exc} at the inputs {values!r}") from None
             self.last_modelled_cost = TABULATED_COST
             code = method_code("hertz") if loaded else 0
             return WheelsetContactOutputs(*loads, roll, vertical, *derivatives, code)

@@ -345,8 +345,8 @@ def solve_discretised(scene: PatchScene, *, element: float | None = None, grid: 
         result_fields = TractionField(x, s, fine["pressure"], steady.traction_x, steady.traction_y,
                                       steady.stick & in_contact)
     provisional = PatchResult("discretised", not messages, "; ".join(messages) or "converged", fine["normal_load"],
-                              fine["approach"], fine["max_pressure"], fine["length"], fine["width"], *forces, xi, eta,
-                              phi, mu, fine["area"], result_fields, info)
+                              fine["approach"], fine["max_pressure"], fine["length"], fine["width"],
+                              *map(float, forces), xi, eta, phi, mu, fine["area"], result_fields, info)
     info.update(DiscretisedPatchAccuracy().estimates(provisional, element, extrapolate))
     return provisional
 
