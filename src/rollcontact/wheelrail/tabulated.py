@@ -19,9 +19,10 @@ mirrored), and the creepages are those of :func:`~rollcontact.wheelrail.search.c
 slip of the wheel relative to the rail over V, in the contact frame).
 
 Normal and tangential contact per wheel, as :mod:`rollcontact.wheelrail.methods.hertz` does for one contact point:
-``N = Q / (cos(delta) + rho)`` carries the vertical load Q with ``rho = 0``; where the tangential force's vertical
-component ``T_z = -sign sin(delta) Fs`` exceeds :data:`~rollcontact.wheelrail.wheels.COUPLING` of Q (a flange), a
-second pass takes ``rho = T_z / N`` of the first.  The forces are Kalker's linear theory on the ellipse (``Fx = G c^2
+``N = Q / (cos(delta) + rho)`` carries the vertical load Q with ``rho = 0``; where the wheel's vertical force ``N
+cos(delta) + T_z`` (``T_z = -sign sin(delta) Fs`` the tangential force's vertical component) misses Q by more than
+:data:`~rollcontact.wheelrail.wheels.COUPLING` of it (a flange), the next pass takes ``rho = T_z / N`` of the last
+(at most :data:`~rollcontact.wheelrail.wheels.PASSES`).  The forces are Kalker's linear theory on the ellipse (``Fx = G c^2
 C11 xi``, ``Fs = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab)), with
 ``law = "saturated"`` scaled by Shen, Hedrick & Elkins' ``g(u)/u`` as :mod:`rollcontact.elliptic.methods.saturated`
 scales them.  The loads on the wheelset follow as :mod:`rollcontact.wheelrail.loads` states them.
@@ -47,7 +48,7 @@ from rollcontact.wheelrail.conicity import QUANTITIES, ContactTable
 from rollcontact.wheelrail.geometry import GeometryError, Wheelset
 from rollcontact.wheelrail.loads import WheelsetLoads
 from rollcontact.wheelrail.normal import MIN_LATERAL_CURVATURE
-from rollcontact.wheelrail.wheels import COUPLING
+from rollcontact.wheelrail.wheels import COUPLING, PASSES
 
 __all__ = ["LAWS", "NODE_CONSTANTS", "TabulatedWheelset"]
 
@@ -179,7 +180,7 @@ class TabulatedWheelset:
             phi = (om1 * ny + om2 * cd) / forward_speed
             ratio = 0.0
             c1 = sqrt(a1 * b1)
-            for _ in range(2):
+            for _ in range(PASSES):
                 normal = load / (cd + ratio)
                 scale = normal ** (1.0 / 3.0)
                 c = c1 * scale
@@ -199,7 +200,7 @@ class TabulatedWheelset:
                 else:
                     mz = cross + spin
                 vertical_tangential = -fs * ny
-                if ratio != 0.0 or abs(vertical_tangential) <= COUPLING * load:
+                if abs(normal * cd + vertical_tangential - load) <= COUPLING * load:
                     break
                 ratio = vertical_tangential / normal
                 if not cd + ratio > 0.0:  # the tangential force would carry the load: no normal force does

@@ -52,8 +52,9 @@ BALANCE_ITERATIONS = 40
 """Cap of the power-law updates of the vertical balance."""
 
 COUPLING = 1e-3
-"""Share [1] of the load the tangential forces' z components must reach for the Hertz level's second pass
-(:mod:`rollcontact.wheelrail.methods.hertz`) and the tabulated wheelset's (:mod:`rollcontact.wheelrail.tabulated`)."""
+"""Relative difference [1] of a wheel's vertical force, tangential forces included, from its load at which the Hertz
+level's passes (:mod:`rollcontact.wheelrail.methods.hertz`) and the tabulated wheelset's
+(:mod:`rollcontact.wheelrail.tabulated`) stop."""
 
 LOAD_TOLERANCE = 1e-5
 """Relative difference [1] of a wheel's vertical force from its load at which the passes stop (module docstring)."""

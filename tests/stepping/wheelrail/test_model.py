@@ -264,6 +264,25 @@ def test_creepages_beyond_floating_point_are_refused_without_a_numpy_warning():
                                       right=1.18e5))
 
 
+@pytest.mark.parametrize("table", [1, 0])
+def test_a_light_wheel_at_the_flange_root_carries_its_load(table):
+    """A light right wheel (6.4 kN beside 73 kN) at the flange root on a dry rail: the tangential force's vertical
+    share changes from pass to pass, and the passes go on until the wheel's vertical force meets its load to
+    COUPLING (two passes left it 2 % short).  Without the table the ellipse's a/b (22) is beyond Kalker's table, so
+    auto takes the elliptic discretised level."""
+    from rollcontact.wheelrail.wheels import COUPLING
+
+    model = WheelsetContactModel(WheelsetContactParameters(method=1, rail_condition=1, gauge_height=0.01,
+                                                           geometry_table=table, table_range=RANGE,
+                                                           elliptic_method=5 if table else 0))
+    values = inputs(y=5.25e-3, yaw=5.35e-4, vy=-0.0396, rate=-0.0564, speed=33.6, pitch=-73.268, left=7.3e4,
+                    right=6.39e3)
+    outputs = model.step(0.0, H, values)
+    for side, load in (("left", values[6]), ("right", values[7])):
+        carried = -getattr(outputs, f"vertical_force_{side}")
+        assert abs(carried / load - 1.0) <= COUPLING, f"table {table}: the {side} wheel carries {carried!r} N of {load} N"
+
+
 def test_a_flange_beyond_the_profiles_is_refused_without_the_table():
     model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0))
     with pytest.raises(ModelError, match="lateral_shift = 0.06 m"):

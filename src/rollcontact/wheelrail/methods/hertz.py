@@ -25,7 +25,7 @@ from rollcontact.wheelrail.normal import MIN_LATERAL_CURVATURE, hertz_contacts
 from rollcontact.wheelrail.result import PatchResult, WheelPatch, WheelRailResult, WheelResult
 from rollcontact.wheelrail.scene import SIDES, WheelRailScene
 from rollcontact.wheelrail.search import creepages
-from rollcontact.wheelrail.wheels import COUPLING, balance, track_force
+from rollcontact.wheelrail.wheels import COUPLING, PASSES, balance, track_force
 
 __all__ = ["METHOD", "inapplicable", "solve_hertz"]
 
@@ -71,9 +71,11 @@ solve_hertz.options = ("elliptic",)
 
 
 def hertz_wheel(scene: WheelRailScene, contact, elliptic: str):
-    """One wheel by Hertz: ``(WheelResult, problems, error estimate)``; the vertical balance and the second pass
-    of :mod:`rollcontact.wheelrail.wheels` (its :func:`~rollcontact.wheelrail.wheels.balance`) with Hertz's
-    ``N = (delta / delta_1)^(3/2)`` per contact point."""
+    """One wheel by Hertz: ``(WheelResult, problems, error estimate)``; the vertical balance and the passes of
+    :mod:`rollcontact.wheelrail.wheels` (its :func:`~rollcontact.wheelrail.wheels.balance`) with Hertz's
+    ``N = (delta / delta_1)^(3/2)`` per contact point, until the wheel's vertical force, tangential forces included,
+    meets its load to :data:`~rollcontact.wheelrail.wheels.COUPLING` of it (at most
+    :data:`~rollcontact.wheelrail.wheels.PASSES`)."""
     side, load = contact.side, scene.load(contact.side)
     if load == 0.0:
         return WheelResult(side, (), 0.0, 0.0, (0.0, 0.0, 0.0), f"{side} wheel: no load, no contact"), [], 0.0
@@ -81,7 +83,7 @@ def hertz_wheel(scene: WheelRailScene, contact, elliptic: str):
     patch_of = {i: patch for patch in contact.patches for i in patch.points}
     ratios = [0.0] * len(contact.points)
     start = scene.hertz[SIDES.index(side)].vertical_displacement
-    for _ in range(2):
+    for _ in range(PASSES):
         items = [(p.vertical_gap, math.cos(p.contact_angle), r, k)
                  for k, (p, r) in enumerate(zip(contact.points, ratios, strict=True))]
         d, approaches, forces, why = balance(items, load, start, lambda k, approach: (approach / unit[k]) ** 1.5)
@@ -105,10 +107,10 @@ def hertz_wheel(scene: WheelRailScene, contact, elliptic: str):
             patches.append((k, WheelPatch(point, result, track_force(point, result))))
             estimates.append(answer.info.get("error_estimate", math.nan)
                              + shape_error(patch_of[k], ellipse_scene.hertz.b, approach))
+        if abs(sum(p.track_force[2] for _, p in patches) - load) <= COUPLING * load:
+            break
         tangential = [(k, p.track_force[2] - p.result.normal_load * math.cos(p.point.contact_angle))
                       for k, p in patches]
-        if sum(abs(v) for _, v in tangential) <= COUPLING * load:
-            break
         ratios = [0.0] * len(contact.points)
         for (k, v), (_, p) in zip(tangential, patches, strict=True):
             ratios[k] = v / p.result.normal_load
