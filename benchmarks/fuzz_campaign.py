@@ -1,13 +1,14 @@
 """The long fuzz campaign of the contact FMUs: ``tests/tools/fuzz_fmu.py``'s episodes over RollingContact2D (FMI
-2.0), RollingContact3D and RollingContact3D_8 (FMI 2.0 and 3.0), written to ``benchmarks/results/fuzz.md``.
+2.0), RollingContact3D, RollingContact3D_8 and WheelsetContact (FMI 2.0 and 3.0), written to
+``benchmarks/results/fuzz.md``.
 
 Usage::
 
     python benchmarks/fuzz_campaign.py [--seed 1] [--episodes N] [--steps S] [--strict-time] [--quick]
 
 The options are the tool's (``python tests/tools/fuzz_fmu.py --help``); by default 100 episodes of RollingContact2D
-and 130 of each 3D target, 20 operations each, the FMUs built by ``build_fmu.py`` into a temporary folder.  What an
-episode does and what counts as a finding: the tool's docstring.  ``--quick``, a replayed ``--episode`` or a single
+and of each WheelsetContact target, 130 of each 3D target, 20 operations each, the FMUs built by ``build_fmu.py``
+into a temporary folder.  What an episode does and what counts as a finding: the tool's docstring.  ``--quick``, a replayed ``--episode`` or a single
 ``--target`` write nothing.  The exit status is 1 when there is a finding.
 """
 

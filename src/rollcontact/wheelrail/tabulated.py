@@ -19,13 +19,13 @@ mirrored), and the creepages are those of :func:`~rollcontact.wheelrail.search.c
 slip of the wheel relative to the rail over V, in the contact frame).
 
 Normal and tangential contact per wheel, as :mod:`rollcontact.wheelrail.methods.hertz` does for one contact point:
-``N = Q / (cos(delta) + rho)`` carries the vertical load Q with ``rho = 0``; where the wheel's vertical force ``N
-cos(delta) + T_z`` (``T_z = -sign sin(delta) Fs`` the tangential force's vertical component) misses Q by more than
-:data:`~rollcontact.wheelrail.wheels.COUPLING` of it (a flange), the next pass takes ``rho = T_z / N`` of the last
-(at most :data:`~rollcontact.wheelrail.wheels.PASSES`).  The forces are Kalker's linear theory on the ellipse (``Fx = G c^2
-C11 xi``, ``Fs = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab)), with
-``law = "saturated"`` scaled by Shen, Hedrick & Elkins' ``g(u)/u`` as :mod:`rollcontact.elliptic.methods.saturated`
-scales them.  The loads on the wheelset follow as :mod:`rollcontact.wheelrail.loads` states them.
+``N = Q / (cos(delta) + rho)`` carries the vertical load Q with ``rho = 0``; where the wheel's vertical force
+``N cos(delta) + T_z`` (``T_z = -sign sin(delta) Fs`` the tangential force's vertical component) misses Q by more
+than :data:`~rollcontact.wheelrail.wheels.COUPLING` of it (a flange), the next pass takes ``rho = T_z / N`` of the
+last (at most :data:`~rollcontact.wheelrail.wheels.PASSES`).  The forces are Kalker's linear theory on the ellipse
+(``Fx = G c^2 C11 xi``, ``Fs = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab)),
+with ``law = "saturated"`` scaled by Shen, Hedrick & Elkins' ``g(u)/u`` as
+:mod:`rollcontact.elliptic.methods.saturated` scales them.  The loads on the wheelset follow as :mod:`rollcontact.wheelrail.loads` states them.
 
 Where the profiles touch at two points (the two-lobed tread of S1002 on UIC60 within about 0.2 mm of the centre, the
 transitions to the flange root and the flange over some tens of micrometres) the table's single point carries the

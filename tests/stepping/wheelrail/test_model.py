@@ -280,7 +280,20 @@ def test_a_light_wheel_at_the_flange_root_carries_its_load(table):
     outputs = model.step(0.0, H, values)
     for side, load in (("left", values[6]), ("right", values[7])):
         carried = -getattr(outputs, f"vertical_force_{side}")
-        assert abs(carried / load - 1.0) <= COUPLING, f"table {table}: the {side} wheel carries {carried!r} N of {load} N"
+        assert abs(carried / load - 1.0) <= COUPLING, \
+            f"table {table}: the {side} wheel carries {carried!r} N of {load} N"
+
+
+def test_a_discretised_patch_beyond_the_budget_is_refused_before_any_work():
+    """method = discretised, step_budget 2 s: loads of 1e9 N make patches whose modelled cost (their Hertz elements)
+    is hundreds of seconds; the step is refused at once, naming the cost and the budget."""
+    import time
+
+    model = WheelsetContactModel(WheelsetContactParameters(method=3, step_budget=2.0, table_range=RANGE))
+    started = time.process_time()
+    with pytest.raises(ModelError, match=r"modelled at .* s, more than the budget of 2 s"):
+        model.step(0.0, H, inputs(left=1e9, right=1e9))
+    assert time.process_time() - started < 1.0, "refused after solving"
 
 
 def test_a_flange_beyond_the_profiles_is_refused_without_the_table():

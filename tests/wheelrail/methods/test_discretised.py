@@ -167,3 +167,20 @@ def test_a_carried_normal_solution_is_taken_at_its_force_and_only_its_guide_at_a
     moved = solve_discretised(other, start=carried)
     assert math.isclose(moved.normal_load, other.normal_load, rel_tol=1e-9), \
         f"another force is solved for: {moved.normal_load!r} N for {other.normal_load!r} N"
+
+
+def test_the_modelled_cost_follows_the_patch_and_bounds_its_elements():
+    """The cost before solving counts the elements of Hertz's ellipse at the gap's deepest point (twice them): at
+    least those the solve then has in contact, and growing with the load as the area does (N^(2/3)), so that a budget
+    refuses a patch too large for it before any work."""
+    from rollcontact.wheelrail.methods.discretised import SECONDS_PER_ELEMENT, DiscretisedPatchAccuracy
+
+    model = DiscretisedPatchAccuracy()
+    gap, _ = quadratic(0.5, c=6e-3)
+    scene = patch_scene(gap, 1e-3)
+    solved = solve_discretised(scene)
+    assert model.cost(scene, {}) >= SECONDS_PER_ELEMENT * solved.info["contact_elements"], \
+        f"modelled {model.cost(scene, {}):.3g} s for {solved.info['contact_elements']} elements in contact"
+    heavy, fixed = scene.replace(normal_load=1e3 * scene.normal_load), {"element": 0.2e-3}
+    assert model.cost(heavy, fixed) >= 0.99 * 100.0 * model.cost(scene, fixed), \
+        f"a thousand times the load: {model.cost(heavy, fixed):.3g} s against {model.cost(scene, fixed):.3g} s"

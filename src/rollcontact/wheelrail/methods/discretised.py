@@ -33,6 +33,7 @@ from rollcontact.core.halfspace.rolling import (
 )
 from rollcontact.core.halfspace.surface import MAX_ELEMENTS_3D, SurfaceGrid, operator_for
 from rollcontact.core.method import AccuracyModel
+from rollcontact.elliptic.hertz import hertz_ellipse
 from rollcontact.elliptic.result import TractionField
 from rollcontact.wheelrail.methods.strip_normal import StripContact, check_gap, rigid_range, strip_normal
 from rollcontact.wheelrail.result import PatchResult
@@ -373,6 +374,33 @@ SECONDS_PER_ELEMENT = 1e-4
 the normal and the tangential problem and the grid's sizing by the strips)."""
 
 
+SPREAD = 2.0
+"""Share [1] by which a patch's elements in contact may exceed those of Hertz's ellipse at its deepest point (a second
+lobe, a flatter gap across) in :func:`hertz_elements`."""
+
+
+def hertz_elements(scene: PatchScene, element: float | None) -> float:
+    """:data:`SPREAD` times the elements of ``element`` [m] (None: as :func:`automatic_element` sizes them, from the
+    ellipse's extent) in Hertz's ellipse ``pi a b`` at the gap's deepest sample under the scene's load (at a given
+    approach, Hertz's load there): the curvatures there, A of the gap and B from its samples' second difference, B
+    held within a factor 100 of A.  What the patch's grid will hold, before the strips size it; 0 where there is no
+    load."""
+    s, h, curvature = check_gap(scene.gap)
+    k = min(max(int(np.argmin(h)), 1), h.size - 2)
+    lateral = ((h[k + 1] - h[k]) / (s[k + 1] - s[k]) - (h[k] - h[k - 1]) / (s[k] - s[k - 1])) / (s[k + 1] - s[k - 1])
+    longitudinal = float(curvature[k])
+    lateral = min(max(lateral, 0.01 * longitudinal), 100.0 * longitudinal)
+    unit = hertz_ellipse(1.0, longitudinal, lateral, scene.material.contact_modulus)
+    load = scene.normal_load if scene.normal_load is not None else (scene.approach / unit.approach) ** 1.5
+    if not load > 0.0:
+        return 0.0
+    scale = load ** (1.0 / 3.0)
+    a, b = unit.a * scale, unit.b * scale
+    if element is None:
+        element = max(min(DEFAULT_ELEMENT, 2.0 * min(a, b) / MIN_ACROSS), 4.0 * max(a, b) / MAX_ELEMENTS_3D)
+    return SPREAD * math.pi * a * b / (element * element)
+
+
 class DiscretisedPatchAccuracy(AccuracyModel):
     """First order in the element size: the errors above over the elements across the patch's shorter extent; cost
     proportional to the elements in contact."""
@@ -381,8 +409,11 @@ class DiscretisedPatchAccuracy(AccuracyModel):
         return tuple({"element": e, "extrapolate": False} for e in (0.4e-3, 0.3e-3, 0.2e-3, 0.15e-3, 0.1e-3))
 
     def cost(self, scene, options):
-        """Before solving, for a patch of 1000 elements in contact at the default element."""
-        return SECONDS_PER_ELEMENT * 1000.0 * (DEFAULT_ELEMENT / options.get("element", DEFAULT_ELEMENT)) ** 2
+        """Before solving: :data:`SECONDS_PER_ELEMENT` per element in contact, at least 1000 of the default element,
+        more where Hertz's ellipse at the gap's deepest point (:func:`hertz_elements`) has more."""
+        element = options.get("element")
+        least = 1000.0 * (DEFAULT_ELEMENT / (DEFAULT_ELEMENT if element is None else element)) ** 2
+        return SECONDS_PER_ELEMENT * max(least, hertz_elements(scene, element))
 
     def error(self, scene, options):
         """Before solving, for a patch 20 default elements across."""
