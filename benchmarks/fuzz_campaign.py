@@ -8,8 +8,8 @@ Usage::
 
 The options are the tool's (``python tests/tools/fuzz_fmu.py --help``); by default 100 episodes of RollingContact2D
 and of each WheelsetContact target, 130 of each 3D target, 20 operations each, the FMUs built by ``build_fmu.py``
-into a temporary folder.  What an episode does and what counts as a finding: the tool's docstring.  ``--quick``, a replayed ``--episode`` or a single
-``--target`` write nothing.  The exit status is 1 when there is a finding.
+into a temporary folder.  What an episode does and what counts as a finding: the tool's docstring.  ``--quick``, a
+replayed ``--episode`` or a single ``--target`` write nothing.  The exit status is 1 when there is a finding.
 """
 
 from __future__ import annotations

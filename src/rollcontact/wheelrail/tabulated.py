@@ -25,7 +25,8 @@ than :data:`~rollcontact.wheelrail.wheels.COUPLING` of it (a flange), the next p
 last (at most :data:`~rollcontact.wheelrail.wheels.PASSES`).  The forces are Kalker's linear theory on the ellipse
 (``Fx = G c^2 C11 xi``, ``Fs = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab)),
 with ``law = "saturated"`` scaled by Shen, Hedrick & Elkins' ``g(u)/u`` as
-:mod:`rollcontact.elliptic.methods.saturated` scales them.  The loads on the wheelset follow as :mod:`rollcontact.wheelrail.loads` states them.
+:mod:`rollcontact.elliptic.methods.saturated` scales them.  The loads on the wheelset follow as
+:mod:`rollcontact.wheelrail.loads` states them.
 
 Where the profiles touch at two points (the two-lobed tread of S1002 on UIC60 within about 0.2 mm of the centre, the
 transitions to the flange root and the flange over some tens of micrometres) the table's single point carries the
