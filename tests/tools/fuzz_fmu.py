@@ -306,6 +306,26 @@ def log_uniform(rng, low: float, high: float) -> float:
     return float(math.exp(rng.uniform(math.log(low), math.log(high))))
 
 
+TABLES = ("0 0.4; 1 0.3; 5 0.15; 30 0.1", "0 0.3", "0 0.6; 0.01 0.59; 1e6 0.05")
+"""Tabulated friction laws the fuzz draws: falling, constant, a steep fall at once."""
+
+
+def draw_friction(rng, p: dict, custom: float, tables: list[str]) -> None:
+    """A rail condition (a quarter of the draws) or, up to the share ``custom``, a friction law of random parameters
+    (a tabulated law one of ``tables``) into the parameters ``p``; else Coulomb friction."""
+    law = rng.random()
+    if law < 0.25:
+        p["rail_condition"] = int(rng.integers(1, 3))
+    elif law < custom:
+        p["friction_law"] = int(rng.integers(1, 5))
+        p["friction_kinetic_ratio"] = float(rng.uniform(0.05, 1.0))
+        p["friction_decay"] = log_uniform(rng, 1e-3, 50.0)
+        p["friction_reference_velocity"] = log_uniform(rng, 1e-2, 100.0)
+        p["friction_slope"] = log_uniform(rng, 1e-3, 10.0)
+        if p["friction_law"] == 4:
+            p["friction_table"] = pick(rng, tables)
+
+
 def pick(rng, values):
     """One of ``values`` (any objects), uniformly."""
     return values[int(rng.integers(0, len(values)))]
@@ -526,19 +546,7 @@ class Profile3D:
         p: dict = {"method": int(rng.integers(0, 6))}
         if rng.random() < 0.4:
             p["jacobian"] = 1
-        law = rng.random()
-        if law < 0.25:
-            p["rail_condition"] = int(rng.integers(1, 3))
-        elif law < 0.55:
-            p["friction_law"] = int(rng.integers(1, 5))
-            p["friction_kinetic_ratio"] = float(rng.uniform(0.05, 1.0))
-            p["friction_decay"] = log_uniform(rng, 1e-3, 50.0)
-            p["friction_reference_velocity"] = log_uniform(rng, 1e-2, 100.0)
-            p["friction_slope"] = log_uniform(rng, 1e-3, 10.0)
-            if p["friction_law"] == 4:
-                p["friction_table"] = pick(
-                    rng, ["0 0.4; 1 0.3; 5 0.15; 30 0.1", "0 0.3", "0 0.2; 2 0.5", "0 0.6; 0.01 0.59; 1e6 0.05"]
-                )
+        draw_friction(rng, p, 0.55, [*TABLES[:2], "0 0.2; 2 0.5", TABLES[2]])
         if rng.random() < 0.25:
             p["tolerance"] = float(pick(rng, [0.3, 0.1, 0.03, 0.01, 1e-3, 1e-9]))
         budgets = [1e-9, 1e-6, 1e-4, 1e-3, 0.01, 0.05, 0.1, 0.2] + (
@@ -824,17 +832,7 @@ class ProfileWheelset:
             p["geometry_table"] = 0
         if rng.random() < 0.3 and p.get("method") != self.DISCRETISED:
             p["jacobian"] = 1
-        law = rng.random()
-        if law < 0.25:
-            p["rail_condition"] = int(rng.integers(1, 3))
-        elif law < 0.45:
-            p["friction_law"] = int(rng.integers(1, 5))
-            p["friction_kinetic_ratio"] = float(rng.uniform(0.05, 1.0))
-            p["friction_decay"] = log_uniform(rng, 1e-3, 50.0)
-            p["friction_reference_velocity"] = log_uniform(rng, 1e-2, 100.0)
-            p["friction_slope"] = log_uniform(rng, 1e-3, 10.0)
-            if p["friction_law"] == 4:
-                p["friction_table"] = pick(rng, ["0 0.4; 1 0.3; 5 0.15; 30 0.1", "0 0.3", "0 0.6; 0.01 0.59; 1e6 0.05"])
+        draw_friction(rng, p, 0.45, list(TABLES))
         if rng.random() < 0.2:
             p["tolerance"] = float(pick(rng, [0.3, 0.1, 0.03, 0.01]))
         if rng.random() < 0.3:
