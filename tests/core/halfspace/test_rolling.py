@@ -241,3 +241,15 @@ def test_the_work_cap_bounds_the_operator_applications_and_says_so():
     again = solve_steady(op, p, slip, G, Coulomb(MU), max_applications=free.applications + 50)
     assert again.converged and np.array_equal(again.traction_x, free.traction_x), \
         "a cap the solve does not reach changes nothing"
+
+
+@pytest.mark.parametrize("creepage", [1e298, math.inf, math.nan])
+def test_a_rigid_slip_beyond_floating_point_stops_newton_at_once(creepage):
+    """A residual that is no finite number never stalls nor converges: Newton stops before its first step and says
+    why (it ran to its cap of iterations, tens of seconds on a flange's grid).  The overflow's numpy warnings are the
+    caller's to silence, as the stepping models do."""
+    grid, op, p, x, y = setup(1.0, 16)
+    with np.errstate(all="ignore"):
+        sol = solve_steady(op, p, (creepage + 0 * x, 0 * y), G, ExponentialFalling(MU, 0.4, 0.6), 30.0)
+    assert not sol.converged and "beyond floating point" in sol.message, sol.message
+    assert sol.newton_iterations == 0, f"{sol.newton_iterations} Newton iterations"

@@ -377,7 +377,8 @@ class _Run(NamedTuple):
 
 def _newton(problem: _Problem, qx, qy, tolerance: float, max_iterations: int, cap: float) -> _Run:
     """Semismooth Newton from ``(qx, qy)``: GMRES per step, backtracking on ``|F|_2``, stops at the tolerance,
-    the cap of iterations or of operator applications, or a stall (:data:`STALL_WINDOW`)."""
+    the cap of iterations or of operator applications, a stall (:data:`STALL_WINDOW`) or a residual that is not a
+    finite number (a rigid slip beyond floating point)."""
     st = problem.state(qx, qy)
     scale = float(st["g"].max()) if st["g"].max() > 0.0 else 1.0
     norm = float(np.hypot(st["fx"], st["fy"]).max()) / scale
@@ -386,6 +387,10 @@ def _newton(problem: _Problem, qx, qy, tolerance: float, max_iterations: int, ca
     for iteration in range(max_iterations + 1):
         if norm <= tolerance:
             return _Run(qx, qy, st, iteration, True, "converged", norm)
+        if not math.isfinite(norm):  # NaN never stalls nor converges: stop at once
+            return _Run(qx, qy, st, iteration, False,
+                        f"the residual is {norm!r} after {iteration} Newton iterations: the rigid slip or the "
+                        "tractions lie beyond floating point", norm)
         if iteration == max_iterations:
             break
         if len(history) > STALL_WINDOW and history[-1] > 0.5 * history[-1 - STALL_WINDOW]:
