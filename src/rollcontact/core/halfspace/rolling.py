@@ -265,7 +265,7 @@ class _Problem:
             oy = np.where(stick, -self.r * dsy, vy - py)
             return self.pack(ox, oy)
 
-        return LinearOperator((2 * self.m, 2 * self.m), matvec=apply)
+        return LinearOperator((2 * self.m, 2 * self.m), matvec=apply, dtype=float)
 
     def full_stick(self):
         """``P_g`` of the full-stick traction ``K q = G w`` on the contact: the start of Newton (stick at the leading
@@ -277,7 +277,7 @@ class _Problem:
             kx, ky = self.op.rolling(*self.unpack(v))
             return self.pack(kx * (self.r / self.G), ky * (self.r / self.G))
 
-        operator = LinearOperator((2 * self.m, 2 * self.m), matvec=apply)
+        operator = LinearOperator((2 * self.m, 2 * self.m), matvec=apply, dtype=float)
         rhs = self.pack(self.r * self.wx, self.r * self.wy)
         solution, _ = gmres(operator, rhs, rtol=1e-3, atol=0.0, restart=GMRES_RESTART, maxiter=1,
                             M=self.preconditioner(stick))
@@ -303,7 +303,7 @@ class _Problem:
             qy = sfft.irfft2((self.sxx * fy - self.sxy * fx) / self.det, s=shape)[:nx, :ny]
             return self.pack(np.where(stick, qx, vx), np.where(stick, qy, vy))
 
-        return LinearOperator((2 * self.m, 2 * self.m), matvec=apply)
+        return LinearOperator((2 * self.m, 2 * self.m), matvec=apply, dtype=float)
 
 
 def solve_steady(operator: SurfaceOperator, pressure: np.ndarray, rigid_slip: tuple[np.ndarray, np.ndarray],
