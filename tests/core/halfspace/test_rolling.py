@@ -253,3 +253,22 @@ def test_a_rigid_slip_beyond_floating_point_stops_newton_at_once(creepage):
         sol = solve_steady(op, p, (creepage + 0 * x, 0 * y), G, ExponentialFalling(MU, 0.4, 0.6), 30.0)
     assert not sol.converged and "beyond floating point" in sol.message, sol.message
     assert sol.newton_iterations == 0, f"{sol.newton_iterations} Newton iterations"
+
+
+def test_the_normal_problem_starts_from_a_given_pressure():
+    """solve_normal's ``initial``: its own solution (scaled by 2, which the load's scaling undoes) converges at once to
+    the same contact; a start of another shape is refused with both shapes; one without a positive value is the
+    uniform start."""
+    grid, op, sampled, x, y = setup(1.0, 30, margin=3)
+    curvature = 1.0 / (2 * 0.46)
+    gap = curvature * (x**2 + y**2)
+    fresh = solve_normal(op, gap, LOAD, G)
+    again = solve_normal(op, gap, LOAD, G, initial=2.0 * fresh.pressure)
+    assert fresh.converged and again.converged, (fresh.message, again.message)
+    assert again.iterations <= 2 < fresh.iterations, f"{again.iterations} iterations from the solution, " \
+                                                     f"{fresh.iterations} fresh"
+    assert np.abs(again.pressure - fresh.pressure).max() < 1e-8 * fresh.pressure.max(), "the same solution"
+    with pytest.raises(ValueError, match=r"shape \(3, 3\), the grid \(36, 36\)"):
+        solve_normal(op, gap, LOAD, G, initial=np.ones((3, 3)))
+    zero = solve_normal(op, gap, LOAD, G, initial=np.zeros(gap.shape))
+    assert zero.iterations == fresh.iterations and np.array_equal(zero.pressure, fresh.pressure), "uniform start"

@@ -102,3 +102,21 @@ def test_bad_grids_are_refused_with_the_value():
         SurfaceGrid(10, 10, 1.0, -1.0, 0.0, 0.0)
     with pytest.raises(ValueError, match="x_min"):
         SurfaceGrid(10, 10, 1.0, 1.0, math.nan, 0.0)
+
+
+def test_a_field_carried_between_grids():
+    """SurfaceGrid.carried: on one lattice the values themselves (a grid shifted by whole elements), a linear field
+    reproduced exactly between the source's centres at half the element, 0 beyond the source's outer centres."""
+    source = SurfaceGrid(10, 12, 0.2e-3, 0.2e-3, -1e-3, 0.4e-3)
+    values = np.random.default_rng(1).random((10, 12))
+    shifted = SurfaceGrid(14, 10, 0.2e-3, 0.2e-3, -1.4e-3, 0.6e-3)
+    moved = shifted.carried(values, source)
+    assert np.abs(moved[2:12, :] - values[:, 1:11]).max() < 1e-12, "the same lattice: the values themselves"
+    assert not moved[:2].any() and not moved[12:].any(), "beyond the source's outer centres: 0"
+    x, y = source.mesh()
+    finer = SurfaceGrid(20, 24, 0.1e-3, 0.1e-3, -1e-3, 0.4e-3)
+    fx, fy = finer.mesh()
+    linear = finer.carried(3.0 + 2e3 * x - 5e3 * y, source)
+    inside = (fx >= source.x[0]) & (fx <= source.x[-1]) & (fy >= source.y[0]) & (fy <= source.y[-1])
+    assert np.abs(linear - (3.0 + 2e3 * fx - 5e3 * fy))[inside].max() < 1e-12, "a linear field is carried exactly"
+    assert not linear[~inside].any(), "0 beyond the source's outer centres"

@@ -13,10 +13,15 @@ import pytest
 from wheelrail_gaps import MU, quadratic, two_wells, varying_curvature
 
 from rollcontact import ExponentialFalling
-from rollcontact.core.halfspace.rolling import ellipse_grid
+from rollcontact.core.halfspace.rolling import ellipse_grid, solve_normal
+from rollcontact.core.halfspace.surface import operator_for
 from rollcontact.elliptic.methods.discretised import solve_discretised_3d
 from rollcontact.wheelrail.methods.discretised import (
+    ITERATION_TOLERANCE,
+    NORMAL_TOLERANCE,
     discretised_loaded_approach,
+    discretised_normal_force,
+    guide_for,
     normal_at_approach,
     patch_grid,
     solve_discretised,
@@ -144,7 +149,7 @@ def test_strips_within_the_fast_goal(make, creepages):
 
 
 def test_a_carried_normal_solution_is_taken_at_its_force_and_only_its_guide_at_another(monkeypatch):
-    """The normal problem a wheel's given-force solve found (CarriedNormal) is taken by the solve at that force, not
+    """The normal problem a wheel's given-force solve found (PatchState) is taken by the solve at that force, not
     solved again, with the same bits; at another force only its guide is taken, and the answer is that force's."""
     import rollcontact.wheelrail.methods.discretised as module
 
@@ -167,6 +172,73 @@ def test_a_carried_normal_solution_is_taken_at_its_force_and_only_its_guide_at_a
     moved = solve_discretised(other, start=carried)
     assert math.isclose(moved.normal_load, other.normal_load, rel_tol=1e-9), \
         f"another force is solved for: {moved.normal_load!r} N for {other.normal_load!r} N"
+
+
+@pytest.mark.parametrize("make", [two_wells, varying_curvature])
+def test_a_wheels_next_pass_starts_from_the_last_and_gives_its_answer(make):
+    """A PatchState carries a pass's tractions to the wheel's next pass on the patch (its force changed by 1 %, as the
+    tangential forces' share of the load changes it), also through a solve at a given approach (the normal law of a
+    wheel of several patches): the next pass's steady iteration starts from them and takes fewer operator
+    applications, and its answer is the fresh solve's within 1e-6 mu Fn (Fx, Fy; Mz over mu Fn c)."""
+    gap = make()
+    scene = patch_scene(gap, 1e-3, -5e-4, 0.5, friction=ExponentialFalling(MU, 0.4, 0.5), rolling_speed=20.0)
+    _, state = discretised_loaded_approach(gap, scene.normal_load, scene.material)
+    first = solve_discretised(scene, start=state)
+    assert first.success and state.traction is not None, "the solve records its tractions in the state"
+    other = scene.replace(normal_load=1.01 * scene.normal_load)
+    _, fresh_state = discretised_loaded_approach(gap, other.normal_load, other.material)
+    fresh = solve_discretised(other, start=fresh_state)
+    _, next_state = discretised_loaded_approach(gap, other.normal_load, other.material, start=state)
+    resumed = solve_discretised(other, start=next_state)
+    assert resumed.success, resumed.message
+    assert resumed.info["operator_applications"] < fresh.info["operator_applications"], \
+        f"steady applications {resumed.info['operator_applications']} resumed, " \
+        f"{fresh.info['operator_applications']} fresh"
+    scale = MU * other.normal_load
+    for name, unit in (("longitudinal_force", 1.0), ("lateral_force", 1.0), ("spin_moment", fresh.c)):
+        error = abs(getattr(resumed, name) - getattr(fresh, name)) / (scale * unit)
+        assert error < 1e-6, f"{name}: resumed off the fresh solve by {error:.1e}"
+    assert math.isclose(resumed.approach, fresh.approach, rel_tol=1e-7), "the approach"
+    approach = fresh.approach
+    force, at_approach = discretised_normal_force(gap, approach, other.material, start=state)
+    fresh_force, fresh_at_approach = discretised_normal_force(gap, approach, other.material)
+    assert at_approach.traction is state.traction, "at an approach the state passes the tractions on"
+    assert math.isclose(force, fresh_force, rel_tol=1e-7), f"{force!r} N resumed, {fresh_force!r} N fresh"
+
+
+@pytest.mark.parametrize("make", [two_wells, varying_curvature])
+def test_the_normal_problem_starts_from_the_strips_pressure(make):
+    """The strips' pressure (StripContact.pressure_on) starts Polonsky & Keer's iteration: fewer iterations than from
+    a uniform pressure to the same contact, within the tolerance."""
+    gap = make()
+    scene = patch_scene(gap)
+    guide = guide_for(scene)
+    grid = patch_grid(0.0, 0.6 * guide.length + 1e-3, guide.extent[0] - 1e-3, guide.extent[1] + 1e-3, COARSE)
+    op = operator_for(grid, scene.material.poisson_ratio)
+    x, s = grid.mesh()
+    h = np.interp(s, gap.lateral, gap.lateral_gap) + np.interp(s, gap.lateral, gap.longitudinal_curvature) * x * x
+    uniform = solve_normal(op, h, LOAD, scene.shear_modulus, tolerance=NORMAL_TOLERANCE)
+    started = solve_normal(op, h, LOAD, scene.shear_modulus, tolerance=NORMAL_TOLERANCE,
+                           initial=guide.pressure_on(x, s))
+    assert uniform.converged and started.converged, (uniform.message, started.message)
+    assert started.iterations < uniform.iterations, \
+        f"{started.iterations} iterations from the strips' pressure, {uniform.iterations} from a uniform one"
+    assert np.abs(started.pressure - uniform.pressure).max() < 1e-5 * uniform.pressure.max(), "the same pressure"
+
+
+def test_the_default_tolerances_settle_the_forces():
+    """Newton's default tolerance (ITERATION_TOLERANCE) and the normal problem's (NORMAL_TOLERANCE) give the forces
+    of a solve 100 times tighter in both within 1e-6 mu Fn, the approach within 1e-7."""
+    scene = patch_scene(two_wells(), 1e-3, -5e-4, 0.5, friction=ExponentialFalling(MU, 0.4, 0.5), rolling_speed=20.0)
+    default = solve_discretised(scene)
+    tight = solve_discretised(scene, iteration_tolerance=ITERATION_TOLERANCE / 100,
+                              normal_tolerance=NORMAL_TOLERANCE / 100)
+    assert default.success and tight.success, (default.message, tight.message)
+    scale = MU * scene.normal_load
+    for name, unit in (("longitudinal_force", 1.0), ("lateral_force", 1.0), ("spin_moment", tight.c)):
+        error = abs(getattr(default, name) - getattr(tight, name)) / (scale * unit)
+        assert error < 1e-6, f"{name}: the default tolerances off a tighter solve by {error:.1e}"
+    assert math.isclose(default.approach, tight.approach, rel_tol=1e-7), "the approach"
 
 
 def test_the_modelled_cost_follows_the_patch_and_bounds_its_elements():

@@ -85,7 +85,8 @@ class NormalSolution3D:
 
 
 def solve_normal(operator: SurfaceOperator, gap: np.ndarray, normal_load: float, shear_modulus: float,
-                 tolerance: float = 1e-10, max_iterations: int = NORMAL_ITERATIONS) -> NormalSolution3D:
+                 tolerance: float = 1e-10, max_iterations: int = NORMAL_ITERATIONS,
+                 initial: np.ndarray | None = None) -> NormalSolution3D:
     """Normal contact on the grid by Polonsky & Keer's constrained conjugate gradients (Wear 231, 1999).
 
     Solves ``g = h0 + A_zz p / G - delta >= 0``, ``p >= 0``, ``p g = 0``, ``dA sum p = Fn`` (Kalker 1990,
@@ -102,11 +103,21 @@ def solve_normal(operator: SurfaceOperator, gap: np.ndarray, normal_load: float,
         Fn [N] > 0.
     shear_modulus : float
         G [Pa].
+    initial : ndarray, optional
+        A pressure [Pa] on the grid to start from (a nearby case's solution), its negative part dropped and scaled
+        to the load (ValueError for another shape); None, or one without a positive finite sum: the load spread
+        over the whole grid.
     """
     grid = operator.grid
     area = grid.area
-    mean_pressure = normal_load / (area * gap.size)
-    p = np.full(gap.shape, mean_pressure)
+    p = None if initial is None else np.maximum(np.asarray(initial, dtype=float), 0.0)
+    if p is not None and p.shape != gap.shape:
+        raise ValueError(f"the initial pressure has the shape {p.shape}, the grid {gap.shape}")
+    total = 0.0 if p is None else float(p.sum())
+    if p is not None and math.isfinite(total) and total > 0.0:
+        p *= normal_load / (total * area)
+    else:
+        p = np.full(gap.shape, normal_load / (area * gap.size))
     direction = np.zeros(gap.shape)
     previous = 1.0
     restart = True

@@ -96,6 +96,35 @@ class SurfaceGrid:
         """Centre coordinates ``(X, Y)`` [m], each of shape (nx, ny)."""
         return np.meshgrid(self.x, self.y, indexing="ij")
 
+    def carried(self, values: np.ndarray, source: SurfaceGrid) -> np.ndarray:
+        """``values`` at the element centres of ``source`` carried to this grid's centres: bilinear between
+        ``source``'s centres, 0 beyond its outer ones (a field that vanishes outside a contact: a pressure, a
+        traction).  ``W_x values W_y^T`` with the 1D linear weights of each direction; on the same lattice the
+        values themselves."""
+        return _linear_weights(source.x, self.x) @ np.asarray(values, dtype=float) @ \
+            _linear_weights(source.y, self.y).T
+
+
+LATTICE_SLACK = 1e-9
+"""Share of an element by which a point beyond the outer centres still takes the outer value (the rounding of the
+centres of two grids on one lattice)."""
+
+
+def _linear_weights(source: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """``(target.size, source.size)`` weights of linear interpolation from the uniform points ``source`` to the
+    points ``target``, rows of 0 beyond ``source``'s ends."""
+    position = (target - source[0]) / (source[1] - source[0])
+    weights = np.zeros((target.size, source.size))
+    inside = (position >= -LATTICE_SLACK) & (position <= source.size - 1 + LATTICE_SLACK)
+    at = np.clip(position[inside], 0.0, source.size - 1)
+    low = np.minimum(np.floor(at).astype(int), source.size - 1)
+    fraction = at - low
+    rows = np.flatnonzero(inside)
+    weights[rows, low] = 1.0 - fraction
+    upper = low + 1 < source.size
+    weights[rows[upper], low[upper] + 1] = fraction[upper]
+    return weights
+
 
 def _t_log_s_plus_r(s, t, r):
     """``t ln(s + r)``, without the cancellation of ``s + r`` for s < 0 (there ``s + r = t^2 / (r - s)``), and 0 at

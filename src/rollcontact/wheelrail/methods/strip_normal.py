@@ -199,6 +199,15 @@ class StripContact:
         low, high = self.extent
         return high - low
 
+    def pressure_on(self, x: np.ndarray, s: np.ndarray) -> np.ndarray:
+        """The pressure [Pa] at the points ``(x, s)`` [m]: each strip's semi-ellipse ``p0 sqrt(1 - x^2/a^2)``, with
+        ``a`` and ``p0`` linear in s between the strips' centres and 0 beyond the outer ones."""
+        half = np.interp(s, self.centres, self.half_lengths, left=0.0, right=0.0)
+        peak = np.interp(s, self.centres, self.peak_pressures, left=0.0, right=0.0)
+        inside = half > np.abs(x)
+        ratio = np.where(inside, x / np.where(inside, half, 1.0), 1.0)
+        return np.where(inside, peak * np.sqrt(1.0 - ratio * ratio), 0.0)
+
 
 def check_gap(gap: PatchGap) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The gap's arrays as floats, checked: at least 3 samples, s strictly increasing, all finite, A > 0
