@@ -159,3 +159,31 @@ def test_a_start_nearby_gives_the_same_solution(make):
     assert len(resumed.newton_steps) <= len(fresh.newton_steps), "the start saves none of Newton's steps"
     same = strip_normal(gap, ESTAR, approach=resumed.approach, start=resumed)
     assert same is resumed, "a start at the same approach is the solution, returned as it is"
+
+
+@pytest.mark.parametrize("make, hertzian", [(lambda: quadratic(0.5)[0], True), (varying_curvature, True),
+                                            (two_wells, False)])
+@pytest.mark.parametrize("given", ["normal_load", "approach"])
+def test_newton_from_hertz_gives_the_passes_solution(monkeypatch, make, hertzian, given):
+    """A gap of one local minimum below Hertz's approach is solved by Newton's method from Hertz's ellipse at its
+    deepest sample, without the passes, to their solution (the approach or the load within 1e-6, the loads per width
+    within 1e-5 of the largest); a gap of two (two wells) goes to the passes."""
+    import rollcontact.wheelrail.methods.strip_normal as module
+
+    gap = make()
+    value = 3e4 if given == "normal_load" else strip_normal(gap, ESTAR, normal_load=3e4).approach
+    passes = []
+    first_pass = module._first_pass
+    monkeypatch.setattr(module, "_first_pass", lambda *a: passes.append(a) or first_pass(*a))
+    direct = strip_normal(gap, ESTAR, **{given: value})
+    assert direct.converged, direct.message
+    assert bool(passes) != hertzian, f"the passes ran {len(passes)} times"
+    monkeypatch.setattr(module, "_hertzian", lambda *a: None)
+    by_passes = strip_normal(gap, ESTAR, **{given: value})
+    assert by_passes.converged, by_passes.message
+    for name in ("approach", "normal_load"):
+        assert math.isclose(getattr(direct, name), getattr(by_passes, name), rel_tol=1e-6), \
+            f"{name}: {getattr(direct, name)!r} from Hertz, {getattr(by_passes, name)!r} by the passes"
+    assert direct.centres.size == by_passes.centres.size, "the same strips"
+    difference = np.abs(direct.loads_per_width - by_passes.loads_per_width).max()
+    assert difference <= 1e-5 * by_passes.loads_per_width.max(), f"loads per width differ by {difference:.3g} N/m"

@@ -36,7 +36,9 @@ fixed point on the half-lengths: with them fixed, (I) is a linear complementarit
 lobes are laid again over its runs of strips in contact (their edges extrapolated to ``e = 0``) and Newton's method on
 (I), (II) and the edge conditions for e, q and every lobe's M and R finishes (:func:`_polish`).  Where the surfaces then
 interpenetrate outside the lobes at a sample of the gap, a lobe joins there and the passes go on
-(:func:`_penetrating`).  From a nearby solution (``start``) Newton's method alone finishes (:func:`_resumed`).  For a
+(:func:`_penetrating`).  From a nearby solution (``start``) Newton's method alone finishes (:func:`_resumed`); without
+one, where the gap has a single local minimum below Hertz's approach at its deepest sample, Newton's method first
+starts from Hertz's ellipse there (:func:`_hertzian`), and the passes run where it does not take.  For a
 given load the approach follows from ``Fn`` with (I), which is linear in it.
 """
 
@@ -349,6 +351,9 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
                                                       int(strips))
         if resumed is not None:
             return resumed
+        hertzian = _hertzian(s, h, curvature, estar, approach, normal_load, int(strips))
+        if hertzian is not None:
+            return hertzian
         delta, lobes, first = _first_pass(s, h, curvature, estar, approach, normal_load)
         return _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, first, int(strips))
     except _Failure as failure:
@@ -361,9 +366,10 @@ def _empty(approach, message, load=0.0, converged=True) -> StripContact:
                         converged, message, 0)
 
 
-def _first_guess(s, h, curvature, estar, normal_load) -> float:
-    """An approach [m] to start the first pass of a given load: Hertz's for the curvatures at the gap's minimum
-    (its lateral one from the samples, held within a factor 100 of A)."""
+def _deepest_ellipse(s, h, curvature, estar, normal_load=None, approach=None):
+    """``(k, ellipse)``: the gap's deepest sample k (within its inner samples) and Hertz's ellipse
+    (:func:`~rollcontact.elliptic.hertz.hertz_ellipse`) for the curvatures there, the lateral one from the samples'
+    second difference held within a factor 100 of A, at the load [N] or at the approach [m]."""
     k = int(np.argmin(h))
     k = min(max(k, 1), h.size - 2)
     slope_left = (h[k] - h[k - 1]) / (s[k] - s[k - 1])
@@ -371,7 +377,41 @@ def _first_guess(s, h, curvature, estar, normal_load) -> float:
     lateral = (slope_right - slope_left) / (s[k + 1] - s[k - 1])
     longitudinal = float(curvature[k])
     lateral = min(max(lateral, 0.01 * longitudinal), 100.0 * longitudinal)
-    return hertz_ellipse(normal_load, longitudinal, lateral, estar).approach
+    if normal_load is None:  # Hertz's approach grows as the load to the power 2/3
+        normal_load = (approach / hertz_ellipse(1.0, longitudinal, lateral, estar).approach) ** 1.5
+    return k, hertz_ellipse(normal_load, longitudinal, lateral, estar)
+
+
+def _first_guess(s, h, curvature, estar, normal_load) -> float:
+    """An approach [m] to start the first pass of a given load: Hertz's at the gap's deepest sample
+    (:func:`_deepest_ellipse`)."""
+    return _deepest_ellipse(s, h, curvature, estar, normal_load)[1].approach
+
+
+def _hertzian(s, h, curvature, estar, approach, normal_load, count) -> StripContact | None:
+    """Newton's method (:func:`_polish`) from Hertz's ellipse at the gap's deepest sample (:func:`_deepest_ellipse`)
+    as one lobe of ``count`` strips: the lobe over its width ``2b``, ``e = p0 a (1 - u^2)`` and ``q = p0 / a`` on
+    its strips (u their place across it, -1..1), Hertz's approach; None where the gap has a second local minimum
+    below that approach (two lobes are likely: the passes find them), where Newton's method does not take, or where
+    the surfaces then interpenetrate outside the lobe (:func:`_penetrating`: a second lobe)."""
+    k, ellipse = _deepest_ellipse(s, h, curvature, estar, normal_load, approach)
+    depth = ellipse.approach if approach is None else approach
+    inner = h[1:-1]
+    if np.count_nonzero((inner < h[:-2]) & (inner <= h[2:]) & (inner < depth)) > 1:
+        return None
+    unit = _unit_strips(count)
+    across = unit[0]
+    sampled = _SampledGap(s, h, curvature)
+    polished = _polish(np.array([float(s[k])]), np.array([ellipse.b]), unit, sampled, estar, approach, normal_load,
+                       ellipse.approach if approach is None else approach,
+                       ellipse.max_pressure * ellipse.a * (1.0 - across * across),
+                       np.full(count, ellipse.max_pressure / ellipse.a))
+    if polished is None:
+        return None
+    middle, radius, delta, e, q, used, steps = polished
+    if _penetrating(middle, radius, unit, s, h, e, q, delta, estar):
+        return None
+    return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged")
 
 
 def _first_pass(s, h, curvature, estar, approach, normal_load):
