@@ -287,8 +287,8 @@ class PatchState:
 
 ITERATION_TOLERANCE = 1e-6
 """Newton's default tolerance of the tangential problem on ``max |q - P_g(q + r s)| / max mu p``: the forces settle
-to about 1e-7 mu Fn (``tests/wheelrail/methods/test_discretised.py`` holds them within 1e-6 of a solve to 1e-10),
-four orders below the level's own error estimates."""
+to about 1e-7 mu Fn (``tests/wheelrail/methods/test_discretised.py`` holds them within 1e-6 of a solve 100 times
+tighter), four orders below the level's own error estimates."""
 
 NORMAL_TOLERANCE = 1e-8
 """The conjugate gradients' default tolerance on the change of the pressure in one iteration, relative to the load:
