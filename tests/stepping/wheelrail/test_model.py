@@ -11,6 +11,7 @@ import pytest
 
 from rollcontact import Coulomb, Material
 from rollcontact.stepping import ModelError, WheelsetContactModel, WheelsetContactParameters, WheelsetContactState
+from rollcontact.stepping.parameters import AUTO
 from rollcontact.stepping.wheelrail.model import INCREMENTS
 from rollcontact.stepping.wheelrail.parameters import METHOD_LEVELS, method_code
 from rollcontact.wheelrail import dispatch
@@ -339,3 +340,22 @@ def test_the_outputs_are_a_function_of_the_inputs_alone(tabulated):
     for n, other in enumerate(signal(5), start=1):
         tabulated.step(n * H, H, other)
     assert tabulated.step(7.3, 0.01, values) == first, "the outputs depend on the history"
+
+
+@pytest.mark.parametrize("options, values", [
+    ({"method": method_code("strips"), "jacobian": 1},
+     (0.004001527595821222, 0.001687771706151042, 0.02164490441291539, -0.005071040475120116, 1.254882686621549,
+      -2.7147507496068966, 18901.362350813124, 5e-324)),
+    ({"method": AUTO, "rail_condition": 2},
+     (0.001159420531216681, 0.0010812561823059048, -0.012256707750551479, -0.055391561953596305, 10.414469297422292,
+      -22.607326780841216, 3997.120074940494, 5e-324))])
+def test_a_wheel_load_at_the_end_of_floating_point_is_refused_by_value(options, values):
+    """A wheel load of 5e-324 N (two of the fuzz's steps, where the strips' Hertz start divided by an underflowed
+    semi-axis): the strips cannot resolve the contact, and the step is refused naming the load, never with Python's
+    bare error text; the instance answers the next step."""
+    model = WheelsetContactModel(WheelsetContactParameters(**options))
+    with pytest.raises(ModelError) as refused:
+        model.step(0.0, H, values)
+    assert "5e-324 N" in str(refused.value) and "division" not in str(refused.value), str(refused.value)
+    after = model.step(0.0, H, inputs())
+    assert math.isclose(-after.force_z, 2 * Q, rel_tol=1e-3), f"the instance stays usable: {after.force_z!r} N"

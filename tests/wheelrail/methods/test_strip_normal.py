@@ -187,3 +187,21 @@ def test_newton_from_hertz_gives_the_passes_solution(monkeypatch, make, hertzian
     assert direct.centres.size == by_passes.centres.size, "the same strips"
     difference = np.abs(direct.loads_per_width - by_passes.loads_per_width).max()
     assert difference <= 1e-5 * by_passes.loads_per_width.max(), f"loads per width differ by {difference:.3g} N/m"
+
+
+@pytest.mark.parametrize("make", [lambda: quadratic(0.5)[0], two_wells, varying_curvature])
+@pytest.mark.parametrize("given", [{"normal_load": 5e-324}, {"normal_load": 1e-300}, {"normal_load": 1e-30},
+                                   {"approach": 5e-324}, {"approach": 1e-300}, {"approach": 1e-20}])
+def test_loads_and_approaches_at_the_ends_of_floating_point(make, given):
+    """A load or approach so small that the contact underflows: a StripContact, no exception and no numpy warning;
+    converged (no contact, or the load carried) or not with the reason and a number in it."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        contact = strip_normal(make(), ESTAR, **given)
+    if contact.converged:
+        carried = float(contact.widths @ contact.loads_per_width) if contact.centres.size else 0.0
+        assert math.isclose(carried, contact.normal_load, rel_tol=1e-6, abs_tol=1e-300), contact.message
+    else:
+        assert any(ch.isdigit() for ch in contact.message), contact.message

@@ -357,7 +357,9 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
         delta, lobes, first = _first_pass(s, h, curvature, estar, approach, normal_load)
         return _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, first, int(strips))
     except _Failure as failure:
-        return _empty(math.nan if approach is None else approach, str(failure), normal_load, converged=False)
+        given = f"normal_load = {normal_load!r} N" if approach is None else f"approach = {approach!r} m"
+        return _empty(math.nan if approach is None else approach, f"{failure} ({given})", normal_load,
+                      converged=False)
 
 
 def _empty(approach, message, load=0.0, converged=True) -> StripContact:
@@ -395,6 +397,8 @@ def _hertzian(s, h, curvature, estar, approach, normal_load, count) -> StripCont
     below that approach (two lobes are likely: the passes find them), where Newton's method does not take, or where
     the surfaces then interpenetrate outside the lobe (:func:`_penetrating`: a second lobe)."""
     k, ellipse = _deepest_ellipse(s, h, curvature, estar, normal_load, approach)
+    if not all(0.0 < v < math.inf for v in (ellipse.a, ellipse.b, ellipse.approach, ellipse.max_pressure)):
+        return None  # a load at the ends of floating point: the passes say what they make of it
     depth = ellipse.approach if approach is None else approach
     inner = h[1:-1]
     if np.count_nonzero((inner < h[:-2]) & (inner <= h[2:]) & (inner < depth)) > 1:
@@ -439,6 +443,9 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         gaps, curv = gaps[index], curv[index]
         centres, lower, upper = centres_all[index], lower_all[index], upper_all[index]
         half = np.sqrt((depth - gaps) / (2.0 * curv))
+        if np.count_nonzero(half > 0.0) < half.size:
+            raise _Failure(f"the rigid interpenetration {depth!r} m gives a strip a half-length of 0 m: a contact "
+                           "below floating point's resolution")
         widths = upper - lower
         active = depth - gaps > 0.5 * (depth - gaps.min())  # the circle's share of the rigid interpenetration
         q = np.zeros(index.size)
@@ -517,8 +524,13 @@ def _fixed_point(centres, lower, upper, gaps, curv, geometry, approach, normal_l
     widths = upper - lower
     count = centres.size
     sub = active.nonzero()[0]
+    with np.errstate(all="ignore"):  # what is not a positive finite number is refused below
+        ratio = e[sub] / q[sub]
+    if np.count_nonzero(np.isfinite(ratio) & (ratio > 0.0)) < sub.size:
+        raise _Failure(f"the strips in contact carry e = p0 a from {float(e[sub].min())!r} N/m with q = p0 / a from "
+                       f"{float(q[sub].min())!r} Pa/m: a contact beyond floating point's resolution")
     half = np.zeros(count)
-    half[sub] = np.sqrt(e[sub] / q[sub])
+    half[sub] = np.sqrt(ratio)
     half = _spread(half)
     xs: list[np.ndarray] = []  # the last ANDERSON + 1 iterates ln a and their residuals
     fs: list[np.ndarray] = []
@@ -796,9 +808,8 @@ def _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, 
         de, dq = step[:n] * e_scale, step[n:2 * n] * q_scale
         moved, widened = step[middles] * radius, step[radii] * radius
         # a step that would empty a strip, flip a curvature or move an edge by half its lobe is cut short
-        fraction = min(1.0, BOUNDARY * float(np.min(e / np.maximum(-de, 1e-300 * e))),
-                       BOUNDARY * float(np.min(q / np.maximum(-dq, 1e-300 * q))),
-                       0.5 * float(np.min(radius / (np.abs(moved) + np.abs(widened)))))
+        fraction = min(1.0, BOUNDARY * _room(e, de), BOUNDARY * _room(q, dq),
+                       0.5 * _room(radius, -(np.abs(moved) + np.abs(widened))))
         if fraction < 1.0:
             if fraction < LEAST_FRACTION:
                 return None
@@ -814,6 +825,13 @@ def _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, 
                                 or NEWTON_CONTRACTION * change * change <= FIXED_POINT_TOLERANCE):
             return middle, radius, delta, e, q, used, tuple(steps)
     return None
+
+
+def _room(values: np.ndarray, change: np.ndarray) -> float:
+    """The least ``values / -change`` over the entries that ``change`` decreases (inf where none does): the share of a
+    step that takes the first of them to zero."""
+    falling = change < 0.0
+    return float(np.min(values[falling] / -change[falling])) if np.count_nonzero(falling) else math.inf
 
 
 def _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, message) -> StripContact:
@@ -940,6 +958,9 @@ def _spread(half):
     inside = (half > 0.0).nonzero()[0]
     if inside.size == half.size:
         return half
+    if not inside.size:
+        raise _Failure(f"every strip's half-length is 0 m (the largest e = p0 a of the strips is "
+                       f"{float(np.max(half)):.3g}): a contact below floating point's resolution")
     spread = np.interp(np.arange(half.size), inside, half[inside]) / 3.0
     spread[inside] = half[inside]
     return spread
