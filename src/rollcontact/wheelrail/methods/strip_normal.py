@@ -403,13 +403,19 @@ def _hertzian(s, h, curvature, estar, approach, normal_load, count) -> StripCont
     inner = h[1:-1]
     if np.count_nonzero((inner < h[:-2]) & (inner <= h[2:]) & (inner < depth)) > 1:
         return None
+    across = _unit_strips(count)[0]
+    return _newton_alone(np.array([float(s[k])]), np.array([ellipse.b]), count, s, h, curvature, estar, approach,
+                         normal_load, depth, ellipse.max_pressure * ellipse.a * (1.0 - across * across),
+                         np.full(count, ellipse.max_pressure / ellipse.a))
+
+
+def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, normal_load, delta, e, q):
+    """Newton's method (:func:`_polish`) from the lobes ``(middle, radius)`` of ``count`` strips each with ``e`` and
+    ``q`` on them and the approach ``delta``: the solution, or None where it does not take or the surfaces then
+    interpenetrate outside the lobes (:func:`_penetrating`)."""
     unit = _unit_strips(count)
-    across = unit[0]
     sampled = _SampledGap(s, h, curvature)
-    polished = _polish(np.array([float(s[k])]), np.array([ellipse.b]), unit, sampled, estar, approach, normal_load,
-                       ellipse.approach if approach is None else approach,
-                       ellipse.max_pressure * ellipse.a * (1.0 - across * across),
-                       np.full(count, ellipse.max_pressure / ellipse.a))
+    polished = _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, e, q)
     if polished is None:
         return None
     middle, radius, delta, e, q, used, steps = polished
@@ -873,16 +879,8 @@ def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> Str
     if abs(ratio - 1.0) <= FIXED_POINT_TOLERANCE:  # start is solved to this: it is the solution
         return start
     low, high = np.array(start.lobes).T
-    unit = _unit_strips(count)
-    sampled = _SampledGap(s, h, curvature)
-    polished = _polish(0.5 * (low + high), 0.5 * (high - low) * math.sqrt(ratio), unit, sampled, estar, approach,
-                       normal_load, start.approach * ratio, peak * half * ratio, peak / half)
-    if polished is None:
-        return None
-    middle, radius, delta, e, q, used, steps = polished
-    if _penetrating(middle, radius, unit, s, h, e, q, delta, estar):
-        return None
-    return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged")
+    return _newton_alone(0.5 * (low + high), 0.5 * (high - low) * math.sqrt(ratio), count, s, h, curvature, estar,
+                         approach, normal_load, start.approach * ratio, peak * half * ratio, peak / half)
 
 
 def _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, start, count) -> StripContact:
