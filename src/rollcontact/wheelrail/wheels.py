@@ -76,7 +76,8 @@ class PatchLevel(NamedTuple):
         (None at the first) and of its solve.
     solve : callable
         ``solve(scene, start=state, **options) -> PatchResult`` of a :class:`~rollcontact.wheelrail.scene.PatchScene`
-        at its approach, ``state`` that of the normal law's last call on the patch.
+        at its approach, ``state`` that of the normal law's last call on the patch; a level may record in the state
+        what the next pass's calls on the patch start from (the discretised level its tractions).
     accuracy : AccuracyModel or None
         The patch solver's accuracy model.
     loaded : callable or None
