@@ -52,13 +52,13 @@ def in_nu(values, nu: float) -> np.ndarray:
 
 
 @lru_cache(maxsize=32)
-def splines(nu: float) -> tuple:
-    """Cubic splines of log C in log(a/b) at this nu, one per coefficient."""
+def splines(nu: float) -> CubicSpline:
+    """The cubic splines of log C in log(a/b) at this nu, one per coefficient, as the columns of one spline (each
+    column's the same as a spline of its own, one evaluation for the four)."""
     log_ratio = np.log(creep_table.ASPECT_RATIOS)
-    out = []
-    for table in (creep_table.C11, creep_table.C22, creep_table.C23, creep_table.C33):
-        out.append(CubicSpline(log_ratio, np.log(in_nu(table, nu))))
-    return tuple(out)
+    columns = [np.log(in_nu(table, nu)) for table in (creep_table.C11, creep_table.C22, creep_table.C23,
+                                                       creep_table.C33)]
+    return CubicSpline(log_ratio, np.stack(columns, axis=1))
 
 
 def creepage_coefficients(aspect_ratio: float, poisson_ratio: float) -> CreepageCoefficients:
@@ -79,8 +79,7 @@ def creepage_coefficients(aspect_ratio: float, poisson_ratio: float) -> Creepage
 @lru_cache(maxsize=1024)
 def interpolated(g: float, nu: float) -> CreepageCoefficients:
     """The coefficients at checked a/b and nu (cached: a vehicle model asks for the same contacts every step)."""
-    log_g = math.log(g)
-    return CreepageCoefficients(*(math.exp(float(s(log_g))) for s in splines(nu)))
+    return CreepageCoefficients(*(math.exp(v) for v in splines(nu)(math.log(g)).tolist()))
 
 
 def extended_creepage_coefficients(aspect_ratio: float, poisson_ratio: float) -> CreepageCoefficients:
