@@ -369,9 +369,9 @@ def _empty(approach, message, load=0.0, converged=True) -> StripContact:
 
 
 def _deepest_ellipse(s, h, curvature, estar, normal_load=None, approach=None):
-    """``(k, ellipse)``: the gap's deepest sample k (within its inner samples) and Hertz's ellipse
-    (:func:`~rollcontact.elliptic.hertz.hertz_ellipse`) for the curvatures there, the lateral one from the samples'
-    second difference held within a factor 100 of A, at the load [N] or at the approach [m]."""
+    """``(k, ellipse, B)``: the gap's deepest sample k (within its inner samples) and Hertz's ellipse
+    (:func:`~rollcontact.elliptic.hertz.hertz_ellipse`) for the curvatures there, the lateral one B [1/m] from the
+    samples' second difference held within a factor 100 of A, at the load [N] or at the approach [m]."""
     k = int(np.argmin(h))
     k = min(max(k, 1), h.size - 2)
     slope_left = (h[k] - h[k - 1]) / (s[k] - s[k - 1])
@@ -381,7 +381,7 @@ def _deepest_ellipse(s, h, curvature, estar, normal_load=None, approach=None):
     lateral = min(max(lateral, 0.01 * longitudinal), 100.0 * longitudinal)
     if normal_load is None:  # Hertz's approach grows as the load to the power 2/3
         normal_load = (approach / hertz_ellipse(1.0, longitudinal, lateral, estar).approach) ** 1.5
-    return k, hertz_ellipse(normal_load, longitudinal, lateral, estar)
+    return k, hertz_ellipse(normal_load, longitudinal, lateral, estar), lateral
 
 
 def _first_guess(s, h, curvature, estar, normal_load) -> float:
@@ -392,20 +392,26 @@ def _first_guess(s, h, curvature, estar, normal_load) -> float:
 
 def _hertzian(s, h, curvature, estar, approach, normal_load, count) -> StripContact | None:
     """Newton's method (:func:`_polish`) from Hertz's ellipse at the gap's deepest sample (:func:`_deepest_ellipse`)
-    as one lobe of ``count`` strips: the lobe over its width ``2b``, ``e = p0 a (1 - u^2)`` and ``q = p0 / a`` on
-    its strips (u their place across it, -1..1), Hertz's approach; None where the gap has a second local minimum
-    below that approach (two lobes are likely: the passes find them), where Newton's method does not take, or where
-    the surfaces then interpenetrate outside the lobe (:func:`_penetrating`: a second lobe)."""
-    k, ellipse = _deepest_ellipse(s, h, curvature, estar, normal_load, approach)
+    as one lobe of ``count`` strips over the gap's rigid interpenetration at Hertz's approach delta: the lobe centred
+    on it, its half-width R Hertz's b in the ratio of the interpenetration's half-width to the quadratic's,
+    ``sqrt(delta / B)`` (R = b on a quadratic gap, wider on a flatter one), ``e = p0 a (1 - u^2) b / R`` (Hertz's load
+    over the lobe) and ``q = p0 / a`` on its strips (u their place across it, -1..1), Hertz's approach.  None where
+    the gap has a second local minimum below that approach (two lobes are likely: the passes find them), where
+    Newton's method does not take, or where the surfaces then interpenetrate outside the lobe (:func:`_penetrating`:
+    a second lobe)."""
+    _, ellipse, lateral = _deepest_ellipse(s, h, curvature, estar, normal_load, approach)
     if not all(0.0 < v < math.inf for v in (ellipse.a, ellipse.b, ellipse.approach, ellipse.max_pressure)):
         return None  # a load at the ends of floating point: the passes say what they make of it
     depth = ellipse.approach if approach is None else approach
     inner = h[1:-1]
-    if np.count_nonzero((inner < h[:-2]) & (inner <= h[2:]) & (inner < depth)) > 1:
+    bounds = rigid_range(s, h, depth)
+    if bounds is None or np.count_nonzero((inner < h[:-2]) & (inner <= h[2:]) & (inner < depth)) > 1:
         return None
+    radius = ellipse.b * 0.5 * (bounds[1] - bounds[0]) / math.sqrt(depth / lateral)
     across = _unit_strips(count)[0]
-    return _newton_alone(np.array([float(s[k])]), np.array([ellipse.b]), count, s, h, curvature, estar, approach,
-                         normal_load, depth, ellipse.max_pressure * ellipse.a * (1.0 - across * across),
+    return _newton_alone(np.array([0.5 * (bounds[0] + bounds[1])]), np.array([radius]), count, s, h, curvature,
+                         estar, approach, normal_load, depth,
+                         ellipse.max_pressure * ellipse.a * (1.0 - across * across) * (ellipse.b / radius),
                          np.full(count, ellipse.max_pressure / ellipse.a))
 
 
