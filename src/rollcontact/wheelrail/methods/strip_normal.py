@@ -963,8 +963,7 @@ def _spread(half):
     if inside.size == half.size:
         return half
     if not inside.size:
-        raise _Failure(f"every strip's half-length is 0 m (the largest e = p0 a of the strips is "
-                       f"{float(np.max(half)):.3g}): a contact below floating point's resolution")
+        raise _Failure("every strip's half-length is 0 m: a contact below floating point's resolution")
     spread = np.interp(np.arange(half.size), inside, half[inside]) / 3.0
     spread[inside] = half[inside]
     return spread
