@@ -31,6 +31,14 @@ def two_wells(separation: float = 8e-3, depth: float = 6e-6, curvature: float = 
     return PatchGap(s, h, np.full(s.size, longitudinal))
 
 
+def three_wells(separation: float = 8e-3, depth: float = 4e-6, curvature: float = 4.0, longitudinal: float = 1.1,
+                samples: int = 2401) -> PatchGap:
+    """Three parabolic wells as :func:`two_wells`', each ``depth`` [m] shallower than the one before: three lobes."""
+    s = np.linspace(-separation, 3.0 * separation, samples)
+    h = np.min([curvature * (s - k * separation) ** 2 + k * depth for k in range(3)], axis=0)
+    return PatchGap(s, h, np.full(s.size, longitudinal))
+
+
 def varying_curvature(slope: float = 60.0, lateral: float = 3.0, longitudinal: float = 1.1,
                       samples: int = 1201) -> PatchGap:
     """``h = B s^2 + C s^3`` (a flange root's lopsided gap) with ``A(s) = A0 (1 + slope s)`` held above A0 / 4: the

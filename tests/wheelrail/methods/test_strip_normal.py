@@ -11,10 +11,10 @@ import math
 
 import numpy as np
 import pytest
-from wheelrail_gaps import mirrored, quadratic, two_wells, varying_curvature
+from wheelrail_gaps import mirrored, quadratic, three_wells, two_wells, varying_curvature
 
 from rollcontact import Material
-from rollcontact.wheelrail.methods.strip_normal import strip_normal
+from rollcontact.wheelrail.methods.strip_normal import rigid_range, rigid_runs, strip_normal
 from rollcontact.wheelrail.patch import PatchGap
 from rollcontact.wheelrail.scene import WheelRailScene
 
@@ -162,12 +162,12 @@ def test_a_start_nearby_gives_the_same_solution(make):
 
 
 @pytest.mark.parametrize("make, hertzian", [(lambda: quadratic(0.5)[0], True), (varying_curvature, True),
-                                            (two_wells, False)])
+                                            (two_wells, True), (three_wells, False)])
 @pytest.mark.parametrize("given", ["normal_load", "approach"])
 def test_newton_from_hertz_gives_the_passes_solution(monkeypatch, make, hertzian, given):
-    """A gap of one local minimum below Hertz's approach is solved by Newton's method from Hertz's ellipse at its
-    deepest sample, without the passes, to their solution (the approach or the load within 1e-6, the loads per width
-    within 1e-5 of the largest); a gap of two (two wells) goes to the passes."""
+    """A gap whose rigid interpenetration at Hertz's approach is one run or two (two wells: two lobes) is solved by
+    Newton's method from Hertz's ellipse laid over them, without the passes, to their solution (the approach or the
+    load within 1e-6, the loads per width within 1e-5 of the largest); three runs (three wells) go to the passes."""
     import rollcontact.wheelrail.methods.strip_normal as module
 
     gap = make()
@@ -184,7 +184,8 @@ def test_newton_from_hertz_gives_the_passes_solution(monkeypatch, make, hertzian
     for name in ("approach", "normal_load"):
         assert math.isclose(getattr(direct, name), getattr(by_passes, name), rel_tol=1e-6), \
             f"{name}: {getattr(direct, name)!r} from Hertz, {getattr(by_passes, name)!r} by the passes"
-    assert direct.centres.size == by_passes.centres.size, "the same strips"
+    assert len(direct.lobes) == len(by_passes.lobes) and direct.centres.size == by_passes.centres.size, \
+        "the same lobes and strips"
     difference = np.abs(direct.loads_per_width - by_passes.loads_per_width).max()
     assert difference <= 1e-5 * by_passes.loads_per_width.max(), f"loads per width differ by {difference:.3g} N/m"
 
@@ -205,3 +206,26 @@ def test_loads_and_approaches_at_the_ends_of_floating_point(make, given):
         assert math.isclose(carried, contact.normal_load, rel_tol=1e-6, abs_tol=1e-300), contact.message
     else:
         assert any(ch.isdigit() for ch in contact.message), contact.message
+
+
+def test_the_runs_of_the_rigid_interpenetration():
+    """rigid_runs: a quadratic gap one run about its minimum, ends where the parabola crosses the depth (to the linear
+    interpolation's error between samples); two wells two runs, each with its least gap; rigid_range their hull; an
+    interpenetration that reaches the end of the sampling none."""
+    gap, _ = quadratic(1.0)
+    s, h = np.asarray(gap.lateral), np.asarray(gap.lateral_gap)
+    curvature = (h[-1] - h.min()) / s[-1] ** 2
+    depth = 0.25 * float(h.max())
+    (lo, hi, least), = rigid_runs(s, h, depth)
+    half = math.sqrt(depth / curvature)
+    step = float(s[1] - s[0])
+    assert abs(lo + half) < 0.25 * step and abs(hi - half) < 0.25 * step, f"ends {lo!r}, {hi!r} m, +-{half!r} m"
+    assert least == float(h.min())
+    wells = two_wells()
+    s, h = np.asarray(wells.lateral), np.asarray(wells.lateral_gap)
+    runs = rigid_runs(s, h, 5e-5)
+    assert len(runs) == 2 and runs[0][1] < runs[1][0], runs
+    ridge = 4e-3  # halfway between the wells
+    assert (runs[0][2], runs[1][2]) == (float(h[s < ridge].min()), float(h[s > ridge].min())), "each run's least gap"
+    assert rigid_range(s, h, 5e-5) == (runs[0][0], runs[1][1]), "the hull of the runs"
+    assert rigid_runs(s, h, 10.0) == [] and rigid_range(s, h, 10.0) is None, "beyond the sampling: none"

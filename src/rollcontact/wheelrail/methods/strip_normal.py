@@ -37,8 +37,8 @@ lobes are laid again over its runs of strips in contact (their edges extrapolate
 (I), (II) and the edge conditions for e, q and every lobe's M and R finishes (:func:`_polish`).  Where the surfaces then
 interpenetrate outside the lobes at a sample of the gap, a lobe joins there and the passes go on
 (:func:`_penetrating`).  From a nearby solution (``start``) Newton's method alone finishes (:func:`_resumed`); without
-one, where the gap has a single local minimum below Hertz's approach at its deepest sample, Newton's method first
-starts from Hertz's ellipse there (:func:`_hertzian`), and the passes run where it does not take.  For a
+one, Newton's method first starts from Hertz's ellipse at the gap's deepest sample laid over the one or two runs of
+the rigid interpenetration at its approach (:func:`_hertzian`), and the passes run where it does not take.  For a
 given load the approach follows from ``Fn`` with (I), which is linear in it.
 """
 
@@ -260,14 +260,24 @@ def contact_edges(centres, lower, upper, loads, reach: float = 0.0) -> tuple[flo
 def rigid_range(s, h, depth) -> tuple[float, float] | None:
     """``[lo, hi]`` [m], the hull of ``h(s) < depth`` with its ends interpolated between samples; None if empty or
     if it reaches an end of the samples (the contact may extend beyond the gap's sampling)."""
+    runs = rigid_runs(s, h, depth)
+    return (runs[0][0], runs[-1][1]) if runs else None
+
+
+def rigid_runs(s, h, depth) -> list[tuple[float, float, float]]:
+    """``(lo, hi, least h)`` [m] of each run of ``h(s) < depth``, its ends interpolated between samples; empty where
+    there is none or where one reaches an end of the samples."""
     inside = h < depth
     if not np.count_nonzero(inside) or inside[0] or inside[-1]:
-        return None
-    first = int(np.argmax(inside))
-    last = h.size - 1 - int(np.argmax(inside[::-1]))
-    lo = s[first - 1] + (s[first] - s[first - 1]) * (h[first - 1] - depth) / (h[first - 1] - h[first])
-    hi = s[last] + (s[last + 1] - s[last]) * (depth - h[last]) / (h[last + 1] - h[last])
-    return float(lo), float(hi)
+        return []
+    ends = np.flatnonzero(inside[1:] != inside[:-1])  # the sample before each crossing
+    out = []
+    for before, last in zip(ends[::2].tolist(), ends[1::2].tolist(), strict=True):
+        first = before + 1
+        lo = s[first - 1] + (s[first] - s[first - 1]) * (h[first - 1] - depth) / (h[first - 1] - h[first])
+        hi = s[last] + (s[last + 1] - s[last]) * (depth - h[last]) / (h[last + 1] - h[last])
+        out.append((float(lo), float(hi), float(h[first:last + 1].min())))
+    return out
 
 
 def cosine_strips(lo: float, hi: float, count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -392,27 +402,28 @@ def _first_guess(s, h, curvature, estar, normal_load) -> float:
 
 def _hertzian(s, h, curvature, estar, approach, normal_load, count) -> StripContact | None:
     """Newton's method (:func:`_polish`) from Hertz's ellipse at the gap's deepest sample (:func:`_deepest_ellipse`)
-    as one lobe of ``count`` strips over the gap's rigid interpenetration at Hertz's approach delta: the lobe centred
-    on it, its half-width R Hertz's b in the ratio of the interpenetration's half-width to the quadratic's,
-    ``sqrt(delta / B)`` (R = b on a quadratic gap, wider on a flatter one), ``e = p0 a (1 - u^2) b / R`` (Hertz's load
-    over the lobe) and ``q = p0 / a`` on its strips (u their place across it, -1..1), Hertz's approach.  None where
-    the gap has a second local minimum below that approach (two lobes are likely: the passes find them), where
-    Newton's method does not take, or where the surfaces then interpenetrate outside the lobe (:func:`_penetrating`:
-    a second lobe)."""
+    on the runs of the gap's rigid interpenetration at Hertz's approach delta (:func:`rigid_runs`), one lobe of
+    ``count`` strips on each: centred on its run, its half-width R the run's in the ratio of Hertz's b to the local
+    quadratic's ``sqrt(delta / B)`` (R = b on a quadratic gap, wider on a flatter one), ``e = p0 a (1 - u^2) (b / R)
+    (d / delta)`` (Hertz's load over the lobe, d the run's deepest interpenetration) and ``q = p0 / a`` on its strips
+    (u their place across it, -1..1), Hertz's approach.  None where there are more than two runs, where Newton's
+    method does not take, or where the surfaces then interpenetrate outside the lobes (:func:`_penetrating`: another
+    lobe): the passes find the lobes."""
     _, ellipse, lateral = _deepest_ellipse(s, h, curvature, estar, normal_load, approach)
     if not all(0.0 < v < math.inf for v in (ellipse.a, ellipse.b, ellipse.approach, ellipse.max_pressure)):
         return None  # a load at the ends of floating point: the passes say what they make of it
     depth = ellipse.approach if approach is None else approach
-    inner = h[1:-1]
-    bounds = rigid_range(s, h, depth)
-    if bounds is None or np.count_nonzero((inner < h[:-2]) & (inner <= h[2:]) & (inner < depth)) > 1:
+    runs = rigid_runs(s, h, depth)
+    if not 0 < len(runs) <= 2:
         return None
-    radius = ellipse.b * 0.5 * (bounds[1] - bounds[0]) / math.sqrt(depth / lateral)
+    ratio = ellipse.b / math.sqrt(depth / lateral)
     across = _unit_strips(count)[0]
-    return _newton_alone(np.array([0.5 * (bounds[0] + bounds[1])]), np.array([radius]), count, s, h, curvature,
-                         estar, approach, normal_load, depth,
-                         ellipse.max_pressure * ellipse.a * (1.0 - across * across) * (ellipse.b / radius),
-                         np.full(count, ellipse.max_pressure / ellipse.a))
+    radii = [0.5 * ratio * (hi - lo) for lo, hi, _ in runs]
+    e = [ellipse.max_pressure * ellipse.a * (1.0 - across * across) * (ellipse.b / radius) * ((depth - least) / depth)
+         for (_, _, least), radius in zip(runs, radii, strict=True)]
+    return _newton_alone(np.array([0.5 * (lo + hi) for lo, hi, _ in runs]), np.array(radii), count, s, h, curvature,
+                         estar, approach, normal_load, depth, np.concatenate(e),
+                         np.full(count * len(runs), ellipse.max_pressure / ellipse.a))
 
 
 def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, normal_load, delta, e, q):
