@@ -139,3 +139,29 @@ def test_the_forces_fall_past_the_peak_of_the_creep_curve(level):
     """Dry rail at 50 m/s: the longitudinal creep curve peaks and falls."""
     forces = [solve_elliptic(scene(1.0, "dry", 50.0, xi), level).longitudinal_force for xi in (0.5, 1.5, 4.0, 10.0)]
     assert forces[1] > forces[2] > forces[3] > 0.0, f"{level}: {forces}"
+
+
+
+@pytest.mark.parametrize("law", ["rational", "table", "dry"])
+def test_each_cells_slip_is_its_own_whatever_the_cells_solved_with_it(law):
+    """cell_slips, and its safeguarded iteration alone (the cells whose plain Newton steps leave the residual unmet,
+    where a law falls faster than the cells resolve), on cells of several rolling speeds: every cell's slip,
+    coefficient and slope are those it gets alone, bit for bit, so that a batch of contacts equals its contacts solved
+    one by one (the safeguarded iteration stops each cell at its own convergence, not at the last cell's)."""
+    from rollcontact.elliptic.methods import common
+
+    law = LAWS[law]
+    kernel = common.friction_kernel(law)
+    rng = np.random.default_rng(5)
+    rigid = rng.uniform(1e-4, 2e-2, 300)
+    growth = rng.uniform(-2e-2, 8e-2, 300)
+    speed = rng.choice([5.0, 50.0, 400.0, 2000.0], 300)
+    limits = (law.static_coefficient, law.maximum_coefficient)
+    together = common.bracketed(rigid, growth, kernel, speed, *limits)
+    for k in range(rigid.size):
+        alone = common.bracketed(rigid[k:k + 1], growth[k:k + 1], kernel, speed[k:k + 1], *limits)
+        assert alone[0] == together[k], f"cell {k} of the safeguarded iteration: {alone[0]!r} != {together[k]!r}"
+    together = common.cell_slips(rigid, growth, kernel, speed, *limits)
+    for k in range(rigid.size):
+        alone = common.cell_slips(rigid[k:k + 1], growth[k:k + 1], kernel, speed[k:k + 1], *limits)
+        assert all(a[0] == t[k] for a, t in zip(alone, together, strict=True)), f"cell {k}: {alone} != together"

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rollcontact import Coulomb, EllipticScene, ExponentialFalling, Material, carter, solve_elliptic
+from rollcontact import Coulomb, EllipticScene, ExponentialFalling, LinearFalling, Material, carter, solve_elliptic
 from rollcontact.elliptic.creep_coefficients import creepage_coefficients
 
 MU, LOAD = 0.3, 1e5
@@ -337,7 +337,8 @@ def test_several_scenes_together_are_each_scene_alone_bit_for_bit():
 def mixed_batch():
     """Scenes of every kind: a/b 0.2..5 either way round, loads 1 kN..200 kN and none, three materials and friction
     coefficients, no creepage, creepages without spin (the cross influence), spin alone and with creepages (stick and
-    full slip, |psi| past 1), and velocity-dependent friction without spin."""
+    full slip, |psi| past 1), and velocity-dependent friction of two laws at several speeds, with spin and without,
+    loaded and not."""
     rng = np.random.default_rng(36)
     materials = (Material(), Material(2.1e11, 0.28), Material(1.9e11, 0.25))
     scenes = []
@@ -353,6 +354,9 @@ def mixed_batch():
         scenes.append(base.replace(normal_load=load, longitudinal_creepage=float(xi), lateral_creepage=float(eta),
                                    spin_creepage=phi))
     scenes.append(scenes[1].replace(friction=ExponentialFalling(0.3, 0.4, 0.6), rolling_speed=10.0, spin_creepage=0.0))
+    laws = (ExponentialFalling(0.3, 0.4, 0.6), LinearFalling(0.4, 0.25, 0.3))
+    for k in (1, 3, 5, 7, 9, 11, 13, 17):
+        scenes.append(scenes[k].replace(friction=laws[k % 4 // 2], rolling_speed=float(5.0 + 3.0 * k)))
     return scenes
 
 
@@ -376,7 +380,7 @@ def test_a_mixed_batch_is_each_scene_alone_bit_for_bit(fields):
 
     scenes = mixed_batch()
     alone = [outcome(solve_strips(s, fields=fields)) for s in scenes]
-    assert sum(s.normal_load == 0.0 for s in scenes) == 2 and any(s.spin_creepage == 0.0 for s in scenes)
+    assert sum(s.normal_load == 0.0 for s in scenes) == 4 and any(s.spin_creepage == 0.0 for s in scenes)
     together = [outcome(r) for r in solve_strips_many(scenes, fields=fields)]
     backwards = [outcome(r) for r in solve_strips_many(scenes[::-1], fields=fields)][::-1]
     pairs = [outcome(r) for k in range(0, len(scenes), 2) for r in solve_strips_many(scenes[k:k + 2], fields=fields)]
@@ -384,8 +388,11 @@ def test_a_mixed_batch_is_each_scene_alone_bit_for_bit(fields):
         assert together[k] == alone[k], f"scene {k} in the batch differs from alone: {scene}"
         assert backwards[k] == alone[k], f"scene {k} in the reversed batch differs from alone: {scene}"
         assert pairs[k] == alone[k], f"scene {k} in a pair differs from alone: {scene}"
-    marched = [r for r in solve_strips_many(scenes, fields=fields) if r.spin_creepage != 0.0 and r.normal_load > 0.0]
-    assert marched and all(r.message == "strip theory, slip directions of the simplified theory" for r in marched)
+    marched = [(r.message, s.friction.is_constant) for r, s in zip(solve_strips_many(scenes, fields=fields), scenes,
+                                                                    strict=True)
+               if r.spin_creepage != 0.0 and r.normal_load > 0.0]
+    assert {m for m, coulomb in marched if coulomb} == {"strip theory, slip directions of the simplified theory"}
+    assert {m for m, coulomb in marched if not coulomb} == {"strip theory, falling friction on the march's cells"}
 
 
 def test_a_batch_names_the_scene_it_cannot_solve():

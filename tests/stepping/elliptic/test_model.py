@@ -375,6 +375,33 @@ def test_every_unloaded_combination_together_is_contact_by_contact_bit_for_bit(m
         assert together.take_messages() == alone.take_messages(), f"unloaded {mask:0{n}b}: the messages"
 
 
+@pytest.mark.parametrize("tolerance", (0.0, 0.05))
+@pytest.mark.parametrize("jacobian", (0, 1))
+@pytest.mark.parametrize("method, condition", [(0, 1), (0, 2), (3, 2)])
+def test_falling_friction_contacts_together_are_contact_by_contact_bit_for_bit(method, condition, jacobian,
+                                                                              tolerance):
+    """A rail condition (Polach's dry and wet rail: friction falling with the slip velocity) with auto and strips,
+    with and without a tolerance: the contacts on the strips are one batch (each contact at its own rolling speed,
+    with and without spin), and every subset of unloaded contacts gives the outputs and messages of each contact
+    through solve_elliptic."""
+    p = EllipticParameters(method=method, rail_condition=condition, jacobian=jacobian, tolerance=tolerance,
+                           curvature_longitudinal=tuple(c[0] for c in BATCH_CURVATURES),
+                           curvature_lateral=tuple(c[1] for c in BATCH_CURVATURES))
+    together, alone = EllipticModel(p), contact_by_contact(EllipticModel(p))
+    assert together.strips_together or together.choose_together, "the strips' contacts are batched"
+    rng = np.random.default_rng(100 * condition + 10 * jacobian + method)
+    n = len(BATCH_CURVATURES)
+    for mask in range(2**n):
+        rows = [(0.0 if mask >> k & 1 else float(rng.uniform(2e4, 1.5e5)), *(rng.normal(0.0, 1.5e-3, 2)
+                 * rng.choice([0.02, 1.0, 3.0])), float(rng.choice([0.0, rng.normal(0.0, 0.4)])),
+                 float(rng.uniform(5.0, 50.0))) for k in range(n)]
+        outputs = together.step(mask * H, H, rows)
+        assert outputs == alone.step(mask * H, H, rows), f"unloaded {mask:0{n}b}: {rows}"
+        assert together.take_messages() == alone.take_messages(), f"unloaded {mask:0{n}b}: the messages"
+        assert tolerance or all(o.method_used == 3 for o, row in zip(outputs, rows, strict=True) if row[0] != 0.0), \
+            f"unloaded {mask:0{n}b}: without a tolerance the strips answer every loaded contact"
+
+
 def test_auto_steps_the_contacts_strips_together_while_they_are_its_choice():
     """auto without a tolerance takes the strips for Coulomb friction and solves them together; a method of lower
     rank registered beside them, or strips replaced in the registry, leaves each contact to solve_elliptic."""

@@ -159,7 +159,7 @@ SLIP_TOLERANCE = 1e-6
 (Newton converges quadratically: its last step has taken the slip much closer)."""
 
 
-def cell_slips(rigid, growth, kernel, speed: float, static: float, largest: float, start=None):
+def cell_slips(rigid, growth, kernel, speed, static: float, largest: float, start=None):
     """Each cell's slip ``sigma >= 0`` [1] of the march's falling friction and the law's ``(mu, dmu/dv)`` there: the
     root of
 
@@ -173,8 +173,9 @@ def cell_slips(rigid, growth, kernel, speed: float, static: float, largest: floa
     that leave the bracket are replaced by bisection, so it converges for any law.  Where the law falls faster than
     the cell resolves (``-D V dmu/dv > 1``: F is not monotone) the bracket still holds a root: for the package's laws
     (convex in v) F is convex with ``F(0) < 0``, and the root is unique; for a tabulated law that is not convex, the
-    root Newton reaches from the Coulomb slip.  ``kernel``: :func:`friction_kernel`; ``speed`` V [m/s];
-    ``static``, ``largest``: mu(0) and sup mu [1]."""
+    root Newton reaches from the Coulomb slip.  ``kernel``: :func:`friction_kernel`; ``speed`` V [m/s] (a float, or
+    one per cell); ``static``, ``largest``: mu(0) and sup mu [1].  Every cell's iteration is its own (a cell's numbers
+    do not depend on the others passed with it)."""
     sigma = np.maximum(rigid - growth * static if start is None else start, 0.0)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         for _ in range(NEWTON_STEPS):
@@ -184,29 +185,33 @@ def cell_slips(rigid, growth, kernel, speed: float, static: float, largest: floa
         residual = sigma + growth * mu - rigid
     failed = ~(np.abs(residual) <= SLIP_TOLERANCE * (rigid + np.abs(growth) * largest)) | ~(sigma >= 0.0)
     if failed.any():
-        sigma[failed] = bracketed(rigid[failed], growth[failed], kernel, speed, static, largest)
-        mu[failed], slope[failed] = kernel(speed * sigma[failed])
+        speed_failed = speed if np.ndim(speed) == 0 else speed[failed]
+        sigma[failed] = bracketed(rigid[failed], growth[failed], kernel, speed_failed, static, largest)
+        mu[failed], slope[failed] = kernel(speed_failed * sigma[failed])
     return sigma, mu, slope
 
 
-def bracketed(rigid, growth, kernel, speed: float, static: float, largest: float):
+def bracketed(rigid, growth, kernel, speed, static: float, largest: float):
     """:func:`cell_slips`' safeguarded Newton: bisection where a Newton step leaves the bracket ``[0, S + max(0, -D)
-    mu_max]``."""
+    mu_max]``; each cell stops after the step at which its residual is within :data:`SLIP_TOLERANCE` of its bracket's
+    upper end (its numbers are its own, whatever the other cells)."""
     low = np.zeros_like(rigid)
     high = rigid + np.maximum(0.0, -growth) * largest
     sigma = np.clip(rigid - growth * static, low, high)
+    active = np.ones(rigid.shape, dtype=bool)
     for _ in range(SLIP_ITERATIONS):
         mu, slope = kernel(speed * sigma)
         residual = sigma + growth * mu - rigid
         below = residual < 0.0
-        low = np.where(below, sigma, low)
-        high = np.where(below, high, sigma)
+        low = np.where(active & below, sigma, low)
+        high = np.where(active & ~below, sigma, high)
         derivative = 1.0 + growth * speed * slope
         with np.errstate(divide="ignore", invalid="ignore"):
             newton = sigma - residual / derivative
         inside = (newton >= low) & (newton <= high) & (derivative > 0.0)
-        sigma = np.where(inside, newton, 0.5 * (low + high))
-        if not (np.abs(residual) > SLIP_TOLERANCE * high).any():
+        sigma = np.where(active, np.where(inside, newton, 0.5 * (low + high)), sigma)
+        active &= np.abs(residual) > SLIP_TOLERANCE * high
+        if not active.any():
             break
     return sigma
 
@@ -245,9 +250,10 @@ def falling_slips(trial, traction, first, increment, coefficient, pressure, flex
     ``sigma = S - mu D`` with the rigid slip ``S = k (increment . e)`` and the pressure's growth ``D = k (p - r . e)``,
     ``r`` the previous cell's traction per unit coefficient and ``k = |(k_x e_x, k_y e_y)|`` the cell's flexibility
     over the step along e, ``mu`` the coefficient of the cell's own slip velocity ``V sigma`` (:func:`cell_slips`;
-    ``start``: the previous march's slips, or None).  A cell slips where ``S > D mu(0)``.  Returns
-    ``(sigma, mu, steepness)``, steepness the largest ``-D V dmu/dv`` over the slipping cells (above 1 the cell's
-    equation is not monotone)."""
+    ``speed`` V [m/s], a float or one per strip ``(S,)``; ``start``: the previous march's slips, or None).  A cell
+    slips where ``S > D mu(0)``.  Returns ``(sigma, mu, steepness)`` per cell, steepness ``-D V dmu/dv`` on the
+    slipping cells and 0 on the others (above 1 the cell's equation is not monotone).  Every operation is elementwise:
+    a strip's numbers are the same whatever the other strips marched with it."""
     size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
     ex, ey = trial[:, 0] / size, trial[:, 1] / size
     k = np.hypot(flexibility[0] * ex, flexibility[1] * ey)
@@ -262,11 +268,12 @@ def falling_slips(trial, traction, first, increment, coefficient, pressure, flex
     slipping = rigid > growth * static
     sigma = np.zeros_like(rigid)
     mu = np.full_like(rigid, static)
-    steepness = 0.0
+    steepness = np.zeros_like(rigid)
     if slipping.any():
         guess = None if start is None else start[slipping]
-        sigma[slipping], values, slopes = cell_slips(rigid[slipping], growth[slipping], kernel, speed, static,
+        cell_speed = speed if np.ndim(speed) == 0 else np.broadcast_to(speed, rigid.shape)[slipping]
+        sigma[slipping], values, slopes = cell_slips(rigid[slipping], growth[slipping], kernel, cell_speed, static,
                                                      law.maximum_coefficient, guess)
         mu[slipping] = values
-        steepness = float(np.max(-growth[slipping] * speed * slopes))
+        steepness[slipping] = -growth[slipping] * cell_speed * slopes
     return sigma, mu, steepness

@@ -123,7 +123,8 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
     -------
     EllipticResult
         ``info["flexibilities"]`` (L1, L2, L3) [m/Pa], ``info["stick_fraction"]`` (share of the nodes in stick);
-        with velocity-dependent friction ``info["steepness"]``, the largest ``-D V dmu/dv`` of the slipping cells.
+        with velocity-dependent friction ``info["steepness"]``, the largest ``-D V dmu/dv`` of the slipping cells (0
+        where none is above 0).
     """
     why = inapplicable(scene)
     if why is not None:
@@ -226,7 +227,7 @@ def falling_fastsim(scene, nx: int, ny: int, bound: str, flexibility: str, field
     return EllipticResult.from_scene(scene, "fastsim", True, f"FASTSIM with falling friction ({bound} bound, "
                                      f"{flexibility} flexibilities, {nx} x {ny})", forces, field,
                                      {"flexibilities": (l1, l2, l3), "stick_fraction": float(stick.mean()),
-                                      "steepness": steepness})
+                                      "steepness": float(steepness.max())})
 
 
 def inapplicable(scene) -> str | None:

@@ -237,7 +237,7 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
                 raise ValueError("strips with falling='polynomial' take no spin (the 2D kernel has one traction "
                                  "component); falling='march' does")
             return polynomial_strips(scene, StripStack((scene,), strips))
-        return falling_strips(scene, strips, steps, fields)
+        return falling_strips((scene,), strips, steps, fields)[0]
     return stacked((scene,), strips, steps, fields)[0]
 
 
@@ -246,11 +246,11 @@ solve_strips.options = ("strips", "steps", "fields", "falling")
 
 def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_STEPS, fields: bool = False
                       ) -> list[EllipticResult]:
-    """:func:`solve_strips` of each scene (the same arguments), the loaded scenes with Coulomb friction at once: their
-    strips are one :class:`StripStack`, whose stick zones, closed form, cross-influence fixed point and march are array
-    operations over the scenes, each scene's numbers independent of the others (:func:`solve_strips` is this function
-    of one scene).  A scene without load has no contact; one with velocity-dependent friction is solved alone (its
-    march's cells at their own slip's coefficient).
+    """:func:`solve_strips` of each scene (the same arguments), the loaded scenes with Coulomb friction at once and
+    those of each velocity-dependent friction law at once: their strips are one :class:`StripStack`, whose stick
+    zones, closed form, cross-influence fixed point and march are array operations over the scenes, each scene's
+    numbers independent of the others (:func:`solve_strips` is this function of one scene).  A scene without load has
+    no contact.
 
     Raises
     ------
@@ -263,15 +263,24 @@ def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFA
             raise ValueError(f"strips cannot solve scene {k}: {inapplicable(scene)}")
     strips = int(check_real("strips", strips, lower=2))
     steps = int(check_real("steps", steps, lower=2))
-    loaded = [k for k, scene in enumerate(scenes) if scene.normal_load != 0.0 and scene.friction.is_constant]
-    if len(loaded) == len(scenes):
+    coulomb = [k for k, scene in enumerate(scenes) if scene.normal_load != 0.0 and scene.friction.is_constant]
+    if len(coulomb) == len(scenes):
         return stacked(scenes, strips, steps, fields)
-    together = set(loaded)
-    results = [None if k in together else solve_strips(scene, strips=strips, steps=steps, fields=fields)
-               for k, scene in enumerate(scenes)]
-    for k, result in zip(loaded, stacked([scenes[k] for k in loaded], strips, steps, fields) if loaded else (),
-                         strict=True):
-        results[k] = result
+    results = [no_load(scene, "strips") if scene.normal_load == 0.0 else None for scene in scenes]
+    groups = [coulomb] if coulomb else []
+    laws: list = []  # the velocity-dependent laws met, in order; groups[-len(laws):] their scenes
+    for k, scene in enumerate(scenes):
+        if scene.normal_load == 0.0 or scene.friction.is_constant:
+            continue
+        if scene.friction in laws:
+            groups[len(groups) - len(laws) + laws.index(scene.friction)].append(k)
+        else:
+            laws.append(scene.friction)
+            groups.append([k])
+    for group in groups:
+        solve = stacked if scenes[group[0]].friction.is_constant else falling_strips
+        for k, result in zip(group, solve([scenes[k] for k in group], strips, steps, fields), strict=True):
+            results[k] = result
     return results
 
 
@@ -595,12 +604,13 @@ GATHER = 96
 """Strips (all scenes') from which the march computes the stick zones' traction on the strips that stick alone."""
 
 
-def falling_strips(scene, strips: int, steps: int, fields: bool) -> EllipticResult:
-    """Velocity-dependent friction, with or without spin (``falling="march"``, module docstring): the strips' stick
-    zones and closed form at the static coefficient, the march's cells at the coefficient of their own slip
-    (:func:`falling_march`)."""
-    stack = StripStack((scene,), strips, fields=True)  # the march's flexibilities, also without spin
-    phi_c, forces = np.zeros((1, 1)), None
+def falling_strips(scenes, strips: int, steps: int, fields: bool) -> list[EllipticResult]:
+    """Velocity-dependent friction, with or without spin (``falling="march"``, module docstring), of loaded scenes of
+    one friction law stacked (:class:`StripStack`): the strips' stick zones and closed form at the static coefficient,
+    the march's cells at the coefficient of their own slip (:func:`falling_marched`).  Each scene's numbers are those
+    it has alone."""
+    stack = StripStack(scenes, strips, fields=True)  # the march's flexibilities, also without spin
+    phi_c, forces = np.zeros((len(scenes), 1)), None
     sticking = stack.stick()
     if stack.coupled.any():  # the lateral force's longitudinal creepage, as the Coulomb strips take it
         forces = stack.closed_form(sticking)
@@ -608,14 +618,18 @@ def falling_strips(scene, strips: int, steps: int, fields: bool) -> EllipticResu
             phi_c = stack.couple(forces[1])
             sticking = stack.stick()
             forces = stack.closed_form(sticking)
-    closed = np.array(stack.closed_form(sticking) if forces is None else forces)[:, 0]
-    departure, field, steepness = falling_march(stack, steps, sticking, phi_c, scene.friction, scene.rolling_speed,
-                                                fields)
-    psi = float(stack.psi[0, 0])
-    info = {"stick_strips": float(sticking[3].mean()), "psi": psi, "cross_spin": float(phi_c[0, 0]),
-            "steepness": steepness}
-    return EllipticResult.from_scene(scene, "strips", True, "strip theory, falling friction on the march's cells",
-                                     tuple((closed + departure).tolist()), field, info)
+    closed = np.column_stack(stack.closed_form(sticking) if forces is None else forces)
+    speeds = np.array([scene.rolling_speed for scene in scenes])
+    departure, field, steepness = falling_marched(stack, steps, sticking, phi_c, scenes[0].friction, speeds, fields)
+    results = []
+    for scene, values, f, stick, psi, cross, steep in zip(
+            scenes, (closed + departure).tolist(), field,
+            (np.add.reduce(sticking[3], axis=1, dtype=float) / sticking[3].shape[1]).tolist(),
+            stack.psi[:, 0].tolist(), phi_c[:, 0].tolist(), steepness.tolist(), strict=True):
+        info = {"stick_strips": stick, "psi": psi, "cross_spin": cross, "steepness": steep}
+        results.append(EllipticResult.from_scene(scene, "strips", True, "strip theory, falling friction on the "
+                                                 "march's cells", tuple(values), f, info))
+    return results
 
 
 FALLING_PASSES = 2
@@ -625,39 +639,57 @@ friction) and solves the slips again (without spin the directions are uniform an
 changes the forces by less than 1e-3 mu Fn (``benchmarks/calibrate_falling_spin.py``, table "Passes")."""
 
 
-def falling_march(stack: StripStack, steps: int, sticking, phi_c, law, speed: float, fields: bool):
-    """The departure ``(dFx, dFy, dMz)`` of one scene's cells from its closed form (at the static coefficient), the
-    traction field (with ``fields``, else None) and the steepness (:func:`~.common.falling_slips`): the Coulomb strips'
-    march (:func:`marched`) with each cell's bound ``mu(V sigma) p`` at its own slip, found over
-    :data:`FALLING_PASSES` marches (:func:`~.common.march`); the stick zones' traction is the closed form's."""
-    a, b, p0, mu, _, xi, eta, phi, _, _, psi, m, _, l1, l2, l3, *_ = stack.rows[0]
-    phi_x = float(stack.march_ratio[0, 0]) * phi + float(phi_c[0, 0])
-    y, half, weights, factor = (v[0] for v in (stack.y, stack.half, stack.weights, stack.factor))
-    d, kappa, lam, partial = (v[0] for v in sticking)
+def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds: np.ndarray, fields: bool):
+    """The departures ``(n, 3)`` of the stack's scenes (one friction law, rolling speeds ``speeds`` [m/s] per scene)
+    from their closed forms (at the static coefficient), their traction fields (with ``fields``, else None each) and
+    steepness ``(n,)`` (the largest ``-D V dmu/dv`` of a scene's slipping cells, 0 where none is above 0;
+    :func:`~.common.falling_slips`): the Coulomb strips' march (:func:`marched`) with each cell's bound
+    ``mu(V sigma) p`` at its own slip, found over :data:`FALLING_PASSES` marches (:func:`~.common.march`; one for a
+    scene without spin, whose second march's numbers are dropped); the stick zones' traction is the closed form's.
+
+    The cells are arrays ``(steps, n S)`` as in :func:`marched`: every operation is elementwise or a sum over one
+    scene's cells in one order (:func:`by_scene`), so each scene's numbers are those it has alone."""
+    n, count = stack.y.shape
+    columns = n * count
+    if n == 1:  # one scene: its scalars as plain floats, which numpy broadcasts alike
+        a, b, p0, mu, _, xi, eta, phi, _, _, psi, m, _, l1, l2, l3, *_ = stack.rows[0]
+        phi_x = float(stack.march_ratio[0, 0]) * phi + float(phi_c[0, 0])
+        speed = float(speeds[0])
+    else:  # each scene's scalars over its strips
+        xi, eta, phi_x, l1, l2, l3, p0, a, b, mu, m, psi, phi, speed = np.repeat(np.hstack(
+            (stack.xi, stack.eta, stack.march_ratio * stack.phi + phi_c, *stack.flexibilities, stack.p0, stack.a,
+             stack.b, stack.mu, stack.m, stack.psi, stack.phi, speeds[:, None])).T, count, axis=1)
+    y, half, weights, factor, d, kappa, lam, partial = (v.reshape(columns) for v in (
+        stack.y, stack.half, stack.weights, stack.factor, *sticking))
     dx = 2.0 * half / steps
     x = half * cells(steps)
     bound = mu * (p0 * np.sqrt(np.maximum(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0)))  # mu p (Hertz), mu static
-    scaling = stack.limit[0, 0] / float(np.sum(bound * (dx * weights)))  # the cells carry mu Fn
+    scaling = np.repeat(stack.limit[:, 0] / by_scene(bound * (dx * weights), n), count)  # the cells carry mu Fn
     bound *= scaling
     pressure = bound / mu
-    increment = np.empty((steps, 2, half.size))
+    increment = np.empty((steps, 2, columns))
     increment[:, 0] = dx * (xi - phi_x * y) / l1 * factor
     increment[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
     first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])
     flexibility = (l1 / (factor * dx), l2 / dx)
     kernel = friction_kernel(law)
-    coefficient = np.full(bound.shape, mu)
-    sigma = None
-    for _ in range(FALLING_PASSES if phi != 0.0 else 1):  # without spin the directions do not change
+    coefficient = np.full(bound.shape, law.static_coefficient)
+    spin = stack.spin.repeat(count)
+    sigma = kept = None
+    for k in range(FALLING_PASSES if spin.any() else 1):  # without spin the directions do not change
         trial, traction = march(first, increment, coefficient * pressure)
         sigma, coefficient, steepness = falling_slips(trial, traction, first, increment, coefficient, pressure,
                                                       flexibility, law, kernel, speed, sigma)
+        if k == 0 and not spin.all():
+            kept = trial, sigma, coefficient, steepness
+    if kept is not None and spin.any():  # the scenes without spin keep their one march
+        trial, sigma, coefficient, steepness = (np.where(spin, new, old) for new, old in zip(
+            (trial, sigma, coefficient, steepness), kept, strict=True))
     limit = coefficient * pressure
-    if phi != 0.0:
+    qx, qy = limit * kappa, limit * lam  # without spin the slip direction is uniform along the strip
+    if spin.any():
         size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
-        qx, qy = limit * trial[:, 0] / size, limit * trial[:, 1] / size
-    else:  # without spin the slip direction is uniform along the strip
-        qx, qy = limit * kappa, limit * lam
+        qx, qy = np.where(spin, limit * trial[:, 0] / size, qx), np.where(spin, limit * trial[:, 1] / size, qy)
     ux, uy = bound * kappa, bound * lam  # the closed form's traction
     in_stick = partial & (x > 2.0 * d - half)
     if partial.any():
@@ -667,7 +699,7 @@ def falling_march(stack: StripStack, steps: int, sticking, phi_c, law, speed: fl
         m_s = m * scaling
         stick_x, stick_y = m_s * kappa * (full - inner), m_s * (lam * full - (lam - psi) * inner)
         ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
-        share = None if stack.share is None else stack.share[0]
+        share = None if stack.share is None else stack.share.reshape(columns)
         if share is not None and (share < 1.0).any():  # past |psi| = 1: within mu p, faded into the slip traction
             within = np.minimum(1.0, bound / np.maximum(np.hypot(stick_x, stick_y), TINY))
             stick_x = np.where(share < 1.0, share * within * stick_x + (1.0 - share) * qx, stick_x)
@@ -675,11 +707,14 @@ def falling_march(stack: StripStack, steps: int, sticking, phi_c, law, speed: fl
         qx, qy = np.where(in_stick, stick_x, qx), np.where(in_stick, stick_y, qy)
     weight = weights * dx
     dqx, dqy = qx - ux, qy - uy
-    departure = np.array([np.sum(dqx * weight), np.sum(dqy * weight), np.sum((x * dqy - y * dqx) * weight)])
-    field = None
-    if fields:
-        field = TractionField(*(np.broadcast_to(v, x.shape).T.copy() for v in (x, y, pressure, qx, qy, in_stick)))
-    return departure, field, steepness
+    departure = by_scene(np.array([dqx * weight, dqy * weight, (x * dqy - y * dqx) * weight]), n).T
+    largest = steepness.reshape(steps, n, count).max(axis=(0, 2))
+    if not fields:
+        return departure, (None,) * n, largest
+    x, y, pressure, qx, qy, in_stick = (np.broadcast_to(v, x.shape).reshape(steps, n, count) for v in (
+        x, y, pressure, qx, qy, in_stick))
+    return departure, tuple(TractionField(*(v[:, k].T.copy() for v in (x, y, pressure, qx, qy, in_stick)))
+                            for k in range(n)), largest
 
 
 def polynomial_strips(scene, stack: StripStack) -> EllipticResult:

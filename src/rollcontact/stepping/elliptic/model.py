@@ -35,9 +35,9 @@ Contacts together, wherever the level a step takes has a form for several contac
 those of :func:`rollcontact.solve_elliptic`: with ``method`` = linear (and no tolerance) the linear theory of every
 contact without a solver call (:class:`LinearContacts`), the same operations as
 :func:`rollcontact.elliptic.hertz_ellipse` and the linear level take for one contact; with ``method`` = strips or auto
-(no tolerance, Coulomb friction, the cost with spin within the budget; auto's choice is then the strips for every
-contact) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the contacts
-(:meth:`EllipticModel.strips_step`); with a tolerance each contact's setting as solve_elliptic chooses it, the
+(no tolerance, the cost with spin within the budget; auto's choice is then the strips for every contact, with
+Coulomb friction or a rail condition) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the
+contacts (:meth:`EllipticModel.strips_step`); with a tolerance each contact's setting as solve_elliptic chooses it, the
 contacts on the strips or the linear theory together (:meth:`EllipticModel.chosen_together`).  The other levels
 solve the contacts one after another through solve_elliptic.
 
@@ -121,10 +121,11 @@ BATCHED = {"strips": STRIPS_METHOD, "linear": linear_level.METHOD}
 
 def strips_resolve_every_scene() -> bool:
     """Whether the strips' error estimate stays below :data:`~rollcontact.core.method.UNRESOLVED` on every scene (its
-    largest value: 1 % for the coefficients plus the spin's error and the excess of Poisson's ratio up to 0.5), so
-    that ``auto`` never falls back from them and a step may solve its contacts' strips together."""
+    largest value: 1 % for the coefficients plus the spin's error, the excess of Poisson's ratio up to 0.5 and a
+    friction law that falls to nothing over the contact), so that ``auto`` never falls back from them and a step may
+    solve its contacts' strips together."""
     s = strips_level
-    return 0.01 + s.STRIPS_SPIN_ERROR + s.POISSON_ERROR * 0.5 < UNRESOLVED
+    return 0.01 + s.STRIPS_SPIN_ERROR + s.POISSON_ERROR * 0.5 + s.STRIPS_FALLING_ERROR < UNRESOLVED
 
 
 @dataclass
@@ -228,7 +229,7 @@ class EllipticModel(SteppingModel):
             self.fits_budget("linear") else None
         """The contacts' linear theory evaluated together (None: each contact through solve_elliptic)."""
         self.strips_together = self.method in ("strips", "auto") and self.tolerance is None and \
-            self.friction.is_constant and self.fits_budget("strips", spin=True) and strips_resolve_every_scene()
+            self.fits_budget("strips", spin=True) and strips_resolve_every_scene()
         """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`, bit
         for bit each contact's solve): ``method`` = strips, or auto while the strips are what auto takes
         (:meth:`strips_chosen`)."""
@@ -486,7 +487,7 @@ class EllipticModel(SteppingModel):
     def strips_chosen(self) -> bool:
         """Whether every loaded contact's solve is the package's strips with their defaults: ``method`` = strips,
         or auto while the strips are the lowest-ranked registered method (they treat every contact the model
-        steps without a tolerance: a/b within Kalker's table, Coulomb friction), both the built-in level."""
+        steps without a tolerance: a/b within Kalker's table, any friction law), both the built-in level."""
         strips = STRIPS_METHOD
         if ELLIPTIC_METHODS.get("strips") is not strips:
             return False

@@ -404,4 +404,4 @@ def falling_marched(lobes: Lobes, steps: int, stick, friction, speed: float, fie
     field = None
     if fields:
         field = TractionField(*(np.broadcast_to(v, x.shape).T.copy() for v in (x, s, pressure, qx, qy, in_stick)))
-    return departure, field, steepness
+    return departure, field, float(steepness.max())
