@@ -223,40 +223,43 @@ TINY = 1e-300
 def march(first, increment, limit):
     """FASTSIM's march on cells ``(steps, 2, S)``: from the traction-free leading edge (``first``: the trial traction of
     the first cell ``(2, S)``), each cell's trial ``t`` is the previous cell's traction plus ``increment`` (the rigid
-    slip over the flexibility times the step), the traction is ``t min(1, limit / |t|)``.  Returns the trials and the
-    tractions ``(steps, 2, S)``."""
+    slip over the flexibility times the step), the traction is ``t min(1, limit / |t|)``.  Returns the trials, the
+    tractions ``(steps, 2, S)`` and the trials' sizes ``max(|t|, TINY)`` ``(steps, S)``."""
     steps, count = limit.shape
     trial = np.empty((steps, 2, count))
     traction = np.empty((steps, 2, count))
+    size = np.empty((steps, count))
     trial[0] = first
-    size = np.empty(count)
     ratio = np.empty(count)
     with np.errstate(over="ignore"):  # an empty strip (t = 0) has limit / TINY = inf, whose min with 1 is 1
         for i in range(steps):
-            np.hypot(trial[i, 0], trial[i, 1], out=size)
-            np.maximum(size, TINY, out=size)
-            np.divide(limit[i], size, out=ratio)
+            np.hypot(trial[i, 0], trial[i, 1], out=size[i])
+            np.maximum(size[i], TINY, out=size[i])
+            np.divide(limit[i], size[i], out=ratio)
             np.minimum(1.0, ratio, out=ratio)
             np.multiply(trial[i], ratio, out=traction[i])
             if i + 1 < steps:
                 np.add(traction[i], increment[i], out=trial[i + 1])
-    return trial, traction
+    return trial, traction, size
 
 
-def falling_slips(trial, traction, first, increment, coefficient, pressure, flexibility, law, kernel, speed, start):
-    """Each cell's slip [1] and friction coefficient after a march (:func:`march`; ``coefficient``: the coefficients the
-    march took ``(steps, S)``, ``pressure`` p on the cells, ``flexibility``: each strip's flexibility over its step
-    along x and along y), docs/physics.md, "Strips": along the trial's direction e the cell's slip is
-    ``sigma = S - mu D`` with the rigid slip ``S = k (increment . e)`` and the pressure's growth ``D = k (p - r . e)``,
-    ``r`` the previous cell's traction per unit coefficient and ``k = |(k_x e_x, k_y e_y)|`` the cell's flexibility
-    over the step along e, ``mu`` the coefficient of the cell's own slip velocity ``V sigma`` (:func:`cell_slips`;
-    ``speed`` V [m/s], a float or one per strip ``(S,)``; ``start``: the previous march's slips, or None).  A cell
-    slips where ``S > D mu(0)``.  Returns ``(sigma, mu, steepness)`` per cell, steepness ``-D V dmu/dv`` on the
-    slipping cells and 0 on the others (above 1 the cell's equation is not monotone).  Every operation is elementwise:
-    a strip's numbers are the same whatever the other strips marched with it."""
-    size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
+def falling_slips(marched, first, increment, coefficient, pressure, flexibility, law, kernel, speed, start):
+    """Each cell's slip [1] and friction coefficient after a march (``marched``: what :func:`march` returns, the trials,
+    tractions and the trials' sizes; ``coefficient``: the coefficients the march took ``(steps, S)``, ``pressure`` p on
+    the cells, ``flexibility``: each strip's flexibility over its step along x and along y), docs/physics.md,
+    "Strips": along the trial's direction e the cell's slip is ``sigma = S - mu D`` with the rigid slip
+    ``S = k (increment . e)`` and the pressure's growth ``D = k (p - r . e)``, ``r`` the previous cell's traction per
+    unit coefficient and ``k = |(k_x e_x, k_y e_y)| = k_x sqrt(e_x^2 + (k_y e_y / k_x)^2)`` the cell's flexibility
+    over the step along e (the root of a unit vector's squares: no overflow whatever the flexibilities), ``mu`` the
+    coefficient of the cell's own slip velocity ``V sigma`` (:func:`cell_slips`; ``speed`` V [m/s], a float or one
+    per strip ``(S,)``; ``start``: the previous march's slips, or None).  A cell slips where ``S > D mu(0)``.
+    Returns ``(sigma, mu, steepness)`` per cell, steepness ``-D V dmu/dv`` on the slipping cells and 0 on the others
+    (above 1 the cell's equation is not monotone).  Every operation is elementwise: a strip's numbers are the same
+    whatever the other strips marched with it."""
+    trial, traction, size = marched
     ex, ey = trial[:, 0] / size, trial[:, 1] / size
-    k = np.hypot(flexibility[0] * ex, flexibility[1] * ey)
+    turned = (flexibility[1] / flexibility[0]) * ey
+    k = flexibility[0] * np.sqrt(ex * ex + turned * turned)
     rigid = np.empty_like(size)
     rigid[0] = first[0] * ex[0] + first[1] * ey[0]
     rigid[1:] = increment[:-1, 0] * ex[1:] + increment[:-1, 1] * ey[1:]

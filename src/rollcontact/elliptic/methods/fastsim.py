@@ -211,12 +211,12 @@ def falling_fastsim(scene, nx: int, ny: int, bound: str, flexibility: str, field
     coefficient = np.full(limit.shape, mu)
     sigma = None
     for _ in range(FALLING_PASSES if phi != 0.0 else 1):
-        trial, traction = march(first, increment, coefficient * pressure)
-        sigma, coefficient, steepness = falling_slips(trial, traction, first, increment, coefficient, pressure,
+        marched = march(first, increment, coefficient * pressure)
+        sigma, coefficient, steepness = falling_slips(marched, first, increment, coefficient, pressure,
                                                       (l1 / dx, l2 / dx), law, kernel, speed, sigma)
-    size = np.hypot(trial[:, 0], trial[:, 1])
+    trial, _, size = marched
     stick = size <= limit
-    scale = np.minimum(1.0, coefficient * pressure / np.maximum(size, 1e-300))
+    scale = np.minimum(1.0, coefficient * pressure / size)
     qx, qy = trial[:, 0] * scale, trial[:, 1] * scale
     area = dx * dy
     forces = (float(np.sum(qx * area)), float(np.sum(qy * area)), float(np.sum((x * qy - y * qx) * area)))

@@ -677,18 +677,18 @@ def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds:
     spin = stack.spin.repeat(count)
     sigma = kept = None
     for k in range(FALLING_PASSES if spin.any() else 1):  # without spin the directions do not change
-        trial, traction = march(first, increment, coefficient * pressure)
-        sigma, coefficient, steepness = falling_slips(trial, traction, first, increment, coefficient, pressure,
+        marched = march(first, increment, coefficient * pressure)
+        sigma, coefficient, steepness = falling_slips(marched, first, increment, coefficient, pressure,
                                                       flexibility, law, kernel, speed, sigma)
         if k == 0 and not spin.all():
-            kept = trial, sigma, coefficient, steepness
+            kept = marched[0], sigma, coefficient, steepness
+    trial, _, size = marched
     if kept is not None and spin.any():  # the scenes without spin keep their one march
         trial, sigma, coefficient, steepness = (np.where(spin, new, old) for new, old in zip(
             (trial, sigma, coefficient, steepness), kept, strict=True))
     limit = coefficient * pressure
     qx, qy = limit * kappa, limit * lam  # without spin the slip direction is uniform along the strip
-    if spin.any():
-        size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
+    if spin.any():  # the last march's trials (the scenes with spin took it)
         qx, qy = np.where(spin, limit * trial[:, 0] / size, qx), np.where(spin, limit * trial[:, 1] / size, qy)
     ux, uy = bound * kappa, bound * lam  # the closed form's traction
     in_stick = partial & (x > 2.0 * d - half)

@@ -375,12 +375,12 @@ def falling_marched(lobes: Lobes, steps: int, stick, friction, speed: float, fie
     coefficient = np.full(bound.shape, static)
     sigma = None
     for _ in range(FALLING_PASSES if lobes.phi != 0.0 else 1):
-        trial, traction = march(first, increment, coefficient * pressure)
-        sigma, coefficient, steepness = falling_slips(trial, traction, first, increment, coefficient, pressure,
+        marched = march(first, increment, coefficient * pressure)
+        sigma, coefficient, steepness = falling_slips(marched, first, increment, coefficient, pressure,
                                                       flexibility, friction, kernel, speed, sigma)
     limit = coefficient * pressure
     if lobes.phi != 0.0:
-        size = np.maximum(np.hypot(trial[:, 0], trial[:, 1]), TINY)
+        trial, _, size = marched
         qx, qy = limit * trial[:, 0] / size, limit * trial[:, 1] / size
     else:  # without spin the slip direction is uniform along the strip
         qx, qy = limit * kappa, limit * lam
