@@ -148,23 +148,17 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
     half = h.a * np.sqrt(1.0 - (y / h.b) ** 2)  # a(y)
     dx = 2.0 * half / nx
     peak = mu * (h.max_pressure if bound == "elliptic" else 2.0 * scene.normal_load / (math.pi * h.a * h.b))
-    rate_x = xi / l1 - phi * y / l3  # dq_x per unit of travel, per strip
     x = half * (1.0 - (2.0 * np.arange(nx)[:, None] + 1.0) / nx)  # cell centres from the leading edge, x[i, j]
     room = np.clip(1.0 - (x / h.a) ** 2 - (y / h.b) ** 2, 0.0, None)
     limit = peak * (np.sqrt(room) if bound == "elliptic" else room)
     limit *= mu * scene.normal_load / float(np.sum(limit * dx) * dy)  # the cells carry mu Fn: |F| <= mu Fn exactly
-    qx = np.empty((nx, ny))
-    qy = np.empty((nx, ny))
-    stick = np.empty((nx, ny), dtype=bool)
-    tx, ty = 0.5 * dx * rate_x, 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)  # half a cell from the edge
-    for i in range(nx):
-        size = np.hypot(tx, ty)
-        over = size > limit[i]
-        scale = np.where(over, limit[i] / np.where(over, size, 1.0), 1.0)
-        qx[i], qy[i] = tx * scale, ty * scale
-        stick[i] = ~over
-        tx = qx[i] + dx * rate_x
-        ty = qy[i] + dx * (eta / l2 + phi * (x[i] - 0.5 * dx) / l3)
+    increment = np.empty((nx, 2, ny))  # from cell i to i + 1: the rigid slip over the flexibility times the step
+    increment[:, 0] = dx * (xi / l1 - phi * y / l3)
+    increment[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
+    first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])  # half a cell
+    _, traction, size = march(first, increment, limit)
+    qx, qy = traction[:, 0], traction[:, 1]
+    stick = size <= limit
     area = dx * dy  # midpoint rule over the cells
     fx = float(np.sum(qx * area))
     fy = float(np.sum(qy * area))
