@@ -223,23 +223,24 @@ TINY = 1e-300
 def march(first, increment, limit):
     """FASTSIM's march on cells ``(steps, 2, S)``: from the traction-free leading edge (``first``: the trial traction of
     the first cell ``(2, S)``), each cell's trial ``t`` is the previous cell's traction plus ``increment`` (the rigid
-    slip over the flexibility times the step), the traction is ``t min(1, limit / |t|)``.  Returns the trials, the
-    tractions ``(steps, 2, S)`` and the trials' sizes ``max(|t|, TINY)`` ``(steps, S)``."""
+    slip over the flexibility times the step), the traction is ``t min(1, limit / |t|)`` (``t`` where ``|t| = 0``:
+    ``fmin`` takes 1 over the quotient's inf or NaN).  Returns the trials, the tractions ``(steps, 2, S)`` and the
+    trials' sizes ``max(|t|, TINY)`` ``(steps, S)``."""
     steps, count = limit.shape
     trial = np.empty((steps, 2, count))
     traction = np.empty((steps, 2, count))
     size = np.empty((steps, count))
     trial[0] = first
     ratio = np.empty(count)
-    with np.errstate(over="ignore"):  # an empty strip (t = 0) has limit / TINY = inf, whose min with 1 is 1
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         for i in range(steps):
             np.hypot(trial[i, 0], trial[i, 1], out=size[i])
-            np.maximum(size[i], TINY, out=size[i])
             np.divide(limit[i], size[i], out=ratio)
-            np.minimum(1.0, ratio, out=ratio)
+            np.fmin(1.0, ratio, out=ratio)
             np.multiply(trial[i], ratio, out=traction[i])
             if i + 1 < steps:
                 np.add(traction[i], increment[i], out=trial[i + 1])
+    np.maximum(size, TINY, out=size)
     return trial, traction, size
 
 
