@@ -131,3 +131,64 @@ def test_an_incompressible_material_stays_within_the_estimate(ratio, eta, phi):
     assert error.max() > 0.1, f"the case is one of FASTSIM's largest misses: {error}"
     assert error.max() <= result.info["error_estimate"], (
         f"errors {error} beyond the estimate {result.info['error_estimate']:.4f} at a/b {ratio}")
+
+
+def mixed_batch():
+    """Scenes of every kind: a/b 0.2..5 either way round, loads 1 kN..200 kN and none, three materials, Coulomb
+    friction of three coefficients and two falling laws at several speeds, creepages with and without spin."""
+    from rollcontact import ExponentialFalling, LinearFalling
+
+    rng = np.random.default_rng(17)
+    materials = (Material(), Material(2.1e11, 0.28), Material(1.9e11, 0.25))
+    laws = (0.3, 0.2, ExponentialFalling(0.3, 0.4, 0.6), 0.45, LinearFalling(0.4, 0.25, 0.3))
+    scenes = []
+    for k in range(30):
+        ratio = float(np.exp(rng.uniform(np.log(0.2), np.log(5.0))))
+        load = 0.0 if k in (4, 19, 22) else float(np.exp(rng.uniform(np.log(1e3), np.log(2e5))))
+        xi, eta = rng.normal(0.0, 2e-3, 2)
+        phi = float(rng.normal(0.0, 1.0)) * (10.0 if k % 4 == 3 else 1.0)
+        xi, eta, phi = ((xi, eta, 0.0), (0.0, 0.0, phi), (xi, eta, phi))[k % 3]
+        scenes.append(EllipticScene.from_semi_axes(
+            load if load else 1e5, 6e-3 * math.sqrt(ratio), 6e-3 / math.sqrt(ratio), material=materials[k % 3],
+            friction=laws[k % 5], rolling_speed=float(5.0 + 2.0 * k), longitudinal_creepage=float(xi),
+            lateral_creepage=float(eta), spin_creepage=phi).replace(normal_load=load))
+    return scenes
+
+
+def outcome(result):
+    """Everything a result holds, the traction fields' arrays included, for comparisons bit for bit."""
+    fields = None if result.fields is None else tuple(
+        np.asarray(getattr(result.fields, name)).tobytes() for name in ("x", "y", "pressure", "traction_x",
+                                                                        "traction_y", "stick"))
+    return (result.method, result.success, result.message, result.longitudinal_force, result.lateral_force,
+            result.spin_moment, result.a, result.b, result.max_pressure, result.approach,
+            tuple(sorted((k, repr(v)) for k, v in result.info.items())), fields)
+
+
+@pytest.mark.parametrize("options", [{"fields": True}, {"nx": 20, "ny": 20},
+                                     {"nx": 13, "ny": 7, "bound": "parabolic", "flexibility": "kalker"}])
+def test_a_mixed_batch_is_each_scene_alone_bit_for_bit(options):
+    """solve_fastsim_many of a mixed batch (mixed_batch: no load, Coulomb and falling friction, with and without
+    spin) in two orders and in pairs: every result bit for bit solve_fastsim of its scene, fields included."""
+    from rollcontact.elliptic.methods.fastsim import solve_fastsim, solve_fastsim_many
+
+    scenes = mixed_batch()
+    assert sum(s.normal_load == 0.0 for s in scenes) == 3 and sum(not s.friction.is_constant for s in scenes) > 4
+    alone = [outcome(solve_fastsim(s, **options)) for s in scenes]
+    together = [outcome(r) for r in solve_fastsim_many(scenes, **options)]
+    backwards = [outcome(r) for r in solve_fastsim_many(scenes[::-1], **options)][::-1]
+    pairs = [outcome(r) for k in range(0, len(scenes), 2) for r in solve_fastsim_many(scenes[k:k + 2], **options)]
+    for k, scene in enumerate(scenes):
+        assert together[k] == alone[k], f"scene {k} in the batch differs from alone: {scene}"
+        assert backwards[k] == alone[k], f"scene {k} in the reversed batch differs from alone: {scene}"
+        assert pairs[k] == alone[k], f"scene {k} in a pair differs from alone: {scene}"
+
+
+def test_a_batch_names_the_scene_it_cannot_solve():
+    from rollcontact.elliptic.methods.fastsim import solve_fastsim_many
+
+    scenes = mixed_batch()[:3] + [EllipticScene.from_semi_axes(LOAD, 6e-3, 2e-4, friction=MU)]
+    with pytest.raises(ValueError, match="fastsim cannot solve scene 3: a/b = 30 is outside"):
+        solve_fastsim_many(scenes)
+    with pytest.raises(ValueError, match="nx"):
+        solve_fastsim_many(scenes[:3], nx=1)

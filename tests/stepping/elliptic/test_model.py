@@ -344,7 +344,7 @@ def test_invalid_curvature_inputs_are_refused_by_name_and_change_nothing():
 def contact_by_contact(model: EllipticModel) -> EllipticModel:
     """``model`` made to step each contact through solve_elliptic (its batches off)."""
     model.batch = model.linear_together = None
-    model.strips_together = model.choose_together = False
+    model.strips_together = model.fastsim_together = model.choose_together = False
     return model
 
 
@@ -377,18 +377,19 @@ def test_every_unloaded_combination_together_is_contact_by_contact_bit_for_bit(m
 
 @pytest.mark.parametrize("tolerance", (0.0, 0.05))
 @pytest.mark.parametrize("jacobian", (0, 1))
-@pytest.mark.parametrize("method, condition", [(0, 1), (0, 2), (3, 2)])
+@pytest.mark.parametrize("method, condition", [(0, 1), (0, 2), (3, 2), (2, 1)])
 def test_falling_friction_contacts_together_are_contact_by_contact_bit_for_bit(method, condition, jacobian,
                                                                               tolerance):
-    """A rail condition (Polach's dry and wet rail: friction falling with the slip velocity) with auto and strips,
-    with and without a tolerance: the contacts on the strips are one batch (each contact at its own rolling speed,
-    with and without spin), and every subset of unloaded contacts gives the outputs and messages of each contact
-    through solve_elliptic."""
+    """A rail condition (Polach's dry and wet rail: friction falling with the slip velocity) with auto, strips and
+    fastsim, with and without a tolerance: the contacts on the strips (and without a tolerance on FASTSIM) are one
+    batch (each contact at its own rolling speed, with and without spin), and every subset of unloaded contacts gives
+    the outputs and messages of each contact through solve_elliptic."""
     p = EllipticParameters(method=method, rail_condition=condition, jacobian=jacobian, tolerance=tolerance,
                            curvature_longitudinal=tuple(c[0] for c in BATCH_CURVATURES),
                            curvature_lateral=tuple(c[1] for c in BATCH_CURVATURES))
     together, alone = EllipticModel(p), contact_by_contact(EllipticModel(p))
-    assert together.strips_together or together.choose_together, "the strips' contacts are batched"
+    batched = together.strips_together or together.fastsim_together or together.choose_together
+    assert batched == (method != 2 or not tolerance), "the strips' contacts batch, FASTSIM's without a tolerance"
     rng = np.random.default_rng(100 * condition + 10 * jacobian + method)
     n = len(BATCH_CURVATURES)
     for mask in range(2**n):
@@ -398,8 +399,8 @@ def test_falling_friction_contacts_together_are_contact_by_contact_bit_for_bit(m
         outputs = together.step(mask * H, H, rows)
         assert outputs == alone.step(mask * H, H, rows), f"unloaded {mask:0{n}b}: {rows}"
         assert together.take_messages() == alone.take_messages(), f"unloaded {mask:0{n}b}: the messages"
-        assert tolerance or all(o.method_used == 3 for o, row in zip(outputs, rows, strict=True) if row[0] != 0.0), \
-            f"unloaded {mask:0{n}b}: without a tolerance the strips answer every loaded contact"
+        assert tolerance or all(o.method_used == (method or 3) for o, row in zip(outputs, rows, strict=True)
+                                if row[0] != 0.0), f"unloaded {mask:0{n}b}: without a tolerance the level answers"
 
 
 def test_auto_steps_the_contacts_strips_together_while_they_are_its_choice():
@@ -477,13 +478,13 @@ def test_contacts_chosen_together_are_one_batch_within_the_budget(jacobian, budg
     import rollcontact.stepping.elliptic.model as model_module
 
     batches = []
-    original = model_module.solve_strips_many
+    spec, original = model_module.MANY["strips"]
 
     def counted(scenes, **options):
         batches.append(len(scenes))
         return original(scenes, **options)
 
-    monkeypatch.setattr(model_module, "solve_strips_many", counted)
+    monkeypatch.setitem(model_module.MANY, "strips", (spec, counted))
     n = 8
     model = EllipticModel(EllipticParameters(method=0, jacobian=jacobian, tolerance=0.1, step_budget=budget,
                                              friction_law=2, curvature_longitudinal=(1.087,) * n,

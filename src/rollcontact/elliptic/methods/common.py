@@ -216,6 +216,17 @@ def bracketed(rigid, growth, kernel, speed, static: float, largest: float):
     return sigma
 
 
+def by_scene(values: np.ndarray, n: int) -> np.ndarray:
+    """Each scene's sum of ``values`` ``(..., steps, n S)`` over its cells (``(..., n)``), taken over the scene's
+    ``(steps, S)`` cells in their row-major order."""
+    *lead, steps, columns = values.shape
+    if n == 1:
+        return np.add.reduce(values.reshape(*lead, 1, -1), axis=-1)
+    axes = (*range(len(lead)), len(lead) + 1, len(lead), len(lead) + 2)  # (..., n, steps, S): a scene per row
+    per_scene = values.reshape(*lead, steps, n, columns // n).transpose(axes).copy()
+    return np.add.reduce(per_scene.reshape(*lead, n, -1), axis=-1)
+
+
 TINY = 1e-300
 """A floor of the trial tractions' size (an empty strip's)."""
 

@@ -38,6 +38,7 @@ import numpy as np
 from rollcontact.core.checks import check_real
 from rollcontact.core.method import AccuracyModel, MethodSpec
 from rollcontact.elliptic.methods.common import (
+    by_scene,
     coefficients,
     falling_drop,
     falling_slips,
@@ -126,53 +127,51 @@ def solve_fastsim(scene, *, nx: int = 40, ny: int = 40, bound: str = "elliptic",
         with velocity-dependent friction ``info["steepness"]``, the largest ``-D V dmu/dv`` of the slipping cells (0
         where none is above 0).
     """
-    why = inapplicable(scene)
-    if why is not None:
-        raise ValueError(f"fastsim cannot solve this scene: {why}")
+    return solve_fastsim_many((scene,), nx=nx, ny=ny, bound=bound, flexibility=flexibility, fields=fields)[0]
+
+
+solve_fastsim.options = ("nx", "ny", "bound", "flexibility", "fields")
+
+
+def solve_fastsim_many(scenes, *, nx: int = 40, ny: int = 40, bound: str = "elliptic", flexibility: str = "blended",
+                       fields: bool = False) -> list[EllipticResult]:
+    """:func:`solve_fastsim` of each scene (the same arguments), the loaded scenes of each friction law at once: their
+    strips side by side in one march (:func:`stacked`), each scene's numbers those it has alone (:func:`solve_fastsim`
+    is this function of one scene).  A scene without load has no contact.
+
+    Raises
+    ------
+    ValueError
+        A scene FASTSIM cannot solve (:func:`inapplicable`; the message names its index), a count < 2, or an unknown
+        bound or flexibility.
+    """
+    for k, scene in enumerate(scenes):
+        why = inapplicable(scene)
+        if why is not None:
+            raise ValueError(f"fastsim cannot solve this scene: {why}" if len(scenes) == 1 else
+                             f"fastsim cannot solve scene {k}: {why}")
     nx = int(check_real("nx", nx, lower=2))
     ny = int(check_real("ny", ny, lower=2))
     if bound not in BOUNDS:
         raise ValueError(f"bound = {bound!r} is not one of {BOUNDS}")
     if flexibility not in FLEXIBILITIES:
         raise ValueError(f"flexibility = {flexibility!r} is not one of {tuple(FLEXIBILITIES)}")
-    if scene.normal_load == 0.0:
-        return no_load(scene, "fastsim")
-    if not scene.friction.is_constant:
-        return falling_fastsim(scene, nx, ny, bound, flexibility, fields)
-    h = scene.hertz
-    mu = scene.friction_coefficient
-    l1, l2, l3 = FLEXIBILITIES[flexibility](scene, coefficients(scene))
-    xi, eta, phi = scene.creepages
-    dy = 2.0 * h.b / ny
-    y = -h.b + dy * (np.arange(ny) + 0.5)
-    half = h.a * np.sqrt(1.0 - (y / h.b) ** 2)  # a(y)
-    dx = 2.0 * half / nx
-    peak = mu * (h.max_pressure if bound == "elliptic" else 2.0 * scene.normal_load / (math.pi * h.a * h.b))
-    x = half * (1.0 - (2.0 * np.arange(nx)[:, None] + 1.0) / nx)  # cell centres from the leading edge, x[i, j]
-    room = np.clip(1.0 - (x / h.a) ** 2 - (y / h.b) ** 2, 0.0, None)
-    limit = peak * (np.sqrt(room) if bound == "elliptic" else room)
-    limit *= mu * scene.normal_load / float(np.sum(limit * dx) * dy)  # the cells carry mu Fn: |F| <= mu Fn exactly
-    increment = np.empty((nx, 2, ny))  # from cell i to i + 1: the rigid slip over the flexibility times the step
-    increment[:, 0] = dx * (xi / l1 - phi * y / l3)
-    increment[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
-    first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])  # half a cell
-    _, traction, size = march(first, increment, limit)
-    qx, qy = traction[:, 0], traction[:, 1]
-    stick = size <= limit
-    area = dx * dy  # midpoint rule over the cells
-    fx = float(np.sum(qx * area))
-    fy = float(np.sum(qy * area))
-    mz = float(np.sum((x * qy - y * qx) * area))
-    field = None
-    if fields:
-        field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), (limit / mu).T.copy(), qx.T.copy(),
-                              qy.T.copy(), stick.T.copy())
-    return EllipticResult.from_scene(scene, "fastsim", True, f"FASTSIM ({bound} bound, {flexibility} flexibilities, "
-                                     f"{nx} x {ny})", (fx, fy, mz),
-                                     field, {"flexibilities": (l1, l2, l3), "stick_fraction": float(stick.mean())})
-
-
-solve_fastsim.options = ("nx", "ny", "bound", "flexibility", "fields")
+    results = [no_load(scene, "fastsim") if scene.normal_load == 0.0 else None for scene in scenes]
+    groups: list[list[int]] = []
+    laws: list = []  # the friction law of each group
+    for k, scene in enumerate(scenes):
+        if scene.normal_load == 0.0:
+            continue
+        if scene.friction in laws:
+            groups[laws.index(scene.friction)].append(k)
+        else:
+            laws.append(scene.friction)
+            groups.append([k])
+    for group in groups:
+        for k, result in zip(group, stacked([scenes[k] for k in group], nx, ny, bound, flexibility, fields),
+                             strict=True):
+            results[k] = result
+    return results
 
 
 FALLING_PASSES = 2
@@ -180,48 +179,78 @@ FALLING_PASSES = 2
 (:data:`rollcontact.elliptic.methods.strips.FALLING_PASSES`)."""
 
 
-def falling_fastsim(scene, nx: int, ny: int, bound: str, flexibility: str, fields: bool) -> EllipticResult:
-    """The extended FASTSIM (module docstring): the march's cells at the coefficient of their own slip."""
-    h = scene.hertz
-    law, speed = scene.friction, scene.rolling_speed
-    mu = scene.friction_coefficient
-    l1, l2, l3 = FLEXIBILITIES[flexibility](scene, coefficients(scene))
-    xi, eta, phi = scene.creepages
-    dy = 2.0 * h.b / ny
-    y = -h.b + dy * (np.arange(ny) + 0.5)
-    half = h.a * np.sqrt(1.0 - (y / h.b) ** 2)
+def stacked(scenes, nx: int, ny: int, bound: str, flexibility: str, fields: bool) -> list[EllipticResult]:
+    """FASTSIM of loaded scenes of one friction law (module docstring): Coulomb's march, or the extended FASTSIM's
+    marches with the cells at the coefficient of their own slip (:data:`FALLING_PASSES` with spin, one without).
+
+    The cells are arrays ``(nx, n ny)``: the scenes' strips side by side, each scene's scalars repeated over its
+    strips; every operation is elementwise or a sum over one scene's cells in one order
+    (:func:`~.common.by_scene`), so each scene's numbers are those it has alone."""
+    n = len(scenes)
+    law = scenes[0].friction
+    rows = []
+    for scene in scenes:
+        h = scene.hertz
+        mu = scene.friction_coefficient
+        l1, l2, l3 = FLEXIBILITIES[flexibility](scene, coefficients(scene))
+        peak = mu * (h.max_pressure if bound == "elliptic" else 2.0 * scene.normal_load / (math.pi * h.a * h.b))
+        rows.append((h.a, h.b, mu, mu * scene.normal_load, l1, l2, l3, *scene.creepages, peak, scene.rolling_speed))
+    table = np.array(rows).T  # (scalars, n)
+    a, b, mu, limit_force, l1, l2, l3, xi, eta, phi, peak, speed = np.repeat(table, ny, axis=1)  # per strip
+    dy = 2.0 * b / ny
+    y = -b + dy * np.tile(np.arange(ny) + 0.5, n)
+    half = a * np.sqrt(1.0 - (y / b) ** 2)  # a(y)
     dx = 2.0 * half / nx
-    peak = mu * (h.max_pressure if bound == "elliptic" else 2.0 * scene.normal_load / (math.pi * h.a * h.b))
-    x = half * (1.0 - (2.0 * np.arange(nx)[:, None] + 1.0) / nx)
-    room = np.clip(1.0 - (x / h.a) ** 2 - (y / h.b) ** 2, 0.0, None)
+    x = half * (1.0 - (2.0 * np.arange(nx)[:, None] + 1.0) / nx)  # cell centres from the leading edge, x[i, j]
+    room = np.clip(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0, None)
     limit = peak * (np.sqrt(room) if bound == "elliptic" else room)
-    limit *= mu * scene.normal_load / float(np.sum(limit * dx) * dy)
-    pressure = limit / mu
-    increment = np.empty((nx, 2, ny))
+    limit *= np.repeat(table[3] / (by_scene(limit * dx, n) * (2.0 * table[1] / ny)), ny)  # the cells carry mu Fn
+    increment = np.empty((nx, 2, y.size))  # from cell i to i + 1: the rigid slip over the flexibility times the step
     increment[:, 0] = dx * (xi / l1 - phi * y / l3)
     increment[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
-    first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])
-    kernel = friction_kernel(law)
-    coefficient = np.full(limit.shape, mu)
-    sigma = None
-    for _ in range(FALLING_PASSES if phi != 0.0 else 1):
-        marched = march(first, increment, coefficient * pressure)
-        sigma, coefficient, steepness = falling_slips(marched, first, increment, coefficient, pressure,
-                                                      (l1 / dx, l2 / dx), law, kernel, speed, sigma)
-    trial, _, size = marched
-    stick = size <= limit
-    scale = np.minimum(1.0, coefficient * pressure / size)
-    qx, qy = trial[:, 0] * scale, trial[:, 1] * scale
-    area = dx * dy
-    forces = (float(np.sum(qx * area)), float(np.sum(qy * area)), float(np.sum((x * qy - y * qx) * area)))
-    field = None
+    first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])  # half a cell
+    steepness = None
+    if law.is_constant:
+        pressure = limit / mu
+        _, traction, size = march(first, increment, limit)
+        qx, qy = traction[:, 0], traction[:, 1]
+        stick = size <= limit
+    else:
+        pressure = limit / mu
+        kernel = friction_kernel(law)
+        coefficient = np.full(limit.shape, law.static_coefficient)
+        spin = phi != 0.0
+        sigma = kept = None
+        for k in range(FALLING_PASSES if spin.any() else 1):  # without spin the directions do not change
+            marched = march(first, increment, coefficient * pressure)
+            sigma, coefficient, steepness = falling_slips(marched, first, increment, coefficient, pressure,
+                                                          (l1 / dx, l2 / dx), law, kernel, speed, sigma)
+            if k == 0 and not spin.all():
+                kept = marched[0], marched[2], sigma, coefficient, steepness
+        trial, _, size = marched
+        if kept is not None and spin.any():  # the scenes without spin keep their one march
+            trial, size, sigma, coefficient, steepness = (np.where(spin, new, old) for new, old in zip(
+                (trial, size, sigma, coefficient, steepness), kept, strict=True))
+        stick = size <= limit
+        scale = np.minimum(1.0, coefficient * pressure / size)
+        qx, qy = trial[:, 0] * scale, trial[:, 1] * scale
+    area = dx * dy  # midpoint rule over the cells
+    forces = by_scene(np.array([qx * area, qy * area, (x * qy - y * qx) * area]), n).T.tolist()
+    sticking = (by_scene(stick.astype(float), n) / (nx * ny)).tolist()
+    if steepness is not None:
+        steepness = steepness.reshape(nx, n, ny).max(axis=(0, 2)).tolist()
+    what = "FASTSIM" if law.is_constant else "FASTSIM with falling friction"
+    message = f"{what} ({bound} bound, {flexibility} flexibilities, {nx} x {ny})"
     if fields:
-        field = TractionField(x.T.copy(), np.broadcast_to(y, x.shape).T.copy(), pressure.T.copy(), qx.T.copy(),
-                              qy.T.copy(), stick.T.copy())
-    return EllipticResult.from_scene(scene, "fastsim", True, f"FASTSIM with falling friction ({bound} bound, "
-                                     f"{flexibility} flexibilities, {nx} x {ny})", forces, field,
-                                     {"flexibilities": (l1, l2, l3), "stick_fraction": float(stick.mean()),
-                                      "steepness": float(steepness.max())})
+        cells = [np.broadcast_to(v, x.shape).reshape(nx, n, ny) for v in (x, y, pressure, qx, qy, stick)]
+    results = []
+    for k, scene in enumerate(scenes):
+        field = TractionField(*(v[:, k].T.copy() for v in cells)) if fields else None
+        info = {"flexibilities": tuple(rows[k][4:7]), "stick_fraction": sticking[k]}
+        if steepness is not None:
+            info["steepness"] = steepness[k]
+        results.append(EllipticResult.from_scene(scene, "fastsim", True, message, tuple(forces[k]), field, info))
+    return results
 
 
 def inapplicable(scene) -> str | None:

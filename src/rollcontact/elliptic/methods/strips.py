@@ -87,6 +87,7 @@ from rollcontact.core.materials import Material
 from rollcontact.core.method import AccuracyModel, MethodSpec
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, creepage_coefficients
 from rollcontact.elliptic.methods.common import (
+    by_scene,
     coefficients,
     falling_drop,
     falling_slips,
@@ -587,17 +588,6 @@ def place(targets, values, columns, where) -> None:
             np.copyto(target, value, where=where)
         else:
             target[:, columns] = np.where(where, value, target[:, columns])
-
-
-def by_scene(values: np.ndarray, n: int) -> np.ndarray:
-    """Each scene's sum of ``values`` ``(..., steps, n S)`` over its cells (``(..., n)``), taken over the scene's
-    ``(steps, S)`` cells in their row-major order."""
-    *lead, steps, columns = values.shape
-    if n == 1:
-        return np.add.reduce(values.reshape(*lead, 1, -1), axis=-1)
-    axes = (*range(len(lead)), len(lead) + 1, len(lead), len(lead) + 2)  # (..., n, steps, S): a scene per row
-    per_scene = values.reshape(*lead, steps, n, columns // n).transpose(axes).copy()
-    return np.add.reduce(per_scene.reshape(*lead, n, -1), axis=-1)
 
 
 GATHER = 96

@@ -37,9 +37,11 @@ contact without a solver call (:class:`LinearContacts`), the same operations as
 :func:`rollcontact.elliptic.hertz_ellipse` and the linear level take for one contact; with ``method`` = strips or auto
 (no tolerance, the cost with spin within the budget; auto's choice is then the strips for every contact, with
 Coulomb friction or a rail condition) one :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` over the
-contacts (:meth:`EllipticModel.strips_step`); with a tolerance each contact's setting as solve_elliptic chooses it, the
-contacts on the strips or the linear theory together (:meth:`EllipticModel.chosen_together`).  The other levels
-solve the contacts one after another through solve_elliptic.
+contacts, with ``method`` = fastsim (no tolerance, within the budget) one
+:func:`~rollcontact.elliptic.methods.fastsim.solve_fastsim_many` (:meth:`EllipticModel.together_step`); with a
+tolerance each contact's setting as solve_elliptic chooses it, the contacts on the strips or the linear theory
+together (:meth:`EllipticModel.chosen_together`).  The other levels solve the contacts one after another through
+solve_elliptic.
 
 Certified table: with Coulomb friction and ``method`` auto or strips, ``table`` = on builds at initialisation (auto:
 where the run pays for it) a table of the strips' normalised forces over a/b and three normalised creepages
@@ -69,9 +71,9 @@ from rollcontact.elliptic.dispatch import DISPATCHER as ELLIPTIC_DISPATCHER
 from rollcontact.elliptic.dispatch import METHODS as ELLIPTIC_METHODS
 from rollcontact.elliptic.dispatch import solve as solve_elliptic
 from rollcontact.elliptic.hertz import HertzEllipse, differences, eccentricity
+from rollcontact.elliptic.methods import fastsim as fastsim_level
 from rollcontact.elliptic.methods import linear as linear_level
 from rollcontact.elliptic.methods import strips as strips_level
-from rollcontact.elliptic.methods.strips import solve_strips_many
 from rollcontact.elliptic.scene import EllipticScene
 from rollcontact.stepping.base import ModelError, SteppingModel, argument_problems, time_problems
 from rollcontact.stepping.elliptic.linear import LinearContacts, contact_constants
@@ -116,7 +118,12 @@ of the forces (1e-16 of mu Fn)."""
 
 STRIPS_METHOD = strips_level.METHOD
 BATCHED = {"strips": STRIPS_METHOD, "linear": linear_level.METHOD}
-"""The built-in levels whose contacts a step solves together (the registry may replace them: then it does not)."""
+"""The built-in levels whose contacts a step with a tolerance solves together (the registry may replace them: then it
+does not)."""
+MANY = {"strips": (STRIPS_METHOD, strips_level.solve_strips_many),
+        "fastsim": (fastsim_level.METHOD, fastsim_level.solve_fastsim_many)}
+"""The levels with a solve of several scenes (each scene's numbers its own solve's), which :meth:`EllipticModel.
+together_step` takes, with the built-in level each belongs to."""
 
 
 def strips_resolve_every_scene() -> bool:
@@ -233,6 +240,10 @@ class EllipticModel(SteppingModel):
         """The contacts' strips solved together (:func:`~rollcontact.elliptic.methods.strips.solve_strips_many`, bit
         for bit each contact's solve): ``method`` = strips, or auto while the strips are what auto takes
         (:meth:`strips_chosen`)."""
+        self.fastsim_together = self.method == "fastsim" and self.tolerance is None and self.fits_budget("fastsim")
+        """The contacts' FASTSIM solved together with its defaults
+        (:func:`~rollcontact.elliptic.methods.fastsim.solve_fastsim_many`, bit for bit each contact's solve):
+        ``method`` = fastsim while the registry's fastsim is the built-in level."""
         self.choose_together = self.tolerance is not None and self.method in ("auto", "strips", "linear")
         """With a tolerance: each contact's setting chosen as solve_elliptic chooses it, the contacts whose choice is
         the strips or the linear theory with their defaults solved together (:meth:`chosen_together`)."""
@@ -466,7 +477,7 @@ class EllipticModel(SteppingModel):
 
     def evaluate(self, rows) -> tuple[EllipticOutputs, ...]:
         """The outputs of every contact for its checked inputs: together where the level allows
-        (:class:`~rollcontact.stepping.elliptic.linear.LinearContacts`, :meth:`strips_step`, and with a tolerance
+        (:class:`~rollcontact.stepping.elliptic.linear.LinearContacts`, :meth:`together_step`, and with a tolerance
         :meth:`chosen_together`), else contact by contact (:meth:`contact_step`), which also answers a batch that
         breaks down in floating point, naming the contact."""
         try:
@@ -477,7 +488,9 @@ class EllipticModel(SteppingModel):
                 self.last_modelled_cost, self.last_work = max(costs, default=0.0), sum(costs)
                 return outputs
             if self.strips_together and self.strips_chosen():
-                return self.strips_step(rows, range(len(rows)))
+                return self.together_step("strips", rows, range(len(rows)))
+            if self.fastsim_together and ELLIPTIC_METHODS.get("fastsim") is MANY["fastsim"][0]:
+                return self.together_step("fastsim", rows, range(len(rows)))
             if self.choose_together:
                 return self.chosen_together(rows)
         except ArithmeticError:
@@ -497,7 +510,7 @@ class EllipticModel(SteppingModel):
         """With a tolerance: each loaded contact's setting as :func:`rollcontact.solve_elliptic` chooses it with the
         parameters' tolerance and budget (the cheapest that meets the tolerance within :meth:`solve_budget`); the
         contacts whose choice is the built-in strips or linear theory with their defaults are solved together, the
-        strips in one batch (:meth:`strips_step`, :class:`~rollcontact.stepping.elliptic.linear.LinearContacts`), the
+        strips in one batch (:meth:`together_step`, :class:`~rollcontact.stepping.elliptic.linear.LinearContacts`), the
         others one by one (:meth:`contact_step`), each bit for bit its own solve (neither level escalates or falls
         back: the strips' and the linear theory's ladders hold one setting, and their estimates stay below
         :data:`~rollcontact.core.method.UNRESOLVED`).  A tolerance the choice does not meet is said once per contact,
@@ -523,7 +536,7 @@ class EllipticModel(SteppingModel):
         linear = [k for k, (setting, _) in chosen.items() if setting.method == "linear"]
         together = {}
         if strips:
-            batch = self.strips_step(rows, strips, [chosen[k][1] for k in strips])
+            batch = self.together_step("strips", rows, strips, [chosen[k][1] for k in strips])
             together.update((k, batch[k]) for k in strips)
         if linear:
             together.update(zip(linear, self.linear_together.step([rows[k] for k in linear], linear), strict=True))
@@ -540,7 +553,7 @@ class EllipticModel(SteppingModel):
                                  f"{setting.error_estimate!r} (said once)")
             solves = 4 if self.parameters.jacobian == 1 and setting.method == "strips" else 1
             cost = max(cost, solves * setting.cost)
-            if setting.method != "strips":  # strips_step counted the strips' work
+            if setting.method != "strips":  # together_step counted the strips' work
                 self.last_work += setting.cost
             outputs.append(together[k])
         self.last_modelled_cost = max(self.last_modelled_cost, cost)
@@ -677,19 +690,19 @@ class EllipticModel(SteppingModel):
         return EllipticOutputs(*forces, result.a, result.b, result.max_pressure, float(stick), power, *jacobian,
                                method_code(result.method))
 
-    def strips_step(self, rows, contacts, scenes=None) -> tuple[EllipticOutputs, ...]:
-        """The strips of the loaded ones among ``contacts`` (indices) in one
-        :func:`~rollcontact.elliptic.methods.strips.solve_strips_many` (with ``jacobian`` = difference also the three
-        shifted scenes of each), the outputs as :meth:`contact_step` makes them from each contact's own solve; the
-        other contacts' outputs are :data:`ZERO`.  ``scenes``: those of the loaded contacts, when made already."""
+    def together_step(self, level: str, rows, contacts, scenes=None) -> tuple[EllipticOutputs, ...]:
+        """The loaded ones among ``contacts`` (indices) at ``level`` (strips or fastsim, with its defaults) in one
+        solve of several scenes (:data:`MANY`; with ``jacobian`` = difference also the three shifted scenes of each),
+        the outputs as :meth:`contact_step` makes them from each contact's own solve; the other contacts' outputs are
+        :data:`ZERO`.  ``scenes``: those of the loaded contacts, when made already."""
         loaded = [k for k in contacts if rows[k][0] != 0.0]
         if not loaded:
             return (ZERO,) * len(rows)
         if scenes is None:
             scenes = [self.quick_scene(k, *rows[k]) for k in loaded]
-        cost = STRIPS_METHOD.accuracy.cost
+        spec, solve_many = MANY[level]
         solves = 4 if self.parameters.jacobian == 1 else 1
-        costs = [solves * cost(scene, {}) for scene in scenes]
+        costs = [solves * spec.accuracy.cost(scene, {}) for scene in scenes]
         self.last_modelled_cost, self.last_work = max(costs), self.last_work + sum(costs)
         slopes = [self.contact_slopes(k, scene) for k, scene in zip(loaded, scenes, strict=True)]
         shifted = []
@@ -699,7 +712,7 @@ class EllipticModel(SteppingModel):
                 if not usable(scene, increments):  # contact by contact, which says why once
                     raise FloatingPointError("the difference Jacobian's increments are not usable")
                 shifted += [scene.replace(**{name: scene.creepages[j] + delta}) for j, name, delta in increments]
-        results = solve_strips_many(scenes + shifted)
+        results = solve_many(scenes + shifted)
         outputs = [ZERO] * len(rows)
         for i, (k, scene) in enumerate(zip(loaded, scenes, strict=True)):
             result = results[i]
@@ -714,8 +727,9 @@ class EllipticModel(SteppingModel):
                 jacobian = tuple(v for row in slopes[i] for v in row)
             xi, eta, phi, velocity = rows[k][1:]
             power = velocity * (xi * forces[0] + eta * forces[1] + phi * forces[2])
-            outputs[k] = EllipticOutputs(*forces, result.a, result.b, result.max_pressure, NO_STICK, power, *jacobian,
-                                         LEVEL_CODES["strips"])
+            stick = float(result.info.get("stick_fraction", NO_STICK))
+            outputs[k] = EllipticOutputs(*forces, result.a, result.b, result.max_pressure, stick, power, *jacobian,
+                                         LEVEL_CODES[level])
         return tuple(outputs)
 
     def increments(self, scene: EllipticScene, slopes):
