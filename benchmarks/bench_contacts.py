@@ -19,8 +19,10 @@ varying signal (load 80 kN +-10 %, creepages swinging through a third of saturat
 * ``RollingContact3D_n`` (its inputs but the gap's curvatures, which keep their start: the parameters' geometry)
   with the linear level (``method`` = linear: the contacts' linear theory without a solver
   call per contact, :class:`rollcontact.stepping.elliptic.linear.LinearContacts`), with the strips without spin and with
-  spin (one ``solve_strips_many`` over the contacts), and with the default ``method`` = auto (whose choice with
-  Coulomb friction, the strips, is solved over the contacts in the same way), n = 1, 2, 4, 8;
+  spin (one ``solve_strips_many`` over the contacts), and with the default ``method`` = auto (whose choice, the strips,
+  is solved over the contacts in the same way), with Coulomb friction and on a wet rail (Polach's wet law: friction
+  falling with each cell's slip velocity) with spin, and FASTSIM on the wet rail with spin (one
+  ``solve_fastsim_many``), n = 1, 2, 4, 8;
 * the 2D closed form: ``RollingContact2D_n`` (:class:`rollcontact.stepping.line.contacts.ContactModels`), and n
   single-contact instances stepped one after another (what a host pays without several contacts per instance);
 * the 2D certified table of falling friction (exponential law A 0.4, B 0.6 s/m, tolerance 1e-3, ``table`` = on:
@@ -346,6 +348,8 @@ FAMILIES = {  # label -> (model, parameters, steps per batch, spin [1/m])
     "3D strips, spin": ("RollingContact3D", {"method": 3}, 10, 0.3),
     "3D auto, no spin": ("RollingContact3D", {}, 30, 0.0),
     "3D auto, spin": ("RollingContact3D", {}, 10, 0.3),
+    "3D auto, wet rail, spin": ("RollingContact3D", {"rail_condition": 2}, 10, 0.3),
+    "3D fastsim, wet rail, spin": ("RollingContact3D", {"method": 2, "rail_condition": 2}, 10, 0.3),
 }
 FLOORS = ("empty, pythonfmu's getters and setters", "empty, one list operation per call")
 

@@ -16,9 +16,10 @@ lateral up to 4, spin up to 3).
 Tables: A, each level's largest error (Fx, Fy over mu(0) Fn, Mz over mu(0) Fn c; ``largest / estimate``: the
 largest ratio of the error to the level's own estimate) and its 95th percentile; B, per law and per a/b; C, the
 median time per contact in process (through ``solve_elliptic``), beside the same level with Coulomb friction in the
-same run; "Passes", what a third march changes; D, the reference's own error on a subset (the pair 30/60 against the
-pair 60/120).  Reference: the discretised level's default (the Richardson pair of 30 and 60 elements); a reference
-that does not converge is left out and counted.
+same run, and the strips' time per contact in batches of 8 contacts of one law (``solve_strips_many``); "Passes",
+what a third march changes; D, the reference's own error on a subset (the pair 30/60 against the pair 60/120).
+Reference: the discretised level's default (the Richardson pair of 30 and 60 elements); a reference that does not
+converge is left out and counted.
 """
 
 from __future__ import annotations
@@ -175,7 +176,32 @@ def timing(cases, quick: bool) -> list[str]:
                 min_seconds=seconds) for s in pool)
         lines.append(f"| {level_name(name, options)} | {times['falling'] * 1e6:.0f} | {times['coulomb'] * 1e6:.0f} | "
                      f"{times['falling'] / times['coulomb']:.2f} |")
-    return lines + [""]
+    batches = together(cases, quick)
+    times = {label: statistics.median(common.median_time(lambda b=b: strips.solve_strips_many(b), min_repeats=3,
+                                                         min_seconds=seconds) / len(b) for b in pool)
+             for label, pool in batches.items()}
+    lines.append(f"| strips, {BATCH} contacts of one law together (`solve_strips_many`), per contact | "
+                 f"{times['falling'] * 1e6:.0f} | {times['coulomb'] * 1e6:.0f} | "
+                 f"{times['falling'] / times['coulomb']:.2f} |")
+    return lines + ["", f"The last row: {len(batches['falling'])} batches of {BATCH} cases of one law and speed "
+                    "(a vehicle's contacts: one rail, one speed, their own a/b and creepages), each batch's time over "
+                    f"{BATCH}.", ""]
+
+
+BATCH = 8
+"""Contacts per batch of the last row of table C."""
+
+
+def together(cases, quick: bool) -> dict[str, list[list]]:
+    """Batches of :data:`BATCH` scenes of one law and speed from the matrix (falling, and the same at the static
+    coefficient), every ``step``-th batch."""
+    pools: dict = {}
+    for _, labels, scene in cases:
+        pools.setdefault((labels["law"], labels["speed"]), []).append(scene)
+    batches = [pool[k:k + BATCH] for pool in pools.values() for k in range(0, len(pool) - BATCH + 1, BATCH)]
+    batches = batches[:: max(1, len(batches) // (4 if quick else 16))]
+    return {"falling": batches,
+            "coulomb": [[s.replace(friction=rc.Coulomb(s.friction_coefficient)) for s in b] for b in batches]}
 
 
 def passes(cases) -> list[str]:
