@@ -281,10 +281,10 @@ friction adds to FASTSIM's estimate.  With it the estimate bounds the error over
 ``benchmarks/calibrate_falling_spin.py`` (table A: largest error 0.104 of mu(0) Fn at 20 x 20, Fy with spin at a/b 5,
 as with Coulomb friction; largest error over estimate 0.79 at 20 x 20, 0.86 at 40 x 40)."""
 
-FASTSIM_FALLING_COST_FACTOR = 1.5
+FASTSIM_FALLING_COST_FACTOR = 3.0
 """The extended FASTSIM's time over Coulomb FASTSIM's on the same grid [1]: a margin over the ratios of
-``benchmarks/calibrate_falling_spin.py``, table C (0.86 at 20 x 20, 0.95 at 40 x 40: its march is leaner than the
-Coulomb loop's)."""
+``benchmarks/calibrate_falling_spin.py``, table C (both march by :func:`~.common.march`; the extended FASTSIM solves
+each cell's slip after each march and marches twice with spin)."""
 
 FASTSIM_COST_PER_STEP = 9e-6
 """Calibrated time [s] per step along the strips (one vector operation over the ny strips;

@@ -809,8 +809,8 @@ STRIPS_FALLING_COST_PER_STRIP = 5e-4
 
 STRIPS_FALLING_COST_FACTOR = 3.0
 """The falling-friction march's time over the Coulomb strips' with a march [1] (the march and each cell's slip, twice
-with spin): ``benchmarks/calibrate_falling_spin.py``, table C (3.0 times the Coulomb strips of the same scenes, most of
-which take the closed form alone)."""
+with spin): a margin over the ratio of ``benchmarks/calibrate_falling_spin.py``, table C (to the Coulomb strips of the
+same scenes, most of which take the closed form alone)."""
 
 STRIPS_FALLING_ERROR = 0.1
 """Error [1] per unit of the law's fall over the contact (:func:`~.common.falling_drop`) that velocity-dependent
