@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+from elliptic_outcome import outcome
 
 from rollcontact import EllipticScene, Material, solve_elliptic
 from rollcontact.elliptic.creep_coefficients import creepage_coefficients
@@ -153,16 +154,6 @@ def mixed_batch():
             friction=laws[k % 5], rolling_speed=float(5.0 + 2.0 * k), longitudinal_creepage=float(xi),
             lateral_creepage=float(eta), spin_creepage=phi).replace(normal_load=load))
     return scenes
-
-
-def outcome(result):
-    """Everything a result holds, the traction fields' arrays included, for comparisons bit for bit."""
-    fields = None if result.fields is None else tuple(
-        np.asarray(getattr(result.fields, name)).tobytes() for name in ("x", "y", "pressure", "traction_x",
-                                                                        "traction_y", "stick"))
-    return (result.method, result.success, result.message, result.longitudinal_force, result.lateral_force,
-            result.spin_moment, result.a, result.b, result.max_pressure, result.approach,
-            tuple(sorted((k, repr(v)) for k, v in result.info.items())), fields)
 
 
 @pytest.mark.parametrize("options", [{"fields": True}, {"nx": 20, "ny": 20},

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+from elliptic_outcome import outcome
 from scipy.integrate import quad
 
 from rollcontact import Coulomb, EllipticScene, ExponentialFalling, LinearFalling, Material, carter, solve_elliptic
@@ -358,16 +359,6 @@ def mixed_batch():
     for k in (1, 3, 5, 7, 9, 11, 13, 17):
         scenes.append(scenes[k].replace(friction=laws[k % 4 // 2], rolling_speed=float(5.0 + 3.0 * k)))
     return scenes
-
-
-def outcome(result):
-    """Everything a result holds, the traction fields' arrays included, for comparisons bit for bit."""
-    fields = None if result.fields is None else tuple(
-        np.asarray(getattr(result.fields, name)).tobytes() for name in ("x", "y", "pressure", "traction_x",
-                                                                        "traction_y", "stick"))
-    return (result.method, result.success, result.message, result.longitudinal_force, result.lateral_force,
-            result.spin_moment, result.a, result.b, result.max_pressure, result.approach,
-            tuple(sorted((k, repr(v)) for k, v in result.info.items())), fields)
 
 
 @pytest.mark.parametrize("fields", [False, True])
