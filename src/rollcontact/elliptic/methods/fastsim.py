@@ -195,8 +195,8 @@ def stacked(scenes, nx: int, ny: int, bound: str, flexibility: str, fields: bool
         l1, l2, l3 = FLEXIBILITIES[flexibility](scene, coefficients(scene))
         peak = mu * (h.max_pressure if bound == "elliptic" else 2.0 * scene.normal_load / (math.pi * h.a * h.b))
         rows.append((h.a, h.b, mu, mu * scene.normal_load, l1, l2, l3, *scene.creepages, peak, scene.rolling_speed))
-    table = np.array(rows).T  # (scalars, n)
-    a, b, mu, limit_force, l1, l2, l3, xi, eta, phi, peak, speed = np.repeat(table, ny, axis=1)  # per strip
+    scalars = np.array(rows).T  # (scalars, n): per scene
+    a, b, mu, _, l1, l2, l3, xi, eta, phi, peak, speed = np.repeat(scalars, ny, axis=1)  # per strip
     dy = 2.0 * b / ny
     y = -b + dy * np.tile(np.arange(ny) + 0.5, n)
     half = a * np.sqrt(1.0 - (y / b) ** 2)  # a(y)
@@ -204,19 +204,19 @@ def stacked(scenes, nx: int, ny: int, bound: str, flexibility: str, fields: bool
     x = half * (1.0 - (2.0 * np.arange(nx)[:, None] + 1.0) / nx)  # cell centres from the leading edge, x[i, j]
     room = np.clip(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0, None)
     limit = peak * (np.sqrt(room) if bound == "elliptic" else room)
-    limit *= np.repeat(table[3] / (by_scene(limit * dx, n) * (2.0 * table[1] / ny)), ny)  # the cells carry mu Fn
+    carried, strip_width = scalars[3], 2.0 * scalars[1] / ny  # mu Fn and dy per scene
+    limit *= np.repeat(carried / (by_scene(limit * dx, n) * strip_width), ny)  # the cells carry mu Fn: |F| <= mu Fn
+    pressure = limit / mu
     increment = np.empty((nx, 2, y.size))  # from cell i to i + 1: the rigid slip over the flexibility times the step
     increment[:, 0] = dx * (xi / l1 - phi * y / l3)
     increment[:, 1] = dx * (eta / l2 + phi * (x - 0.5 * dx) / l3)
     first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])  # half a cell
     steepness = None
     if law.is_constant:
-        pressure = limit / mu
         _, traction, size = march(first, increment, limit)
         qx, qy = traction[:, 0], traction[:, 1]
         stick = size <= limit
     else:
-        pressure = limit / mu
         kernel = friction_kernel(law)
         coefficient = np.full(limit.shape, law.static_coefficient)
         spin = phi != 0.0
