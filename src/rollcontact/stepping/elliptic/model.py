@@ -122,8 +122,8 @@ BATCHED = {"strips": STRIPS_METHOD, "linear": linear_level.METHOD}
 does not)."""
 MANY = {"strips": (STRIPS_METHOD, strips_level.solve_strips_many),
         "fastsim": (fastsim_level.METHOD, fastsim_level.solve_fastsim_many)}
-"""The levels with a solve of several scenes (each scene's numbers its own solve's), which :meth:`EllipticModel.
-together_step` takes, with the built-in level each belongs to."""
+"""The levels with a solve of several scenes (each scene's numbers its own solve's) and the built-in level each
+belongs to: what :meth:`EllipticModel.together_step` takes."""
 
 
 def strips_resolve_every_scene() -> bool:
