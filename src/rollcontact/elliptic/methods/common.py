@@ -216,6 +216,24 @@ def bracketed(rigid, growth, kernel, speed, static: float, largest: float):
     return sigma
 
 
+def friction_groups(scenes) -> list[list[int]]:
+    """The loaded scenes' indices grouped for the stacked solves of several scenes (the strips' and FASTSIM's): the
+    scenes of constant friction together (each at its own coefficient), and those of each velocity-dependent law
+    together, in the order the laws first appear."""
+    groups: list[list[int]] = []
+    keys: list = []  # None for constant friction, else the law
+    for k, scene in enumerate(scenes):
+        if scene.normal_load == 0.0:
+            continue
+        key = None if scene.friction.is_constant else scene.friction
+        if key in keys:
+            groups[keys.index(key)].append(k)
+        else:
+            keys.append(key)
+            groups.append([k])
+    return groups
+
+
 def by_scene(values: np.ndarray, n: int) -> np.ndarray:
     """Each scene's sum of ``values`` ``(..., steps, n S)`` over its cells (``(..., n)``), taken over the scene's
     ``(steps, S)`` cells in their row-major order."""

@@ -42,6 +42,7 @@ from rollcontact.elliptic.methods.common import (
     coefficients,
     falling_drop,
     falling_slips,
+    friction_groups,
     friction_kernel,
     linear_ratio,
     march,
@@ -135,9 +136,10 @@ solve_fastsim.options = ("nx", "ny", "bound", "flexibility", "fields")
 
 def solve_fastsim_many(scenes, *, nx: int = 40, ny: int = 40, bound: str = "elliptic", flexibility: str = "blended",
                        fields: bool = False) -> list[EllipticResult]:
-    """:func:`solve_fastsim` of each scene (the same arguments), the loaded scenes of each friction law at once: their
-    strips side by side in one march (:func:`stacked`), each scene's numbers those it has alone (:func:`solve_fastsim`
-    is this function of one scene).  A scene without load has no contact.
+    """:func:`solve_fastsim` of each scene (the same arguments), the loaded scenes with constant friction at once and
+    those of each velocity-dependent law at once (:func:`~.common.friction_groups`): their strips side by side in one
+    march (:func:`stacked`), each scene's numbers those it has alone (:func:`solve_fastsim` is this function of one
+    scene).  A scene without load has no contact.
 
     Raises
     ------
@@ -157,17 +159,7 @@ def solve_fastsim_many(scenes, *, nx: int = 40, ny: int = 40, bound: str = "elli
     if flexibility not in FLEXIBILITIES:
         raise ValueError(f"flexibility = {flexibility!r} is not one of {tuple(FLEXIBILITIES)}")
     results = [no_load(scene, "fastsim") if scene.normal_load == 0.0 else None for scene in scenes]
-    groups: list[list[int]] = []
-    laws: list = []  # the friction law of each group
-    for k, scene in enumerate(scenes):
-        if scene.normal_load == 0.0:
-            continue
-        if scene.friction in laws:
-            groups[laws.index(scene.friction)].append(k)
-        else:
-            laws.append(scene.friction)
-            groups.append([k])
-    for group in groups:
+    for group in friction_groups(scenes):
         for k, result in zip(group, stacked([scenes[k] for k in group], nx, ny, bound, flexibility, fields),
                              strict=True):
             results[k] = result
@@ -180,8 +172,9 @@ FALLING_PASSES = 2
 
 
 def stacked(scenes, nx: int, ny: int, bound: str, flexibility: str, fields: bool) -> list[EllipticResult]:
-    """FASTSIM of loaded scenes of one friction law (module docstring): Coulomb's march, or the extended FASTSIM's
-    marches with the cells at the coefficient of their own slip (:data:`FALLING_PASSES` with spin, one without).
+    """FASTSIM of loaded scenes of constant friction (each at its own coefficient) or of one velocity-dependent law
+    (module docstring): Coulomb's march, or the extended FASTSIM's marches with the cells at the coefficient of their
+    own slip (:data:`FALLING_PASSES` with spin, one without).
 
     The cells are arrays ``(nx, n ny)``: the scenes' strips side by side, each scene's scalars repeated over its
     strips; every operation is elementwise or a sum over one scene's cells in one order

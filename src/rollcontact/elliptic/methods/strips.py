@@ -91,6 +91,7 @@ from rollcontact.elliptic.methods.common import (
     coefficients,
     falling_drop,
     falling_slips,
+    friction_groups,
     friction_kernel,
     linear_ratio,
     march,
@@ -264,21 +265,10 @@ def solve_strips_many(scenes, *, strips: int = DEFAULT_STRIPS, steps: int = DEFA
             raise ValueError(f"strips cannot solve scene {k}: {inapplicable(scene)}")
     strips = int(check_real("strips", strips, lower=2))
     steps = int(check_real("steps", steps, lower=2))
-    coulomb = [k for k, scene in enumerate(scenes) if scene.normal_load != 0.0 and scene.friction.is_constant]
-    if len(coulomb) == len(scenes):
+    if all(scene.normal_load != 0.0 and scene.friction.is_constant for scene in scenes):
         return stacked(scenes, strips, steps, fields)
     results = [no_load(scene, "strips") if scene.normal_load == 0.0 else None for scene in scenes]
-    groups = [coulomb] if coulomb else []
-    laws: list = []  # the velocity-dependent laws met, in order; groups[-len(laws):] their scenes
-    for k, scene in enumerate(scenes):
-        if scene.normal_load == 0.0 or scene.friction.is_constant:
-            continue
-        if scene.friction in laws:
-            groups[len(groups) - len(laws) + laws.index(scene.friction)].append(k)
-        else:
-            laws.append(scene.friction)
-            groups.append([k])
-    for group in groups:
+    for group in friction_groups(scenes):
         solve = stacked if scenes[group[0]].friction.is_constant else falling_strips
         for k, result in zip(group, solve([scenes[k] for k in group], strips, steps, fields), strict=True):
             results[k] = result
