@@ -1,19 +1,20 @@
 """The wheels around their patch level: a wheel at the strips level carries its vertical load, tangential forces
 included, to the passes' tolerance where its patch is in flange-root contact; a wheel of one patch solved for its
-force at once gives the vertical balance's answer."""
+force at once gives the vertical balance's answer; the first pass's predicted share of the load is the tread's."""
 
 from __future__ import annotations
+
+import math
 
 import pytest
 
 from rollcontact.wheelrail.dispatch import solve
 from rollcontact.wheelrail.methods import discretised, strips
 from rollcontact.wheelrail.scene import WheelRailScene
-from rollcontact.wheelrail.wheels import solve_wheels
+from rollcontact.wheelrail.wheels import COUPLING, predicted_ratio, solve_wheels
 
-LOAD_TOLERANCE = 1e-4
-"""Relative difference of a wheel's vertical force from its load: the passes stop at 1e-5 of it
-(``rollcontact.wheelrail.wheels.LOAD_TOLERANCE``); a step of the strips' normal force over the load left 1e-2."""
+LOAD_TOLERANCE = COUPLING
+"""Relative difference of a wheel's vertical force from its load: the passes stop within ``COUPLING`` of it."""
 
 
 @pytest.mark.parametrize("yaw_rate", [0.0, 0.01])
@@ -58,3 +59,33 @@ def test_a_wheel_of_one_patch_solved_for_its_force_is_the_balance_answer(track, 
                            ("Fy", p.lateral_force / scale, q.lateral_force / scale)):
             assert abs(a - b) < BALANCE_AGREEMENT, f"shift {shift} m, {wheel.side} wheel: {name} {a!r} against {b!r}"
         assert abs(wheel.force[2] / wheel.vertical_load - 1.0) < LOAD_TOLERANCE, f"{wheel.side}: Fz {wheel.force[2]}"
+
+
+@pytest.mark.parametrize("shift", [2e-3, 3e-3, 4e-3])
+def test_a_tread_wheel_takes_one_pass_from_the_predicted_share(track, wheelset, shift):
+    """On the tread (contact angles of a few hundredths) the saturated theory's share of the load
+    (``predicted_ratio``) is the strips' own to within the passes' tolerance, so that each wheel's patch is solved
+    once; the prediction has the sign and size of the strips' share (a wrong sign or a missing ``sin(delta)`` fails
+    here: the share is 5 to 30 times the tolerance)."""
+    scene = WheelRailScene(track, wheelset, lateral_shift=shift, yaw=2e-4 * shift / 1e-3, vertical_load_left=1e4,
+                           vertical_load_right=1.2e4, forward_speed=2.0, lateral_velocity=-0.02, yaw_rate=0.01,
+                           friction=0.3)
+    solves = []
+    level = strips.LEVEL
+
+    def counted(*arguments, **options):
+        solves.append(arguments[0].name)
+        return level.solve(*arguments, **options)
+
+    result = solve_wheels(scene, level._replace(solve=counted))
+    assert result.success, result.message
+    assert len(solves) == 2, f"shift {shift} m: patch solves {solves} (one per wheel)"
+    shares = []
+    for wheel in result.wheels:
+        patch = wheel.patches[0]
+        share = (patch.track_force[2] - patch.result.normal_load * math.cos(patch.point.contact_angle)) \
+            / patch.result.normal_load
+        predicted = predicted_ratio(scene, patch.point, wheel.vertical_load / math.cos(patch.point.contact_angle))
+        assert abs(predicted - share) < COUPLING, f"shift {shift} m, {wheel.side}: predicted {predicted!r}, {share!r}"
+        shares.append(abs(share))
+    assert max(shares) > 5.0 * COUPLING, f"shift {shift} m: shares {shares} (the test's premise)"

@@ -19,12 +19,13 @@ mirrored), and the creepages are those of :func:`~rollcontact.wheelrail.search.c
 slip of the wheel relative to the rail over V, in the contact frame).
 
 Normal and tangential contact per wheel, as :mod:`rollcontact.wheelrail.methods.hertz` does for one contact point:
-``N = Q / (cos(delta) + rho)`` carries the vertical load Q with ``rho = 0``; where the wheel's vertical force
-``N cos(delta) + T_z`` (``T_z = -sign sin(delta) Fs`` the tangential force's vertical component) misses Q by more
-than :data:`~rollcontact.wheelrail.wheels.COUPLING` of it (a flange), the next pass takes ``rho = T_z / N`` of the
-last (at most :data:`~rollcontact.wheelrail.wheels.PASSES`).  The forces are Kalker's linear theory on the ellipse
-(``Fx = G c^2 C11 xi``, ``Fs = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab)),
-with ``law = "saturated"`` scaled by Shen, Hedrick & Elkins' ``g(u)/u`` as
+``N = Q / (cos(delta) + rho)`` carries the vertical load Q, with ``rho = T_z / N`` (``T_z = -sign sin(delta) Fs`` the
+tangential force's vertical component) first of the saturated theory under ``Q / cos(delta)``
+(:func:`~rollcontact.wheelrail.wheels.predicted_ratio`); where the wheel's vertical force ``N cos(delta) + T_z``
+misses Q by more than :data:`~rollcontact.wheelrail.wheels.COUPLING` of it (a flange), the next pass takes the
+ratio of the last (at most :data:`~rollcontact.wheelrail.wheels.PASSES`).  The forces are Kalker's linear theory
+on the ellipse (``Fx = G c^2 C11 xi``, ``Fs = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``,
+c = sqrt(ab)), with ``law = "saturated"`` scaled by Shen, Hedrick & Elkins' ``g(u)/u`` as
 :mod:`rollcontact.elliptic.methods.saturated` scales them.  The loads on the wheelset follow as
 :mod:`rollcontact.wheelrail.loads` states them.
 
@@ -179,8 +180,15 @@ class TabulatedWheelset:
             xi = (forward_speed + om1 * dz - om2 * dy) / forward_speed
             eta = ((lateral_velocity + om2 * dx - om0 * dz) * cd - vz * ny) / forward_speed
             phi = (om1 * ny + om2 * cd) / forward_speed
-            ratio = 0.0
             c1 = sqrt(a1 * b1)
+            # the first pass's ratio: the saturated theory's under Q / cos(delta) (wheels.predicted_ratio)
+            normal = load / cd
+            c = c1 * normal ** (1.0 / 3.0)
+            area = shear * c * c
+            fx = area * c11 * xi
+            fs = area * (c22 * eta + c * c23 * phi)
+            u = ratio_of(hypot(fx, fs), mu * normal)
+            ratio = -fs * (1.0 / u if u >= 3.0 else 1.0 - u / 3.0 + u * u / 27.0) * ny / normal
             for _ in range(PASSES):
                 normal = load / (cd + ratio)
                 scale = normal ** (1.0 / 3.0)

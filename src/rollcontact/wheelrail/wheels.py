@@ -20,8 +20,11 @@ For each wheel, at the scene's pose (:attr:`WheelRailScene.contacts`):
    (:func:`~rollcontact.wheelrail.search.creepages`), the patch level's solve at its approach (at its normal force
    where it was solved for it).
 3. Passes repeat 1 and 2 with the ratios r_i of the previous pass until the wheel's vertical force, tangential
-   forces included, is within :data:`LOAD_TOLERANCE` of Q (at most :data:`PASSES`): one pass where the tangential
-   forces carry no share of the load, two or three in flange contact.
+   forces included, is within :data:`COUPLING` of Q (at most :data:`PASSES`).  The first pass takes each patch's
+   r_i from Kalker's linear theory on Hertz's ellipse at its rigid contact point, saturated by Shen, Hedrick &
+   Elkins at the static coefficient (:func:`predicted_ratio`), so that one pass is enough wherever that theory's
+   lateral force is within ``COUPLING / sin(delta_i)`` of the level's own (on a tread, where ``sin(delta)`` is a few
+   hundredths, a tenth of ``mu N``); a second pass where it is not (a flange, a patch far from Hertz's).
 
 Forces are those the wheel exerts on the rail: per patch ``F = Fx e_x + Fs s + N n`` in track axes.
 """
@@ -34,12 +37,17 @@ from collections.abc import Callable
 from typing import NamedTuple
 
 from rollcontact.core.method import AccuracyModel, MethodSpec
+from rollcontact.elliptic.creep_coefficients import extended_creepage_coefficients
+from rollcontact.elliptic.hertz import hertz_ellipse
+from rollcontact.elliptic.methods.saturated import saturation_factor
 from rollcontact.wheelrail.geometry import side_sign
+from rollcontact.wheelrail.normal import MIN_LATERAL_CURVATURE
 from rollcontact.wheelrail.result import PatchResult, WheelPatch, WheelRailResult, WheelResult
 from rollcontact.wheelrail.scene import PatchScene, WheelRailScene
 from rollcontact.wheelrail.search import creepages
 
-__all__ = ["COUPLING", "PatchLevel", "WheelAccuracy", "patch_scenes", "solve_wheels", "track_force", "wheel_method"]
+__all__ = ["COUPLING", "PatchLevel", "WheelAccuracy", "patch_scenes", "predicted_ratio", "solve_wheels", "track_force",
+           "wheel_method"]
 
 BALANCE_TOLERANCE = 1e-6
 """Relative residual [1] of the vertical balance ``|Q(d) - Q| / Q`` at which the normal problem stops (the strips'
@@ -52,12 +60,10 @@ BALANCE_ITERATIONS = 40
 """Cap of the power-law updates of the vertical balance."""
 
 COUPLING = 1e-3
-"""Relative difference [1] of a wheel's vertical force, tangential forces included, from its load at which the Hertz
-level's passes (:mod:`rollcontact.wheelrail.methods.hertz`) and the tabulated wheelset's
-(:mod:`rollcontact.wheelrail.tabulated`) stop."""
-
-LOAD_TOLERANCE = 1e-5
-"""Relative difference [1] of a wheel's vertical force from its load at which the passes stop (module docstring)."""
+"""Relative difference [1] of a wheel's vertical force, tangential forces included, from its load at which the passes
+of every level stop: the patch levels' (module docstring), the Hertz level's (:mod:`rollcontact.wheelrail.methods.
+hertz`) and the tabulated wheelset's (:mod:`rollcontact.wheelrail.tabulated`).  It moves a patch's forces by about
+as much of themselves, a fiftieth of the discretised level's accuracy goal on the Manchester case (0.02 mu Fn)."""
 
 PASSES = 5
 """Cap of the passes of normal and tangential contact of a wheel (module docstring)."""
@@ -169,6 +175,27 @@ def loaded(items, load: float, level: PatchLevel, contact, material, states):
     return touch + approach / cosine, [approach], [force]
 
 
+def predicted_ratio(scene: WheelRailScene, point, force: float) -> float:
+    """``r = T_z / N`` [1] of a patch before its first pass (module docstring): the tangential force's vertical share
+    ``T_z = -sign sin(delta) Fs`` of the saturated linear theory on Hertz's ellipse under the force [N] > 0 at the
+    rigid contact point ``point``, ``Fs = e(u) G c^2 (C22 eta + c C23 phi)`` with ``u = G c^2 |(C11 xi, C22 eta + c
+    C23 phi)| / (mu N)`` and Shen, Hedrick & Elkins' ``e(u)`` (:func:`~rollcontact.elliptic.methods.saturated.
+    saturation_factor`), ``c = sqrt(ab)``, Kalker's coefficients continued beyond his table as the strips continue
+    them (:func:`~rollcontact.elliptic.creep_coefficients.extended_creepage_coefficients`), mu the static
+    coefficient; the creepages those of the point (:func:`~rollcontact.wheelrail.search.creepages`)."""
+    material = scene.material
+    a_curv, b_curv = point.curvatures
+    ellipse = hertz_ellipse(force, a_curv, max(b_curv, MIN_LATERAL_CURVATURE), material.contact_modulus)
+    coefficients = extended_creepage_coefficients(ellipse.aspect_ratio, material.poisson_ratio)
+    xi, eta, phi = creepages(scene.wheelset, scene.pose, scene.velocities, point)
+    c = math.sqrt(ellipse.a * ellipse.b)
+    area = material.shear_modulus * c * c
+    fx = area * coefficients.c11 * xi
+    fs = area * (coefficients.c22 * eta + c * coefficients.c23 * phi)
+    fs *= saturation_factor(math.hypot(fx, fs) / (scene.friction.maximum_coefficient * force))
+    return -side_sign(point.side) * math.sin(point.contact_angle) * fs / force
+
+
 def solve_wheels(scene: WheelRailScene, level: PatchLevel, **options) -> WheelRailResult:
     """Both wheels of the scene with the patch level ``level`` (module docstring); ``options`` go to its solve."""
     wheels, failures, estimates = [], [], []
@@ -195,6 +222,10 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
     problems: list[str] = []
     start = hertz.vertical_displacement
     states = [None] * len(references)
+    for k, patch in enumerate(contact.patches):
+        force = sum(hertz.normal_forces[i] for i in patch.points)
+        if force > 0.0:
+            ratios[k] = predicted_ratio(scene, references[k], force)
 
     def law(k, approach):
         force, states[k] = level.normal(contact.patches[k].gap, approach, material, states[k])
@@ -222,7 +253,7 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
                                      name=f"{side} patch {k + 1}")
             result = level.solve(patch_scene, start=states[k], **options)
             patches.append((k, WheelPatch(point, result, track_force(point, result))))
-        if abs(sum(p.track_force[2] for _, p in patches) - load) <= LOAD_TOLERANCE * load:
+        if abs(sum(p.track_force[2] for _, p in patches) - load) <= COUPLING * load:
             break
         tangential = [(k, p.track_force[2] - p.result.normal_load * math.cos(p.point.contact_angle))
                       for k, p in patches]

@@ -25,7 +25,7 @@ from rollcontact.wheelrail.normal import MIN_LATERAL_CURVATURE, hertz_contacts
 from rollcontact.wheelrail.result import PatchResult, WheelPatch, WheelRailResult, WheelResult
 from rollcontact.wheelrail.scene import SIDES, WheelRailScene
 from rollcontact.wheelrail.search import creepages
-from rollcontact.wheelrail.wheels import COUPLING, PASSES, balance, track_force
+from rollcontact.wheelrail.wheels import COUPLING, PASSES, balance, predicted_ratio, track_force
 
 __all__ = ["METHOD", "inapplicable", "solve_hertz"]
 
@@ -73,16 +73,19 @@ solve_hertz.options = ("elliptic",)
 def hertz_wheel(scene: WheelRailScene, contact, elliptic: str):
     """One wheel by Hertz: ``(WheelResult, problems, error estimate)``; the vertical balance and the passes of
     :mod:`rollcontact.wheelrail.wheels` (its :func:`~rollcontact.wheelrail.wheels.balance`) with Hertz's
-    ``N = (delta / delta_1)^(3/2)`` per contact point, until the wheel's vertical force, tangential forces included,
-    meets its load to :data:`~rollcontact.wheelrail.wheels.COUPLING` of it (at most
-    :data:`~rollcontact.wheelrail.wheels.PASSES`)."""
+    ``N = (delta / delta_1)^(3/2)`` per contact point, the first from the ratios of
+    :func:`~rollcontact.wheelrail.wheels.predicted_ratio` at the scene's Hertz loads, until the wheel's vertical
+    force, tangential forces included, meets its load to :data:`~rollcontact.wheelrail.wheels.COUPLING` of it (at
+    most :data:`~rollcontact.wheelrail.wheels.PASSES`)."""
     side, load = contact.side, scene.load(contact.side)
     if load == 0.0:
         return WheelResult(side, (), 0.0, 0.0, (0.0, 0.0, 0.0), f"{side} wheel: no load, no contact"), [], 0.0
     unit, _ = hertz_contacts(contact, scene.material)
     patch_of = {i: patch for patch in contact.patches for i in patch.points}
-    ratios = [0.0] * len(contact.points)
-    start = scene.hertz[SIDES.index(side)].vertical_displacement
+    hertz = scene.hertz[SIDES.index(side)]
+    ratios = [predicted_ratio(scene, point, force) if force > 0.0 else 0.0
+              for point, force in zip(contact.points, hertz.normal_forces, strict=True)]
+    start = hertz.vertical_displacement
     for _ in range(PASSES):
         items = [(p.vertical_gap, math.cos(p.contact_angle), r, k)
                  for k, (p, r) in enumerate(zip(contact.points, ratios, strict=True))]
