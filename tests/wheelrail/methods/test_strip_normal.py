@@ -161,33 +161,46 @@ def test_a_start_nearby_gives_the_same_solution(make):
     assert same is resumed, "a start at the same approach is the solution, returned as it is"
 
 
-@pytest.mark.parametrize("make, hertzian", [(lambda: quadratic(0.5)[0], True), (varying_curvature, True),
-                                            (two_wells, True), (three_wells, False)])
+@pytest.mark.parametrize("make, start", [(lambda: quadratic(0.5)[0], "hertz"), (varying_curvature, "hertz"),
+                                         (two_wells, "hertz"), (three_wells, "first pass")])
 @pytest.mark.parametrize("given", ["normal_load", "approach"])
-def test_newton_from_hertz_gives_the_passes_solution(monkeypatch, make, hertzian, given):
+def test_newton_alone_gives_the_fixed_points_solution(monkeypatch, make, start, given):
     """A gap whose rigid interpenetration at Hertz's approach is one run or two (two wells: two lobes) is solved by
-    Newton's method from Hertz's ellipse laid over them, without the passes, to their solution (the approach or the
-    load within 1e-6, the loads per width within 1e-5 of the largest); three runs (three wells) go to the passes."""
+    Newton's method from Hertz's ellipse laid over them; three runs (three wells) by Newton's method from the first
+    pass's lobes; either without the fixed point, to its solution (the approach or the load within 1e-6, the loads
+    per width within 1e-5 of the largest)."""
     import rollcontact.wheelrail.methods.strip_normal as module
 
     gap = make()
     value = 3e4 if given == "normal_load" else strip_normal(gap, ESTAR, normal_load=3e4).approach
-    passes = []
-    first_pass = module._first_pass
-    monkeypatch.setattr(module, "_first_pass", lambda *a: passes.append(a) or first_pass(*a))
+    taken = []
+
+    def recorded(name):
+        function = getattr(module, name)
+
+        def wrapper(*arguments):
+            out = function(*arguments)
+            taken.append((name, out is not None))
+            return out
+        return wrapper
+
+    for name in ("_hertzian", "_from_first_pass", "_placements"):
+        monkeypatch.setattr(module, name, recorded(name))
     direct = strip_normal(gap, ESTAR, **{given: value})
     assert direct.converged, direct.message
-    assert bool(passes) != hertzian, f"the passes ran {len(passes)} times"
+    expected = [("_hertzian", True)] if start == "hertz" else [("_hertzian", False), ("_from_first_pass", True)]
+    assert taken == expected, f"the paths taken: {taken}"
     monkeypatch.setattr(module, "_hertzian", lambda *a: None)
-    by_passes = strip_normal(gap, ESTAR, **{given: value})
-    assert by_passes.converged, by_passes.message
+    monkeypatch.setattr(module, "_from_first_pass", lambda *a: None)
+    by_fixed_point = strip_normal(gap, ESTAR, **{given: value})
+    assert by_fixed_point.converged, by_fixed_point.message
     for name in ("approach", "normal_load"):
-        assert math.isclose(getattr(direct, name), getattr(by_passes, name), rel_tol=1e-6), \
-            f"{name}: {getattr(direct, name)!r} from Hertz, {getattr(by_passes, name)!r} by the passes"
-    assert len(direct.lobes) == len(by_passes.lobes) and direct.centres.size == by_passes.centres.size, \
+        assert math.isclose(getattr(direct, name), getattr(by_fixed_point, name), rel_tol=1e-6), \
+            f"{name}: {getattr(direct, name)!r} by Newton alone, {getattr(by_fixed_point, name)!r} by the fixed point"
+    assert len(direct.lobes) == len(by_fixed_point.lobes) and direct.centres.size == by_fixed_point.centres.size, \
         "the same lobes and strips"
-    difference = np.abs(direct.loads_per_width - by_passes.loads_per_width).max()
-    assert difference <= 1e-5 * by_passes.loads_per_width.max(), f"loads per width differ by {difference:.3g} N/m"
+    difference = np.abs(direct.loads_per_width - by_fixed_point.loads_per_width).max()
+    assert difference <= 1e-5 * by_fixed_point.loads_per_width.max(), f"loads per width differ by {difference:.3g} N/m"
 
 
 @pytest.mark.parametrize("make", [lambda: quadratic(0.5)[0], two_wells, varying_curvature])

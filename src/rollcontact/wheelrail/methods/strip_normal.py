@@ -38,8 +38,9 @@ lobes are laid again over its runs of strips in contact (their edges extrapolate
 interpenetrate outside the lobes at a sample of the gap, a lobe joins there and the passes go on
 (:func:`_penetrating`).  From a nearby solution (``start``) Newton's method alone finishes (:func:`_resumed`); without
 one, Newton's method first starts from Hertz's ellipse at the gap's deepest sample laid over the one or two runs of
-the rigid interpenetration at its approach (:func:`_hertzian`), and the passes run where it does not take.  For a
-given load the approach follows from ``Fn`` with (I), which is linear in it.
+the rigid interpenetration at its approach (:func:`_hertzian`), then from the first pass's lobes
+(:func:`_from_first_pass`), and the fixed point runs where neither takes.  For a given load the approach follows from
+``Fn`` with (I), which is linear in it.
 """
 
 from __future__ import annotations
@@ -365,6 +366,9 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
         if hertzian is not None:
             return hertzian
         delta, lobes, first = _first_pass(s, h, curvature, estar, approach, normal_load)
+        direct = _from_first_pass(s, h, curvature, estar, approach, normal_load, delta, first, int(strips))
+        if direct is not None:
+            return direct
         return _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, first, int(strips))
     except _Failure as failure:
         given = f"normal_load = {normal_load!r} N" if approach is None else f"approach = {approach!r} m"
@@ -496,6 +500,27 @@ def _first_pass(s, h, curvature, estar, approach, normal_load):
         lobes = _lobes([(low - margin, high + margin) for low, high in edges])
         return delta, lobes, (centres_all, lower_all, upper_all, full[0], full[1], full[2], 1)
     raise _Failure(f"no rigid interpenetration held the contact after {LOAD_GUESSES} enlargements")
+
+
+def _from_first_pass(s, h, curvature, estar, approach, normal_load, delta, first, count) -> StripContact | None:
+    """Newton's method (:func:`_polish`) from the first pass ``first`` (:func:`_first_pass`): a lobe of ``count``
+    strips over each of its runs of strips in contact, its edges extrapolated to zero load per width
+    (:func:`_relaid`), e and q carried over (:func:`_carried`).  None where the lobes leave the gap's sampling, a
+    strip would start without load, Newton's method does not take or the surfaces then interpenetrate outside the
+    lobes (:func:`_newton_alone`), or its arithmetic leaves floating point (a load or approach at its ends): the
+    placements' fixed point finds the lobes, or says why not."""
+    middle, radius = _relaid(*first[:4], 1)
+    centres, lower, upper = _placed(middle, radius, _unit_strips(count))
+    if lower[0] <= s[0] or upper[-1] >= s[-1]:
+        return None
+    e, q = _carried(centres, np.interp(centres, s, curvature), first)
+    if np.count_nonzero(e <= 0.0):
+        return None
+    try:
+        with np.errstate(over="raise", divide="raise", invalid="raise"):
+            return _newton_alone(middle, radius, count, s, h, curvature, estar, approach, normal_load, delta, e, q)
+    except FloatingPointError:  # a contact at the ends of floating point: the fixed point says what it makes of it
+        return None
 
 
 def _complementarity(matrix, gaps, widths, approach, normal_load, active, allowed=None):
