@@ -10,18 +10,20 @@ discretisation (below) beside the table and the published values.
 Method.  At a creepage of 1e-9 no element slips and the tangential problem is linear (Kalker's linear theory):
 ``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^4 C33 phi`` (forces on the rail, c =
 sqrt(ab); :mod:`rollcontact.core.halfspace.rolling`).  Each coefficient is computed on square elements, N of them
-across the shorter axis (N = 24, 32, 48, 64, 96), and
+across the shorter axis (N = 24, 32, 48, 64, 96; beyond Kalker's rows, a/b above 10 or below 0.1, the largest five of
+16 and these that the surface grid holds along the longer axis, :func:`levels_for`), and
 
 * scaled by the ratio of the ellipse's area ``pi a b`` to the area of the elements whose centres lie inside it,
   to the power of the coefficient's length dimension over two (1 for C11 and C22, 3/2 for C23, 2 for C33): the
   staircase outline's area fluctuates from grid to grid, and this removes most of the fluctuation it causes;
-* extrapolated to zero element size by a least-squares line in h = 1/N through the five levels (the convergence
+* extrapolated to zero element size by a least-squares line in h = 1/N through the levels (the convergence
   is first order); the spread to a quadratic fit is reported as the extrapolation's uncertainty.
 
 Kalker's published values (Kalker 1990, Table E.3, all its rows: g = a/b and g = b/a from 0.1 to 1) are compared where
-they exist.  At the end rows (a/b = 0.1 and 10) a second discretisation checks the table: elements shaped as the
-ellipse (the same count N along both axes, so each element has the ellipse's aspect ratio, N up to
-:data:`END_LEVELS`' last), extrapolated the same way.
+they exist; the rows beyond them (g down to 1/30: a flange's ellipse reaches a/b 20 and more) are compared with the
+power law that continued the table from its end rows before they were computed.  At Kalker's end rows (a/b = 0.1
+and 10) a second discretisation checks the table: elements shaped as the ellipse (the same count N along both axes,
+so each element has the ellipse's aspect ratio, N up to :data:`END_LEVELS`' last), extrapolated the same way.
 """
 
 import argparse
@@ -45,8 +47,21 @@ END_LEVELS = (64, 96, 128, 192, 256, 384)
 
 
 SHORT = (0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0)
-ASPECT_RATIOS = tuple(sorted({*SHORT, *(round(1.0 / g, 6) for g in SHORT)}))
-"""a/b of the table: g = a/b and g = b/a over Kalker's rows 0.1 ... 1."""
+BEYOND = (1.0 / 30.0, 0.04, 0.05, 1.0 / 15.0, 0.08)
+ASPECT_RATIOS = tuple(sorted({*(round(g, 6) for g in (*BEYOND, *SHORT)),
+                              *(round(1.0 / g, 6) for g in (*BEYOND, *SHORT))}))
+"""a/b of the table: g = a/b and g = b/a over Kalker's rows 0.1 ... 1, and beyond them to 1/30 (a flange's ellipse
+reaches a/b 20 and more)."""
+
+GRID_ELEMENTS = 1000
+"""Most elements along the longer axis of a level (the surface grid takes at most 1024 with its margins)."""
+
+
+def levels_for(ratio: float) -> tuple[int, ...]:
+    """The element counts across the shorter axis for a/b = ``ratio``: :data:`LEVELS`, or beyond a/b = 10 (and below
+    0.1) the five largest of 16 and :data:`LEVELS` that the grid holds (three at a/b 30)."""
+    longer = max(ratio, 1.0 / ratio)
+    return tuple([n for n in (16, *LEVELS) if n * longer <= GRID_ELEMENTS][-5:])
 
 
 POISSON_RATIOS = (0.0, 0.25, 0.5)
@@ -106,8 +121,10 @@ def level(ratio: float, nu: float, n: int, shaped: bool = False) -> np.ndarray:
     return raw * area_ratio ** np.array([1.0, 1.0, 1.5, 2.0])
 
 
-def extrapolated(ratio: float, nu: float, levels=LEVELS, shaped: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """The coefficients at zero element size (linear least squares in h = 1/N) and |linear - quadratic fit|."""
+def extrapolated(ratio: float, nu: float, levels=None, shaped: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """The coefficients at zero element size (linear least squares in h = 1/N) and |linear - quadratic fit|; the levels
+    :func:`levels_for` the ratio by default."""
+    levels = levels_for(ratio) if levels is None else levels
     values = np.array([level(ratio, nu, n, shaped) for n in levels])
     h = 1.0 / np.asarray(levels, dtype=float)
     linear = np.linalg.lstsq(np.vstack([np.ones_like(h), h]).T, values, rcond=None)[0][0]
@@ -175,16 +192,23 @@ def end_rows(quick: bool) -> None:
 
 
 def main():
+    from rollcontact.elliptic.creep_coefficients import creepage_coefficients
+
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="a/b 0.5, 1, 2 at nu = 0.25 only; nothing written")
     parser.add_argument("--write-table", action="store_true", help="also write src/rollcontact/elliptic/creep_table.py")
     parser.add_argument("--end-rows", action="store_true",
                         help="only the end rows a/b 0.1 and 10 by elements shaped as the ellipse")
+    parser.add_argument("--beyond", action="store_true",
+                        help="only the rows beyond Kalker's (a/b below 0.1, above 10); with --write-table the table "
+                             "keeps the rows it holds within Kalker's")
     args = parser.parse_args()
     if args.end_rows:
         end_rows(args.quick)
         return
     ratios = (0.5, 1.0, 2.0) if args.quick else ASPECT_RATIOS
+    if args.beyond:
+        ratios = (20.0,) if args.quick else tuple(g for g in ASPECT_RATIOS if not 0.1 <= g <= 10.0)
     nus = (0.25,) if args.quick else POISSON_RATIOS
     load = common.os.getloadavg()[0]
     started = time.perf_counter()
@@ -192,36 +216,57 @@ def main():
     for g in ratios:
         for nu in nus:
             table[(g, nu)], spread[(g, nu)] = extrapolated(g, nu)
-    lines = ["# Kalker's creepage coefficients from the discretised 3D solver", "", *common.machine(load), "",
-             f"Square elements, N = {', '.join(map(str, LEVELS))} across the shorter axis, staircase area corrected, "
-             "extrapolated linearly in 1/N (benchmarks/calibrate_creep_coefficients.py); 'spread' is "
-             "|linear - quadratic fit|. "
-             f"Computed in {time.perf_counter() - started:.0f} s.", "",
-             "## Against Kalker 1990, Table E.3", "",
-             "| a/b | nu | C11 | Kalker | dev % | C22 | Kalker | dev % | C23 | Kalker | dev % |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
-    deviations = []
-    for g, by_nu in sorted(KALKER.items()):
-        for nu, published in by_nu.items():
-            if (g, nu) not in table:
-                continue
-            cells = []
-            for k in range(3):
-                deviation = 100.0 * (table[(g, nu)][k] / published[k] - 1.0)
-                deviations.append(abs(deviation))
-                cells += [f"{table[(g, nu)][k]:.3f}", f"{published[k]:.3g}", f"{deviation:+.2f}"]
-            lines.append(f"| {g:g} | {nu:g} | " + " | ".join(cells) + " |")
-    worst = max(deviations, default=0.0)
-    within = sum(d <= 1.0 for d in deviations)
-    lines += ["", f"Largest deviation from the published values: {worst:.2f} %; within 1 %: {within} of "
-              f"{len(deviations)}.", "",
-              "## The table", "", "| a/b | nu | C11 | C22 | C23 | C33 | largest spread |",
-              "|---|---|---|---|---|---|---|"]
+    title = "beyond Kalker's rows" if args.beyond else "from the discretised 3D solver"
+    lines = [f"# Kalker's creepage coefficients {title}", "", *common.machine(load), "",
+             f"Square elements, N = {', '.join(map(str, LEVELS))} across the shorter axis (beyond a/b = 10 and "
+             f"below 0.1 the five largest of 16 and these that fit {GRID_ELEMENTS} elements along the longer axis: "
+             "three at a/b 30), staircase area corrected, extrapolated linearly in 1/N "
+             "(benchmarks/calibrate_creep_coefficients.py); 'spread' is |linear - quadratic fit|. "
+             f"Computed in {time.perf_counter() - started:.0f} s.", ""]
+    if not args.beyond:
+        lines += ["## Against Kalker 1990, Table E.3", "",
+                  "| a/b | nu | C11 | Kalker | dev % | C22 | Kalker | dev % | C23 | Kalker | dev % |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|"]
+        deviations = []
+        for g, by_nu in sorted(KALKER.items()):
+            for nu, published in by_nu.items():
+                if (g, nu) not in table:
+                    continue
+                cells = []
+                for k in range(3):
+                    deviation = 100.0 * (table[(g, nu)][k] / published[k] - 1.0)
+                    deviations.append(abs(deviation))
+                    cells += [f"{table[(g, nu)][k]:.3f}", f"{published[k]:.3g}", f"{deviation:+.2f}"]
+                lines.append(f"| {g:g} | {nu:g} | " + " | ".join(cells) + " |")
+        worst = max(deviations, default=0.0)
+        within = sum(d <= 1.0 for d in deviations)
+        lines += ["", f"Largest deviation from the published values: {worst:.2f} %; within 1 %: {within} of "
+                  f"{len(deviations)}.", ""]
+    lines += ["## The table", "", "Beyond Kalker's rows (a/b below 0.1 and above 10) the last column compares the row "
+              "with the power law through the library's end rows of Kalker's range (each log C linear in log(a/b) "
+              "through a/b 10 and 6.67, 0.1 and 0.15), which would continue his table without these rows: the "
+              "largest |power law / row - 1| over the four coefficients.", "",
+              "| a/b | nu | C11 | C22 | C23 | C33 | largest spread | largest relative spread | power law [%] |",
+              "|---|---|---|---|---|---|---|---|---|"]
     for (g, nu), values in table.items():
+        beyond = ""
+        if not 0.1 <= g <= 10.0:
+            first, second = (10.0, 10.0 / 1.5) if g > 1.0 else (0.1, 0.15)
+            end, inner = (np.array(creepage_coefficients(r, nu)) for r in (first, second))
+            law = end * (end / inner) ** (math.log(g / first) / math.log(first / second))
+            beyond = f"{100.0 * float(np.max(np.abs(law / values - 1.0))):.2f}"
         lines.append(f"| {g:g} | {nu:g} | " + " | ".join(f"{v:.4f}" for v in values)
-                     + f" | {spread[(g, nu)].max():.4f} |")
-    common.publish(lines, "creep_coefficients.md", args.quick)
+                     + f" | {spread[(g, nu)].max():.4f} | {float(np.max(spread[(g, nu)] / values)):.2%} | {beyond} |")
+    common.publish(lines, "creep_coefficients_beyond.md" if args.beyond else "creep_coefficients.md", args.quick)
     if args.write_table and not args.quick:
+        if args.beyond:  # the table's rows within Kalker's, as they are
+            from rollcontact.elliptic import creep_table
+
+            for k, g in enumerate(creep_table.ASPECT_RATIOS):
+                if 0.1 <= g <= 10.0:
+                    for j, nu in enumerate(POISSON_RATIOS):
+                        table[(g, nu)] = tuple(column[k][j] for column in (creep_table.C11, creep_table.C22,
+                                                                           creep_table.C23, creep_table.C33))
         path = common.ROOT / "src" / "rollcontact" / "elliptic" / "creep_table.py"
         path.write_text(table_module(table))
         print(f"wrote {path}")

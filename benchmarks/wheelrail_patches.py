@@ -50,11 +50,11 @@ from scipy.interpolate import CubicSpline
 import rollcontact as rc
 import rollcontact.wheelrail.methods.strip_normal as strip_normal_module
 from rollcontact.core.halfspace.rolling import ellipse_grid
+from rollcontact.elliptic.creep_coefficients import extended_creepage_coefficients
 from rollcontact.elliptic.methods.discretised import solve_discretised_3d
 from rollcontact.elliptic.methods.strips import solve_strips as elliptic_strips
 from rollcontact.wheelrail.methods.discretised import solve_discretised
 from rollcontact.wheelrail.methods.strip_normal import strip_normal
-from rollcontact.wheelrail.methods.strip_tangential import coefficients
 from rollcontact.wheelrail.methods.strips import normal_contact, solve_strips
 from rollcontact.wheelrail.patch import PatchGap
 from rollcontact.wheelrail.scene import PatchScene
@@ -170,7 +170,7 @@ def creepage_set(scene: PatchScene, quick: bool) -> list[tuple[str, tuple[float,
     area = 2.0 * float(contact.widths @ contact.half_lengths)
     probe = solve_strips(scene.replace(longitudinal_creepage=1e-12))
     ratio = probe.info["equivalent_ratios"][0]
-    k = coefficients(ratio, MATERIAL.poisson_ratio)
+    k = extended_creepage_coefficients(ratio, MATERIAL.poisson_ratio)
     g = MATERIAL.youngs_modulus / (2.0 * (1.0 + MATERIAL.poisson_ratio))
     c2 = area / math.pi
     force = MU * contact.normal_load

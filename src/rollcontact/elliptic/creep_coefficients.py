@@ -3,8 +3,15 @@
 
 Interpolation (Kalker 1990, section E; the usual practice): in nu, ``1/C`` is the quadratic through the table's
 three Poisson ratios (Lagrange; exact at the nodes); in a/b, ``log C`` is a cubic spline in ``log(a/b)``
-(not-a-knot, through every row), smooth where the coefficients vary as powers of a/b.  The table's range of a/b
-is the range served: outside it a ValueError names the value and the limits.
+(not-a-knot, through every row of Kalker's range, :data:`KALKER_RANGE`), smooth where the coefficients vary as
+powers of a/b.  That range is the range :func:`creepage_coefficients` serves: outside it a ValueError names the
+value and the limits.
+
+The table also holds rows beyond Kalker's, a/b down to 1/30 and up to 30 (a flange's ellipse reaches a/b 20 and
+more), computed on coarser grids (the surface grid holds fewer elements across so long an ellipse: their spreads in
+``benchmarks/results/creep_coefficients_beyond.md``).  :func:`extended_creepage_coefficients` serves them: ``log C``
+linear in ``log(a/b)`` between neighbouring rows there, and beyond the last rows continued as the power law through
+the two outermost.  They stay out of the spline, so that their coarser error does not reach into Kalker's range.
 
 The linear theory of the forces on the RAIL (the library's sign, docs/physics.md) is
 ``Fx = G c^2 C11 xi``, ``Fy = G c^2 (C22 eta + c C23 phi)``, ``Mz = G c^3 (-C23 eta + c C33 phi)``, c = sqrt(ab).
@@ -22,7 +29,8 @@ from scipy.interpolate import CubicSpline
 import rollcontact.elliptic.creep_table as creep_table
 from rollcontact.core.checks import check_real
 
-__all__ = ["CreepageCoefficients", "aspect_ratio_range", "creepage_coefficients", "extended_creepage_coefficients"]
+__all__ = ["KALKER_RANGE", "CreepageCoefficients", "aspect_ratio_range", "creepage_coefficients",
+           "extended_creepage_coefficients"]
 
 
 class CreepageCoefficients(NamedTuple):
@@ -34,9 +42,23 @@ class CreepageCoefficients(NamedTuple):
     c33: float
 
 
+KALKER_RANGE = (0.1, 10.0)
+"""a/b [1] of Kalker's published rows (Kalker 1990, Table E.3): the rows of the spline, the range of
+:func:`creepage_coefficients`."""
+
+
 def aspect_ratio_range() -> tuple[float, float]:
-    """(smallest, largest) a/b [1] of the table."""
-    return creep_table.ASPECT_RATIOS[0], creep_table.ASPECT_RATIOS[-1]
+    """(smallest, largest) a/b [1] of :func:`creepage_coefficients`: Kalker's rows (:data:`KALKER_RANGE`)."""
+    return KALKER_RANGE
+
+
+def _kalker_rows() -> slice:
+    """The table's rows within :data:`KALKER_RANGE`."""
+    ratios = creep_table.ASPECT_RATIOS
+    low, high = KALKER_RANGE
+    first = next(k for k, g in enumerate(ratios) if g >= low)
+    last = max(k for k, g in enumerate(ratios) if g <= high)
+    return slice(first, last + 1)
 
 
 def in_nu(values, nu: float) -> np.ndarray:
@@ -55,9 +77,10 @@ def in_nu(values, nu: float) -> np.ndarray:
 def splines(nu: float) -> CubicSpline:
     """The cubic splines of log C in log(a/b) at this nu, one per coefficient, as the columns of one spline (each
     column's the same as a spline of its own, one evaluation for the four)."""
-    log_ratio = np.log(creep_table.ASPECT_RATIOS)
-    columns = [np.log(in_nu(table, nu)) for table in (creep_table.C11, creep_table.C22, creep_table.C23,
-                                                       creep_table.C33)]
+    rows = _kalker_rows()
+    log_ratio = np.log(creep_table.ASPECT_RATIOS[rows])
+    columns = [np.log(in_nu(table[rows], nu)) for table in (creep_table.C11, creep_table.C22, creep_table.C23,
+                                                             creep_table.C33)]
     return CubicSpline(log_ratio, np.stack(columns, axis=1))
 
 
@@ -83,22 +106,37 @@ def interpolated(g: float, nu: float) -> CreepageCoefficients:
 
 
 def extended_creepage_coefficients(aspect_ratio: float, poisson_ratio: float) -> CreepageCoefficients:
-    """Kalker's C11, C22, C23, C33 [1] at any a/b > 0: the table's (:func:`creepage_coefficients`) within its range,
-    beyond it each ``log C`` continued linearly in ``log(a/b)`` from the table's two end rows (a power law,
-    ``C = C_end (C_end / C_inner)^(log(g / g_end) / log(g_end / g_inner))`` with ``g_inner = g_end / 1.5`` above the
-    table, ``1.5 g_end`` below it): the rule of the wheel/rail strips for a flange patch longer than the table's
-    a/b = 10 (docs/physics.md, "Strips on a patch: the tangential problem").
+    """Kalker's C11, C22, C23, C33 [1] at any a/b > 0 (module docstring): within Kalker's range
+    :func:`creepage_coefficients`; beyond it each ``log C`` linear in ``log(a/b)`` between the table's neighbouring
+    rows (Kalker's end row and the rows beyond it), and beyond the table's last row the power law through its two
+    outermost rows, ``C = C_end (C_end / C_inner)^(log(g / g_end) / log(g_end / g_inner))``: the rule of the wheel/rail
+    levels for a flange patch longer than Kalker's a/b = 10 (docs/physics.md, "Kalker's creepage coefficients").
 
     Raises
     ------
     ValueError
         a/b not finite and > 0, or nu outside [0, 0.5]; the message names the value and the limit.
     """
-    low, high = aspect_ratio_range()
+    low, high = KALKER_RANGE
     g = check_real("aspect ratio a/b", aspect_ratio, lower=0.0, lower_open=True)
     if low <= g <= high:
         return creepage_coefficients(g, poisson_ratio)
-    first, second = (high, high / 1.5) if g > high else (low, low * 1.5)
-    end, inner = creepage_coefficients(first, poisson_ratio), creepage_coefficients(second, poisson_ratio)
-    power = math.log(g / first) / math.log(first / second)
-    return CreepageCoefficients(*(e * (e / i) ** power for e, i in zip(end, inner, strict=True)))
+    nu = check_real("poisson_ratio", poisson_ratio, lower=creep_table.POISSON_RATIOS[0],
+                    upper=creep_table.POISSON_RATIOS[-1])
+    return beyond_kalker(g, nu)
+
+
+@lru_cache(maxsize=1024)
+def beyond_kalker(g: float, nu: float) -> CreepageCoefficients:
+    """:func:`extended_creepage_coefficients` at a checked a/b outside Kalker's range and nu (cached as
+    :func:`interpolated`)."""
+    ratios = creep_table.ASPECT_RATIOS
+    rows = range(_kalker_rows().stop - 1, len(ratios)) if g > KALKER_RANGE[1] else range(_kalker_rows().start, -1, -1)
+    rows = list(rows)  # from Kalker's end row outwards
+    k = next((j for j in range(1, len(rows)) if (ratios[rows[j]] >= g if g > 1.0 else ratios[rows[j]] <= g)),
+             len(rows) - 1)
+    inner, outer = rows[k - 1], rows[k]
+    values = [in_nu((table[inner], table[outer]), nu) for table in (creep_table.C11, creep_table.C22,
+                                                                     creep_table.C23, creep_table.C33)]
+    share = math.log(g / ratios[inner]) / math.log(ratios[outer] / ratios[inner])
+    return CreepageCoefficients(*(float(i * (o / i) ** share) for i, o in values))

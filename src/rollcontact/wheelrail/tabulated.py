@@ -8,7 +8,7 @@ conicity.ContactTable` lookup at the lateral shift (one yaw node: the yaw enters
 What depends on the geometry alone is computed at every node once and interpolated with the table's weights: Hertz's
 ellipse under 1 N (``a_1``, ``b_1``, the approach ``delta_1``, the perimeter ``P_1``) from the gap curvatures
 ``A = cos(alpha) / (2 r)``, ``B = max((k_wheel + k_rail) / 2, MIN_LATERAL_CURVATURE)``, and Kalker's coefficients
-C11 ... C33 at its a/b (beyond Kalker's table continued as a power law,
+C11 ... C33 at its a/b (beyond Kalker's rows the table's rows beyond them,
 :func:`~rollcontact.elliptic.creep_coefficients.extended_creepage_coefficients`).  Under the normal force N Hertz's
 ellipse scales as ``a = a_1 N^(1/3)``, ``b = b_1 N^(1/3)``, ``delta = delta_1 N^(2/3)`` (Johnson, *Contact
 Mechanics*, 1985, section 4.2).

@@ -180,8 +180,8 @@ def predicted_ratio(scene: WheelRailScene, point, force: float) -> float:
     ``T_z = -sign sin(delta) Fs`` of the saturated linear theory on Hertz's ellipse under the force [N] > 0 at the
     rigid contact point ``point``, ``Fs = e(u) G c^2 (C22 eta + c C23 phi)`` with ``u = G c^2 |(C11 xi, C22 eta + c
     C23 phi)| / (mu N)`` and Shen, Hedrick & Elkins' ``e(u)`` (:func:`~rollcontact.elliptic.methods.saturated.
-    saturation_factor`), ``c = sqrt(ab)``, Kalker's coefficients continued beyond his table as the strips continue
-    them (:func:`~rollcontact.elliptic.creep_coefficients.extended_creepage_coefficients`), mu the static
+    saturation_factor`), ``c = sqrt(ab)``, Kalker's coefficients beyond his rows too, as the strips take them
+    (:func:`~rollcontact.elliptic.creep_coefficients.extended_creepage_coefficients`), mu the static
     coefficient; the creepages those of the point (:func:`~rollcontact.wheelrail.search.creepages`)."""
     material = scene.material
     a_curv, b_curv = point.curvatures

@@ -308,6 +308,21 @@ def test_a_flange_beyond_the_profiles_is_refused_without_the_table():
         model.step(0.0, H, inputs(0.06))
 
 
+def test_a_flanges_ellipse_is_refused_by_the_saturated_theory_without_the_table_and_answered_with_it(tabulated):
+    """In flange contact (7 mm: the ellipse's a/b about 21) the saturated theory refuses without the table, naming a/b
+    and Kalker's range, and the instance takes the next step; ``auto`` answers by the discretised elliptic level; the
+    table's node constants take the coefficient table's rows beyond Kalker's and answer."""
+    model = WheelsetContactModel(WheelsetContactParameters(geometry_table=0, jacobian=1))
+    refusal = r"a/b = 2\d\.\d+ is outside the creepage-coefficient table's range \[0.1, 10\]"
+    with pytest.raises(ModelError, match=refusal):
+        model.step(0.0, H, inputs(0.007, yaw=0.0))
+    assert model.step(0.0, H, inputs(0.002)).force_y != 0.0, "the instance does not take the next step"
+    auto = WheelsetContactModel(WheelsetContactParameters(geometry_table=0, jacobian=1, elliptic_method=AUTO))
+    assert math.isfinite(auto.step(0.0, H, inputs(0.007, yaw=0.0)).force_y), "auto does not answer the flange"
+    flange = tabulated.step(tabulated.state.time, H, inputs(0.007, yaw=0.0))
+    assert math.isfinite(flange.force_y), "the table does not answer"
+
+
 def test_a_restored_state_repeats_the_steps_bit_for_bit(tabulated):
     tabulated.reset(0.0)
     rows = signal(8)

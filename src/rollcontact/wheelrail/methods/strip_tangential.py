@@ -28,7 +28,7 @@ from functools import lru_cache
 import numpy as np
 
 from rollcontact.core.materials import Material
-from rollcontact.elliptic.creep_coefficients import CreepageCoefficients, aspect_ratio_range, creepage_coefficients
+from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, extended_creepage_coefficients
 from rollcontact.elliptic.hertz import differences
 from rollcontact.elliptic.methods.common import falling_slips, friction_kernel, march
 from rollcontact.elliptic.methods.strips import (
@@ -73,19 +73,6 @@ def equivalent_ratio(stiffening: float) -> float:
     a/b 1e-3 .. 1e3, held at the ends)."""
     log_values, logs = _ratio_table()
     return math.exp(float(np.interp(math.log(max(stiffening, 1.0)), log_values, logs)))
-
-
-def coefficients(ratio: float, poisson_ratio: float) -> CreepageCoefficients:
-    """Kalker's C11, C22, C23, C33 at a/b and nu: the table's (:func:`~rollcontact.elliptic.creep_coefficients.
-    creepage_coefficients`) within its range, beyond it each ``log C`` continued linearly in ``log(a/b)`` from the
-    table's two end rows (a power law; a flange patch is longer than the table's a/b = 10)."""
-    low, high = aspect_ratio_range()
-    if low <= ratio <= high:
-        return creepage_coefficients(ratio, poisson_ratio)
-    first, second = (high, high / 1.5) if ratio > high else (low, low * 1.5)
-    end, inner = creepage_coefficients(first, poisson_ratio), creepage_coefficients(second, poisson_ratio)
-    power = math.log(ratio / first) / math.log(first / second)
-    return CreepageCoefficients(*(e * (e / i) ** power for e, i in zip(end, inner, strict=True)))
 
 
 @lru_cache(maxsize=256)
@@ -144,7 +131,7 @@ class Lobes:
             width_length = float(w @ half)
             area = 2.0 * width_length
             a_e, b_e = math.sqrt(area * ratio / math.pi), math.sqrt(area / (math.pi * ratio))
-            c = coefficients(ratio, nu)
+            c = extended_creepage_coefficients(ratio, nu)
             self.coefficients.append(c)
             load = float(w @ loads[part])
             p0_e = 1.5 * load / (math.pi * a_e * b_e)

@@ -77,8 +77,8 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
     -------
     PatchResult
         ``info``: ``strips_in_contact``, ``lobes`` (runs of strips in contact), ``equivalent_ratios`` (each lobe's
-        a/b), ``outside_table`` (a lobe's a/b beyond the coefficient table's, its coefficients continued as a power
-        law), ``normal_iterations``,
+        a/b), ``outside_table`` (a lobe's a/b beyond Kalker's rows, its coefficients those of the rows beyond them,
+        :func:`~rollcontact.elliptic.creep_coefficients.extended_creepage_coefficients`), ``normal_iterations``,
         ``error_estimate``, ``normal_error_estimate``, ``pressure_error_estimate``.
 
     Raises
@@ -135,9 +135,9 @@ its equivalent ellipse, at full creepage: with it every largest error of ``bench
 spin)."""
 
 OUTSIDE_TABLE_ERROR = 0.05
-"""Error [1] added where a lobe's equivalent a/b lies beyond the coefficient table (its coefficients continued as a
-power law): the flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", whose largest error (Mz of
-combined creepage at two saturations) this keeps within its estimate."""
+"""Error [1] added where a lobe's equivalent a/b lies beyond Kalker's rows of the coefficient table (its coefficients
+the table's rows beyond them): the flange patch of ``benchmarks/wheelrail_patches.py``, table "Tangential", whose
+largest error (Mz of combined creepage at two saturations) this keeps within its estimate."""
 
 STRIPS_PATCH_COST = 1.4e-3
 STRIPS_PATCH_COST_PER_CELL = 4e-6
