@@ -89,3 +89,15 @@ def test_a_tread_wheel_takes_one_pass_from_the_predicted_share(track, wheelset, 
         assert abs(predicted - share) < COUPLING, f"shift {shift} m, {wheel.side}: predicted {predicted!r}, {share!r}"
         shares.append(abs(share))
     assert max(shares) > 5.0 * COUPLING, f"shift {shift} m: shares {shares} (the test's premise)"
+
+
+def test_a_share_beyond_floating_point_is_none(track, wheelset):
+    """Creepages near 1e306 (a lateral velocity at a forward speed of 1e-306 m/s) take the saturated theory's
+    lateral force to inf * 0: the predicted share is 0, never NaN (which would leave the first pass no normal
+    force)."""
+    scene = WheelRailScene(track, wheelset, lateral_shift=2e-3, vertical_load_left=1e4, vertical_load_right=1e4,
+                           forward_speed=1e-306, lateral_velocity=1.0, friction=0.3)
+    for contact, hertz in zip(scene.contacts, scene.hertz, strict=True):
+        point = contact.points[0]
+        share = predicted_ratio(scene, point, hertz.normal_forces[0])
+        assert share == 0.0, f"{contact.side}: predicted share {share!r}"
