@@ -94,10 +94,15 @@ def test_a_tread_wheel_takes_one_pass_from_the_predicted_share(track, wheelset, 
 def test_a_share_beyond_floating_point_is_none(track, wheelset):
     """Creepages near 1e306 (a lateral velocity at a forward speed of 1e-306 m/s) take the saturated theory's
     lateral force to inf * 0: the predicted share is 0, never NaN (which would leave the first pass no normal
-    force)."""
+    force); a force of 5e-324 N, whose friction bound underflows to 0, is deep saturation, not a division by zero."""
     scene = WheelRailScene(track, wheelset, lateral_shift=2e-3, vertical_load_left=1e4, vertical_load_right=1e4,
                            forward_speed=1e-306, lateral_velocity=1.0, friction=0.3)
     for contact, hertz in zip(scene.contacts, scene.hertz, strict=True):
         point = contact.points[0]
         share = predicted_ratio(scene, point, hertz.normal_forces[0])
         assert share == 0.0, f"{contact.side}: predicted share {share!r}"
+    ordinary = WheelRailScene(track, wheelset, lateral_shift=2e-3, vertical_load_left=1e4, vertical_load_right=1e4,
+                              forward_speed=2.0, lateral_velocity=-0.02, friction=0.3)
+    point = ordinary.contacts[1].points[0]
+    share = predicted_ratio(ordinary, point, 5e-324)  # mu N underflows to 0: u infinite, no division by zero
+    assert math.isfinite(share) and abs(share) <= 0.3 * math.sin(point.contact_angle), f"share {share!r} at 5e-324 N"

@@ -182,9 +182,9 @@ def predicted_ratio(scene: WheelRailScene, point, force: float) -> float:
     C23 phi)| / (mu N)`` and Shen, Hedrick & Elkins' ``e(u)`` (:func:`~rollcontact.elliptic.methods.saturated.
     saturation_factor`), ``c = sqrt(ab)``, Kalker's coefficients beyond his rows too, as the strips take them
     (:func:`~rollcontact.elliptic.creep_coefficients.extended_creepage_coefficients`), mu the static
-    coefficient; the creepages those of the point (:func:`~rollcontact.wheelrail.search.creepages`).  0 where the
-    share is not a finite number (creepages or a load at the ends of floating point: the level's own solve then says
-    what it makes of them)."""
+    coefficient; the creepages those of the point (:func:`~rollcontact.wheelrail.search.creepages`); ``u`` infinite
+    where only the bound ``mu N`` underflows to 0.  0 where the share is not a finite number (creepages or a load at
+    the ends of floating point: the level's own solve then says what it makes of them)."""
     material = scene.material
     a_curv, b_curv = point.curvatures
     ellipse = hertz_ellipse(force, a_curv, max(b_curv, MIN_LATERAL_CURVATURE), material.contact_modulus)
@@ -194,7 +194,8 @@ def predicted_ratio(scene: WheelRailScene, point, force: float) -> float:
     area = material.shear_modulus * c * c
     fx = area * coefficients.c11 * xi
     fs = area * (coefficients.c22 * eta + c * coefficients.c23 * phi)
-    fs *= saturation_factor(math.hypot(fx, fs) / (scene.friction.maximum_coefficient * force))
+    bound, size = scene.friction.maximum_coefficient * force, math.hypot(fx, fs)
+    fs *= saturation_factor(size / bound if bound > 0.0 else (math.inf if size > 0.0 else 0.0))
     share = -side_sign(point.side) * math.sin(point.contact_angle) * fs / force
     return share if math.isfinite(share) else 0.0
 
