@@ -257,7 +257,10 @@ def main():
             beyond = f"{100.0 * float(np.max(np.abs(law / values - 1.0))):.2f}"
         lines.append(f"| {g:g} | {nu:g} | " + " | ".join(f"{v:.4f}" for v in values)
                      + f" | {spread[(g, nu)].max():.4f} | {float(np.max(spread[(g, nu)] / values)):.2%} | {beyond} |")
-    common.publish(lines, "creep_coefficients_beyond.md" if args.beyond else "creep_coefficients.md", args.quick)
+    if args.beyond:
+        common.publish(lines, "creep_coefficients_beyond.md", args.quick)
+    else:
+        common.publish(lines, "creep_coefficients.md", args.quick)
     if args.write_table and not args.quick:
         if args.beyond:  # the table's rows within Kalker's, as they are
             from rollcontact.elliptic import creep_table
