@@ -165,3 +165,45 @@ def test_each_cells_slip_is_its_own_whatever_the_cells_solved_with_it(law):
     for k in range(rigid.size):
         alone = common.cell_slips(rigid[k:k + 1], growth[k:k + 1], kernel, speed[k:k + 1], *limits)
         assert all(a[0] == t[k] for a, t in zip(alone, together, strict=True)), f"cell {k}: {alone} != together"
+
+
+@pytest.mark.parametrize("law", ["linear", "dry"])
+@pytest.mark.parametrize("ratio", [0.2, 1.0])
+def test_strips_without_spin_follow_each_strips_2d_half_plane(law, ratio):
+    """Without spin each strip is a 2D rolling problem, which the polynomial method solves exactly with falling
+    friction (``falling="polynomial"``, one 2D solve per strip, the same strips' moduli): the march's cells, at the
+    coefficient of their slip in the strip's half-plane, stay within 0.03 mu(0) Fn of it on pure longitudinal
+    creepage at 50 m/s, where the steep linear law falls by a third over the slip zone (the simplified theory's slip,
+    spread towards the trailing edge, missed it by 0.05)."""
+    for xi in (1.0, 2.0, 4.0):
+        s = scene(ratio, law, 50.0, xi)
+        march = solve_elliptic(s, "strips").force_coefficients[0]
+        exact = solve_elliptic(s, "strips", falling="polynomial").force_coefficients[0]
+        assert abs(march - exact) < 0.03, f"a/b {ratio}, {law}, xi {xi} saturations: march {march:.4f}, 2D {exact:.4f}"
+
+
+def test_the_closed_forms_slip_is_the_half_planes():
+    """:func:`elastic_slips`' closed form (Carter's strip: slip ``sqrt((x - d)^2 - a*^2)`` behind the stick zone, in
+    units of the slip length) against the half-plane's strain of the same traction on 400 cells (the rigid slip less
+    :func:`hilbert` applied to it, given as a departure from no traction): within 1e-2 of the strip's half-length
+    from 5 % of it behind the stick edge to 5 % before the trailing edge (the midpoint cells' error grows towards
+    both, where the traction has a square root's slope), 0 in the stick zone."""
+    from rollcontact.elliptic.methods import strips
+
+    steps, d = 400, 0.4
+    x = strips.cells(steps)[:, 0]
+    inner = np.sqrt(np.maximum((1.0 - d) ** 2 - (x - d) ** 2, 0.0))
+    traction = np.sqrt(1.0 - x * x) - np.where(x > 2.0 * d - 1.0, inner, 0.0)
+    stick = x > 2.0 * d - 1.0
+    ones, zeros = np.ones(1), np.zeros(1)
+    common = (x[:, None], ones, ones * d, ones, zeros, zeros, ones * d, zeros)
+    closed = strips.elastic_slips(*common, ones.astype(bool), stick[:, None], ones, (0.5 * ones, 0.5 * ones))[:, 0]
+    numeric = strips.elastic_slips(x[:, None], ones, ones, zeros, zeros, zeros, ones * d, zeros, ~ones.astype(bool),
+                                   np.zeros((steps, 1), bool), ones, (0.5 * ones, 0.5 * ones),
+                                   np.array([traction[:, None], np.zeros((steps, 1))]))[:, 0]
+    assert np.all(closed[stick] == 0.0), "no slip in the stick zone"
+    behind = (x < 2.0 * d - 1.0 - 0.05) & (x > -0.95)
+    exact = np.sqrt((x[behind] - d) ** 2 - (1.0 - d) ** 2)
+    assert np.max(np.abs(closed[behind] - exact)) < 1e-12, "the closed form is Carter's slip"
+    error = np.max(np.abs(numeric[behind] - exact))
+    assert error < 1e-2, f"the half-plane's strain on 400 cells misses Carter's slip by {error:.3g}"

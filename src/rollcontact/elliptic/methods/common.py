@@ -273,20 +273,14 @@ def march(first, increment, limit):
     return trial, traction, size
 
 
-def falling_slips(marched, first, increment, coefficient, pressure, flexibility, law, kernel, speed, start):
-    """Each cell's slip [1] and friction coefficient after a march (``marched``: what :func:`march` returns, the trials,
-    tractions and the trials' sizes; ``coefficient``: the coefficients the march took ``(steps, S)``, ``pressure`` p on
-    the cells, ``flexibility``: each strip's flexibility over its step along x and along y), docs/physics.md,
-    "Strips": along the trial's direction e the cell's slip is ``sigma = S - mu D`` with the rigid slip
-    ``S = k (increment . e)`` and the pressure's growth ``D = k (p - r . e)``, ``r`` the previous cell's traction per
-    unit coefficient and ``k = |(k_x e_x, k_y e_y)| = k_x sqrt(e_x^2 + (k_y e_y / k_x)^2)`` the cell's flexibility
-    over the step along e (the root of a unit vector's squares: no overflow whatever the flexibilities), ``mu`` the
-    coefficient of the cell's own slip velocity ``V sigma`` (:func:`cell_slips`; ``speed`` V [m/s], a float or one
-    per strip ``(S,)``; ``start``: the previous march's slips, or None).  A cell slips where ``S > D mu(0)``.
-    Returns ``(sigma, mu, steepness)`` per cell, steepness ``-D V dmu/dv`` on the slipping cells and 0 on the others
-    (above 1 the cell's equation is not monotone).  Every operation is elementwise: a strip's numbers are the same
-    whatever the other strips marched with it."""
-    trial, traction, size = marched
+def march_slips(marched, first, increment, flexibility):
+    """The march's cells' directions and rigid slips (``marched``: what :func:`march` returns, the trials, tractions
+    and the trials' sizes; ``flexibility``: each strip's flexibility over its step along x and along y),
+    docs/physics.md, "FASTSIM": the trial's direction ``e = t / |t|``, the cell's flexibility over the step along e
+    ``k = |(k_x e_x, k_y e_y)| = k_x sqrt(e_x^2 + (k_y e_y / k_x)^2)`` (the root of a unit vector's squares: no
+    overflow whatever the flexibilities) and the rigid slip along the traction ``S = k (increment . e)`` [1].  Returns
+    ``(e_x, e_y, k, S)`` per cell; every operation is elementwise."""
+    trial, _, size = marched
     ex, ey = trial[:, 0] / size, trial[:, 1] / size
     turned = (flexibility[1] / flexibility[0]) * ey
     k = flexibility[0] * np.sqrt(ex * ex + turned * turned)
@@ -294,11 +288,33 @@ def falling_slips(marched, first, increment, coefficient, pressure, flexibility,
     rigid[0] = first[0] * ex[0] + first[1] * ey[0]
     rigid[1:] = increment[:-1, 0] * ex[1:] + increment[:-1, 1] * ey[1:]
     rigid *= k
+    return ex, ey, k, rigid
+
+
+def falling_slips(marched, first, increment, coefficient, pressure, flexibility, law, kernel, speed, start):
+    """Each cell's slip [1] and friction coefficient after a march of the simplified theory (the extended FASTSIM;
+    ``marched``, ``flexibility``: :func:`march_slips`'; ``coefficient``: the coefficients the march took ``(steps,
+    S)``, ``pressure`` p on the cells), docs/physics.md, "FASTSIM": along the trial's direction e the cell's slip is
+    ``sigma = S - mu D`` with the rigid slip S of :func:`march_slips` and the pressure's growth ``D = k (p - r . e)``,
+    ``r`` the previous cell's traction per unit coefficient, ``mu`` the coefficient of the cell's own slip velocity
+    (:func:`slips_at`).  Returns ``(sigma, mu, steepness)`` per cell (:func:`slips_at`).  Every operation is
+    elementwise: a strip's numbers are the same whatever the other strips marched with it."""
+    _, traction, size = marched
+    ex, ey, k, rigid = march_slips(marched, first, increment, flexibility)
     along = np.zeros_like(size)  # r . e, r the previous cell's traction per unit coefficient
     along[1:] = (traction[:-1, 0] * ex[1:] + traction[:-1, 1] * ey[1:]) / coefficient[:-1]
     growth = k * (pressure - along)
+    return slips_at(rigid, growth, rigid > growth * law.static_coefficient, law, kernel, speed, start)
+
+
+def slips_at(rigid, growth, slipping, law, kernel, speed, start):
+    """Each cell's slip ``sigma`` [1], coefficient ``mu`` and steepness of ``sigma = S - D mu(V sigma)`` (``rigid`` S,
+    ``growth`` D per cell; :func:`cell_slips`) on the cells ``slipping`` (those with ``S > D mu(0)``, and the
+    caller's own conditions), ``sigma = 0`` and the static coefficient elsewhere; ``speed`` V [m/s] (a float or one
+    per strip ``(S,)``), ``start``: the previous march's slips, or None.  The steepness is ``-D V dmu/dv`` on the
+    slipping cells and 0 on the others (above 1 the cell's equation is not monotone).  Every operation is
+    elementwise."""
     static = law.static_coefficient
-    slipping = rigid > growth * static
     sigma = np.zeros_like(rigid)
     mu = np.full_like(rigid, static)
     steepness = np.zeros_like(rigid)

@@ -69,10 +69,18 @@ Two effects of the half-space that strip theory leaves out are added:
 
 Over y the strip forces are summed by Gauss-Legendre in theta, ``y = b sin(theta)`` (``strips`` nodes);
 ``Mz = int (x q_y - y q_x)``.
-Velocity-dependent friction (without spin): each strip is the 2D problem ``N' = pi a(y) p0(y) / 2``,
-``R = E a / (2 p0)``, ``E* = E`` with ``E = f(y) E_x`` and the creep ``sqrt(X^2 + Y^2) 2 mu p0 / (E a)`` along
-``(X, Y)``, solved by the project's polynomial method (:func:`rollcontact.solve`, one call per strip; the slip velocity
-is the 2D one; the cross influence, a fixed point over the 2D solves, is not applied).
+Velocity-dependent friction (``falling="march"``, with or without spin): the stick zones and the closed form are
+those of the static coefficient mu(0); each cell of a slip zone carries ``mu(V sigma) p`` at its own slip sigma, along
+the march's traction (with spin) or ``(kappa, lambda)``.  The slip is the strip's own in its 2D half-plane, the rigid
+slip less the strain of the traction (:func:`elastic_slips`: Carter's closed form for the closed form's traction, the
+cells' Hilbert transform for the march's departure from it), not the simplified theory's, whose slip follows the
+elliptic bound's growth and spreads towards the trailing edge; each cell solves ``sigma = S - D mu(V sigma)`` (S the
+rigid slip along the traction, ``D = (S - s) / mu(0)`` the elastic slip per unit coefficient of the first march's
+half-plane slip s; :func:`~.common.slips_at`).  ``falling="polynomial"`` (without spin): each strip is the 2D problem
+``N' = pi a(y) p0(y) / 2``, ``R = E a / (2 p0)``, ``E* = E`` with ``E = f(y) E_x`` and the creep
+``sqrt(X^2 + Y^2) 2 mu p0 / (E a)`` along ``(X, Y)``, solved by the project's polynomial method
+(:func:`rollcontact.solve`, one call per strip; the cross influence, a fixed point over the 2D solves, is not
+applied): the march's reference on each strip, 20 to 30 times slower.
 """
 
 from __future__ import annotations
@@ -90,15 +98,16 @@ from rollcontact.elliptic.methods.common import (
     by_scene,
     coefficients,
     falling_drop,
-    falling_slips,
     friction_groups,
     friction_kernel,
     linear_ratio,
     march,
+    march_slips,
     modelled_cost,
     no_load,
     outside_table,
     poisson_excess,
+    slips_at,
 )
 from rollcontact.elliptic.methods.fastsim import blended
 from rollcontact.elliptic.result import EllipticResult, TractionField
@@ -341,8 +350,8 @@ class StripStack:
             shapes.append(shape)
         self.rows = rows  # each scene's scalars, plain floats
         self.table = np.array(rows).T  # (scalars, n)
-        (a, b, self.p0, self.mu, self.limit, xi, self.eta, phi, self.modulus_x, modulus_y, self.psi, self.m, two_mu_p0,
-         l1, l2, l3, g, nu, a2, b2, moment33) = self.table[:, :, None]
+        (a, b, self.p0, self.mu, self.limit, xi, self.eta, phi, self.modulus_x, self.modulus_y, self.psi, self.m,
+         two_mu_p0, l1, l2, l3, g, nu, a2, b2, moment33) = self.table[:, :, None]
         self.a, self.b, self.xi, self.phi, self.flexibilities = a, b, xi, phi, (l1, l2, l3)
         self.y = b * nodes
         self.weights = b * weights
@@ -355,7 +364,7 @@ class StripStack:
         self.rigid_x = xi - self.moment_ratio * phi * self.y
         self.march_ratio = 1.0 + (self.moment_ratio - 1.0) / (1.0 + np.abs(self.psi) / SPIN_FLEXIBILITY[6])
         self.X = self.rigid_x * self.modulus_x * self.scale
-        self.Y = self.eta * modulus_y * self.scale
+        self.Y = self.eta * self.modulus_y * self.scale
         self.spin = phi[:, 0] != 0.0
         self.usual = all(abs(row[10]) < 1.0 and row[10] * row[6] >= 0.0 for row in rows)
         """Whether every scene has ``|psi| < 1`` and its lateral creepage not against the spin (``psi eta >= 0``)."""
@@ -478,6 +487,38 @@ def march_flexibilities(a: float, b: float, g: float, mu: float, normal_load: fl
 def cells(steps: int) -> np.ndarray:
     """The cell centres' ``x / a(y)`` from the leading edge, ``1 - (2 i + 1) / steps`` ``(steps, 1)`` (read-only)."""
     return frozen(1.0 - (2.0 * np.arange(steps)[:, None] + 1.0) / steps)
+
+
+@lru_cache(maxsize=16)
+def hilbert(steps: int) -> np.ndarray:
+    """The half-plane's strain at the cell centres of a strip of ``steps`` cells per unit traction on each cell
+    ``(steps, steps)`` (read-only): ``H_ij = (1/pi) ln|(x_i - x_j + h/2) / (x_i - x_j - h/2)|``, the principal
+    value ``(1/pi) PV int_cell_j dt / (x_i - t)`` in the cells' coordinates ``x / a(y)`` (h = 2/steps; free of the
+    strip's length, 0 on the diagonal)."""
+    x = cells(steps)[:, 0]
+    offset = x[:, None] - x[None, :]
+    half = 1.0 / steps
+    return frozen(np.log(np.abs((offset + half) / (offset - half))) / math.pi)
+
+
+def elastic_slips(x, half, d, kappa, lam, psi, X, Y, partial, in_stick, m, compliance, departure=None):
+    """Each cell's slip speed [1] (slip velocity over V) in the strip's 2D half-plane, outside the stick zones
+    (docs/physics.md, "Strips"): ``s = 2 C (m s_c - H dq)`` per component, ``C = 1/(f E)`` its compliance
+    (``compliance``: along x and along y, per strip), ``m`` the cells' ``mu p / sqrt(a(y)^2 - x^2)``.  ``s_c`` is the
+    closed form's slip in units of the slip length, the rigid slip less the strain of its traction (Carter's, the
+    Hilbert transform of a semi-ellipse being linear): ``(kappa, lambda - psi) sqrt((x - d)^2 - a*^2)`` in the slip
+    zone of a strip that sticks, ``(X - kappa x, Y + (psi - lambda) x)`` on a strip in full slip; ``H dq`` is the
+    strain of the cells' departure ``dq`` ``(2, steps, S)`` [Pa] from the closed form's traction (:func:`hilbert`;
+    None: none), each cell's sum over its strip's cells in their order (``einsum`` without BLAS: a strip's numbers are
+    its own whatever the strips beside it).  Arrays ``(steps, S)`` and per strip ``(S,)``; 0 in the stick zones."""
+    root = np.sqrt(np.maximum((x - d) ** 2 - (half - d) ** 2, 0.0))
+    slip_x = m * np.where(partial, np.where(in_stick, 0.0, kappa * root), X - kappa * x)
+    slip_y = m * np.where(partial, np.where(in_stick, 0.0, (lam - psi) * root), Y + (psi - lam) * x)
+    if departure is not None:
+        strain = np.einsum("ij,cjk->cik", hilbert(x.shape[0]), departure)
+        slip_x -= strain[0]
+        slip_y -= strain[1]
+    return 2.0 * np.where(in_stick, 0.0, np.hypot(compliance[0] * slip_x, compliance[1] * slip_y))
 
 
 def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields: bool):
@@ -614,33 +655,36 @@ def falling_strips(scenes, strips: int, steps: int, fields: bool) -> list[Ellipt
 
 FALLING_PASSES = 2
 """Marches of the falling-friction path with spin: the first at the static coefficient gives each cell's slip and
-coefficient, the second marches with those coefficients' bound (the directions of the traction follow the falling
-friction) and solves the slips again (without spin the directions are uniform and one march is kept).  A third
-changes the forces by less than 1e-3 mu Fn (``benchmarks/calibrate_falling_spin.py``, table "Passes")."""
+coefficient (and the elastic slip per unit coefficient of its half-plane slip), the second marches with those
+coefficients' bound (the directions of the traction follow the falling friction) and solves the slips again along
+them (without spin the directions are uniform and one march is kept).  A third changes the forces by little
+(``benchmarks/calibrate_falling_spin.py``, table "Passes")."""
 
 
 def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds: np.ndarray, fields: bool):
     """The departures ``(n, 3)`` of the stack's scenes (one friction law, rolling speeds ``speeds`` [m/s] per scene)
     from their closed forms (at the static coefficient), their traction fields (with ``fields``, else None each) and
     steepness ``(n,)`` (the largest ``-D V dmu/dv`` of a scene's slipping cells, 0 where none is above 0;
-    :func:`~.common.falling_slips`): the Coulomb strips' march (:func:`marched`) with each cell's bound
-    ``mu(V sigma) p`` at its own slip, found over :data:`FALLING_PASSES` marches (:func:`~.common.march`; one for a
-    scene without spin, whose second march's numbers are dropped); the stick zones' traction is the closed form's.
+    :func:`half_plane_slips`): the Coulomb strips' march (:func:`marched`) with each cell's bound ``mu(V sigma) p`` at
+    its own slip in the strip's half-plane, found over :data:`FALLING_PASSES` marches (:func:`~.common.march`; one for
+    a scene without spin, whose second march's numbers are dropped); the stick zones' traction is the closed form's.
 
     The cells are arrays ``(steps, n S)`` as in :func:`marched`: every operation is elementwise or a sum over one
-    scene's cells in one order (:func:`by_scene`), so each scene's numbers are those it has alone."""
+    scene's cells in one order (:func:`by_scene`, :func:`elastic_slips`), so each scene's numbers are those it has
+    alone."""
     n, count = stack.y.shape
     columns = n * count
     if n == 1:  # one scene: its scalars as plain floats, which numpy broadcasts alike
-        a, b, p0, mu, _, xi, eta, phi, _, _, psi, m, _, l1, l2, l3, *_ = stack.rows[0]
+        a, b, p0, mu, _, xi, eta, phi, modulus_x, modulus_y, psi, m, _, l1, l2, l3, *_ = stack.rows[0]
         phi_x = float(stack.march_ratio[0, 0]) * phi + float(phi_c[0, 0])
         speed = float(speeds[0])
     else:  # each scene's scalars over its strips
-        xi, eta, phi_x, l1, l2, l3, p0, a, b, mu, m, psi, phi, speed = np.repeat(np.hstack(
+        xi, eta, phi_x, l1, l2, l3, p0, a, b, mu, m, psi, phi, speed, modulus_x, modulus_y = np.repeat(np.hstack(
             (stack.xi, stack.eta, stack.march_ratio * stack.phi + phi_c, *stack.flexibilities, stack.p0, stack.a,
-             stack.b, stack.mu, stack.m, stack.psi, stack.phi, speeds[:, None])).T, count, axis=1)
-    y, half, weights, factor, d, kappa, lam, partial = (v.reshape(columns) for v in (
-        stack.y, stack.half, stack.weights, stack.factor, *sticking))
+             stack.b, stack.mu, stack.m, stack.psi, stack.phi, speeds[:, None], stack.modulus_x, stack.modulus_y)).T,
+            count, axis=1)
+    y, half, weights, factor, d, kappa, lam, partial, X, Y = (v.reshape(columns) for v in (
+        stack.y, stack.half, stack.weights, stack.factor, *sticking, stack.X, stack.Y))
     dx = 2.0 * half / steps
     x = half * cells(steps)
     bound = mu * (p0 * np.sqrt(np.maximum(1.0 - (x / a) ** 2 - (y / b) ** 2, 0.0)))  # mu p (Hertz), mu static
@@ -655,11 +699,30 @@ def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds:
     kernel = friction_kernel(law)
     coefficient = np.full(bound.shape, law.static_coefficient)
     spin = stack.spin.repeat(count)
-    sigma = kept = None
+    ux, uy = bound * kappa, bound * lam  # the closed form's traction
+    in_stick = partial & (x > 2.0 * d - half)
+    m_s = m * scaling  # the cells' scale of mu p, as the bound's: continuous at the stick edge
+    if partial.any():
+        full = np.sqrt(np.maximum(half * half - x * x, 0.0))
+        inner = np.sqrt(np.maximum((half - d) ** 2 - (x - d) ** 2, 0.0))
+        stick_x, stick_y = m_s * kappa * (full - inner), m_s * (lam * full - (lam - psi) * inner)
+        ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
+    compliance = (1.0 / (factor * modulus_x), 1.0 / (factor * modulus_y))
+    slip_of = (x, half, d, kappa, lam, psi, X, Y, partial, in_stick, m_s, compliance)
+    static = law.static_coefficient
+    sigma = kept = growth = None
     for k in range(FALLING_PASSES if spin.any() else 1):  # without spin the directions do not change
         marched = march(first, increment, coefficient * pressure)
-        sigma, coefficient, steepness = falling_slips(marched, first, increment, coefficient, pressure,
-                                                      flexibility, law, kernel, speed, sigma)
+        *_, rigid = march_slips(marched, first, increment, flexibility)
+        if growth is None:  # the elastic slip per unit coefficient, from the first march's (at mu(0)) half-plane slip
+            departure = None
+            if spin.any():  # the march's traction turns away from the closed form's (without spin it is the same)
+                trial, _, size = marched
+                moved = spin & ~in_stick
+                departure = np.where(moved, bound * trial.transpose(1, 0, 2) / size - (ux, uy), 0.0)
+            growth = (rigid - elastic_slips(*slip_of, departure)) / static
+        sigma, coefficient, steepness = slips_at(rigid, growth, ~in_stick & (rigid > growth * static), law, kernel,
+                                                 speed, sigma)
         if k == 0 and not spin.all():
             kept = marched[0], sigma, coefficient, steepness
     trial, _, size = marched
@@ -670,15 +733,7 @@ def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds:
     qx, qy = limit * kappa, limit * lam  # without spin the slip direction is uniform along the strip
     if spin.any():  # the last march's trials (the scenes with spin took it)
         qx, qy = np.where(spin, limit * trial[:, 0] / size, qx), np.where(spin, limit * trial[:, 1] / size, qy)
-    ux, uy = bound * kappa, bound * lam  # the closed form's traction
-    in_stick = partial & (x > 2.0 * d - half)
     if partial.any():
-        rest = half - d
-        full = np.sqrt(np.maximum(half * half - x * x, 0.0))
-        inner = np.sqrt(np.maximum(rest * rest - (x - d) ** 2, 0.0))
-        m_s = m * scaling
-        stick_x, stick_y = m_s * kappa * (full - inner), m_s * (lam * full - (lam - psi) * inner)
-        ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
         share = None if stack.share is None else stack.share.reshape(columns)
         if share is not None and (share < 1.0).any():  # past |psi| = 1: within mu p, faded into the slip traction
             within = np.minimum(1.0, bound / np.maximum(np.hypot(stick_x, stick_y), TINY))
@@ -802,12 +857,12 @@ STRIPS_FALLING_COST_FACTOR = 3.0
 with spin): a margin over the ratio of ``benchmarks/calibrate_falling_spin.py``, table C (to the Coulomb strips of the
 same scenes, most of which take the closed form alone)."""
 
-STRIPS_FALLING_ERROR = 0.1
+STRIPS_FALLING_ERROR = 0.05
 """Error [1] per unit of the law's fall over the contact (:func:`~.common.falling_drop`) that velocity-dependent
-friction adds to the strips' estimate: the march's slips are the simplified theory's (the half-space's own slip
-differs).  With it the estimate bounds the error over the matrix of ``benchmarks/calibrate_falling_spin.py`` (table A:
-largest error 0.050 of mu(0) Fn, Fx of the linear law at 50 m/s and 2 saturations without spin; 0.042 with spin;
-largest error over estimate 0.73)."""
+friction adds to the strips' estimate: the cells' slips are each strip's half-plane's, the half-space's own slip
+differs.  With it the estimate bounds the error over the matrix of ``benchmarks/calibrate_falling_spin.py`` (table A,
+the largest error over estimate; the largest errors are the Coulomb strips' own with spin, lateral creepage against
+the spin on a/b 0.2, which the Coulomb estimate bounds alone)."""
 
 
 class StripsAccuracy(AccuracyModel):

@@ -30,7 +30,7 @@ import numpy as np
 from rollcontact.core.materials import Material
 from rollcontact.elliptic.creep_coefficients import aspect_ratio_range, extended_creepage_coefficients
 from rollcontact.elliptic.hertz import differences
-from rollcontact.elliptic.methods.common import falling_slips, friction_kernel, march
+from rollcontact.elliptic.methods.common import friction_kernel, march, march_slips, slips_at
 from rollcontact.elliptic.methods.strips import (
     CROSS_ITERATIONS,
     FALLING_PASSES,
@@ -40,6 +40,7 @@ from rollcontact.elliptic.methods.strips import (
     TINY,
     cells,
     cross_coefficients,
+    elastic_slips,
     gauss,
     march_flexibilities,
 )
@@ -339,8 +340,9 @@ def falling_march_forces(lobes: Lobes, friction, speed: float, steps: int, field
 def falling_marched(lobes: Lobes, steps: int, stick, friction, speed: float, fields: bool):
     """The falling-friction march on the patch's strips (:func:`marched`'s cells and increments, each cell's bound
     ``mu(V sigma) p`` at its own slip over :data:`~rollcontact.elliptic.methods.strips.FALLING_PASSES` marches with
-    spin, one without: :func:`~rollcontact.elliptic.methods.common.falling_slips`).  Returns the departure from the
-    closed form ``(dFx, dFy, dMz)``, the field (with ``fields``) and the steepness."""
+    spin, one without, each cell's slip in its strip's half-plane:
+    :func:`~rollcontact.elliptic.methods.strips.elastic_slips`).  Returns the departure from the closed form ``(dFx,
+    dFy, dMz)``, the field (with ``fields``) and the steepness."""
     d, kappa, lam, partial, share = stick
     half, s, w = lobes.half, lobes.s, lobes.w
     dx = 2.0 * half / steps
@@ -360,25 +362,35 @@ def falling_marched(lobes: Lobes, steps: int, stick, friction, speed: float, fie
     flexibility = (lobes.l1 / (lobes.factor * dx), lobes.l2 / dx)
     kernel = friction_kernel(friction)
     coefficient = np.full(bound.shape, static)
-    sigma = None
+    ux, uy = bound * kappa, bound * lam  # the closed form's traction
+    in_stick = partial & (x > 2.0 * d - half)
+    m = lobes.m * scaling  # the cells' scale of mu p
+    if partial.any():
+        inner = np.sqrt(np.maximum((half - d) ** 2 - (x - d) ** 2, 0.0))
+        stick_x, stick_y = m * kappa * (full - inner), m * (lam * full - (lam - lobes.psi) * inner)
+        ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
+    compliance = (1.0 / (lobes.factor * lobes.modulus_x), 1.0 / (lobes.factor * lobes.modulus_y))
+    sigma = growth = None
     for _ in range(FALLING_PASSES if lobes.phi != 0.0 else 1):
         marched = march(first, increment, coefficient * pressure)
-        sigma, coefficient, steepness = falling_slips(marched, first, increment, coefficient, pressure,
-                                                      flexibility, friction, kernel, speed, sigma)
+        *_, rigid = march_slips(marched, first, increment, flexibility)
+        if growth is None:  # the elastic slip per unit coefficient, from the first march's (at mu(0)) half-plane slip
+            departure = None
+            if lobes.phi != 0.0:  # the march's traction turns away from the closed form's
+                trial, _, size = marched
+                departure = np.where(in_stick, 0.0, bound * trial.transpose(1, 0, 2) / size - (ux, uy))
+            slip = elastic_slips(x, half, d, kappa, lam, lobes.psi, lobes.X, lobes.Y, partial, in_stick, m,
+                                 compliance, departure)
+            growth = (rigid - slip) / static
+        sigma, coefficient, steepness = slips_at(rigid, growth, ~in_stick & (rigid > growth * static), friction,
+                                                 kernel, speed, sigma)
     limit = coefficient * pressure
     if lobes.phi != 0.0:
         trial, _, size = marched
         qx, qy = limit * trial[:, 0] / size, limit * trial[:, 1] / size
     else:  # without spin the slip direction is uniform along the strip
         qx, qy = limit * kappa, limit * lam
-    ux, uy = bound * kappa, bound * lam
-    in_stick = partial & (x > 2.0 * d - half)
     if partial.any():
-        rest = half - d
-        inner = np.sqrt(np.maximum(rest * rest - (x - d) ** 2, 0.0))
-        m = lobes.m * scaling
-        stick_x, stick_y = m * kappa * (full - inner), m * (lam * full - (lam - lobes.psi) * inner)
-        ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
         if (share < 1.0).any():
             within = np.minimum(1.0, bound / np.maximum(np.hypot(stick_x, stick_y), TINY))
             stick_x = np.where(share < 1.0, share * within * stick_x + (1.0 - share) * qx, stick_x)
