@@ -57,6 +57,34 @@ def test_the_strips_follow_the_discretised_patches(track, wheelset, index):
             assert worst <= 0.05, f"case {index + 1}, {a.side}: Fx, Fy over mu Fn differ by {worst:.3f}"
 
 
+@pytest.mark.parametrize("index", [0, 1, 10])
+def test_each_hertz_patch_estimates_its_own_difference_from_the_discretised_patch(track, wheelset, index):
+    """A patch's ``info["error_estimate"]`` is its level's estimate of that patch: for Hertz's ellipse the elliptic
+    level's plus the gap's departure from Hertz's (``ellipse_error_estimate`` the former alone).  On the positions where
+    Hertz's ellipses miss the patch most (the centred two-lobed tread, 0.5 mm where the tread's second lobe touches,
+    the flange root at 5 mm) each ellipse's Fx, Fy over mu Fn and Mz over mu Fn c stay within it against the
+    discretised patch of the same rigid contact point (within 2 mm; the ellipse's estimate alone is exceeded up to
+    seven times there)."""
+    scene = manchester(track, wheelset, index)
+    hertz, reference = solve(scene, "hertz"), solve(scene, "discretised")
+    assert hertz.success and reference.success, (hertz.message, reference.message)
+    for a, b in zip(hertz.wheels, reference.wheels, strict=True):
+        pairs = [(p, min(b.patches, key=lambda r, p=p: abs(r.point.rail_lateral - p.point.rail_lateral)))
+                 for p in a.patches]
+        pairs = [(p, q) for p, q in pairs if abs(q.point.rail_lateral - p.point.rail_lateral) < 2e-3]
+        assert pairs, f"{a.side}: an ellipse at a reference patch's rigid contact point"
+        for p, q in pairs:
+            scale = q.result.friction_coefficient * q.result.normal_load
+            c = math.sqrt(q.result.area / math.pi)
+            difference = max(abs(p.result.longitudinal_force - q.result.longitudinal_force) / scale,
+                             abs(p.result.lateral_force - q.result.lateral_force) / scale,
+                             abs(p.result.spin_moment - q.result.spin_moment) / (scale * c))
+            info = p.result.info
+            assert info["error_estimate"] >= info["ellipse_error_estimate"], f"{a.side}: the shape adds"
+            assert difference <= info["error_estimate"], \
+                f"case {index + 1}, {a.side}: difference {difference:.3f}, estimate {info['error_estimate']:.3f}"
+
+
 def test_zero_creepage_gives_zero_tangential_force(track, wheelset):
     """Centred, no yaw, rolling at the radius of each contact: at the nominal radius the pitch rate of pure rolling
     leaves only the rolling-radius difference; with a cylinder-like pair of radii (a flat rail) nothing slips."""

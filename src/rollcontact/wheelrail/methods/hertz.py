@@ -31,9 +31,10 @@ __all__ = ["METHOD", "inapplicable", "solve_hertz"]
 
 GAP_ERROR = 0.18
 """Error [1] of the forces (over mu Fn, Mz over mu Fn c) per unit of a patch's departure from Hertz's gap
-(:func:`departure`): 1.2 times the smallest that keeps Hertz's error within its estimate against the discretised
-level on the Manchester positions (``benchmarks/wheelrail_manchester.py``, table A: the largest, 0.2 mu Fn, at 0.5 mm,
-where the tread's second lobe touches within the one point's patch)."""
+(:func:`departure`): with it each ellipse's estimate bounds its difference from the discretised patch on the
+Manchester positions with a margin (``benchmarks/wheelrail_manchester.py``, table A, the largest difference over the
+estimate, for Coulomb friction and on the dry rail; the largest differences at 0.5 mm, where the tread's second lobe
+touches within the one point's patch, and at the centred two-lobed tread)."""
 
 LOBES_ERROR = 0.1
 """Error [1] added where a contact point shares its patch with another (two lobes whose interpenetrations merge):
@@ -51,8 +52,9 @@ def solve_hertz(scene: WheelRailScene, *, elliptic: str = "auto") -> WheelRailRe
     Returns
     -------
     WheelRailResult
-        One patch per loaded contact point; ``info["error_estimate"]`` the largest of the ellipses' estimates plus
-        the gaps' departure from Hertz's (:class:`HertzAccuracy`).
+        One patch per loaded contact point, its ``info`` the elliptic answer's with ``error_estimate`` its ellipse's
+        estimate plus its gap's departure from Hertz's (:func:`shape_error`; the ellipse's alone in
+        ``ellipse_error_estimate``); ``info["error_estimate"]`` the largest of the patches' (:class:`HertzAccuracy`).
     """
     if elliptic != "auto" and elliptic not in ELLIPTIC_METHODS:
         raise ValueError(f"elliptic = {elliptic!r} is not an elliptic level; valid: "
@@ -103,13 +105,15 @@ def hertz_wheel(scene: WheelRailScene, contact, elliptic: str):
                                           scene.material, scene.friction, scene.forward_speed)
             answer = solve_elliptic(ellipse_scene, elliptic)
             h = ellipse_scene.hertz
+            ellipse_estimate = answer.info.get("error_estimate", math.nan)
+            estimate = ellipse_estimate + shape_error(patch_of[k], h.b, approach)
             result = PatchResult("hertz", answer.success, answer.message, force, approach, h.max_pressure,
                                  2.0 * h.a, 2.0 * h.b, answer.longitudinal_force, answer.lateral_force,
                                  answer.spin_moment, xi, eta, phi, scene.friction_coefficient, math.pi * h.a * h.b,
-                                 info={"elliptic_method": answer.method, **answer.info})
+                                 info={"elliptic_method": answer.method, **answer.info,
+                                       "ellipse_error_estimate": ellipse_estimate, "error_estimate": estimate})
             patches.append((k, WheelPatch(point, result, track_force(point, result))))
-            estimates.append(answer.info.get("error_estimate", math.nan)
-                             + shape_error(patch_of[k], ellipse_scene.hertz.b, approach))
+            estimates.append(estimate)
         if abs(sum(p.track_force[2] for _, p in patches) - load) <= COUPLING * load:
             break
         tangential = [(k, p.track_force[2] - p.result.normal_load * math.cos(p.point.contact_angle))
