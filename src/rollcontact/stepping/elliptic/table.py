@@ -143,17 +143,21 @@ class Axis:
         return 0.5 * (self.nodes[1:] + self.nodes[:-1])
 
 
-def catmull_rom(s: float, inv_h: float) -> tuple[tuple[float, ...], tuple[float, ...]]:
-    """The Catmull-Rom weights of the four nodes ``j - 1 .. j + 2`` at ``s`` in [0, 1] of cell j, and their
-    derivatives in the coordinate (``inv_h`` = 1/h) (module docstring)."""
+def catmull_rom(s: float) -> tuple[float, float, float, float]:
+    """The Catmull-Rom weights of the four nodes ``j - 1 .. j + 2`` at ``s`` in [0, 1] of cell j (module
+    docstring)."""
     s2 = s * s
     s3 = s2 * s
-    weights = (0.5 * (2.0 * s2 - s - s3), 0.5 * (2.0 - 5.0 * s2 + 3.0 * s3), 0.5 * (s + 4.0 * s2 - 3.0 * s3),
-               0.5 * (s3 - s2))
+    return (0.5 * (2.0 * s2 - s - s3), 0.5 * (2.0 - 5.0 * s2 + 3.0 * s3), 0.5 * (s + 4.0 * s2 - 3.0 * s3),
+            0.5 * (s3 - s2))
+
+
+def catmull_rom_slopes(s: float, inv_h: float) -> tuple[float, float, float, float]:
+    """The derivatives of :func:`catmull_rom`'s weights in the coordinate (``inv_h`` = 1/h)."""
+    s2 = s * s
     f = 0.5 * inv_h
-    slopes = (f * (4.0 * s - 1.0 - 3.0 * s2), f * (9.0 * s2 - 10.0 * s), f * (1.0 + 8.0 * s - 9.0 * s2),
-              f * (3.0 * s2 - 2.0 * s))
-    return weights, slopes
+    return (f * (4.0 * s - 1.0 - 3.0 * s2), f * (9.0 * s2 - 10.0 * s), f * (1.0 + 8.0 * s - 9.0 * s2),
+            f * (3.0 * s2 - 2.0 * s))
 
 
 def padded(values: np.ndarray, dims: int) -> np.ndarray:
@@ -189,9 +193,9 @@ class Grid:
                 j = axis.n - 2
             elif j < 0:
                 j = 0
-            w, d = catmull_rom(z - j, axis.inv_h)
             starts.append(j)
-            weights.append((w, d) if derivatives else w)
+            weights.append((catmull_rom(z - j), catmull_rom_slopes(z - j, axis.inv_h)) if derivatives
+                           else catmull_rom(z - j))
         j0, j1, j2 = starts[:3]
         if self.dims == 4:
             j3 = starts[3]
