@@ -231,7 +231,7 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
     EllipticResult
         ``info["stick_strips"]``: the share of strips with a stick zone; ``info["psi"]``: the scaled spin; with
         velocity-dependent friction ``info["steepness"]``, the largest ``-D V dmu/dv`` of the march's slipping cells
-        (above 1 a cell's slip equation is not monotone; :func:`falling_slips`).
+        (above 1 a cell's slip equation is not monotone; :func:`~.common.slips_at`).
     """
     if falling not in FALLING:
         raise ValueError(f"falling = {falling!r} is not one of {FALLING}")
@@ -665,9 +665,10 @@ def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds:
     """The departures ``(n, 3)`` of the stack's scenes (one friction law, rolling speeds ``speeds`` [m/s] per scene)
     from their closed forms (at the static coefficient), their traction fields (with ``fields``, else None each) and
     steepness ``(n,)`` (the largest ``-D V dmu/dv`` of a scene's slipping cells, 0 where none is above 0;
-    :func:`half_plane_slips`): the Coulomb strips' march (:func:`marched`) with each cell's bound ``mu(V sigma) p`` at
-    its own slip in the strip's half-plane, found over :data:`FALLING_PASSES` marches (:func:`~.common.march`; one for
-    a scene without spin, whose second march's numbers are dropped); the stick zones' traction is the closed form's.
+    :func:`~.common.slips_at`): the Coulomb strips' march (:func:`marched`) with each cell's bound ``mu(V sigma) p``
+    at its own slip in the strip's half-plane (:func:`elastic_slips`, module docstring), found over
+    :data:`FALLING_PASSES` marches (:func:`~.common.march`; one for a scene without spin, whose second march's numbers
+    are dropped); the stick zones' traction is the closed form's.
 
     The cells are arrays ``(steps, n S)`` as in :func:`marched`: every operation is elementwise or a sum over one
     scene's cells in one order (:func:`by_scene`, :func:`elastic_slips`), so each scene's numbers are those it has
@@ -697,7 +698,8 @@ def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds:
     first = np.array([0.5 * increment[0, 0], 0.5 * dx * (eta / l2 + phi * (half - 0.25 * dx) / l3)])
     flexibility = (l1 / (factor * dx), l2 / dx)
     kernel = friction_kernel(law)
-    coefficient = np.full(bound.shape, law.static_coefficient)
+    static = law.static_coefficient
+    coefficient = np.full(bound.shape, static)
     spin = stack.spin.repeat(count)
     ux, uy = bound * kappa, bound * lam  # the closed form's traction
     in_stick = partial & (x > 2.0 * d - half)
@@ -709,7 +711,6 @@ def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds:
         ux, uy = np.where(in_stick, stick_x, ux), np.where(in_stick, stick_y, uy)
     compliance = (1.0 / (factor * modulus_x), 1.0 / (factor * modulus_y))
     slip_of = (x, half, d, kappa, lam, psi, X, Y, partial, in_stick, m_s, compliance)
-    static = law.static_coefficient
     sigma = kept = growth = None
     for k in range(FALLING_PASSES if spin.any() else 1):  # without spin the directions do not change
         marched = march(first, increment, coefficient * pressure)
