@@ -142,3 +142,17 @@ def test_random_scenes_stay_within_the_friction_bound(name):
         assert result.success and all(math.isfinite(v) for v in f), f"{name} at {g, xi, eta, phi}: {result.message}"
         total = math.hypot(f[0], f[1])
         assert total <= 1.0 + 1e-12, f"{name}: |F| = {total} mu Fn at {g, xi, eta, phi}"
+
+
+@pytest.mark.filterwarnings("ignore::RuntimeWarning")  # a level's own overflow, which its result then reports
+@pytest.mark.parametrize("creepages", [{"longitudinal_creepage": 1e300}, {"lateral_creepage": -1e300},
+                                       {"spin_creepage": 1e300}, {"longitudinal_creepage": 1e160}])
+def test_forces_beyond_floating_point_are_a_failure_that_says_so(creepages):
+    """Creepages so large that a level's own scaling overflows (FASTSIM's from about 1e155, the strips' from about
+    1e300) give either finite forces or an unsuccessful result naming the creepages, never a success with NaN."""
+    for name in ("linear", "saturated", "fastsim", "strips"):
+        result = solve_elliptic(scene(**creepages), name)
+        finite = all(map(math.isfinite, (result.longitudinal_force, result.lateral_force, result.spin_moment)))
+        assert finite == result.success, f"{name} at {creepages}: success {result.success}, {result.message}"
+        if not result.success:
+            assert "not finite at the creepages" in result.message and "e+" in result.message, result.message

@@ -122,8 +122,16 @@ class EllipticResult:
     @classmethod
     def from_scene(cls, scene, method: str, success: bool, message: str, forces=(math.nan,) * 3, fields=None,
                    info=None) -> EllipticResult:
-        """A result for ``scene`` (its creepages and Hertz ellipse) with ``forces = (Fx, Fy, Mz)`` [N, N, N m]."""
+        """A result for ``scene`` (its creepages and Hertz ellipse) with ``forces = (Fx, Fy, Mz)`` [N, N, N m].  A
+        solve that reports success with a force that is not finite (creepages so large that a level's own scaling
+        overflows) is a failure, and says so."""
         h = scene.hertz
-        return cls(method, success, message, scene.normal_load, float(forces[0]), float(forces[1]), float(forces[2]),
+        forces = tuple(float(f) for f in forces)
+        if success and not all(map(math.isfinite, forces)):
+            success = False
+            creepages = (scene.longitudinal_creepage, scene.lateral_creepage, scene.spin_creepage)
+            message = (f"{message}: its forces {forces} are not finite at the creepages {creepages} (1, 1, 1/m) and "
+                       f"load {scene.normal_load!r} N, beyond what this level computes in floating point")
+        return cls(method, success, message, scene.normal_load, forces[0], forces[1], forces[2],
                    scene.longitudinal_creepage, scene.lateral_creepage, scene.spin_creepage, h.a, h.b,
                    h.max_pressure, h.approach, scene.friction_coefficient, fields, {} if info is None else info)
