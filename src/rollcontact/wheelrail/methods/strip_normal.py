@@ -648,11 +648,11 @@ def _lobes(edges: list[tuple[float, float]]) -> tuple[np.ndarray, np.ndarray]:
 
 
 @lru_cache(maxsize=8)
-def _unit_strips(count: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """:func:`cosine_strips` over [-1, 1] (read-only)."""
-    out = cosine_strips(-1.0, 1.0, count)
-    for array in out:
-        array.flags.writeable = False
+def _unit_strips(count: int) -> np.ndarray:
+    """:func:`cosine_strips` over [-1, 1]: the rows ``(centres, lower, upper)`` of a ``(3, count)`` array
+    (read-only)."""
+    out = np.array(cosine_strips(-1.0, 1.0, count))
+    out.flags.writeable = False
     return out
 
 
@@ -662,9 +662,10 @@ def _unit_geometry(count: int, contact_modulus: float) -> StripGeometry:
     return StripGeometry(*_unit_strips(count), contact_modulus)
 
 
-def _placed(middle, radius, unit) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(centres, lower, upper)`` of the lobes' cosine-spaced strips, lobe after lobe."""
-    return tuple((middle[:, None] + radius[:, None] * u).ravel() for u in unit)
+def _placed(middle, radius, unit) -> np.ndarray:
+    """The rows ``(centres, lower, upper)`` of the lobes' cosine-spaced strips, lobe after lobe (``unit``:
+    :func:`_unit_strips`)."""
+    return (middle[:, None] + radius[:, None] * unit[:, None, :]).reshape(3, -1)
 
 
 class _SampledGap:
@@ -693,22 +694,21 @@ class _SampledGap:
                 elif near * far < 0.0 and abs(d) > 3.0 * abs(near):
                     d = 3.0 * near
                 slopes[row, end] = d
-        # per interval, both quantities: v0 + t (d0 + t (c2 + t c3)) in its fraction t, and 1 / its length
+        # per interval, both quantities (h, A): v0 + t (d0 + t (c2 + t c3)) in its fraction t; 1 / its length
         d0, d1 = slopes[:, :-1] * step, slopes[:, 1:] * step
-        self.coefficients = np.concatenate([values[:, :-1], d0, 3.0 * rise - 2.0 * d0 - d1, d0 + d1 - 2.0 * rise,
-                                            (1.0 / step)[None, :]]).T.copy()
+        self.coefficients = np.stack([values[:, :-1], d0, 3.0 * rise - 2.0 * d0 - d1, d0 + d1 - 2.0 * rise])
+        self.inverse = 1.0 / step
 
     def at(self, points):
         """``(h, dh/ds, A, dA/ds)`` at ``points`` (within the samples)."""
         k = np.searchsorted(self.s, points, side="right") - 1
         np.clip(k, 0, self.s.size - 2, out=k)
-        v0, a0, d0, b0, c2, e2, c3, f3, inverse = self.coefficients.take(k, axis=0).T
-        t = (points - self.s[k]) * inverse
-        h = v0 + t * (d0 + t * (c2 + t * c3))
-        h_slope = (d0 + t * (2.0 * c2 + 3.0 * t * c3)) * inverse
-        curvature = a0 + t * (b0 + t * (e2 + t * f3))
-        a_slope = (b0 + t * (2.0 * e2 + 3.0 * t * f3)) * inverse
-        return h, h_slope, curvature, a_slope
+        v0, d0, c2, c3 = self.coefficients.take(k, axis=2)  # each (h, A) at the points
+        inverse = self.inverse.take(k)
+        t = (points - self.s.take(k)) * inverse
+        value = v0 + t * (d0 + t * (c2 + t * c3))
+        slope = (d0 + t * (2.0 * c2 + 3.0 * t * c3)) * inverse
+        return value[0], slope[0], value[1], slope[1]
 
 
 def _run_edges(centres, lower, upper, e, blocks) -> list[tuple[np.ndarray, float, float]]:
@@ -877,9 +877,9 @@ def _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, 
 
 def _room(values: np.ndarray, change: np.ndarray) -> float:
     """The least ``values / -change`` over the entries that ``change`` decreases (inf where none does): the share of a
-    step that takes the first of them to zero."""
+    step that takes the first of them to zero (``-max(values / change)`` over them: the same number)."""
     falling = change < 0.0
-    return float(np.min(values[falling] / -change[falling])) if np.count_nonzero(falling) else math.inf
+    return -float((values[falling] / change[falling]).max()) if np.count_nonzero(falling) else math.inf
 
 
 def _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, message) -> StripContact:
