@@ -67,7 +67,8 @@ Two effects of the half-space that strip theory leaves out are added:
   ``-int y q_x`` of lateral creepage.  With spin the longitudinal traction's own cross influence on the lateral slip
   is of the same order and is not modelled, so neither is applied there.
 
-Over y the strip forces are summed by Gauss-Legendre in theta, ``y = b sin(theta)`` (``strips`` nodes);
+Over y the strip forces are summed by Gauss-Legendre in theta, ``y = b sin(theta)`` (``strips`` nodes), with spin
+split at the turning line of the longitudinal rigid slip where it lies within the ellipse (:meth:`StripStack.split`);
 ``Mz = int (x q_y - y q_x)``.
 Velocity-dependent friction (``falling="march"``, with or without spin): the stick zones and the closed form are
 those of the static coefficient mu(0); each cell of a slip zone carries ``mu(V sigma) p`` at its own slip sigma, along
@@ -118,6 +119,9 @@ DEFAULT_STRIPS = 24
 DEFAULT_STEPS = 20
 TINY = 1e-300
 
+SPLIT_LEAST = 4
+"""Least strips on either side of a scene's turning line (:meth:`StripStack.split`)."""
+
 
 @lru_cache(maxsize=16)
 def gauss(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -128,6 +132,24 @@ def gauss(n: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     theta = 0.5 * math.pi * u
     nodes = np.sin(theta)
     return frozen(nodes), frozen(0.5 * math.pi * np.cos(theta) * w), frozen(np.sqrt(1.0 - nodes**2))
+
+
+@lru_cache(maxsize=16)
+def split_rules(n: int) -> np.ndarray:
+    """The rules of n strips split at theta* (:meth:`StripStack.split`), for every count ``left`` of the left part:
+    ``rules[:, left]`` holds ``(A, B, C, D)`` ``(4, n)`` such that the nodes are ``theta = A theta* + B`` and their
+    weights in theta ``C + D theta*``: Gauss-Legendre over ``[-pi/2, theta*]`` (``left`` nodes) and over
+    ``[theta*, pi/2]`` (the others) (cached per count, read-only)."""
+    rules = np.zeros((4, n + 1, n))
+    quarter = 0.25 * math.pi
+    for left in range(1, n):
+        for part, (u, w) in enumerate(np.polynomial.legendre.leggauss(k) for k in (left, n - left)):
+            span = slice(0, left) if part == 0 else slice(left, n)
+            if part == 0:  # theta = (theta* - pi/2)/2 + (theta* + pi/2)/2 u, weight (theta* + pi/2)/2 w
+                rules[:, left, span] = (0.5 * (1.0 + u), quarter * (u - 1.0), quarter * w, 0.5 * w)
+            else:  # theta = (theta* + pi/2)/2 + (pi/2 - theta*)/2 u, weight (pi/2 - theta*)/2 w
+                rules[:, left, span] = (0.5 * (1.0 - u), quarter * (1.0 + u), quarter * w, -0.5 * w)
+    return frozen(rules)
 
 
 def frozen(array: np.ndarray) -> np.ndarray:
@@ -152,14 +174,14 @@ def ratio_constants(ratio: float, poisson_ratio: float, strips: int) -> tuple[tu
 
 
 def stiffening(shape: np.ndarray, load_weights: np.ndarray) -> np.ndarray:
-    """Each strip's modulus factor ``f(y) = K (1 - y^2/b^2)^(-gamma/2)`` [1] per scene (rows ``(n, S)``),
-    ``gamma = (a/b) / (a/b + s)`` with ``s`` = :data:`STIFFENING_SCALE` (``shape``: the power, from
-    :func:`ratio_constants`), and ``K`` such that ``sum_j w_j a(y_j)^2 f_j = sum_j w_j a(y_j)^2`` (``load_weights``:
-    the strips' weights times ``a(y)^2``, the linear force's share of each strip), so that the strips keep Kalker's C11
-    and C22.  A short strip has neighbours of similar traction over a width comparable to its length, so the
-    half-space answers it more stiffly than the 2D half-plane does; the effect grows with a/b and vanishes in the strip
-    limit a/b -> 0, where the strips are Carter's problems."""
-    return shape * (np.sum(load_weights, axis=1) / dots(load_weights, shape))[:, None]
+    """The gain K ``(n, 1)`` of each scene's strips' modulus factor ``f(y) = K (1 - y^2/b^2)^(-gamma/2)`` [1] (rows
+    ``(n, S)``), ``gamma = (a/b) / (a/b + s)`` with ``s`` = :data:`STIFFENING_SCALE` (``shape``: the power, from
+    :func:`ratio_constants`), such that ``sum_j w_j a(y_j)^2 f_j = sum_j w_j a(y_j)^2`` (``load_weights``: the strips'
+    weights times ``a(y)^2``, the linear force's share of each strip), so that the strips keep Kalker's C11 and C22.  A
+    short strip has neighbours of similar traction over a width comparable to its length, so the half-space answers it
+    more stiffly than the 2D half-plane does; the effect grows with a/b and vanishes in the strip limit a/b -> 0, where
+    the strips are Carter's problems."""
+    return (np.sum(load_weights, axis=1) / dots(load_weights, shape))[:, None]
 
 
 def dots(u: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -229,9 +251,9 @@ def solve_strips(scene, *, strips: int = DEFAULT_STRIPS, steps: int = DEFAULT_ST
     Returns
     -------
     EllipticResult
-        ``info["stick_strips"]``: the share of strips with a stick zone; ``info["psi"]``: the scaled spin; with
-        velocity-dependent friction ``info["steepness"]``, the largest ``-D V dmu/dv`` of the march's slipping cells
-        (above 1 a cell's slip equation is not monotone; :func:`~.common.slips_at`).
+        ``info["stick_strips"]``: the share of the width whose strips have a stick zone; ``info["psi"]``: the
+        scaled spin; with velocity-dependent friction ``info["steepness"]``, the largest ``-D V dmu/dv`` of the
+        march's slipping cells (above 1 a cell's slip equation is not monotone; :func:`~.common.slips_at`).
     """
     if falling not in FALLING:
         raise ValueError(f"falling = {falling!r} is not one of {FALLING}")
@@ -304,13 +326,24 @@ def stacked(scenes, strips: int, steps: int, fields: bool) -> list[EllipticResul
         out = out + departure if stack.spin.all() else np.where(stack.spin[:, None], out + departure, out)
     results = []
     for scene, spin, values, f, stick, psi, cross in zip(
-            scenes, stack.spin.tolist(), out.tolist(), field,
-            (np.add.reduce(partial, axis=1, dtype=float) / partial.shape[1]).tolist(),  # each scene's partial.mean()
+            scenes, stack.spin.tolist(), out.tolist(), field, stick_shares(stack, partial),
             stack.psi[:, 0].tolist(), phi_c[:, 0].tolist(), strict=True):
         message = "strip theory, slip directions of the simplified theory" if spin else "strip theory (closed form)"
         results.append(EllipticResult.from_scene(scene, "strips", True, message, values, f,
                                                  {"stick_strips": stick, "psi": psi, "cross_spin": cross}))
     return results
+
+
+def flags(rows) -> tuple[bool, bool]:
+    """``(usual, deep)`` of the scenes' rows (:class:`StripStack`): whether every scene has ``|psi| < 1`` and its
+    lateral creepage not against the spin (``psi eta >= 0``), and whether a scene has ``|psi| >= 1``."""
+    return (all(abs(row[10]) < 1.0 and row[10] * row[6] >= 0.0 for row in rows),
+            any(abs(row[10]) >= 1.0 for row in rows))
+
+
+def stick_shares(stack: StripStack, partial: np.ndarray) -> list[float]:
+    """Each scene's share of its width [1] whose strips have a stick zone (the weights of those strips over 2b)."""
+    return (dots(np.where(partial, stack.weights, 0.0), np.ones_like(stack.weights)) / (2.0 * stack.b[:, 0])).tolist()
 
 
 class StripStack:
@@ -331,9 +364,10 @@ class StripStack:
 
     def __init__(self, scenes, strips: int, fields: bool = False):
         nodes, weights, root = gauss(strips)
-        rows, shapes = [], []
+        rows, shapes, powers = [], [], []
         for scene in scenes:
             h = scene.hertz
+            powers.append(h.aspect_ratio / (h.aspect_ratio + STIFFENING_SCALE))
             material = scene.material
             (c11, c22, c23, c33, k_x, k_y, spin_scale), shape = ratio_constants(h.aspect_ratio,
                                                                                 material.poisson_ratio, strips)
@@ -356,26 +390,82 @@ class StripStack:
         self.y = b * nodes
         self.weights = b * weights
         self.half = a * root
-        self.half2 = self.half**2
-        self.factor = stiffening(np.array(shapes), self.weights * self.half)
-        self.scale = self.factor * a / two_mu_p0
+        shapes = np.array(shapes)
+        self.factor = shapes * stiffening(shapes, self.weights * self.half)
         self.moment_ratio = moment33 / (0.5 * math.pi * self.modulus_x * dots(self.weights * self.half,
                                                                                self.factor * self.y**2)[:, None])
-        self.rigid_x = xi - self.moment_ratio * phi * self.y
         self.march_ratio = 1.0 + (self.moment_ratio - 1.0) / (1.0 + np.abs(self.psi) / SPIN_FLEXIBILITY[6])
+        self.spin = phi[:, 0] != 0.0
+        if self.spin.any() and strips >= 2 * SPLIT_LEAST:
+            self.split(strips, np.array(powers)[:, None], moment33)
+        self.half2 = self.half**2
+        self.scale = self.factor * a / two_mu_p0
+        self.rigid_x = xi - self.moment_ratio * phi * self.y
         self.X = self.rigid_x * self.modulus_x * self.scale
         self.Y = self.eta * self.modulus_y * self.scale
-        self.spin = phi[:, 0] != 0.0
-        self.usual = all(abs(row[10]) < 1.0 and row[10] * row[6] >= 0.0 for row in rows)
-        """Whether every scene has ``|psi| < 1`` and its lateral creepage not against the spin (``psi eta >= 0``)."""
-        self.deep = any(abs(row[10]) >= 1.0 for row in rows)
-        """Whether a scene has ``|psi| >= 1``."""
+        self.usual, self.deep = flags(rows)
         self.share = None
         """Per strip, the share of its stick zone's traction the march keeps (:meth:`stick`, with ``deep``; else
         None: all of it)."""
         self.cross = np.zeros_like(a) if self.spin.all() else \
             np.where(self.spin[:, None], 0.0, cross_coefficients(a, b, a2, b2, nu, g))
         self.coupled = self.cross[:, 0] != 0.0
+
+    def split(self, strips: int, gamma: np.ndarray, moment33: np.ndarray) -> None:
+        """Place the strips of each scene whose turning line lies within the ellipse on both sides of it: Gauss-Legendre
+        in theta (``y = b sin(theta)``) over ``[-pi/2, theta*]`` and ``[theta*, pi/2]``, ``y* = b sin(theta*)``, the
+        strips shared in proportion to the two ranges (at least :data:`SPLIT_LEAST` a side); the modulus factors'
+        gain (:func:`stiffening`), the moment ratio and the march's ratio on those strips.  The other scenes keep
+        the strips across the whole ellipse.
+
+        With spin the longitudinal rigid slip ``xi - r phi y`` changes sign on the turning line ``y* = xi / (r phi)``
+        (taken midway between :attr:`moment_ratio`'s line, where the stick zones' slip turns, and
+        :attr:`march_ratio`'s, where the march's does).  Across it a strip's longitudinal traction turns from one
+        saturation to the other over a layer that narrows as the spin grows, below the strips' spacing past
+        ``|psi| = 1``, where with the lateral creepage against the spin the stick zones also lie only in a band around
+        it (:meth:`stick`).  Strips across the whole ellipse alias that layer, the forces jumping by up to
+        0.04 mu Fn as it moves across them (a/b = 0.2, ``benchmarks/calibrate_falling_spin.py``); the split rule
+        has strips clustered on both sides of the line, and integrands smooth on each side keep their spectral
+        accuracy (the linear limit is Kalker's)."""
+        turns, lefts, within = [], [], []
+        for k, (row, r, r_march) in enumerate(zip(self.rows, self.moment_ratio[:, 0].tolist(),
+                                                  self.march_ratio[:, 0].tolist(), strict=True)):
+            b, xi, phi = row[1], row[5], row[7]
+            if phi == 0.0:
+                continue
+            line = 0.5 * xi * (1.0 / (r * phi) + 1.0 / (r_march * phi))
+            if abs(line) < b:
+                turn = math.asin(line / b)
+                within.append(k)
+                turns.append(turn)
+                lefts.append(min(max(round(strips * (turn / math.pi + 0.5)), SPLIT_LEAST), strips - SPLIT_LEAST))
+        if not within:
+            return
+        every = len(within) == len(self.rows)
+        inside = slice(None) if every else np.array(within)
+        turn = np.array(turns)[:, None]
+        A, B, C, D = split_rules(strips)[:, lefts]
+        theta = A * turn
+        theta += B
+        t = np.sin(theta)
+        root = np.sqrt(1.0 - t * t)
+        bk = self.b[inside]
+        y = bk * t
+        weights = bk * (np.cos(theta) * (C + D * turn))
+        half = self.a[inside] * root
+        shapes = (1.0 - t * t) ** (-0.5 * gamma[inside])
+        factor = shapes * stiffening(shapes, weights * half)
+        ratio = moment33[inside] / (0.5 * math.pi * self.modulus_x[inside] * dots(weights * half,
+                                                                                   factor * y**2)[:, None])
+        if every:
+            self.y, self.weights, self.half, self.factor, self.moment_ratio = y, weights, half, factor, ratio
+        else:
+            for name, value in (("y", y), ("weights", weights), ("half", half), ("factor", factor),
+                                ("moment_ratio", ratio)):
+                merged = getattr(self, name).copy()
+                merged[inside] = value
+                setattr(self, name, merged)
+        self.march_ratio = 1.0 + (self.moment_ratio - 1.0) / (1.0 + np.abs(self.psi) / SPIN_FLEXIBILITY[6])
 
     def couple(self, lateral_force: np.ndarray) -> np.ndarray:
         """Add the longitudinal creepage ``-phi_c y`` that a lateral force [N] (per scene) induces
@@ -605,10 +695,16 @@ def marched(stack: StripStack, steps: int, d, kappa, lam, partial, phi_c, fields
     if not fields:
         return departure.T, (None,) * n
     in_stick = partial & (x > 2.0 * d - half)
-    x, y, pressure, qx, qy, in_stick = (np.broadcast_to(v, x.shape).reshape(steps, n, count) for v in (
-        x, y, bound / mu, qx, qy, in_stick))
-    return departure.T, tuple(TractionField(*(v[:, k].T.copy() for v in (x, y, pressure, qx, qy, in_stick)))
-                           for k in range(n))
+    return departure.T, traction_fields(stack, steps, x, y, bound / mu, qx, qy, in_stick)
+
+
+def traction_fields(stack: StripStack, steps: int, *cells) -> tuple[TractionField, ...]:
+    """Each scene's :class:`TractionField` from the cells' ``x, y, pressure, qx, qy, stick`` (arrays broadcast to
+    ``(steps, n S)``)."""
+    n, count = stack.y.shape
+    x, y, pressure, qx, qy, in_stick = (np.broadcast_to(v, (steps, n * count)).reshape(steps, n, count)
+                                        for v in cells)
+    return tuple(TractionField(*(v[:, k].T.copy() for v in (x, y, pressure, qx, qy, in_stick))) for k in range(n))
 
 
 def place(targets, values, columns, where) -> None:
@@ -644,8 +740,7 @@ def falling_strips(scenes, strips: int, steps: int, fields: bool) -> list[Ellipt
     departure, field, steepness = falling_marched(stack, steps, sticking, phi_c, scenes[0].friction, speeds, fields)
     results = []
     for scene, values, f, stick, psi, cross, steep in zip(
-            scenes, (closed + departure).tolist(), field,
-            (np.add.reduce(sticking[3], axis=1, dtype=float) / sticking[3].shape[1]).tolist(),
+            scenes, (closed + departure).tolist(), field, stick_shares(stack, sticking[3]),
             stack.psi[:, 0].tolist(), phi_c[:, 0].tolist(), steepness.tolist(), strict=True):
         info = {"stick_strips": stick, "psi": psi, "cross_spin": cross, "steepness": steep}
         results.append(EllipticResult.from_scene(scene, "strips", True, "strip theory, falling friction on the "
@@ -747,10 +842,7 @@ def falling_marched(stack: StripStack, steps: int, sticking, phi_c, law, speeds:
     largest = steepness.reshape(steps, n, count).max(axis=(0, 2))
     if not fields:
         return departure, (None,) * n, largest
-    x, y, pressure, qx, qy, in_stick = (np.broadcast_to(v, x.shape).reshape(steps, n, count) for v in (
-        x, y, pressure, qx, qy, in_stick))
-    return departure, tuple(TractionField(*(v[:, k].T.copy() for v in (x, y, pressure, qx, qy, in_stick)))
-                            for k in range(n)), largest
+    return departure, traction_fields(stack, steps, x, y, pressure, qx, qy, in_stick), largest
 
 
 def polynomial_strips(scene, stack: StripStack) -> EllipticResult:
