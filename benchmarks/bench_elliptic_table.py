@@ -237,7 +237,7 @@ def build_section(nodes: tuple) -> tuple[EllipticTable, list[str]]:
         first.bound == second.bound
     scene = EllipticScene(8e4, 1.087, 1.667, 1e-3, -5e-4, 0.3)
     single = common.median_time(lambda: solve_elliptic(scene, "strips"), min_repeats=20)
-    modelled_single = strips.STRIPS_COST + strips.STRIPS_COST_PER_CELL * strips.DEFAULT_STEPS
+    modelled_single = strips.StripsAccuracy.calibrated(scene, {})  # with spin: the split and the march
     per_solve = min(seconds, again) / first.solves
     rows = ["## Build\n", f"Node counts (rho, q, sigma per half, alpha) {nodes}, nu = 0.28, Coulomb friction.\n",
             "| build | wall seconds | strips solves | modelled seconds (SOLVE_COST each) | us per solve |",

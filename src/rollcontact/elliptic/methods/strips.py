@@ -946,7 +946,12 @@ STRIPS_FALLING_COST_PER_STRIP = 5e-4
 """Calibrated times [s]: the closed form, each cell of a march, each strip's 2D polynomial solve
 (``benchmarks/calibrate_elliptic_levels.py``); the modelled cost is :func:`~.common.modelled_cost` of their sum."""
 
-STRIPS_FALLING_COST_FACTOR = 3.0
+STRIPS_SPLIT_COST = 3e-5
+"""Calibrated time [s] of the strips' split at the turning line with spin (:meth:`StripStack.split`): without it a
+strips step with spin took up to 1.05 times its modelled cost in ``benchmarks/bench_worst_step.py``, with it every
+step keeps within."""
+
+STRIPS_FALLING_COST_FACTOR = 3.5
 """The falling-friction march's time over the Coulomb strips' with a march [1] (the march and each cell's slip, twice
 with spin): a margin over the ratio of ``benchmarks/calibrate_falling_spin.py``, table C (to the Coulomb strips of the
 same scenes, most of which take the closed form alone)."""
@@ -955,8 +960,8 @@ STRIPS_FALLING_ERROR = 0.05
 """Error [1] per unit of the law's fall over the contact (:func:`~.common.falling_drop`) that velocity-dependent
 friction adds to the strips' estimate: the cells' slips are each strip's half-plane's, the half-space's own slip
 differs.  With it the estimate bounds the error over the matrix of ``benchmarks/calibrate_falling_spin.py`` (table A,
-the largest error over estimate; the largest errors are the Coulomb strips' own with spin, lateral creepage against
-the spin on a/b 0.2, which the Coulomb estimate bounds alone)."""
+the largest error over estimate; the largest errors are those of the steepest law, the linear one at 50 m/s: Fy of
+lateral creepage against the spin at a/b 2, Mz of lateral creepage at a/b 5)."""
 
 
 class StripsAccuracy(AccuracyModel):
@@ -978,14 +983,15 @@ class StripsAccuracy(AccuracyModel):
     @staticmethod
     def calibrated(scene, options) -> float:
         """The solve's calibrated time [s] (before :func:`~.common.modelled_cost`)."""
+        split = STRIPS_SPLIT_COST if scene.spin_creepage != 0.0 else 0.0
+        march = STRIPS_COST + split + STRIPS_COST_PER_CELL * options.get("steps", DEFAULT_STEPS)
         if not scene.friction.is_constant:
             if options.get("falling", "march") == "polynomial":
                 return STRIPS_FALLING_COST_PER_STRIP * options.get("strips", DEFAULT_STRIPS)
-            return STRIPS_FALLING_COST_FACTOR * (STRIPS_COST + STRIPS_COST_PER_CELL * options.get("steps",
-                                                                                                   DEFAULT_STEPS))
+            return STRIPS_FALLING_COST_FACTOR * march
         if scene.spin_creepage == 0.0 and not options.get("fields"):
             return STRIPS_COST
-        return STRIPS_COST + STRIPS_COST_PER_CELL * options.get("steps", DEFAULT_STEPS)
+        return march
 
     def error(self, scene, options):
         if scene.normal_load == 0.0:
