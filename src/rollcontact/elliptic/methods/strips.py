@@ -120,7 +120,8 @@ DEFAULT_STEPS = 20
 TINY = 1e-300
 
 SPLIT_LEAST = 4
-"""Least strips on either side of a scene's turning line (:meth:`StripStack.split`)."""
+"""Least strips on either side of a scene's turning line (:meth:`StripStack.split`); fewer than twice as many strips
+are not split."""
 
 
 @lru_cache(maxsize=16)
@@ -175,12 +176,13 @@ def ratio_constants(ratio: float, poisson_ratio: float, strips: int) -> tuple[tu
 
 def stiffening(shape: np.ndarray, load_weights: np.ndarray) -> np.ndarray:
     """The gain K ``(n, 1)`` of each scene's strips' modulus factor ``f(y) = K (1 - y^2/b^2)^(-gamma/2)`` [1] (rows
-    ``(n, S)``), ``gamma = (a/b) / (a/b + s)`` with ``s`` = :data:`STIFFENING_SCALE` (``shape``: the power, from
-    :func:`ratio_constants`), such that ``sum_j w_j a(y_j)^2 f_j = sum_j w_j a(y_j)^2`` (``load_weights``: the strips'
-    weights times ``a(y)^2``, the linear force's share of each strip), so that the strips keep Kalker's C11 and C22.  A
-    short strip has neighbours of similar traction over a width comparable to its length, so the half-space answers it
-    more stiffly than the 2D half-plane does; the effect grows with a/b and vanishes in the strip limit a/b -> 0, where
-    the strips are Carter's problems."""
+    ``(n, S)``), ``gamma = (a/b) / (a/b + s)`` with ``s`` = :data:`STIFFENING_SCALE` (``shape``: the power at the
+    strips' nodes, :func:`ratio_constants` or :meth:`StripStack.split`), such that
+    ``sum_j w_j a(y_j)^2 f_j = sum_j w_j a(y_j)^2`` (``load_weights``: the strips' weights times ``a(y)^2``, the
+    linear force's share of each strip), so that the strips keep Kalker's C11 and C22.  A short strip has neighbours
+    of similar traction over a width comparable to its length, so the half-space answers it more stiffly than the 2D
+    half-plane does; the effect grows with a/b and vanishes in the strip limit a/b -> 0, where the strips are Carter's
+    problems."""
     return (np.sum(load_weights, axis=1) / dots(load_weights, shape))[:, None]
 
 
@@ -334,13 +336,6 @@ def stacked(scenes, strips: int, steps: int, fields: bool) -> list[EllipticResul
     return results
 
 
-def flags(rows) -> tuple[bool, bool]:
-    """``(usual, deep)`` of the scenes' rows (:class:`StripStack`): whether every scene has ``|psi| < 1`` and its
-    lateral creepage not against the spin (``psi eta >= 0``), and whether a scene has ``|psi| >= 1``."""
-    return (all(abs(row[10]) < 1.0 and row[10] * row[6] >= 0.0 for row in rows),
-            any(abs(row[10]) >= 1.0 for row in rows))
-
-
 def stick_shares(stack: StripStack, partial: np.ndarray) -> list[float]:
     """Each scene's share of its width [1] whose strips have a stick zone (the weights of those strips over 2b)."""
     return (dots(np.where(partial, stack.weights, 0.0), np.ones_like(stack.weights)) / (2.0 * stack.b[:, 0])).tolist()
@@ -403,7 +398,10 @@ class StripStack:
         self.rigid_x = xi - self.moment_ratio * phi * self.y
         self.X = self.rigid_x * self.modulus_x * self.scale
         self.Y = self.eta * self.modulus_y * self.scale
-        self.usual, self.deep = flags(rows)
+        self.usual = all(abs(row[10]) < 1.0 and row[10] * row[6] >= 0.0 for row in rows)
+        """Whether every scene has ``|psi| < 1`` and its lateral creepage not against the spin (``psi eta >= 0``)."""
+        self.deep = any(abs(row[10]) >= 1.0 for row in rows)
+        """Whether a scene has ``|psi| >= 1``."""
         self.share = None
         """Per strip, the share of its stick zone's traction the march keeps (:meth:`stick`, with ``deep``; else
         None: all of it)."""
