@@ -1,11 +1,13 @@
 """Synthetic patch gaps for the wheel/rail patch tests: a quadratic gap (Hertz's), two separate wells (a two-lobed
-patch), a longitudinal curvature that varies strongly across the patch, and their mirror images."""
+patch), a longitudinal curvature that varies strongly across the patch, a well beside a shelf (a flange root's), and
+their mirror images."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from rollcontact import EllipticScene
+from rollcontact import EllipticScene, Material
+from rollcontact.elliptic.hertz import hertz_ellipse
 from rollcontact.wheelrail.patch import PatchGap
 
 LOAD = 1e5
@@ -46,6 +48,20 @@ def varying_curvature(slope: float = 60.0, lateral: float = 3.0, longitudinal: f
     s = np.linspace(-15e-3, 15e-3, samples)
     h = lateral * s * s + 60.0 * np.abs(s) ** 3
     return PatchGap(s, h, longitudinal * np.maximum(1.0 + slope * s, 0.25))
+
+
+def shelf(height: float = 0.95, lateral: float = 24.0, longitudinal: float = 1.0, reach: float = 10e-3,
+          rise: float = 2.0, load: float = 8e4, samples: int = 1201) -> PatchGap:
+    """A well ``B s^2`` (B = ``lateral`` [1/m]) that flattens on one side into a shelf ``height`` times Hertz's
+    approach under ``load`` [N] above its bottom, ``d (1 - exp(-B s^2 / d))``, rising again ``rise (s - reach)^2``
+    beyond ``reach`` [m] (S1002's flange root on UIC60 under a heavy wheel): at Hertz's approach the rigid
+    interpenetration spans the shelf, the contact stays in the well (height near 1) or takes a second lobe on the
+    shelf's far end (lower shelves)."""
+    depth = height * hertz_ellipse(load, longitudinal, lateral, Material().contact_modulus).approach
+    s = np.linspace(-15e-3, 25e-3, samples)
+    h = np.where(s < 0.0, lateral * s * s, depth * -np.expm1(-lateral * s * s / depth)
+                 + rise * np.maximum(s - reach, 0.0) ** 2)
+    return PatchGap(s, h, np.full(s.size, longitudinal))
 
 
 def mirrored(gap: PatchGap) -> PatchGap:

@@ -2,8 +2,8 @@
 strips; tolerances measured at the default 24 strips and stated per quantity), its identities (load balance, the
 given-load and given-approach entry points inverse to each other, mirror symmetry, a start from a nearby solution
 giving the same solution, one at the same approach returned as it is) and general gaps: two separate
-interpenetration intervals, a curvature along x that varies across the patch, a gap sampled too narrowly, and the
-normal force of the Manchester wheel's flange patch continuous and increasing in the approach."""
+interpenetration intervals, a curvature along x that varies across the patch, a well beside a shelf, a gap sampled
+too narrowly, and the normal force of the Manchester wheel's flange patch continuous and increasing in the approach."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 import pytest
-from wheelrail_gaps import mirrored, quadratic, three_wells, two_wells, varying_curvature
+from wheelrail_gaps import mirrored, quadratic, shelf, three_wells, two_wells, varying_curvature
 
 from rollcontact import Material
 from rollcontact.wheelrail.methods.strip_normal import rigid_range, rigid_runs, strip_normal
@@ -161,18 +161,26 @@ def test_a_start_nearby_gives_the_same_solution(make):
     assert same is resumed, "a start at the same approach is the solution, returned as it is"
 
 
-@pytest.mark.parametrize("make, start", [(lambda: quadratic(0.5)[0], "hertz"), (varying_curvature, "hertz"),
-                                         (two_wells, "hertz"), (three_wells, "first pass")])
+PATHS = {"hertz": [("_hertzian", True)], "hertz, a lobe joined": [("_placements", True), ("_hertzian", True)],
+         "first pass": [("_hertzian", False), ("_from_first_pass", True)]}
+"""The starts of :func:`test_newton_alone_gives_the_fixed_points_solution`, as the calls return (inner first)."""
+
+
+@pytest.mark.parametrize("make, start, load", [
+    (lambda: quadratic(0.5)[0], "hertz", 3e4), (varying_curvature, "hertz", 3e4), (two_wells, "hertz", 3e4),
+    (shelf, "hertz", 8e4), (lambda: shelf(0.8), "hertz, a lobe joined", 8e4), (three_wells, "first pass", 3e4)])
 @pytest.mark.parametrize("given", ["normal_load", "approach"])
-def test_newton_alone_gives_the_fixed_points_solution(monkeypatch, make, start, given):
+def test_newton_alone_gives_the_fixed_points_solution(monkeypatch, make, start, load, given):
     """A gap whose rigid interpenetration at Hertz's approach is one run or two (two wells: two lobes) is solved by
-    Newton's method from Hertz's ellipse laid over them; three runs (three wells) by Newton's method from the first
-    pass's lobes; either without the fixed point, to its solution (the approach or the load within 1e-6, the loads
-    per width within 1e-5 of the largest)."""
+    Newton's method from Hertz's ellipse laid over their deepest parts (on a shelf beside a well the lobe stays in
+    the well, where the contact is; a lower shelf takes a second lobe at its far end, joined to Newton's solution
+    of the well by the placements); three runs (three wells) by Newton's method from the first pass's lobes; each
+    without the first pass's fixed point, to its solution (the approach or the load within 1e-6, the loads per
+    width within 1e-5 of the largest)."""
     import rollcontact.wheelrail.methods.strip_normal as module
 
     gap = make()
-    value = 3e4 if given == "normal_load" else strip_normal(gap, ESTAR, normal_load=3e4).approach
+    value = load if given == "normal_load" else strip_normal(gap, ESTAR, normal_load=load).approach
     taken = []
 
     def recorded(name):
@@ -188,8 +196,7 @@ def test_newton_alone_gives_the_fixed_points_solution(monkeypatch, make, start, 
         monkeypatch.setattr(module, name, recorded(name))
     direct = strip_normal(gap, ESTAR, **{given: value})
     assert direct.converged, direct.message
-    expected = [("_hertzian", True)] if start == "hertz" else [("_hertzian", False), ("_from_first_pass", True)]
-    assert taken == expected, f"the paths taken: {taken}"
+    assert taken == PATHS[start], f"the paths taken: {taken}"
     monkeypatch.setattr(module, "_hertzian", lambda *a: None)
     monkeypatch.setattr(module, "_from_first_pass", lambda *a: None)
     by_fixed_point = strip_normal(gap, ESTAR, **{given: value})

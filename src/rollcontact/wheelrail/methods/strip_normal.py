@@ -37,16 +37,18 @@ lobes are laid again over its runs of strips in contact (their edges extrapolate
 (I), (II) and the edge conditions for e, q and every lobe's M and R finishes (:func:`_polish`).  Where the surfaces then
 interpenetrate outside the lobes at a sample of the gap, a lobe joins there and the passes go on
 (:func:`_penetrating`).  From a nearby solution (``start``) Newton's method alone finishes (:func:`_resumed`); without
-one, Newton's method first starts from Hertz's ellipse at the gap's deepest sample laid over the one or two runs of
-the rigid interpenetration at its approach (:func:`_hertzian`), then from the first pass's lobes
-(:func:`_from_first_pass`), and the fixed point runs where neither takes.  For a given load the approach follows from
+one, Newton's method first starts from Hertz's ellipse at the gap's deepest sample laid over the deepest part of the
+one or two runs of the rigid interpenetration at its approach (:func:`_hertzian`), then from the first pass's lobes
+(:func:`_from_first_pass`), and the fixed point runs where neither takes.  Where Newton's method takes from a start but
+the surfaces then interpenetrate outside its lobes, the placements go on from its solution with a lobe joined there
+(:func:`_newton_alone`).  For a given load the approach follows from
 ``Fn`` with (I), which is linear in it.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -407,22 +409,24 @@ def _first_guess(s, h, curvature, estar, normal_load) -> float:
 def _hertzian(s, h, curvature, estar, approach, normal_load, count) -> StripContact | None:
     """Newton's method (:func:`_polish`) from Hertz's ellipse at the gap's deepest sample (:func:`_deepest_ellipse`)
     on the runs of the gap's rigid interpenetration at Hertz's approach delta (:func:`rigid_runs`), one lobe of
-    ``count`` strips on each: centred on its run, its half-width R the run's in the ratio of Hertz's b to the local
-    quadratic's ``sqrt(delta / B)`` (R = b on a quadratic gap, wider on a flatter one), ``e = p0 a (1 - u^2) (b / R)
-    (d / delta)`` (Hertz's load over the lobe, d the run's deepest interpenetration) and ``q = p0 / a`` on its strips
-    (u their place across it, -1..1), Hertz's approach.  None where there are more than two runs, where Newton's
-    method does not take, or where the surfaces then interpenetrate outside the lobes (:func:`_penetrating`: another
-    lobe): the passes find the lobes."""
+    ``count`` strips over the deepest part of each: where the gap lies within ``k = min(1, b^2 B / delta)`` of the
+    run's depth above its deepest sample, ``h < h_min + k (delta - h_min)`` (on a quadratic gap ``h = B s^2`` that is
+    Hertz's ``|s| < b``; where the gap flattens into a shelf near the approach, the lobe stays off the shelf, which the
+    rigid run spans), ``e = p0 a (1 - u^2) (b / R) (d / delta)`` (Hertz's load over the lobe, R its half-width, d its
+    deepest interpenetration) and ``q = p0 / a`` on its strips (u their place across it, -1..1), Hertz's approach.
+    None where that gives no lobe or more than two, or where Newton's method does not take (:func:`_newton_alone`):
+    the passes find the lobes."""
     _, ellipse, lateral = _deepest_ellipse(s, h, curvature, estar, normal_load, approach)
     if not all(0.0 < v < math.inf for v in (ellipse.a, ellipse.b, ellipse.approach, ellipse.max_pressure)):
         return None  # a load at the ends of floating point: the passes say what they make of it
     depth = ellipse.approach if approach is None else approach
-    runs = rigid_runs(s, h, depth)
+    share = min(1.0, ellipse.b * ellipse.b * lateral / depth)
+    runs = [inner for lo, hi, least in rigid_runs(s, h, depth)
+            for inner in rigid_runs(s, h, least + share * (depth - least)) if lo <= inner[0] and inner[1] <= hi]
     if not 0 < len(runs) <= 2:
         return None
-    ratio = ellipse.b / math.sqrt(depth / lateral)
     across = _unit_strips(count)[0]
-    radii = [0.5 * ratio * (hi - lo) for lo, hi, _ in runs]
+    radii = [0.5 * (hi - lo) for lo, hi, _ in runs]
     e = [ellipse.max_pressure * ellipse.a * (1.0 - across * across) * (ellipse.b / radius) * ((depth - least) / depth)
          for (_, _, least), radius in zip(runs, radii, strict=True)]
     return _newton_alone(np.array([0.5 * (lo + hi) for lo, hi, _ in runs]), np.array(radii), count, s, h, curvature,
@@ -432,17 +436,27 @@ def _hertzian(s, h, curvature, estar, approach, normal_load, count) -> StripCont
 
 def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, normal_load, delta, e, q):
     """Newton's method (:func:`_polish`) from the lobes ``(middle, radius)`` of ``count`` strips each with ``e`` and
-    ``q`` on them and the approach ``delta``: the solution, or None where it does not take or the surfaces then
-    interpenetrate outside the lobes (:func:`_penetrating`)."""
+    ``q`` on them and the approach ``delta``: the solution; where the surfaces then interpenetrate outside the lobes
+    (:func:`_penetrating`), the placements (:func:`_placements`) from this solution with a lobe joined over each such
+    range.  None where Newton's method does not take, or the placements fail (the caller's next start goes on)."""
     unit = _unit_strips(count)
     sampled = _SampledGap(s, h, curvature)
     polished = _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, e, q)
     if polished is None:
         return None
     middle, radius, delta, e, q, used, steps = polished
-    if _penetrating(middle, radius, unit, s, h, e, q, delta, estar):
+    missed = _penetrating(middle, radius, unit, s, h, e, q, delta, estar)
+    if not missed:
+        return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged")
+    centres, lower, upper = _placed(middle, radius, unit)
+    prior = centres, lower, upper, e, q, sampled.at(centres)[2], middle.size
+    lobes = zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True)
+    try:
+        joined = _placements(s, h, curvature, estar, approach, normal_load, delta, _lobes(sorted([*lobes, *missed])),
+                             prior, count)
+    except _Failure:
         return None
-    return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged")
+    return replace(joined, iterations=joined.iterations + used)
 
 
 def _first_pass(s, h, curvature, estar, approach, normal_load):
@@ -506,9 +520,8 @@ def _from_first_pass(s, h, curvature, estar, approach, normal_load, delta, first
     """Newton's method (:func:`_polish`) from the first pass ``first`` (:func:`_first_pass`): a lobe of ``count``
     strips over each of its runs of strips in contact, its edges extrapolated to zero load per width
     (:func:`_relaid`), e and q carried over (:func:`_carried`).  None where the lobes leave the gap's sampling, a
-    strip would start without load, Newton's method does not take or the surfaces then interpenetrate outside the
-    lobes (:func:`_newton_alone`), or its arithmetic leaves floating point (a load or approach at its ends): the
-    placements' fixed point finds the lobes, or says why not."""
+    strip would start without load, Newton's method does not take (:func:`_newton_alone`), or its arithmetic leaves
+    floating point (a load or approach at its ends): the placements' fixed point finds the lobes, or says why not."""
     middle, radius = _relaid(*first[:4], 1)
     centres, lower, upper = _placed(middle, radius, _unit_strips(count))
     if lower[0] <= s[0] or upper[-1] >= s[-1]:
@@ -906,8 +919,8 @@ def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> Str
     """Newton's method from the solution ``start`` (:func:`strip_normal`): its lobes' half-widths scaled by
     ``sqrt(r)``, e by r and the approach by r, ``r = delta / delta_start`` (for a given load ``(Fn / Fn_start)^(2/3)``),
     as Hertz's contact scales (``start`` itself where r is 1 to :data:`FIXED_POINT_TOLERANCE`, the tolerance it is
-    solved to); None where ``start`` has no lobes of ``count`` strips all in contact, where Newton's
-    method does not take or where the surfaces interpenetrate outside the lobes (:func:`_penetrating`)."""
+    solved to); None where ``start`` has no lobes of ``count`` strips all in contact or where Newton's method does
+    not take (:func:`_newton_alone`)."""
     lobes = len(start.lobes)
     if not (start.converged and lobes and start.centres.size == lobes * (count + 1) - 1 and start.approach > 0.0
             and start.normal_load > 0.0):
