@@ -16,6 +16,9 @@ B. Per level, the median and largest time per wheelset (both wheels), in process
    (a noisy machine's outliers).
 C. The discretised level's patches per position: contact angle, rolling radius, normal force, peak pressure, force
    coefficients, the patch count (the jumps of the contact point).
+D. How the strips' normal solutions were reached (``normal_start`` of their patch results: Newton's method from
+   Hertz's ellipse, from the first pass, from a start, with a lobe joined, or the placements) at the scene's loads and
+   at :data:`HEAVY` times them, counted over the positions' patches.
 
 The figure shows the discretised pressure of the right wheel's patch centred, near the flange root and in flange
 contact.
@@ -24,6 +27,7 @@ contact.
 from __future__ import annotations
 
 import argparse
+import collections
 import math
 import statistics
 import time
@@ -41,6 +45,10 @@ SCENES = {False: ROOT / "models" / "wheelrail" / "manchester_a22.toml",
 LEVELS = ("strips", "hertz")
 ROUNDS = 3
 """Rounds of the timing (section B)."""
+HEAVY = 8.0
+"""Load factor of section D's heavy wheels: 80 kN on the scene's 10 kN, the axle of
+``benchmarks/bench_wheelset_contact.py``, where the gap towards the flange root flattens into a shelf near the
+approach."""
 SHAPES = (1, 11, 15)
 """Cases whose right-wheel pressure the figure shows: centred, near the flange root, in flange contact."""
 
@@ -147,8 +155,34 @@ def main():
                       f"{p.point.rolling_radius:.5f} | {p.result.normal_load:.0f} | "
                       f"{p.result.max_pressure / 1e6:.0f} | "
                       f"{fx:.3f} | {fy:.3f} | {mz:.3f} |")
+    starts_section(cases)
     if not args.quick:
         figure(cases, args.dry)
+
+
+def starts_section(cases) -> None:
+    """Section D: the strips' patches counted by ``normal_start``, at the scene's loads and at :data:`HEAVY` times
+    them."""
+    counts = {}
+    for factor in (1.0, HEAVY):
+        counted = collections.Counter()
+        for _, scene in cases:
+            loaded = scene.replace(vertical_load_left=factor * scene.vertical_load_left,
+                                   vertical_load_right=factor * scene.vertical_load_right)
+            result = solve(loaded, "strips")
+            for wheel in result.wheels:
+                counted.update(p.result.info.get("normal_start", "") or "(none)" for p in wheel.patches)
+        counts[factor] = counted
+    names = sorted(set().union(*counts.values()))
+    print("\n## D. How the strips' normal solutions were reached (patches of all positions)\n")
+    print("| loads | " + " | ".join(names) + " |")
+    print("|---|" + "---:|" * len(names))
+    for factor, counted in counts.items():
+        print(f"| {factor:g} x the scene's | " + " | ".join(str(counted[n]) for n in names) + " |")
+    print("\nhertz: Newton's method from Hertz's ellipse over the deepest part of each rigid run; first pass: from the "
+          "first pass's lobes; resumed: from the wheel's previous normal solution (its second pass); lobe joined: the "
+          "placements went on from that solution with a lobe where the surfaces still interpenetrated; placements: "
+          "the fixed point on the first pass's lobes, then Newton's method.")
 
 
 def figure(cases, dry: bool) -> None:

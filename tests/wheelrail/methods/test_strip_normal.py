@@ -157,18 +157,20 @@ def test_a_start_nearby_gives_the_same_solution(make):
     assert math.isclose(resumed.approach, fresh.approach, rel_tol=1e-6), \
         f"approach {resumed.approach!r} m from the start, {fresh.approach!r} m afresh"
     assert len(resumed.newton_steps) <= len(fresh.newton_steps), "the start saves none of Newton's steps"
+    assert resumed.start == "resumed", f"the solution says it started from {resumed.start!r}"
     same = strip_normal(gap, ESTAR, approach=resumed.approach, start=resumed)
     assert same is resumed, "a start at the same approach is the solution, returned as it is"
 
 
-PATHS = {"hertz": [("_hertzian", True)], "hertz, a lobe joined": [("_placements", True), ("_hertzian", True)],
+PATHS = {"hertz": [("_hertzian", True)], "hertz, lobe joined": [("_placements", True), ("_hertzian", True)],
          "first pass": [("_hertzian", False), ("_from_first_pass", True)]}
-"""The starts of :func:`test_newton_alone_gives_the_fixed_points_solution`, as the calls return (inner first)."""
+"""The starts of :func:`test_newton_alone_gives_the_fixed_points_solution` (``StripContact.start``) and the calls
+that take them, as they return (inner first)."""
 
 
 @pytest.mark.parametrize("make, start, load", [
     (lambda: quadratic(0.5)[0], "hertz", 3e4), (varying_curvature, "hertz", 3e4), (two_wells, "hertz", 3e4),
-    (shelf, "hertz", 8e4), (lambda: shelf(0.8), "hertz, a lobe joined", 8e4), (three_wells, "first pass", 3e4)])
+    (shelf, "hertz", 8e4), (lambda: shelf(0.8), "hertz, lobe joined", 8e4), (three_wells, "first pass", 3e4)])
 @pytest.mark.parametrize("given", ["normal_load", "approach"])
 def test_newton_alone_gives_the_fixed_points_solution(monkeypatch, make, start, load, given):
     """A gap whose rigid interpenetration at Hertz's approach is one run or two (two wells: two lobes) is solved by
@@ -197,10 +199,12 @@ def test_newton_alone_gives_the_fixed_points_solution(monkeypatch, make, start, 
     direct = strip_normal(gap, ESTAR, **{given: value})
     assert direct.converged, direct.message
     assert taken == PATHS[start], f"the paths taken: {taken}"
+    assert direct.start == start, f"the solution says it started from {direct.start!r}"
     monkeypatch.setattr(module, "_hertzian", lambda *a: None)
     monkeypatch.setattr(module, "_from_first_pass", lambda *a: None)
     by_fixed_point = strip_normal(gap, ESTAR, **{given: value})
     assert by_fixed_point.converged, by_fixed_point.message
+    assert by_fixed_point.start == "placements", f"the passes say they started from {by_fixed_point.start!r}"
     for name in ("approach", "normal_load"):
         assert math.isclose(getattr(direct, name), getattr(by_fixed_point, name), rel_tol=1e-6), \
             f"{name}: {getattr(direct, name)!r} by Newton alone, {getattr(by_fixed_point, name)!r} by the fixed point"

@@ -150,6 +150,12 @@ class StripContact:
     lobes : tuple of (float, float)
         The lateral edges [m] of each lobe, over which its strips are placed (consecutive in the arrays, a strip out
         of contact between lobes); empty where there are none.
+    start : str
+        How the solution was reached (module docstring): ``"resumed"`` (Newton's method from a given start),
+        ``"hertz"`` (from Hertz's ellipse), ``"first pass"`` (from the first pass's lobes), each with ``", lobe
+        joined"`` where the placements went on from it with a lobe joined, or ``"placements"`` (the placements' fixed
+        point and Newton's method), ``"fixed point"`` (the fixed point alone); a given start returned as it is keeps
+        its own; empty without contact.
     """
 
     centres: np.ndarray
@@ -166,6 +172,7 @@ class StripContact:
     iterations: int
     newton_steps: tuple = ()
     lobes: tuple = ()
+    start: str = ""
 
     @property
     def contact(self) -> np.ndarray:
@@ -431,14 +438,15 @@ def _hertzian(s, h, curvature, estar, approach, normal_load, count) -> StripCont
          for (_, _, least), radius in zip(runs, radii, strict=True)]
     return _newton_alone(np.array([0.5 * (lo + hi) for lo, hi, _ in runs]), np.array(radii), count, s, h, curvature,
                          estar, approach, normal_load, depth, np.concatenate(e),
-                         np.full(count * len(runs), ellipse.max_pressure / ellipse.a))
+                         np.full(count * len(runs), ellipse.max_pressure / ellipse.a), "hertz")
 
 
-def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, normal_load, delta, e, q):
+def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, normal_load, delta, e, q, start):
     """Newton's method (:func:`_polish`) from the lobes ``(middle, radius)`` of ``count`` strips each with ``e`` and
     ``q`` on them and the approach ``delta``: the solution; where the surfaces then interpenetrate outside the lobes
     (:func:`_penetrating`), the placements (:func:`_placements`) from this solution with a lobe joined over each such
-    range.  None where Newton's method does not take, or the placements fail (the caller's next start goes on)."""
+    range.  None where Newton's method does not take, or the placements fail (the caller's next start goes on).
+    ``start`` names the start (:attr:`StripContact.start`)."""
     unit = _unit_strips(count)
     sampled = _SampledGap(s, h, curvature)
     polished = _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, e, q)
@@ -447,7 +455,7 @@ def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, norma
     middle, radius, delta, e, q, used, steps = polished
     missed = _penetrating(middle, radius, unit, s, h, e, q, delta, estar)
     if not missed:
-        return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged")
+        return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged", start)
     centres, lower, upper = _placed(middle, radius, unit)
     prior = centres, lower, upper, e, q, sampled.at(centres)[2], middle.size
     lobes = zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True)
@@ -456,7 +464,7 @@ def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, norma
                              prior, count)
     except _Failure:
         return None
-    return replace(joined, iterations=joined.iterations + used)
+    return replace(joined, iterations=joined.iterations + used, start=f"{start}, lobe joined")
 
 
 def _first_pass(s, h, curvature, estar, approach, normal_load):
@@ -531,7 +539,8 @@ def _from_first_pass(s, h, curvature, estar, approach, normal_load, delta, first
         return None
     try:
         with np.errstate(over="raise", divide="raise", invalid="raise"):
-            return _newton_alone(middle, radius, count, s, h, curvature, estar, approach, normal_load, delta, e, q)
+            return _newton_alone(middle, radius, count, s, h, curvature, estar, approach, normal_load, delta, e, q,
+                                 "first pass")
     except FloatingPointError:  # a contact at the ends of floating point: the fixed point says what it makes of it
         return None
 
@@ -895,8 +904,9 @@ def _room(values: np.ndarray, change: np.ndarray) -> float:
     return -float((values[falling] / change[falling]).max()) if np.count_nonzero(falling) else math.inf
 
 
-def _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, message) -> StripContact:
-    """The solution on the lobes' strips, a strip out of contact spanning each gap between lobes."""
+def _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, message, start) -> StripContact:
+    """The solution on the lobes' strips, a strip out of contact spanning each gap between lobes (``start``:
+    :attr:`StripContact.start`)."""
     centres, lower, upper = _placed(middle, radius, unit)
     count = unit[0].size
     if middle.size > 1:
@@ -912,7 +922,7 @@ def _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, mess
     load = 0.5 * math.pi * float((upper - lower) @ e)
     lobes = tuple(zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True))
     return StripContact(centres, lower, upper, half, peak, gaps, curv, float(delta), load, True, message, iterations,
-                        steps, lobes)
+                        steps, lobes, start)
 
 
 def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> StripContact | None:
@@ -935,7 +945,7 @@ def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> Str
         return start
     low, high = np.array(start.lobes).T
     return _newton_alone(0.5 * (low + high), 0.5 * (high - low) * math.sqrt(ratio), count, s, h, curvature, estar,
-                         approach, normal_load, start.approach * ratio, peak * half * ratio, peak / half)
+                         approach, normal_load, start.approach * ratio, peak * half * ratio, peak / half, "resumed")
 
 
 def _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, start, count) -> StripContact:
@@ -962,7 +972,8 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, sta
         e, q = np.where(active, e, 0.0), np.where(active, q, 0.0)
         if tolerance == FIXED_POINT_TOLERANCE:  # Newton's method never took: the fixed point's own solution
             return _contact(middle, radius, unit, sampled, e, q, delta, iterations, (),
-                            "converged by the fixed point alone (Newton's method on the lobes' edges did not take)")
+                            "converged by the fixed point alone (Newton's method on the lobes' edges did not take)",
+                            "fixed point")
         prior = centres, lower, upper, e, q, curv, middle.size
         middle, radius = _relaid(centres, lower, upper, e, middle.size)
         centres, lower, upper = _placed(middle, radius, unit)
@@ -979,7 +990,7 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, sta
         iterations += used
         missed = _penetrating(middle, radius, unit, s, h, e, q, delta, estar)
         if not missed:
-            return _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, "converged")
+            return _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, "converged", "placements")
         # the surfaces interpenetrate outside the lobes: a lobe the passes missed joins them
         centres, lower, upper = _placed(middle, radius, unit)
         prior = centres, lower, upper, e, q, sampled.at(centres)[2], middle.size
@@ -1044,4 +1055,4 @@ def refined(contact: StripContact, gap: PatchGap, count: int) -> StripContact:
     half = np.sqrt(load / q)
     return StripContact(centres, lower, upper, half, q * half, np.interp(centres, s, h), curv, contact.approach,
                         contact.normal_load, contact.converged, contact.message, contact.iterations,
-                        contact.newton_steps)
+                        contact.newton_steps, start=contact.start)

@@ -79,7 +79,9 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
         ``info``: ``strips_in_contact``, ``lobes`` (runs of strips in contact), ``equivalent_ratios`` (each lobe's
         a/b), ``outside_table`` (a lobe's a/b beyond Kalker's rows, its coefficients those of the rows beyond them,
         :func:`~rollcontact.elliptic.creep_coefficients.extended_creepage_coefficients`), ``normal_iterations``,
-        ``error_estimate``, ``normal_error_estimate``, ``pressure_error_estimate``.
+        ``normal_start`` (how the normal solution was reached,
+        :attr:`~rollcontact.wheelrail.methods.strip_normal.StripContact.start`), ``error_estimate``,
+        ``normal_error_estimate``, ``pressure_error_estimate``.
 
     Raises
     ------
@@ -109,7 +111,7 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
     area = 2.0 * float(contact.widths @ contact.half_lengths)
     info = {"strips_in_contact": int(contact.contact.sum()), "lobes": len(lobes.runs),
             "equivalent_ratios": tuple(lobes.ratios), "outside_table": any(lobes.clamped),
-            "normal_iterations": contact.iterations}
+            "normal_iterations": contact.iterations, "normal_start": contact.start}
     accuracy = PatchStripsAccuracy()
     info.update(accuracy.estimates(scene, lobes, contact))
     return PatchResult("strips", True, "strips", contact.normal_load, contact.approach, contact.max_pressure,
