@@ -39,9 +39,9 @@ interpenetrate outside the lobes at a sample of the gap, a lobe joins there and 
 (:func:`_penetrating`).  From a nearby solution (``start``) Newton's method alone finishes (:func:`_resumed`); without
 one, Newton's method first starts from Hertz's ellipse at the gap's deepest sample laid over the deepest part of the
 one or two runs of the rigid interpenetration at its approach (:func:`_hertzian`), then from the first pass's lobes
-(:func:`_from_first_pass`), and the fixed point runs where neither takes.  Where Newton's method takes from a start but
-the surfaces then interpenetrate outside its lobes, the placements go on from its solution with a lobe joined there
-(:func:`_newton_alone`).  For a given load the approach follows from
+(:func:`_from_first_pass`), and the fixed point runs where neither takes.  Where Newton's method takes from Hertz's
+ellipse but the surfaces then interpenetrate outside its lobes, the placements go on from its solution with a lobe
+joined there (:func:`_newton_alone`).  For a given load the approach follows from
 ``Fn`` with (I), which is linear in it.
 """
 
@@ -152,10 +152,10 @@ class StripContact:
         of contact between lobes); empty where there are none.
     start : str
         How the solution was reached (module docstring): ``"resumed"`` (Newton's method from a given start),
-        ``"hertz"`` (from Hertz's ellipse), ``"first pass"`` (from the first pass's lobes), each with ``", lobe
-        joined"`` where the placements went on from it with a lobe joined, or ``"placements"`` (the placements' fixed
-        point and Newton's method), ``"fixed point"`` (the fixed point alone); a given start returned as it is keeps
-        its own; empty without contact.
+        ``"hertz"`` (from Hertz's ellipse), ``"hertz, lobe joined"`` (the placements went on from that solution with
+        a lobe joined), ``"first pass"`` (from the first pass's lobes), ``"placements"`` (the placements' fixed point
+        and Newton's method), ``"fixed point"`` (the fixed point alone); a given start returned as it is keeps its
+        own; empty without contact.
     """
 
     centres: np.ndarray
@@ -445,8 +445,10 @@ def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, norma
     """Newton's method (:func:`_polish`) from the lobes ``(middle, radius)`` of ``count`` strips each with ``e`` and
     ``q`` on them and the approach ``delta``: the solution; where the surfaces then interpenetrate outside the lobes
     (:func:`_penetrating`), the placements (:func:`_placements`) from this solution with a lobe joined over each such
-    range.  None where Newton's method does not take, or the placements fail (the caller's next start goes on).
-    ``start`` names the start (:attr:`StripContact.start`)."""
+    range where ``start`` (:attr:`StripContact.start`) is Hertz's ellipse (after the other starts the cold passes,
+    and then the placements from the first pass, run anyway: a solve runs the placements at most twice).  None where
+    Newton's method does not take, the surfaces interpenetrate after another start, or the placements fail (the
+    caller's next start goes on)."""
     unit = _unit_strips(count)
     sampled = _SampledGap(s, h, curvature)
     polished = _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, e, q)
@@ -456,6 +458,8 @@ def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, norma
     missed = _penetrating(middle, radius, unit, s, h, e, q, delta, estar)
     if not missed:
         return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged", start)
+    if start != "hertz":
+        return None
     centres, lower, upper = _placed(middle, radius, unit)
     prior = centres, lower, upper, e, q, sampled.at(centres)[2], middle.size
     lobes = zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True)
@@ -528,8 +532,9 @@ def _from_first_pass(s, h, curvature, estar, approach, normal_load, delta, first
     """Newton's method (:func:`_polish`) from the first pass ``first`` (:func:`_first_pass`): a lobe of ``count``
     strips over each of its runs of strips in contact, its edges extrapolated to zero load per width
     (:func:`_relaid`), e and q carried over (:func:`_carried`).  None where the lobes leave the gap's sampling, a
-    strip would start without load, Newton's method does not take (:func:`_newton_alone`), or its arithmetic leaves
-    floating point (a load or approach at its ends): the placements' fixed point finds the lobes, or says why not."""
+    strip would start without load, Newton's method does not take or the surfaces then interpenetrate outside the
+    lobes (:func:`_newton_alone`), or its arithmetic leaves floating point (a load or approach at its ends): the
+    placements' fixed point finds the lobes, or says why not."""
     middle, radius = _relaid(*first[:4], 1)
     centres, lower, upper = _placed(middle, radius, _unit_strips(count))
     if lower[0] <= s[0] or upper[-1] >= s[-1]:
@@ -929,8 +934,8 @@ def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> Str
     """Newton's method from the solution ``start`` (:func:`strip_normal`): its lobes' half-widths scaled by
     ``sqrt(r)``, e by r and the approach by r, ``r = delta / delta_start`` (for a given load ``(Fn / Fn_start)^(2/3)``),
     as Hertz's contact scales (``start`` itself where r is 1 to :data:`FIXED_POINT_TOLERANCE`, the tolerance it is
-    solved to); None where ``start`` has no lobes of ``count`` strips all in contact or where Newton's method does
-    not take (:func:`_newton_alone`)."""
+    solved to); None where ``start`` has no lobes of ``count`` strips all in contact, where Newton's method does not
+    take or where the surfaces then interpenetrate outside the lobes (:func:`_newton_alone`)."""
     lobes = len(start.lobes)
     if not (start.converged and lobes and start.centres.size == lobes * (count + 1) - 1 and start.approach > 0.0
             and start.normal_load > 0.0):
