@@ -1,6 +1,8 @@
 """The wheels around their patch level: a wheel at the strips level carries its vertical load, tangential forces
 included, to the passes' tolerance where its patch is in flange-root contact; a wheel of one patch solved for its
-force at once gives the vertical balance's answer; the first pass's predicted share of the load is the tread's."""
+force at once gives the vertical balance's answer; the first pass's predicted share of the load is the tread's; a
+solve started from the normal solutions of the same geometry gives the fresh answer, and starts of other gaps are
+not taken."""
 
 from __future__ import annotations
 
@@ -106,3 +108,56 @@ def test_a_share_beyond_floating_point_is_none(track, wheelset):
     point = ordinary.contacts[1].points[0]
     share = predicted_ratio(ordinary, point, 5e-324)  # mu N underflows to 0: u infinite, no division by zero
     assert math.isfinite(share) and abs(share) <= 0.3 * math.sin(point.contact_angle), f"share {share!r} at 5e-324 N"
+
+
+STARTS_AGREEMENT = 2e-6
+"""Relative difference of the patches' normal forces and force coefficients (over mu N) between a wheel solved from
+the normal solutions of a scene of nearby velocities (``starts``) and one solved afresh: both solve each normal
+problem to 1e-6 (``FIXED_POINT_TOLERANCE``); a start within it of its load is taken as it is."""
+
+
+@pytest.mark.parametrize(("level", "shift"), [(strips.LEVEL, s) for s in (0.0, 6.5e-3, 9e-3)]
+                         + [(discretised.LEVEL, 6.5e-3)], ids=lambda v: getattr(v, "name", v))
+def test_starts_of_the_same_geometry_give_the_fresh_answer(monkeypatch, track, wheelset, level, shift):
+    """A scene of other velocities on the same geometry (``with_velocities``) solved from a solve's normal solutions
+    carries the fresh solve's forces to the tolerance; the strips' normal problems are then taken as they are or
+    resumed (each pass from the start's same pass), never started afresh from Hertz's ellipse."""
+    import rollcontact.wheelrail.methods.strip_normal as normal_module
+
+    base = WheelRailScene(track, wheelset, lateral_shift=shift, yaw=2e-4 * shift / 1e-3, vertical_load_left=8e4,
+                          vertical_load_right=8e4, forward_speed=30.0, yaw_rate=0.01, friction=0.3)
+    first = solve_wheels(base, level)
+    moved = base.with_velocities(lateral_velocity=1e-5 * 30.0, yaw_rate=0.01 + 1e-5)
+    fresh = solve_wheels(moved, level)
+    afresh = []
+    hertzian = normal_module._hertzian
+    monkeypatch.setattr(normal_module, "_hertzian", lambda *a: afresh.append(a[5]) or hertzian(*a))
+    started = solve_wheels(moved, level, starts=first)
+    monkeypatch.undo()
+    if level is strips.LEVEL:
+        assert not afresh, f"normal problems started afresh at the loads {afresh} N"
+    assert first.success and started.success and fresh.success, (first.message, started.message, fresh.message)
+    assert all(len(w.normal_states) == len(c.patches) for w, c in zip(first.wheels, base.contacts, strict=True)), \
+        "a normal state per patch of each wheel's contact"
+    for wheel, reference in zip(started.wheels, fresh.wheels, strict=True):
+        assert len(wheel.patches) == len(reference.patches), f"{wheel.side}: the same patches"
+        for p, q in zip(wheel.patches, reference.patches, strict=True):
+            p, q = p.result, q.result
+            scale = q.friction_coefficient * q.normal_load
+            for name, a, b in (("N", p.normal_load / q.normal_load, 1.0),
+                               ("Fx", p.longitudinal_force / scale, q.longitudinal_force / scale),
+                               ("Fy", p.lateral_force / scale, q.lateral_force / scale)):
+                assert abs(a - b) < STARTS_AGREEMENT, f"shift {shift} m, {wheel.side} wheel: {name} {a!r} against {b!r}"
+
+
+def test_starts_of_other_geometry_are_not_taken(track, wheelset):
+    """Normal solutions of another pose (other gaps) start nothing: the solve is the fresh one, bit for bit; a start
+    that is not a wheel/rail result is refused."""
+    scene = WheelRailScene(track, wheelset, lateral_shift=6.5e-3, yaw=1.3e-3, vertical_load_left=8e4,
+                           vertical_load_right=8e4, forward_speed=30.0, yaw_rate=0.01, friction=0.3)
+    other = solve_wheels(scene.replace(lateral_shift=6.5e-3 + 1e-6), strips.LEVEL)
+    started, fresh = solve_wheels(scene, strips.LEVEL, starts=other), solve_wheels(scene, strips.LEVEL)
+    for wheel, reference in zip(started.wheels, fresh.wheels, strict=True):
+        assert wheel.force == reference.force, f"{wheel.side}: {wheel.force} against {reference.force}"
+    with pytest.raises(TypeError, match="starts must be a WheelRailResult"):
+        solve_wheels(scene, strips.LEVEL, starts=other.wheels)

@@ -61,7 +61,9 @@ def solve(scene: WheelRailScene, method: str = "auto", *, tolerance: float | Non
     budget : float, optional
         The work [s] the solve may do, in the accuracy models' modelled seconds (no clock is read).
     **options
-        Passed to the level (``elliptic`` for ``"hertz"``; the patch level's options for the others).
+        Passed to the level (``elliptic`` for ``"hertz"``; the patch level's options for the others, and ``starts``:
+        a result of the same level on the same geometry whose normal solutions this solve's start from,
+        :func:`~rollcontact.wheelrail.wheels.solve_wheels`).
 
     Returns
     -------

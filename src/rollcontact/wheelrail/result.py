@@ -132,6 +132,12 @@ class WheelResult:
         (Fx, Fy, Fz) [N], the patches' track forces summed; Fz is the vertical force it carries.
     message : str
         The state of contact.
+    normal_states : tuple of (PatchGap, tuple)
+        Per patch of the wheel's contact (in the order of its ``patches`` at the scene's pose,
+        :class:`~rollcontact.wheelrail.search.WheelContact`), its gap and what the patch level kept of its normal
+        solution after each pass (None where the patch carried nothing): what a solve on the same gaps starts from
+        (``starts`` of :func:`~rollcontact.wheelrail.wheels.solve_wheels`); empty where the level keeps none
+        (Hertz's) or the wheel carries no load or fails.
     """
 
     side: str
@@ -140,6 +146,7 @@ class WheelResult:
     vertical_displacement: float
     force: tuple
     message: str
+    normal_states: tuple = field(default=(), repr=False)
 
     @property
     def in_contact(self) -> bool:

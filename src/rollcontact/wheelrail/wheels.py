@@ -200,11 +200,23 @@ def predicted_ratio(scene: WheelRailScene, point, force: float) -> float:
     return share if math.isfinite(share) else 0.0
 
 
-def solve_wheels(scene: WheelRailScene, level: PatchLevel, **options) -> WheelRailResult:
-    """Both wheels of the scene with the patch level ``level`` (module docstring); ``options`` go to its solve."""
+def solve_wheels(scene: WheelRailScene, level: PatchLevel, starts: WheelRailResult | None = None,
+                 **options) -> WheelRailResult:
+    """Both wheels of the scene with the patch level ``level`` (module docstring); ``options`` go to its solve.
+
+    ``starts``: a result of this level whose patches' normal solutions start this solve's (each wheel's
+    :attr:`~rollcontact.wheelrail.result.WheelResult.normal_states`), patch by patch where the patch's gap is the
+    very one it was solved on, each pass from the same pass of the start: a scene of other velocities on the same
+    geometry (:meth:`~rollcontact.wheelrail.scene.WheelRailScene.with_velocities`, which shares the contacts),
+    whose normal problems differ only by the tangential forces' share of the load.  The solution is the level's to
+    its tolerance from either start (a normal solution within the tolerance of the load it is asked for is taken as
+    it is); a stepping model's differences in the velocities take the step's own."""
+    if starts is not None and not isinstance(starts, WheelRailResult):
+        raise TypeError(f"starts must be a WheelRailResult, got {type(starts).__name__}")
     wheels, failures, estimates = [], [], []
-    for contact, hertz in zip(scene.contacts, scene.hertz, strict=True):
-        wheel, problems, estimate = solve_wheel(scene, contact, hertz, level, options)
+    for k, (contact, hertz) in enumerate(zip(scene.contacts, scene.hertz, strict=True)):
+        given = starts.wheels[k].normal_states if starts is not None and len(starts.wheels) == 2 else ()
+        wheel, problems, estimate = solve_wheel(scene, contact, hertz, level, options, given)
         wheels.append(wheel)
         failures += problems
         estimates.append(estimate)
@@ -214,8 +226,9 @@ def solve_wheels(scene: WheelRailScene, level: PatchLevel, **options) -> WheelRa
     return WheelRailResult(level.name, success, message, tuple(wheels), {"error_estimate": max(estimates)})
 
 
-def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
-    """One wheel: ``(WheelResult, problems, error estimate)`` (module docstring)."""
+def solve_wheel(scene, contact, hertz, level: PatchLevel, options, starts=()):
+    """One wheel: ``(WheelResult, problems, error estimate)`` (module docstring); ``starts``: ``(gap, states)`` per
+    patch of the wheel's contact, the states of its passes (:func:`solve_wheels`)."""
     side, load = contact.side, scene.load(contact.side)
     if load == 0.0:
         return (WheelResult(side, (), 0.0, 0.0, (0.0, 0.0, 0.0), f"{side} wheel: no load, no contact"), [], 0.0)
@@ -226,6 +239,11 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
     problems: list[str] = []
     start = hertz.vertical_displacement
     states = [None] * len(references)
+    carried = [None] * len(references)  # per patch the starts' states of its passes, where its gap is theirs
+    if len(starts) == len(contact.patches):
+        carried = [passes if gap is patch.gap else None for (gap, passes), patch in zip(starts, contact.patches,
+                                                                                        strict=True)]
+    history: list[list] = [[] for _ in references]
     for k, patch in enumerate(contact.patches):
         force = sum(hertz.normal_forces[i] for i in patch.points)
         if force > 0.0:
@@ -235,7 +253,10 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
         force, states[k] = level.normal(contact.patches[k].gap, approach, material, states[k])
         return force
 
-    for _ in range(PASSES):
+    for done in range(PASSES):
+        for k, passes in enumerate(carried):  # pass p starts from the starts' pass p, the nearest normal problem
+            if passes is not None and done < len(passes):
+                states[k] = passes[done]
         items = [(point.vertical_gap, math.cos(point.contact_angle), r, k)
                  for k, (point, r) in enumerate(zip(references, ratios, strict=True))]
         d, approaches, forces = loaded(items, load, level, contact, material, states)
@@ -257,6 +278,8 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
                                      name=f"{side} patch {k + 1}")
             result = level.solve(patch_scene, start=states[k], **options)
             patches.append((k, WheelPatch(point, result, track_force(point, result))))
+        for k, state in enumerate(states):
+            history[k].append(state)
         if abs(sum(p.track_force[2] for _, p in patches) - load) <= COUPLING * load:
             break
         tangential = [(k, p.track_force[2] - p.result.normal_load * math.cos(p.point.contact_angle))
@@ -271,7 +294,8 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options):
     force = tuple(sum(p.track_force[i] for p in patches) for i in range(3))
     estimate = max((p.result.info.get("error_estimate", math.nan) for p in patches), default=0.0)
     message = (f"{side} wheel carries {force[2]:.6g} N of {load:.6g} N on {len(patches)} patch(es)")
-    return WheelResult(side, tuple(patches), load, d, force, message), problems, estimate
+    kept = tuple((patch.gap, tuple(passes)) for patch, passes in zip(contact.patches, history, strict=True))
+    return WheelResult(side, tuple(patches), load, d, force, message, kept), problems, estimate
 
 
 
@@ -341,6 +365,6 @@ def wheel_method(level: PatchLevel, rank: int, fallback: bool = False) -> Method
                 return why
         return None
 
-    solve.options = getattr(level.solve, "options", ())
+    solve.options = (*getattr(level.solve, "options", ()), "starts")
     solve.__doc__ = f"Both wheels of a wheel/rail scene by the patch level {level.name!r} (:func:`solve_wheels`)."
     return MethodSpec(level.name, solve, inapplicable, rank, fallback, WheelAccuracy(level))

@@ -31,7 +31,9 @@ communication point, and which answers with the loads of the rails on the wheels
      shift, yaw, lateral velocity and yaw rate by forward differences of the same evaluation
      (:data:`INCREMENTS`; with the table, the lateral shift's within the table's segment, so that the derivative
      never spans a jump of the contact point; the velocities' differences share the step's geometry, its contact
-     and Hertz's normal contact, :meth:`rollcontact.wheelrail.scene.WheelRailScene.with_velocities`);
+     and Hertz's normal contact, :meth:`rollcontact.wheelrail.scene.WheelRailScene.with_velocities`, and their
+     patches' normal problems start from the step's own solutions, the ``starts`` of
+     :func:`rollcontact.wheelrail.wheels.solve_wheels`);
 
 * :class:`WheelsetContactState` is what the model remembers: the last communication point and the number of steps.
   The outputs are a function of the parameters and the inputs alone (budgets are modelled costs, no clock is read),
@@ -75,6 +77,7 @@ from rollcontact.wheelrail.geometry import Pose, Track, Wheelset
 from rollcontact.wheelrail.loads import WheelsetLoads, wheelset_loads
 from rollcontact.wheelrail.normal import rigid_contacts
 from rollcontact.wheelrail.profiles import read_profile
+from rollcontact.wheelrail.result import WheelRailResult
 from rollcontact.wheelrail.scene import WheelRailScene
 from rollcontact.wheelrail.tabulated import TabulatedWheelset
 
@@ -380,7 +383,7 @@ class WheelsetContactModel(SteppingModel):
             return WheelsetContactOutputs(*loads, roll, vertical, *derivatives, code)
         pose, contacts = self.placed(y, yaw)
         scene = self.scene(pose, values, contacts) if loaded else None
-        loads, vertical, code = self.solved(scene, pose)
+        loads, vertical, code, result = self.solved(scene, pose)
         derivatives = (0.0,) * 8
         if differences_on:
             steps = (INCREMENTS["lateral_shift"], INCREMENTS["yaw"], INCREMENTS["lateral_velocity"] * speed,
@@ -394,6 +397,8 @@ class WheelsetContactModel(SteppingModel):
                         other = scene.with_velocities(lateral_velocity=shifted[2], yaw_rate=shifted[3])
                     except ValueError as exc:
                         raise ModelError(str(exc)) from None
+                    others.append(self.solved(other, pose, result)[0])
+                    continue
                 elif j == 0 and self.table is not None:  # the pose within the table's segment (module docstring)
                     k, t, width = self.table.locate(y)
                     rows = self.table.rows
@@ -430,15 +435,19 @@ class WheelsetContactModel(SteppingModel):
         except ValueError as exc:
             raise ModelError(str(exc)) from None
 
-    def solved(self, scene: WheelRailScene | None, pose: Pose) -> tuple[WheelsetLoads, float, int]:
-        """The loads, the vertical position [m] and the level's code of ``scene`` through
-        :func:`rollcontact.wheelrail.dispatch.solve` (None, no load: zero loads at ``pose``'s vertical position);
-        ModelError when it fails."""
+    def solved(self, scene: WheelRailScene | None, pose: Pose, starts: WheelRailResult | None = None
+               ) -> tuple[WheelsetLoads, float, int, WheelRailResult | None]:
+        """The loads, the vertical position [m], the level's code and the result of ``scene`` through
+        :func:`rollcontact.wheelrail.dispatch.solve` (None, no load: zero loads at ``pose``'s vertical position, no
+        result); ModelError when it fails.  ``starts``: the result of a scene of the same geometry whose patches'
+        normal solutions this one's start from (:func:`rollcontact.wheelrail.wheels.solve_wheels`; taken where its
+        level kept them)."""
         if scene is None:
-            return ZERO_LOADS, pose.vertical, 0
+            return ZERO_LOADS, pose.vertical, 0, None
+        given = {"starts": starts} if starts is not None and any(w.normal_states for w in starts.wheels) else {}
         try:
             result = dispatch.solve(scene, self.method, tolerance=self.tolerance, budget=self.budget,
-                                    **self.options)
+                                    **self.options, **given)
         except ValueError as exc:
             raise ModelError(str(exc)) from None
         if not result.success:
@@ -451,7 +460,7 @@ class WheelsetContactModel(SteppingModel):
         self.last_modelled_cost = max(self.last_modelled_cost, cost)
         displacements = [w.vertical_displacement for w in result.wheels if w.patches]
         vertical = sum(displacements) / len(displacements) if displacements else pose.vertical
-        return wheelset_loads(scene, result), vertical, method_code(result.method)
+        return wheelset_loads(scene, result), vertical, method_code(result.method), result
 
 
 ZERO_LOADS = WheelsetLoads(*(0.0,) * 12, 0, 0.0, *(0.0,) * 6, 0, 0.0)
