@@ -1,8 +1,8 @@
 """The wheels around their patch level: a wheel at the strips level carries its vertical load, tangential forces
 included, to the passes' tolerance where its patch is in flange-root contact; a wheel of one patch solved for its
 force at once gives the vertical balance's answer; the first pass's predicted share of the load is the tread's; a
-solve started from the normal solutions of the same geometry gives the fresh answer, and starts of other gaps are
-not taken."""
+solve started from the normal solutions of the same geometry, or the strips' of a pose nearby, gives the fresh
+answer."""
 
 from __future__ import annotations
 
@@ -150,14 +150,34 @@ def test_starts_of_the_same_geometry_give_the_fresh_answer(monkeypatch, track, w
                 assert abs(a - b) < STARTS_AGREEMENT, f"shift {shift} m, {wheel.side} wheel: {name} {a!r} against {b!r}"
 
 
-def test_starts_of_other_geometry_are_not_taken(track, wheelset):
-    """Normal solutions of another pose (other gaps) start nothing: the solve is the fresh one, bit for bit; a start
-    that is not a wheel/rail result is refused."""
+@pytest.mark.parametrize("moved", [{"lateral_shift": 6.5e-3 + 1e-6}, {"yaw": 1.3e-3 + 1e-6}],
+                         ids=["shift", "yaw"])
+def test_starts_of_a_pose_nearby(monkeypatch, track, wheelset, moved):
+    """Normal solutions of a pose a little away (other gaps) start the strips' Newton's method (``nearby``): the
+    fresh answer to the tolerance, no normal problem started from Hertz's ellipse; the discretised level takes none
+    (the fresh answer bit for bit); a start that is not a wheel/rail result is refused."""
+    import rollcontact.wheelrail.methods.strip_normal as normal_module
+
     scene = WheelRailScene(track, wheelset, lateral_shift=6.5e-3, yaw=1.3e-3, vertical_load_left=8e4,
                            vertical_load_right=8e4, forward_speed=30.0, yaw_rate=0.01, friction=0.3)
-    other = solve_wheels(scene.replace(lateral_shift=6.5e-3 + 1e-6), strips.LEVEL)
-    started, fresh = solve_wheels(scene, strips.LEVEL, starts=other), solve_wheels(scene, strips.LEVEL)
+    shifted = scene.replace(**moved)
+    base, fresh = solve_wheels(scene, strips.LEVEL), solve_wheels(shifted, strips.LEVEL)
+    afresh = []
+    hertzian = normal_module._hertzian
+    monkeypatch.setattr(normal_module, "_hertzian", lambda *a: afresh.append(a[5]) or hertzian(*a))
+    started = solve_wheels(shifted, strips.LEVEL, starts=base)
+    monkeypatch.undo()
+    assert not afresh, f"normal problems started afresh at the loads {afresh} N"
     for wheel, reference in zip(started.wheels, fresh.wheels, strict=True):
-        assert wheel.force == reference.force, f"{wheel.side}: {wheel.force} against {reference.force}"
+        for p, q in zip(wheel.patches, reference.patches, strict=True):
+            p, q = p.result, q.result
+            scale = q.friction_coefficient * q.normal_load
+            for name, a, b in (("N", p.normal_load / q.normal_load, 1.0),
+                               ("Fy", p.lateral_force / scale, q.lateral_force / scale)):
+                assert abs(a - b) < STARTS_AGREEMENT, f"{moved}, {wheel.side} wheel: {name} {a!r} against {b!r}"
+    base = solve_wheels(scene, discretised.LEVEL)
+    started, fresh = solve_wheels(shifted, discretised.LEVEL, starts=base), solve_wheels(shifted, discretised.LEVEL)
+    for wheel, reference in zip(started.wheels, fresh.wheels, strict=True):
+        assert wheel.force == reference.force, f"discretised, {wheel.side}: {wheel.force} against {reference.force}"
     with pytest.raises(TypeError, match="starts must be a WheelRailResult"):
-        solve_wheels(scene, strips.LEVEL, starts=other.wheels)
+        solve_wheels(scene, strips.LEVEL, starts=base.wheels)

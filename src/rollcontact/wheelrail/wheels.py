@@ -91,6 +91,10 @@ class PatchLevel(NamedTuple):
         carries the normal force [N] (None where the level's solution does not converge), and ``state`` as of
         ``normal``.  A wheel of one patch takes it in place of the vertical balance's iterations on ``normal``; None:
         the level has no such solve.
+    nearby : callable or None
+        ``nearby(state) -> start``: a state of the patch at a pose a little away (another gap) as a ``start`` of
+        ``normal``, ``loaded`` and ``solve`` (the strips: :class:`~rollcontact.wheelrail.methods.strip_normal.
+        Nearby`, which Newton's method starts from); None: the level takes states of the very gap alone.
     """
 
     name: str
@@ -98,6 +102,7 @@ class PatchLevel(NamedTuple):
     solve: Callable
     accuracy: AccuracyModel | None
     loaded: Callable | None = None
+    nearby: Callable | None = None
 
 
 def track_force(point, result: PatchResult) -> tuple[float, float, float]:
@@ -205,12 +210,13 @@ def solve_wheels(scene: WheelRailScene, level: PatchLevel, starts: WheelRailResu
     """Both wheels of the scene with the patch level ``level`` (module docstring); ``options`` go to its solve.
 
     ``starts``: a result of this level whose patches' normal solutions start this solve's (each wheel's
-    :attr:`~rollcontact.wheelrail.result.WheelResult.normal_states`), patch by patch where the patch's gap is the
-    very one it was solved on, each pass from the same pass of the start: a scene of other velocities on the same
-    geometry (:meth:`~rollcontact.wheelrail.scene.WheelRailScene.with_velocities`, which shares the contacts),
-    whose normal problems differ only by the tangential forces' share of the load.  The solution is the level's to
-    its tolerance from either start (a normal solution within the tolerance of the load it is asked for is taken as
-    it is); a stepping model's differences in the velocities take the step's own."""
+    :attr:`~rollcontact.wheelrail.result.WheelResult.normal_states`), each pass from the same pass of the start,
+    where the wheel has as many patches: a scene of other velocities on the same geometry
+    (:meth:`~rollcontact.wheelrail.scene.WheelRailScene.with_velocities`, which shares the contacts) takes them as
+    they are (a normal solution within the tolerance of the load it is asked for is the solution); a scene of a pose
+    a little away (other gaps) takes them where the level can start from another gap's solution
+    (:attr:`PatchLevel.nearby`: the strips, whose Newton's method starts from it).  The solution is the level's to
+    its tolerance from any start; a stepping model's differences take the step's own."""
     if starts is not None and not isinstance(starts, WheelRailResult):
         raise TypeError(f"starts must be a WheelRailResult, got {type(starts).__name__}")
     wheels, failures, estimates = [], [], []
@@ -239,10 +245,11 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options, starts=()):
     problems: list[str] = []
     start = hertz.vertical_displacement
     states = [None] * len(references)
-    carried = [None] * len(references)  # per patch the starts' states of its passes, where its gap is theirs
+    carried = [None] * len(references)  # per patch the starts' states of its passes (of another gap: nearby)
     if len(starts) == len(contact.patches):
-        carried = [passes if gap is patch.gap else None for (gap, passes), patch in zip(starts, contact.patches,
-                                                                                        strict=True)]
+        carried = [passes if gap is patch.gap else None if level.nearby is None else
+                   tuple(None if state is None else level.nearby(state) for state in passes)
+                   for (gap, passes), patch in zip(starts, contact.patches, strict=True)]
     history: list[list] = [[] for _ in references]
     for k, patch in enumerate(contact.patches):
         force = sum(hertz.normal_forces[i] for i in patch.points)

@@ -31,8 +31,8 @@ communication point, and which answers with the loads of the rails on the wheels
      shift, yaw, lateral velocity and yaw rate by forward differences of the same evaluation
      (:data:`INCREMENTS`; with the table, the lateral shift's within the table's segment, so that the derivative
      never spans a jump of the contact point; the velocities' differences share the step's geometry, its contact
-     and Hertz's normal contact, :meth:`rollcontact.wheelrail.scene.WheelRailScene.with_velocities`, and their
-     patches' normal problems start from the step's own solutions, the ``starts`` of
+     and Hertz's normal contact, :meth:`rollcontact.wheelrail.scene.WheelRailScene.with_velocities`; every
+     difference's normal problems start from the step's own solutions where its level can, the ``starts`` of
      :func:`rollcontact.wheelrail.wheels.solve_wheels`);
 
 * :class:`WheelsetContactState` is what the model remembers: the last communication point and the number of steps.
@@ -397,8 +397,6 @@ class WheelsetContactModel(SteppingModel):
                         other = scene.with_velocities(lateral_velocity=shifted[2], yaw_rate=shifted[3])
                     except ValueError as exc:
                         raise ModelError(str(exc)) from None
-                    others.append(self.solved(other, pose, result)[0])
-                    continue
                 elif j == 0 and self.table is not None:  # the pose within the table's segment (module docstring)
                     k, t, width = self.table.locate(y)
                     rows = self.table.rows
@@ -408,7 +406,7 @@ class WheelsetContactModel(SteppingModel):
                 else:
                     moved, moved_contacts = self.placed(shifted[0], shifted[1])
                     other = self.scene(moved, shifted, moved_contacts)
-                others.append(self.solved(other, pose)[0])
+                others.append(self.solved(other, pose, result)[0])
             derivatives = differences(loads, others, steps)
         return WheelsetContactOutputs(*loads, pose.roll, vertical, *derivatives, code)
 

@@ -307,6 +307,14 @@ def uniform_strips(lo: float, hi: float, count: int) -> tuple[np.ndarray, np.nda
     return 0.5 * (edges[:-1] + edges[1:]), edges[:-1], edges[1:]
 
 
+@dataclass(frozen=True)
+class Nearby:
+    """A strips normal solution of a nearby gap (the same patch at a pose a little away) as the start of
+    :func:`strip_normal`: Newton's method starts from it, but at its own approach or load it is not the solution."""
+
+    contact: StripContact
+
+
 class _Failure(Exception):
     """A pass that cannot go on: the message says why."""
 
@@ -322,7 +330,7 @@ def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | None = None,
                  normal_load: float | None = None, strips: int = DEFAULT_STRIPS,
-                 start: StripContact | None = None) -> StripContact:
+                 start: StripContact | Nearby | None = None) -> StripContact:
     """The patch's normal contact by strips (module docstring), for a given approach or a given load.
 
     Parameters
@@ -337,10 +345,11 @@ def strip_normal(gap: PatchGap, contact_modulus: float, *, approach: float | Non
         Fn [N] >= 0; exactly one of ``approach`` and ``normal_load``.
     strips : int
         Strips over each lobe (>= 4).
-    start : StripContact, optional
+    start : StripContact or Nearby, optional
         A solution of the same gap with as many strips for Newton's method to start from, its lobes and loads
         scaled as Hertz's (:func:`_resumed`); where it does not take, the passes start afresh.  At its own approach
-        (or load), to the tolerance it is solved to, it is returned as it is.
+        (or load), to the tolerance it is solved to, it is returned as it is.  A :class:`Nearby` solution (of a gap
+        nearby, another pose's) starts Newton's method alike but is never the solution as it is.
 
     Returns
     -------
@@ -934,8 +943,12 @@ def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> Str
     """Newton's method from the solution ``start`` (:func:`strip_normal`): its lobes' half-widths scaled by
     ``sqrt(r)``, e by r and the approach by r, ``r = delta / delta_start`` (for a given load ``(Fn / Fn_start)^(2/3)``),
     as Hertz's contact scales (``start`` itself where r is 1 to :data:`FIXED_POINT_TOLERANCE`, the tolerance it is
-    solved to); None where ``start`` has no lobes of ``count`` strips all in contact, where Newton's method does not
-    take or where the surfaces then interpenetrate outside the lobes (:func:`_newton_alone`)."""
+    solved to, unless it is :class:`Nearby`); None where ``start`` has no lobes of ``count`` strips all in contact,
+    where Newton's method does not take or where the surfaces then interpenetrate outside the lobes
+    (:func:`_newton_alone`)."""
+    nearby = isinstance(start, Nearby)
+    if nearby:
+        start = start.contact
     lobes = len(start.lobes)
     if not (start.converged and lobes and start.centres.size == lobes * (count + 1) - 1 and start.approach > 0.0
             and start.normal_load > 0.0):
@@ -946,7 +959,7 @@ def _resumed(start, s, h, curvature, estar, approach, normal_load, count) -> Str
     if np.count_nonzero(half <= 0.0):
         return None
     ratio = approach / start.approach if approach is not None else (normal_load / start.normal_load) ** (2.0 / 3.0)
-    if abs(ratio - 1.0) <= FIXED_POINT_TOLERANCE:  # start is solved to this: it is the solution
+    if not nearby and abs(ratio - 1.0) <= FIXED_POINT_TOLERANCE:  # start is solved to this: it is the solution
         return start
     low, high = np.array(start.lobes).T
     return _newton_alone(0.5 * (low + high), 0.5 * (high - low) * math.sqrt(ratio), count, s, h, curvature, estar,

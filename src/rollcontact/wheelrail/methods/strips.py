@@ -22,7 +22,7 @@ from rollcontact.elliptic.methods.strips import (
     STRIPS_FALLING_ERROR,
     STRIPS_SPIN_ERROR,
 )
-from rollcontact.wheelrail.methods.strip_normal import DEFAULT_STRIPS, StripContact, refined, strip_normal
+from rollcontact.wheelrail.methods.strip_normal import DEFAULT_STRIPS, Nearby, StripContact, refined, strip_normal
 from rollcontact.wheelrail.methods.strip_tangential import (
     DEFAULT_STEPS,
     Lobes,
@@ -45,7 +45,7 @@ def inapplicable(scene: PatchScene) -> str | None:
     return None
 
 
-def normal_contact(scene: PatchScene, strips: int = DEFAULT_STRIPS, start: StripContact | None = None
+def normal_contact(scene: PatchScene, strips: int = DEFAULT_STRIPS, start: StripContact | Nearby | None = None
                    ) -> StripContact:
     """The strips' normal solution of the scene, at its approach or its load, from ``start`` if given
     (:func:`~rollcontact.wheelrail.methods.strip_normal.strip_normal`)."""
@@ -54,7 +54,8 @@ def normal_contact(scene: PatchScene, strips: int = DEFAULT_STRIPS, start: Strip
 
 
 def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_strips: int = TANGENTIAL_STRIPS,
-                 steps: int = DEFAULT_STEPS, fields: bool = False, start: StripContact | None = None) -> PatchResult:
+                 steps: int = DEFAULT_STEPS, fields: bool = False,
+                 start: StripContact | Nearby | None = None) -> PatchResult:
     """Normal and tangential contact of a patch by strips (module docstring).
 
     Parameters
@@ -70,8 +71,9 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
         Cells along each strip of the march (with spin) and of the fields (>= 2).
     fields : bool
         Return the pressure and traction on the strips' cells.
-    start : StripContact, optional
-        A normal solution of the same gap nearby (or at the scene's approach) for the normal problem to start from.
+    start : StripContact or Nearby, optional
+        A normal solution of the same gap nearby (or at the scene's approach) for the normal problem to start from,
+        or one of a nearby gap (:class:`~rollcontact.wheelrail.methods.strip_normal.Nearby`).
 
     Returns
     -------
@@ -217,22 +219,23 @@ class PatchStripsAccuracy(AccuracyModel):
                 "normal_error_estimate": NORMAL_ERROR, "pressure_error_estimate": PRESSURE_ERROR}
 
 
-def strips_normal_force(gap, approach: float, material, start: StripContact | None = None):
+def strips_normal_force(gap, approach: float, material, start: StripContact | Nearby | None = None):
     """``(N, contact)``: the strips' normal force [N] of a patch at the normal approach [m] and their solution, from
-    ``start`` (the solution of a previous call on the same gap) (the wheel level's normal law)."""
+    ``start`` (the solution of a previous call on the same gap, or :class:`~rollcontact.wheelrail.methods.strip_normal.
+    Nearby`) (the wheel level's normal law)."""
     contact = strip_normal(gap, material.contact_modulus, approach=approach, start=start)
     return contact.normal_load, contact
 
 
-def strips_loaded_approach(gap, force: float, material, start: StripContact | None = None):
+def strips_loaded_approach(gap, force: float, material, start: StripContact | Nearby | None = None):
     """``(approach, contact)``: the strips' normal approach [m] of a patch carrying the normal force [N] (None where
-    they do not converge) and their solution, from ``start`` (the solution of a previous call on the same gap) (the
-    wheel level's solve for a given force)."""
+    they do not converge) and their solution, from ``start`` (the solution of a previous call on the same gap, or
+    :class:`~rollcontact.wheelrail.methods.strip_normal.Nearby`) (the wheel level's solve for a given force)."""
     contact = strip_normal(gap, material.contact_modulus, normal_load=force, start=start)
     return (contact.approach if contact.converged else None), contact
 
 
-LEVEL = PatchLevel("strips", strips_normal_force, solve_strips, PatchStripsAccuracy(), strips_loaded_approach)
+LEVEL = PatchLevel("strips", strips_normal_force, solve_strips, PatchStripsAccuracy(), strips_loaded_approach, Nearby)
 """The strips as a patch level of the wheels (:mod:`rollcontact.wheelrail.wheels`)."""
 
 METHOD = wheel_method(LEVEL, rank=10)
