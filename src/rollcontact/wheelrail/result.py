@@ -146,7 +146,7 @@ class WheelResult:
     vertical_displacement: float
     force: tuple
     message: str
-    normal_states: tuple = field(default=(), repr=False)
+    normal_states: tuple = field(default=(), repr=False, compare=False)
 
     @property
     def in_contact(self) -> bool:
