@@ -181,3 +181,26 @@ def test_starts_of_a_pose_nearby(monkeypatch, track, wheelset, moved):
         assert wheel.force == reference.force, f"discretised, {wheel.side}: {wheel.force} against {reference.force}"
     with pytest.raises(TypeError, match="starts must be a WheelRailResult"):
         solve_wheels(scene, strips.LEVEL, starts=base.wheels)
+
+
+def test_a_pass_the_start_did_not_load_keeps_the_patch_own_state(monkeypatch, track, wheelset):
+    """Where the start's patch carried nothing in a pass (its state None), the patch goes on from its own last normal
+    solution rather than afresh: no normal problem starts from Hertz's ellipse."""
+    import dataclasses
+
+    import rollcontact.wheelrail.methods.strip_normal as normal_module
+
+    scene = WheelRailScene(track, wheelset, lateral_shift=6.5e-3, yaw=1.3e-3, vertical_load_left=8e4,
+                           vertical_load_right=8e4, forward_speed=30.0, yaw_rate=0.01, friction=0.3)
+    base = solve_wheels(scene, strips.LEVEL)
+    passes = [len(states) for wheel in base.wheels for _, states in wheel.normal_states]
+    assert max(passes) >= 2, f"a wheel of two passes to test on, got {passes}"
+    wheels = tuple(dataclasses.replace(wheel, normal_states=tuple((gap, (states[0], *(None,) * (len(states) - 1)))
+                                                                  for gap, states in wheel.normal_states))
+                   for wheel in base.wheels)
+    afresh = []
+    hertzian = normal_module._hertzian
+    monkeypatch.setattr(normal_module, "_hertzian", lambda *a: afresh.append(a[5]) or hertzian(*a))
+    started = solve_wheels(scene, strips.LEVEL, starts=dataclasses.replace(base, wheels=wheels))
+    assert started.success, started.message
+    assert not afresh, f"normal problems started afresh at the loads {afresh} N"

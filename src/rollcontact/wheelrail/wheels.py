@@ -262,7 +262,7 @@ def solve_wheel(scene, contact, hertz, level: PatchLevel, options, starts=()):
 
     for done in range(PASSES):
         for k, passes in enumerate(carried):  # pass p starts from the starts' pass p, the nearest normal problem
-            if passes is not None and done < len(passes):
+            if passes is not None and done < len(passes) and passes[done] is not None:
                 states[k] = passes[done]
         items = [(point.vertical_gap, math.cos(point.contact_angle), r, k)
                  for k, (point, r) in enumerate(zip(references, ratios, strict=True))]
