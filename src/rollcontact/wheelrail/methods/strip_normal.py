@@ -469,12 +469,9 @@ def _newton_alone(middle, radius, count, s, h, curvature, estar, approach, norma
         return _contact(middle, radius, unit, sampled, e, q, delta, used, steps, "converged", start)
     if start != "hertz":
         return None
-    centres, lower, upper = _placed(middle, radius, unit)
-    prior = centres, lower, upper, e, q, sampled.at(centres)[2], middle.size
-    lobes = zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True)
+    lobes, prior = _joined(middle, radius, unit, sampled, e, q, missed)
     try:
-        joined = _placements(s, h, curvature, estar, approach, normal_load, delta, _lobes(sorted([*lobes, *missed])),
-                             prior, count)
+        joined = _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, prior, count)
     except _Failure:
         return None
     return replace(joined, iterations=joined.iterations + used, start=f"{start}, lobe joined")
@@ -1010,11 +1007,18 @@ def _placements(s, h, curvature, estar, approach, normal_load, delta, lobes, sta
         if not missed:
             return _contact(middle, radius, unit, sampled, e, q, delta, iterations, steps, "converged", "placements")
         # the surfaces interpenetrate outside the lobes: a lobe the passes missed joins them
-        centres, lower, upper = _placed(middle, radius, unit)
-        prior = centres, lower, upper, e, q, sampled.at(centres)[2], middle.size
-        lobes = zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True)
-        middle, radius = _lobes(sorted([*lobes, *missed]))
+        (middle, radius), prior = _joined(middle, radius, unit, sampled, e, q, missed)
     raise AssertionError("unreachable")
+
+
+def _joined(middle, radius, unit, sampled, e, q, missed):
+    """``((middle, radius), prior)``: the lobes with one joined over each of the ``missed`` ranges
+    (:func:`_penetrating`; merged where they overlap, :func:`_lobes`) and the solution ``e``, ``q`` on the lobes'
+    strips as the placements' start to carry over (:func:`_carried`)."""
+    centres, lower, upper = _placed(middle, radius, unit)
+    prior = centres, lower, upper, e, q, sampled.at(centres)[2], middle.size
+    lobes = zip((middle - radius).tolist(), (middle + radius).tolist(), strict=True)
+    return _lobes(sorted([*lobes, *missed])), prior
 
 
 def _penetrating(middle, radius, unit, s, h, e, q, delta, estar) -> list[tuple[float, float]]:
