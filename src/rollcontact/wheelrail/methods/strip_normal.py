@@ -731,11 +731,11 @@ class _SampledGap:
         d0, d1 = slopes[:, :-1] * step, slopes[:, 1:] * step
         self.coefficients = np.stack([values[:, :-1], d0, 3.0 * rise - 2.0 * d0 - d1, d0 + d1 - 2.0 * rise])
         self.inverse = 1.0 / step
+        self.inner = s[1:-1].copy()  # the interval of a point: the count of the inner samples at or below it
 
     def at(self, points):
-        """``(h, dh/ds, A, dA/ds)`` at ``points`` (within the samples)."""
-        k = np.searchsorted(self.s, points, side="right") - 1
-        np.clip(k, 0, self.s.size - 2, out=k)
+        """``(h, dh/ds, A, dA/ds)`` at ``points`` (within the samples; beyond them the end intervals' cubics)."""
+        k = np.searchsorted(self.inner, points, side="right")
         v0, d0, c2, c3 = self.coefficients.take(k, axis=2)  # each (h, A) at the points
         inverse = self.inverse.take(k)
         t = (points - self.s.take(k)) * inverse
