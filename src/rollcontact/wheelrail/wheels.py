@@ -32,7 +32,6 @@ Forces are those the wheel exerts on the rail: per patch ``F = Fx e_x + Fs s + N
 from __future__ import annotations
 
 import math
-import sys
 from collections.abc import Callable
 from typing import NamedTuple
 
@@ -358,18 +357,13 @@ class WheelAccuracy(AccuracyModel):
 
 
 def wheel_method(level: PatchLevel, rank: int, fallback: bool = False) -> MethodSpec:
-    """The wheel level of a patch level: :func:`solve_wheels` with it, the patch level's applicability to every
-    loaded patch, :class:`WheelAccuracy`."""
+    """The wheel level of a patch level: :func:`solve_wheels` with it, :class:`WheelAccuracy`; it treats every scene
+    the contact search does (the patch levels treat every patch: any gap, friction law and creepages)."""
 
     def solve(scene: WheelRailScene, **options) -> WheelRailResult:
         return solve_wheels(scene, level, **options)
 
     def inapplicable(scene: WheelRailScene) -> str | None:
-        check = getattr(sys.modules[level.solve.__module__], "inapplicable", None)
-        for patch in patch_scenes(scene) if check is not None else ():
-            why = check(patch)
-            if why is not None:
-                return why
         return None
 
     solve.options = (*getattr(level.solve, "options", ()), "starts")

@@ -33,16 +33,10 @@ from rollcontact.wheelrail.result import PatchResult
 from rollcontact.wheelrail.scene import PatchScene
 from rollcontact.wheelrail.wheels import PatchLevel, wheel_method
 
-__all__ = ["PatchStripsAccuracy", "inapplicable", "normal_contact", "solve_strips"]
+__all__ = ["PatchStripsAccuracy", "normal_contact", "solve_strips"]
 
 TANGENTIAL_STRIPS = 24
 """Strips of the tangential problem: the elliptic strips' count, at which their march's constants are calibrated."""
-
-
-def inapplicable(scene: PatchScene) -> str | None:
-    """Why the strips cannot treat the scene, or None: they treat every patch scene (Coulomb or velocity-dependent
-    friction, with spin)."""
-    return None
 
 
 def normal_contact(scene: PatchScene, strips: int = DEFAULT_STRIPS, start: StripContact | Nearby | None = None
@@ -88,11 +82,9 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
     Raises
     ------
     ValueError
-        A scene the strips cannot solve (:func:`inapplicable`), or a count out of range.
+        A count out of range (the strips treat every patch scene: Coulomb or velocity-dependent friction, with
+        spin).
     """
-    why = inapplicable(scene)
-    if why is not None:
-        raise ValueError(f"strips cannot solve this scene: {why}")
     steps = int(check_real("steps", steps, lower=2))
     contact = normal_contact(scene, strips, start)
     mu = scene.friction_coefficient
