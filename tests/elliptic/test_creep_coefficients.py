@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from rollcontact.elliptic.creep_coefficients import (
     aspect_ratio_range,
     creepage_coefficients,
     extended_creepage_coefficients,
+    interpolated,
+    splines,
 )
 
 KALKER_E3 = {  # a/b: {nu: (C11, C22, C23)}, nu = 0, 0.25, 0.5
@@ -65,6 +68,20 @@ def test_interpolation_is_smooth_and_monotone_between_rows():
         for name, index in (("C22", 1), ("C23", 2)):
             rising = all(v2[index] > v1[index] for v1, v2 in zip(values, values[1:], strict=False))
             assert rising, f"{name} rises with a/b at nu = {nu}"
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.28, 0.5])
+def test_the_float_evaluation_gives_the_splines_numbers(nu):
+    """The coefficients are scipy's spline of log C in log(a/b) evaluated in plain floats: the same numbers at random
+    a/b, at every row of Kalker's range and at its ends."""
+    low, high = aspect_ratio_range()
+    rng = np.random.default_rng(7)
+    ratios = np.exp(rng.uniform(math.log(low), math.log(high), 400)).tolist() + list(KALKER_E3) + [low, high]
+    spline = splines(nu)
+    for g in ratios:
+        got = tuple(interpolated.__wrapped__(g, nu))
+        expected = tuple(math.exp(v) for v in spline(math.log(g)).tolist())
+        assert got == expected, f"a/b = {g!r}, nu = {nu}: {got} against the spline's {expected}"
 
 
 def test_the_strip_limit_is_approached_at_small_aspect_ratio():
