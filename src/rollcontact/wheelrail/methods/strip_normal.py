@@ -814,6 +814,13 @@ def _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, 
     e_scale, q_scale = float(e.max()), float(q.mean())
     previous = math.inf
     steps: list[float] = []
+    jacobian = np.zeros((size, size))  # its constant entries, the edge conditions' and the load's, set once
+    jacobian[rows, first] = 1.0
+    jacobian[rows, first + 1] = -kappa
+    jacobian[rows + lobes, last] = 1.0
+    jacobian[rows + lobes, last - 1] = -kappa
+    if given_load:
+        jacobian[:n, -1] = -1.0
     for used in range(1, POLISH_ITERATIONS + 1):
         centres, lower, upper = _placed(middle, radius, unit)
         if np.count_nonzero(lower[first[1:]] <= upper[last[:-1]]) or lower[0] <= sampled.s[0] \
@@ -839,7 +846,6 @@ def _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, 
         if norm > GROWTH * previous:
             return None
         previous = norm
-        jacobian = np.zeros((size, size))
         # a = sqrt(e/q): a d/da enters d/de with 1/(2e) and d/dq with -1/(2q)
         block = jacobian[:n, :n]
         np.multiply(dU, 0.5, out=block)
@@ -877,12 +883,7 @@ def _polish(middle, radius, unit, sampled, estar, approach, normal_load, delta, 
                     source_c[part] += field * moving_c[part] * radius[k]
                     jacobian[:n, column] = source_u
                     jacobian[n:2 * n, column] = source_c
-        jacobian[rows, first] = 1.0
-        jacobian[rows, first + 1] = -kappa
-        jacobian[rows + lobes, last] = 1.0
-        jacobian[rows + lobes, last - 1] = -kappa
         if given_load:
-            jacobian[:n, -1] = -1.0
             jacobian[-1, :n] = 0.5 * math.pi * widths * e_scale / normal_load
             jacobian[-1, radii] = [0.5 * math.pi * float(widths[part] @ e[part]) / normal_load for part in blocks]
         step = _solve(jacobian, -residual)
