@@ -8,6 +8,7 @@ the elastic part, of the order of the saturation creepage over the creepage)."""
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -140,6 +141,18 @@ def test_the_forces_fall_past_the_peak_of_the_creep_curve(level):
     forces = [solve_elliptic(scene(1.0, "dry", 50.0, xi), level).longitudinal_force for xi in (0.5, 1.5, 4.0, 10.0)]
     assert forces[1] > forces[2] > forces[3] > 0.0, f"{level}: {forces}"
 
+
+
+@pytest.mark.parametrize("level", LEVELS)
+@pytest.mark.parametrize("law", sorted(LAWS))
+def test_rolling_without_creepage_gives_no_force_and_no_warning(level, law):
+    """No creepage: no force, and no floating-point warning reaches the caller (an empty cell's bound over its zero
+    trial traction is inf, whose min with 1 is 1)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result = solve_elliptic(scene(1.0, law, 30.0), level)
+    assert result.success, result.message
+    assert np.abs(result.force_coefficients).max() <= 1e-15, f"{level} {law}: {result.force_coefficients}"
 
 
 @pytest.mark.parametrize("law", ["rational", "table", "dry"])

@@ -225,7 +225,8 @@ def stacked(scenes, nx: int, ny: int, bound: str, flexibility: str, fields: bool
             trial, size, sigma, coefficient, steepness = (np.where(spin, new, old) for new, old in zip(
                 (trial, size, sigma, coefficient, steepness), kept, strict=True))
         stick = size <= limit
-        scale = np.minimum(1.0, coefficient * pressure / size)
+        with np.errstate(over="ignore"):  # an empty cell (|t| = TINY) has mu p / TINY = inf, whose min with 1 is 1
+            scale = np.minimum(1.0, coefficient * pressure / size)
         qx, qy = trial[:, 0] * scale, trial[:, 1] * scale
     area = dx * dy  # midpoint rule over the cells
     forces = by_scene(np.array([qx * area, qy * area, (x * qy - y * qx) * area]), n).T.tolist()
