@@ -371,8 +371,13 @@ class StripStack:
             xi, eta, phi = scene.creepages
             two_mu_p0 = 2.0 * mu * p0
             psi = phi * (3.0 * g * c23 * math.sqrt(b / a) / math.pi) * a / two_mu_p0  # E_phi (module docstring)
-            flexibilities = march_flexibilities(a, b, g, mu, load, c11, c22, c23, xi, eta, phi, psi, k_x, k_y,
-                                                spin_scale) if phi != 0.0 or fields else (1.0, 1.0, 1.0)
+            if phi != 0.0 or fields:
+                law = scene.friction
+                mu_m = march_coefficient(law, scene.rolling_speed, a, b, xi, eta, phi)
+                flexibilities = march_flexibilities(a, b, g, mu_m, load, c11, c22, c23, xi, eta, phi,
+                                                    psi if law.is_constant else psi * mu / mu_m, k_x, k_y, spin_scale)
+            else:
+                flexibilities = (1.0, 1.0, 1.0)
             rows.append((a, b, p0, mu, mu * load, xi, eta, phi, 4.0 * g * c11 / math.pi**2, 4.0 * g * c22 / math.pi**2,
                          psi, mu * p0 / a, two_mu_p0, *flexibilities, g, material.poisson_ratio,
                          *((1.0, 1.0) if phi != 0.0 else (a**2, b**2)), g * (a * b) ** 2 * c33))
@@ -545,13 +550,30 @@ class StripStack:
         return dots(self.weights, fx), dots(self.weights, fy), dots(self.weights, mz)
 
 
+def march_coefficient(law, speed: float, a: float, b: float, xi: float, eta: float, phi: float) -> float:
+    """The friction coefficient [1] the march's flexibilities are taken at (:func:`march_flexibilities`): mu(0) with
+    constant friction; with velocity-dependent friction the law's coefficient at the rigid slip velocity's root mean
+    square over Hertz's pressure on the ellipse of semi-axes a, b [m],
+
+        ``mu(V sqrt(xi^2 + eta^2 + phi^2 (a^2 + b^2) / 5))``
+
+    (V = ``speed`` [m/s]; the pressure's moments ``int x^2 p dA / int p dA = a^2/5``, ``b^2/5``).  The flexibilities'
+    blend and their spin factors measure the creepage and the spin against the bound the march's traction saturates
+    at, which falling friction lowers from mu(0) towards the slip's coefficient; at mu(0) the march's traction lagged
+    behind the rigid slip of spin too far and the lateral force of spin came out too large
+    (``benchmarks/calibrate_falling_spin.py``, table A)."""
+    if law.is_constant:
+        return law.static_coefficient
+    return float(law.coefficient(speed * math.sqrt(xi * xi + eta * eta + phi * phi * (a * a + b * b) / 5.0)))
+
+
 def march_flexibilities(a: float, b: float, g: float, mu: float, normal_load: float, c11: float, c22: float,
                         c23: float, xi: float, eta: float, phi: float, psi: float, k_x0: float, k_y0: float,
                         spin_scale: float) -> tuple[float, float, float]:
-    """The march's ``(L1, L2, L3)`` [m/Pa] of a scene (its semi-axes a, b [m], G [Pa], mu, Fn [N], C11, C22, C23, the
-    creepages, the scaled spin psi and, from :func:`ratio_constants`, ``A_x0 + A_x1 ln(a/b)``, ``A_y0 + A_y1 ln(a/b)``
-    and P): Vollebregt & Voltr's blended flexibilities (:func:`.fastsim.blended_flexibilities`) times ``k_x`` (L1) and
-    ``k_y`` (L2, L3),
+    """The march's ``(L1, L2, L3)`` [m/Pa] of a scene (its semi-axes a, b [m], G [Pa], the coefficient mu of
+    :func:`march_coefficient`, Fn [N], C11, C22, C23, the creepages, the scaled spin psi at that mu and, from
+    :func:`ratio_constants`, ``A_x0 + A_x1 ln(a/b)``, ``A_y0 + A_y1 ln(a/b)`` and P): Vollebregt & Voltr's blended
+    flexibilities (:func:`.fastsim.blended_flexibilities`) times ``k_x`` (L1) and ``k_y`` (L2, L3),
 
         ``k = (1 + (k_0 - 1) |psi| / (|psi| + Q)) / (1 + |psi| / P)``,  ``k_0,x = A_x0 + A_x1 ln(a/b)``,
         ``k_0,y = A_y0 + A_y1 ln(a/b)``,  ``P = P_1 (1 + a/b)^m``

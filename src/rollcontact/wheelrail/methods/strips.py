@@ -97,7 +97,8 @@ def solve_strips(scene: PatchScene, *, strips: int = DEFAULT_STRIPS, tangential_
         return PatchResult("strips", True, contact.message, 0.0, contact.approach, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, xi,
                            eta, phi, mu, 0.0, info={"error_estimate": 0.0})
     tangential_strips = int(check_real("tangential_strips", tangential_strips, lower=4))
-    lobes = Lobes(refined(contact, scene.gap, tangential_strips), scene.material, mu, scene.creepages)
+    lobes = Lobes(refined(contact, scene.gap, tangential_strips), scene.material, scene.friction, scene.rolling_speed,
+                  scene.creepages)
     if scene.friction.is_constant:
         forces, field = coulomb_forces(lobes, steps, fields)
     else:
