@@ -178,8 +178,9 @@ def stiffening(shape: np.ndarray, load_weights: np.ndarray) -> np.ndarray:
     """The gain K ``(n, 1)`` of each scene's strips' modulus factor ``f(y) = K (1 - y^2/b^2)^(-gamma/2)`` [1] (rows
     ``(n, S)``), ``gamma = (a/b) / (a/b + s)`` with ``s`` = :data:`STIFFENING_SCALE` (``shape``: the power at the
     strips' nodes, :func:`ratio_constants` or :meth:`StripStack.split`), such that
-    ``sum_j w_j a(y_j)^2 f_j = sum_j w_j a(y_j)^2`` (``load_weights``: the strips' weights times ``a(y)^2``, the
-    linear force's share of each strip), so that the strips keep Kalker's C11 and C22.  A short strip has neighbours
+    ``sum_j w_j a(y_j) f_j = sum_j w_j a(y_j)`` (``load_weights``: the strips' weights times ``a(y)``, each strip's
+    share of the linear force ``(pi/2) f(y) E_x a(y)`` per unit creepage), so that the strips keep Kalker's C11 and
+    C22.  A short strip has neighbours
     of similar traction over a width comparable to its length, so the half-space answers it more stiffly than the 2D
     half-plane does; the effect grows with a/b and vanishes in the strip limit a/b -> 0, where the strips are Carter's
     problems."""
