@@ -560,9 +560,9 @@ def march_coefficient(law, speed: float, a: float, b: float, xi: float, eta: flo
 
     (V = ``speed`` [m/s]; the pressure's moments ``int x^2 p dA / int p dA = a^2/5``, ``b^2/5``).  The flexibilities'
     blend and their spin factors measure the creepage and the spin against the bound the march's traction saturates
-    at, which falling friction lowers from mu(0) towards the slip's coefficient; at mu(0) the march's traction lagged
-    behind the rigid slip of spin too far and the lateral force of spin came out too large
-    (``benchmarks/calibrate_falling_spin.py``, table A)."""
+    at, which falling friction lowers from mu(0) towards the slip's coefficient; taken at mu(0) on a steep law, the
+    march's traction lags too far behind the rigid slip of spin and overestimates the lateral force of lateral
+    creepage against the spin (``benchmarks/calibrate_falling_spin.py``, table A, measures the level's errors)."""
     if law.is_constant:
         return law.static_coefficient
     return float(law.coefficient(speed * math.sqrt(xi * xi + eta * eta + phi * phi * (a * a + b * b) / 5.0)))
