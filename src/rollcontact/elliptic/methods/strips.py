@@ -180,10 +180,9 @@ def stiffening(shape: np.ndarray, load_weights: np.ndarray) -> np.ndarray:
     strips' nodes, :func:`ratio_constants` or :meth:`StripStack.split`), such that
     ``sum_j w_j a(y_j) f_j = sum_j w_j a(y_j)`` (``load_weights``: the strips' weights times ``a(y)``, each strip's
     share of the linear force ``(pi/2) f(y) E_x a(y)`` per unit creepage), so that the strips keep Kalker's C11 and
-    C22.  A short strip has neighbours
-    of similar traction over a width comparable to its length, so the half-space answers it more stiffly than the 2D
-    half-plane does; the effect grows with a/b and vanishes in the strip limit a/b -> 0, where the strips are Carter's
-    problems."""
+    C22.  A short strip has neighbours of similar traction over a width comparable to its length, so the half-space
+    answers it more stiffly than the 2D half-plane does; the effect grows with a/b and vanishes in the strip limit
+    a/b -> 0, where the strips are Carter's problems."""
     return (np.sum(load_weights, axis=1) / dots(load_weights, shape))[:, None]
 
 
@@ -372,13 +371,9 @@ class StripStack:
             xi, eta, phi = scene.creepages
             two_mu_p0 = 2.0 * mu * p0
             psi = phi * (3.0 * g * c23 * math.sqrt(b / a) / math.pi) * a / two_mu_p0  # E_phi (module docstring)
-            if phi != 0.0 or fields:
-                law = scene.friction
-                mu_m = march_coefficient(law, scene.rolling_speed, a, b, xi, eta, phi)
-                flexibilities = march_flexibilities(a, b, g, mu_m, load, c11, c22, c23, xi, eta, phi,
-                                                    psi if law.is_constant else psi * mu / mu_m, k_x, k_y, spin_scale)
-            else:
-                flexibilities = (1.0, 1.0, 1.0)
+            flexibilities = march_flexibilities(a, b, g, scene.friction, scene.rolling_speed, load, c11, c22, c23, xi,
+                                                eta, phi, psi, k_x, k_y, spin_scale) \
+                if phi != 0.0 or fields else (1.0, 1.0, 1.0)
             rows.append((a, b, p0, mu, mu * load, xi, eta, phi, 4.0 * g * c11 / math.pi**2, 4.0 * g * c22 / math.pi**2,
                          psi, mu * p0 / a, two_mu_p0, *flexibilities, g, material.poisson_ratio,
                          *((1.0, 1.0) if phi != 0.0 else (a**2, b**2)), g * (a * b) ** 2 * c33))
@@ -568,13 +563,14 @@ def march_coefficient(law, speed: float, a: float, b: float, xi: float, eta: flo
     return float(law.coefficient(speed * math.sqrt(xi * xi + eta * eta + phi * phi * (a * a + b * b) / 5.0)))
 
 
-def march_flexibilities(a: float, b: float, g: float, mu: float, normal_load: float, c11: float, c22: float,
-                        c23: float, xi: float, eta: float, phi: float, psi: float, k_x0: float, k_y0: float,
-                        spin_scale: float) -> tuple[float, float, float]:
-    """The march's ``(L1, L2, L3)`` [m/Pa] of a scene (its semi-axes a, b [m], G [Pa], the coefficient mu of
-    :func:`march_coefficient`, Fn [N], C11, C22, C23, the creepages, the scaled spin psi at that mu and, from
-    :func:`ratio_constants`, ``A_x0 + A_x1 ln(a/b)``, ``A_y0 + A_y1 ln(a/b)`` and P): Vollebregt & Voltr's blended
-    flexibilities (:func:`.fastsim.blended_flexibilities`) times ``k_x`` (L1) and ``k_y`` (L2, L3),
+def march_flexibilities(a: float, b: float, g: float, friction, speed: float, normal_load: float, c11: float,
+                        c22: float, c23: float, xi: float, eta: float, phi: float, psi: float, k_x0: float,
+                        k_y0: float, spin_scale: float) -> tuple[float, float, float]:
+    """The march's ``(L1, L2, L3)`` [m/Pa] of a scene (its semi-axes a, b [m], G [Pa], friction law and rolling speed
+    [m/s], Fn [N], C11, C22, C23, the creepages, the scaled spin psi at mu(0) and, from :func:`ratio_constants`,
+    ``A_x0 + A_x1 ln(a/b)``, ``A_y0 + A_y1 ln(a/b)`` and P), at the coefficient mu of :func:`march_coefficient`, with
+    the scaled spin ``psi mu(0) / mu``: Vollebregt & Voltr's blended flexibilities
+    (:func:`.fastsim.blended_flexibilities`) times ``k_x`` (L1) and ``k_y`` (L2, L3),
 
         ``k = (1 + (k_0 - 1) |psi| / (|psi| + Q)) / (1 + |psi| / P)``,  ``k_0,x = A_x0 + A_x1 ln(a/b)``,
         ``k_0,y = A_y0 + A_y1 ln(a/b)``,  ``P = P_1 (1 + a/b)^m``
@@ -585,6 +581,9 @@ def march_flexibilities(a: float, b: float, g: float, mu: float, normal_load: fl
     is too large once spin drives the slip (the lateral force of spin is overestimated, most at a/b 0.5..2), so the
     factors fall with the scaled spin ``|psi|``; their a/b dependence ``k_0`` follows the strips' own error, which
     changes sign between the strip limit a/b -> 0 and long strips (a/b = 5)."""
+    mu = march_coefficient(friction, speed, a, b, xi, eta, phi)
+    if not friction.is_constant:
+        psi = psi * friction.static_coefficient / mu
     l1, l2, l3 = blended(a, b, g, mu, normal_load, c11, c22, c23, xi, eta, phi)
     spin = abs(psi)
     fall = 1.0 + spin / spin_scale

@@ -42,7 +42,6 @@ from rollcontact.elliptic.methods.strips import (
     cross_coefficients,
     elastic_slips,
     gauss,
-    march_coefficient,
     march_flexibilities,
 )
 from rollcontact.elliptic.result import TractionField
@@ -100,7 +99,7 @@ class Lobes:
     """The strips in contact grouped in runs (lobes) with their equivalent ellipses' constants, as per-strip arrays
     (module docstring).  Attributes are arrays over the strips in contact (``index`` into the contact's strips) or
     lists over the lobes.  ``friction`` and ``rolling_speed`` [m/s] set the coefficient the march's flexibilities are
-    taken at (:func:`~rollcontact.elliptic.methods.strips.march_coefficient`)."""
+    taken at (:func:`~rollcontact.elliptic.methods.strips.march_flexibilities`)."""
 
     def __init__(self, contact: StripContact, material: Material, friction, rolling_speed: float, creepages):
         xi, eta, phi = creepages
@@ -149,10 +148,9 @@ class Lobes:
             self.psi_e.append(psi_e)
             log_ratio = math.log(ratio)
             xi_lobe = xi - phi * centroid
-            mu_m = march_coefficient(friction, rolling_speed, a_e, b_e, xi_lobe, eta, phi)
-            flex = march_flexibilities(a_e, b_e, g, mu_m, load, c.c11, c.c22, c.c23, xi_lobe, eta, phi,
-                                       psi_e if friction.is_constant else psi_e * mu / mu_m, x0 + x1 * log_ratio,
-                                       y0 + y1 * log_ratio, scale * (1.0 + ratio) ** power)
+            flex = march_flexibilities(a_e, b_e, g, friction, rolling_speed, load, c.c11, c.c22, c.c23, xi_lobe, eta,
+                                       phi, psi_e, x0 + x1 * log_ratio, y0 + y1 * log_ratio,
+                                       scale * (1.0 + ratio) ** power)
             cross = 0.0 if phi != 0.0 else float(cross_coefficients(
                 *(np.array([[v]]) for v in (a_e, b_e, a_e * a_e, b_e * b_e, nu, g)))[0, 0])
             table[:, part] = np.array([modulus_x, 4.0 * g * c.c22 / math.pi**2,
